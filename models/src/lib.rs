@@ -1,1 +1,6 @@
 //! The estimators of the source papers (MODELS.md), declared with `nav_runtime::model!`.
+
+pub mod cli;
+pub mod montecarlo;
+pub mod plot;
+pub mod report;

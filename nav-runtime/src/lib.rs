@@ -5,8 +5,28 @@
 //! this crate; the EKF core and the generated code build without `std` (libm).
 #![cfg_attr(not(feature = "std"), no_std)]
 
-pub use nav_macros::model;
 pub use nalgebra;
+pub use nav_macros::model;
 
+pub mod attitude;
+pub mod earth;
+pub mod ekf;
+pub mod error_state;
+pub mod gate;
+#[cfg(feature = "std")]
+pub mod imu;
+#[cfg(feature = "std")]
+pub mod log;
 pub mod math;
 pub mod model;
+#[cfg(feature = "std")]
+pub mod scheduler;
+#[cfg(feature = "std")]
+pub mod sensors;
+#[cfg(feature = "std")]
+pub mod stats;
+pub mod strapdown;
+#[cfg(all(test, feature = "std"))]
+mod testmodels;
+#[cfg(feature = "std")]
+pub mod trajectory;

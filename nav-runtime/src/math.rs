@@ -55,9 +55,20 @@ mod tests {
     #[test]
     fn wrap_angle_cases() {
         use core::f64::consts::PI;
-        let cases = [(0.0, 0.0), (PI, PI), (-PI, PI), (3.0 * PI, PI), (0.5, 0.5), (-7.0, -7.0 + 2.0 * PI)];
+        let cases = [
+            (0.0, 0.0),
+            (PI, PI),
+            (-PI, PI),
+            (3.0 * PI, PI),
+            (0.5, 0.5),
+            (-7.0, -7.0 + 2.0 * PI),
+        ];
         for (a, want) in cases {
-            assert!((wrap_angle(a) - want).abs() < 1e-12, "{a} -> {}", wrap_angle(a));
+            assert!(
+                (wrap_angle(a) - want).abs() < 1e-12,
+                "{a} -> {}",
+                wrap_angle(a)
+            );
         }
     }
 }

@@ -73,10 +73,20 @@ pub trait Model<const N: usize>: Sized + 'static {
     const OPS_JACOBIAN: usize;
 
     /// One step of the state: `x + f dt` (continuous, Euler) or `f(x, ..., dt)`.
-    fn transition(x: &SVector<f64, N>, u: &Self::Input, p: &Self::Params, dt: f64) -> SVector<f64, N>;
+    fn transition(
+        x: &SVector<f64, N>,
+        u: &Self::Input,
+        p: &Self::Params,
+        dt: f64,
+    ) -> SVector<f64, N>;
 
     /// `F = df/dx` (continuous) or `Phi = df/dx` (discrete) at `(x, u, p)`.
-    fn jacobian(x: &SVector<f64, N>, u: &Self::Input, p: &Self::Params, dt: f64) -> SMatrix<f64, N, N>;
+    fn jacobian(
+        x: &SVector<f64, N>,
+        u: &Self::Input,
+        p: &Self::Params,
+        dt: f64,
+    ) -> SMatrix<f64, N, N>;
 
     /// The dense discrete process-noise covariance `Qd` (see module docs).
     fn process_noise(

@@ -1,1 +1,5 @@
-fn main() {}
+//! `navsim`: simulation, Monte Carlo evaluation and log replay (see `models::cli`).
+
+fn main() -> std::process::ExitCode {
+    models::cli::main()
+}

@@ -1,0 +1,444 @@
+//! The `navsim` command line: argument parsing, the scenario and replay-model
+//! registries, and the commands.
+//!
+//! Output rules: `--json` prints exactly one JSON object on stdout and nothing else
+//! there; human text goes to stdout without `--json` and to stderr with it. Every
+//! failure exits non-zero with one `error: ...` line on stderr.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Args, Parser, Subcommand};
+use nav_runtime::log::{LogDir, Strictness};
+use serde_json::Value;
+
+use crate::montecarlo::{
+    demo, find_shard_files, merge_shards, progress_bar, run_seeds, seeds, summary_json,
+    ReplayModel, ReplayOptions, RunError, RunOptions, Scenario, Shard, ShardFile, SHARD_FORMAT,
+};
+use crate::report::{self, StagedDir};
+
+/// Scenario run by `navsim` without a command (when it is registered).
+pub const DEFAULT_SCENARIO: &str = "lawnmower-dvl";
+/// Scenario run without a command while [`DEFAULT_SCENARIO`] is not registered.
+pub const FALLBACK_SCENARIO: &str = demo::NAME;
+/// First seed when `--seed` is not given.
+pub const DEFAULT_SEED: u64 = 1;
+
+/// Every built-in scenario. Add new scenarios here.
+pub fn scenarios() -> Vec<Box<dyn Scenario>> {
+    vec![Box::new(demo::ConstantVelocity)]
+}
+
+/// Every replay model. Add new models here.
+pub fn replay_models() -> Vec<Box<dyn ReplayModel>> {
+    vec![Box::new(demo::DepthKf)]
+}
+
+/// The scenario named `name`, or an error listing the valid names.
+pub fn find_scenario(name: &str) -> Result<Box<dyn Scenario>, RunError> {
+    let all = scenarios();
+    let names: Vec<&str> = all.iter().map(|s| s.name()).collect();
+    let valid = names.join(", ");
+    all.into_iter()
+        .find(|s| s.name() == name)
+        .ok_or_else(|| RunError::Invalid(format!("unknown scenario `{name}`; valid scenarios: {valid}")))
+}
+
+/// The replay model named `name`, or an error listing the valid names.
+pub fn find_replay_model(name: &str) -> Result<Box<dyn ReplayModel>, RunError> {
+    let all = replay_models();
+    let names: Vec<&str> = all.iter().map(|s| s.name()).collect();
+    let valid = names.join(", ");
+    all.into_iter()
+        .find(|s| s.name() == name)
+        .ok_or_else(|| RunError::Invalid(format!("unknown model `{name}`; valid models: {valid}")))
+}
+
+/// The scenario run without a command.
+pub fn default_scenario() -> &'static str {
+    if scenarios().iter().any(|s| s.name() == DEFAULT_SCENARIO) {
+        DEFAULT_SCENARIO
+    } else {
+        FALLBACK_SCENARIO
+    }
+}
+
+/// Simulation, Monte Carlo evaluation and log replay of the navigation estimators.
+#[derive(Debug, Parser)]
+#[command(name = "navsim", version, about)]
+pub struct Cli {
+    /// The command; without one, the default scenario runs.
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+/// The commands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Run a built-in scenario (Monte Carlo runs with seeds SEED, SEED+1, ...).
+    Scenario(ScenarioArgs),
+    /// Run a model over a recorded log directory.
+    Replay(ReplayArgs),
+    /// Write the synthetic sensor log of one run of a scenario.
+    Simulate(SimulateArgs),
+    /// Combine `--shard` outputs into the JSON of the unsharded run.
+    Merge(MergeArgs),
+    /// List the scenarios and replay models.
+    List(ListArgs),
+}
+
+/// `navsim scenario`.
+#[derive(Debug, Args)]
+pub struct ScenarioArgs {
+    /// Scenario name.
+    pub name: String,
+    /// First seed.
+    #[arg(long, default_value_t = DEFAULT_SEED)]
+    pub seed: u64,
+    /// Number of Monte Carlo runs (default: the scenario's).
+    #[arg(long)]
+    pub runs: Option<usize>,
+    /// Directory for per-run CSV time series and plots (and shard results).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Print one JSON object on stdout.
+    #[arg(long)]
+    pub json: bool,
+    /// Run only the seed indices i with i % N == K - 1 and write them to --out.
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<Shard>,
+    /// Comma-separated fault names to inject.
+    #[arg(long, value_name = "LIST", value_delimiter = ',')]
+    pub faults: Vec<String>,
+    /// Draw sensor biases per run.
+    #[arg(long)]
+    pub draw_biases: bool,
+}
+
+/// `navsim replay`.
+#[derive(Debug, Args)]
+pub struct ReplayArgs {
+    /// Log directory.
+    pub dir: PathBuf,
+    /// Model name.
+    #[arg(long)]
+    pub model: String,
+    /// Directory for time series and plots.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Print one JSON object on stdout.
+    #[arg(long)]
+    pub json: bool,
+    /// Skip (and count) bad CSV rows instead of stopping.
+    #[arg(long)]
+    pub lenient: bool,
+    /// Use the model's stationary measurement model.
+    #[arg(long)]
+    pub stationary: bool,
+}
+
+/// `navsim simulate`.
+#[derive(Debug, Args)]
+pub struct SimulateArgs {
+    /// Scenario name.
+    pub name: String,
+    /// Seed of the run.
+    #[arg(long)]
+    pub seed: u64,
+    /// Log directory to write.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Comma-separated fault names to inject.
+    #[arg(long, value_name = "LIST", value_delimiter = ',')]
+    pub faults: Vec<String>,
+    /// Draw sensor biases.
+    #[arg(long)]
+    pub draw_biases: bool,
+}
+
+/// `navsim merge`.
+#[derive(Debug, Args)]
+pub struct MergeArgs {
+    /// Shard output directories (or shard files).
+    #[arg(required = true)]
+    pub dirs: Vec<PathBuf>,
+    /// Print one JSON object on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// `navsim list`.
+#[derive(Debug, Args)]
+pub struct ListArgs {
+    /// Print one JSON object on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Prints a result: one JSON line on stdout with `json`, otherwise human text.
+fn emit(value: &Value, json: bool) {
+    if json {
+        println!("{}", report::json_line(value));
+    } else {
+        print!("{}", report::human(value));
+    }
+}
+
+/// Human note: stderr with `--json`, stdout otherwise.
+fn note(json: bool, text: &str) {
+    if json {
+        eprintln!("{text}");
+    } else {
+        println!("{text}");
+    }
+}
+
+fn run_options(scenario: &dyn Scenario, faults: &[String], draw_biases: bool) -> Result<RunOptions, RunError> {
+    let mut list: Vec<String> = Vec::new();
+    for f in faults.iter().map(|f| f.trim()).filter(|f| !f.is_empty()) {
+        if !scenario.faults().contains(&f) {
+            let valid = if scenario.faults().is_empty() {
+                "none".to_string()
+            } else {
+                scenario.faults().join(", ")
+            };
+            return Err(RunError::Invalid(format!(
+                "unknown fault `{f}` for scenario {}; valid faults: {valid}",
+                scenario.name()
+            )));
+        }
+        if !list.iter().any(|x| x == f) {
+            list.push(f.to_string());
+        }
+    }
+    Ok(RunOptions {
+        faults: list,
+        draw_biases,
+        keep_series: false,
+    })
+}
+
+/// `navsim scenario`.
+pub fn cmd_scenario(args: &ScenarioArgs) -> Result<(), RunError> {
+    let scenario = find_scenario(&args.name)?;
+    let runs = args.runs.unwrap_or_else(|| scenario.default_runs());
+    if runs == 0 {
+        return Err(RunError::Invalid("--runs must be at least 1".into()));
+    }
+    let mut options = run_options(scenario.as_ref(), &args.faults, args.draw_biases)?;
+    if args.shard.is_some() && args.out.is_none() {
+        return Err(RunError::Invalid("--shard needs --out DIR for the shard's results".into()));
+    }
+    options.keep_series = args.out.is_some();
+    let seed_list = seeds(args.seed, runs, args.shard);
+    let bar = progress_bar(seed_list.len(), args.json);
+    let results = run_seeds(scenario.as_ref(), &seed_list, &options, &bar)?;
+
+    if let Some(shard) = args.shard {
+        let out = args.out.as_ref().expect("checked above");
+        let staged = StagedDir::new(out)?;
+        let file = ShardFile {
+            format: SHARD_FORMAT,
+            scenario: scenario.name().to_string(),
+            seed: args.seed,
+            runs,
+            shard: shard.to_string(),
+            options: options.clone(),
+            results,
+        };
+        file.write(&staged.path().join(shard.file_name()))?;
+        scenario.write_outputs(&file.results, staged.path())?;
+        let dir = staged.commit()?;
+        let path = dir.join(shard.file_name());
+        let mut m = serde_json::Map::new();
+        m.insert("scenario".into(), Value::from(scenario.name()));
+        m.insert("runs".into(), Value::from(runs));
+        m.insert("seed".into(), Value::from(args.seed));
+        m.insert("shard".into(), Value::from(shard.to_string()));
+        m.insert("shard_runs".into(), Value::from(file.results.len()));
+        m.insert("file".into(), Value::from(path.display().to_string()));
+        emit(&Value::Object(m), args.json);
+        return Ok(());
+    }
+
+    let summary = summary_json(scenario.as_ref(), args.seed, &results, &options)?;
+    if let Some(out) = &args.out {
+        let staged = StagedDir::new(out)?;
+        scenario.write_outputs(&results, staged.path())?;
+        let path = staged.path().join("summary.json");
+        std::fs::write(&path, report::json_line(&summary) + "\n").map_err(|e| RunError::io(&path, e))?;
+        let dir = staged.commit()?;
+        emit(&summary, args.json);
+        note(args.json, &format!("outputs written to {}", dir.display()));
+    } else {
+        emit(&summary, args.json);
+    }
+    Ok(())
+}
+
+/// `navsim replay`.
+pub fn cmd_replay(args: &ReplayArgs) -> Result<(), RunError> {
+    let model = find_replay_model(&args.model)?;
+    let strictness = if args.lenient {
+        Strictness::Lenient
+    } else {
+        Strictness::Strict
+    };
+    let log = LogDir::read(&args.dir, strictness)?;
+    for reason in &log.skip_reasons {
+        eprintln!("warning: skipped {reason}");
+    }
+    let options = ReplayOptions {
+        stationary: args.stationary,
+        keep_series: args.out.is_some(),
+    };
+    let output = model.replay(&log, &options)?;
+    let value = report::replay_json(model.name(), &output, args.lenient, &log.skipped_rows);
+    if let Some(out) = &args.out {
+        let staged = StagedDir::new(out)?;
+        model.write_outputs(&output, staged.path())?;
+        let path = staged.path().join("summary.json");
+        std::fs::write(&path, report::json_line(&value) + "\n").map_err(|e| RunError::io(&path, e))?;
+        let dir = staged.commit()?;
+        emit(&value, args.json);
+        note(args.json, &format!("outputs written to {}", dir.display()));
+    } else {
+        emit(&value, args.json);
+    }
+    Ok(())
+}
+
+/// `navsim simulate`.
+pub fn cmd_simulate(args: &SimulateArgs) -> Result<(), RunError> {
+    let scenario = find_scenario(&args.name)?;
+    let options = run_options(scenario.as_ref(), &args.faults, args.draw_biases)?;
+    let log = scenario.simulate_log(args.seed, &options).ok_or_else(|| {
+        RunError::Invalid(format!("scenario {} cannot write a sensor log", scenario.name()))
+    })??;
+    log.write(&args.out)?;
+    println!(
+        "wrote the sensor log of {} seed {} to {}",
+        scenario.name(),
+        args.seed,
+        args.out.display()
+    );
+    Ok(())
+}
+
+/// `navsim merge`.
+pub fn cmd_merge(args: &MergeArgs) -> Result<(), RunError> {
+    let paths = find_shard_files(&args.dirs)?;
+    let files = paths
+        .into_iter()
+        .map(|p| ShardFile::read(&p).map(|f| (p, f)))
+        .collect::<Result<Vec<_>, _>>()?;
+    let merged = merge_shards(&files)?;
+    let scenario = find_scenario(&merged.scenario)?;
+    let summary = summary_json(scenario.as_ref(), merged.seed, &merged.results, &merged.options)?;
+    emit(&summary, args.json);
+    Ok(())
+}
+
+/// `navsim list`.
+pub fn cmd_list(args: &ListArgs) -> Result<(), RunError> {
+    let ss = scenarios();
+    let ms = replay_models();
+    if args.json {
+        let sc: Vec<Value> = ss
+            .iter()
+            .map(|s| {
+                serde_json::json!({"name": s.name(), "default_runs": s.default_runs(),
+                    "faults": s.faults(), "description": s.description()})
+            })
+            .collect();
+        let mo: Vec<Value> = ms
+            .iter()
+            .map(|m| serde_json::json!({"name": m.name(), "description": m.description()}))
+            .collect();
+        let v = serde_json::json!({"scenarios": sc, "models": mo, "default_scenario": default_scenario()});
+        println!("{}", report::json_line(&v));
+    } else {
+        println!("scenarios:");
+        for s in &ss {
+            println!("  {:28} {}", s.name(), s.description());
+        }
+        println!("replay models:");
+        for m in &ms {
+            println!("  {:28} {}", m.name(), m.description());
+        }
+    }
+    Ok(())
+}
+
+/// Runs a parsed command line.
+pub fn run(cli: &Cli) -> Result<(), RunError> {
+    match &cli.command {
+        Some(Command::Scenario(a)) => cmd_scenario(a),
+        Some(Command::Replay(a)) => cmd_replay(a),
+        Some(Command::Simulate(a)) => cmd_simulate(a),
+        Some(Command::Merge(a)) => cmd_merge(a),
+        Some(Command::List(a)) => cmd_list(a),
+        None => cmd_scenario(&ScenarioArgs {
+            name: default_scenario().to_string(),
+            seed: DEFAULT_SEED,
+            runs: None,
+            out: None,
+            json: false,
+            shard: None,
+            faults: Vec::new(),
+            draw_biases: false,
+        }),
+    }
+}
+
+/// Collapses a message to one line.
+fn one_line(text: &str) -> String {
+    text.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+/// The `navsim` entry point: parses `std::env::args`, runs, reports errors.
+pub fn main() -> ExitCode {
+    main_with_args(std::env::args_os())
+}
+
+/// [`main`] with explicit arguments (the first is the program name).
+pub fn main_with_args<I, T>(args: I) -> ExitCode
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    let cli = match Cli::try_parse_from(args) {
+        Ok(cli) => cli,
+        Err(e) => {
+            use clap::error::ErrorKind;
+            if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) {
+                let _ = e.print();
+                return ExitCode::SUCCESS;
+            }
+            if e.kind() == ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
+                let _ = e.print();
+                return ExitCode::from(2);
+            }
+            let rendered = e.render().to_string();
+            let body = rendered
+                .split("\n\nUsage:")
+                .next()
+                .unwrap_or("")
+                .split("\n\nFor more information")
+                .next()
+                .unwrap_or("");
+            let body = one_line(body);
+            let body = body.strip_prefix("error:").unwrap_or(&body).trim();
+            eprintln!("error: {body}");
+            return ExitCode::from(2);
+        }
+    };
+    match run(&cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {}", one_line(&e.to_string()));
+            ExitCode::FAILURE
+        }
+    }
+}

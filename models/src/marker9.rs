@@ -1,0 +1,58 @@
+//! MARKER-9: marker-aided navigation of a hover-capable AUV near a structure
+//! (MODELS.md section 4). Total-state, discrete-time (eq. 2), states
+//! `[X, Y, Z, u, v, w, phi, theta, psi]`.
+
+nav_runtime::model! {
+    /// Marker-fusion filter, eq. 2 of the marker paper, with the body-frame
+    /// velocity equation completed by the transport term `-w x v` (the paper's
+    /// `v_k = v_{k-1} + a dt` holds only without rotation).
+    pub model Marker9 {
+        states {
+            /// NED position in the local structure frame, m.
+            position: 3,
+            /// Body-frame velocity `[u, v, w]`, m/s.
+            velocity: 3,
+            /// Euler angles `[roll, pitch, yaw]`, rad.
+            euler: 3,
+        }
+        inputs {
+            /// Gyro output `[p, q, r]`, rad/s.
+            gyro: 3,
+            /// Body-frame acceleration with gravity removed, m/s^2.
+            acceleration: 3,
+        }
+        noise {
+            /// Per-step velocity variance from accelerometer noise, (m/s)^2.
+            velocity_noise: 3,
+            /// Per-step attitude variance from gyro noise, rad^2.
+            attitude_noise: 3,
+        }
+        discrete {
+            let roll = euler[0];
+            let pitch = euler[1];
+            let p = gyro[0];
+            let q = gyro[1];
+            let r = gyro[2];
+            position = position + euler_dcm(roll, pitch, euler[2]) * velocity * dt;
+            velocity = velocity + (acceleration - cross(gyro, velocity)) * dt + velocity_noise;
+            euler = euler + [
+                p + (q * sin(roll) + r * cos(roll)) * tan(pitch),
+                q * cos(roll) - r * sin(roll),
+                (q * sin(roll) + r * cos(roll)) / cos(pitch)
+            ] * dt + attitude_noise;
+        }
+        /// DVL body-frame velocity, m/s.
+        sensor Dvl: 3 {
+            h = velocity;
+        }
+        /// Depth meter, m (positive down).
+        sensor Depth: 1 {
+            h = [position[2]];
+        }
+        /// Horizontal position fix from a visible marker of known position (eq. 3,
+        /// already in the local frame), m.
+        sensor MarkerFix: 2 {
+            h = [position[0], position[1]];
+        }
+    }
+}

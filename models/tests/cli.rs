@@ -1,0 +1,248 @@
+//! End-to-end tests of the `navsim` binary (the plumbing, with the demo scenario).
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use serde_json::Value;
+
+const DEMO: &str = "demo-constant-velocity";
+const DEMO_MODEL: &str = "demo-depth-kf";
+
+struct TempDir(PathBuf);
+
+impl TempDir {
+    fn new(tag: &str) -> TempDir {
+        static N: AtomicUsize = AtomicUsize::new(0);
+        let p = std::env::temp_dir().join(format!(
+            "navsim-cli-test-{}-{tag}-{}",
+            std::process::id(),
+            N.fetch_add(1, Ordering::Relaxed)
+        ));
+        let _ = std::fs::remove_dir_all(&p);
+        std::fs::create_dir_all(&p).unwrap();
+        TempDir(p)
+    }
+    fn path(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+fn navsim(args: &[&str]) -> Output {
+    navsim_env(args, &[])
+}
+
+fn navsim_env(args: &[&str], env: &[(&str, &str)]) -> Output {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_navsim"));
+    cmd.args(args);
+    for (k, v) in env {
+        cmd.env(k, v);
+    }
+    cmd.output().expect("navsim runs")
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8(o.stdout.clone()).unwrap()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8(o.stderr.clone()).unwrap()
+}
+
+/// The command failed with exactly one `error: ...` line on stderr; returns it.
+fn one_line_error(o: &Output) -> String {
+    assert!(!o.status.success(), "expected failure, stdout: {}", stdout(o));
+    let err = stderr(o);
+    let lines: Vec<&str> = err.lines().collect();
+    assert_eq!(lines.len(), 1, "stderr: {err:?}");
+    assert!(lines[0].starts_with("error: "), "stderr: {err:?}");
+    assert!(o.stdout.is_empty(), "stdout on error: {}", stdout(o));
+    lines[0].to_string()
+}
+
+/// The command succeeded and printed exactly one JSON object on stdout.
+fn json(o: &Output) -> Value {
+    assert!(o.status.success(), "stderr: {}", stderr(o));
+    let out = stdout(o);
+    assert_eq!(out.lines().count(), 1, "stdout: {out:?}");
+    let v: Value = serde_json::from_str(out.trim()).expect("valid JSON");
+    assert!(v.is_object(), "{v}");
+    v
+}
+
+#[test]
+fn unknown_scenario_is_a_one_line_error_naming_valid_ones() {
+    let line = one_line_error(&navsim(&["scenario", "no-such-thing"]));
+    assert!(line.contains("no-such-thing"), "{line}");
+    assert!(line.contains(DEMO), "{line}");
+}
+
+#[test]
+fn bad_values_are_one_line_errors() {
+    let line = one_line_error(&navsim(&["scenario", DEMO, "--seed", "abc"]));
+    assert!(line.contains("--seed"), "{line}");
+    let line = one_line_error(&navsim(&["scenario", DEMO, "--runs", "0"]));
+    assert!(line.contains("--runs"), "{line}");
+    let line = one_line_error(&navsim(&["scenario", DEMO, "--shard", "5/4", "--out", "x"]));
+    assert!(line.contains("5/4"), "{line}");
+    let line = one_line_error(&navsim(&["scenario", DEMO, "--faults", "gremlins"]));
+    assert!(line.contains("gremlins") && line.contains("depth-dropout"), "{line}");
+    let line = one_line_error(&navsim(&["replay", "somewhere"]));
+    assert!(line.contains("--model"), "{line}");
+    let line = one_line_error(&navsim(&["replay", "somewhere", "--model", "nope"]));
+    assert!(line.contains("nope") && line.contains(DEMO_MODEL), "{line}");
+    let line = one_line_error(&navsim(&["frobnicate"]));
+    assert!(line.contains("frobnicate"), "{line}");
+}
+
+#[test]
+fn json_output_is_one_object_with_the_common_keys() {
+    let v = json(&navsim(&["scenario", DEMO, "--runs", "3", "--seed", "11", "--json"]));
+    assert_eq!(v["scenario"], DEMO);
+    assert_eq!(v["runs"], 3);
+    assert_eq!(v["seed"], 11);
+    for key in ["depth_error_rms_m", "depth_error_final_m"] {
+        for stat in ["median", "p95", "max"] {
+            assert!(v[key][stat].is_f64(), "{key}.{stat} in {v}");
+        }
+    }
+    let nees = v["nees_mean"].as_f64().unwrap();
+    assert!(nees > 0.5 && nees < 5.0, "{nees}");
+}
+
+#[test]
+fn no_command_runs_the_default_scenario() {
+    let o = navsim(&[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = stdout(&o);
+    assert!(out.contains("scenario"), "{out}");
+}
+
+#[test]
+fn results_do_not_depend_on_thread_count() {
+    let args = ["scenario", DEMO, "--runs", "6", "--seed", "40", "--json"];
+    let one = json(&navsim_env(&args, &[("RAYON_NUM_THREADS", "1")]));
+    let two = json(&navsim_env(&args, &[("RAYON_NUM_THREADS", "2")]));
+    assert_eq!(one, two);
+}
+
+#[test]
+fn merged_shards_equal_the_single_run() {
+    let dir = TempDir::new("shards");
+    let base = ["scenario", DEMO, "--runs", "10", "--seed", "5", "--faults", "depth-dropout"];
+    let single = navsim(&[&base[..], &["--json"]].concat());
+    let single_json = json(&single);
+    let mut outs = Vec::new();
+    for k in 1..=4 {
+        let out = dir.path().join(format!("machine{k}"));
+        let shard = format!("{k}/4");
+        let v = json(&navsim(&[&base[..], &["--json", "--shard", &shard, "--out", out.to_str().unwrap()]].concat()));
+        assert_eq!(v["shard"], shard.as_str());
+        outs.push(out);
+    }
+    let mut args = vec!["merge".to_string()];
+    args.extend(outs.iter().map(|p| p.display().to_string()));
+    args.push("--json".into());
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let merged = navsim(&args);
+    assert_eq!(json(&merged), single_json);
+    assert_eq!(stdout(&merged), stdout(&single), "byte-identical JSON");
+    assert_eq!(single_json["faults"], serde_json::json!(["depth-dropout"]));
+
+    // A missing shard is reported with the missing seeds.
+    let line = one_line_error(&navsim(&["merge", outs[0].to_str().unwrap(), outs[1].to_str().unwrap()]));
+    assert!(line.contains("missing seeds"), "{line}");
+    // The same shard twice is a duplicate.
+    let line = one_line_error(&navsim(&[
+        "merge",
+        outs[0].to_str().unwrap(),
+        outs[0].to_str().unwrap(),
+    ]));
+    assert!(line.contains("also in"), "{line}");
+}
+
+#[test]
+fn shard_needs_out() {
+    let line = one_line_error(&navsim(&["scenario", DEMO, "--shard", "1/2"]));
+    assert!(line.contains("--out"), "{line}");
+}
+
+#[test]
+fn out_dir_gets_csv_plots_and_summary() {
+    let dir = TempDir::new("out");
+    let out = dir.path().join("results");
+    let v = json(&navsim(&["scenario", DEMO, "--runs", "2", "--seed", "3", "--json", "--out", out.to_str().unwrap()]));
+    assert!(out.join("run-3-depth.csv").is_file());
+    assert!(out.join("run-4-depth.csv").is_file());
+    assert!(out.join("nees.svg").is_file());
+    let summary: Value = serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary, v);
+}
+
+#[test]
+fn simulate_then_replay_reproduces_the_scenario() {
+    let dir = TempDir::new("sim");
+    let log = dir.path().join("log");
+    let o = navsim(&["simulate", DEMO, "--seed", "21", "--out", log.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    for f in ["imu.csv", "depth.csv", "truth.csv", "meta.toml"] {
+        assert!(log.join(f).is_file(), "{f}");
+    }
+    let replay = json(&navsim(&["replay", log.to_str().unwrap(), "--model", DEMO_MODEL, "--json"]));
+    assert_eq!(replay["model"], DEMO_MODEL);
+    assert_eq!(replay["samples"], 3000);
+    assert!(replay["runtime_s"].as_f64().unwrap() >= 0.0);
+    assert!(replay.get("skipped_rows").is_none());
+    let scenario = json(&navsim(&["scenario", DEMO, "--runs", "1", "--seed", "21", "--json"]));
+    assert_eq!(replay["depth_error_rms_m"], scenario["depth_error_rms_m"]["median"]);
+    assert_eq!(replay["depth_error_final_m"], scenario["depth_error_final_m"]["median"]);
+}
+
+#[test]
+fn replay_of_a_malformed_log_names_file_line_column_and_writes_nothing() {
+    let dir = TempDir::new("bad");
+    let log = dir.path().join("log");
+    let o = navsim(&["simulate", DEMO, "--seed", "2", "--out", log.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let depth = log.join("depth.csv");
+    let mut lines: Vec<String> = std::fs::read_to_string(&depth).unwrap().lines().map(String::from).collect();
+    lines[6] = "0.7,12.x".into(); // line 7
+    lines[9] = "0.95,nan".into(); // line 10
+    std::fs::write(&depth, lines.join("\n") + "\n").unwrap();
+
+    let out = dir.path().join("replay-out");
+    let args = ["replay", log.to_str().unwrap(), "--model", DEMO_MODEL, "--json", "--out", out.to_str().unwrap()];
+    let line = one_line_error(&navsim(&args));
+    assert!(line.contains("depth.csv:7"), "{line}");
+    assert!(line.contains("column `depth`"), "{line}");
+    assert!(!out.exists(), "no output directory on error");
+    let leftovers: Vec<_> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(leftovers.len(), 1, "{leftovers:?}");
+
+    // --lenient skips and counts both bad rows, and writes the outputs.
+    let v = json(&navsim(&[&args[..], &["--lenient"]].concat()));
+    assert_eq!(v["skipped_rows"], 2);
+    assert_eq!(v["skipped_rows_by_file"]["depth.csv"], 2);
+    assert!(out.join("summary.json").is_file());
+    assert!(stderr(&navsim(&[&args[..], &["--lenient"]].concat())).contains("depth.csv:10"));
+}
+
+#[test]
+fn replay_of_a_missing_directory_fails() {
+    let line = one_line_error(&navsim(&["replay", "/nonexistent/log/dir", "--model", DEMO_MODEL]));
+    assert!(line.contains("/nonexistent/log/dir"), "{line}");
+}
+
+#[test]
+fn list_names_scenarios_and_models() {
+    let v = json(&navsim(&["list", "--json"]));
+    let names: Vec<&str> = v["scenarios"].as_array().unwrap().iter().map(|s| s["name"].as_str().unwrap()).collect();
+    assert!(names.contains(&DEMO));
+    assert!(v["models"].as_array().unwrap().iter().any(|m| m["name"] == DEMO_MODEL));
+}

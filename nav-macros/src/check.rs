@@ -1,0 +1,257 @@
+//! Declaration-level checks: names, duplicates, sections, assignment targets and
+//! sensor headers. Expression-level problems (unknown names, shapes, unsupported
+//! constructs) are found while lowering (`lower.rs`) into the same context.
+
+use std::collections::HashMap;
+
+use syn::Ident;
+
+use crate::ctxt::Ctxt;
+use crate::parse::{ModelDecl, ProcessKind, Shape, Stmt, Var};
+
+/// Inherent constants of the model type; a state must not produce one of them.
+pub const RESERVED_CONSTS: &[&str] = &[
+    "N",
+    "NW",
+    "OPS_TRANSITION",
+    "OPS_DERIVATIVE",
+    "OPS_JACOBIAN",
+    "OPS_NOISE_JACOBIAN",
+    "OPS_PROCESS_NOISE",
+    "OPS_PROPAGATE_COVARIANCE",
+];
+
+/// Sensor names that would collide with the generated record types.
+const RESERVED_SENSORS: &[&str] = &["State", "Input", "Params", "Noise"];
+
+/// Runs every declaration-level check of one model.
+pub fn check(cx: &Ctxt, decl: &ModelDecl) {
+    let mut model_names = Names::default();
+    let kinds: [(&str, &[Var]); 4] = [
+        ("a state", &decl.states),
+        ("an input", &decl.inputs),
+        ("a parameter", &decl.params),
+        ("a noise input", &decl.noise),
+    ];
+    for (kind, vars) in kinds {
+        for v in vars {
+            model_names.declare(cx, &v.name, kind);
+            check_shape(cx, v);
+        }
+    }
+    for v in &decl.states {
+        let konst = screaming_case(&v.name.to_string());
+        if RESERVED_CONSTS.contains(&konst.as_str()) {
+            cx.error_spanned_by(
+                &v.name,
+                format!("state `{}` would generate the index constant `{konst}`, which is reserved", v.name),
+            );
+        }
+    }
+    if decl.states.is_empty() {
+        cx.error_spanned_by(&decl.name, format!("model `{}` declares no states: add `states {{ .. }}`", decl.name));
+    }
+    match &decl.process {
+        None => cx.error_spanned_by(
+            &decl.name,
+            format!("model `{}` has no process section: add `continuous {{ .. }}` or `discrete {{ .. }}`", decl.name),
+        ),
+        Some(process) => {
+            let mut names = model_names.clone();
+            let mut assigned: HashMap<String, &Ident> = HashMap::new();
+            for stmt in &process.stmts {
+                match stmt {
+                    Stmt::Let { name, .. } => names.declare(cx, name, "a `let` binding"),
+                    Stmt::Assign { target, derivative, .. } => {
+                        match (process.kind, derivative) {
+                            (ProcessKind::Discrete, Some(span)) => cx.error_at(
+                                *span,
+                                "`d/dt` is only allowed in a `continuous` section; in `discrete` write `state = ..` \
+                                 (the next value from the previous ones)",
+                            ),
+                            (ProcessKind::Continuous, None) => cx.error_spanned_by(
+                                target,
+                                format!(
+                                    "in a `continuous` section write `d/dt {target} = ..` (or `let {target} = ..` \
+                                     for a local value)"
+                                ),
+                            ),
+                            _ => {}
+                        }
+                        let what = if derivative.is_some() { "`d/dt` of" } else { "assignment to" };
+                        if !decl.states.iter().any(|s| s.name == *target) {
+                            let states: Vec<String> = decl.states.iter().map(|s| s.name.to_string()).collect();
+                            let mut hint = suggest(&target.to_string(), states.clone());
+                            if hint.is_empty() {
+                                hint = format!("; the states are `{}`", states.join("`, `"));
+                            }
+                            cx.error_spanned_by(target, format!("{what} `{target}`, which is not a state{hint}"));
+                        } else if assigned.insert(target.to_string(), target).is_some() {
+                            cx.error_spanned_by(target, format!("state `{target}` is assigned more than once"));
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    let mut sensor_names: HashMap<String, &Ident> = HashMap::new();
+    for sensor in &decl.sensors {
+        let name = sensor.name.to_string();
+        if sensor_names.insert(name.clone(), &sensor.name).is_some() {
+            cx.error_spanned_by(&sensor.name, format!("duplicate sensor `{name}`"));
+        }
+        if RESERVED_SENSORS.contains(&name.as_str()) {
+            cx.error_spanned_by(
+                &sensor.name,
+                format!("a sensor named `{name}` would collide with the generated type `{}{name}`", decl.name),
+            );
+        }
+        if sensor.dim == 0 {
+            cx.error_spanned_by(&sensor.dim_lit, "a sensor needs at least one output");
+        }
+        let mut names = model_names.clone();
+        for v in &sensor.inputs {
+            names.declare(cx, &v.name, "a sensor input");
+            check_shape(cx, v);
+        }
+        for (name, _) in &sensor.lets {
+            names.declare(cx, name, "a `let` binding");
+        }
+        if sensor.h.is_none() {
+            cx.error_spanned_by(
+                &sensor.name,
+                format!("sensor `{name}` has no measurement: add `h = [..];` with {} components", sensor.dim),
+            );
+        }
+        for stray in &sensor.stray {
+            if stray == "h" {
+                cx.error_spanned_by(stray, "`h` is given more than once");
+            } else {
+                cx.error_spanned_by(
+                    stray,
+                    format!("unexpected `{stray} = ..` in a sensor; expected `h = ..`, `angles = [..]` or `let`"),
+                );
+            }
+        }
+        if let Some((_, angles)) = &sensor.angles {
+            let mut seen = Vec::new();
+            for lit in angles {
+                match lit.base10_parse::<usize>() {
+                    Ok(i) if i < sensor.dim && !seen.contains(&i) => seen.push(i),
+                    Ok(i) if i < sensor.dim => cx.error_spanned_by(lit, format!("angle component {i} is listed twice")),
+                    _ => cx.error_spanned_by(
+                        lit,
+                        format!("angle component out of range: sensor `{name}` has {} outputs", sensor.dim),
+                    ),
+                }
+            }
+        }
+    }
+}
+
+/// `velocity_error` -> `VELOCITY_ERROR`.
+pub fn screaming_case(name: &str) -> String {
+    let mut out = String::new();
+    let mut prev_lower = false;
+    for ch in name.trim_start_matches("r#").chars() {
+        if ch.is_uppercase() && prev_lower {
+            out.push('_');
+        }
+        prev_lower = ch.is_lowercase() || ch.is_ascii_digit();
+        out.extend(ch.to_uppercase());
+    }
+    out
+}
+
+/// `" ; did you mean `x`?"` for the closest candidate by edit distance, if close.
+pub fn suggest(name: &str, candidates: impl IntoIterator<Item = String>) -> String {
+    let mut best: Option<(usize, String)> = None;
+    for c in candidates {
+        let d = edit_distance(name, &c);
+        let limit = 1.max(name.chars().count().max(c.chars().count()) / 3);
+        if d <= limit && best.as_ref().map_or(true, |(bd, bc)| (d, &c) < (*bd, bc)) {
+            best = Some((d, c));
+        }
+    }
+    match best {
+        Some((_, c)) => format!("; did you mean `{c}`?"),
+        None => String::new(),
+    }
+}
+
+/// Levenshtein distance.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut prev: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut cur = vec![i + 1];
+        for (j, cb) in b.iter().enumerate() {
+            let sub = prev[j] + usize::from(ca != *cb);
+            cur.push(sub.min(prev[j + 1] + 1).min(cur[j] + 1));
+        }
+        prev = cur;
+    }
+    prev[b.len()]
+}
+
+fn check_shape(cx: &Ctxt, v: &Var) {
+    let zero = match v.shape {
+        Shape::Scalar => false,
+        Shape::Vector(n) => n == 0,
+        Shape::Matrix(r, c) => r == 0 || c == 0,
+    };
+    if zero {
+        cx.error_at(v.shape_span, format!("`{}` has a zero dimension", v.name));
+    }
+}
+
+/// Names declared in one scope, with what declared them.
+#[derive(Clone, Default)]
+struct Names {
+    kinds: HashMap<String, &'static str>,
+}
+
+impl Names {
+    fn declare(&mut self, cx: &Ctxt, name: &Ident, kind: &'static str) {
+        let s = name.to_string();
+        if s == "dt" {
+            cx.error_spanned_by(name, "`dt` is reserved: it is the time step of the generated functions");
+            return;
+        }
+        match self.kinds.get(&s) {
+            Some(prev) => cx.error_spanned_by(name, format!("duplicate name `{s}`: already declared as {prev}")),
+            None => {
+                self.kinds.insert(s, kind);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn suggestions() {
+        let cands = || ["velocity", "a", "gyro", "specific_force"].map(String::from);
+        let cases = [
+            ("velocty", "; did you mean `velocity`?"),
+            ("gyr", "; did you mean `gyro`?"),
+            ("specific_forc", "; did you mean `specific_force`?"),
+            ("zzz", ""),
+            ("b", "; did you mean `a`?"),
+        ];
+        for (name, want) in cases {
+            assert_eq!(suggest(name, cands()), want, "{name}");
+        }
+    }
+
+    #[test]
+    fn screaming() {
+        let cases = [("velocity", "VELOCITY"), ("c_bn", "C_BN"), ("Vx", "VX"), ("gyroBias", "GYRO_BIAS")];
+        for (name, want) in cases {
+            assert_eq!(screaming_case(name), want);
+        }
+    }
+}

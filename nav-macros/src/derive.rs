@@ -1,0 +1,190 @@
+//! The outputs of every generated function as nodes of the model's graph:
+//! `F`/`Phi` and `G` by differentiation, `Qd`, and the covariance algebra
+//! (`Phi P Phi^T + Qd`, `P H^T`, `H P H^T`) built symbolically over covariance
+//! symbols, so structural zeros and unit entries vanish before any code exists.
+
+use std::collections::HashMap;
+
+use crate::diff::Diff;
+use crate::expr::{Graph, Id, Sym};
+use crate::lower::Lowered;
+use crate::parse::ProcessKind;
+
+/// Everything the emitter needs, as node ids of `graph`.
+pub struct Derived {
+    pub graph: Graph,
+    pub kind: ProcessKind,
+    pub n: usize,
+    pub nw: usize,
+    /// `f` with noise `w`.
+    pub f_noisy: Vec<Id>,
+    /// `f` at `w = 0`.
+    pub f: Vec<Id>,
+    /// `x + f dt` (continuous) or `f` (discrete).
+    pub transition: Vec<Id>,
+    /// `F` (continuous) or `Phi` (discrete), row-major N x N.
+    pub jacobian: Vec<Id>,
+    /// `G = df/dw` at `w = 0`, row-major N x NW.
+    pub noise_jacobian: Vec<Id>,
+    /// `Qd`, row-major N x N (upper triangle meaningful, lower mirrored ids).
+    pub process_noise: Vec<Id>,
+    /// `Phi P Phi^T + Qd`, upper triangle as (i, j, id).
+    pub propagated: Vec<(usize, usize, Id)>,
+    pub sensors: Vec<DerivedSensor>,
+}
+
+/// One sensor's outputs.
+pub struct DerivedSensor {
+    pub m: usize,
+    pub h: Vec<Id>,
+    /// `H`, row-major M x N.
+    pub jacobian: Vec<Id>,
+    /// `P H^T`, row-major N x M.
+    pub pht: Vec<Id>,
+    /// `H P H^T`, upper triangle as (i, j, id).
+    pub hpht: Vec<(usize, usize, Id)>,
+}
+
+/// Differentiates and assembles all outputs.
+pub fn derive(lowered: Lowered, nw: usize) -> Derived {
+    let Lowered { mut graph, kind, f: f_noisy, sensors } = lowered;
+    let g = &mut graph;
+    let n = f_noisy.len();
+    let mut d = Diff::new();
+
+    let is_noise = |s: Sym| matches!(s, Sym::Noise(_));
+    let mut memo = HashMap::new();
+    let f: Vec<Id> = f_noisy.iter().map(|&e| g.substitute_zero(e, &is_noise, &mut memo)).collect();
+
+    let dt = g.sym(Sym::Dt);
+    let transition: Vec<Id> = match kind {
+        ProcessKind::Continuous => (0..n)
+            .map(|i| {
+                let x = g.sym(Sym::State(i as u32));
+                let step = g.mul(f[i], dt);
+                g.add(x, step)
+            })
+            .collect(),
+        ProcessKind::Discrete => f.clone(),
+    };
+
+    let mut jacobian = Vec::with_capacity(n * n);
+    for &fi in &f {
+        for j in 0..n {
+            jacobian.push(d.diff(g, fi, Sym::State(j as u32)));
+        }
+    }
+    let mut noise_jacobian = Vec::with_capacity(n * nw);
+    for &fi in &f_noisy {
+        for k in 0..nw {
+            let gk = d.diff(g, fi, Sym::Noise(k as u32));
+            noise_jacobian.push(g.substitute_zero(gk, &is_noise, &mut memo));
+        }
+    }
+
+    // Phi = I + F dt (continuous) or df/dx (discrete).
+    let phi: Vec<Id> = match kind {
+        ProcessKind::Continuous => (0..n * n)
+            .map(|ij| {
+                let fdt = g.mul(jacobian[ij], dt);
+                if ij / n == ij % n {
+                    g.add(Graph::ONE, fdt)
+                } else {
+                    fdt
+                }
+            })
+            .collect(),
+        ProcessKind::Discrete => jacobian.clone(),
+    };
+
+    // Qd = G Q G^T (times dt if continuous); Q = diag(q).
+    let q: Vec<Id> = (0..nw).map(|k| g.sym(Sym::NoiseIntensity(k as u32))).collect();
+    let gq: Vec<Id> = (0..n * nw).map(|ik| g.mul(noise_jacobian[ik], q[ik % nw.max(1)])).collect();
+    let mut process_noise = vec![Graph::ZERO; n * n];
+    for i in 0..n {
+        for j in i..n {
+            let terms: Vec<Id> = (0..nw).map(|k| g.mul(gq[i * nw + k], noise_jacobian[j * nw + k])).collect();
+            let s = g.sum(terms);
+            let s = if kind == ProcessKind::Continuous { g.mul(s, dt) } else { s };
+            process_noise[i * n + j] = s;
+            process_noise[j * n + i] = s;
+        }
+    }
+
+    // A = Phi P; result_ij = sum_k A_ik Phi_jk + Qd_ij for i <= j.
+    let p = |g: &mut Graph, i: usize, j: usize| g.sym(Sym::cov(i, j));
+    let nonzero_cols: Vec<Vec<usize>> =
+        (0..n).map(|i| (0..n).filter(|&k| !g.is_zero(phi[i * n + k])).collect()).collect();
+    let mut a = vec![Graph::ZERO; n * n];
+    for i in 0..n {
+        for k in 0..n {
+            let terms: Vec<Id> = nonzero_cols[i]
+                .iter()
+                .map(|&l| {
+                    let plk = p(g, l, k);
+                    g.mul(phi[i * n + l], plk)
+                })
+                .collect();
+            a[i * n + k] = g.sum(terms);
+        }
+    }
+    let mut propagated = Vec::with_capacity(n * (n + 1) / 2);
+    for i in 0..n {
+        for j in i..n {
+            let terms: Vec<Id> = nonzero_cols[j].iter().map(|&k| g.mul(a[i * n + k], phi[j * n + k])).collect();
+            let s = g.sum(terms);
+            propagated.push((i, j, g.add(s, process_noise[i * n + j])));
+        }
+    }
+
+    let sensors = sensors
+        .into_iter()
+        .map(|h| {
+            let m = h.len();
+            let mut hj = Vec::with_capacity(m * n);
+            for &hi in &h {
+                for j in 0..n {
+                    hj.push(d.diff(g, hi, Sym::State(j as u32)));
+                }
+            }
+            let nonzero: Vec<Vec<usize>> =
+                (0..m).map(|r| (0..n).filter(|&k| !g.is_zero(hj[r * n + k])).collect()).collect();
+            let mut pht = vec![Graph::ZERO; n * m];
+            for i in 0..n {
+                for r in 0..m {
+                    let terms: Vec<Id> = nonzero[r]
+                        .iter()
+                        .map(|&k| {
+                            let pik = p(g, i, k);
+                            g.mul(pik, hj[r * n + k])
+                        })
+                        .collect();
+                    pht[i * m + r] = g.sum(terms);
+                }
+            }
+            let mut hpht = Vec::new();
+            for r in 0..m {
+                for c in r..m {
+                    let terms: Vec<Id> = nonzero[r].iter().map(|&k| g.mul(hj[r * n + k], pht[k * m + c])).collect();
+                    hpht.push((r, c, g.sum(terms)));
+                }
+            }
+            DerivedSensor { m, h, jacobian: hj, pht, hpht }
+        })
+        .collect();
+
+    Derived {
+        graph,
+        kind,
+        n,
+        nw,
+        f_noisy,
+        f,
+        transition,
+        jacobian,
+        noise_jacobian,
+        process_noise,
+        propagated,
+        sensors,
+    }
+}

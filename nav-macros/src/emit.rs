@@ -1,0 +1,752 @@
+//! Code generation: quotes the generated items from the checked declaration and
+//! the derived outputs. Nothing is validated here.
+
+use proc_macro2::{Literal, TokenStream};
+use quote::{format_ident, quote};
+use syn::Ident;
+
+use crate::check::screaming_case;
+use crate::cse::{schedule, Schedule};
+use crate::derive::Derived;
+use crate::expr::{Graph, Id, Node, Sym};
+use crate::parse::{ModelDecl, ProcessKind, Shape, Var};
+
+/// All items generated for one model.
+pub fn model(decl: &ModelDecl, d: &Derived) -> TokenStream {
+    let em = Emitter::new(decl, d);
+    let records = em.records();
+    let model = em.model_items();
+    let sensors: Vec<TokenStream> = (0..decl.sensors.len()).map(|s| em.sensor_items(s)).collect();
+    let tests = em.tests();
+    quote! {
+        #records
+        #model
+        #(#sensors)*
+        #tests
+    }
+}
+
+struct Emitter<'a> {
+    decl: &'a ModelDecl,
+    d: &'a Derived,
+    g: &'a Graph,
+    name: &'a Ident,
+    state_ty: Ident,
+    input_ty: Ident,
+    params_ty: Ident,
+    noise_ty: Ident,
+    n: Literal,
+    nw: Literal,
+    inputs: Vec<TokenStream>,
+    params: Vec<TokenStream>,
+    noise: Vec<TokenStream>,
+    aux: Vec<Vec<TokenStream>>,
+}
+
+fn lit(v: usize) -> Literal {
+    Literal::usize_unsuffixed(v)
+}
+
+/// `f64`, `SVector<f64, n>` or `SMatrix<f64, r, c>`.
+fn field_type(shape: Shape) -> TokenStream {
+    match shape {
+        Shape::Scalar => quote!(f64),
+        Shape::Vector(n) => {
+            let n = lit(n);
+            quote!(::nav_runtime::nalgebra::SVector<f64, #n>)
+        }
+        Shape::Matrix(r, c) => {
+            let (r, c) = (lit(r), lit(c));
+            quote!(::nav_runtime::nalgebra::SMatrix<f64, #r, #c>)
+        }
+    }
+}
+
+/// Per scalar of a record: its access path suffix (`.gyro[1]`) and its name.
+fn scalar_paths(vars: &[Var]) -> Vec<(TokenStream, String)> {
+    let mut out = Vec::new();
+    for v in vars {
+        let f = &v.name;
+        match v.shape {
+            Shape::Scalar => out.push((quote!(.#f), f.to_string())),
+            Shape::Vector(n) => {
+                for i in 0..n {
+                    let li = lit(i);
+                    out.push((quote!(.#f[#li]), format!("{f}[{i}]")));
+                }
+            }
+            Shape::Matrix(r, c) => {
+                for i in 0..r {
+                    for j in 0..c {
+                        let (li, lj) = (lit(i), lit(j));
+                        out.push((quote!(.#f[(#li, #lj)]), format!("{f}[{i}][{j}]")));
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+fn doc(text: &str) -> TokenStream {
+    quote!(#[doc = #text])
+}
+
+/// One function body: shared temporaries, then the output expressions.
+struct Body {
+    lets: TokenStream,
+    exprs: Vec<TokenStream>,
+    ops: usize,
+}
+
+impl<'a> Emitter<'a> {
+    fn new(decl: &'a ModelDecl, d: &'a Derived) -> Self {
+        let name = &decl.name;
+        let paths = |vars: &[Var]| scalar_paths(vars).into_iter().map(|(p, _)| p).collect();
+        Emitter {
+            decl,
+            d,
+            g: &d.graph,
+            name,
+            state_ty: format_ident!("{}State", name),
+            input_ty: format_ident!("{}Input", name),
+            params_ty: format_ident!("{}Params", name),
+            noise_ty: format_ident!("{}Noise", name),
+            n: lit(d.n),
+            nw: lit(d.nw),
+            inputs: paths(&decl.inputs),
+            params: paths(&decl.params),
+            noise: paths(&decl.noise),
+            aux: decl.sensors.iter().map(|s| paths(&s.inputs)).collect(),
+        }
+    }
+
+    /// Reads a symbol in a generated function; `cov` names the covariance.
+    fn read(&self, s: Sym, cov: &TokenStream) -> TokenStream {
+        match s {
+            Sym::State(k) => {
+                let k = lit(k as usize);
+                quote!(x[#k])
+            }
+            Sym::Input(k) => {
+                let p = &self.inputs[k as usize];
+                quote!(u #p)
+            }
+            Sym::Param(k) => {
+                let p = &self.params[k as usize];
+                quote!(p #p)
+            }
+            Sym::NoiseIntensity(k) => {
+                let p = &self.noise[k as usize];
+                quote!(q #p)
+            }
+            Sym::Noise(k) => {
+                let k = lit(k as usize);
+                quote!(w[#k])
+            }
+            Sym::Aux(s, k) => {
+                let p = &self.aux[s as usize][k as usize];
+                quote!(aux #p)
+            }
+            Sym::Dt => quote!(dt),
+            Sym::Cov(i, j) => {
+                let (i, j) = (lit(i as usize), lit(j as usize));
+                quote!(#cov[(#i, #j)])
+            }
+        }
+    }
+
+    fn body(&self, roots: &[Id], cov: TokenStream) -> Body {
+        let sch = schedule(self.g, roots);
+        let mut lets = TokenStream::new();
+        for (k, &id) in sch.temps.iter().enumerate() {
+            let t = format_ident!("_t{}", k);
+            let e = self.node_expr(&sch, id, &cov, 0);
+            lets.extend(quote!(let #t = #e;));
+        }
+        let exprs = roots.iter().map(|&r| self.expr(&sch, r, &cov, 0)).collect();
+        Body { lets, exprs, ops: sch.ops }
+    }
+
+    /// The expression of `id` in a context of precedence `min` (0: none,
+    /// 1: `+ -`, 2: `* /`, 3: unary).
+    fn expr(&self, sch: &Schedule, id: Id, cov: &TokenStream, min: u8) -> TokenStream {
+        if let Some(t) = sch.temp_of[id.0 as usize] {
+            let t = format_ident!("_t{}", t);
+            return quote!(#t);
+        }
+        self.node_expr(sch, id, cov, min)
+    }
+
+    fn node_expr(&self, sch: &Schedule, id: Id, cov: &TokenStream, min: u8) -> TokenStream {
+        let math = quote!(::nav_runtime::math);
+        let (prec, tokens) = match self.g.node(id) {
+            Node::Const(bits) => {
+                let v = f64::from_bits(bits);
+                let l = float_literal(v.abs());
+                if v < 0.0 {
+                    (3, quote!(-#l))
+                } else {
+                    (4, quote!(#l))
+                }
+            }
+            Node::Sym(s) => (4, self.read(s, cov)),
+            Node::Add(a, b) => {
+                let (a, b) = (self.expr(sch, a, cov, 1), self.expr(sch, b, cov, 2));
+                (1, quote!(#a + #b))
+            }
+            Node::Sub(a, b) => {
+                let (a, b) = (self.expr(sch, a, cov, 1), self.expr(sch, b, cov, 2));
+                (1, quote!(#a - #b))
+            }
+            Node::Mul(a, b) => {
+                let (a, b) = (self.expr(sch, a, cov, 2), self.expr(sch, b, cov, 3));
+                (2, quote!(#a * #b))
+            }
+            Node::Div(a, b) => {
+                let (a, b) = (self.expr(sch, a, cov, 2), self.expr(sch, b, cov, 3));
+                (2, quote!(#a / #b))
+            }
+            Node::Neg(a) => {
+                let a = self.expr(sch, a, cov, 4);
+                (3, quote!(-#a))
+            }
+            Node::Call(f, a) => {
+                let fname = format_ident!("{}", f.name());
+                let a = self.expr(sch, a, cov, 0);
+                (4, quote!(#math::#fname(#a)))
+            }
+            Node::Atan2(y, x) => {
+                let (y, x) = (self.expr(sch, y, cov, 0), self.expr(sch, x, cov, 0));
+                (4, quote!(#math::atan2(#y, #x)))
+            }
+            Node::Powi(a, n) => {
+                let a = self.expr(sch, a, cov, 0);
+                let n = Literal::i32_unsuffixed(n);
+                (4, quote!(#math::powi(#a, #n)))
+            }
+        };
+        if prec < min {
+            quote!((#tokens))
+        } else {
+            tokens
+        }
+    }
+
+    fn records(&self) -> TokenStream {
+        let name = self.name;
+        let n = self.d.n;
+        let state = self.record(
+            &self.state_ty,
+            &format!("The state of [`{name}`] ({n} scalars), with named fields."),
+            &self.decl.states,
+        );
+        let state_ty = &self.state_ty;
+        let nl = &self.n;
+        let to_vec: Vec<TokenStream> = scalar_paths(&self.decl.states).into_iter().map(|(p, _)| quote!(self #p)).collect();
+        let input = self.record(&self.input_ty, &format!("The inputs `u` of [`{name}`]."), &self.decl.inputs);
+        let params = self.record(&self.params_ty, &format!("The parameters `p` of [`{name}`]."), &self.decl.params);
+        let noise_doc = match self.d.kind {
+            ProcessKind::Continuous => format!(
+                "The process-noise power spectral densities `q` of [`{name}`], one per noise scalar (units^2 / s)."
+            ),
+            ProcessKind::Discrete => {
+                format!("The per-step process-noise variances `q` of [`{name}`], one per noise scalar.")
+            }
+        };
+        let noise = self.record(&self.noise_ty, &noise_doc, &self.decl.noise);
+        let sensor_aux: Vec<TokenStream> = self
+            .decl
+            .sensors
+            .iter()
+            .filter(|s| !s.inputs.is_empty())
+            .map(|s| {
+                let ty = format_ident!("{}{}Aux", name, s.name);
+                self.record(&ty, &format!("The auxiliary inputs of sensor [`{}{}`].", name, s.name), &s.inputs)
+            })
+            .collect();
+        quote! {
+            #state
+            #[allow(clippy::all, unused)]
+            impl #state_ty {
+                /// The state from its vector (declaration order).
+                pub fn from_vector(v: &::nav_runtime::nalgebra::SVector<f64, #nl>) -> Self {
+                    <Self as ::nav_runtime::model::Record>::from_fn(|i| v[i])
+                }
+                /// The state as a vector (declaration order).
+                pub fn to_vector(&self) -> ::nav_runtime::nalgebra::SVector<f64, #nl> {
+                    ::nav_runtime::nalgebra::SVector::<f64, #nl>::from_column_slice(&[#(#to_vec),*])
+                }
+            }
+            #input
+            #params
+            #noise
+            #(#sensor_aux)*
+        }
+    }
+
+    fn record(&self, ty: &Ident, text: &str, vars: &[Var]) -> TokenStream {
+        let vis = &self.decl.vis;
+        let doc = doc(text);
+        let fields = vars.iter().map(|v| {
+            let (attrs, f, t) = (&v.attrs, &v.name, field_type(v.shape));
+            quote!(#(#attrs)* pub #f: #t,)
+        });
+        let paths = scalar_paths(vars);
+        let len = lit(paths.len());
+        let names = paths.iter().map(|(_, s)| s);
+        let arms = paths.iter().enumerate().map(|(i, (p, _))| {
+            let i = lit(i);
+            quote!(#i => self #p,)
+        });
+        let mut offset = 0;
+        let inits = vars.iter().map(|v| {
+            let f = &v.name;
+            let (a, b) = (lit(offset), lit(offset + v.shape.len()));
+            offset += v.shape.len();
+            match v.shape {
+                Shape::Scalar => quote!(#f: v[#a],),
+                Shape::Vector(n) => {
+                    let n = lit(n);
+                    quote!(#f: ::nav_runtime::nalgebra::SVector::<f64, #n>::from_column_slice(&v[#a..#b]),)
+                }
+                Shape::Matrix(r, c) => {
+                    let (r, c) = (lit(r), lit(c));
+                    quote!(#f: ::nav_runtime::nalgebra::SMatrix::<f64, #r, #c>::from_row_slice(&v[#a..#b]),)
+                }
+            }
+        });
+        quote! {
+            #doc
+            #[derive(Clone, Copy, Debug, Default, PartialEq)]
+            #[allow(non_snake_case)]
+            #vis struct #ty {
+                #(#fields)*
+            }
+            #[allow(clippy::all, unused)]
+            impl ::nav_runtime::model::Record for #ty {
+                const LEN: usize = #len;
+                const NAMES: &'static [&'static str] = &[#(#names),*];
+                fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
+                    let mut v = [0.0f64; #len];
+                    for (i, slot) in v.iter_mut().enumerate() {
+                        *slot = f(i);
+                    }
+                    Self { #(#inits)* }
+                }
+                fn get(&self, i: usize) -> f64 {
+                    match i {
+                        #(#arms)*
+                        _ => f64::NAN,
+                    }
+                }
+            }
+        }
+    }
+
+    fn model_items(&self) -> TokenStream {
+        let d = self.d;
+        let (name, vis, n, nw) = (self.name, &self.decl.vis, &self.n, &self.nw);
+        let (state_ty, input_ty, params_ty, noise_ty) = (&self.state_ty, &self.input_ty, &self.params_ty, &self.noise_ty);
+        let attrs = &self.decl.attrs;
+        let svec = quote!(::nav_runtime::nalgebra::SVector);
+        let smat = quote!(::nav_runtime::nalgebra::SMatrix);
+        let nocov = quote!(_p);
+
+        // Index constants.
+        let mut offset = 0;
+        let index_consts: Vec<TokenStream> = self
+            .decl
+            .states
+            .iter()
+            .map(|v| {
+                let c = format_ident!("{}", screaming_case(&v.name.to_string()));
+                let o = lit(offset);
+                let text = format!("Index of the first scalar of `{}` in the state vector.", v.name);
+                offset += v.shape.len();
+                quote!(#[doc = #text] pub const #c: usize = #o;)
+            })
+            .collect();
+
+        let state_names: Vec<String> = scalar_paths(&self.decl.states).into_iter().map(|(_, s)| s).collect();
+        let sparsity = self.sparsity(&d.jacobian, d.n, d.n);
+
+        // transition
+        let tr = self.body(&d.transition, nocov.clone());
+        let tr_fill = self.nonzero_vector(&tr, &d.transition);
+        let (tr_lets, tr_ops) = (&tr.lets, tr.ops);
+        let tr_doc = doc(&match d.kind {
+            ProcessKind::Continuous => format!("One Euler step `x + f(x, u, p) dt`.\n\nTotal ops: {tr_ops}"),
+            ProcessKind::Discrete => format!("The next state `f(x, u, p, dt)` (noise-free).\n\nTotal ops: {tr_ops}"),
+        });
+
+        // jacobian
+        let jb = self.body(&d.jacobian, nocov.clone());
+        let jb_fill = self.nonzero_matrix(&jb, &d.jacobian, d.n, d.n);
+        let (jb_lets, jb_ops) = (&jb.lets, jb.ops);
+        let jb_doc = doc(&match d.kind {
+            ProcessKind::Continuous => format!("`F = df/dx` at `w = 0` (`dt` is unused).\n\nTotal ops: {jb_ops}"),
+            ProcessKind::Discrete => format!("`Phi = df/dx` at `w = 0`.\n\nTotal ops: {jb_ops}"),
+        });
+
+        // noise jacobian
+        let gb = self.body(&d.noise_jacobian, nocov.clone());
+        let gb_fill = self.nonzero_matrix(&gb, &d.noise_jacobian, d.n, d.nw);
+        let (gb_lets, gb_ops) = (&gb.lets, gb.ops);
+        let gb_doc = doc(&format!(
+            "The noise Jacobian `G = df/dw` at `w = 0` (N x NW, noise scalars in declaration order).\n\nTotal ops: \
+             {gb_ops}"
+        ));
+
+        // process noise
+        let upper: Vec<(usize, usize, Id)> =
+            (0..d.n).flat_map(|i| (i..d.n).map(move |j| (i, j))).map(|(i, j)| (i, j, d.process_noise[i * d.n + j])).collect();
+        let qb = self.body(&upper.iter().map(|e| e.2).collect::<Vec<_>>(), nocov.clone());
+        let qb_fill = self.symmetric(&qb, &upper, d.n);
+        let (qb_lets, qb_ops) = (&qb.lets, qb.ops);
+        let qb_doc = doc(&match d.kind {
+            ProcessKind::Continuous => format!("`Qd = G Q G^T dt`, `Q = diag(q)`.\n\nTotal ops: {qb_ops}"),
+            ProcessKind::Discrete => format!("`Qd = G Q G^T`, `Q = diag(q)`.\n\nTotal ops: {qb_ops}"),
+        });
+
+        // propagate covariance
+        let pb = self.body(&d.propagated.iter().map(|e| e.2).collect::<Vec<_>>(), quote!(_p));
+        let pb_sets = d.propagated.iter().zip(&pb.exprs).filter_map(|(&(i, j, id), e)| {
+            // An entry equal to the old value of the same entry needs no store.
+            if self.g.node(id) == Node::Sym(Sym::cov(i, j)) {
+                return None;
+            }
+            let (i, j) = (lit(i), lit(j));
+            Some(quote!(cov[(#i, #j)] = #e;))
+        });
+        let (pb_lets, pb_ops) = (&pb.lets, pb.ops);
+        let pb_doc = doc(&format!(
+            "`P <- Phi P Phi^T + Qd` from the upper triangle of `P`, generated from the sparsity of `Phi` and `G`; \
+             the result is mirrored.\n\nTotal ops: {pb_ops}"
+        ));
+
+        // derivative and process with noise
+        let continuous = d.kind == ProcessKind::Continuous;
+        let derivative = if continuous {
+            let fb = self.body(&d.f, nocov.clone());
+            let fill = self.nonzero_vector(&fb, &d.f);
+            let (lets, ops) = (&fb.lets, fb.ops);
+            let dd = doc(&format!("The state derivative `f(x, u, p)` at `w = 0`.\n\nTotal ops: {ops}"));
+            let ops = lit(ops);
+            quote! {
+                /// Operations in [`Self::derivative`].
+                pub const OPS_DERIVATIVE: usize = #ops;
+                #dd
+                pub fn derivative(x: &#svec<f64, #n>, u: &#input_ty, p: &#params_ty) -> #svec<f64, #n> {
+                    #lets
+                    #fill
+                    out
+                }
+            }
+        } else {
+            quote!()
+        };
+        let wb = self.body(&d.f_noisy, nocov.clone());
+        let w_fill = self.nonzero_vector(&wb, &d.f_noisy);
+        let w_lets = &wb.lets;
+        let w_doc = doc(&match d.kind {
+            ProcessKind::Continuous => {
+                format!("`f(x, u, p, w)` with an explicit noise sample `w` (`dt` is unused).\n\nTotal ops: {}", wb.ops)
+            }
+            ProcessKind::Discrete => {
+                format!("`f(x, u, p, dt, w)` with an explicit noise sample `w`.\n\nTotal ops: {}", wb.ops)
+            }
+        });
+
+        let name_str = name.to_string();
+        let (tr_ops, jb_ops, gb_ops, qb_ops, pb_ops) = (lit(tr_ops), lit(jb_ops), lit(gb_ops), lit(qb_ops), lit(pb_ops));
+        let type_doc = doc(&format!(
+            "Generated by `model!`: {} model with {} states, {} noise inputs and {} sensors.",
+            if continuous { "continuous" } else { "discrete" },
+            d.n,
+            d.nw,
+            self.decl.sensors.len()
+        ));
+        quote! {
+            #(#attrs)*
+            #[doc = ""]
+            #type_doc
+            #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+            #vis struct #name;
+
+            #[allow(clippy::all, unused)]
+            impl #name {
+                /// Number of scalar states.
+                pub const N: usize = #n;
+                /// Number of scalar process-noise inputs.
+                pub const NW: usize = #nw;
+                #(#index_consts)*
+                /// Operations in `transition`.
+                pub const OPS_TRANSITION: usize = #tr_ops;
+                /// Operations in `jacobian`.
+                pub const OPS_JACOBIAN: usize = #jb_ops;
+                /// Operations in [`Self::noise_jacobian`].
+                pub const OPS_NOISE_JACOBIAN: usize = #gb_ops;
+                /// Operations in `process_noise`.
+                pub const OPS_PROCESS_NOISE: usize = #qb_ops;
+                /// Operations in `propagate_covariance`.
+                pub const OPS_PROPAGATE_COVARIANCE: usize = #pb_ops;
+                #derivative
+                #w_doc
+                pub fn process_with_noise(
+                    x: &#svec<f64, #n>, u: &#input_ty, p: &#params_ty, w: &#svec<f64, #nw>, dt: f64,
+                ) -> #svec<f64, #n> {
+                    #w_lets
+                    #w_fill
+                    out
+                }
+                #gb_doc
+                pub fn noise_jacobian(x: &#svec<f64, #n>, u: &#input_ty, p: &#params_ty, dt: f64) -> #smat<f64, #n, #nw> {
+                    #gb_lets
+                    #gb_fill
+                    out
+                }
+            }
+
+            #[allow(clippy::all, unused)]
+            impl ::nav_runtime::model::Model<#n> for #name {
+                type Input = #input_ty;
+                type Params = #params_ty;
+                type Noise = #noise_ty;
+                type State = #state_ty;
+                const NAME: &'static str = #name_str;
+                const DISCRETE: bool = !#continuous;
+                const STATE_NAMES: [&'static str; #n] = [#(#state_names),*];
+                const JACOBIAN_SPARSITY: [[bool; #n]; #n] = #sparsity;
+                const OPS_PROPAGATE_COVARIANCE: usize = #pb_ops;
+                const OPS_JACOBIAN: usize = #jb_ops;
+
+                #tr_doc
+                fn transition(x: &#svec<f64, #n>, u: &#input_ty, p: &#params_ty, dt: f64) -> #svec<f64, #n> {
+                    #tr_lets
+                    #tr_fill
+                    out
+                }
+                #jb_doc
+                fn jacobian(x: &#svec<f64, #n>, u: &#input_ty, p: &#params_ty, dt: f64) -> #smat<f64, #n, #n> {
+                    #jb_lets
+                    #jb_fill
+                    out
+                }
+                #qb_doc
+                fn process_noise(
+                    x: &#svec<f64, #n>, u: &#input_ty, p: &#params_ty, q: &#noise_ty, dt: f64,
+                ) -> #smat<f64, #n, #n> {
+                    #qb_lets
+                    #qb_fill
+                    out
+                }
+                #pb_doc
+                fn propagate_covariance(
+                    cov: &mut #smat<f64, #n, #n>, x: &#svec<f64, #n>, u: &#input_ty, p: &#params_ty, q: &#noise_ty, dt: f64,
+                ) {
+                    let _p = *cov;
+                    #pb_lets
+                    #(#pb_sets)*
+                    for i in 0..#n {
+                        for j in 0..i {
+                            cov[(i, j)] = cov[(j, i)];
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    fn sensor_items(&self, s: usize) -> TokenStream {
+        let d = self.d;
+        let sd = &self.decl.sensors[s];
+        let ds = &d.sensors[s];
+        let (name, vis, n) = (self.name, &self.decl.vis, &self.n);
+        let (input_ty, params_ty) = (&self.input_ty, &self.params_ty);
+        let ty = format_ident!("{}{}", name, sd.name);
+        let aux_ty = if sd.inputs.is_empty() {
+            quote!(())
+        } else {
+            let a = format_ident!("{}{}Aux", name, sd.name);
+            quote!(#a)
+        };
+        let m = lit(ds.m);
+        let svec = quote!(::nav_runtime::nalgebra::SVector);
+        let smat = quote!(::nav_runtime::nalgebra::SMatrix);
+        let attrs = &sd.attrs;
+        let sensor_name = sd.name.to_string();
+        let angles: Vec<bool> = (0..ds.m)
+            .map(|i| {
+                sd.angles
+                    .as_ref()
+                    .is_some_and(|(_, l)| l.iter().any(|x| x.base10_parse::<usize>().ok() == Some(i)))
+            })
+            .collect();
+        let sparsity = self.sparsity(&ds.jacobian, ds.m, d.n);
+
+        let hb = self.body(&ds.h, quote!(cov));
+        let h_fill = self.nonzero_vector(&hb, &ds.h);
+        let (h_lets, h_ops) = (&hb.lets, hb.ops);
+        let jb = self.body(&ds.jacobian, quote!(cov));
+        let j_fill = self.nonzero_matrix(&jb, &ds.jacobian, ds.m, d.n);
+        let (j_lets, j_ops) = (&jb.lets, jb.ops);
+
+        // innovation terms: h, P H^T and the upper triangle of H P H^T share temporaries.
+        let mut roots = ds.h.clone();
+        roots.extend(&ds.pht);
+        roots.extend(ds.hpht.iter().map(|e| e.2));
+        let ib = self.body(&roots, quote!(cov));
+        let (i_lets, i_ops) = (&ib.lets, ib.ops);
+        let mm = ds.m;
+        let h_sets = ib.exprs[..mm].iter().enumerate().filter(|(i, _)| !self.g.is_zero(ds.h[*i])).map(|(i, e)| {
+            let i = lit(i);
+            quote!(h[#i] = #e;)
+        });
+        let u_sets = ib.exprs[mm..mm + d.n * mm]
+            .iter()
+            .enumerate()
+            .filter(|(k, _)| !self.g.is_zero(ds.pht[*k]))
+            .map(|(k, e)| {
+                let (i, j) = (lit(k / mm), lit(k % mm));
+                quote!(pht[(#i, #j)] = #e;)
+            });
+        let s_sets = ib.exprs[mm + d.n * mm..].iter().zip(&ds.hpht).filter(|(_, e)| !self.g.is_zero(e.2)).map(
+            |(expr, &(i, j, _))| {
+                let (i, j) = (lit(i), lit(j));
+                quote!(s[(#i, #j)] = #expr;)
+            },
+        );
+
+        let text = format!("Sensor `{sensor_name}` of [`{name}`]: {} outputs.", ds.m);
+        let p_doc = doc(&format!("The predicted measurement `h(x, u, p, aux)`.\n\nTotal ops: {h_ops}"));
+        let j_doc = doc(&format!("`H = dh/dx`.\n\nTotal ops: {j_ops}"));
+        let i_doc = doc(&format!(
+            "`(h, P H^T, H P H^T)` from the upper triangle of `P` and the sparsity of `H`.\n\nTotal ops: {i_ops}"
+        ));
+        let (h_ops, j_ops, i_ops) = (lit(h_ops), lit(j_ops), lit(i_ops));
+        quote! {
+            #(#attrs)*
+            #[doc = ""]
+            #[doc = #text]
+            #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+            #vis struct #ty;
+
+            #[allow(clippy::all, unused)]
+            impl #ty {
+                /// Number of measurement components.
+                pub const M: usize = #m;
+                /// The declared sensor name.
+                pub const NAME: &'static str = #sensor_name;
+                /// Operations in `predict`.
+                pub const OPS_PREDICT: usize = #h_ops;
+                /// Operations in `jacobian`.
+                pub const OPS_JACOBIAN: usize = #j_ops;
+                /// Operations in `innovation_terms`.
+                pub const OPS_INNOVATION_TERMS: usize = #i_ops;
+            }
+
+            #[allow(clippy::all, unused)]
+            impl ::nav_runtime::model::Sensor<#n, #m> for #ty {
+                type Model = #name;
+                type Aux = #aux_ty;
+                const NAME: &'static str = #sensor_name;
+                const ANGLES: [bool; #m] = [#(#angles),*];
+                const JACOBIAN_SPARSITY: [[bool; #n]; #m] = #sparsity;
+                const OPS_INNOVATION_TERMS: usize = #i_ops;
+
+                #p_doc
+                fn predict(x: &#svec<f64, #n>, u: &#input_ty, p: &#params_ty, aux: &#aux_ty) -> #svec<f64, #m> {
+                    #h_lets
+                    #h_fill
+                    out
+                }
+                #j_doc
+                fn jacobian(x: &#svec<f64, #n>, u: &#input_ty, p: &#params_ty, aux: &#aux_ty) -> #smat<f64, #m, #n> {
+                    #j_lets
+                    #j_fill
+                    out
+                }
+                #i_doc
+                fn innovation_terms(
+                    cov: &#smat<f64, #n, #n>, x: &#svec<f64, #n>, u: &#input_ty, p: &#params_ty, aux: &#aux_ty,
+                ) -> (#svec<f64, #m>, #smat<f64, #n, #m>, #smat<f64, #m, #m>) {
+                    #i_lets
+                    let mut h = #svec::<f64, #m>::zeros();
+                    let mut pht = #smat::<f64, #n, #m>::zeros();
+                    let mut s = #smat::<f64, #m, #m>::zeros();
+                    #(#h_sets)*
+                    #(#u_sets)*
+                    #(#s_sets)*
+                    for i in 0..#m {
+                        for j in 0..i {
+                            s[(i, j)] = s[(j, i)];
+                        }
+                    }
+                    (h, pht, s)
+                }
+            }
+        }
+    }
+
+    fn nonzero_vector(&self, body: &Body, ids: &[Id]) -> TokenStream {
+        let l = lit(ids.len());
+        let sets = body.exprs.iter().zip(ids).enumerate().filter(|(_, (_, &id))| !self.g.is_zero(id)).map(
+            |(i, (e, _))| {
+                let i = lit(i);
+                quote!(out[#i] = #e;)
+            },
+        );
+        quote!(let mut out = ::nav_runtime::nalgebra::SVector::<f64, #l>::zeros(); #(#sets)*)
+    }
+
+    fn nonzero_matrix(&self, body: &Body, ids: &[Id], rows: usize, cols: usize) -> TokenStream {
+        let (r, c) = (lit(rows), lit(cols));
+        let sets = body.exprs.iter().zip(ids).enumerate().filter(|(_, (_, &id))| !self.g.is_zero(id)).map(
+            |(k, (e, _))| {
+                let (i, j) = (lit(k / cols), lit(k % cols));
+                quote!(out[(#i, #j)] = #e;)
+            },
+        );
+        quote!(let mut out = ::nav_runtime::nalgebra::SMatrix::<f64, #r, #c>::zeros(); #(#sets)*)
+    }
+
+    fn symmetric(&self, body: &Body, upper: &[(usize, usize, Id)], n: usize) -> TokenStream {
+        let nl = lit(n);
+        let sets = body.exprs.iter().zip(upper).filter(|(_, e)| !self.g.is_zero(e.2)).map(|(expr, &(i, j, _))| {
+            let (i, j) = (lit(i), lit(j));
+            quote!(out[(#i, #j)] = #expr;)
+        });
+        quote! {
+            let mut out = ::nav_runtime::nalgebra::SMatrix::<f64, #nl, #nl>::zeros();
+            #(#sets)*
+            for i in 0..#nl {
+                for j in 0..i {
+                    out[(i, j)] = out[(j, i)];
+                }
+            }
+        }
+    }
+
+    fn sparsity(&self, ids: &[Id], rows: usize, cols: usize) -> TokenStream {
+        let rows_t = (0..rows).map(|i| {
+            let row = (0..cols).map(|j| !self.g.is_zero(ids[i * cols + j]));
+            quote!([#(#row),*])
+        });
+        quote!([#(#rows_t),*])
+    }
+
+    fn tests(&self) -> TokenStream {
+        crate::emit_tests::tests(self.decl, self.d)
+    }
+}
+
+/// A float literal that round-trips exactly (`{:?}` of f64 is shortest-exact).
+fn float_literal(v: f64) -> TokenStream {
+    let mut s = format!("{v:?}");
+    if !s.contains('.') && !s.contains('e') {
+        s.push_str(".0");
+    }
+    let lit: syn::LitFloat = syn::LitFloat::new(&s, proc_macro2::Span::call_site());
+    quote!(#lit)
+}

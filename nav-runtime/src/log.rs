@@ -1,0 +1,408 @@
+//! The recorded-log directory format: reader, writer and a merged event stream.
+//!
+//! A log directory holds one CSV file per sensor (`imu.csv` required, aiding files
+//! optional: a missing file means the sensor is absent), an optional `truth.csv` for
+//! scoring and a required `meta.toml`:
+//!
+//! | file | columns |
+//! |---|---|
+//! | `imu.csv` | `t,gx,gy,gz,ax,ay,az` |
+//! | `dvl.csv` | `t,vx,vy,vz` (empty cells = no bottom lock) |
+//! | `depth.csv` | `t,depth` |
+//! | `heading.csv` | `t,heading` |
+//! | `usbl.csv` | `t,lat,lon,depth` |
+//! | `speed.csv` | `t,speed` |
+//! | `rpm.csv` | `t,rpm` |
+//! | `altitude.csv` | `t,altitude` |
+//! | `truth.csv` | `t,lat,lon,depth,vn,ve,vd,roll,pitch,yaw` |
+//!
+//! Reading validates everything: each error names the file, the 1-based line (the
+//! header is line 1) and the column (or the dotted `meta.toml` key). With
+//! [`Strictness::Lenient`] bad CSV rows are skipped and counted per file instead
+//! (empty files, bad headers and `meta.toml` problems are always errors).
+//!
+//! Writing goes to a temporary sibling directory that is moved into place only once
+//! every file is complete, so an error never leaves a partial log behind.
+
+mod error;
+mod meta;
+mod rows;
+
+use std::collections::BTreeMap;
+use std::fs;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+pub use error::{CsvProblem, LogError, SkippedRow};
+pub use meta::{
+    ImuNoise, Initial, InitialSigma, Meta, SensorNoise, Sensors, UsblTransducer, AIDING_SENSORS,
+};
+pub use rows::{
+    format_f64, parse_csv, write_csv, AltitudeRow, Cell, DepthRow, DvlRow, HeadingRow, ImuRow, Row,
+    RpmRow, SpeedRow, Table, TruthRow, UsblRow, MAX_SKIP_REASONS,
+};
+
+/// How the reader treats bad CSV rows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Strictness {
+    /// The first bad row is an error.
+    #[default]
+    Strict,
+    /// Bad rows are skipped and counted (see [`LogDir::skipped_rows`]).
+    Lenient,
+}
+
+/// Name of the metadata file.
+pub const META_FILE: &str = "meta.toml";
+
+/// Every file name a log directory may contain.
+pub const LOG_FILES: &[&str] = &[
+    "imu.csv",
+    "dvl.csv",
+    "depth.csv",
+    "heading.csv",
+    "usbl.csv",
+    "speed.csv",
+    "rpm.csv",
+    "altitude.csv",
+    "truth.csv",
+    META_FILE,
+];
+
+/// A whole log directory in memory. Aiding sensors and truth are `None` when their
+/// file is absent (a present file with only a header gives `Some(vec![])`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct LogDir {
+    /// `meta.toml`.
+    pub meta: Meta,
+    /// `imu.csv` (required).
+    pub imu: Vec<ImuRow>,
+    /// `dvl.csv`.
+    pub dvl: Option<Vec<DvlRow>>,
+    /// `depth.csv`.
+    pub depth: Option<Vec<DepthRow>>,
+    /// `heading.csv`.
+    pub heading: Option<Vec<HeadingRow>>,
+    /// `usbl.csv`.
+    pub usbl: Option<Vec<UsblRow>>,
+    /// `speed.csv`.
+    pub speed: Option<Vec<SpeedRow>>,
+    /// `rpm.csv`.
+    pub rpm: Option<Vec<RpmRow>>,
+    /// `altitude.csv`.
+    pub altitude: Option<Vec<AltitudeRow>>,
+    /// `truth.csv`.
+    pub truth: Option<Vec<TruthRow>>,
+    /// Rows skipped by the lenient reader, per file name (files with none are absent).
+    pub skipped_rows: BTreeMap<String, usize>,
+    /// The first few reasons rows were skipped, over all files.
+    pub skip_reasons: Vec<SkippedRow>,
+}
+
+fn read_table<R: Row>(
+    dir: &Path,
+    strictness: Strictness,
+    required: bool,
+    skipped: &mut BTreeMap<String, usize>,
+    reasons: &mut Vec<SkippedRow>,
+) -> Result<Option<Vec<R>>, LogError> {
+    let path = dir.join(R::FILE);
+    let file = match fs::File::open(&path) {
+        Ok(f) => f,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            if required {
+                return Err(LogError::MissingFile {
+                    file: R::FILE.to_string(),
+                    dir: dir.to_path_buf(),
+                });
+            }
+            return Ok(None);
+        }
+        Err(e) => return Err(LogError::io(path, e)),
+    };
+    let table = parse_csv::<R>(std::io::BufReader::new(file), strictness)?;
+    if table.skipped > 0 {
+        skipped.insert(R::FILE.to_string(), table.skipped);
+        let room = MAX_SKIP_REASONS.saturating_sub(reasons.len());
+        reasons.extend(table.skip_reasons.into_iter().take(room));
+    }
+    Ok(Some(table.rows))
+}
+
+impl LogDir {
+    /// An empty log (no IMU rows, no aiding sensors) with the given metadata.
+    pub fn new(meta: Meta) -> Self {
+        LogDir {
+            meta,
+            imu: Vec::new(),
+            dvl: None,
+            depth: None,
+            heading: None,
+            usbl: None,
+            speed: None,
+            rpm: None,
+            altitude: None,
+            truth: None,
+            skipped_rows: BTreeMap::new(),
+            skip_reasons: Vec::new(),
+        }
+    }
+
+    /// Reads and validates a log directory.
+    pub fn read(path: impl AsRef<Path>, strictness: Strictness) -> Result<LogDir, LogError> {
+        let dir = path.as_ref();
+        match fs::metadata(dir) {
+            Ok(m) if m.is_dir() => {}
+            Ok(_) => return Err(LogError::io(dir, std::io::Error::other("not a directory"))),
+            Err(e) => return Err(LogError::io(dir, e)),
+        }
+        let meta_path = dir.join(META_FILE);
+        let meta_text = match fs::read(&meta_path) {
+            Ok(bytes) => String::from_utf8(bytes).map_err(|e| LogError::Meta {
+                key: String::new(),
+                line: None,
+                problem: format!("not valid UTF-8 ({e})"),
+            })?,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                return Err(LogError::MissingFile {
+                    file: META_FILE.to_string(),
+                    dir: dir.to_path_buf(),
+                })
+            }
+            Err(e) => return Err(LogError::io(meta_path, e)),
+        };
+        let meta = Meta::parse(&meta_text)?;
+        let mut sk = BTreeMap::new();
+        let mut rs = Vec::new();
+        let s = strictness;
+        let imu = read_table::<ImuRow>(dir, s, true, &mut sk, &mut rs)?.unwrap_or_default();
+        Ok(LogDir {
+            meta,
+            imu,
+            dvl: read_table(dir, s, false, &mut sk, &mut rs)?,
+            depth: read_table(dir, s, false, &mut sk, &mut rs)?,
+            heading: read_table(dir, s, false, &mut sk, &mut rs)?,
+            usbl: read_table(dir, s, false, &mut sk, &mut rs)?,
+            speed: read_table(dir, s, false, &mut sk, &mut rs)?,
+            rpm: read_table(dir, s, false, &mut sk, &mut rs)?,
+            altitude: read_table(dir, s, false, &mut sk, &mut rs)?,
+            truth: read_table(dir, s, false, &mut sk, &mut rs)?,
+            skipped_rows: sk,
+            skip_reasons: rs,
+        })
+    }
+
+    /// Total number of rows the lenient reader skipped.
+    pub fn total_skipped_rows(&self) -> usize {
+        self.skipped_rows.values().sum()
+    }
+
+    /// Writes the log to `path`: every file is written into a temporary sibling
+    /// directory first and moved into place at the end, so an error leaves nothing.
+    ///
+    /// If `path` exists it must be a directory; log files in it that this log does not
+    /// have (e.g. a stale `dvl.csv`) are removed, other files are left alone.
+    pub fn write(&self, path: impl AsRef<Path>) -> Result<(), LogError> {
+        let target = path.as_ref();
+        if let Ok(m) = fs::metadata(target) {
+            if !m.is_dir() {
+                return Err(LogError::Write {
+                    path: target.to_path_buf(),
+                    reason: "exists and is not a directory".into(),
+                });
+            }
+        }
+        let staging = Staging::new(target)?;
+        let mut written: Vec<&'static str> = Vec::new();
+        let res = (|| {
+            self.write_files(&staging.dir, &mut written)?;
+            staging.commit(target, &written)
+        })();
+        if res.is_err() {
+            staging.discard();
+        }
+        res
+    }
+
+    fn write_files(&self, dir: &Path, written: &mut Vec<&'static str>) -> Result<(), LogError> {
+        fn one<R: Row>(
+            dir: &Path,
+            rows: Option<&[R]>,
+            written: &mut Vec<&'static str>,
+        ) -> Result<(), LogError> {
+            let Some(rows) = rows else { return Ok(()) };
+            let path = dir.join(R::FILE);
+            let f = fs::File::create(&path).map_err(|e| LogError::io(&path, e))?;
+            let mut w = BufWriter::new(f);
+            write_csv(&mut w, rows).map_err(|e| LogError::io(&path, e))?;
+            w.flush().map_err(|e| LogError::io(&path, e))?;
+            written.push(R::FILE);
+            Ok(())
+        }
+        let meta_path = dir.join(META_FILE);
+        fs::write(&meta_path, self.meta.to_toml()).map_err(|e| LogError::io(&meta_path, e))?;
+        written.push(META_FILE);
+        one(dir, Some(&self.imu[..]), written)?;
+        one(dir, self.dvl.as_deref(), written)?;
+        one(dir, self.depth.as_deref(), written)?;
+        one(dir, self.heading.as_deref(), written)?;
+        one(dir, self.usbl.as_deref(), written)?;
+        one(dir, self.speed.as_deref(), written)?;
+        one(dir, self.rpm.as_deref(), written)?;
+        one(dir, self.altitude.as_deref(), written)?;
+        one(dir, self.truth.as_deref(), written)?;
+        Ok(())
+    }
+
+    /// All aiding and IMU samples merged in time order (truth is not included).
+    ///
+    /// Samples with equal times come in the order IMU, DVL, depth, heading, USBL,
+    /// speed, rpm, altitude, so a filter propagates to `t` before it applies aiding
+    /// measurements stamped `t`.
+    pub fn events(&self) -> Events<'_> {
+        Events {
+            log: self,
+            next: [0; 8],
+        }
+    }
+
+    /// Time span `(first, last)` covered by the IMU, if it has samples.
+    pub fn imu_time_span(&self) -> Option<(f64, f64)> {
+        Some((self.imu.first()?.t, self.imu.last()?.t))
+    }
+}
+
+/// One sample of the merged event stream ([`LogDir::events`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Event {
+    /// An IMU sample.
+    Imu(ImuRow),
+    /// A DVL sample.
+    Dvl(DvlRow),
+    /// A depth sample.
+    Depth(DepthRow),
+    /// A compass sample.
+    Heading(HeadingRow),
+    /// A USBL fix.
+    Usbl(UsblRow),
+    /// A speed-log sample.
+    Speed(SpeedRow),
+    /// A propeller rpm sample.
+    Rpm(RpmRow),
+    /// An echo-sounder sample.
+    Altitude(AltitudeRow),
+}
+
+impl Event {
+    /// Time of the event, s.
+    pub fn t(&self) -> f64 {
+        match self {
+            Event::Imu(r) => r.t,
+            Event::Dvl(r) => r.t,
+            Event::Depth(r) => r.t,
+            Event::Heading(r) => r.t,
+            Event::Usbl(r) => r.t,
+            Event::Speed(r) => r.t,
+            Event::Rpm(r) => r.t,
+            Event::Altitude(r) => r.t,
+        }
+    }
+}
+
+/// Iterator over the merged, time-ordered samples of a [`LogDir`].
+#[derive(Debug, Clone)]
+pub struct Events<'a> {
+    log: &'a LogDir,
+    next: [usize; 8],
+}
+
+impl Events<'_> {
+    fn head(&self, k: usize) -> Option<Event> {
+        let l = self.log;
+        let i = self.next[k];
+        fn at<R: Copy>(v: Option<&Vec<R>>, i: usize) -> Option<R> {
+            v.and_then(|v| v.get(i).copied())
+        }
+        match k {
+            0 => l.imu.get(i).copied().map(Event::Imu),
+            1 => at(l.dvl.as_ref(), i).map(Event::Dvl),
+            2 => at(l.depth.as_ref(), i).map(Event::Depth),
+            3 => at(l.heading.as_ref(), i).map(Event::Heading),
+            4 => at(l.usbl.as_ref(), i).map(Event::Usbl),
+            5 => at(l.speed.as_ref(), i).map(Event::Speed),
+            6 => at(l.rpm.as_ref(), i).map(Event::Rpm),
+            _ => at(l.altitude.as_ref(), i).map(Event::Altitude),
+        }
+    }
+}
+
+impl Iterator for Events<'_> {
+    type Item = Event;
+
+    fn next(&mut self) -> Option<Event> {
+        let mut best: Option<(usize, Event)> = None;
+        for k in 0..8 {
+            if let Some(e) = self.head(k) {
+                let earlier = match &best {
+                    None => true,
+                    Some((_, b)) => e.t() < b.t(),
+                };
+                if earlier {
+                    best = Some((k, e));
+                }
+            }
+        }
+        let (k, e) = best?;
+        self.next[k] += 1;
+        Some(e)
+    }
+}
+
+/// A temporary sibling directory that becomes the target on commit.
+struct Staging {
+    dir: PathBuf,
+}
+
+impl Staging {
+    fn new(target: &Path) -> Result<Staging, LogError> {
+        let name = target
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "log".into());
+        let parent = match target.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        if !parent.is_dir() {
+            fs::create_dir_all(&parent).map_err(|e| LogError::io(&parent, e))?;
+        }
+        let nanos = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map(|d| d.subsec_nanos())
+            .unwrap_or(0);
+        let dir = parent.join(format!(".{name}.partial-{}-{nanos}", std::process::id()));
+        fs::create_dir(&dir).map_err(|e| LogError::io(&dir, e))?;
+        Ok(Staging { dir })
+    }
+
+    fn commit(&self, target: &Path, written: &[&str]) -> Result<(), LogError> {
+        if !target.exists() {
+            return fs::rename(&self.dir, target).map_err(|e| LogError::io(target, e));
+        }
+        for name in LOG_FILES {
+            let old = target.join(name);
+            if !written.contains(name) && old.exists() {
+                fs::remove_file(&old).map_err(|e| LogError::io(&old, e))?;
+            }
+        }
+        for name in written {
+            let to = target.join(name);
+            fs::rename(self.dir.join(name), &to).map_err(|e| LogError::io(&to, e))?;
+        }
+        fs::remove_dir(&self.dir).map_err(|e| LogError::io(&self.dir, e))
+    }
+
+    fn discard(&self) {
+        let _ = fs::remove_dir_all(&self.dir);
+    }
+}

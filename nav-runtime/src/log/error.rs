@@ -1,0 +1,222 @@
+//! Errors of the log reader and writer.
+
+use std::fmt;
+use std::path::PathBuf;
+
+/// Why one CSV cell, row or header was rejected.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum CsvProblem {
+    /// The header row does not match the expected column names.
+    WrongHeader {
+        /// The full expected header, comma-separated.
+        expected: String,
+        /// The text found in the offending header cell (empty if missing).
+        found: String,
+    },
+    /// The row has the wrong number of cells.
+    ColumnCount {
+        /// Expected number of cells.
+        expected: usize,
+        /// Number of cells found.
+        found: usize,
+    },
+    /// The cell is empty in a column that requires a value.
+    EmptyCell,
+    /// The cell text is not a number.
+    NotANumber {
+        /// The offending text (lossily decoded as UTF-8, truncated).
+        text: String,
+    },
+    /// The cell parsed to NaN or an infinity.
+    NonFinite {
+        /// The offending text.
+        text: String,
+    },
+    /// The value is outside of its physical range.
+    OutOfRange {
+        /// The value found.
+        value: f64,
+        /// The allowed range, in words.
+        allowed: &'static str,
+    },
+    /// `t` is smaller than the previous row's `t`.
+    TimeBackwards {
+        /// The previous accepted row's time.
+        previous: f64,
+        /// This row's time.
+        t: f64,
+    },
+    /// `t` equals the previous row's `t`.
+    DuplicateTime {
+        /// The repeated time.
+        t: f64,
+    },
+}
+
+impl fmt::Display for CsvProblem {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            CsvProblem::WrongHeader { expected, found } => {
+                write!(
+                    f,
+                    "wrong header: found `{found}`, expected header `{expected}`"
+                )
+            }
+            CsvProblem::ColumnCount { expected, found } => {
+                write!(f, "expected {expected} columns, found {found}")
+            }
+            CsvProblem::EmptyCell => write!(f, "empty cell"),
+            CsvProblem::NotANumber { text } => write!(f, "`{text}` is not a number"),
+            CsvProblem::NonFinite { text } => write!(f, "non-finite value `{text}`"),
+            CsvProblem::OutOfRange { value, allowed } => {
+                write!(f, "value {value} out of range ({allowed})")
+            }
+            CsvProblem::TimeBackwards { previous, t } => {
+                write!(f, "time goes backwards (t = {t} after t = {previous})")
+            }
+            CsvProblem::DuplicateTime { t } => write!(f, "duplicate timestamp t = {t}"),
+        }
+    }
+}
+
+/// A CSV row the lenient reader skipped, and why.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SkippedRow {
+    /// The file name.
+    pub file: String,
+    /// 1-based line number.
+    pub line: u64,
+    /// The column name.
+    pub column: String,
+    /// What was wrong.
+    pub problem: CsvProblem,
+}
+
+impl fmt::Display for SkippedRow {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{}:{}: column `{}`: {}",
+            self.file, self.line, self.column, self.problem
+        )
+    }
+}
+
+/// An error reading or writing a log directory.
+///
+/// Every variant names the file; CSV errors also carry the 1-based line (the header is
+/// line 1) and the column name, `meta.toml` errors the dotted key (`initial.lat`).
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum LogError {
+    /// The operating system refused to read or write a path.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// The path that failed.
+        path: PathBuf,
+        /// The underlying error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// A file the log cannot do without (`imu.csv`, `meta.toml`) is absent.
+    #[error("{file}: required file is missing from {}", dir.display())]
+    MissingFile {
+        /// The missing file's name.
+        file: String,
+        /// The log directory.
+        dir: PathBuf,
+    },
+    /// The CSV file has no header row.
+    #[error("{file}: empty file (expected header `{expected}`)")]
+    EmptyFile {
+        /// The file name.
+        file: String,
+        /// The expected header.
+        expected: String,
+    },
+    /// A header, row or cell of a CSV file was rejected.
+    #[error("{file}:{line}: column `{column}`: {problem}")]
+    Csv {
+        /// The file name (e.g. `dvl.csv`).
+        file: String,
+        /// 1-based line number; the header is line 1.
+        line: u64,
+        /// The column name (`<column N>` for a cell beyond the expected columns).
+        column: String,
+        /// What is wrong.
+        problem: CsvProblem,
+    },
+    /// `meta.toml` is malformed, misses a key, has an unknown key or an out-of-range value.
+    #[error("meta.toml{}: `{key}`: {problem}", line.map(|l| format!(":{l}")).unwrap_or_default())]
+    Meta {
+        /// The dotted key (e.g. `sensors.dvl.noise_sigma`); empty for syntax errors.
+        key: String,
+        /// 1-based line, when known.
+        line: Option<u64>,
+        /// What is wrong.
+        problem: String,
+    },
+    /// The writer refused to replace an existing path.
+    #[error("{}: {reason}", path.display())]
+    Write {
+        /// The target path.
+        path: PathBuf,
+        /// Why.
+        reason: String,
+    },
+}
+
+impl LogError {
+    /// The file the error is about (`meta.toml` for meta errors).
+    pub fn file(&self) -> Option<&str> {
+        match self {
+            LogError::Io { .. } | LogError::Write { .. } => None,
+            LogError::MissingFile { file, .. }
+            | LogError::EmptyFile { file, .. }
+            | LogError::Csv { file, .. } => Some(file),
+            LogError::Meta { .. } => Some("meta.toml"),
+        }
+    }
+
+    /// The 1-based line, when known.
+    pub fn line(&self) -> Option<u64> {
+        match self {
+            LogError::Csv { line, .. } => Some(*line),
+            LogError::Meta { line, .. } => *line,
+            _ => None,
+        }
+    }
+
+    /// The column name of a CSV error, or the dotted key of a meta error.
+    pub fn column(&self) -> Option<&str> {
+        match self {
+            LogError::Csv { column, .. } => Some(column),
+            LogError::Meta { key, .. } => Some(key),
+            _ => None,
+        }
+    }
+
+    /// The CSV problem, for CSV errors.
+    pub fn csv_problem(&self) -> Option<&CsvProblem> {
+        match self {
+            LogError::Csv { problem, .. } => Some(problem),
+            _ => None,
+        }
+    }
+
+    pub(crate) fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
+        LogError::Io {
+            path: path.into(),
+            source,
+        }
+    }
+
+    pub(crate) fn meta(key: impl Into<String>, problem: impl Into<String>) -> Self {
+        LogError::Meta {
+            key: key.into(),
+            line: None,
+            problem: problem.into(),
+        }
+    }
+}

@@ -1,0 +1,518 @@
+//! `meta.toml`: initial estimate, initial uncertainty, sensor noise and USBL transducer.
+
+use std::fmt::Write as _;
+
+use super::error::LogError;
+
+/// `[initial]`: the initial estimate (not necessarily the truth). Angles in rad.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Initial {
+    /// Latitude, rad (required).
+    pub lat: f64,
+    /// Longitude, rad (required).
+    pub lon: f64,
+    /// Depth, m (required).
+    pub depth: f64,
+    /// North velocity, m/s (default 0).
+    pub vn: f64,
+    /// East velocity, m/s (default 0).
+    pub ve: f64,
+    /// Down velocity, m/s (default 0).
+    pub vd: f64,
+    /// Roll, rad (optional: a leveling model takes none).
+    pub roll: Option<f64>,
+    /// Pitch, rad (optional: a leveling model takes none).
+    pub pitch: Option<f64>,
+    /// Yaw, rad (optional).
+    pub yaw: Option<f64>,
+}
+
+impl Initial {
+    /// Roll, pitch and yaw, or an error naming the first missing key (for models that
+    /// need a full initial attitude).
+    pub fn attitude(&self) -> Result<[f64; 3], LogError> {
+        let get = |v: Option<f64>, k: &str| {
+            v.ok_or_else(|| {
+                LogError::meta(format!("initial.{k}"), "missing (required by this model)")
+            })
+        };
+        Ok([
+            get(self.roll, "roll")?,
+            get(self.pitch, "pitch")?,
+            get(self.yaw, "yaw")?,
+        ])
+    }
+}
+
+/// `[initial_sigma]`: one-sigma uncertainty of the initial estimate; each key optional.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct InitialSigma {
+    /// Position, m.
+    pub position: Option<f64>,
+    /// Velocity, m/s.
+    pub velocity: Option<f64>,
+    /// Roll and pitch, rad.
+    pub level: Option<f64>,
+    /// Heading, rad.
+    pub heading: Option<f64>,
+}
+
+/// `[sensors.imu]`: per-sample noise sigmas at the IMU rate and bias sigmas.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ImuNoise {
+    /// Gyro bias sigma, rad/s (default 0).
+    pub gyro_bias_sigma: f64,
+    /// Gyro noise sigma per sample, rad/s (required).
+    pub gyro_noise_sigma: f64,
+    /// Accelerometer bias sigma, m/s^2 (default 0).
+    pub accel_bias_sigma: f64,
+    /// Accelerometer noise sigma per sample, m/s^2 (required).
+    pub accel_noise_sigma: f64,
+}
+
+/// `[sensors.<name>]` for an aiding sensor, in the units of that sensor's CSV file.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SensorNoise {
+    /// Bias sigma (default 0).
+    pub bias_sigma: f64,
+    /// Noise sigma per sample (required).
+    pub noise_sigma: f64,
+}
+
+/// All `[sensors.*]` sections; `None` = section absent.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Sensors {
+    /// `[sensors.imu]`.
+    pub imu: Option<ImuNoise>,
+    /// `[sensors.dvl]`.
+    pub dvl: Option<SensorNoise>,
+    /// `[sensors.depth]`.
+    pub depth: Option<SensorNoise>,
+    /// `[sensors.heading]`.
+    pub heading: Option<SensorNoise>,
+    /// `[sensors.usbl]`.
+    pub usbl: Option<SensorNoise>,
+    /// `[sensors.speed]`.
+    pub speed: Option<SensorNoise>,
+    /// `[sensors.rpm]`.
+    pub rpm: Option<SensorNoise>,
+    /// `[sensors.altitude]`.
+    pub altitude: Option<SensorNoise>,
+}
+
+/// Aiding sensor names accepted under `[sensors.<name>]` (besides `imu`).
+pub const AIDING_SENSORS: &[&str] = &[
+    "dvl", "depth", "heading", "usbl", "speed", "rpm", "altitude",
+];
+
+/// `[usbl]`: the USBL transducer position.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct UsblTransducer {
+    /// Latitude, rad.
+    pub lat: f64,
+    /// Longitude, rad.
+    pub lon: f64,
+    /// Depth, m.
+    pub depth: f64,
+}
+
+/// The content of `meta.toml`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Meta {
+    /// `[initial]`.
+    pub initial: Initial,
+    /// `[initial_sigma]`, if present.
+    pub initial_sigma: Option<InitialSigma>,
+    /// `[sensors.*]`.
+    pub sensors: Sensors,
+    /// `[usbl]`, if present.
+    pub usbl: Option<UsblTransducer>,
+}
+
+impl Meta {
+    /// A meta with only the required `[initial]` position; everything else absent/zero.
+    pub fn at(lat: f64, lon: f64, depth: f64) -> Self {
+        Meta {
+            initial: Initial {
+                lat,
+                lon,
+                depth,
+                vn: 0.0,
+                ve: 0.0,
+                vd: 0.0,
+                roll: None,
+                pitch: None,
+                yaw: None,
+            },
+            initial_sigma: None,
+            sensors: Sensors::default(),
+            usbl: None,
+        }
+    }
+
+    /// Parses and validates `meta.toml` text.
+    ///
+    /// Unknown sections, unknown keys and unknown sensor names are errors; so are
+    /// non-numbers, non-finite numbers, negative sigmas, `|lat| > pi/2`, `|lon| > 2 pi`,
+    /// `|roll| > pi` and `|pitch| > pi/2`.
+    pub fn parse(text: &str) -> Result<Meta, LogError> {
+        let table: toml::Table = text.parse().map_err(|e: toml::de::Error| {
+            let line = e.span().map(|s| {
+                text.as_bytes()[..s.start.min(text.len())]
+                    .iter()
+                    .filter(|&&b| b == b'\n')
+                    .count() as u64
+                    + 1
+            });
+            LogError::Meta {
+                key: String::new(),
+                line,
+                problem: e.message().trim().replace('\n', " "),
+            }
+        })?;
+        let cx = Cx { text };
+        cx.check_keys(&table, "", &["initial", "initial_sigma", "sensors", "usbl"])?;
+
+        let initial = cx
+            .section(&table, "", "initial")?
+            .ok_or_else(|| cx.err("initial", "missing section [initial]"))?;
+        cx.check_keys(
+            initial,
+            "initial",
+            &[
+                "lat", "lon", "depth", "vn", "ve", "vd", "roll", "pitch", "yaw",
+            ],
+        )?;
+        let initial = Initial {
+            lat: cx.req(initial, "initial", "lat", Range::Lat)?,
+            lon: cx.req(initial, "initial", "lon", Range::Lon)?,
+            depth: cx.req(initial, "initial", "depth", Range::Any)?,
+            vn: cx.opt(initial, "initial", "vn", Range::Any)?.unwrap_or(0.0),
+            ve: cx.opt(initial, "initial", "ve", Range::Any)?.unwrap_or(0.0),
+            vd: cx.opt(initial, "initial", "vd", Range::Any)?.unwrap_or(0.0),
+            roll: cx.opt(initial, "initial", "roll", Range::Roll)?,
+            pitch: cx.opt(initial, "initial", "pitch", Range::Lat)?,
+            yaw: cx.opt(initial, "initial", "yaw", Range::Any)?,
+        };
+
+        let initial_sigma = match cx.section(&table, "", "initial_sigma")? {
+            None => None,
+            Some(s) => {
+                let sec = "initial_sigma";
+                cx.check_keys(s, sec, &["position", "velocity", "level", "heading"])?;
+                Some(InitialSigma {
+                    position: cx.opt(s, sec, "position", Range::Sigma)?,
+                    velocity: cx.opt(s, sec, "velocity", Range::Sigma)?,
+                    level: cx.opt(s, sec, "level", Range::Sigma)?,
+                    heading: cx.opt(s, sec, "heading", Range::Sigma)?,
+                })
+            }
+        };
+
+        let mut sensors = Sensors::default();
+        if let Some(s) = cx.section(&table, "", "sensors")? {
+            let mut allowed = vec!["imu"];
+            allowed.extend_from_slice(AIDING_SENSORS);
+            cx.check_keys(s, "sensors", &allowed)?;
+            if let Some(imu) = cx.section(s, "sensors", "imu")? {
+                let sec = "sensors.imu";
+                cx.check_keys(
+                    imu,
+                    sec,
+                    &[
+                        "gyro_bias_sigma",
+                        "gyro_noise_sigma",
+                        "accel_bias_sigma",
+                        "accel_noise_sigma",
+                    ],
+                )?;
+                sensors.imu = Some(ImuNoise {
+                    gyro_bias_sigma: cx
+                        .opt(imu, sec, "gyro_bias_sigma", Range::Sigma)?
+                        .unwrap_or(0.0),
+                    gyro_noise_sigma: cx.req(imu, sec, "gyro_noise_sigma", Range::Sigma)?,
+                    accel_bias_sigma: cx
+                        .opt(imu, sec, "accel_bias_sigma", Range::Sigma)?
+                        .unwrap_or(0.0),
+                    accel_noise_sigma: cx.req(imu, sec, "accel_noise_sigma", Range::Sigma)?,
+                });
+            }
+            for name in AIDING_SENSORS {
+                let sec = format!("sensors.{name}");
+                let Some(t) = cx.section(s, "sensors", name)? else {
+                    continue;
+                };
+                cx.check_keys(t, &sec, &["bias_sigma", "noise_sigma"])?;
+                let noise = SensorNoise {
+                    bias_sigma: cx.opt(t, &sec, "bias_sigma", Range::Sigma)?.unwrap_or(0.0),
+                    noise_sigma: cx.req(t, &sec, "noise_sigma", Range::Sigma)?,
+                };
+                let slot = match *name {
+                    "dvl" => &mut sensors.dvl,
+                    "depth" => &mut sensors.depth,
+                    "heading" => &mut sensors.heading,
+                    "usbl" => &mut sensors.usbl,
+                    "speed" => &mut sensors.speed,
+                    "rpm" => &mut sensors.rpm,
+                    _ => &mut sensors.altitude,
+                };
+                *slot = Some(noise);
+            }
+        }
+
+        let usbl = match cx.section(&table, "", "usbl")? {
+            None => None,
+            Some(u) => {
+                cx.check_keys(u, "usbl", &["lat", "lon", "depth"])?;
+                Some(UsblTransducer {
+                    lat: cx.req(u, "usbl", "lat", Range::Lat)?,
+                    lon: cx.req(u, "usbl", "lon", Range::Lon)?,
+                    depth: cx.req(u, "usbl", "depth", Range::Any)?,
+                })
+            }
+        };
+
+        Ok(Meta {
+            initial,
+            initial_sigma,
+            sensors,
+            usbl,
+        })
+    }
+
+    /// Renders `meta.toml` text that [`Meta::parse`] reads back to the same value.
+    pub fn to_toml(&self) -> String {
+        let mut s = String::new();
+        let f = |v: f64| {
+            // Debug always has a `.` or an exponent: a TOML float, and round-trip exact.
+            format!("{v:?}")
+        };
+        let i = &self.initial;
+        let _ = writeln!(s, "[initial]");
+        for (k, v) in [
+            ("lat", Some(i.lat)),
+            ("lon", Some(i.lon)),
+            ("depth", Some(i.depth)),
+            ("vn", Some(i.vn)),
+            ("ve", Some(i.ve)),
+            ("vd", Some(i.vd)),
+            ("roll", i.roll),
+            ("pitch", i.pitch),
+            ("yaw", i.yaw),
+        ] {
+            if let Some(v) = v {
+                let _ = writeln!(s, "{k} = {}", f(v));
+            }
+        }
+        if let Some(sig) = &self.initial_sigma {
+            let _ = writeln!(s, "\n[initial_sigma]");
+            for (k, v) in [
+                ("position", sig.position),
+                ("velocity", sig.velocity),
+                ("level", sig.level),
+                ("heading", sig.heading),
+            ] {
+                if let Some(v) = v {
+                    let _ = writeln!(s, "{k} = {}", f(v));
+                }
+            }
+        }
+        if let Some(imu) = &self.sensors.imu {
+            let _ = writeln!(s, "\n[sensors.imu]");
+            let _ = writeln!(s, "gyro_bias_sigma = {}", f(imu.gyro_bias_sigma));
+            let _ = writeln!(s, "gyro_noise_sigma = {}", f(imu.gyro_noise_sigma));
+            let _ = writeln!(s, "accel_bias_sigma = {}", f(imu.accel_bias_sigma));
+            let _ = writeln!(s, "accel_noise_sigma = {}", f(imu.accel_noise_sigma));
+        }
+        let sn = &self.sensors;
+        for (name, v) in [
+            ("dvl", sn.dvl),
+            ("depth", sn.depth),
+            ("heading", sn.heading),
+            ("usbl", sn.usbl),
+            ("speed", sn.speed),
+            ("rpm", sn.rpm),
+            ("altitude", sn.altitude),
+        ] {
+            if let Some(n) = v {
+                let _ = writeln!(s, "\n[sensors.{name}]");
+                let _ = writeln!(s, "bias_sigma = {}", f(n.bias_sigma));
+                let _ = writeln!(s, "noise_sigma = {}", f(n.noise_sigma));
+            }
+        }
+        if let Some(u) = &self.usbl {
+            let _ = writeln!(s, "\n[usbl]");
+            let _ = writeln!(s, "lat = {}", f(u.lat));
+            let _ = writeln!(s, "lon = {}", f(u.lon));
+            let _ = writeln!(s, "depth = {}", f(u.depth));
+        }
+        s
+    }
+}
+
+#[derive(Clone, Copy)]
+enum Range {
+    Any,
+    Lat,
+    Lon,
+    Roll,
+    Sigma,
+}
+
+impl Range {
+    fn check(self, v: f64) -> Result<(), &'static str> {
+        use core::f64::consts::{FRAC_PI_2, PI};
+        let ok = match self {
+            Range::Any => true,
+            Range::Lat => v.abs() <= FRAC_PI_2,
+            Range::Lon => v.abs() <= 2.0 * PI,
+            Range::Roll => v.abs() <= PI,
+            Range::Sigma => v >= 0.0,
+        };
+        if ok {
+            Ok(())
+        } else {
+            Err(match self {
+                Range::Any => "",
+                Range::Lat => "allowed: |value| <= pi/2",
+                Range::Lon => "allowed: |value| <= 2 pi",
+                Range::Roll => "allowed: |value| <= pi",
+                Range::Sigma => "a sigma must be >= 0",
+            })
+        }
+    }
+}
+
+/// Validation context: the source text, to find line numbers of keys.
+struct Cx<'a> {
+    text: &'a str,
+}
+
+fn join(section: &str, key: &str) -> String {
+    if section.is_empty() {
+        key.to_string()
+    } else {
+        format!("{section}.{key}")
+    }
+}
+
+impl Cx<'_> {
+    /// Best-effort 1-based line of `key` in `[section]` (or of the section header when
+    /// `key` is empty). Handles the plain `[a.b]` / `key = value` layout.
+    fn locate(&self, section: &str, key: &str) -> Option<u64> {
+        let mut current = String::new();
+        for (n, raw) in self.text.lines().enumerate() {
+            let line = raw.trim();
+            if let Some(h) = line.strip_prefix('[') {
+                let name = h.split(']').next().unwrap_or("");
+                current = name
+                    .split('.')
+                    .map(|p| p.trim().trim_matches('"'))
+                    .collect::<Vec<_>>()
+                    .join(".");
+                if key.is_empty() && current == section {
+                    return Some(n as u64 + 1);
+                }
+                continue;
+            }
+            if current == section && !key.is_empty() {
+                if let Some((k, _)) = line.split_once('=') {
+                    if k.trim().trim_matches('"') == key {
+                        return Some(n as u64 + 1);
+                    }
+                }
+            }
+        }
+        None
+    }
+
+    fn err(&self, dotted: &str, problem: impl Into<String>) -> LogError {
+        let (section, key) = match dotted.rsplit_once('.') {
+            Some((s, k)) => (s, k),
+            None => ("", dotted),
+        };
+        let line = self
+            .locate(section, key)
+            .or_else(|| self.locate(dotted, ""))
+            .or_else(|| self.locate(section, ""));
+        LogError::Meta {
+            key: dotted.to_string(),
+            line,
+            problem: problem.into(),
+        }
+    }
+
+    fn check_keys(&self, t: &toml::Table, section: &str, allowed: &[&str]) -> Result<(), LogError> {
+        for k in t.keys() {
+            if !allowed.contains(&k.as_str()) {
+                let what = if section == "sensors" {
+                    "unknown sensor name"
+                } else if section.is_empty() {
+                    "unknown section"
+                } else {
+                    "unknown key"
+                };
+                return Err(self.err(
+                    &join(section, k),
+                    format!("{what}; expected one of: {}", allowed.join(", ")),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    fn section<'t>(
+        &self,
+        t: &'t toml::Table,
+        parent: &str,
+        key: &str,
+    ) -> Result<Option<&'t toml::Table>, LogError> {
+        match t.get(key) {
+            None => Ok(None),
+            Some(toml::Value::Table(s)) => Ok(Some(s)),
+            Some(other) => Err(self.err(
+                &join(parent, key),
+                format!("expected a table, found {}", other.type_str()),
+            )),
+        }
+    }
+
+    fn opt(
+        &self,
+        t: &toml::Table,
+        section: &str,
+        key: &str,
+        range: Range,
+    ) -> Result<Option<f64>, LogError> {
+        let dotted = join(section, key);
+        let v = match t.get(key) {
+            None => return Ok(None),
+            Some(toml::Value::Float(f)) => *f,
+            Some(toml::Value::Integer(i)) => *i as f64,
+            Some(other) => {
+                return Err(self.err(
+                    &dotted,
+                    format!("expected a number, found {}", other.type_str()),
+                ))
+            }
+        };
+        if !v.is_finite() {
+            return Err(self.err(&dotted, format!("non-finite value {v}")));
+        }
+        range
+            .check(v)
+            .map_err(|allowed| self.err(&dotted, format!("value {v} out of range ({allowed})")))?;
+        Ok(Some(v))
+    }
+
+    fn req(
+        &self,
+        t: &toml::Table,
+        section: &str,
+        key: &str,
+        range: Range,
+    ) -> Result<f64, LogError> {
+        self.opt(t, section, key, range)?
+            .ok_or_else(|| self.err(&join(section, key), "missing key"))
+    }
+}

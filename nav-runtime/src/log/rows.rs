@@ -1,0 +1,496 @@
+//! Typed CSV rows and the CSV reader/writer shared by every log file.
+
+use std::io::{BufRead, BufReader, Read, Write};
+
+use super::error::{CsvProblem, LogError, SkippedRow};
+use super::Strictness;
+
+/// A value of one CSV cell: `f64` (a value is required) or `Option<f64>` (an empty
+/// cell means "no value", e.g. DVL without bottom lock).
+pub trait Cell: Copy {
+    /// Builds the value from a parsed cell (`None` = empty cell); `None` if not allowed.
+    fn from_cell(cell: Option<f64>) -> Option<Self>;
+    /// The cell to write (`None` = empty cell).
+    fn to_cell(self) -> Option<f64>;
+}
+
+impl Cell for f64 {
+    fn from_cell(cell: Option<f64>) -> Option<Self> {
+        cell
+    }
+    fn to_cell(self) -> Option<f64> {
+        Some(self)
+    }
+}
+
+impl Cell for Option<f64> {
+    fn from_cell(cell: Option<f64>) -> Option<Self> {
+        Some(cell)
+    }
+    fn to_cell(self) -> Option<f64> {
+        self
+    }
+}
+
+/// One row of a log CSV file.
+pub trait Row: Copy + std::fmt::Debug + PartialEq {
+    /// File name inside the log directory (e.g. `imu.csv`).
+    const FILE: &'static str;
+    /// Column names, in order; the first is always `t`.
+    const COLUMNS: &'static [&'static str];
+    /// Time of the row, seconds.
+    fn t(&self) -> f64;
+    /// Builds the row from parsed cells (one per column, `None` = empty); on failure the
+    /// index of the offending column.
+    fn from_cells(cells: &[Option<f64>]) -> Result<Self, usize>;
+    /// The row's cells, one per column.
+    fn to_cells(&self) -> Vec<Option<f64>>;
+    /// Range checks beyond "finite": the offending column index and the allowed range.
+    fn check(&self) -> Result<(), (usize, f64, &'static str)> {
+        Ok(())
+    }
+}
+
+macro_rules! rows {
+    ($(
+        $(#[$doc:meta])*
+        $name:ident, $file:literal { $($(#[$fdoc:meta])* $field:ident : $ty:ty),+ $(,)? }
+    )*) => {$(
+        $(#[$doc])*
+        #[derive(Debug, Clone, Copy, PartialEq)]
+        pub struct $name {
+            $($(#[$fdoc])* pub $field: $ty,)+
+        }
+
+        impl $name {
+            #[allow(clippy::too_many_arguments)]
+            #[doc = concat!("Builds a `", stringify!($name), "` from its fields, in column order.")]
+            pub fn new($($field: $ty),+) -> Self {
+                Self { $($field),+ }
+            }
+        }
+
+        impl Row for $name {
+            const FILE: &'static str = $file;
+            const COLUMNS: &'static [&'static str] = &[$(stringify!($field)),+];
+            fn t(&self) -> f64 {
+                self.t
+            }
+            #[allow(unused_assignments)]
+            fn from_cells(cells: &[Option<f64>]) -> Result<Self, usize> {
+                let mut i = 0usize;
+                Ok(Self {
+                    $($field: {
+                        let v = <$ty as Cell>::from_cell(cells[i]).ok_or(i)?;
+                        i += 1;
+                        v
+                    },)+
+                })
+            }
+            fn to_cells(&self) -> Vec<Option<f64>> {
+                vec![$(Cell::to_cell(self.$field)),+]
+            }
+            fn check(&self) -> Result<(), (usize, f64, &'static str)> {
+                RangeCheck::range_check(self)
+            }
+        }
+    )*};
+}
+
+/// Per-row range checks (implemented for every row type; most have none).
+trait RangeCheck {
+    fn range_check(&self) -> Result<(), (usize, f64, &'static str)> {
+        Ok(())
+    }
+}
+
+rows! {
+    /// `imu.csv`: gyro (rad/s) and specific force (m/s^2), body frame FRD.
+    ImuRow, "imu.csv" {
+        /// Time, s.
+        t: f64,
+        /// Angular rate about x, rad/s.
+        gx: f64,
+        /// Angular rate about y, rad/s.
+        gy: f64,
+        /// Angular rate about z, rad/s.
+        gz: f64,
+        /// Specific force along x, m/s^2.
+        ax: f64,
+        /// Specific force along y, m/s^2.
+        ay: f64,
+        /// Specific force along z, m/s^2.
+        az: f64,
+    }
+    /// `dvl.csv`: body-frame velocity over ground, m/s; `None` = no bottom lock.
+    DvlRow, "dvl.csv" {
+        /// Time, s.
+        t: f64,
+        /// Forward velocity, m/s.
+        vx: Option<f64>,
+        /// Starboard velocity, m/s.
+        vy: Option<f64>,
+        /// Downward velocity, m/s.
+        vz: Option<f64>,
+    }
+    /// `depth.csv`: depth, m, positive down.
+    DepthRow, "depth.csv" {
+        /// Time, s.
+        t: f64,
+        /// Depth, m.
+        depth: f64,
+    }
+    /// `heading.csv`: magnetic compass heading, rad.
+    HeadingRow, "heading.csv" {
+        /// Time, s.
+        t: f64,
+        /// Heading, rad.
+        heading: f64,
+    }
+    /// `usbl.csv`: position fix of the vehicle.
+    UsblRow, "usbl.csv" {
+        /// Time, s.
+        t: f64,
+        /// Latitude, rad.
+        lat: f64,
+        /// Longitude, rad.
+        lon: f64,
+        /// Depth, m.
+        depth: f64,
+    }
+    /// `speed.csv`: forward speed log, m/s.
+    SpeedRow, "speed.csv" {
+        /// Time, s.
+        t: f64,
+        /// Forward speed, m/s.
+        speed: f64,
+    }
+    /// `rpm.csv`: propeller revolutions per minute.
+    RpmRow, "rpm.csv" {
+        /// Time, s.
+        t: f64,
+        /// Revolutions per minute.
+        rpm: f64,
+    }
+    /// `altitude.csv`: echo sounder, m above the sea floor.
+    AltitudeRow, "altitude.csv" {
+        /// Time, s.
+        t: f64,
+        /// Altitude, m.
+        altitude: f64,
+    }
+    /// `truth.csv`: reference trajectory for scoring.
+    TruthRow, "truth.csv" {
+        /// Time, s.
+        t: f64,
+        /// Latitude, rad.
+        lat: f64,
+        /// Longitude, rad.
+        lon: f64,
+        /// Depth, m.
+        depth: f64,
+        /// North velocity, m/s.
+        vn: f64,
+        /// East velocity, m/s.
+        ve: f64,
+        /// Down velocity, m/s.
+        vd: f64,
+        /// Roll, rad.
+        roll: f64,
+        /// Pitch, rad.
+        pitch: f64,
+        /// Yaw, rad.
+        yaw: f64,
+    }
+}
+
+impl DvlRow {
+    /// The velocity, if all three components are present (bottom lock).
+    pub fn velocity(&self) -> Option<[f64; 3]> {
+        Some([self.vx?, self.vy?, self.vz?])
+    }
+}
+
+pub(crate) const LAT_RANGE: &str = "|lat| <= pi/2";
+pub(crate) const LON_RANGE: &str = "|lon| <= 2 pi";
+
+pub(crate) fn check_lat_lon(lat: f64, lon: f64) -> Result<(), (usize, f64, &'static str)> {
+    if lat.abs() > core::f64::consts::FRAC_PI_2 {
+        return Err((1, lat, LAT_RANGE));
+    }
+    if lon.abs() > 2.0 * core::f64::consts::PI {
+        return Err((2, lon, LON_RANGE));
+    }
+    Ok(())
+}
+
+impl RangeCheck for ImuRow {}
+impl RangeCheck for DvlRow {}
+impl RangeCheck for DepthRow {}
+impl RangeCheck for HeadingRow {}
+impl RangeCheck for SpeedRow {}
+impl RangeCheck for RpmRow {}
+impl RangeCheck for UsblRow {
+    fn range_check(&self) -> Result<(), (usize, f64, &'static str)> {
+        check_lat_lon(self.lat, self.lon)
+    }
+}
+impl RangeCheck for TruthRow {
+    fn range_check(&self) -> Result<(), (usize, f64, &'static str)> {
+        check_lat_lon(self.lat, self.lon)
+    }
+}
+impl RangeCheck for AltitudeRow {
+    fn range_check(&self) -> Result<(), (usize, f64, &'static str)> {
+        if self.altitude < 0.0 {
+            return Err((1, self.altitude, "altitude >= 0"));
+        }
+        Ok(())
+    }
+}
+
+/// The rows of one CSV file and what the lenient reader skipped.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Table<R> {
+    /// Accepted rows, strictly increasing in `t`.
+    pub rows: Vec<R>,
+    /// Number of rows skipped (lenient mode only; always 0 when strict).
+    pub skipped: usize,
+    /// The first few reasons rows were skipped (at most [`MAX_SKIP_REASONS`]).
+    pub skip_reasons: Vec<SkippedRow>,
+}
+
+/// How many skip reasons a [`Table`] keeps.
+pub const MAX_SKIP_REASONS: usize = 16;
+
+fn cell_text(bytes: &[u8]) -> String {
+    const MAX: usize = 40;
+    let s = String::from_utf8_lossy(bytes);
+    if s.chars().count() > MAX {
+        let mut t: String = s.chars().take(MAX).collect();
+        t.push_str("...");
+        t
+    } else {
+        s.into_owned()
+    }
+}
+
+fn column_name<R: Row>(index: usize) -> String {
+    match R::COLUMNS.get(index) {
+        Some(name) => (*name).to_string(),
+        None => format!("<column {}>", index + 1),
+    }
+}
+
+/// Lines of a reader with their 1-based numbers; blank (whitespace-only) lines are
+/// skipped, a trailing `\r` is removed.
+struct Lines<R> {
+    reader: R,
+    line: u64,
+    buf: Vec<u8>,
+}
+
+impl<R: BufRead> Lines<R> {
+    fn next_line(&mut self) -> std::io::Result<Option<u64>> {
+        loop {
+            self.buf.clear();
+            if self.reader.read_until(b'\n', &mut self.buf)? == 0 {
+                return Ok(None);
+            }
+            self.line += 1;
+            while matches!(self.buf.last(), Some(b'\n' | b'\r')) {
+                self.buf.pop();
+            }
+            if !self.buf.iter().all(u8::is_ascii_whitespace) {
+                return Ok(Some(self.line));
+            }
+        }
+    }
+}
+
+/// Splits a line at commas and trims ASCII whitespace around each cell.
+fn split_cells(line: &[u8]) -> impl Iterator<Item = &[u8]> {
+    line.split(|&b| b == b',').map(|c| c.trim_ascii())
+}
+
+/// Parses one CSV file of row type `R` from a reader.
+///
+/// The format is plain comma-separated text without quoting. The header must match
+/// [`Row::COLUMNS`] exactly (spaces around names and a UTF-8 byte order mark are
+/// ignored). Blank lines are ignored but counted, so line numbers are those of the
+/// file. In [`Strictness::Strict`] the first bad row is an error; in
+/// [`Strictness::Lenient`] bad rows are skipped and counted. An empty file or a bad
+/// header is an error in both modes.
+pub fn parse_csv<R: Row>(reader: impl Read, strictness: Strictness) -> Result<Table<R>, LogError> {
+    let file = R::FILE;
+    let mut lines = Lines {
+        reader: BufReader::new(reader),
+        line: 0,
+        buf: Vec::new(),
+    };
+    let io_err = |e: std::io::Error| LogError::io(file, e);
+
+    // Header.
+    let expected_header = R::COLUMNS.join(",");
+    let Some(header_line) = lines.next_line().map_err(io_err)? else {
+        return Err(LogError::EmptyFile {
+            file: file.to_string(),
+            expected: expected_header,
+        });
+    };
+    let header = lines.buf.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(&lines.buf);
+    let found: Vec<&[u8]> = split_cells(header).collect();
+    let ncols = R::COLUMNS.len();
+    for i in 0..ncols.max(found.len()) {
+        let cell = found.get(i).map(|c| cell_text(c));
+        let ok = matches!((R::COLUMNS.get(i), &cell), (Some(exp), Some(f)) if f == exp);
+        if !ok {
+            return Err(LogError::Csv {
+                file: file.to_string(),
+                line: header_line,
+                column: column_name::<R>(i),
+                problem: CsvProblem::WrongHeader {
+                    expected: expected_header,
+                    found: cell.unwrap_or_default(),
+                },
+            });
+        }
+    }
+
+    let mut table = Table {
+        rows: Vec::new(),
+        skipped: 0,
+        skip_reasons: Vec::new(),
+    };
+    let mut cells: Vec<Option<f64>> = vec![None; ncols];
+    let mut previous_t: Option<f64> = None;
+    while let Some(line) = lines.next_line().map_err(io_err)? {
+        match parse_row::<R>(&lines.buf, &mut cells, previous_t) {
+            Ok(row) => {
+                previous_t = Some(row.t());
+                table.rows.push(row);
+            }
+            Err((column, problem)) => {
+                let skipped = SkippedRow {
+                    file: file.to_string(),
+                    line,
+                    column,
+                    problem,
+                };
+                match strictness {
+                    Strictness::Strict => {
+                        return Err(LogError::Csv {
+                            file: skipped.file,
+                            line: skipped.line,
+                            column: skipped.column,
+                            problem: skipped.problem,
+                        })
+                    }
+                    Strictness::Lenient => {
+                        table.skipped += 1;
+                        if table.skip_reasons.len() < MAX_SKIP_REASONS {
+                            table.skip_reasons.push(skipped);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    Ok(table)
+}
+
+fn parse_row<R: Row>(
+    line: &[u8],
+    cells: &mut [Option<f64>],
+    previous_t: Option<f64>,
+) -> Result<R, (String, CsvProblem)> {
+    let ncols = R::COLUMNS.len();
+    let count = split_cells(line).count();
+    if count != ncols {
+        // First missing column, or the first extra one.
+        return Err((
+            column_name::<R>(count.min(ncols)),
+            CsvProblem::ColumnCount {
+                expected: ncols,
+                found: count,
+            },
+        ));
+    }
+    for (i, raw) in split_cells(line).enumerate() {
+        cells[i] = if raw.is_empty() {
+            None
+        } else {
+            let text = std::str::from_utf8(raw).ok();
+            match text.and_then(|s| s.parse::<f64>().ok()) {
+                Some(v) if v.is_finite() => Some(v),
+                Some(_) => {
+                    return Err((
+                        column_name::<R>(i),
+                        CsvProblem::NonFinite {
+                            text: cell_text(raw),
+                        },
+                    ))
+                }
+                None => {
+                    return Err((
+                        column_name::<R>(i),
+                        CsvProblem::NotANumber {
+                            text: cell_text(raw),
+                        },
+                    ))
+                }
+            }
+        };
+    }
+    let row = R::from_cells(cells).map_err(|i| (column_name::<R>(i), CsvProblem::EmptyCell))?;
+    if let Err((i, value, allowed)) = row.check() {
+        return Err((
+            column_name::<R>(i),
+            CsvProblem::OutOfRange { value, allowed },
+        ));
+    }
+    if let Some(prev) = previous_t {
+        let t = row.t();
+        if t < prev {
+            return Err((
+                "t".to_string(),
+                CsvProblem::TimeBackwards { previous: prev, t },
+            ));
+        }
+        if t == prev {
+            return Err(("t".to_string(), CsvProblem::DuplicateTime { t }));
+        }
+    }
+    Ok(row)
+}
+
+/// Formats a float so that parsing it gives back the same bits (shortest round-trip
+/// form; exponent notation for very small or very large magnitudes).
+pub fn format_f64(v: f64) -> String {
+    let a = v.abs();
+    if a != 0.0 && !(1e-5..1e16).contains(&a) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}
+
+/// Writes rows as CSV (header + one line per row) to a writer.
+pub fn write_csv<R: Row>(mut w: impl Write, rows: &[R]) -> std::io::Result<()> {
+    writeln!(w, "{}", R::COLUMNS.join(","))?;
+    let mut line = String::new();
+    for row in rows {
+        line.clear();
+        for (i, cell) in row.to_cells().into_iter().enumerate() {
+            if i > 0 {
+                line.push(',');
+            }
+            if let Some(v) = cell {
+                line.push_str(&format_f64(v));
+            }
+        }
+        line.push('\n');
+        w.write_all(line.as_bytes())?;
+    }
+    Ok(())
+}
