@@ -27,12 +27,21 @@ pub const DEFAULT_SEED: u64 = 1;
 
 /// Every built-in scenario. Add new scenarios here.
 pub fn scenarios() -> Vec<Box<dyn Scenario>> {
-    vec![Box::new(demo::ConstantVelocity)]
+    let mut all: Vec<Box<dyn Scenario>> = vec![Box::new(demo::ConstantVelocity)];
+    all.extend(
+        crate::leveling::scenarios()
+            .into_iter()
+            .map(|s| Box::new(s) as Box<dyn Scenario>),
+    );
+    all
 }
 
 /// Every replay model. Add new models here.
 pub fn replay_models() -> Vec<Box<dyn ReplayModel>> {
-    vec![Box::new(demo::DepthKf)]
+    vec![
+        Box::new(demo::DepthKf),
+        Box::new(crate::leveling::Leveling6Replay),
+    ]
 }
 
 /// The scenario named `name`, or an error listing the valid names.
@@ -40,9 +49,11 @@ pub fn find_scenario(name: &str) -> Result<Box<dyn Scenario>, RunError> {
     let all = scenarios();
     let names: Vec<&str> = all.iter().map(|s| s.name()).collect();
     let valid = names.join(", ");
-    all.into_iter()
-        .find(|s| s.name() == name)
-        .ok_or_else(|| RunError::Invalid(format!("unknown scenario `{name}`; valid scenarios: {valid}")))
+    all.into_iter().find(|s| s.name() == name).ok_or_else(|| {
+        RunError::Invalid(format!(
+            "unknown scenario `{name}`; valid scenarios: {valid}"
+        ))
+    })
 }
 
 /// The replay model named `name`, or an error listing the valid names.
@@ -66,7 +77,7 @@ pub fn default_scenario() -> &'static str {
 
 /// Simulation, Monte Carlo evaluation and log replay of the navigation estimators.
 #[derive(Debug, Parser)]
-#[command(name = "navsim", version, about)]
+#[command(name = "navsim", version)]
 pub struct Cli {
     /// The command; without one, the default scenario runs.
     #[command(subcommand)]
@@ -194,7 +205,11 @@ fn note(json: bool, text: &str) {
     }
 }
 
-fn run_options(scenario: &dyn Scenario, faults: &[String], draw_biases: bool) -> Result<RunOptions, RunError> {
+fn run_options(
+    scenario: &dyn Scenario,
+    faults: &[String],
+    draw_biases: bool,
+) -> Result<RunOptions, RunError> {
     let mut list: Vec<String> = Vec::new();
     for f in faults.iter().map(|f| f.trim()).filter(|f| !f.is_empty()) {
         if !scenario.faults().contains(&f) {
@@ -228,7 +243,9 @@ pub fn cmd_scenario(args: &ScenarioArgs) -> Result<(), RunError> {
     }
     let mut options = run_options(scenario.as_ref(), &args.faults, args.draw_biases)?;
     if args.shard.is_some() && args.out.is_none() {
-        return Err(RunError::Invalid("--shard needs --out DIR for the shard's results".into()));
+        return Err(RunError::Invalid(
+            "--shard needs --out DIR for the shard's results".into(),
+        ));
     }
     options.keep_series = args.out.is_some();
     let seed_list = seeds(args.seed, runs, args.shard);
@@ -267,7 +284,8 @@ pub fn cmd_scenario(args: &ScenarioArgs) -> Result<(), RunError> {
         let staged = StagedDir::new(out)?;
         scenario.write_outputs(&results, staged.path())?;
         let path = staged.path().join("summary.json");
-        std::fs::write(&path, report::json_line(&summary) + "\n").map_err(|e| RunError::io(&path, e))?;
+        std::fs::write(&path, report::json_line(&summary) + "\n")
+            .map_err(|e| RunError::io(&path, e))?;
         let dir = staged.commit()?;
         emit(&summary, args.json);
         note(args.json, &format!("outputs written to {}", dir.display()));
@@ -299,7 +317,8 @@ pub fn cmd_replay(args: &ReplayArgs) -> Result<(), RunError> {
         let staged = StagedDir::new(out)?;
         model.write_outputs(&output, staged.path())?;
         let path = staged.path().join("summary.json");
-        std::fs::write(&path, report::json_line(&value) + "\n").map_err(|e| RunError::io(&path, e))?;
+        std::fs::write(&path, report::json_line(&value) + "\n")
+            .map_err(|e| RunError::io(&path, e))?;
         let dir = staged.commit()?;
         emit(&value, args.json);
         note(args.json, &format!("outputs written to {}", dir.display()));
@@ -314,7 +333,10 @@ pub fn cmd_simulate(args: &SimulateArgs) -> Result<(), RunError> {
     let scenario = find_scenario(&args.name)?;
     let options = run_options(scenario.as_ref(), &args.faults, args.draw_biases)?;
     let log = scenario.simulate_log(args.seed, &options).ok_or_else(|| {
-        RunError::Invalid(format!("scenario {} cannot write a sensor log", scenario.name()))
+        RunError::Invalid(format!(
+            "scenario {} cannot write a sensor log",
+            scenario.name()
+        ))
     })??;
     log.write(&args.out)?;
     println!(
@@ -335,7 +357,12 @@ pub fn cmd_merge(args: &MergeArgs) -> Result<(), RunError> {
         .collect::<Result<Vec<_>, _>>()?;
     let merged = merge_shards(&files)?;
     let scenario = find_scenario(&merged.scenario)?;
-    let summary = summary_json(scenario.as_ref(), merged.seed, &merged.results, &merged.options)?;
+    let summary = summary_json(
+        scenario.as_ref(),
+        merged.seed,
+        &merged.results,
+        &merged.options,
+    )?;
     emit(&summary, args.json);
     Ok(())
 }

@@ -1,6 +1,9 @@
 //! The estimators of the source papers (MODELS.md), declared with `nav_runtime::model!`.
 
 pub mod cli;
+pub mod leveling;
+pub mod marker;
 pub mod montecarlo;
 pub mod plot;
 pub mod report;
+pub mod sdins25;

@@ -92,7 +92,10 @@ impl RunTable {
         let mut w = std::io::BufWriter::new(std::fs::File::create(path).map_err(io)?);
         writeln!(w, "{}", self.columns.join(",")).map_err(io)?;
         for row in &self.rows {
-            let cells: Vec<String> = row.iter().map(|v| nav_runtime::log::format_f64(*v)).collect();
+            let cells: Vec<String> = row
+                .iter()
+                .map(|v| nav_runtime::log::format_f64(*v))
+                .collect();
             writeln!(w, "{}", cells.join(",")).map_err(io)?;
         }
         w.flush().map_err(io)
@@ -264,7 +267,11 @@ pub trait Scenario: Send + Sync {
     fn run_one(&self, seed: u64, options: &RunOptions) -> Result<RunResult, RunError>;
     /// Scenario-specific JSON keys from all runs (in seed order). The driver adds
     /// `scenario`, `runs` and `seed`.
-    fn summarize(&self, runs: &[RunResult], options: &RunOptions) -> Result<Map<String, Value>, RunError>;
+    fn summarize(
+        &self,
+        runs: &[RunResult],
+        options: &RunOptions,
+    ) -> Result<Map<String, Value>, RunError>;
     /// Writes per-run CSV files and plots into `dir` (which exists). The default writes
     /// each run's tables as `run-<seed>-<table>.csv`.
     fn write_outputs(&self, runs: &[RunResult], dir: &Path) -> Result<(), RunError> {
@@ -555,7 +562,11 @@ pub fn merge_shards(files: &[(PathBuf, ShardFile)]) -> Result<Merged, RunError> 
             ),
         };
         if f.scenario != first.scenario {
-            return Err(mismatch("scenario", first.scenario.clone(), f.scenario.clone()));
+            return Err(mismatch(
+                "scenario",
+                first.scenario.clone(),
+                f.scenario.clone(),
+            ));
         }
         if f.seed != first.seed {
             return Err(mismatch("seed", first.seed.to_string(), f.seed.to_string()));
@@ -668,7 +679,11 @@ pub mod demo {
             heading: None,
         });
         meta.sensors.depth = Some(nav_runtime::log::SensorNoise {
-            bias_sigma: if options.draw_biases { DEPTH_BIAS_SIGMA } else { 0.0 },
+            bias_sigma: if options.draw_biases {
+                DEPTH_BIAS_SIGMA
+            } else {
+                0.0
+            },
             noise_sigma: DEPTH_NOISE,
         });
         let bias = if options.draw_biases {
@@ -692,7 +707,8 @@ pub mod demo {
         let mut log = LogDir::new(meta);
         let mut depth = Vec::new();
         let mut truth = Vec::new();
-        let truth_row = |t: f64, d: f64, v: f64| TruthRow::new(t, 0.7, 0.2, d, 0.0, 0.0, v, 0.0, 0.0, 0.0);
+        let truth_row =
+            |t: f64, d: f64, v: f64| TruthRow::new(t, 0.7, 0.2, d, 0.0, 0.0, v, 0.0, 0.0, 0.0);
         truth.push(truth_row(0.0, d, v));
         for k in 0..steps {
             let t0 = (k * DEPTH_PER_IMU) as f64 * IMU_DT;
@@ -702,7 +718,8 @@ pub mod demo {
             let accel = (v_next - v) / dt;
             for j in 0..DEPTH_PER_IMU {
                 let t = (k * DEPTH_PER_IMU + j) as f64 * IMU_DT;
-                log.imu.push(ImuRow::new(t, 0.0, 0.0, 0.0, 0.0, 0.0, accel - GRAVITY));
+                log.imu
+                    .push(ImuRow::new(t, 0.0, 0.0, 0.0, 0.0, 0.0, accel - GRAVITY));
             }
             d = d_next;
             v = v_next;
@@ -760,7 +777,10 @@ pub mod demo {
             let [d, v] = e.x;
             let p = e.p;
             let x = [d + dt * v, v];
-            let p00 = p[0][0] + dt * (p[1][0] + p[0][1]) + dt * dt * p[1][1] + ACCEL_PSD * dt.powi(3) / 3.0;
+            let p00 = p[0][0]
+                + dt * (p[1][0] + p[0][1])
+                + dt * dt * p[1][1]
+                + ACCEL_PSD * dt.powi(3) / 3.0;
             let p01 = p[0][1] + dt * p[1][1] + ACCEL_PSD * dt * dt / 2.0;
             let p11 = p[1][1] + ACCEL_PSD * dt;
             // Update with z = depth.
@@ -784,7 +804,17 @@ pub mod demo {
     /// Scores estimates against truth: for each truth row, the latest estimate at or
     /// before it. Returns metrics and the per-time table.
     pub fn score(est: &[Estimate], truth: &[TruthRow]) -> (BTreeMap<String, f64>, RunTable) {
-        let mut table = RunTable::new("depth", &["t", "depth_true", "depth_est", "depth_sigma", "error", "nees"]);
+        let mut table = RunTable::new(
+            "depth",
+            &[
+                "t",
+                "depth_true",
+                "depth_est",
+                "depth_sigma",
+                "error",
+                "nees",
+            ],
+        );
         let mut errors = Vec::new();
         let mut nees = Vec::new();
         let mut i = 0;
@@ -805,7 +835,10 @@ pub mod demo {
         }
         let mut m = BTreeMap::new();
         m.insert("depth_error_rms_m".into(), stats::rms(&errors));
-        m.insert("depth_error_final_m".into(), errors.last().map_or(f64::NAN, |e| e.abs()));
+        m.insert(
+            "depth_error_final_m".into(),
+            errors.last().map_or(f64::NAN, |e| e.abs()),
+        );
         m.insert("nees_mean".into(), stats::mean(&nees));
         (m, table)
     }
@@ -834,17 +867,27 @@ pub mod demo {
             }
             Ok(r)
         }
-        fn summarize(&self, runs: &[RunResult], _options: &RunOptions) -> Result<Map<String, Value>, RunError> {
+        fn summarize(
+            &self,
+            runs: &[RunResult],
+            _options: &RunOptions,
+        ) -> Result<Map<String, Value>, RunError> {
             let mut m = Map::new();
             for key in ["depth_error_rms_m", "depth_error_final_m"] {
                 m.insert(key.into(), crate::report::summary_of(runs, key));
             }
-            m.insert("nees_mean".into(), Value::from(stats::mean(&metric_values(runs, "nees_mean"))));
+            m.insert(
+                "nees_mean".into(),
+                Value::from(stats::mean(&metric_values(runs, "nees_mean"))),
+            );
             Ok(m)
         }
         fn write_outputs(&self, runs: &[RunResult], dir: &Path) -> Result<(), RunError> {
             write_run_tables(runs, dir)?;
-            let Some(first) = runs.iter().find_map(|r| r.tables.first().map(|t| (r.seed, t))) else {
+            let Some(first) = runs
+                .iter()
+                .find_map(|r| r.tables.first().map(|t| (r.seed, t)))
+            else {
                 return Ok(());
             };
             let (seed, table) = first;
@@ -872,7 +915,11 @@ pub mod demo {
                 Some(band),
             )
         }
-        fn simulate_log(&self, seed: u64, options: &RunOptions) -> Option<Result<LogDir, RunError>> {
+        fn simulate_log(
+            &self,
+            seed: u64,
+            options: &RunOptions,
+        ) -> Option<Result<LogDir, RunError>> {
             Some(Ok(simulate(seed, options)))
         }
     }

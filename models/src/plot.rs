@@ -74,7 +74,13 @@ fn segments(x: &[f64], y: &[f64]) -> Vec<Vec<(f64, f64)>> {
 }
 
 /// Line chart of several series against a shared x axis kind.
-pub fn lines(path: &Path, title: &str, x_label: &str, y_label: &str, lines: &[Line<'_>]) -> Result<(), RunError> {
+pub fn lines(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    lines: &[Line<'_>],
+) -> Result<(), RunError> {
     let xr = range(lines.iter().flat_map(|l| l.x.iter().copied()));
     let yr = range(lines.iter().flat_map(|l| l.y.iter().copied()));
     draw(path, title, x_label, y_label, xr, yr, lines, &[], false)
@@ -92,9 +98,21 @@ pub fn error_with_sigma(
     let upper: Vec<f64> = sigma.iter().map(|s| 3.0 * s).collect();
     let lower: Vec<f64> = sigma.iter().map(|s| -3.0 * s).collect();
     let ls = [
-        Line { label: "error", x: t, y: error },
-        Line { label: "+3 sigma", x: t, y: &upper },
-        Line { label: "-3 sigma", x: t, y: &lower },
+        Line {
+            label: "error",
+            x: t,
+            y: error,
+        },
+        Line {
+            label: "+3 sigma",
+            x: t,
+            y: &upper,
+        },
+        Line {
+            label: "-3 sigma",
+            x: t,
+            y: &lower,
+        },
     ];
     let xr = range(t.iter().copied());
     let yr = range(error.iter().chain(&upper).chain(&lower).copied());
@@ -125,11 +143,24 @@ pub fn series_with_sigma(
     for s in series {
         if let Some(sig) = s.sigma {
             let (label, y) = (s.label, s.y);
-            owned.push((format!("{label} +3 sigma"), y.iter().zip(sig).map(|(y, s)| y + 3.0 * s).collect()));
-            owned.push((format!("{label} -3 sigma"), y.iter().zip(sig).map(|(y, s)| y - 3.0 * s).collect()));
+            owned.push((
+                format!("{label} +3 sigma"),
+                y.iter().zip(sig).map(|(y, s)| y + 3.0 * s).collect(),
+            ));
+            owned.push((
+                format!("{label} -3 sigma"),
+                y.iter().zip(sig).map(|(y, s)| y - 3.0 * s).collect(),
+            ));
         }
     }
-    let mut ls: Vec<Line<'_>> = series.iter().map(|s| Line { label: s.label, x: t, y: s.y }).collect();
+    let mut ls: Vec<Line<'_>> = series
+        .iter()
+        .map(|s| Line {
+            label: s.label,
+            x: t,
+            y: s.y,
+        })
+        .collect();
     ls.extend(owned.iter().map(|(label, y)| Line { label, x: t, y }));
     let xr = range(t.iter().copied());
     let yr = range(ls.iter().flat_map(|l| l.y.iter().copied()));
@@ -137,7 +168,13 @@ pub fn series_with_sigma(
 }
 
 /// 2-D tracks (e.g. east vs north in metres), truth and estimates, equal axis scales.
-pub fn tracks(path: &Path, title: &str, x_label: &str, y_label: &str, tracks: &[Line<'_>]) -> Result<(), RunError> {
+pub fn tracks(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    tracks: &[Line<'_>],
+) -> Result<(), RunError> {
     let xr = range(tracks.iter().flat_map(|l| l.x.iter().copied()));
     let yr = range(tracks.iter().flat_map(|l| l.y.iter().copied()));
     // Equal scale: widen the narrower range to the plot's aspect ratio.
@@ -157,11 +194,28 @@ pub fn tracks(path: &Path, title: &str, x_label: &str, y_label: &str, tracks: &[
 
 /// NEES over time with an optional consistency band `(lower, upper)` drawn as two
 /// horizontal lines.
-pub fn nees(path: &Path, title: &str, t: &[f64], nees: &[f64], band: Option<(f64, f64)>) -> Result<(), RunError> {
-    let ls = [Line { label: "NEES", x: t, y: nees }];
-    let hl: Vec<(&str, f64)> = band.map_or(Vec::new(), |(lo, hi)| vec![("band lower", lo), ("band upper", hi)]);
+pub fn nees(
+    path: &Path,
+    title: &str,
+    t: &[f64],
+    nees: &[f64],
+    band: Option<(f64, f64)>,
+) -> Result<(), RunError> {
+    let ls = [Line {
+        label: "NEES",
+        x: t,
+        y: nees,
+    }];
+    let hl: Vec<(&str, f64)> = band.map_or(Vec::new(), |(lo, hi)| {
+        vec![("band lower", lo), ("band upper", hi)]
+    });
     let xr = range(t.iter().copied());
-    let yr = range(nees.iter().copied().chain(hl.iter().map(|h| h.1)).chain(std::iter::once(0.0)));
+    let yr = range(
+        nees.iter()
+            .copied()
+            .chain(hl.iter().map(|h| h.1))
+            .chain(std::iter::once(0.0)),
+    );
     draw(path, title, "t [s]", "NEES", xr, yr, &ls, &hl, false)
 }
 
@@ -201,9 +255,9 @@ fn draw(
                 .draw_series(LineSeries::new(seg.iter().copied(), color.stroke_width(2)))
                 .map_err(e)?;
             if j == 0 {
-                series
-                    .label(l.label)
-                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
+                series.label(l.label).legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                });
             }
         }
         if mark_start {
@@ -223,7 +277,9 @@ fn draw(
             ))
             .map_err(e)?
             .label(*label)
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(1)));
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(1))
+            });
     }
     chart
         .configure_series_labels()
@@ -262,7 +318,18 @@ mod tests {
             "track",
             "east [m]",
             "north [m]",
-            &[Line { label: "truth", x: &e, y: &y }, Line { label: "estimate", x: &y, y: &e }],
+            &[
+                Line {
+                    label: "truth",
+                    x: &e,
+                    y: &y,
+                },
+                Line {
+                    label: "estimate",
+                    x: &y,
+                    y: &e,
+                },
+            ],
         )
         .unwrap();
         series_with_sigma(
@@ -271,14 +338,33 @@ mod tests {
             "m",
             &t,
             &[
-                SigmaSeries { label: "est", y: &e, sigma: Some(&s) },
-                SigmaSeries { label: "truth", y: &y, sigma: None },
+                SigmaSeries {
+                    label: "est",
+                    y: &e,
+                    sigma: Some(&s),
+                },
+                SigmaSeries {
+                    label: "truth",
+                    y: &y,
+                    sigma: None,
+                },
             ],
         )
         .unwrap();
         // Degenerate input: empty and constant series.
         lines(&tmp("empty.svg"), "empty", "x", "y", &[]).unwrap();
-        lines(&tmp("const.svg"), "c", "x", "y", &[Line { label: "c", x: &[1.0, 1.0], y: &[2.0, 2.0] }]).unwrap();
+        lines(
+            &tmp("const.svg"),
+            "c",
+            "x",
+            "y",
+            &[Line {
+                label: "c",
+                x: &[1.0, 1.0],
+                y: &[2.0, 2.0],
+            }],
+        )
+        .unwrap();
         let _ = std::fs::remove_dir_all(p.parent().unwrap());
     }
 }

@@ -35,8 +35,14 @@ pub fn replay_json(
     m.insert("samples".into(), Value::from(output.samples));
     m.insert("runtime_s".into(), Value::from(output.runtime_s));
     if lenient {
-        m.insert("skipped_rows".into(), Value::from(skipped.values().sum::<usize>()));
-        let by_file: Map<String, Value> = skipped.iter().map(|(k, v)| (k.clone(), Value::from(*v))).collect();
+        m.insert(
+            "skipped_rows".into(),
+            Value::from(skipped.values().sum::<usize>()),
+        );
+        let by_file: Map<String, Value> = skipped
+            .iter()
+            .map(|(k, v)| (k.clone(), Value::from(*v)))
+            .collect();
         m.insert("skipped_rows_by_file".into(), Value::Object(by_file));
     }
     Value::Object(m)
@@ -81,7 +87,9 @@ pub fn human(value: &Value) -> String {
 fn render(out: &mut String, key: &str, v: &Value, width: usize, indent: usize) {
     let pad = " ".repeat(indent);
     match v {
-        Value::Object(o) if o.contains_key("median") && o.contains_key("p95") && o.contains_key("max") => {
+        Value::Object(o)
+            if o.contains_key("median") && o.contains_key("p95") && o.contains_key("max") =>
+        {
             out.push_str(&format!(
                 "{pad}{key:width$}  median {}  p95 {}  max {}\n",
                 fmt_number(&o["median"]),
@@ -151,9 +159,11 @@ impl StagedDir {
     /// Moves the written files into the target directory.
     pub fn commit(mut self) -> Result<PathBuf, RunError> {
         if !self.target.exists() {
-            std::fs::rename(&self.staging, &self.target).map_err(|e| RunError::io(&self.target, e))?;
+            std::fs::rename(&self.staging, &self.target)
+                .map_err(|e| RunError::io(&self.target, e))?;
         } else {
-            let entries = std::fs::read_dir(&self.staging).map_err(|e| RunError::io(&self.staging, e))?;
+            let entries =
+                std::fs::read_dir(&self.staging).map_err(|e| RunError::io(&self.staging, e))?;
             for entry in entries {
                 let entry = entry.map_err(|e| RunError::io(&self.staging, e))?;
                 let to = self.target.join(entry.file_name());
@@ -195,6 +205,9 @@ mod tests {
     #[test]
     fn summary_nan_is_null() {
         let v = summary_value(&[]);
-        assert_eq!(v, serde_json::json!({"median": null, "p95": null, "max": null}));
+        assert_eq!(
+            v,
+            serde_json::json!({"median": null, "p95": null, "max": null})
+        );
     }
 }

@@ -57,7 +57,11 @@ fn stderr(o: &Output) -> String {
 
 /// The command failed with exactly one `error: ...` line on stderr; returns it.
 fn one_line_error(o: &Output) -> String {
-    assert!(!o.status.success(), "expected failure, stdout: {}", stdout(o));
+    assert!(
+        !o.status.success(),
+        "expected failure, stdout: {}",
+        stdout(o)
+    );
     let err = stderr(o);
     let lines: Vec<&str> = err.lines().collect();
     assert_eq!(lines.len(), 1, "stderr: {err:?}");
@@ -92,7 +96,10 @@ fn bad_values_are_one_line_errors() {
     let line = one_line_error(&navsim(&["scenario", DEMO, "--shard", "5/4", "--out", "x"]));
     assert!(line.contains("5/4"), "{line}");
     let line = one_line_error(&navsim(&["scenario", DEMO, "--faults", "gremlins"]));
-    assert!(line.contains("gremlins") && line.contains("depth-dropout"), "{line}");
+    assert!(
+        line.contains("gremlins") && line.contains("depth-dropout"),
+        "{line}"
+    );
     let line = one_line_error(&navsim(&["replay", "somewhere"]));
     assert!(line.contains("--model"), "{line}");
     let line = one_line_error(&navsim(&["replay", "somewhere", "--model", "nope"]));
@@ -103,7 +110,9 @@ fn bad_values_are_one_line_errors() {
 
 #[test]
 fn json_output_is_one_object_with_the_common_keys() {
-    let v = json(&navsim(&["scenario", DEMO, "--runs", "3", "--seed", "11", "--json"]));
+    let v = json(&navsim(&[
+        "scenario", DEMO, "--runs", "3", "--seed", "11", "--json",
+    ]));
     assert_eq!(v["scenario"], DEMO);
     assert_eq!(v["runs"], 3);
     assert_eq!(v["seed"], 11);
@@ -135,14 +144,29 @@ fn results_do_not_depend_on_thread_count() {
 #[test]
 fn merged_shards_equal_the_single_run() {
     let dir = TempDir::new("shards");
-    let base = ["scenario", DEMO, "--runs", "10", "--seed", "5", "--faults", "depth-dropout"];
+    let base = [
+        "scenario",
+        DEMO,
+        "--runs",
+        "10",
+        "--seed",
+        "5",
+        "--faults",
+        "depth-dropout",
+    ];
     let single = navsim(&[&base[..], &["--json"]].concat());
     let single_json = json(&single);
     let mut outs = Vec::new();
     for k in 1..=4 {
         let out = dir.path().join(format!("machine{k}"));
         let shard = format!("{k}/4");
-        let v = json(&navsim(&[&base[..], &["--json", "--shard", &shard, "--out", out.to_str().unwrap()]].concat()));
+        let v = json(&navsim(
+            &[
+                &base[..],
+                &["--json", "--shard", &shard, "--out", out.to_str().unwrap()],
+            ]
+            .concat(),
+        ));
         assert_eq!(v["shard"], shard.as_str());
         outs.push(out);
     }
@@ -156,7 +180,11 @@ fn merged_shards_equal_the_single_run() {
     assert_eq!(single_json["faults"], serde_json::json!(["depth-dropout"]));
 
     // A missing shard is reported with the missing seeds.
-    let line = one_line_error(&navsim(&["merge", outs[0].to_str().unwrap(), outs[1].to_str().unwrap()]));
+    let line = one_line_error(&navsim(&[
+        "merge",
+        outs[0].to_str().unwrap(),
+        outs[1].to_str().unwrap(),
+    ]));
     assert!(line.contains("missing seeds"), "{line}");
     // The same shard twice is a duplicate.
     let line = one_line_error(&navsim(&[
@@ -177,11 +205,22 @@ fn shard_needs_out() {
 fn out_dir_gets_csv_plots_and_summary() {
     let dir = TempDir::new("out");
     let out = dir.path().join("results");
-    let v = json(&navsim(&["scenario", DEMO, "--runs", "2", "--seed", "3", "--json", "--out", out.to_str().unwrap()]));
+    let v = json(&navsim(&[
+        "scenario",
+        DEMO,
+        "--runs",
+        "2",
+        "--seed",
+        "3",
+        "--json",
+        "--out",
+        out.to_str().unwrap(),
+    ]));
     assert!(out.join("run-3-depth.csv").is_file());
     assert!(out.join("run-4-depth.csv").is_file());
     assert!(out.join("nees.svg").is_file());
-    let summary: Value = serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let summary: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     assert_eq!(summary, v);
 }
 
@@ -189,40 +228,83 @@ fn out_dir_gets_csv_plots_and_summary() {
 fn simulate_then_replay_reproduces_the_scenario() {
     let dir = TempDir::new("sim");
     let log = dir.path().join("log");
-    let o = navsim(&["simulate", DEMO, "--seed", "21", "--out", log.to_str().unwrap()]);
+    let o = navsim(&[
+        "simulate",
+        DEMO,
+        "--seed",
+        "21",
+        "--out",
+        log.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     for f in ["imu.csv", "depth.csv", "truth.csv", "meta.toml"] {
         assert!(log.join(f).is_file(), "{f}");
     }
-    let replay = json(&navsim(&["replay", log.to_str().unwrap(), "--model", DEMO_MODEL, "--json"]));
+    let replay = json(&navsim(&[
+        "replay",
+        log.to_str().unwrap(),
+        "--model",
+        DEMO_MODEL,
+        "--json",
+    ]));
     assert_eq!(replay["model"], DEMO_MODEL);
     assert_eq!(replay["samples"], 3000);
     assert!(replay["runtime_s"].as_f64().unwrap() >= 0.0);
     assert!(replay.get("skipped_rows").is_none());
-    let scenario = json(&navsim(&["scenario", DEMO, "--runs", "1", "--seed", "21", "--json"]));
-    assert_eq!(replay["depth_error_rms_m"], scenario["depth_error_rms_m"]["median"]);
-    assert_eq!(replay["depth_error_final_m"], scenario["depth_error_final_m"]["median"]);
+    let scenario = json(&navsim(&[
+        "scenario", DEMO, "--runs", "1", "--seed", "21", "--json",
+    ]));
+    assert_eq!(
+        replay["depth_error_rms_m"],
+        scenario["depth_error_rms_m"]["median"]
+    );
+    assert_eq!(
+        replay["depth_error_final_m"],
+        scenario["depth_error_final_m"]["median"]
+    );
 }
 
 #[test]
 fn replay_of_a_malformed_log_names_file_line_column_and_writes_nothing() {
     let dir = TempDir::new("bad");
     let log = dir.path().join("log");
-    let o = navsim(&["simulate", DEMO, "--seed", "2", "--out", log.to_str().unwrap()]);
+    let o = navsim(&[
+        "simulate",
+        DEMO,
+        "--seed",
+        "2",
+        "--out",
+        log.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let depth = log.join("depth.csv");
-    let mut lines: Vec<String> = std::fs::read_to_string(&depth).unwrap().lines().map(String::from).collect();
+    let mut lines: Vec<String> = std::fs::read_to_string(&depth)
+        .unwrap()
+        .lines()
+        .map(String::from)
+        .collect();
     lines[6] = "0.7,12.x".into(); // line 7
     lines[9] = "0.95,nan".into(); // line 10
     std::fs::write(&depth, lines.join("\n") + "\n").unwrap();
 
     let out = dir.path().join("replay-out");
-    let args = ["replay", log.to_str().unwrap(), "--model", DEMO_MODEL, "--json", "--out", out.to_str().unwrap()];
+    let args = [
+        "replay",
+        log.to_str().unwrap(),
+        "--model",
+        DEMO_MODEL,
+        "--json",
+        "--out",
+        out.to_str().unwrap(),
+    ];
     let line = one_line_error(&navsim(&args));
     assert!(line.contains("depth.csv:7"), "{line}");
     assert!(line.contains("column `depth`"), "{line}");
     assert!(!out.exists(), "no output directory on error");
-    let leftovers: Vec<_> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+    let leftovers: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
     assert_eq!(leftovers.len(), 1, "{leftovers:?}");
 
     // --lenient skips and counts both bad rows, and writes the outputs.
@@ -235,14 +317,28 @@ fn replay_of_a_malformed_log_names_file_line_column_and_writes_nothing() {
 
 #[test]
 fn replay_of_a_missing_directory_fails() {
-    let line = one_line_error(&navsim(&["replay", "/nonexistent/log/dir", "--model", DEMO_MODEL]));
+    let line = one_line_error(&navsim(&[
+        "replay",
+        "/nonexistent/log/dir",
+        "--model",
+        DEMO_MODEL,
+    ]));
     assert!(line.contains("/nonexistent/log/dir"), "{line}");
 }
 
 #[test]
 fn list_names_scenarios_and_models() {
     let v = json(&navsim(&["list", "--json"]));
-    let names: Vec<&str> = v["scenarios"].as_array().unwrap().iter().map(|s| s["name"].as_str().unwrap()).collect();
+    let names: Vec<&str> = v["scenarios"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["name"].as_str().unwrap())
+        .collect();
     assert!(names.contains(&DEMO));
-    assert!(v["models"].as_array().unwrap().iter().any(|m| m["name"] == DEMO_MODEL));
+    assert!(v["models"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|m| m["name"] == DEMO_MODEL));
 }

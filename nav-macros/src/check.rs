@@ -44,12 +44,21 @@ pub fn check(cx: &Ctxt, decl: &ModelDecl) {
         if RESERVED_CONSTS.contains(&konst.as_str()) {
             cx.error_spanned_by(
                 &v.name,
-                format!("state `{}` would generate the index constant `{konst}`, which is reserved", v.name),
+                format!(
+                    "state `{}` would generate the index constant `{konst}`, which is reserved",
+                    v.name
+                ),
             );
         }
     }
     if decl.states.is_empty() {
-        cx.error_spanned_by(&decl.name, format!("model `{}` declares no states: add `states {{ .. }}`", decl.name));
+        cx.error_spanned_by(
+            &decl.name,
+            format!(
+                "model `{}` declares no states: add `states {{ .. }}`",
+                decl.name
+            ),
+        );
     }
     match &decl.process {
         None => cx.error_spanned_by(
@@ -104,7 +113,10 @@ pub fn check(cx: &Ctxt, decl: &ModelDecl) {
         if RESERVED_SENSORS.contains(&name.as_str()) {
             cx.error_spanned_by(
                 &sensor.name,
-                format!("a sensor named `{name}` would collide with the generated type `{}{name}`", decl.name),
+                format!(
+                    "a sensor named `{name}` would collide with the generated type `{}{name}`",
+                    decl.name
+                ),
             );
         }
         if sensor.dim == 0 {
@@ -121,7 +133,10 @@ pub fn check(cx: &Ctxt, decl: &ModelDecl) {
         if sensor.h.is_none() {
             cx.error_spanned_by(
                 &sensor.name,
-                format!("sensor `{name}` has no measurement: add `h = [..];` with {} components", sensor.dim),
+                format!(
+                    "sensor `{name}` has no measurement: add `h = [..];` with {} components",
+                    sensor.dim
+                ),
             );
         }
         for stray in &sensor.stray {
@@ -139,10 +154,15 @@ pub fn check(cx: &Ctxt, decl: &ModelDecl) {
             for lit in angles {
                 match lit.base10_parse::<usize>() {
                     Ok(i) if i < sensor.dim && !seen.contains(&i) => seen.push(i),
-                    Ok(i) if i < sensor.dim => cx.error_spanned_by(lit, format!("angle component {i} is listed twice")),
+                    Ok(i) if i < sensor.dim => {
+                        cx.error_spanned_by(lit, format!("angle component {i} is listed twice"))
+                    }
                     _ => cx.error_spanned_by(
                         lit,
-                        format!("angle component out of range: sensor `{name}` has {} outputs", sensor.dim),
+                        format!(
+                            "angle component out of range: sensor `{name}` has {} outputs",
+                            sensor.dim
+                        ),
                     ),
                 }
             }
@@ -170,7 +190,11 @@ pub fn suggest(name: &str, candidates: impl IntoIterator<Item = String>) -> Stri
     for c in candidates {
         let d = edit_distance(name, &c);
         let limit = 1.max(name.chars().count().max(c.chars().count()) / 3);
-        if d <= limit && best.as_ref().map_or(true, |(bd, bc)| (d, &c) < (*bd, bc)) {
+        let better = match &best {
+            None => true,
+            Some((bd, bc)) => (d, &c) < (*bd, bc),
+        };
+        if d <= limit && better {
             best = Some((d, c));
         }
     }
@@ -216,11 +240,17 @@ impl Names {
     fn declare(&mut self, cx: &Ctxt, name: &Ident, kind: &'static str) {
         let s = name.to_string();
         if s == "dt" {
-            cx.error_spanned_by(name, "`dt` is reserved: it is the time step of the generated functions");
+            cx.error_spanned_by(
+                name,
+                "`dt` is reserved: it is the time step of the generated functions",
+            );
             return;
         }
         match self.kinds.get(&s) {
-            Some(prev) => cx.error_spanned_by(name, format!("duplicate name `{s}`: already declared as {prev}")),
+            Some(prev) => cx.error_spanned_by(
+                name,
+                format!("duplicate name `{s}`: already declared as {prev}"),
+            ),
             None => {
                 self.kinds.insert(s, kind);
             }
@@ -249,7 +279,12 @@ mod tests {
 
     #[test]
     fn screaming() {
-        let cases = [("velocity", "VELOCITY"), ("c_bn", "C_BN"), ("Vx", "VX"), ("gyroBias", "GYRO_BIAS")];
+        let cases = [
+            ("velocity", "VELOCITY"),
+            ("c_bn", "C_BN"),
+            ("Vx", "VX"),
+            ("gyroBias", "GYRO_BIAS"),
+        ];
         for (name, want) in cases {
             assert_eq!(screaming_case(name), want);
         }

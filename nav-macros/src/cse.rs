@@ -53,7 +53,11 @@ pub fn schedule(g: &Graph, roots: &[Id]) -> Schedule {
             temps.push(id);
         }
     }
-    Schedule { temps, temp_of, ops: ops::count(g, roots) }
+    Schedule {
+        temps,
+        temp_of,
+        ops: ops::count(g, roots),
+    }
 }
 
 #[cfg(test)]

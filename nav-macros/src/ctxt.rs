@@ -14,7 +14,9 @@ pub struct Ctxt {
 
 impl Ctxt {
     pub fn new() -> Self {
-        Ctxt { errors: RefCell::new(Some(Vec::new())) }
+        Ctxt {
+            errors: RefCell::new(Some(Vec::new())),
+        }
     }
 
     /// An error spanning the tokens of `obj`.
@@ -41,7 +43,11 @@ impl Ctxt {
     }
 
     fn push(&self, err: syn::Error) {
-        self.errors.borrow_mut().as_mut().expect("context already checked").push(err);
+        self.errors
+            .borrow_mut()
+            .as_mut()
+            .expect("context already checked")
+            .push(err);
     }
 }
 

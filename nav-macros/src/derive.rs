@@ -47,14 +47,22 @@ pub struct DerivedSensor {
 
 /// Differentiates and assembles all outputs.
 pub fn derive(lowered: Lowered, nw: usize) -> Derived {
-    let Lowered { mut graph, kind, f: f_noisy, sensors } = lowered;
+    let Lowered {
+        mut graph,
+        kind,
+        f: f_noisy,
+        sensors,
+    } = lowered;
     let g = &mut graph;
     let n = f_noisy.len();
     let mut d = Diff::new();
 
     let is_noise = |s: Sym| matches!(s, Sym::Noise(_));
     let mut memo = HashMap::new();
-    let f: Vec<Id> = f_noisy.iter().map(|&e| g.substitute_zero(e, &is_noise, &mut memo)).collect();
+    let f: Vec<Id> = f_noisy
+        .iter()
+        .map(|&e| g.substitute_zero(e, &is_noise, &mut memo))
+        .collect();
 
     let dt = g.sym(Sym::Dt);
     let transition: Vec<Id> = match kind {
@@ -98,14 +106,24 @@ pub fn derive(lowered: Lowered, nw: usize) -> Derived {
     };
 
     // Qd = G Q G^T (times dt if continuous); Q = diag(q).
-    let q: Vec<Id> = (0..nw).map(|k| g.sym(Sym::NoiseIntensity(k as u32))).collect();
-    let gq: Vec<Id> = (0..n * nw).map(|ik| g.mul(noise_jacobian[ik], q[ik % nw.max(1)])).collect();
+    let q: Vec<Id> = (0..nw)
+        .map(|k| g.sym(Sym::NoiseIntensity(k as u32)))
+        .collect();
+    let gq: Vec<Id> = (0..n * nw)
+        .map(|ik| g.mul(noise_jacobian[ik], q[ik % nw.max(1)]))
+        .collect();
     let mut process_noise = vec![Graph::ZERO; n * n];
     for i in 0..n {
         for j in i..n {
-            let terms: Vec<Id> = (0..nw).map(|k| g.mul(gq[i * nw + k], noise_jacobian[j * nw + k])).collect();
+            let terms: Vec<Id> = (0..nw)
+                .map(|k| g.mul(gq[i * nw + k], noise_jacobian[j * nw + k]))
+                .collect();
             let s = g.sum(terms);
-            let s = if kind == ProcessKind::Continuous { g.mul(s, dt) } else { s };
+            let s = if kind == ProcessKind::Continuous {
+                g.mul(s, dt)
+            } else {
+                s
+            };
             process_noise[i * n + j] = s;
             process_noise[j * n + i] = s;
         }
@@ -113,8 +131,9 @@ pub fn derive(lowered: Lowered, nw: usize) -> Derived {
 
     // A = Phi P; result_ij = sum_k A_ik Phi_jk + Qd_ij for i <= j.
     let p = |g: &mut Graph, i: usize, j: usize| g.sym(Sym::cov(i, j));
-    let nonzero_cols: Vec<Vec<usize>> =
-        (0..n).map(|i| (0..n).filter(|&k| !g.is_zero(phi[i * n + k])).collect()).collect();
+    let nonzero_cols: Vec<Vec<usize>> = (0..n)
+        .map(|i| (0..n).filter(|&k| !g.is_zero(phi[i * n + k])).collect())
+        .collect();
     let mut a = vec![Graph::ZERO; n * n];
     for i in 0..n {
         for k in 0..n {
@@ -131,7 +150,10 @@ pub fn derive(lowered: Lowered, nw: usize) -> Derived {
     let mut propagated = Vec::with_capacity(n * (n + 1) / 2);
     for i in 0..n {
         for j in i..n {
-            let terms: Vec<Id> = nonzero_cols[j].iter().map(|&k| g.mul(a[i * n + k], phi[j * n + k])).collect();
+            let terms: Vec<Id> = nonzero_cols[j]
+                .iter()
+                .map(|&k| g.mul(a[i * n + k], phi[j * n + k]))
+                .collect();
             let s = g.sum(terms);
             propagated.push((i, j, g.add(s, process_noise[i * n + j])));
         }
@@ -147,8 +169,9 @@ pub fn derive(lowered: Lowered, nw: usize) -> Derived {
                     hj.push(d.diff(g, hi, Sym::State(j as u32)));
                 }
             }
-            let nonzero: Vec<Vec<usize>> =
-                (0..m).map(|r| (0..n).filter(|&k| !g.is_zero(hj[r * n + k])).collect()).collect();
+            let nonzero: Vec<Vec<usize>> = (0..m)
+                .map(|r| (0..n).filter(|&k| !g.is_zero(hj[r * n + k])).collect())
+                .collect();
             let mut pht = vec![Graph::ZERO; n * m];
             for i in 0..n {
                 for r in 0..m {
@@ -165,11 +188,20 @@ pub fn derive(lowered: Lowered, nw: usize) -> Derived {
             let mut hpht = Vec::new();
             for r in 0..m {
                 for c in r..m {
-                    let terms: Vec<Id> = nonzero[r].iter().map(|&k| g.mul(hj[r * n + k], pht[k * m + c])).collect();
+                    let terms: Vec<Id> = nonzero[r]
+                        .iter()
+                        .map(|&k| g.mul(hj[r * n + k], pht[k * m + c]))
+                        .collect();
                     hpht.push((r, c, g.sum(terms)));
                 }
             }
-            DerivedSensor { m, h, jacobian: hj, pht, hpht }
+            DerivedSensor {
+                m,
+                h,
+                jacobian: hj,
+                pht,
+                hpht,
+            }
         })
         .collect();
 

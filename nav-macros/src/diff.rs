@@ -146,30 +146,58 @@ mod tests {
         ("x*x", |g, x| g.mul(x, x), |x| 2.0 * x),
         ("1/x", |g, x| g.div(Graph::ONE, x), |x| -1.0 / (x * x)),
         ("-x", |g, x| g.neg(x), |_| -1.0),
-        ("x-3", |g, x| {
-            let c = g.constant(3.0);
-            g.sub(x, c)
-        }, |_| 1.0),
+        (
+            "x-3",
+            |g, x| {
+                let c = g.constant(3.0);
+                g.sub(x, c)
+            },
+            |_| 1.0,
+        ),
         ("sin", |g, x| g.call(Func::Sin, x), f64::cos),
         ("cos", |g, x| g.call(Func::Cos, x), |x| -x.sin()),
-        ("tan", |g, x| g.call(Func::Tan, x), |x| 1.0 / (x.cos() * x.cos())),
-        ("asin", |g, x| g.call(Func::Asin, x), |x| 1.0 / (1.0 - x * x).sqrt()),
-        ("acos", |g, x| g.call(Func::Acos, x), |x| -1.0 / (1.0 - x * x).sqrt()),
-        ("atan", |g, x| g.call(Func::Atan, x), |x| 1.0 / (1.0 + x * x)),
+        (
+            "tan",
+            |g, x| g.call(Func::Tan, x),
+            |x| 1.0 / (x.cos() * x.cos()),
+        ),
+        (
+            "asin",
+            |g, x| g.call(Func::Asin, x),
+            |x| 1.0 / (1.0 - x * x).sqrt(),
+        ),
+        (
+            "acos",
+            |g, x| g.call(Func::Acos, x),
+            |x| -1.0 / (1.0 - x * x).sqrt(),
+        ),
+        (
+            "atan",
+            |g, x| g.call(Func::Atan, x),
+            |x| 1.0 / (1.0 + x * x),
+        ),
         ("sqrt", |g, x| g.call(Func::Sqrt, x), |x| 0.5 / x.sqrt()),
         ("exp", |g, x| g.call(Func::Exp, x), f64::exp),
         ("ln", |g, x| g.call(Func::Ln, x), |x| 1.0 / x),
         ("abs", |g, x| g.call(Func::Abs, x), f64::signum),
         ("powi3", |g, x| g.powi(x, 3), |x| 3.0 * x * x),
         ("powi-2", |g, x| g.powi(x, -2), |x| -2.0 / (x * x * x)),
-        ("atan2(x,2)", |g, x| {
-            let c = g.constant(2.0);
-            g.atan2(x, c)
-        }, |x| 2.0 / (4.0 + x * x)),
-        ("atan2(2,x)", |g, x| {
-            let c = g.constant(2.0);
-            g.atan2(c, x)
-        }, |x| -2.0 / (4.0 + x * x)),
+        (
+            "atan2(x,2)",
+            |g, x| {
+                let c = g.constant(2.0);
+                g.atan2(x, c)
+            },
+            |x| 2.0 / (4.0 + x * x),
+        ),
+        (
+            "atan2(2,x)",
+            |g, x| {
+                let c = g.constant(2.0);
+                g.atan2(c, x)
+            },
+            |x| -2.0 / (4.0 + x * x),
+        ),
     ];
 
     #[test]
@@ -182,7 +210,10 @@ mod tests {
             for &v in &[0.3, 0.7, 0.45, 0.55] {
                 let got = g.eval(d, &|_| v);
                 let want = df(v);
-                assert!((got - want).abs() <= 1e-12 * (1.0 + want.abs()), "{name} at {v}: {got} vs {want}");
+                assert!(
+                    (got - want).abs() <= 1e-12 * (1.0 + want.abs()),
+                    "{name} at {v}: {got} vs {want}"
+                );
             }
         }
     }
@@ -245,7 +276,10 @@ mod proptests {
     }
 
     fn tree() -> impl Strategy<Value = T> {
-        let leaf = prop_oneof![(0u32..3).prop_map(T::Var), (-2.0f64..2.0).prop_map(T::Const)];
+        let leaf = prop_oneof![
+            (0u32..3).prop_map(T::Var),
+            (-2.0f64..2.0).prop_map(T::Const)
+        ];
         leaf.prop_recursive(5, 48, 2, |inner| {
             let b = |t: T| Box::new(t);
             prop_oneof![
@@ -330,13 +364,27 @@ mod proptests {
                 let x = to_graph(a, g);
                 let s = g.call(Func::Sin, x);
                 let h = g.mul(s, half);
-                g.call(if matches!(t, T::Asin(_)) { Func::Asin } else { Func::Acos }, h)
+                g.call(
+                    if matches!(t, T::Asin(_)) {
+                        Func::Asin
+                    } else {
+                        Func::Acos
+                    },
+                    h,
+                )
             }
             T::Sqrt(a) | T::Ln(a) => {
                 let x = to_graph(a, g);
                 let xx = g.mul(x, x);
                 let v = g.add(one, xx);
-                g.call(if matches!(t, T::Sqrt(_)) { Func::Sqrt } else { Func::Ln }, v)
+                g.call(
+                    if matches!(t, T::Sqrt(_)) {
+                        Func::Sqrt
+                    } else {
+                        Func::Ln
+                    },
+                    v,
+                )
             }
         }
     }
@@ -353,16 +401,28 @@ mod proptests {
             Dual { v, d: 0.0 }
         }
         fn add(self, o: Dual) -> Dual {
-            Dual { v: self.v + o.v, d: self.d + o.d }
+            Dual {
+                v: self.v + o.v,
+                d: self.d + o.d,
+            }
         }
         fn sub(self, o: Dual) -> Dual {
-            Dual { v: self.v - o.v, d: self.d - o.d }
+            Dual {
+                v: self.v - o.v,
+                d: self.d - o.d,
+            }
         }
         fn mul(self, o: Dual) -> Dual {
-            Dual { v: self.v * o.v, d: self.d * o.v + self.v * o.d }
+            Dual {
+                v: self.v * o.v,
+                d: self.d * o.v + self.v * o.d,
+            }
         }
         fn div(self, o: Dual) -> Dual {
-            Dual { v: self.v / o.v, d: (self.d * o.v - self.v * o.d) / (o.v * o.v) }
+            Dual {
+                v: self.v / o.v,
+                d: (self.d * o.v - self.v * o.d) / (o.v * o.v),
+            }
         }
         fn chain(self, v: f64, dv: f64) -> Dual {
             Dual { v, d: dv * self.d }
@@ -378,7 +438,10 @@ mod proptests {
     fn to_dual(t: &T, xs: &[f64; 3], var: u32) -> Dual {
         let ev = |a: &T| to_dual(a, xs, var);
         match t {
-            T::Var(k) => Dual { v: xs[*k as usize], d: if *k == var { 1.0 } else { 0.0 } },
+            T::Var(k) => Dual {
+                v: xs[*k as usize],
+                d: if *k == var { 1.0 } else { 0.0 },
+            },
             T::Const(c) => Dual::c(*c),
             T::Add(a, b) => ev(a).add(ev(b)),
             T::Sub(a, b) => ev(a).sub(ev(b)),
@@ -428,7 +491,10 @@ mod proptests {
                 let (y, x) = (ev(a), ev(b));
                 let den = Dual::c(2.0).add(x.chain(x.v.cos(), -x.v.sin()));
                 let r2 = y.v * y.v + den.v * den.v;
-                Dual { v: y.v.atan2(den.v), d: (den.v * y.d - y.v * den.d) / r2 }
+                Dual {
+                    v: y.v.atan2(den.v),
+                    d: (den.v * y.d - y.v * den.d) / r2,
+                }
             }
             T::Powi(a, n) => {
                 let x = ev(a).one_plus_sq();
@@ -466,7 +532,18 @@ mod proptests {
     #[test]
     fn every_function_is_generated() {
         // The tree language covers every scalar function of the graph.
-        let covered = [Func::Sin, Func::Cos, Func::Tan, Func::Asin, Func::Acos, Func::Atan, Func::Sqrt, Func::Exp, Func::Ln, Func::Abs];
+        let covered = [
+            Func::Sin,
+            Func::Cos,
+            Func::Tan,
+            Func::Asin,
+            Func::Acos,
+            Func::Atan,
+            Func::Sqrt,
+            Func::Exp,
+            Func::Ln,
+            Func::Abs,
+        ];
         assert_eq!(covered, Func::ALL);
     }
 }

@@ -16,7 +16,9 @@ pub fn model(decl: &ModelDecl, d: &Derived) -> TokenStream {
     let em = Emitter::new(decl, d);
     let records = em.records();
     let model = em.model_items();
-    let sensors: Vec<TokenStream> = (0..decl.sensors.len()).map(|s| em.sensor_items(s)).collect();
+    let sensors: Vec<TokenStream> = (0..decl.sensors.len())
+        .map(|s| em.sensor_items(s))
+        .collect();
     let tests = em.tests();
     quote! {
         #records
@@ -165,7 +167,11 @@ impl<'a> Emitter<'a> {
             lets.extend(quote!(let #t = #e;));
         }
         let exprs = roots.iter().map(|&r| self.expr(&sch, r, &cov, 0)).collect();
-        Body { lets, exprs, ops: sch.ops }
+        Body {
+            lets,
+            exprs,
+            ops: sch.ops,
+        }
     }
 
     /// The expression of `id` in a context of precedence `min` (0: none,
@@ -243,9 +249,20 @@ impl<'a> Emitter<'a> {
         );
         let state_ty = &self.state_ty;
         let nl = &self.n;
-        let to_vec: Vec<TokenStream> = scalar_paths(&self.decl.states).into_iter().map(|(p, _)| quote!(self #p)).collect();
-        let input = self.record(&self.input_ty, &format!("The inputs `u` of [`{name}`]."), &self.decl.inputs);
-        let params = self.record(&self.params_ty, &format!("The parameters `p` of [`{name}`]."), &self.decl.params);
+        let to_vec: Vec<TokenStream> = scalar_paths(&self.decl.states)
+            .into_iter()
+            .map(|(p, _)| quote!(self #p))
+            .collect();
+        let input = self.record(
+            &self.input_ty,
+            &format!("The inputs `u` of [`{name}`]."),
+            &self.decl.inputs,
+        );
+        let params = self.record(
+            &self.params_ty,
+            &format!("The parameters `p` of [`{name}`]."),
+            &self.decl.params,
+        );
         let noise_doc = match self.d.kind {
             ProcessKind::Continuous => format!(
                 "The process-noise power spectral densities `q` of [`{name}`], one per noise scalar (units^2 / s)."
@@ -262,7 +279,11 @@ impl<'a> Emitter<'a> {
             .filter(|s| !s.inputs.is_empty())
             .map(|s| {
                 let ty = format_ident!("{}{}Aux", name, s.name);
-                self.record(&ty, &format!("The auxiliary inputs of sensor [`{}{}`].", name, s.name), &s.inputs)
+                self.record(
+                    &ty,
+                    &format!("The auxiliary inputs of sensor [`{}{}`].", name, s.name),
+                    &s.inputs,
+                )
             })
             .collect();
         quote! {
@@ -347,7 +368,12 @@ impl<'a> Emitter<'a> {
     fn model_items(&self) -> TokenStream {
         let d = self.d;
         let (name, vis, n, nw) = (self.name, &self.decl.vis, &self.n, &self.nw);
-        let (state_ty, input_ty, params_ty, noise_ty) = (&self.state_ty, &self.input_ty, &self.params_ty, &self.noise_ty);
+        let (state_ty, input_ty, params_ty, noise_ty) = (
+            &self.state_ty,
+            &self.input_ty,
+            &self.params_ty,
+            &self.noise_ty,
+        );
         let attrs = &self.decl.attrs;
         let svec = quote!(::nav_runtime::nalgebra::SVector);
         let smat = quote!(::nav_runtime::nalgebra::SMatrix);
@@ -362,13 +388,19 @@ impl<'a> Emitter<'a> {
             .map(|v| {
                 let c = format_ident!("{}", screaming_case(&v.name.to_string()));
                 let o = lit(offset);
-                let text = format!("Index of the first scalar of `{}` in the state vector.", v.name);
+                let text = format!(
+                    "Index of the first scalar of `{}` in the state vector.",
+                    v.name
+                );
                 offset += v.shape.len();
                 quote!(#[doc = #text] pub const #c: usize = #o;)
             })
             .collect();
 
-        let state_names: Vec<String> = scalar_paths(&self.decl.states).into_iter().map(|(_, s)| s).collect();
+        let state_names: Vec<String> = scalar_paths(&self.decl.states)
+            .into_iter()
+            .map(|(_, s)| s)
+            .collect();
         let sparsity = self.sparsity(&d.jacobian, d.n, d.n);
 
         // transition
@@ -376,8 +408,12 @@ impl<'a> Emitter<'a> {
         let tr_fill = self.nonzero_vector(&tr, &d.transition);
         let (tr_lets, tr_ops) = (&tr.lets, tr.ops);
         let tr_doc = doc(&match d.kind {
-            ProcessKind::Continuous => format!("One Euler step `x + f(x, u, p) dt`.\n\nTotal ops: {tr_ops}"),
-            ProcessKind::Discrete => format!("The next state `f(x, u, p, dt)` (noise-free).\n\nTotal ops: {tr_ops}"),
+            ProcessKind::Continuous => {
+                format!("One Euler step `x + f(x, u, p) dt`.\n\nTotal ops: {tr_ops}")
+            }
+            ProcessKind::Discrete => {
+                format!("The next state `f(x, u, p, dt)` (noise-free).\n\nTotal ops: {tr_ops}")
+            }
         });
 
         // jacobian
@@ -385,7 +421,9 @@ impl<'a> Emitter<'a> {
         let jb_fill = self.nonzero_matrix(&jb, &d.jacobian, d.n, d.n);
         let (jb_lets, jb_ops) = (&jb.lets, jb.ops);
         let jb_doc = doc(&match d.kind {
-            ProcessKind::Continuous => format!("`F = df/dx` at `w = 0` (`dt` is unused).\n\nTotal ops: {jb_ops}"),
+            ProcessKind::Continuous => {
+                format!("`F = df/dx` at `w = 0` (`dt` is unused).\n\nTotal ops: {jb_ops}")
+            }
             ProcessKind::Discrete => format!("`Phi = df/dx` at `w = 0`.\n\nTotal ops: {jb_ops}"),
         });
 
@@ -399,26 +437,42 @@ impl<'a> Emitter<'a> {
         ));
 
         // process noise
-        let upper: Vec<(usize, usize, Id)> =
-            (0..d.n).flat_map(|i| (i..d.n).map(move |j| (i, j))).map(|(i, j)| (i, j, d.process_noise[i * d.n + j])).collect();
-        let qb = self.body(&upper.iter().map(|e| e.2).collect::<Vec<_>>(), nocov.clone());
+        let upper: Vec<(usize, usize, Id)> = (0..d.n)
+            .flat_map(|i| (i..d.n).map(move |j| (i, j)))
+            .map(|(i, j)| (i, j, d.process_noise[i * d.n + j]))
+            .collect();
+        let qb = self.body(
+            &upper.iter().map(|e| e.2).collect::<Vec<_>>(),
+            nocov.clone(),
+        );
         let qb_fill = self.symmetric(&qb, &upper, d.n);
         let (qb_lets, qb_ops) = (&qb.lets, qb.ops);
         let qb_doc = doc(&match d.kind {
-            ProcessKind::Continuous => format!("`Qd = G Q G^T dt`, `Q = diag(q)`.\n\nTotal ops: {qb_ops}"),
-            ProcessKind::Discrete => format!("`Qd = G Q G^T`, `Q = diag(q)`.\n\nTotal ops: {qb_ops}"),
+            ProcessKind::Continuous => {
+                format!("`Qd = G Q G^T dt`, `Q = diag(q)`.\n\nTotal ops: {qb_ops}")
+            }
+            ProcessKind::Discrete => {
+                format!("`Qd = G Q G^T`, `Q = diag(q)`.\n\nTotal ops: {qb_ops}")
+            }
         });
 
         // propagate covariance
-        let pb = self.body(&d.propagated.iter().map(|e| e.2).collect::<Vec<_>>(), quote!(_p));
-        let pb_sets = d.propagated.iter().zip(&pb.exprs).filter_map(|(&(i, j, id), e)| {
-            // An entry equal to the old value of the same entry needs no store.
-            if self.g.node(id) == Node::Sym(Sym::cov(i, j)) {
-                return None;
-            }
-            let (i, j) = (lit(i), lit(j));
-            Some(quote!(cov[(#i, #j)] = #e;))
-        });
+        let pb = self.body(
+            &d.propagated.iter().map(|e| e.2).collect::<Vec<_>>(),
+            quote!(_p),
+        );
+        let pb_sets = d
+            .propagated
+            .iter()
+            .zip(&pb.exprs)
+            .filter_map(|(&(i, j, id), e)| {
+                // An entry equal to the old value of the same entry needs no store.
+                if self.g.node(id) == Node::Sym(Sym::cov(i, j)) {
+                    return None;
+                }
+                let (i, j) = (lit(i), lit(j));
+                Some(quote!(cov[(#i, #j)] = #e;))
+            });
         let (pb_lets, pb_ops) = (&pb.lets, pb.ops);
         let pb_doc = doc(&format!(
             "`P <- Phi P Phi^T + Qd` from the upper triangle of `P`, generated from the sparsity of `Phi` and `G`; \
@@ -431,7 +485,9 @@ impl<'a> Emitter<'a> {
             let fb = self.body(&d.f, nocov.clone());
             let fill = self.nonzero_vector(&fb, &d.f);
             let (lets, ops) = (&fb.lets, fb.ops);
-            let dd = doc(&format!("The state derivative `f(x, u, p)` at `w = 0`.\n\nTotal ops: {ops}"));
+            let dd = doc(&format!(
+                "The state derivative `f(x, u, p)` at `w = 0`.\n\nTotal ops: {ops}"
+            ));
             let ops = lit(ops);
             quote! {
                 /// Operations in [`Self::derivative`].
@@ -454,12 +510,21 @@ impl<'a> Emitter<'a> {
                 format!("`f(x, u, p, w)` with an explicit noise sample `w` (`dt` is unused).\n\nTotal ops: {}", wb.ops)
             }
             ProcessKind::Discrete => {
-                format!("`f(x, u, p, dt, w)` with an explicit noise sample `w`.\n\nTotal ops: {}", wb.ops)
+                format!(
+                    "`f(x, u, p, dt, w)` with an explicit noise sample `w`.\n\nTotal ops: {}",
+                    wb.ops
+                )
             }
         });
 
         let name_str = name.to_string();
-        let (tr_ops, jb_ops, gb_ops, qb_ops, pb_ops) = (lit(tr_ops), lit(jb_ops), lit(gb_ops), lit(qb_ops), lit(pb_ops));
+        let (tr_ops, jb_ops, gb_ops, qb_ops, pb_ops) = (
+            lit(tr_ops),
+            lit(jb_ops),
+            lit(gb_ops),
+            lit(qb_ops),
+            lit(pb_ops),
+        );
         let type_doc = doc(&format!(
             "Generated by `model!`: {} model with {} states, {} noise inputs and {} sensors.",
             if continuous { "continuous" } else { "discrete" },
@@ -578,9 +643,9 @@ impl<'a> Emitter<'a> {
         let sensor_name = sd.name.to_string();
         let angles: Vec<bool> = (0..ds.m)
             .map(|i| {
-                sd.angles
-                    .as_ref()
-                    .is_some_and(|(_, l)| l.iter().any(|x| x.base10_parse::<usize>().ok() == Some(i)))
+                sd.angles.as_ref().is_some_and(|(_, l)| {
+                    l.iter().any(|x| x.base10_parse::<usize>().ok() == Some(i))
+                })
             })
             .collect();
         let sparsity = self.sparsity(&ds.jacobian, ds.m, d.n);
@@ -599,10 +664,14 @@ impl<'a> Emitter<'a> {
         let ib = self.body(&roots, quote!(cov));
         let (i_lets, i_ops) = (&ib.lets, ib.ops);
         let mm = ds.m;
-        let h_sets = ib.exprs[..mm].iter().enumerate().filter(|(i, _)| !self.g.is_zero(ds.h[*i])).map(|(i, e)| {
-            let i = lit(i);
-            quote!(h[#i] = #e;)
-        });
+        let h_sets = ib.exprs[..mm]
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| !self.g.is_zero(ds.h[*i]))
+            .map(|(i, e)| {
+                let i = lit(i);
+                quote!(h[#i] = #e;)
+            });
         let u_sets = ib.exprs[mm..mm + d.n * mm]
             .iter()
             .enumerate()
@@ -611,15 +680,19 @@ impl<'a> Emitter<'a> {
                 let (i, j) = (lit(k / mm), lit(k % mm));
                 quote!(pht[(#i, #j)] = #e;)
             });
-        let s_sets = ib.exprs[mm + d.n * mm..].iter().zip(&ds.hpht).filter(|(_, e)| !self.g.is_zero(e.2)).map(
-            |(expr, &(i, j, _))| {
+        let s_sets = ib.exprs[mm + d.n * mm..]
+            .iter()
+            .zip(&ds.hpht)
+            .filter(|(_, e)| !self.g.is_zero(e.2))
+            .map(|(expr, &(i, j, _))| {
                 let (i, j) = (lit(i), lit(j));
                 quote!(s[(#i, #j)] = #expr;)
-            },
-        );
+            });
 
         let text = format!("Sensor `{sensor_name}` of [`{name}`]: {} outputs.", ds.m);
-        let p_doc = doc(&format!("The predicted measurement `h(x, u, p, aux)`.\n\nTotal ops: {h_ops}"));
+        let p_doc = doc(&format!(
+            "The predicted measurement `h(x, u, p, aux)`.\n\nTotal ops: {h_ops}"
+        ));
         let j_doc = doc(&format!("`H = dh/dx`.\n\nTotal ops: {j_ops}"));
         let i_doc = doc(&format!(
             "`(h, P H^T, H P H^T)` from the upper triangle of `P` and the sparsity of `H`.\n\nTotal ops: {i_ops}"
@@ -691,32 +764,45 @@ impl<'a> Emitter<'a> {
 
     fn nonzero_vector(&self, body: &Body, ids: &[Id]) -> TokenStream {
         let l = lit(ids.len());
-        let sets = body.exprs.iter().zip(ids).enumerate().filter(|(_, (_, &id))| !self.g.is_zero(id)).map(
-            |(i, (e, _))| {
+        let sets = body
+            .exprs
+            .iter()
+            .zip(ids)
+            .enumerate()
+            .filter(|(_, (_, &id))| !self.g.is_zero(id))
+            .map(|(i, (e, _))| {
                 let i = lit(i);
                 quote!(out[#i] = #e;)
-            },
-        );
+            });
         quote!(let mut out = ::nav_runtime::nalgebra::SVector::<f64, #l>::zeros(); #(#sets)*)
     }
 
     fn nonzero_matrix(&self, body: &Body, ids: &[Id], rows: usize, cols: usize) -> TokenStream {
         let (r, c) = (lit(rows), lit(cols));
-        let sets = body.exprs.iter().zip(ids).enumerate().filter(|(_, (_, &id))| !self.g.is_zero(id)).map(
-            |(k, (e, _))| {
+        let sets = body
+            .exprs
+            .iter()
+            .zip(ids)
+            .enumerate()
+            .filter(|(_, (_, &id))| !self.g.is_zero(id))
+            .map(|(k, (e, _))| {
                 let (i, j) = (lit(k / cols), lit(k % cols));
                 quote!(out[(#i, #j)] = #e;)
-            },
-        );
+            });
         quote!(let mut out = ::nav_runtime::nalgebra::SMatrix::<f64, #r, #c>::zeros(); #(#sets)*)
     }
 
     fn symmetric(&self, body: &Body, upper: &[(usize, usize, Id)], n: usize) -> TokenStream {
         let nl = lit(n);
-        let sets = body.exprs.iter().zip(upper).filter(|(_, e)| !self.g.is_zero(e.2)).map(|(expr, &(i, j, _))| {
-            let (i, j) = (lit(i), lit(j));
-            quote!(out[(#i, #j)] = #expr;)
-        });
+        let sets = body
+            .exprs
+            .iter()
+            .zip(upper)
+            .filter(|(_, e)| !self.g.is_zero(e.2))
+            .map(|(expr, &(i, j, _))| {
+                let (i, j) = (lit(i), lit(j));
+                quote!(out[(#i, #j)] = #expr;)
+            });
         quote! {
             let mut out = ::nav_runtime::nalgebra::SMatrix::<f64, #nl, #nl>::zeros();
             #(#sets)*

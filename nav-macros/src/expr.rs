@@ -128,9 +128,11 @@ impl Node {
     pub fn children(&self) -> impl Iterator<Item = Id> {
         let (a, b) = match *self {
             Node::Const(_) | Node::Sym(_) => (None, None),
-            Node::Add(a, b) | Node::Sub(a, b) | Node::Mul(a, b) | Node::Div(a, b) | Node::Atan2(a, b) => {
-                (Some(a), Some(b))
-            }
+            Node::Add(a, b)
+            | Node::Sub(a, b)
+            | Node::Mul(a, b)
+            | Node::Div(a, b)
+            | Node::Atan2(a, b) => (Some(a), Some(b)),
             Node::Neg(a) | Node::Call(_, a) | Node::Powi(a, _) => (Some(a), None),
         };
         a.into_iter().chain(b)
@@ -320,7 +322,11 @@ impl Graph {
     }
 
     pub fn call(&mut self, f: Func, a: Id) -> Id {
-        if let Some(v) = self.as_const(a).map(|x| f.apply(x)).filter(|v| v.is_finite()) {
+        if let Some(v) = self
+            .as_const(a)
+            .map(|x| f.apply(x))
+            .filter(|v| v.is_finite())
+        {
             return self.constant(v);
         }
         match (f, self.node(a)) {
@@ -342,7 +348,11 @@ impl Graph {
             1 => return a,
             _ => {}
         }
-        if let Some(v) = self.as_const(a).map(|x| x.powi(n)).filter(|v| v.is_finite()) {
+        if let Some(v) = self
+            .as_const(a)
+            .map(|x| x.powi(n))
+            .filter(|v| v.is_finite())
+        {
             return self.constant(v);
         }
         self.intern(Node::Powi(a, n))
@@ -350,7 +360,9 @@ impl Graph {
 
     /// Sum of a list of terms, left to right.
     pub fn sum(&mut self, terms: impl IntoIterator<Item = Id>) -> Id {
-        terms.into_iter().fold(Graph::ZERO, |acc, t| self.add(acc, t))
+        terms
+            .into_iter()
+            .fold(Graph::ZERO, |acc, t| self.add(acc, t))
     }
 
     /// Whether `id` depends on any symbol accepted by `pred`.
@@ -371,7 +383,12 @@ impl Graph {
     }
 
     /// `id` with every symbol accepted by `zero` replaced by 0, re-simplified.
-    pub fn substitute_zero(&mut self, id: Id, zero: &dyn Fn(Sym) -> bool, memo: &mut HashMap<Id, Id>) -> Id {
+    pub fn substitute_zero(
+        &mut self,
+        id: Id,
+        zero: &dyn Fn(Sym) -> bool,
+        memo: &mut HashMap<Id, Id>,
+    ) -> Id {
         if let Some(&r) = memo.get(&id) {
             return r;
         }
@@ -386,7 +403,10 @@ impl Graph {
                 }
             }
             _ => {
-                let kids: Vec<Id> = node.children().map(|c| self.substitute_zero(c, zero, memo)).collect();
+                let kids: Vec<Id> = node
+                    .children()
+                    .map(|c| self.substitute_zero(c, zero, memo))
+                    .collect();
                 self.rebuild(node, &kids)
             }
         };

@@ -1,4 +1,189 @@
-//! LANGUAGE REFERENCE PLACEHOLDER
+//! `nav-macros`: declarative estimator models with symbolic Jacobians, sparsity
+//! and generated, allocation-free nalgebra code.
+//!
+//! Users write `nav_runtime::model! { .. }` (the macro is re-exported by
+//! `nav-runtime`; generated code refers only to `::nav_runtime::..`, so a user
+//! crate needs `nav-runtime` as its only dependency). This page is the language
+//! reference.
+//!
+//! # A complete example
+//!
+//! ```ignore
+//! nav_runtime::model! {
+//!     /// Doc comments carry over to the generated type.
+//!     pub model Leveling6 {
+//!         states {
+//!             /// body velocity, m/s
+//!             velocity: 3,
+//!             /// gravity direction in body axes
+//!             a: 3,
+//!         }
+//!         inputs { gyro: 3, specific_force: 3, earth_rate_body: 3, c_bn: 3x3 }
+//!         parameters { gravity }
+//!         noise { accel_noise: 3, gyro_noise: 3 }
+//!         continuous {
+//!             let w_star = gyro + earth_rate_body;
+//!             let w = gyro - earth_rate_body;
+//!             d/dt velocity = -cross(w_star, velocity) + gravity * a + specific_force + accel_noise;
+//!             d/dt a = -cross(w + gyro_noise, a);
+//!         }
+//!         sensor Moving: 2 {
+//!             h = [velocity[0], norm_squared(a)];
+//!         }
+//!         sensor Compass: 1 {
+//!             inputs { declination }
+//!             angles = [0];
+//!             let yaw = atan2(c_bn[(1, 0)], c_bn[(0, 0)]);
+//!             h = [yaw + declination];
+//!         }
+//!     }
+//! }
+//! ```
+//!
+//! One invocation may hold several `model` declarations.
+//!
+//! # Sections
+//!
+//! A declaration is `[doc comments] [pub] model Name { sections }`. Sections may
+//! come in any order; each of `states`, `inputs`, `parameters`, `noise` appears
+//! at most once, exactly one process section is required, `sensor` any number
+//! of times.
+//!
+//! | section | meaning | becomes |
+//! |---|---|---|
+//! | `states { .. }` | the state `x` (at least one scalar) | `NameState`, `N` |
+//! | `inputs { .. }` | inputs `u` known at each step (IMU, nominal solution, ..) | `NameInput` |
+//! | `parameters { .. }` | constants `p` | `NameParams` |
+//! | `noise { .. }` | process-noise inputs `w`; only in the process section | `NameNoise` (intensities `q`), `NW` |
+//! | `continuous { .. }` | `dx/dt = f(x, u, p, w)` | `derivative`, `F`, `Phi = I + F dt` |
+//! | `discrete { .. }` | `x_k = f(x_{k-1}, u, p, dt, w)` | `transition`, `Phi = df/dx` |
+//! | `sensor Name: M { .. }` | a measurement `h(x, u, p, aux)` with `M` outputs | `NameSensorName` |
+//!
+//! Entries of `states`, `inputs`, `parameters`, `noise` and sensor `inputs` are
+//! comma-separated: `x` (scalar), `x: n` (vector), `x: RxC` (row-major matrix,
+//! also `R x C`). Doc comments on entries become field docs. Every name is
+//! unique across states, inputs, parameters, noise, the process section's `let`s
+//! and each sensor's inputs and `let`s (different sensors may reuse their own
+//! names); `dt` is reserved.
+//!
+//! ## Process sections
+//!
+//! - `continuous { .. }`: statements `let name = expr;` and `d/dt state = expr;`.
+//!   A state without a `d/dt` line has zero derivative (a random constant).
+//! - `discrete { .. }`: statements `let name = expr;` and `state = expr;`, where
+//!   every right-hand side reads the previous values; `dt` is an implicit scalar.
+//!   A state without a line keeps its value (identity row of `Phi`).
+//!
+//! Each state is assigned at most once, with an expression of its own shape.
+//! Noise may appear anywhere in the process section; `f` is evaluated at
+//! `w = 0` and `G = df/dw` is taken at `w = 0`, so noise may enter nonlinearly
+//! (e.g. `-cross(w + gyro_noise, a)`).
+//!
+//! ## Sensors
+//!
+//! `sensor Name: M { .. }` contains, in any order:
+//! - `inputs { .. }` (optional): auxiliary inputs of this sensor (lever arms, a
+//!   transducer position); they form the type `ModelNameAux`, or `()` if absent;
+//! - `angles = [i, ..];` (optional): components of `z - h` that are angles and
+//!   are wrapped to (-pi, pi] by the filter (`Sensor::ANGLES`);
+//! - `let name = expr;` (evaluated in order);
+//! - `h = expr;` (required): a vector of length `M`, or a scalar if `M == 1`.
+//!
+//! Sensors see states, inputs, parameters and their own inputs and `let`s; they
+//! do not see the process section's `let`s, and process noise in a sensor is an
+//! error.
+//!
+//! # Expressions
+//!
+//! Straight-line arithmetic on scalars, vectors and matrices. Everything is
+//! scalarized; no expression form allocates or loops at run time.
+//!
+//! | form | shapes |
+//! |---|---|
+//! | names, `1`, `2.5`, `1e-3` | as declared; literals are scalars |
+//! | `a + b`, `a - b` | equal shapes, elementwise |
+//! | `a * b` | scalar * any, any * scalar, matrix(r,c) * vector(c), matrix(r,c) * matrix(c,k) |
+//! | `a / s` | any / scalar |
+//! | `-a`, `(a)` | any |
+//! | `[a, b, c]` | scalars -> vector; equal-length vectors -> matrix with those rows |
+//! | `[[a, b], [c, d]]` | matrix literal (rows) |
+//! | `v[i]`, `m[(i, j)]` | integer-literal indices, bounds-checked at expansion |
+//! | `sin cos tan asin acos atan sqrt exp ln abs` `(x)` | scalar -> scalar |
+//! | `atan2(y, x)` | scalars -> scalar (four-quadrant) |
+//! | `powi(x, n)` | scalar, `n` an integer literal (may be negative) |
+//! | `dot(a, b)` | equal-length vectors -> scalar |
+//! | `cross(a, b)` | 3-vectors -> 3-vector |
+//! | `skew(v)` | 3-vector -> 3x3 matrix with `skew(a) * b == cross(a, b)` |
+//! | `norm_squared(v)`, `norm(v)` | vector -> scalar |
+//! | `transpose(m)` | matrix(r,c) -> matrix(c,r) |
+//! | `euler_dcm(roll, pitch, yaw)` | scalars -> `C_b^n`, the transpose of `C_n^b = C_x(roll) C_y(pitch) C_z(yaw)` (MODELS.md "Conventions") |
+//!
+//! Every function may also be written as a method of its first argument:
+//! `x.sin()`, `y.atan2(x)`, `a.dot(b)`, `x.powi(2)`, `m.transpose()`. Generated
+//! code calls `::nav_runtime::math::*` (std or libm), never `f64` methods.
+//!
+//! # Errors
+//!
+//! All mistakes of one declaration are reported together, each at its span:
+//! unknown names (with "did you mean" by edit distance), duplicated names, a
+//! `d/dt` or assignment of a non-state, a state assigned twice, shape errors
+//! ("cannot add 3-vector and scalar"), wrong argument counts, an `h` whose
+//! length differs from `M`, noise used in a sensor, out-of-range indices and
+//! angle components, and unsupported constructs (`if`, loops, closures,
+//! `match`, blocks, macros, casts, field access, unknown functions, ..), each
+//! named in its message.
+//!
+//! # What is generated
+//!
+//! For `pub model Foo` with `N` state scalars and `NW` noise scalars:
+//!
+//! - `pub struct Foo;` implementing `nav_runtime::model::Model<N>` (`NAME`,
+//!   `DISCRETE`, `STATE_NAMES`, `JACOBIAN_SPARSITY`, `OPS_*`, `transition`,
+//!   `jacobian`, `process_noise`, `propagate_covariance`), with inherent items:
+//!   - `Foo::N`, `Foo::NW`, and one index constant per state block, the index
+//!     of its first scalar in SCREAMING_CASE (`Foo::VELOCITY`);
+//!   - `Foo::derivative(x, u, p) -> SVector<f64, N>` (continuous models only);
+//!   - `Foo::process_with_noise(x, u, p, w, dt)`: `f` with an explicit noise
+//!     sample `w: SVector<f64, NW>`;
+//!   - `Foo::noise_jacobian(x, u, p, dt) -> SMatrix<f64, N, NW>` (`G`);
+//!   - `Foo::OPS_TRANSITION`, `OPS_DERIVATIVE`, `OPS_JACOBIAN`,
+//!     `OPS_NOISE_JACOBIAN`, `OPS_PROCESS_NOISE`, `OPS_PROPAGATE_COVARIANCE`.
+//! - `FooState`, `FooInput`, `FooParams`, `FooNoise`: structs with one public
+//!   field per entry (`f64`, `SVector<f64, n>` or `SMatrix<f64, r, c>`),
+//!   deriving `Clone, Copy, Debug, Default, PartialEq`, implementing
+//!   `nav_runtime::model::Record` (empty structs if a section is absent);
+//!   `FooState::from_vector(&SVector<f64, N>)` and `to_vector()`.
+//! - For each `sensor Bar: M`: `pub struct FooBar;` implementing
+//!   `nav_runtime::model::Sensor<N, M>` with `type Model = Foo` and `type Aux =
+//!   FooBarAux` (or `()`), plus inherent `FooBar::M`, `NAME`, `OPS_PREDICT`,
+//!   `OPS_JACOBIAN`, `OPS_INNOVATION_TERMS`.
+//! - `#[cfg(test)] mod __foo_generated_tests`: tests of `jacobian`,
+//!   `noise_jacobian` and every sensor's `jacobian` against central finite
+//!   differences at seeded points uniform in [-1, 1] (splitmix64 inline; points
+//!   with non-finite values are skipped; `|J - J_fd| <= 1e-6 (1 + |J|)` plus the
+//!   rounding bound of the difference quotient), of `process_noise` and
+//!   `propagate_covariance` against dense `G Q G^T` and `Phi P Phi^T + Qd`, and
+//!   of `innovation_terms` against dense `P H^T`, `H P H^T` (1e-12 relative,
+//!   with a NaN lower triangle in `P` to prove only the upper one is read).
+//!
+//! Conventions (see `nav_runtime::model`): continuous `Phi = I + F dt`,
+//! `Qd = G Q G^T dt`; discrete `Phi = df/dx`, `Qd = G Q G^T`; `Q = diag(q)`.
+//!
+//! # How the code is derived
+//!
+//! parse (`parse.rs`) -> check (`check.rs`, errors collected in `ctxt.rs`) ->
+//! lower to a hash-consed scalar DAG (`lower.rs`, `expr.rs`; constructors fold
+//! constants and drop `x + 0`, `x * 1`, `x * 0`, `x - x`, `--x`, ..) ->
+//! differentiate, memoized per (node, variable) (`diff.rs`) -> build `F`, `G`,
+//! `Qd`, `Phi P Phi^T + Qd` over symbols `P_ij` of the upper triangle, and per
+//! sensor `H`, `P H^T`, `H P H^T` (`derive.rs`) -> one scheduling pass per
+//! generated function over all its outputs: nodes used twice become `let _tN`
+//! temporaries (`cse.rs`) -> emit (`emit.rs`, `emit_tests.rs`). An entry of a
+//! Jacobian that simplifies to the literal 0 is a structural zero: it is
+//! `false` in `JACOBIAN_SPARSITY` and never becomes code, and unit entries of
+//! `Phi` cost nothing. The op count of a function (`OPS_*`, and "Total ops: N"
+//! in its doc comment) is the number of arithmetic nodes (`+ - * /`, negation,
+//! calls) it evaluates.
 
 mod check;
 mod cse;
@@ -53,7 +238,9 @@ mod tests {
 
     /// The body of the first `nav_runtime::model! { .. }` in `source`.
     fn macro_body(source: &str) -> proc_macro2::TokenStream {
-        let start = source.find("nav_runtime::model! {").expect("a model! invocation");
+        let start = source
+            .find("nav_runtime::model! {")
+            .expect("a model! invocation");
         let file: syn::File = syn::parse_str(&source[start..]).expect("parses");
         match &file.items[0] {
             syn::Item::Macro(m) => m.mac.tokens.clone(),

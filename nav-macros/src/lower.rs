@@ -44,27 +44,58 @@ pub fn lower(cx: &Ctxt, decl: &ModelDecl) -> Option<Lowered> {
     let mut scope = model_scope.clone();
     if process.kind == ProcessKind::Discrete {
         let dt = graph.sym(Sym::Dt);
-        scope.insert("dt", Binding { val: Val::scalar(dt), kind: Kind::Dt });
+        scope.insert(
+            "dt",
+            Binding {
+                val: Val::scalar(dt),
+                kind: Kind::Dt,
+            },
+        );
     }
     let mut process_lets = Vec::new();
     {
-        let mut lw = Lowerer { cx, g: &mut graph, scope, sensor: None, process_lets: &[] };
+        let mut lw = Lowerer {
+            cx,
+            g: &mut graph,
+            scope,
+            sensor: None,
+            process_lets: &[],
+        };
         for stmt in &process.stmts {
             match stmt {
                 Stmt::Let { name, value } => {
                     if let Some(val) = lw.expr(value) {
-                        lw.scope.insert_new(&name.to_string(), Binding { val, kind: Kind::Let });
+                        lw.scope.insert_new(
+                            &name.to_string(),
+                            Binding {
+                                val,
+                                kind: Kind::Let,
+                            },
+                        );
                     }
                     process_lets.push(name.to_string());
                 }
-                Stmt::Assign { target, derivative, value } => {
+                Stmt::Assign {
+                    target,
+                    derivative,
+                    value,
+                } => {
                     let Some(val) = lw.expr(value) else { continue };
-                    let Some((offset, state)) = state_offset(&decl.states, target) else { continue };
+                    let Some((offset, state)) = state_offset(&decl.states, target) else {
+                        continue;
+                    };
                     if val.shape != state.shape {
-                        let what = if derivative.is_some() { format!("d/dt {target}") } else { target.to_string() };
+                        let what = if derivative.is_some() {
+                            format!("d/dt {target}")
+                        } else {
+                            target.to_string()
+                        };
                         cx.error_spanned_by(
                             value,
-                            format!("`{what}` must be a {}, but the expression is a {}", state.shape, val.shape),
+                            format!(
+                                "`{what}` must be a {}, but the expression is a {}",
+                                state.shape, val.shape
+                            ),
                         );
                         continue;
                     }
@@ -80,10 +111,22 @@ pub fn lower(cx: &Ctxt, decl: &ModelDecl) -> Option<Lowered> {
         let mut scope = model_scope.clone();
         let si = si as u32;
         scope.bind_record(&mut graph, &sensor.inputs, Kind::Aux, |k| Sym::Aux(si, k));
-        let mut lw = Lowerer { cx, g: &mut graph, scope, sensor: Some(sensor), process_lets: &process_lets };
+        let mut lw = Lowerer {
+            cx,
+            g: &mut graph,
+            scope,
+            sensor: Some(sensor),
+            process_lets: &process_lets,
+        };
         for (name, value) in &sensor.lets {
             if let Some(val) = lw.expr(value) {
-                lw.scope.insert_new(&name.to_string(), Binding { val, kind: Kind::Let });
+                lw.scope.insert_new(
+                    &name.to_string(),
+                    Binding {
+                        val,
+                        kind: Kind::Let,
+                    },
+                );
             }
         }
         let mut h = vec![Graph::ZERO; sensor.dim];
@@ -112,7 +155,12 @@ pub fn lower(cx: &Ctxt, decl: &ModelDecl) -> Option<Lowered> {
         }
         sensors.push(h);
     }
-    Some(Lowered { graph, kind: process.kind, f, sensors })
+    Some(Lowered {
+        graph,
+        kind: process.kind,
+        f,
+        sensors,
+    })
 }
 
 fn state_offset<'a>(states: &'a [Var], target: &syn::Ident) -> Option<(usize, &'a Var)> {
@@ -135,7 +183,10 @@ pub struct Val {
 
 impl Val {
     fn scalar(id: Id) -> Val {
-        Val { shape: Shape::Scalar, e: vec![id] }
+        Val {
+            shape: Shape::Scalar,
+            e: vec![id],
+        }
     }
 }
 
@@ -171,7 +222,13 @@ impl Scope {
                     g.sym(sym(k - 1))
                 })
                 .collect();
-            self.insert_new(&v.name.to_string(), Binding { val: Val { shape: v.shape, e }, kind });
+            self.insert_new(
+                &v.name.to_string(),
+                Binding {
+                    val: Val { shape: v.shape, e },
+                    kind,
+                },
+            );
         }
     }
 
@@ -257,7 +314,13 @@ impl Lowerer<'_> {
                     let v = self.expr(&u.expr)?;
                     Some(self.map(&v, |g, a| g.neg(a)))
                 }
-                _ => self.fail(e, format!("the unary operator `{}` is not supported", u.op.to_token_stream())),
+                _ => self.fail(
+                    e,
+                    format!(
+                        "the unary operator `{}` is not supported",
+                        u.op.to_token_stream()
+                    ),
+                ),
             },
             Expr::Binary(b) => self.binary(e, &b.op, &b.left, &b.right),
             Expr::Call(call) => {
@@ -266,7 +329,10 @@ impl Lowerer<'_> {
                     _ => None,
                 };
                 let Some(name) = name else {
-                    return self.fail(&call.func, "only calls of the built-in functions are supported");
+                    return self.fail(
+                        &call.func,
+                        "only calls of the built-in functions are supported",
+                    );
                 };
                 let args: Vec<&Expr> = call.args.iter().collect();
                 self.call(e, name, &args)
@@ -330,7 +396,10 @@ impl Lowerer<'_> {
     }
 
     fn map(&mut self, v: &Val, f: impl Fn(&mut Graph, Id) -> Id) -> Val {
-        Val { shape: v.shape, e: v.e.iter().map(|&a| f(self.g, a)).collect() }
+        Val {
+            shape: v.shape,
+            e: v.e.iter().map(|&a| f(self.g, a)).collect(),
+        }
     }
 
     fn binary(&mut self, e: &Expr, op: &BinOp, l: &Expr, r: &Expr) -> Option<Val> {
@@ -340,7 +409,10 @@ impl Lowerer<'_> {
             BinOp::Mul(_) => ("multiply", "by"),
             BinOp::Div(_) => ("divide", "by"),
             _ => {
-                return self.fail(op, format!("the operator `{}` is not supported", op.to_token_stream()));
+                return self.fail(
+                    op,
+                    format!("the operator `{}` is not supported", op.to_token_stream()),
+                );
             }
         };
         let (lv, rv) = (self.expr(l), self.expr(r));
@@ -355,22 +427,33 @@ impl Lowerer<'_> {
             (BinOp::Sub(_), a, b) if a == b => Some(elementwise(g, Graph::sub)),
             (BinOp::Mul(_), Shape::Scalar, _) => {
                 let s = lv.e[0];
-                Some(Val { shape: rv.shape, e: rv.e.iter().map(|&b| g.mul(s, b)).collect() })
+                Some(Val {
+                    shape: rv.shape,
+                    e: rv.e.iter().map(|&b| g.mul(s, b)).collect(),
+                })
             }
             (BinOp::Mul(_), _, Shape::Scalar) => {
                 let s = rv.e[0];
-                Some(Val { shape: lv.shape, e: lv.e.iter().map(|&a| g.mul(a, s)).collect() })
+                Some(Val {
+                    shape: lv.shape,
+                    e: lv.e.iter().map(|&a| g.mul(a, s)).collect(),
+                })
             }
             (BinOp::Div(_), _, Shape::Scalar) => {
                 let s = rv.e[0];
-                Some(Val { shape: lv.shape, e: lv.e.iter().map(|&a| g.div(a, s)).collect() })
+                Some(Val {
+                    shape: lv.shape,
+                    e: lv.e.iter().map(|&a| g.div(a, s)).collect(),
+                })
             }
-            (BinOp::Mul(_), Shape::Matrix(r, c), Shape::Vector(n)) if c == n => {
-                Some(Val { shape: Shape::Vector(r), e: matmul(g, &lv.e, &rv.e, r, c, 1) })
-            }
-            (BinOp::Mul(_), Shape::Matrix(r, c), Shape::Matrix(c2, k)) if c == c2 => {
-                Some(Val { shape: Shape::Matrix(r, k), e: matmul(g, &lv.e, &rv.e, r, c, k) })
-            }
+            (BinOp::Mul(_), Shape::Matrix(r, c), Shape::Vector(n)) if c == n => Some(Val {
+                shape: Shape::Vector(r),
+                e: matmul(g, &lv.e, &rv.e, r, c, 1),
+            }),
+            (BinOp::Mul(_), Shape::Matrix(r, c), Shape::Matrix(c2, k)) if c == c2 => Some(Val {
+                shape: Shape::Matrix(r, k),
+                e: matmul(g, &lv.e, &rv.e, r, c, k),
+            }),
             _ => None,
         };
         if result.is_none() {
@@ -378,12 +461,17 @@ impl Lowerer<'_> {
                 (BinOp::Mul(_), Shape::Vector(_), Shape::Vector(_)) => {
                     "; use `dot(a, b)` for the inner product or `cross(a, b)` for the cross product"
                 }
-                (BinOp::Mul(_), Shape::Vector(_), Shape::Matrix(..)) => "; write `transpose(m) * v` instead",
+                (BinOp::Mul(_), Shape::Vector(_), Shape::Matrix(..)) => {
+                    "; write `transpose(m) * v` instead"
+                }
                 (BinOp::Div(_), _, _) => "; only division by a scalar is supported",
                 (BinOp::Add(_) | BinOp::Sub(_), _, _) => "; both operands must have the same shape",
                 _ => "",
             };
-            self.cx.error_spanned_by(e, format!("cannot {verb} {} {prep} {}{hint}", lv.shape, rv.shape));
+            self.cx.error_spanned_by(
+                e,
+                format!("cannot {verb} {} {prep} {}{hint}", lv.shape, rv.shape),
+            );
         }
         result
     }
@@ -397,7 +485,11 @@ impl Lowerer<'_> {
         if args.len() != arity {
             return self.fail(
                 e,
-                format!("`{fname}` takes {arity} argument{}, found {}", if arity == 1 { "" } else { "s" }, args.len()),
+                format!(
+                    "`{fname}` takes {arity} argument{}, found {}",
+                    if arity == 1 { "" } else { "s" },
+                    args.len()
+                ),
             );
         }
         if builtin == Builtin::Powi {
@@ -424,10 +516,18 @@ impl Lowerer<'_> {
             Builtin::Powi => unreachable!("handled above"),
             Builtin::Dot => match (vals[0].shape, vals[1].shape) {
                 (Shape::Vector(a), Shape::Vector(b)) if a == b => {
-                    let terms: Vec<Id> = vals[0].e.iter().zip(&vals[1].e).map(|(&x, &y)| g.mul(x, y)).collect();
+                    let terms: Vec<Id> = vals[0]
+                        .e
+                        .iter()
+                        .zip(&vals[1].e)
+                        .map(|(&x, &y)| g.mul(x, y))
+                        .collect();
                     Some(Val::scalar(g.sum(terms)))
                 }
-                (a, b) => self.fail(e, format!("`dot` needs two vectors of the same length, found {a} and {b}")),
+                (a, b) => self.fail(
+                    e,
+                    format!("`dot` needs two vectors of the same length, found {a} and {b}"),
+                ),
             },
             Builtin::Cross => match (vals[0].shape, vals[1].shape) {
                 (Shape::Vector(3), Shape::Vector(3)) => {
@@ -440,7 +540,10 @@ impl Lowerer<'_> {
                             g.sub(l, r)
                         })
                         .collect();
-                    Some(Val { shape: Shape::Vector(3), e })
+                    Some(Val {
+                        shape: Shape::Vector(3),
+                        e,
+                    })
                 }
                 (a, b) => self.fail(e, format!("`cross` needs two 3-vectors, found {a} and {b}")),
             },
@@ -450,7 +553,10 @@ impl Lowerer<'_> {
                     let z = Graph::ZERO;
                     let n: Vec<Id> = v.iter().map(|&a| g.neg(a)).collect();
                     let e = vec![z, n[2], v[1], v[2], z, n[0], n[1], v[0], z];
-                    Some(Val { shape: Shape::Matrix(3, 3), e })
+                    Some(Val {
+                        shape: Shape::Matrix(3, 3),
+                        e,
+                    })
                 }
                 a => self.fail(args[0], format!("`skew` needs a 3-vector, found {a}")),
             },
@@ -458,7 +564,11 @@ impl Lowerer<'_> {
                 Shape::Vector(_) => {
                     let terms: Vec<Id> = vals[0].e.iter().map(|&x| g.mul(x, x)).collect();
                     let s = g.sum(terms);
-                    let s = if builtin == Builtin::Norm { g.call(Func::Sqrt, s) } else { s };
+                    let s = if builtin == Builtin::Norm {
+                        g.call(Func::Sqrt, s)
+                    } else {
+                        s
+                    };
                     Some(Val::scalar(s))
                 }
                 a => self.fail(args[0], format!("`{fname}` needs a vector, found {a}")),
@@ -466,8 +576,13 @@ impl Lowerer<'_> {
             Builtin::Transpose => match vals[0].shape {
                 Shape::Matrix(r, c) => {
                     let m = &vals[0].e;
-                    let e = (0..c).flat_map(|j| (0..r).map(move |i| m[i * c + j])).collect();
-                    Some(Val { shape: Shape::Matrix(c, r), e })
+                    let e = (0..c)
+                        .flat_map(|j| (0..r).map(move |i| m[i * c + j]))
+                        .collect();
+                    Some(Val {
+                        shape: Shape::Matrix(c, r),
+                        e,
+                    })
                 }
                 a => self.fail(args[0], format!("`transpose` needs a matrix, found {a}")),
             },
@@ -475,7 +590,10 @@ impl Lowerer<'_> {
                 let r = self.scalar_arg(&fname, args[0], vals[0].clone());
                 let p = self.scalar_arg(&fname, args[1], vals[1].clone());
                 let y = self.scalar_arg(&fname, args[2], vals[2].clone());
-                Some(Val { shape: Shape::Matrix(3, 3), e: euler_dcm(self.g, r?, p?, y?) })
+                Some(Val {
+                    shape: Shape::Matrix(3, 3),
+                    e: euler_dcm(self.g, r?, p?, y?),
+                })
             }
         }
     }
@@ -484,7 +602,10 @@ impl Lowerer<'_> {
         if v.shape == Shape::Scalar {
             Some(v.e[0])
         } else {
-            self.cx.error_spanned_by(at, format!("`{fname}` expects a scalar argument, found a {}", v.shape));
+            self.cx.error_spanned_by(
+                at,
+                format!("`{fname}` expects a scalar argument, found a {}", v.shape),
+            );
             None
         }
     }
@@ -494,9 +615,10 @@ impl Lowerer<'_> {
             return self.fail(e, "empty vector literal");
         };
         match first.shape {
-            Shape::Scalar if elems.iter().all(|v| v.shape == Shape::Scalar) => {
-                Some(Val { shape: Shape::Vector(elems.len()), e: elems.iter().map(|v| v.e[0]).collect() })
-            }
+            Shape::Scalar if elems.iter().all(|v| v.shape == Shape::Scalar) => Some(Val {
+                shape: Shape::Vector(elems.len()),
+                e: elems.iter().map(|v| v.e[0]).collect(),
+            }),
             Shape::Vector(n) if elems.iter().all(|v| v.shape == Shape::Vector(n)) => Some(Val {
                 shape: Shape::Matrix(elems.len(), n),
                 e: elems.into_iter().flat_map(|v| v.e).collect(),
@@ -522,21 +644,33 @@ impl Lowerer<'_> {
                     return self.fail(index, "indices must be integer literals");
                 };
                 if i >= n {
-                    return self.fail(index, format!("index {i} is out of range for a {}", base.shape));
+                    return self.fail(
+                        index,
+                        format!("index {i} is out of range for a {}", base.shape),
+                    );
                 }
                 Some(Val::scalar(base.e[i]))
             }
             (Shape::Matrix(r, c), Expr::Tuple(t)) if t.elems.len() == 2 => {
-                let (Some(i), Some(j)) = (usize_literal(&t.elems[0]), usize_literal(&t.elems[1])) else {
+                let (Some(i), Some(j)) = (usize_literal(&t.elems[0]), usize_literal(&t.elems[1]))
+                else {
                     return self.fail(index, "indices must be integer literals");
                 };
                 if i >= r || j >= c {
-                    return self.fail(index, format!("index ({i}, {j}) is out of range for a {}", base.shape));
+                    return self.fail(
+                        index,
+                        format!("index ({i}, {j}) is out of range for a {}", base.shape),
+                    );
                 }
                 Some(Val::scalar(base.e[i * c + j]))
             }
-            (Shape::Matrix(..), _) => self.fail(index, "index a matrix with `m[(row, column)]` (integer literals)"),
-            (Shape::Vector(_), _) => self.fail(index, "index a vector with `v[i]` (an integer literal)"),
+            (Shape::Matrix(..), _) => self.fail(
+                index,
+                "index a matrix with `m[(row, column)]` (integer literals)",
+            ),
+            (Shape::Vector(_), _) => {
+                self.fail(index, "index a vector with `v[i]` (an integer literal)")
+            }
             (Shape::Scalar, _) => self.fail(e, "cannot index a scalar"),
         }
     }
@@ -594,14 +728,18 @@ fn strip_parens(e: &Expr) -> &Expr {
 
 fn usize_literal(e: &Expr) -> Option<usize> {
     match strip_parens(e) {
-        Expr::Lit(ExprLit { lit: Lit::Int(i), .. }) => i.base10_parse().ok(),
+        Expr::Lit(ExprLit {
+            lit: Lit::Int(i), ..
+        }) => i.base10_parse().ok(),
         _ => None,
     }
 }
 
 fn int_literal(e: &Expr) -> Option<i32> {
     match strip_parens(e) {
-        Expr::Lit(ExprLit { lit: Lit::Int(i), .. }) => i.base10_parse().ok(),
+        Expr::Lit(ExprLit {
+            lit: Lit::Int(i), ..
+        }) => i.base10_parse().ok(),
         Expr::Unary(u) if matches!(u.op, UnOp::Neg(_)) => int_literal(&u.expr).map(|n| -n),
         _ => None,
     }

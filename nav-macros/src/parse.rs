@@ -81,7 +81,11 @@ pub enum Stmt {
     /// `let name = value;`
     Let { name: Ident, value: Expr },
     /// `d/dt target = value;` (`derivative`) or `target = value;`.
-    Assign { target: Ident, derivative: Option<Span>, value: Expr },
+    Assign {
+        target: Ident,
+        derivative: Option<Span>,
+        value: Expr,
+    },
 }
 
 /// `sensor Name: M { .. }`.
@@ -137,7 +141,10 @@ impl Parse for ModelDecl {
             let kw_str = kw.to_string();
             if kw_str != "sensor" {
                 if seen.contains(&kw_str) {
-                    return Err(syn::Error::new(kw.span(), format!("duplicate `{kw_str}` section")));
+                    return Err(syn::Error::new(
+                        kw.span(),
+                        format!("duplicate `{kw_str}` section"),
+                    ));
                 }
                 seen.push(kw_str.clone());
             }
@@ -191,12 +198,18 @@ impl Parse for Stmt {
         let derivative = if input.peek(Ident) && input.peek2(Token![/]) {
             let d: Ident = input.parse()?;
             if d != "d" {
-                return Err(syn::Error::new(d.span(), "expected `d/dt state = ..`, `state = ..` or `let name = ..`"));
+                return Err(syn::Error::new(
+                    d.span(),
+                    "expected `d/dt state = ..`, `state = ..` or `let name = ..`",
+                ));
             }
             input.parse::<Token![/]>()?;
             let dt: Ident = input.parse()?;
             if dt != "dt" {
-                return Err(syn::Error::new(dt.span(), "expected `dt` in `d/dt state = ..`"));
+                return Err(syn::Error::new(
+                    dt.span(),
+                    "expected `dt` in `d/dt state = ..`",
+                ));
             }
             Some(d.span().join(dt.span()).unwrap_or(d.span()))
         } else {
@@ -206,7 +219,11 @@ impl Parse for Stmt {
         input.parse::<Token![=]>()?;
         let value: Expr = input.parse()?;
         input.parse::<Token![;]>()?;
-        Ok(Stmt::Assign { target, derivative, value })
+        Ok(Stmt::Assign {
+            target,
+            derivative,
+            value,
+        })
     }
 }
 
@@ -232,7 +249,12 @@ fn parse_vars(input: ParseStream) -> syn::Result<Vec<Var>> {
         } else {
             (Shape::Scalar, name.span())
         };
-        vars.push(Var { attrs, name, shape, shape_span });
+        vars.push(Var {
+            attrs,
+            name,
+            shape,
+            shape_span,
+        });
         if inner.is_empty() {
             break;
         }
@@ -244,7 +266,9 @@ fn parse_vars(input: ParseStream) -> syn::Result<Vec<Var>> {
 /// `3`, `3x3` (one literal with suffix `x3`) or `3 x 3`.
 fn parse_shape(input: ParseStream) -> syn::Result<(Shape, Span)> {
     let lit: LitInt = input.parse()?;
-    let first: usize = lit.base10_parse().map_err(|_| syn::Error::new(lit.span(), "expected a dimension"))?;
+    let first: usize = lit
+        .base10_parse()
+        .map_err(|_| syn::Error::new(lit.span(), "expected a dimension"))?;
     let suffix = lit.suffix();
     if let Some(cols) = suffix.strip_prefix('x') {
         let cols: usize = cols
@@ -253,7 +277,10 @@ fn parse_shape(input: ParseStream) -> syn::Result<(Shape, Span)> {
         return Ok((Shape::Matrix(first, cols), lit.span()));
     }
     if !suffix.is_empty() {
-        return Err(syn::Error::new(lit.span(), "expected a dimension like `3` or `3x3`"));
+        return Err(syn::Error::new(
+            lit.span(),
+            "expected a dimension like `3` or `3x3`",
+        ));
     }
     if input.peek(Ident) && !input.peek2(Token![:]) {
         let x: Ident = input.fork().parse()?;

@@ -68,7 +68,7 @@ nav_runtime::model! {
 }
 
 nav_runtime::model! {
-    /// Every function, every helper, a matrix input, method-call forms and a
+    /// Every function, every vector function, a matrix input, method-call forms and a
     /// sensor with auxiliary inputs.
     model Everything {
         states { s: 2, z }
@@ -117,11 +117,19 @@ impl Rng {
     }
 }
 
-fn assert_matrix_close<const R: usize, const C: usize>(what: &str, got: &SMatrix<f64, R, C>, want: &SMatrix<f64, R, C>, tol: f64) {
+fn assert_matrix_close<const R: usize, const C: usize>(
+    what: &str,
+    got: &SMatrix<f64, R, C>,
+    want: &SMatrix<f64, R, C>,
+    tol: f64,
+) {
     for r in 0..R {
         for c in 0..C {
             let (a, b) = (got[(r, c)], want[(r, c)]);
-            assert!((a - b).abs() <= tol * (1.0 + b.abs()), "{what}[({r}, {c})]: {a} vs {b}\n{got}\n{want}");
+            assert!(
+                (a - b).abs() <= tol * (1.0 + b.abs()),
+                "{what}[({r}, {c})]: {a} vs {b}\n{got}\n{want}"
+            );
         }
     }
 }
@@ -152,15 +160,23 @@ fn leveling_f_is_eq_26() {
         // The structural zeros of eq. 26 are compile-time constants.
         for r in 0..6 {
             for c in 0..6 {
-                assert_eq!(<Leveling6 as Model<6>>::JACOBIAN_SPARSITY[r][c], want[(r, c)] != 0.0, "({r}, {c})");
+                assert_eq!(
+                    <Leveling6 as Model<6>>::JACOBIAN_SPARSITY[r][c],
+                    want[(r, c)] != 0.0,
+                    "({r}, {c})"
+                );
             }
         }
         // Noise enters the velocity rows directly and the attitude rows through [a x].
         let gm = Leveling6::noise_jacobian(&x, &u, &p, 0.01);
         let a = x.fixed_rows::<3>(3).into_owned();
         let mut want_g = SMatrix::<f64, 6, 6>::zeros();
-        want_g.fixed_view_mut::<3, 3>(0, 0).copy_from(&SMatrix::<f64, 3, 3>::identity());
-        want_g.fixed_view_mut::<3, 3>(3, 3).copy_from(&a.cross_matrix());
+        want_g
+            .fixed_view_mut::<3, 3>(0, 0)
+            .copy_from(&SMatrix::<f64, 3, 3>::identity());
+        want_g
+            .fixed_view_mut::<3, 3>(3, 3)
+            .copy_from(&a.cross_matrix());
         assert_matrix_close("G", &gm, &want_g, 1e-12);
     }
 }
@@ -181,7 +197,12 @@ fn leveling_sensors_are_eqs_30_and_33() {
         ]);
         assert_matrix_close("H moving", &hm, &want, 1e-12);
         let z = <Leveling6Moving as Sensor<6, 2>>::predict(&x, &u, &p, &());
-        assert_matrix_close("h moving", &z, &SVector::<f64, 2>::new(x[0], a1 * a1 + a2 * a2 + a3 * a3), 1e-12);
+        assert_matrix_close(
+            "h moving",
+            &z,
+            &SVector::<f64, 2>::new(x[0], a1 * a1 + a2 * a2 + a3 * a3),
+            1e-12,
+        );
 
         let hs = <Leveling6Stationary as Sensor<6, 4>>::jacobian(&x, &u, &p, &());
         #[rustfmt::skip]
@@ -201,15 +222,28 @@ fn leveling_generated_api() {
     assert_eq!(Leveling6::NW, 6);
     assert_eq!((Leveling6::VELOCITY, Leveling6::A), (0, 3));
     assert_eq!(<Leveling6 as Model<6>>::NAME, "Leveling6");
-    assert!(!<Leveling6 as Model<6>>::DISCRETE);
-    assert_eq!(<Leveling6 as Model<6>>::STATE_NAMES, ["velocity[0]", "velocity[1]", "velocity[2]", "a[0]", "a[1]", "a[2]"]);
+    const { assert!(!<Leveling6 as Model<6>>::DISCRETE) };
+    assert_eq!(
+        <Leveling6 as Model<6>>::STATE_NAMES,
+        [
+            "velocity[0]",
+            "velocity[1]",
+            "velocity[2]",
+            "a[0]",
+            "a[1]",
+            "a[2]"
+        ]
+    );
     assert_eq!(<Leveling6Input as Record>::LEN, 9);
     assert_eq!(<Leveling6Params as Record>::NAMES, &["gravity"]);
     assert_eq!(Leveling6Moving::M, 2);
     assert_eq!(<Leveling6Moving as Sensor<6, 2>>::NAME, "Moving");
     assert_eq!(<Leveling6Moving as Sensor<6, 2>>::ANGLES, [false, false]);
-    assert_eq!(Leveling6::OPS_JACOBIAN, <Leveling6 as Model<6>>::OPS_JACOBIAN);
-    assert!(Leveling6::OPS_PROPAGATE_COVARIANCE > 0);
+    assert_eq!(
+        Leveling6::OPS_JACOBIAN,
+        <Leveling6 as Model<6>>::OPS_JACOBIAN
+    );
+    const { assert!(Leveling6::OPS_PROPAGATE_COVARIANCE > 0) };
     eprintln!(
         "Leveling6 ops: transition {}, derivative {}, jacobian {}, noise_jacobian {}, process_noise {}, \
          propagate_covariance {}, Moving innovation_terms {}, Stationary innovation_terms {}",
@@ -228,7 +262,12 @@ fn leveling_generated_api() {
     let u: Leveling6Input = rng.record();
     let p: Leveling6Params = rng.record();
     let step = <Leveling6 as Model<6>>::transition(&x, &u, &p, 0.1);
-    assert_matrix_close("transition", &step, &(x + Leveling6::derivative(&x, &u, &p) * 0.1), 1e-14);
+    assert_matrix_close(
+        "transition",
+        &step,
+        &(x + Leveling6::derivative(&x, &u, &p) * 0.1),
+        1e-14,
+    );
     let s = Leveling6State::from_vector(&x);
     assert_eq!(s.a[2], x[5]);
     assert_eq!(s.to_vector(), x);
@@ -236,7 +275,14 @@ fn leveling_generated_api() {
 
 /// C_b^n as printed in MODELS.md "Conventions" (transposed C_n^b).
 fn c_bn(phi: f64, theta: f64, psi: f64) -> SMatrix<f64, 3, 3> {
-    let (sf, cf, st, ct, sp, cp) = (phi.sin(), phi.cos(), theta.sin(), theta.cos(), psi.sin(), psi.cos());
+    let (sf, cf, st, ct, sp, cp) = (
+        phi.sin(),
+        phi.cos(),
+        theta.sin(),
+        theta.cos(),
+        psi.sin(),
+        psi.cos(),
+    );
     #[rustfmt::skip]
     let c_nb = SMatrix::<f64, 3, 3>::from_row_slice(&[
         ct * cp, ct * sp, -st,
@@ -247,7 +293,12 @@ fn c_bn(phi: f64, theta: f64, psi: f64) -> SMatrix<f64, 3, 3> {
 }
 
 /// MARKER-9 eq. 2, written out by hand.
-fn marker_step(x: &SVector<f64, 9>, gyro: &SVector<f64, 3>, acc: &SVector<f64, 3>, dt: f64) -> SVector<f64, 9> {
+fn marker_step(
+    x: &SVector<f64, 9>,
+    gyro: &SVector<f64, 3>,
+    acc: &SVector<f64, 3>,
+    dt: f64,
+) -> SVector<f64, 9> {
     let (phi, theta, psi) = (x[6], x[7], x[8]);
     let (p, q, r) = (gyro[0], gyro[1], gyro[2]);
     let pos = x.fixed_rows::<3>(0) + c_bn(phi, theta, psi) * x.fixed_rows::<3>(3) * dt;
@@ -269,15 +320,41 @@ fn marker_phi_matches_eq_2() {
         let u: Marker9Input = rng.record();
         let dt = 0.05 + 0.05 * rng.uniform().abs();
         let step = <Marker9 as Model<9>>::transition(&x, &u, &Marker9Params {}, dt);
-        assert_matrix_close("transition", &step, &marker_step(&x, &u.gyro, &u.acceleration, dt), 1e-12);
+        assert_matrix_close(
+            "transition",
+            &step,
+            &marker_step(&x, &u.gyro, &u.acceleration, dt),
+            1e-12,
+        );
 
         let phi = <Marker9 as Model<9>>::jacobian(&x, &u, &Marker9Params {}, dt);
         // Exact blocks: dp/dp = I, dp/dv = C_b^n dt, dv/dv = I, and no coupling back.
         let c = c_bn(x[6], x[7], x[8]);
-        assert_matrix_close("dp/dp", &phi.fixed_view::<3, 3>(0, 0).into_owned(), &SMatrix::identity(), 1e-12);
-        assert_matrix_close("dp/dv", &phi.fixed_view::<3, 3>(0, 3).into_owned(), &(c * dt), 1e-12);
-        assert_matrix_close("dv/dv", &phi.fixed_view::<3, 3>(3, 3).into_owned(), &SMatrix::identity(), 1e-12);
-        assert_eq!(phi.fixed_view::<3, 6>(3, 3).iter().filter(|v| **v != 0.0).count(), 3);
+        assert_matrix_close(
+            "dp/dp",
+            &phi.fixed_view::<3, 3>(0, 0).into_owned(),
+            &SMatrix::identity(),
+            1e-12,
+        );
+        assert_matrix_close(
+            "dp/dv",
+            &phi.fixed_view::<3, 3>(0, 3).into_owned(),
+            &(c * dt),
+            1e-12,
+        );
+        assert_matrix_close(
+            "dv/dv",
+            &phi.fixed_view::<3, 3>(3, 3).into_owned(),
+            &SMatrix::identity(),
+            1e-12,
+        );
+        assert_eq!(
+            phi.fixed_view::<3, 6>(3, 3)
+                .iter()
+                .filter(|v| **v != 0.0)
+                .count(),
+            3
+        );
         assert!(phi.fixed_view::<3, 6>(6, 0).iter().all(|v| *v == 0.0));
         // The whole Phi against central differences of the hand-written step.
         let mut fd = SMatrix::<f64, 9, 9>::zeros();
@@ -286,7 +363,12 @@ fn marker_phi_matches_eq_2() {
             let (mut xp, mut xm) = (x, x);
             xp[j] += h;
             xm[j] -= h;
-            fd.set_column(j, &((marker_step(&xp, &u.gyro, &u.acceleration, dt) - marker_step(&xm, &u.gyro, &u.acceleration, dt)) / (2.0 * h)));
+            fd.set_column(
+                j,
+                &((marker_step(&xp, &u.gyro, &u.acceleration, dt)
+                    - marker_step(&xm, &u.gyro, &u.acceleration, dt))
+                    / (2.0 * h)),
+            );
         }
         assert_matrix_close("Phi", &phi, &fd, 1e-7);
         // Structural zeros: attitude rows do not depend on position or velocity.
@@ -294,9 +376,21 @@ fn marker_phi_matches_eq_2() {
         assert!((6..9).all(|r| (0..6).all(|c| !sp[r][c])));
         assert!(sp[0][8] && sp[8][6] && !sp[8][8 - 8]);
     }
-    assert!(<Marker9 as Model<9>>::DISCRETE);
-    assert_eq!(<Marker9 as Model<9>>::STATE_NAMES[6..], ["roll", "pitch", "yaw"]);
-    assert_eq!((Marker9::POSITION, Marker9::VELOCITY, Marker9::ROLL, Marker9::PITCH, Marker9::YAW), (0, 3, 6, 7, 8));
+    const { assert!(<Marker9 as Model<9>>::DISCRETE) };
+    assert_eq!(
+        <Marker9 as Model<9>>::STATE_NAMES[6..],
+        ["roll", "pitch", "yaw"]
+    );
+    assert_eq!(
+        (
+            Marker9::POSITION,
+            Marker9::VELOCITY,
+            Marker9::ROLL,
+            Marker9::PITCH,
+            Marker9::YAW
+        ),
+        (0, 3, 6, 7, 8)
+    );
 }
 
 #[test]
@@ -305,7 +399,9 @@ fn marker_fix_h_is_rotated_position() {
     for _ in 0..10 {
         let x: SVector<f64, 9> = rng.vector();
         let u: Marker9Input = rng.record();
-        let aux = Marker9MarkerFixAux { psi0: 3.0 * rng.uniform() };
+        let aux = Marker9MarkerFixAux {
+            psi0: 3.0 * rng.uniform(),
+        };
         let h = <Marker9MarkerFix as Sensor<9, 2>>::jacobian(&x, &u, &Marker9Params {}, &aux);
         let (c, s) = (aux.psi0.cos(), aux.psi0.sin());
         let mut want = SMatrix::<f64, 2, 9>::zeros();
@@ -319,7 +415,10 @@ fn marker_fix_h_is_rotated_position() {
         assert_eq!(hd.iter().filter(|v| **v != 0.0).count(), 1);
     }
     assert_eq!(<Marker9Heading as Sensor<9, 1>>::ANGLES, [true]);
-    assert_eq!(<Marker9MarkerFix as Sensor<9, 2>>::JACOBIAN_SPARSITY[1][..3], [true, true, false]);
+    assert_eq!(
+        <Marker9MarkerFix as Sensor<9, 2>>::JACOBIAN_SPARSITY[1][..3],
+        [true, true, false]
+    );
     // A scalar-only H costs nothing: the marker fix's H P H^T has 2 x 2 terms per entry.
     assert_eq!(Marker9Depth::OPS_JACOBIAN, 0);
     assert_eq!(<Marker9Depth as Sensor<9, 1>>::OPS_INNOVATION_TERMS, 0);
@@ -327,12 +426,18 @@ fn marker_fix_h_is_rotated_position() {
 
 #[test]
 fn everything_records_and_shapes() {
-    assert_eq!(<EverythingInput as Record>::NAMES, &["m[0][0]", "m[0][1]", "m[1][0]", "m[1][1]", "v[0]", "v[1]", "v[2]"]);
+    assert_eq!(
+        <EverythingInput as Record>::NAMES,
+        &["m[0][0]", "m[0][1]", "m[1][0]", "m[1][1]", "v[0]", "v[1]", "v[2]"]
+    );
     let u = EverythingInput::from_fn(|i| i as f64);
     assert_eq!(u.m, SMatrix::<f64, 2, 2>::new(0.0, 1.0, 2.0, 3.0));
     assert_eq!(u.get(2), 2.0);
     assert!(u.get(7).is_nan());
-    assert_eq!(<EverythingLookAux as Record>::NAMES, &["offset", "lever[0]", "lever[1]", "lever[2]"]);
+    assert_eq!(
+        <EverythingLookAux as Record>::NAMES,
+        &["offset", "lever[0]", "lever[1]", "lever[2]"]
+    );
     assert_eq!(<EverythingLook as Sensor<3, 2>>::ANGLES, [false, true]);
     assert_eq!(Everything::NW, 1);
 }

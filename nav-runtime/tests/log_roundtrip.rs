@@ -37,9 +37,23 @@ fn meta_text_round_trip() {
 
 #[test]
 fn float_format_round_trips() {
-    for v in [0.1 + 0.2, 1e-300, -2.5e-7, 1e16, 123456789.125, -0.0, 5e-324, f64::MAX, 1.0 / 3.0] {
+    for v in [
+        0.1 + 0.2,
+        1e-300,
+        -2.5e-7,
+        1e16,
+        123456789.125,
+        -0.0,
+        5e-324,
+        f64::MAX,
+        1.0 / 3.0,
+    ] {
         let s = format_f64(v);
-        assert_eq!(s.parse::<f64>().unwrap().to_bits(), v.to_bits(), "{v} -> {s}");
+        assert_eq!(
+            s.parse::<f64>().unwrap().to_bits(),
+            v.to_bits(),
+            "{v} -> {s}"
+        );
     }
 }
 
@@ -55,7 +69,10 @@ fn rewriting_removes_stale_sensor_files_only() {
     smaller.write(&target).unwrap();
     assert!(!target.join("dvl.csv").exists());
     assert!(!target.join("truth.csv").exists());
-    assert_eq!(std::fs::read_to_string(target.join("notes.txt")).unwrap(), "keep me");
+    assert_eq!(
+        std::fs::read_to_string(target.join("notes.txt")).unwrap(),
+        "keep me"
+    );
     assert_eq!(LogDir::read(&target, Strictness::Strict).unwrap(), smaller);
 }
 

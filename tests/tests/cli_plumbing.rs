@@ -22,7 +22,9 @@ fn registry_names_are_unique_and_valid() {
     assert_eq!(names.len(), ms.len());
     assert!(find_scenario("nope").is_err());
     assert!(find_replay_model("nope").is_err());
-    assert!(ss.iter().any(|s| s.name() == models::cli::default_scenario()));
+    assert!(ss
+        .iter()
+        .any(|s| s.name() == models::cli::default_scenario()));
 }
 
 #[test]
@@ -49,7 +51,8 @@ fn shard_files_round_trip_and_merge_in_seed_order() {
     let mut files = Vec::new();
     for k in (1..=3).rev() {
         let shard = Shard { k, n: 3 };
-        let results = run_seeds(scenario.as_ref(), &seeds(7, 9, Some(shard)), &options, &bar).unwrap();
+        let results =
+            run_seeds(scenario.as_ref(), &seeds(7, 9, Some(shard)), &options, &bar).unwrap();
         let mut file = ShardFile {
             format: SHARD_FORMAT,
             scenario: demo::NAME.into(),
@@ -75,7 +78,13 @@ fn shard_files_round_trip_and_merge_in_seed_order() {
     let merged = merge_shards(&files).unwrap();
     assert_eq!(merged.results, all);
     let a = summary_json(scenario.as_ref(), 7, &all, &options).unwrap();
-    let b = summary_json(scenario.as_ref(), merged.seed, &merged.results, &merged.options).unwrap();
+    let b = summary_json(
+        scenario.as_ref(),
+        merged.seed,
+        &merged.results,
+        &merged.options,
+    )
+    .unwrap();
     assert_eq!(a, b);
     assert_eq!(a["runs"], 9);
 
@@ -99,6 +108,9 @@ fn demo_log_written_and_read_back_replays_like_the_run() {
     let run = scenario.run_one(33, &options).unwrap();
     let model = find_replay_model(demo::MODEL).unwrap();
     let out = model.replay(&back, &ReplayOptions::default()).unwrap();
-    assert_eq!(out.metrics["depth_error_rms_m"].as_f64().unwrap(), run.metric("depth_error_rms_m"));
+    assert_eq!(
+        out.metrics["depth_error_rms_m"].as_f64().unwrap(),
+        run.metric("depth_error_rms_m")
+    );
     assert_eq!(out.samples, back.imu.len());
 }

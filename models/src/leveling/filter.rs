@@ -6,7 +6,7 @@ use nav_runtime::earth;
 use nav_runtime::ekf::{Ekf, FilterError};
 use nav_runtime::log::{Event, LogDir};
 use nav_runtime::math::wrap_angle;
-use nav_runtime::nalgebra::{Matrix2, Matrix4, SMatrix, SVector, Vector2, Vector3, Vector4, Vector6};
+use nav_runtime::nalgebra::{Matrix2, Matrix4, SMatrix, Vector2, Vector3, Vector4, Vector6};
 
 /// How the filter is set up.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -127,7 +127,10 @@ pub fn run(log: &LogDir, options: &LevelingOptions) -> Result<LevelingRun, Filte
         accel_noise: Vector3::repeat(t.accel_density * t.accel_density),
         gyro_noise: Vector3::repeat(t.gyro_density * t.gyro_density),
     };
-    let mut ekf = Ekf::<Leveling6, 6>::new(x0, p0, params, noise)?;
+    // No innovation gate: during convergence from a 45-degree error the linearized
+    // S understates the innovation and a gate would reject the very measurements
+    // that make the attitude observable (the paper uses none).
+    let mut ekf = Ekf::<Leveling6, 6>::new(x0, p0, params, noise)?.with_default_gate(None);
     let w_ie_n = earth::earth_rate_n(lat);
     // Yaw is not estimated; it is carried by integrating the Euler yaw rate from
     // [initial].yaw so that the Earth-rate input W^b (eq. 16) follows the turns.

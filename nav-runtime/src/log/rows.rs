@@ -338,7 +338,10 @@ pub fn parse_csv<R: Row>(reader: impl Read, strictness: Strictness) -> Result<Ta
             expected: expected_header,
         });
     };
-    let header = lines.buf.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(&lines.buf);
+    let header = lines
+        .buf
+        .strip_prefix(b"\xEF\xBB\xBF")
+        .unwrap_or(&lines.buf);
     let found: Vec<&[u8]> = split_cells(header).collect();
     let ncols = R::COLUMNS.len();
     for i in 0..ncols.max(found.len()) {

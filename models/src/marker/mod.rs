@@ -1,0 +1,3 @@
+//! MARKER-9 (MODELS.md section 4).
+
+pub mod model;

@@ -1,0 +1,3 @@
+//! SDINS-25 (MODELS.md section 1).
+
+pub mod model;
