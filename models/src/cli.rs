@@ -33,6 +33,13 @@ pub fn scenarios() -> Vec<Box<dyn Scenario>> {
             .into_iter()
             .map(|s| Box::new(s) as Box<dyn Scenario>),
     );
+    all.extend(
+        crate::sdins25::scenarios()
+            .into_iter()
+            .map(|s| Box::new(s) as Box<dyn Scenario>),
+    );
+    all.push(Box::new(crate::marker::MarkerPath));
+    all.push(Box::new(crate::vkf::VkfScenario));
     all
 }
 
@@ -41,6 +48,7 @@ pub fn replay_models() -> Vec<Box<dyn ReplayModel>> {
     vec![
         Box::new(demo::DepthKf),
         Box::new(crate::leveling::Leveling6Replay),
+        Box::new(crate::sdins25::Sdins25Replay),
     ]
 }
 

@@ -7,3 +7,4 @@ pub mod montecarlo;
 pub mod plot;
 pub mod report;
 pub mod sdins25;
+pub mod vkf;

@@ -13,6 +13,7 @@ use crate::parse::{ModelDecl, ProcessKind, Shape, Stmt, Var};
 pub const RESERVED_CONSTS: &[&str] = &[
     "N",
     "NW",
+    "UNUSED_STATES",
     "OPS_TRANSITION",
     "OPS_DERIVATIVE",
     "OPS_JACOBIAN",

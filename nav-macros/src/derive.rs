@@ -220,3 +220,33 @@ pub fn derive(lowered: Lowered, nw: usize) -> Derived {
         sensors,
     }
 }
+
+impl Derived {
+    /// Per state scalar: does some sensor depend on it, directly (a structural
+    /// nonzero of a sensor's `H`) or through the dynamics (a nonzero `F[i][j]`,
+    /// `i != j`, of a state `i` that is used)? An unused state can never be
+    /// corrected by a measurement nor influence one.
+    pub fn used_states(&self) -> Vec<bool> {
+        let n = self.n;
+        let mut used = vec![false; n];
+        let mut work = Vec::new();
+        for s in &self.sensors {
+            for (k, &id) in s.jacobian.iter().enumerate() {
+                let j = k % n;
+                if !used[j] && !self.graph.is_zero(id) {
+                    used[j] = true;
+                    work.push(j);
+                }
+            }
+        }
+        while let Some(i) = work.pop() {
+            for j in 0..n {
+                if j != i && !used[j] && !self.graph.is_zero(self.jacobian[i * n + j]) {
+                    used[j] = true;
+                    work.push(j);
+                }
+            }
+        }
+        used
+    }
+}

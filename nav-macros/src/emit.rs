@@ -402,6 +402,12 @@ impl<'a> Emitter<'a> {
             .map(|(_, s)| s)
             .collect();
         let sparsity = self.sparsity(&d.jacobian, d.n, d.n);
+        let used = d.used_states();
+        let unused_states = state_names
+            .iter()
+            .zip(&used)
+            .filter(|(_, &u)| !u)
+            .map(|(s, _)| s);
 
         // transition
         let tr = self.body(&d.transition, nocov.clone());
@@ -546,6 +552,10 @@ impl<'a> Emitter<'a> {
                 /// Number of scalar process-noise inputs.
                 pub const NW: usize = #nw;
                 #(#index_consts)*
+                /// State scalars no sensor depends on, directly or through the dynamics
+                /// (no measurement can correct them). A composed model must list them
+                /// in `allow_unused { .. }`.
+                pub const UNUSED_STATES: &'static [&'static str] = &[#(#unused_states),*];
                 /// Operations in `transition`.
                 pub const OPS_TRANSITION: usize = #tr_ops;
                 /// Operations in `jacobian`.

@@ -186,6 +186,7 @@
 //! calls) it evaluates.
 
 mod check;
+mod compose;
 mod cse;
 mod ctxt;
 mod derive;
@@ -207,28 +208,40 @@ pub fn model(input: TokenStream) -> TokenStream {
 
 /// Parse -> check -> lower -> derive -> emit, for every declaration of the input.
 fn expand(input: proc_macro2::TokenStream) -> proc_macro2::TokenStream {
-    let decls = match syn::parse2::<parse::Declarations>(input) {
-        Ok(d) => d,
+    let items = match syn::parse2::<parse::Declarations>(input) {
+        Ok(parse::Declarations::Items(items)) => items,
+        Ok(parse::Declarations::Step(step)) => {
+            return compose::step(*step).unwrap_or_else(|e| e.to_compile_error())
+        }
         Err(e) => return e.to_compile_error(),
     };
     let mut out = proc_macro2::TokenStream::new();
-    for decl in &decls.models {
-        match expand_model(decl) {
-            Ok(tokens) => out.extend(tokens),
-            Err(e) => out.extend(e.to_compile_error()),
+    for item in &items {
+        match item {
+            parse::Item::Model(decl) => match expand_model(decl) {
+                Ok(tokens) => out.extend(tokens),
+                Err(e) => out.extend(e.to_compile_error()),
+            },
+            parse::Item::Block(block) => out.extend(compose::block(block)),
+            parse::Item::Compose(c) => out.extend(compose::start(c)),
         }
     }
     out
 }
 
-fn expand_model(decl: &parse::ModelDecl) -> syn::Result<proc_macro2::TokenStream> {
+/// Check, lower and derive one declaration.
+fn derive_model(decl: &parse::ModelDecl) -> syn::Result<derive::Derived> {
     let cx = ctxt::Ctxt::new();
     check::check(&cx, decl);
     let lowered = lower::lower(&cx, decl);
     cx.check()?;
     let lowered = lowered.expect("a checked model has a process section");
     let nw = decl.noise.iter().map(|v| v.shape.len()).sum();
-    let derived = derive::derive(lowered, nw);
+    Ok(derive::derive(lowered, nw))
+}
+
+fn expand_model(decl: &parse::ModelDecl) -> syn::Result<proc_macro2::TokenStream> {
+    let derived = derive_model(decl)?;
     Ok(emit::model(decl, &derived))
 }
 

@@ -60,6 +60,7 @@ pub fn lower(cx: &Ctxt, decl: &ModelDecl) -> Option<Lowered> {
             scope,
             sensor: None,
             process_lets: &[],
+            unknown_hint: decl.unknown_hint,
         };
         for stmt in &process.stmts {
             match stmt {
@@ -117,6 +118,7 @@ pub fn lower(cx: &Ctxt, decl: &ModelDecl) -> Option<Lowered> {
             scope,
             sensor: Some(sensor),
             process_lets: &process_lets,
+            unknown_hint: decl.unknown_hint,
         };
         for (name, value) in &sensor.lets {
             if let Some(val) = lw.expr(value) {
@@ -287,6 +289,8 @@ struct Lowerer<'a> {
     sensor: Option<&'a SensorDecl>,
     /// Names of the process section's `let`s (for hints in sensors).
     process_lets: &'a [String],
+    /// Appended to unknown-name errors without a suggestion (blocks: about `needs`).
+    unknown_hint: &'static str,
 }
 
 impl Lowerer<'_> {
@@ -376,7 +380,12 @@ impl Lowerer<'_> {
             } else {
                 let mut cands: Vec<String> = self.scope.names.keys().cloned().collect();
                 cands.sort();
-                suggest(&name, cands)
+                let hint = suggest(&name, cands);
+                if hint.is_empty() {
+                    self.unknown_hint.to_string()
+                } else {
+                    hint
+                }
             };
             return self.fail(ident, format!("unknown name `{name}`{hint}"));
         };

@@ -1,16 +1,30 @@
 //! Syntax: the declaration as written, parsed with syn into this crate's small
 //! AST. Nothing is validated here beyond the grammar (see `check.rs`).
 
-use proc_macro2::Span;
-use syn::parse::{Parse, ParseStream};
-use syn::{braced, bracketed, Attribute, Expr, Ident, LitInt, Token, Visibility};
+use proc_macro2::{Delimiter, Span, TokenStream, TokenTree};
+use syn::parse::{Parse, ParseStream, Parser};
+use syn::{braced, bracketed, Attribute, Expr, Ident, LitInt, Path, Token, Visibility};
 
-/// Everything inside one `model! { .. }` invocation.
-pub struct Declarations {
-    pub models: Vec<ModelDecl>,
+/// Everything inside one `model! { .. }` invocation: declarations, or one
+/// internal step of a composition (see `compose.rs`).
+pub enum Declarations {
+    Items(Vec<Item>),
+    Step(Box<crate::compose::Step>),
 }
 
-/// `pub model Foo { .. }`.
+/// One declaration of an invocation.
+pub enum Item {
+    /// `pub model Foo { .. }`.
+    Model(ModelDecl),
+    /// `pub block Foo { .. }`.
+    Block(BlockDecl),
+    /// `pub model Foo = A + B + ..;`.
+    Compose(ComposeDecl),
+}
+
+/// `pub model Foo { .. }` (also the body of a block, and the assembled
+/// declaration of a composed model).
+#[derive(Clone)]
 pub struct ModelDecl {
     /// Doc comments (and other outer attributes) of the model.
     pub attrs: Vec<Attribute>,
@@ -20,11 +34,41 @@ pub struct ModelDecl {
     pub inputs: Vec<Var>,
     pub params: Vec<Var>,
     pub noise: Vec<Var>,
+    /// `needs { .. }`: names a block reads from other blocks (blocks only).
+    pub needs: Vec<Var>,
     pub process: Option<Process>,
     pub sensors: Vec<SensorDecl>,
+    /// `"; .."` appended to unknown-name errors (a hint about `needs` in blocks).
+    pub unknown_hint: &'static str,
+}
+
+/// `pub block Foo { .. }`: a reusable part of a model (see `compose.rs`).
+pub struct BlockDecl {
+    pub attrs: Vec<Attribute>,
+    pub vis: Visibility,
+    /// The block's sections, parsed as a model named after the block.
+    pub decl: ModelDecl,
+    /// `Foo { .. }` as written, re-emitted by the block's macro.
+    pub tokens: TokenStream,
+}
+
+/// `pub model Foo = A + path::B { order { .. } allow_unused { .. } }`.
+pub struct ComposeDecl {
+    pub attrs: Vec<Attribute>,
+    pub vis: Visibility,
+    pub name: Ident,
+    /// The blocks, in the order their states are assembled.
+    pub blocks: Vec<Path>,
+    /// `order { a, b, .. }`: an explicit order of all states.
+    pub order: Option<(Ident, Vec<Ident>)>,
+    /// `allow_unused { a, b[1], .. }`: states allowed to be unused.
+    pub allow_unused: Vec<(Ident, Option<LitInt>)>,
+    /// The whole declaration as written, carried through the composition steps.
+    pub tokens: TokenStream,
 }
 
 /// A declared name with its shape: `x`, `x: 3`, `x: 3x3`.
+#[derive(Clone)]
 pub struct Var {
     pub attrs: Vec<Attribute>,
     pub name: Ident,
@@ -70,6 +114,7 @@ pub enum ProcessKind {
 }
 
 /// The `continuous { .. }` or `discrete { .. }` section.
+#[derive(Clone)]
 pub struct Process {
     pub kind: ProcessKind,
     pub keyword: Ident,
@@ -77,6 +122,7 @@ pub struct Process {
 }
 
 /// One statement of a process or sensor body.
+#[derive(Clone)]
 pub enum Stmt {
     /// `let name = value;`
     Let { name: Ident, value: Expr },
@@ -89,6 +135,7 @@ pub enum Stmt {
 }
 
 /// `sensor Name: M { .. }`.
+#[derive(Clone)]
 pub struct SensorDecl {
     pub attrs: Vec<Attribute>,
     pub name: Ident,
@@ -107,22 +154,183 @@ pub struct SensorDecl {
 
 impl Parse for Declarations {
     fn parse(input: ParseStream) -> syn::Result<Self> {
-        let mut models = Vec::new();
-        while !input.is_empty() {
-            models.push(input.parse()?);
+        if input.peek(Token![@]) {
+            return Ok(Declarations::Step(Box::new(input.parse()?)));
         }
-        Ok(Declarations { models })
+        let mut items = Vec::new();
+        while !input.is_empty() {
+            items.push(input.parse()?);
+        }
+        Ok(Declarations::Items(items))
     }
 }
 
-impl Parse for ModelDecl {
+impl Parse for Item {
     fn parse(input: ParseStream) -> syn::Result<Self> {
+        let start = input.fork();
         let attrs = input.call(Attribute::parse_outer)?;
         let vis: Visibility = input.parse()?;
-        keyword(input, "model")?;
-        let name: Ident = input.parse()?;
+        let kw: Ident = input.parse()?;
+        if kw == "block" {
+            let (decl, tokens) = parse_named_body(input, Vec::new(), vis.clone(), true)?;
+            return Ok(Item::Block(BlockDecl {
+                attrs,
+                vis,
+                decl,
+                tokens,
+            }));
+        }
+        if kw != "model" {
+            return Err(syn::Error::new(
+                kw.span(),
+                "expected `model` (a declaration `model Name { .. }` or a composition `model Name = A + B;`) or \
+                 `block`",
+            ));
+        }
+        if input.peek(Ident) && input.peek2(Token![=]) {
+            let name: Ident = input.parse()?;
+            let compose = parse_composition(input, attrs, vis, name)?;
+            // The tokens consumed since `start`, re-parsed at every composition step.
+            let end = input.cursor();
+            let tokens = start.step(|cursor| {
+                let mut c = *cursor;
+                let mut out = TokenStream::new();
+                while c != end {
+                    let Some((tt, next)) = c.token_tree() else {
+                        break;
+                    };
+                    out.extend([tt]);
+                    c = next;
+                }
+                Ok((out, c))
+            })?;
+            return Ok(Item::Compose(ComposeDecl { tokens, ..compose }));
+        }
+        let (mut decl, _) = parse_named_body(input, attrs, vis, false)?;
+        decl.unknown_hint = "";
+        Ok(Item::Model(decl))
+    }
+}
+
+impl Parse for ComposeDecl {
+    /// A composition as carried through the steps: `#[..] pub model Foo = A + B ..`.
+    fn parse(input: ParseStream) -> syn::Result<Self> {
+        match input.parse::<Item>()? {
+            Item::Compose(c) => Ok(c),
+            _ => Err(input.error("expected a composition `model Name = A + B;`")),
+        }
+    }
+}
+
+/// `= A + path::B ;` or `= A + B { order { .. } allow_unused { .. } }`.
+fn parse_composition(
+    input: ParseStream,
+    attrs: Vec<Attribute>,
+    vis: Visibility,
+    name: Ident,
+) -> syn::Result<ComposeDecl> {
+    input.parse::<Token![=]>()?;
+    let mut blocks = vec![input.call(Path::parse_mod_style)?];
+    while input.peek(Token![+]) {
+        input.parse::<Token![+]>()?;
+        blocks.push(input.call(Path::parse_mod_style)?);
+    }
+    let mut compose = ComposeDecl {
+        attrs,
+        vis,
+        name,
+        blocks,
+        order: None,
+        allow_unused: Vec::new(),
+        tokens: TokenStream::new(),
+    };
+    if input.peek(syn::token::Brace) {
         let body;
         braced!(body in input);
+        while !body.is_empty() {
+            let kw: Ident = body.parse()?;
+            let inner;
+            braced!(inner in body);
+            if kw == "order" && compose.order.is_none() {
+                let names = inner.parse_terminated(Ident::parse, Token![,])?;
+                compose.order = Some((kw, names.into_iter().collect()));
+            } else if kw == "allow_unused" && compose.allow_unused.is_empty() {
+                while !inner.is_empty() {
+                    let name: Ident = inner.parse()?;
+                    let index = if inner.peek(syn::token::Bracket) {
+                        let ix;
+                        bracketed!(ix in inner);
+                        Some(ix.parse::<LitInt>()?)
+                    } else {
+                        None
+                    };
+                    compose.allow_unused.push((name, index));
+                    if inner.is_empty() {
+                        break;
+                    }
+                    inner.parse::<Token![,]>()?;
+                }
+            } else if kw == "order" || kw == "allow_unused" {
+                return Err(syn::Error::new(
+                    kw.span(),
+                    format!("duplicate `{kw}` section"),
+                ));
+            } else {
+                return Err(syn::Error::new(
+                    kw.span(),
+                    format!("unknown section `{kw}` of a composition; expected `order` or `allow_unused`"),
+                ));
+            }
+        }
+        if input.peek(Token![;]) {
+            input.parse::<Token![;]>()?;
+        }
+    } else {
+        input.parse::<Token![;]>().map_err(|e| {
+            syn::Error::new(
+                e.span(),
+                "expected `+ Block`, `;` or `{ order { .. } allow_unused { .. } }` after the blocks of a composition",
+            )
+        })?;
+    }
+    Ok(compose)
+}
+
+/// `Name { sections }`: the sections of a model or a block, with the tokens as written.
+pub fn parse_named_body(
+    input: ParseStream,
+    attrs: Vec<Attribute>,
+    vis: Visibility,
+    is_block: bool,
+) -> syn::Result<(ModelDecl, TokenStream)> {
+    let name: Ident = input.parse()?;
+    let group = match input.parse::<TokenTree>()? {
+        TokenTree::Group(g) if g.delimiter() == Delimiter::Brace => g,
+        other => {
+            return Err(syn::Error::new(
+                other.span(),
+                if is_block {
+                    "expected `{ .. }` with the sections of the block"
+                } else {
+                    "expected `{ .. }` with the sections of the model, or `= A + B;` for a composition"
+                },
+            ))
+        }
+    };
+    let tokens = quote::quote!(#name #group);
+    let parser = |body: ParseStream| parse_sections(body, attrs, vis, name.clone(), is_block);
+    let decl = parser.parse2(group.stream())?;
+    Ok((decl, tokens))
+}
+
+fn parse_sections(
+    body: ParseStream,
+    attrs: Vec<Attribute>,
+    vis: Visibility,
+    name: Ident,
+    is_block: bool,
+) -> syn::Result<ModelDecl> {
+    {
         let mut decl = ModelDecl {
             attrs,
             vis,
@@ -131,8 +339,14 @@ impl Parse for ModelDecl {
             inputs: Vec::new(),
             params: Vec::new(),
             noise: Vec::new(),
+            needs: Vec::new(),
             process: None,
             sensors: Vec::new(),
+            unknown_hint: if is_block {
+                "; a name another block declares must be listed in the block's `needs { .. }`"
+            } else {
+                ""
+            },
         };
         let mut seen: Vec<String> = Vec::new();
         while !body.is_empty() {
@@ -149,10 +363,11 @@ impl Parse for ModelDecl {
                 seen.push(kw_str.clone());
             }
             match kw_str.as_str() {
-                "states" => decl.states = parse_vars(&body)?,
-                "inputs" => decl.inputs = parse_vars(&body)?,
-                "parameters" => decl.params = parse_vars(&body)?,
-                "noise" => decl.noise = parse_vars(&body)?,
+                "states" => decl.states = parse_vars(body)?,
+                "inputs" => decl.inputs = parse_vars(body)?,
+                "parameters" => decl.params = parse_vars(body)?,
+                "noise" => decl.noise = parse_vars(body)?,
+                "needs" if is_block => decl.needs = parse_vars(body)?,
                 "continuous" | "discrete" => {
                     if let Some(prev) = &decl.process {
                         return Err(syn::Error::new(
@@ -169,13 +384,20 @@ impl Parse for ModelDecl {
                     }
                     decl.process = Some(Process { kind, keyword: kw, stmts });
                 }
-                "sensor" => decl.sensors.push(parse_sensor(&body, attrs)?),
+                "sensor" => decl.sensors.push(parse_sensor(body, attrs)?),
+                "needs" => {
+                    return Err(syn::Error::new(
+                        kw.span(),
+                        "`needs { .. }` is a section of blocks (`block Name { .. }`), not of models",
+                    ))
+                }
                 _ => {
                     return Err(syn::Error::new(
                         kw.span(),
                         format!(
                             "unknown section `{kw}`; expected `states`, `inputs`, `parameters`, `noise`, \
-                             `continuous`, `discrete` or `sensor`"
+                             `continuous`, `discrete`{} or `sensor`",
+                            if is_block { ", `needs`" } else { "" }
                         ),
                     ))
                 }
@@ -225,14 +447,6 @@ impl Parse for Stmt {
             value,
         })
     }
-}
-
-fn keyword(input: ParseStream, kw: &str) -> syn::Result<Ident> {
-    let ident: Ident = input.parse()?;
-    if ident != kw {
-        return Err(syn::Error::new(ident.span(), format!("expected `{kw}`")));
-    }
-    Ok(ident)
 }
 
 /// `{ a, b: 3, c: 3x3, }` with doc comments on each entry.

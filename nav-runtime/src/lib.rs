@@ -9,10 +9,14 @@ pub use nalgebra;
 pub use nav_macros::model;
 
 pub mod attitude;
+#[cfg(feature = "std")]
+pub mod camera;
 pub mod earth;
 pub mod ekf;
 pub mod error_state;
 pub mod gate;
+#[cfg(feature = "std")]
+pub mod guidance;
 #[cfg(feature = "std")]
 pub mod imu;
 #[cfg(feature = "std")]
@@ -30,3 +34,5 @@ pub mod strapdown;
 mod testmodels;
 #[cfg(feature = "std")]
 pub mod trajectory;
+#[cfg(feature = "std")]
+pub mod vehicle;

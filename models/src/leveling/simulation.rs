@@ -18,8 +18,8 @@ pub const SPEED_RATE: f64 = 10.0;
 /// Cruise speed of the moving cases (m/s); the paper gives none.
 pub const SPEED: f64 = 2.0;
 /// Heading-rate amplitude of the S-type track (rad/s) and its period (s): the
-/// heading weaves by +-amp period / pi = +-25 deg.
-pub const S_TYPE_AMPLITUDE: f64 = 0.069_813_170_079_773_18; // 4 deg/s
+/// heading weaves by +-amp period / pi = +-38 deg.
+pub const S_TYPE_AMPLITUDE: f64 = 0.104_719_755_119_659_77; // 6 deg/s, the vehicle's turn-rate limit
 /// Period of the S-type weave (s).
 pub const S_TYPE_PERIOD: f64 = 20.0;
 

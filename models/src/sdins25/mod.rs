@@ -1,3 +1,441 @@
-//! SDINS-25 (MODELS.md section 1).
+//! SDINS-25 (MODELS.md section 1): the model, its simulation, the filter run
+//! over a log, scoring, and the `lawnmower-*` scenarios and `sdins25` replay
+//! model of `navsim`.
+//!
+//! A scenario run is simulate(seed) -> [`LogDir`] -> filter over the log ->
+//! score against truth.csv, so `navsim simulate` followed by `navsim replay
+//! --model sdins25` reproduces `navsim scenario` exactly.
 
+pub mod filter;
 pub mod model;
+pub mod score;
+pub mod simulation;
+
+#[cfg(test)]
+mod model_tests;
+
+use std::path::Path;
+
+use nav_runtime::log::LogDir;
+use nav_runtime::stats;
+use serde_json::{json, Map, Value};
+
+use crate::montecarlo::{
+    metric_values, ReplayModel, ReplayOptions, ReplayOutput, RunError, RunOptions, RunResult,
+    RunTable, Scenario,
+};
+use crate::plot::{self, Line};
+use crate::report::summary_of;
+use filter::{FilterOptions, Sdins25Run};
+use score::{nees_band_95, Scored, NEES_DOF};
+use simulation::SimConfig;
+
+pub use model::{
+    Sdins25, Sdins25Compass, Sdins25CompassSmallAngle, Sdins25Depth, Sdins25Dvl, Sdins25Usbl,
+};
+
+/// One of the `lawnmower-*` scenarios.
+#[derive(Clone, Copy, Debug)]
+pub struct LawnMower {
+    name: &'static str,
+    description: &'static str,
+    /// What is simulated.
+    pub config: SimConfig,
+}
+
+/// `lawnmower-imu-only`, `lawnmower-dvl`, `lawnmower-usbl`, `lawnmower-usbl-deep`.
+pub fn scenarios() -> Vec<LawnMower> {
+    vec![
+        LawnMower {
+            name: "lawnmower-imu-only",
+            description: "SDINS-25 lawn-mowing survey, 500 s, IMU only (no aiding)",
+            config: SimConfig::imu_only(),
+        },
+        LawnMower {
+            name: "lawnmower-dvl",
+            description: "SDINS-25 lawn-mowing survey, 500 s, IMU + DVL + depth + compass",
+            config: SimConfig::dvl(),
+        },
+        LawnMower {
+            name: "lawnmower-usbl",
+            description: "SDINS-25 survey, IMU + DVL + depth + compass + Trackpoint II USBL",
+            config: SimConfig::usbl(),
+        },
+        LawnMower {
+            name: "lawnmower-usbl-deep",
+            description:
+                "SDINS-25 survey at 6000 m, Posidonia 6000 USBL (0.3 % range, late fixes) + DVL",
+            config: SimConfig::usbl_deep(),
+        },
+    ]
+}
+
+/// The scenario named `name`.
+pub fn scenario(name: &str) -> Option<LawnMower> {
+    scenarios().into_iter().find(|s| s.name == name)
+}
+
+/// Per-sensor health keys of a run's metrics.
+const SENSOR_NAMES: [&str; 4] = ["depth", "dvl", "heading", "usbl"];
+
+/// Runs the filter over `log` with estimates at the truth times (or every
+/// 0.1 s without truth) and scores it. `compass_bias`: the true compass bias,
+/// when known, for the bias-estimation columns.
+pub fn run_and_score(
+    log: &LogDir,
+    options: &FilterOptions,
+    compass_bias: Option<f64>,
+) -> Result<(Sdins25Run, Option<Scored>), RunError> {
+    let times: Vec<f64> = match &log.truth {
+        Some(t) => t.iter().map(|r| r.t).collect(),
+        None => {
+            let (t0, t1) = (
+                log.imu.first().map_or(0.0, |r| r.t),
+                log.imu.last().map_or(0.0, |r| r.t),
+            );
+            (0..=((t1 - t0) * 10.0).floor() as usize)
+                .map(|k| t0 + k as f64 / 10.0)
+                .collect()
+        }
+    };
+    let run = filter::run(log, options, &times)?;
+    let scored = log
+        .truth
+        .as_ref()
+        .map(|t| score::score(&run.estimates, t, compass_bias));
+    Ok((run, scored))
+}
+
+/// The metrics of a run (scored when truth exists).
+fn metrics(run: &Sdins25Run, scored: Option<&Scored>) -> Vec<(String, f64)> {
+    let mut m = vec![
+        ("samples".to_string(), run.samples as f64),
+        ("runtime_s".to_string(), run.runtime_s),
+        ("covariance_repairs".to_string(), run.repairs as f64),
+        ("replays".to_string(), run.replays as f64),
+    ];
+    for (name, h) in &run.health {
+        m.push((format!("{name}_rows"), h.rows as f64));
+        m.push((format!("{name}_accepted"), h.accepted as f64));
+        m.push((format!("{name}_gated"), h.gated as f64));
+        m.push((format!("{name}_rejected"), h.rejected as f64));
+        m.push((format!("{name}_skipped"), h.skipped as f64));
+    }
+    if let Some(s) = scored {
+        m.extend([
+            (
+                "horizontal_error_final_m".into(),
+                s.horizontal_error_final_m,
+            ),
+            ("horizontal_error_rms_m".into(), s.horizontal_error_rms_m),
+            ("depth_error_rms_m".into(), s.depth_error_rms_m),
+            ("nees_mean".into(), s.nees_mean),
+            (
+                "compass_bias_error_final_deg".into(),
+                s.compass_bias_error_final_deg,
+            ),
+            (
+                "compass_bias_sigma_final_deg".into(),
+                s.compass_bias_sigma_final_deg,
+            ),
+        ]);
+    }
+    m
+}
+
+/// One scenario run: simulate, filter over the log, score.
+pub fn run_one(config: &SimConfig, seed: u64, keep_series: bool) -> Result<RunResult, RunError> {
+    let sim = simulation::simulate(config, seed);
+    let bias = config.compass.then_some(sim.errors.compass_bias);
+    let (run, scored) =
+        run_and_score(&sim.log, &FilterOptions::default(), bias).map_err(|e| RunError::Failed {
+            seed,
+            message: e.to_string(),
+        })?;
+    let mut r = RunResult::new(seed);
+    for (k, v) in metrics(&run, scored.as_ref()) {
+        r = r.with_metric(&k, v);
+    }
+    if let (true, Some(s)) = (keep_series, scored) {
+        r.tables.push(s.table);
+    }
+    Ok(r)
+}
+
+/// The `health` object: per-sensor totals over runs and covariance repairs.
+fn health(runs: &[RunResult]) -> Value {
+    let sum = |k: &str| metric_values(runs, k).iter().sum::<f64>();
+    let mut h = Map::new();
+    for name in SENSOR_NAMES {
+        h.insert(
+            name.into(),
+            json!({
+                "rows": sum(&format!("{name}_rows")),
+                "accepted": sum(&format!("{name}_accepted")),
+                "gated": sum(&format!("{name}_gated")),
+                "rejected": sum(&format!("{name}_rejected")),
+                "skipped": sum(&format!("{name}_skipped")),
+            }),
+        );
+    }
+    h.insert(
+        "covariance_repairs".into(),
+        Value::from(sum("covariance_repairs")),
+    );
+    h.insert("replays".into(), Value::from(sum("replays")));
+    Value::Object(h)
+}
+
+impl Scenario for LawnMower {
+    fn name(&self) -> &'static str {
+        self.name
+    }
+    fn description(&self) -> &'static str {
+        self.description
+    }
+    fn default_runs(&self) -> usize {
+        100
+    }
+    fn run_one(&self, seed: u64, options: &RunOptions) -> Result<RunResult, RunError> {
+        run_one(&self.config, seed, options.keep_series)
+    }
+    fn summarize(
+        &self,
+        runs: &[RunResult],
+        _options: &RunOptions,
+    ) -> Result<Map<String, Value>, RunError> {
+        let mut m = Map::new();
+        for key in [
+            "horizontal_error_final_m",
+            "horizontal_error_rms_m",
+            "depth_error_rms_m",
+        ] {
+            m.insert(key.into(), summary_of(runs, key));
+        }
+        let nees = metric_values(runs, "nees_mean");
+        let nees_mean = stats::mean(&nees);
+        let (lo, hi) = nees_band_95(NEES_DOF, runs.len());
+        m.insert("nees_mean".into(), Value::from(nees_mean));
+        m.insert("nees_band_95".into(), json!([lo, hi]));
+        m.insert(
+            "nees_consistent".into(),
+            Value::from(nees_mean >= lo && nees_mean <= hi),
+        );
+        if self.config.compass {
+            let err: Vec<f64> = metric_values(runs, "compass_bias_error_final_deg")
+                .iter()
+                .map(|e| e.abs())
+                .collect();
+            m.insert(
+                "compass_bias_error_final_deg".into(),
+                crate::report::summary_value(&err),
+            );
+            m.insert(
+                "compass_bias_sigma_final_deg".into(),
+                Value::from(stats::mean(&metric_values(
+                    runs,
+                    "compass_bias_sigma_final_deg",
+                ))),
+            );
+        }
+        m.insert("runtime_s".into(), summary_of(runs, "runtime_s"));
+        m.insert("health".into(), health(runs));
+        Ok(m)
+    }
+    fn write_outputs(&self, runs: &[RunResult], dir: &Path) -> Result<(), RunError> {
+        crate::montecarlo::write_run_tables(runs, dir)?;
+        for run in runs.iter().take(PLOTTED_RUNS) {
+            if let Some(t) = run.tables.iter().find(|t| t.name == score::TABLE) {
+                write_plots(self.name, &format!("run-{}", run.seed), t, dir)?;
+            }
+        }
+        write_ensemble_nees(self.name, runs, dir)
+    }
+    fn simulate_log(&self, seed: u64, _options: &RunOptions) -> Option<Result<LogDir, RunError>> {
+        Some(Ok(simulation::simulate(&self.config, seed).log))
+    }
+}
+
+/// Runs whose plots `--out` draws (every run's CSV is written).
+pub const PLOTTED_RUNS: usize = 5;
+
+/// Track, position / velocity / attitude errors with their `±3 sigma` bounds
+/// and the NEES with its 95 % band, from one run's table.
+pub fn write_plots(name: &str, prefix: &str, t: &RunTable, dir: &Path) -> Result<(), RunError> {
+    let time = t.column("t");
+    let file = |s: &str| dir.join(format!("{prefix}-{s}.svg"));
+    let (tn, te, en, ee) = (
+        t.column("true_n"),
+        t.column("true_e"),
+        t.column("est_n"),
+        t.column("est_e"),
+    );
+    plot::tracks(
+        &file("track"),
+        &format!("{name} {prefix}: horizontal track"),
+        "east [m]",
+        "north [m]",
+        &[
+            Line {
+                label: "truth",
+                x: &te,
+                y: &tn,
+            },
+            Line {
+                label: "estimate",
+                x: &ee,
+                y: &en,
+            },
+        ],
+    )?;
+    let groups = [
+        (
+            "position",
+            "m",
+            ["n", "e", "d"],
+            ["north", "east", "down"],
+            "",
+        ),
+        (
+            "velocity",
+            "m/s",
+            ["vn", "ve", "vd"],
+            ["north", "east", "down"],
+            "",
+        ),
+        (
+            "attitude",
+            "deg",
+            ["roll", "pitch", "yaw"],
+            ["roll", "pitch", "yaw"],
+            "_deg",
+        ),
+    ];
+    for (group, unit, keys, labels, suffix) in groups {
+        for (k, label) in keys.iter().zip(labels) {
+            let e = t.column(&format!("err_{k}{suffix}"));
+            let s = t.column(&format!("sig_{k}{suffix}"));
+            plot::error_with_sigma(
+                &file(&format!("{group}-{label}")),
+                &format!("{name} {prefix}: {group} error, {label}, with ±3 sigma"),
+                &format!("{label} error [{unit}]"),
+                &time,
+                &e,
+                &s,
+            )?;
+        }
+    }
+    let band = (
+        nav_runtime::gate::chi_square_quantile(0.025, NEES_DOF).unwrap_or(f64::NAN),
+        nav_runtime::gate::chi_square_quantile(0.975, NEES_DOF).unwrap_or(f64::NAN),
+    );
+    plot::nees(
+        &file("nees"),
+        &format!("{name} {prefix}: NEES of the 9 navigation states (95 % band, 9 dof)"),
+        &time,
+        &t.column("nees"),
+        Some(band),
+    )
+}
+
+/// The NEES averaged over runs at each time, with the 95 % band of the ensemble.
+fn write_ensemble_nees(name: &str, runs: &[RunResult], dir: &Path) -> Result<(), RunError> {
+    let tables: Vec<&RunTable> = runs
+        .iter()
+        .filter_map(|r| r.tables.iter().find(|t| t.name == score::TABLE))
+        .collect();
+    let Some(first) = tables.first() else {
+        return Ok(());
+    };
+    let len = tables.iter().map(|t| t.rows.len()).min().unwrap_or(0);
+    let t: Vec<f64> = first.rows[..len].iter().map(|r| r[0]).collect();
+    let col = COLUMNS_NEES;
+    let mean: Vec<f64> = (0..len)
+        .map(|i| {
+            stats::mean(
+                &tables
+                    .iter()
+                    .map(|tab| tab.rows[i][col])
+                    .collect::<Vec<_>>(),
+            )
+        })
+        .collect();
+    let mut table = RunTable::new("ensemble_nees", &["t", "nees_mean"]);
+    for (ti, m) in t.iter().zip(&mean) {
+        table.push(&[*ti, *m]);
+    }
+    table.write_csv(&dir.join("ensemble-nees.csv"))?;
+    plot::nees(
+        &dir.join("ensemble-nees.svg"),
+        &format!(
+            "{name}: NEES averaged over {} runs (95 % band, 9 dof)",
+            tables.len()
+        ),
+        &t,
+        &mean,
+        Some(nees_band_95(NEES_DOF, tables.len())),
+    )
+}
+
+/// Index of the `nees` column in [`score::COLUMNS`].
+const COLUMNS_NEES: usize = 19;
+
+/// `navsim replay DIR --model sdins25`.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Sdins25Replay;
+
+impl ReplayModel for Sdins25Replay {
+    fn name(&self) -> &'static str {
+        "sdins25"
+    }
+    fn description(&self) -> &'static str {
+        "SDINS-25 error-state INS over imu.csv + any of dvl/depth/heading/usbl (late USBL fixes by travel time)"
+    }
+    fn replay(&self, log: &LogDir, options: &ReplayOptions) -> Result<ReplayOutput, RunError> {
+        let (run, scored) = run_and_score(log, &FilterOptions::default(), None)?;
+        let mut out = ReplayOutput {
+            samples: run.samples,
+            runtime_s: run.runtime_s,
+            ..Default::default()
+        };
+        if let Some(s) = &scored {
+            for (k, v) in [
+                ("horizontal_error_final_m", s.horizontal_error_final_m),
+                ("horizontal_error_rms_m", s.horizontal_error_rms_m),
+                ("depth_error_rms_m", s.depth_error_rms_m),
+                ("nees_mean", s.nees_mean),
+            ] {
+                out.metrics.insert(k.into(), Value::from(v));
+            }
+        }
+        let single = RunResult {
+            metrics: metrics(&run, scored.as_ref()).into_iter().collect(),
+            ..RunResult::new(0)
+        };
+        out.metrics
+            .insert("health".into(), health(std::slice::from_ref(&single)));
+        let last = run.final_filter.nominal().ins.state;
+        let e = last.euler();
+        out.metrics.insert(
+            "final".into(),
+            json!({
+                "lat": last.lat, "lon": last.lon, "depth": last.depth(),
+                "vn": last.v_n.x, "ve": last.v_n.y, "vd": last.v_n.z,
+                "roll": e.roll.to_degrees(), "pitch": e.pitch.to_degrees(), "yaw": e.yaw.to_degrees(),
+            }),
+        );
+        if let (true, Some(s)) = (options.keep_series, scored) {
+            out.tables.push(s.table);
+        }
+        Ok(out)
+    }
+    fn write_outputs(&self, output: &ReplayOutput, dir: &Path) -> Result<(), RunError> {
+        for t in &output.tables {
+            t.write_csv(&dir.join(format!("{}.csv", t.name)))?;
+            if t.name == score::TABLE {
+                write_plots("sdins25", "replay", t, dir)?;
+            }
+        }
+        Ok(())
+    }
+}

@@ -231,8 +231,7 @@ pub fn simulate(config: &SimConfig, seed: u64) -> Simulated {
     }
     if config.depth {
         let depth_spec = ErrorSpec::sdins25_depth();
-        let mut depth =
-            SensorErrorModel::<1>::new(depth_spec, derive_seed(seed, "sdins25-depth"));
+        let mut depth = SensorErrorModel::<1>::new(depth_spec, derive_seed(seed, "sdins25-depth"));
         errors.depth_bias = depth.bias[0];
         log.depth = Some(
             aiding_times
@@ -351,17 +350,25 @@ fn simulate_usbl(
     let frame = LocalNed::new(transducer(&s0));
     let mut rng = ChaCha8Rng::seed_from_u64(derive_seed(seed, "sdins25-usbl"));
     let (bias_sigma, misalignment_sigma, noise) = match config.usbl {
-        Usbl::TrackpointII => (18.0, TRACKPOINT_MISALIGNMENT_SIGMA, SensorNoise {
-            bias_sigma: 18.0,
-            noise_sigma: 18.0,
-        }),
-        _ => (0.0, 0.0, SensorNoise {
-            bias_sigma: 0.0,
-            // Nominal slant range at the start: the per-fix sigma is 0.3 % of the
-            // actual range, which stays within 0.01 m of this on the track.
-            noise_sigma: POSIDONIA_RANGE_FRACTION
-                * frame.geodetic_to_ned(&s0.position()).norm(),
-        }),
+        Usbl::TrackpointII => (
+            18.0,
+            TRACKPOINT_MISALIGNMENT_SIGMA,
+            SensorNoise {
+                bias_sigma: 18.0,
+                noise_sigma: 18.0,
+            },
+        ),
+        _ => (
+            0.0,
+            0.0,
+            SensorNoise {
+                bias_sigma: 0.0,
+                // Nominal slant range at the start: the per-fix sigma is 0.3 % of the
+                // actual range, which stays within 0.01 m of this on the track.
+                noise_sigma: POSIDONIA_RANGE_FRACTION
+                    * frame.geodetic_to_ned(&s0.position()).norm(),
+            },
+        ),
     };
     let bias = [normal(&mut rng, bias_sigma), normal(&mut rng, bias_sigma)];
     let theta = Vector3::new(

@@ -113,6 +113,8 @@ pub struct QpInput<'a> {
     pub structure: &'a Structure,
     /// Vehicle radius added to each capsule radius, m.
     pub vehicle_radius: f64,
+    /// Current horizontal speed command, m/s.
+    pub speed: f64,
 }
 
 /// One tick's result.
@@ -221,9 +223,10 @@ impl CourseQp {
         let mut speeds = Vec::with_capacity(n);
         let mut pbar = Vec::with_capacity(n);
         let mut errs = Vec::with_capacity(n);
+        let mut u = input.speed;
         for &chi in chi_bar.iter() {
             let e = f.update(input.path, &p, g);
-            let u = g.speed(input.path, e.segment, e.along);
+            u = g.speed_command(input.path, &e, chi, u, dt);
             speeds.push(u);
             p += Vector2::new(chi.cos(), chi.sin()) * (u * dt);
             pbar.push(p);
@@ -591,7 +594,10 @@ mod tests {
             assert!((x[n + k] - chi).abs() < tol);
             assert!(x[3 * n + k] > -tol);
         }
-        let dev: f64 = (0..n).map(|k| (x[n + k] - p.chi_bar[k]).powi(2)).sum::<f64>().sqrt();
+        let dev: f64 = (0..n)
+            .map(|k| (x[n + k] - p.chi_bar[k]).powi(2))
+            .sum::<f64>()
+            .sqrt();
         assert!(dev <= c.trust_region + tol);
     }
 
@@ -612,6 +618,7 @@ mod tests {
                 guidance: &g,
                 structure: &s,
                 vehicle_radius: 0.3,
+                speed: 0.3,
             };
             let problem = qp.build(&input);
             let out = qp.step(&input);
@@ -649,6 +656,7 @@ mod tests {
             guidance: &g,
             structure: &s,
             vehicle_radius: 0.3,
+            speed: 0.2,
         };
         let mut last = qp.course();
         for i in 0..5 {

@@ -49,7 +49,10 @@ mod tests {
     use nalgebra::Vector3;
 
     fn north() -> Path {
-        Path::new(vec![Vector3::new(0.0, 0.0, 10.0), Vector3::new(10.0, 0.0, 10.0)])
+        Path::new(vec![
+            Vector3::new(0.0, 0.0, 10.0),
+            Vector3::new(10.0, 0.0, 10.0),
+        ])
     }
 
     /// (position, R, expected LOS course in degrees): geometry of eq. 4 on a

@@ -71,7 +71,11 @@ impl Path {
         let (rx, ry) = (p.x - a.x, p.y - a.y);
         let along = rx * c + ry * s;
         let cross = -rx * s + ry * c;
-        let slope = if length > 1e-9 { (b.z - a.z) / length } else { 0.0 };
+        let slope = if length > 1e-9 {
+            (b.z - a.z) / length
+        } else {
+            0.0
+        };
         let frac = if length > 1e-9 {
             (along / length).clamp(0.0, 1.0)
         } else {
@@ -140,6 +144,10 @@ pub struct GuidanceConfig {
     pub los_radius: f64,
     /// Guidance tick, s.
     pub tick: f64,
+    /// Largest speed increase, m/s^2.
+    pub acceleration: f64,
+    /// Largest vertical speed the heave channel is given, m/s.
+    pub max_vertical_speed: f64,
 }
 
 impl Default for GuidanceConfig {
@@ -154,6 +162,8 @@ impl Default for GuidanceConfig {
             switch_distance: 0.12,
             los_radius: 1.0,
             tick: 0.1,
+            acceleration: 0.04,
+            max_vertical_speed: 0.15,
         }
     }
 }
@@ -178,8 +188,19 @@ impl GuidanceConfig {
         (rho * self.max_course_rate).clamp(self.min_speed, self.cruise_speed)
     }
 
-    /// Horizontal speed at along-track `along` on segment `k`: the slower of the
-    /// cruise speed and the braking curve to the corner speed of the next vertex.
+    /// Horizontal speed limit on segment `k` from the vertical speed limit.
+    pub fn climb_limit(&self, path: &Path, k: usize) -> f64 {
+        let e = path.errors(k, &Vector2::new(path.points[k].x, path.points[k].y));
+        if e.slope.abs() > 1e-9 {
+            self.max_vertical_speed / e.slope.abs()
+        } else {
+            f64::INFINITY
+        }
+    }
+
+    /// Horizontal speed profile at along-track `along` on segment `k`: the
+    /// slowest of the cruise speed, the climb limit and the braking curve to the
+    /// corner speed of the next vertex.
     pub fn speed(&self, path: &Path, k: usize, along: f64) -> f64 {
         let e = path.errors(k, &Vector2::new(path.points[k].x, path.points[k].y));
         let to_go = (e.length - along).max(0.0);
@@ -187,10 +208,29 @@ impl GuidanceConfig {
             self.min_speed
         } else {
             self.corner_speed(path.turn_angle(k))
+                .min(self.climb_limit(path, k + 1))
         };
         (corner * corner + 2.0 * self.deceleration * to_go)
             .sqrt()
             .min(self.cruise_speed)
+            .min(self.climb_limit(path, k))
+    }
+
+    /// The speed command: the profile, slowed while the course is not yet
+    /// aligned with the path (`cos` of the course error, at least a quarter), and
+    /// raised from `previous` by at most `acceleration * step`.
+    pub fn speed_command(
+        &self,
+        path: &Path,
+        e: &SegmentErrors,
+        course: f64,
+        previous: f64,
+        step: f64,
+    ) -> f64 {
+        let align = wrap_angle(course - e.path_angle).cos().max(0.25);
+        (self.speed(path, e.segment, e.along) * align)
+            .min(previous + self.acceleration * step)
+            .max(self.min_speed.min(previous))
     }
 }
 
@@ -281,6 +321,39 @@ impl GuidanceCommand {
     }
 }
 
+/// A course command that follows a target course within the rate and rate-change
+/// limits: how the LOS laws (and the fallback of the convex program) respect the
+/// same turning limits as the convex program.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CourseLimiter {
+    /// Current course command (unwrapped), rad.
+    pub course: f64,
+    /// Current course rate, rad/s.
+    pub rate: f64,
+}
+
+impl CourseLimiter {
+    /// Starts at `course` with zero rate.
+    pub fn new(course: f64) -> Self {
+        Self { course, rate: 0.0 }
+    }
+
+    /// One tick toward `target` (any wrapping): the rate that reaches it in one
+    /// tick or can still stop at it (`sqrt(2 a |error|)`), limited by
+    /// `max_course_accel` and `max_course_rate`.
+    pub fn step(&mut self, target: f64, cfg: &GuidanceConfig) -> f64 {
+        let err = wrap_angle(target - self.course);
+        let braking = (2.0 * cfg.max_course_accel * err.abs()).sqrt();
+        let wanted = err.signum() * (err.abs() / cfg.tick).min(braking);
+        let da = cfg.max_course_accel * cfg.tick;
+        self.rate = wanted
+            .clamp(self.rate - da, self.rate + da)
+            .clamp(-cfg.max_course_rate, cfg.max_course_rate);
+        self.course += self.rate * cfg.tick;
+        self.course
+    }
+}
+
 /// Unwraps angle `a` to within pi of `near`.
 pub fn unwrap_near(a: f64, near: f64) -> f64 {
     near + wrap_angle(a - near)
@@ -345,11 +418,19 @@ mod tests {
             let u = cfg.corner_speed(a);
             let rho = cfg.turning_radius(u);
             let miss = rho * (1.0 / (0.5 * a).cos() - 1.0);
-            assert!(miss <= cfg.corner_deviation + 1e-12 || u == cfg.min_speed, "{deg}");
+            assert!(
+                miss <= cfg.corner_deviation + 1e-12 || u == cfg.min_speed,
+                "{deg}"
+            );
         }
         // Speed profile never exceeds cruise and reaches the corner speed at the vertex.
         let p = square();
-        assert!((cfg.speed(&p, 0, p.errors(0, &Vector2::zeros()).length) - cfg.corner_speed(p.turn_angle(0))).abs() < 1e-12);
+        assert!(
+            (cfg.speed(&p, 0, p.errors(0, &Vector2::zeros()).length)
+                - cfg.corner_speed(p.turn_angle(0)))
+            .abs()
+                < 1e-12
+        );
         assert!(cfg.speed(&p, 0, 0.0) <= cfg.cruise_speed);
     }
 }

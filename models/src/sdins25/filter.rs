@@ -1,0 +1,702 @@
+//! The SDINS-25 filter run over a log directory: a strapdown INS (the nominal
+//! solution) corrected by the 25-state error-state EKF of [`super::model`],
+//! driven by the multi-rate scheduler (IMU samples, aiding measurements at
+//! their own times, late USBL fixes applied at their measurement time through
+//! the scheduler's history).
+//!
+//! **Sensor-error states.** The model writes each sensor error as the residual
+//! error left in the corrected sensor output: `f~ - nabla^ = f + nabla + w`,
+//! `h_meas - b^ = h + b_depth + v`, ... (error state = true bias minus the
+//! running correction). Feedback therefore *adds* the estimated sensor errors
+//! to the running corrections, and subtracts the navigation errors (INS minus
+//! true) from the strapdown solution ([`Nominal::inject`]).
+
+use std::cell::RefCell;
+use std::rc::Rc;
+
+use nav_runtime::attitude::euler_from_c_bn;
+use nav_runtime::earth::{meridian_radius, transverse_radius, Geodetic, LocalNed};
+use nav_runtime::ekf::{Ekf, FilterError};
+use nav_runtime::error_state::{ErrorStateFilter, Mechanization, NominalState};
+use nav_runtime::gate::Gate;
+use nav_runtime::imu::ImuSpec;
+use nav_runtime::log::{LogDir, SensorNoise};
+use nav_runtime::math::wrap_angle;
+use nav_runtime::model::Record;
+use nav_runtime::nalgebra::{Matrix3, SMatrix, SVector, Vector2, Vector3};
+use nav_runtime::scheduler::{FnMeasurement, Measurement, MeasurementOutcome, Scheduler, SensorId};
+use nav_runtime::sensors::ErrorSpec;
+use nav_runtime::strapdown::{NavError, NavState, Strapdown};
+
+use super::model::{
+    Sdins25, Sdins25Compass, Sdins25CompassSmallAngle, Sdins25Depth, Sdins25Dvl, Sdins25Input,
+    Sdins25Noise, Sdins25Params, Sdins25Usbl, Sdins25UsblAux,
+};
+use super::simulation::{DVL_MAX_ALTITUDE, SOUND_SPEED, TRACKPOINT_MISALIGNMENT_SIGMA};
+use crate::montecarlo::RunError;
+
+/// Number of error states.
+pub const N: usize = 25;
+
+/// The error-state filter of this model.
+pub type Filter = ErrorStateFilter<Sdins25, Nominal, N>;
+
+/// Which compass residual the filter uses.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum CompassForm {
+    /// Exact yaw of the perturbed attitude (`Sdins25Compass`).
+    #[default]
+    Exact,
+    /// The paper's small-angle `-phi_D - b_psi` (`Sdins25CompassSmallAngle`).
+    SmallAngle,
+}
+
+/// When a USBL fix reaches the filter.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum UsblDelivery {
+    /// A travel time (slant range / [`SOUND_SPEED`]) after its measurement time,
+    /// as on a real ship; the scheduler applies it at the measurement time.
+    #[default]
+    Acoustic,
+    /// At its measurement time (for comparisons).
+    OnTime,
+}
+
+/// Filter settings not in the log.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FilterOptions {
+    /// Compass residual.
+    pub compass: CompassForm,
+    /// USBL delivery.
+    pub usbl_delivery: UsblDelivery,
+    /// Innovation-gate probability for every sensor (`None`: no gating).
+    pub gate_probability: Option<f64>,
+    /// Use these sensors if present in the log.
+    pub use_dvl: bool,
+    /// Use the depth meter.
+    pub use_depth: bool,
+    /// Use the compass.
+    pub use_compass: bool,
+    /// Use the USBL.
+    pub use_usbl: bool,
+}
+
+impl Default for FilterOptions {
+    fn default() -> Self {
+        Self {
+            compass: CompassForm::Exact,
+            usbl_delivery: UsblDelivery::Acoustic,
+            gate_probability: Some(Gate::DEFAULT_PROBABILITY),
+            use_dvl: true,
+            use_depth: true,
+            use_compass: true,
+            use_usbl: true,
+        }
+    }
+}
+
+/// Defaults when `[initial_sigma]` lacks a key (m, m/s, rad).
+pub const DEFAULT_INITIAL_SIGMA: [f64; 4] = [
+    1.0,
+    0.05,
+    8.726_646_259_971_648e-4,
+    8.726_646_259_971_648e-3,
+];
+
+/// Smallest prior sigma of any state (in the state's units): a zero variance
+/// would be "repaired" by the filter after every step.
+const SIGMA_FLOOR: f64 = 1e-9;
+
+/// One IMU sample as the scheduler holds it: body rate (rad/s) and specific
+/// force (m/s^2), before the bias corrections.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ImuSample {
+    /// Gyro output.
+    pub gyro: Vector3<f64>,
+    /// Accelerometer output.
+    pub accel: Vector3<f64>,
+}
+
+impl Record for ImuSample {
+    const LEN: usize = 6;
+    const NAMES: &'static [&'static str] = &["gx", "gy", "gz", "ax", "ay", "az"];
+    fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
+        Self {
+            gyro: Vector3::new(f(0), f(1), f(2)),
+            accel: Vector3::new(f(3), f(4), f(5)),
+        }
+    }
+    fn get(&self, i: usize) -> f64 {
+        match i {
+            0..=2 => self.gyro[i],
+            3..=5 => self.accel[i - 3],
+            _ => f64::NAN,
+        }
+    }
+}
+
+/// The nominal solution: strapdown INS plus the running sensor corrections.
+#[derive(Clone, Debug)]
+pub struct Nominal {
+    /// The strapdown INS.
+    pub ins: Strapdown,
+    /// Accelerometer bias correction, subtracted from the samples (m/s^2).
+    pub accel_bias: Vector3<f64>,
+    /// Gyro bias correction, subtracted from the samples (rad/s).
+    pub gyro_bias: Vector3<f64>,
+    /// USBL horizontal bias correction (m, N/E).
+    pub usbl_bias: Vector2<f64>,
+    /// Depth-meter bias correction (m, height convention: `h_meas = h + b`).
+    pub depth_bias: f64,
+    /// DVL bias correction (m/s, body).
+    pub dvl_bias: Vector3<f64>,
+    /// Compass bias correction (rad).
+    pub compass_bias: f64,
+    /// USBL misalignment correction (rad).
+    pub usbl_misalignment: Vector3<f64>,
+}
+
+impl Nominal {
+    /// A nominal solution at `state` with zero corrections.
+    pub fn new(ins: Strapdown) -> Self {
+        Self {
+            ins,
+            accel_bias: Vector3::zeros(),
+            gyro_bias: Vector3::zeros(),
+            usbl_bias: Vector2::zeros(),
+            depth_bias: 0.0,
+            dvl_bias: Vector3::zeros(),
+            compass_bias: 0.0,
+            usbl_misalignment: Vector3::zeros(),
+        }
+    }
+}
+
+impl NominalState<N> for Nominal {
+    fn inject(&mut self, e: &SVector<f64, N>) {
+        self.ins.inject(&NavError::from_slice(&e.as_slice()[..9]));
+        let v3 = |i: usize| Vector3::new(e[i], e[i + 1], e[i + 2]);
+        self.accel_bias += v3(Sdins25::ACCEL_BIAS);
+        self.gyro_bias += v3(Sdins25::GYRO_BIAS);
+        self.usbl_bias += Vector2::new(e[Sdins25::USBL_BIAS], e[Sdins25::USBL_BIAS + 1]);
+        self.depth_bias += e[Sdins25::DEPTH_BIAS];
+        self.dvl_bias += v3(Sdins25::DVL_BIAS);
+        self.compass_bias += e[Sdins25::COMPASS_BIAS];
+        self.usbl_misalignment += v3(Sdins25::USBL_MISALIGNMENT);
+    }
+}
+
+impl Mechanization<Sdins25, N> for Nominal {
+    type Imu = ImuSample;
+    fn mechanize(&mut self, dt: f64, imu: &ImuSample) -> Sdins25Input {
+        let w = imu.gyro - self.gyro_bias;
+        let f = imu.accel - self.accel_bias;
+        let s = &self.ins.state;
+        let input = Sdins25Input {
+            latitude: s.lat,
+            height: s.h,
+            velocity: s.v_n,
+            c_bn: s.c_bn,
+            specific_force: f,
+        };
+        self.ins.update_rates(&w, &f, dt);
+        input
+    }
+}
+
+/// The filter's estimate at one time.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Estimate {
+    /// Time (s).
+    pub t: f64,
+    /// Corrected navigation solution.
+    pub nav: NavState,
+    /// Covariance of the 9 navigation errors with position in metres (N, E, D),
+    /// velocity (m/s) and attitude (rad).
+    pub cov: SMatrix<f64, 9, 9>,
+    /// Compass bias estimate (rad) and its sigma.
+    pub compass_bias: (f64, f64),
+    /// USBL bias estimate (m, N) and its sigma.
+    pub usbl_bias_n: (f64, f64),
+}
+
+impl Estimate {
+    fn of(t: f64, f: &Filter) -> Self {
+        let nav = f.nominal().ins.state;
+        let p = f.covariance();
+        let (rm, rn) = (
+            meridian_radius(nav.lat) + nav.h,
+            transverse_radius(nav.lat) + nav.h,
+        );
+        let mut scale = [1.0; 9];
+        scale[0] = rm;
+        scale[1] = rn * nav.lat.cos();
+        scale[2] = -1.0;
+        let cov = SMatrix::<f64, 9, 9>::from_fn(|i, j| scale[i] * p[(i, j)] * scale[j]);
+        let cb = Sdins25::COMPASS_BIAS;
+        let ub = Sdins25::USBL_BIAS;
+        Self {
+            t,
+            nav,
+            cov,
+            compass_bias: (f.nominal().compass_bias, p[(cb, cb)].sqrt()),
+            usbl_bias_n: (f.nominal().usbl_bias[0], p[(ub, ub)].sqrt()),
+        }
+    }
+}
+
+/// Counts of one aiding sensor.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SensorHealth {
+    /// Rows in the log.
+    pub rows: u64,
+    /// Applied.
+    pub accepted: u64,
+    /// Refused by the innovation gate.
+    pub gated: u64,
+    /// Refused by the filter or the scheduler (error, too old, duplicate, invalid).
+    pub rejected: u64,
+    /// Not used: no bottom lock, above the DVL range, or before the start.
+    pub skipped: u64,
+}
+
+/// The result of a run over a log.
+#[derive(Clone, Debug)]
+pub struct Sdins25Run {
+    /// Estimates at the requested times (`None` where no IMU sample is near).
+    pub estimates: Vec<Option<Estimate>>,
+    /// IMU samples processed.
+    pub samples: usize,
+    /// Per-sensor health: depth, dvl, heading, usbl.
+    pub health: [(&'static str, SensorHealth); 4],
+    /// Covariance diagonal repairs.
+    pub repairs: u64,
+    /// Wall time in the filter loop (s).
+    pub runtime_s: f64,
+    /// Rollbacks for late measurements.
+    pub replays: u64,
+    /// The filter at the end (all measurements applied).
+    pub final_filter: Filter,
+}
+
+/// Sensor registration order (also the order of measurements at equal times).
+const SENSORS: [&str; 4] = ["depth", "dvl", "heading", "usbl"];
+
+fn filter_error(e: FilterError) -> RunError {
+    RunError::Invalid(format!("sdins25 filter: {e}"))
+}
+
+fn noise_or(n: Option<SensorNoise>, spec: ErrorSpec) -> SensorNoise {
+    n.unwrap_or(SensorNoise {
+        bias_sigma: match spec.bias {
+            nav_runtime::sensors::Draw::Gaussian(s) => s,
+            _ => 0.0,
+        },
+        noise_sigma: spec.noise,
+    })
+}
+
+/// Initial filter (nominal from `[initial]`, covariance from `[initial_sigma]`
+/// and the sensor bias sigmas of `[sensors.*]`, Table 1 where absent), with its
+/// nominal primed by the first IMU sample.
+pub fn initial_filter(log: &LogDir, options: &FilterOptions) -> Result<Filter, RunError> {
+    let meta = &log.meta;
+    let [roll, pitch, yaw] = meta.initial.attitude()?;
+    let first = log
+        .imu
+        .first()
+        .ok_or_else(|| RunError::Invalid("imu.csv has no rows".into()))?;
+    let att = nav_runtime::attitude::Euler { roll, pitch, yaw };
+    let state = NavState::new(
+        Geodetic::new(meta.initial.lat, meta.initial.lon, -meta.initial.depth),
+        Vector3::new(meta.initial.vn, meta.initial.ve, meta.initial.vd),
+        &att,
+    );
+    let mut ins = Strapdown::with_time(state, first.t);
+    // The first sample is the rate at the initial time: it starts the rate model.
+    ins.set_previous_rates(
+        &Vector3::new(first.gx, first.gy, first.gz),
+        &Vector3::new(first.ax, first.ay, first.az),
+    );
+
+    let spec = ImuSpec::sdins25();
+    let imu = meta.sensors.imu.unwrap_or(nav_runtime::log::ImuNoise {
+        gyro_bias_sigma: spec.gyro_bias,
+        gyro_noise_sigma: spec.gyro_noise,
+        accel_bias_sigma: spec.accel_bias,
+        accel_noise_sigma: spec.accel_noise,
+    });
+    let sig = meta.initial_sigma.unwrap_or_default();
+    let [dp, dv, dl, dh] = DEFAULT_INITIAL_SIGMA;
+    let (sp, sv) = (sig.position.unwrap_or(dp), sig.velocity.unwrap_or(dv));
+    let (sl, sh) = (sig.level.unwrap_or(dl), sig.heading.unwrap_or(dh));
+    let usbl = noise_or(meta.sensors.usbl, ErrorSpec::sdins25_usbl());
+    let depth = noise_or(meta.sensors.depth, ErrorSpec::sdins25_depth());
+    let dvl = noise_or(meta.sensors.dvl, ErrorSpec::sdins25_dvl());
+    let heading = noise_or(meta.sensors.heading, ErrorSpec::sdins25_compass());
+    // meta.toml has no key for the array misalignment: an array with a bias is
+    // taken as uncalibrated (Trackpoint II, 0.5 deg), one without as calibrated.
+    let misalignment = if usbl.bias_sigma > 0.0 {
+        TRACKPOINT_MISALIGNMENT_SIGMA
+    } else {
+        0.0
+    };
+    let lat = state.lat;
+    let mut sigma = [0.0; N];
+    sigma[0] = sp / (meridian_radius(lat) + state.h);
+    sigma[1] = sp / ((transverse_radius(lat) + state.h) * lat.cos());
+    sigma[2] = sp;
+    sigma[3..6].fill(sv);
+    sigma[6..8].fill(sl);
+    sigma[8] = sh;
+    sigma[9..12].fill(imu.accel_bias_sigma);
+    sigma[12..15].fill(imu.gyro_bias_sigma);
+    sigma[15..17].fill(usbl.bias_sigma);
+    sigma[17] = depth.bias_sigma;
+    sigma[18..21].fill(dvl.bias_sigma);
+    sigma[21] = heading.bias_sigma;
+    sigma[22..25].fill(misalignment);
+    let p0 = SMatrix::<f64, N, N>::from_diagonal(&SVector::<f64, N>::from_fn(|i, _| {
+        sigma[i].max(SIGMA_FLOOR).powi(2)
+    }));
+
+    // Noise densities from per-sample sigmas: q = sigma^2 dt.
+    let dt = imu_period(log);
+    let noise = Sdins25Noise {
+        accel_noise: Vector3::repeat(imu.accel_noise_sigma.powi(2) * dt),
+        gyro_noise: Vector3::repeat(imu.gyro_noise_sigma.powi(2) * dt),
+    };
+    let gate = match options.gate_probability {
+        Some(p) => Some(Gate::new(p).map_err(filter_error)?),
+        None => None,
+    };
+    let ekf = Ekf::<Sdins25, N>::new(SVector::zeros(), p0, Sdins25Params::default(), noise)
+        .map_err(filter_error)?
+        .with_default_gate(gate);
+    Ok(ErrorStateFilter::new(ekf, Nominal::new(ins)))
+}
+
+/// Median IMU sampling interval (s).
+pub fn imu_period(log: &LogDir) -> f64 {
+    let mut d: Vec<f64> = log.imu.windows(2).map(|w| w[1].t - w[0].t).collect();
+    if d.is_empty() {
+        return 0.01;
+    }
+    d.sort_by(f64::total_cmp);
+    d[d.len() / 2]
+}
+
+#[derive(Clone, Copy, Debug)]
+enum Kind {
+    Depth(usize),
+    Dvl(usize),
+    Heading(usize),
+    Usbl(usize),
+    Record(usize),
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Event {
+    delivery: f64,
+    time: f64,
+    kind: Kind,
+}
+
+type Recorder = Rc<RefCell<Vec<Option<Estimate>>>>;
+
+fn outcome<const M: usize>(
+    r: Result<nav_runtime::ekf::UpdateReport<M>, FilterError>,
+) -> Result<MeasurementOutcome, FilterError> {
+    r.map(|rep| MeasurementOutcome::from(&rep))
+}
+
+/// Runs the filter over `log`, recording estimates at `record_times` (s; each
+/// snapped to the nearest IMU sample time within half a period).
+pub fn run(
+    log: &LogDir,
+    options: &FilterOptions,
+    record_times: &[f64],
+) -> Result<Sdins25Run, RunError> {
+    let filter = initial_filter(log, options)?;
+    let t0 = filter.nominal().ins.time;
+    let dt_imu = imu_period(log);
+    let imu_t: Vec<f64> = log.imu.iter().map(|r| r.t).collect();
+    let mut health = [SensorHealth::default(); 4];
+    let mut events: Vec<Event> = Vec::new();
+
+    // Depth meter (height convention).
+    let depth_noise = noise_or(log.meta.sensors.depth, ErrorSpec::sdins25_depth());
+    if let (true, Some(rows)) = (options.use_depth, &log.depth) {
+        health[0].rows = rows.len() as u64;
+        events.extend(rows.iter().enumerate().map(|(i, r)| Event {
+            delivery: r.t,
+            time: r.t,
+            kind: Kind::Depth(i),
+        }));
+    }
+    // DVL: valid only with bottom lock and below its range.
+    let dvl_noise = noise_or(log.meta.sensors.dvl, ErrorSpec::sdins25_dvl());
+    if let (true, Some(rows)) = (options.use_dvl, &log.dvl) {
+        health[1].rows = rows.len() as u64;
+        for (i, r) in rows.iter().enumerate() {
+            let in_range = altitude_at(log, r.t).is_none_or(|a| a <= DVL_MAX_ALTITUDE);
+            if r.velocity().is_some() && in_range {
+                events.push(Event {
+                    delivery: r.t,
+                    time: r.t,
+                    kind: Kind::Dvl(i),
+                });
+            } else {
+                health[1].skipped += 1;
+            }
+        }
+    }
+    let heading_noise = noise_or(log.meta.sensors.heading, ErrorSpec::sdins25_compass());
+    if let (true, Some(rows)) = (options.use_compass, &log.heading) {
+        health[2].rows = rows.len() as u64;
+        events.extend(rows.iter().enumerate().map(|(i, r)| Event {
+            delivery: r.t,
+            time: r.t,
+            kind: Kind::Heading(i),
+        }));
+    }
+    // USBL: transducer from [usbl], else at the surface above the start.
+    let usbl_noise = noise_or(log.meta.sensors.usbl, ErrorSpec::sdins25_usbl());
+    let transducer = log.meta.usbl.map_or(
+        Geodetic::new(log.meta.initial.lat, log.meta.initial.lon, 0.0),
+        |u| Geodetic::new(u.lat, u.lon, -u.depth),
+    );
+    let frame = LocalNed::new(transducer);
+    let mut usbl_latency: f64 = 0.0;
+    if let (true, Some(rows)) = (options.use_usbl, &log.usbl) {
+        health[3].rows = rows.len() as u64;
+        for (i, r) in rows.iter().enumerate() {
+            let delay = match options.usbl_delivery {
+                UsblDelivery::OnTime => 0.0,
+                UsblDelivery::Acoustic => {
+                    frame
+                        .geodetic_to_ned(&Geodetic::new(r.lat, r.lon, -r.depth))
+                        .norm()
+                        / SOUND_SPEED
+                }
+            };
+            usbl_latency = usbl_latency.max(delay);
+            events.push(Event {
+                delivery: r.t + delay,
+                time: r.t,
+                kind: Kind::Usbl(i),
+            });
+        }
+    }
+
+    // Recorders: one per IMU sample time that some requested time snaps to.
+    let mut slots: Vec<(usize, Vec<usize>)> = Vec::new();
+    for (slot, &t) in record_times.iter().enumerate() {
+        let k = imu_t.partition_point(|&x| x < t);
+        let best = [k.wrapping_sub(1), k]
+            .into_iter()
+            .filter(|&j| j < imu_t.len())
+            .min_by(|&a, &b| (imu_t[a] - t).abs().total_cmp(&(imu_t[b] - t).abs()));
+        if let Some(j) = best.filter(|&j| (imu_t[j] - t).abs() <= 0.5 * dt_imu + 1e-9) {
+            match slots.last_mut() {
+                Some((last, v)) if *last == j => v.push(slot),
+                _ => slots.push((j, vec![slot])),
+            }
+        }
+    }
+    let recorded: Recorder = Rc::new(RefCell::new(vec![None; record_times.len()]));
+    let mut slot_lists = Vec::new();
+    for (j, list) in slots {
+        if j == 0 {
+            let e = Estimate::of(imu_t[0], &filter);
+            for &s in &list {
+                recorded.borrow_mut()[s] = Some(e);
+            }
+        } else {
+            events.push(Event {
+                delivery: imu_t[j],
+                time: imu_t[j],
+                kind: Kind::Record(slot_lists.len()),
+            });
+            slot_lists.push(list);
+        }
+    }
+    events.sort_by(|a, b| a.delivery.total_cmp(&b.delivery));
+
+    let mut sched = Scheduler::new(filter, t0).map_err(|e| RunError::Invalid(e.to_string()))?;
+    let mut ids: Vec<SensorId> = Vec::new();
+    for (i, name) in SENSORS.iter().enumerate() {
+        let latency = if i == 3 { usbl_latency + 1.0 } else { 0.0 };
+        ids.push(
+            sched
+                .add_sensor(*name, 2.0, latency)
+                .map_err(|e| RunError::Invalid(e.to_string()))?,
+        );
+    }
+    let rec_id = sched
+        .add_sensor("record", 10.0, 0.0)
+        .map_err(|e| RunError::Invalid(e.to_string()))?;
+
+    let make = |ev: &Event| -> (SensorId, Box<dyn Measurement<Filter>>) {
+        match ev.kind {
+            Kind::Depth(i) => {
+                let h_meas = -log.depth.as_ref().map_or(f64::NAN, |r| r[i].depth);
+                let r = SVector::<f64, 1>::new(depth_noise.noise_sigma.powi(2));
+                let m = FnMeasurement::new(&[h_meas], move |f: &mut Filter| {
+                    let nom = f.nominal();
+                    let z = SVector::<f64, 1>::new(nom.ins.state.h - (h_meas - nom.depth_bias));
+                    outcome(f.update_sequential::<Sdins25Depth, 1>(&z, &r, &()))
+                });
+                (ids[0], Box::new(m))
+            }
+            Kind::Dvl(i) => {
+                let v = log
+                    .dvl
+                    .as_ref()
+                    .and_then(|r| r[i].velocity())
+                    .map_or(Vector3::repeat(f64::NAN), Vector3::from);
+                let r = SVector::<f64, 3>::repeat(dvl_noise.noise_sigma.powi(2));
+                let m = FnMeasurement::new(v.as_slice(), move |f: &mut Filter| {
+                    let nom = f.nominal();
+                    let s = &nom.ins.state;
+                    let z = s.v_n - s.c_bn * (v - nom.dvl_bias);
+                    outcome(f.update_sequential::<Sdins25Dvl, 3>(&z, &r, &()))
+                });
+                (ids[1], Box::new(m))
+            }
+            Kind::Heading(i) => {
+                let psi = log.heading.as_ref().map_or(f64::NAN, |r| r[i].heading);
+                let r = SVector::<f64, 1>::new(heading_noise.noise_sigma.powi(2));
+                let form = options.compass;
+                let m = FnMeasurement::new(&[psi], move |f: &mut Filter| {
+                    let nom = f.nominal();
+                    let yaw = euler_from_c_bn(&nom.ins.state.c_bn).yaw;
+                    let z = SVector::<f64, 1>::new(wrap_angle(yaw - (psi - nom.compass_bias)));
+                    outcome(match form {
+                        CompassForm::Exact => f.update_sequential::<Sdins25Compass, 1>(&z, &r, &()),
+                        CompassForm::SmallAngle => {
+                            f.update_sequential::<Sdins25CompassSmallAngle, 1>(&z, &r, &())
+                        }
+                    })
+                });
+                (ids[2], Box::new(m))
+            }
+            Kind::Usbl(i) => {
+                let row = log.usbl.as_ref().map(|r| r[i]);
+                let (lat, lon) = row.map_or((f64::NAN, f64::NAN), |r| (r.lat, r.lon));
+                let r = SVector::<f64, 2>::repeat(usbl_noise.noise_sigma.powi(2));
+                let m = FnMeasurement::new(&[lat, lon], move |f: &mut Filter| {
+                    let nom = f.nominal();
+                    let s = &nom.ins.state;
+                    let rel = frame.geodetic_to_ned(&s.position());
+                    let dn = (meridian_radius(s.lat) + s.h) * (s.lat - lat);
+                    let de =
+                        (transverse_radius(s.lat) + s.h) * s.lat.cos() * wrap_angle(s.lon - lon);
+                    let tilt = nom.usbl_misalignment.cross(&rel);
+                    let z = Vector2::new(dn, de) + nom.usbl_bias + Vector2::new(tilt.x, tilt.y);
+                    let aux = Sdins25UsblAux {
+                        relative_position: rel,
+                    };
+                    outcome(f.update_sequential::<Sdins25Usbl, 2>(&z, &r, &aux))
+                });
+                (ids[3], Box::new(m))
+            }
+            Kind::Record(k) => {
+                let rec = Rc::clone(&recorded);
+                let list = slot_lists[k].clone();
+                let t = ev.time;
+                let m = FnMeasurement::new(&[], move |f: &mut Filter| {
+                    let e = Estimate::of(t, f);
+                    let mut v = rec.borrow_mut();
+                    for &s in &list {
+                        v[s] = Some(e);
+                    }
+                    Ok(MeasurementOutcome {
+                        accepted: true,
+                        nis: 0.0,
+                        threshold: None,
+                        dof: 0,
+                    })
+                });
+                (rec_id, Box::new(m))
+            }
+        }
+    };
+
+    let start = std::time::Instant::now();
+    let mut next = 0;
+    let mut samples = 0;
+    let mut skipped_early = [0u64; 4];
+    let mut push = |sched: &mut Scheduler<Filter>, ev: &Event| {
+        let (id, m) = make(ev);
+        if ev.time <= t0 {
+            if id.index() < 4 {
+                skipped_early[id.index()] += 1;
+            }
+            return;
+        }
+        // Refusals are counted by the scheduler per sensor.
+        let _ = sched.push_measurement(id, ev.time, m);
+    };
+    for row in log.imu.iter().skip(1) {
+        while let Some(ev) = events.get(next).filter(|e| e.delivery <= row.t) {
+            push(&mut sched, ev);
+            next += 1;
+        }
+        let imu = ImuSample {
+            gyro: Vector3::new(row.gx, row.gy, row.gz),
+            accel: Vector3::new(row.ax, row.ay, row.az),
+        };
+        sched
+            .push_imu(row.t, imu)
+            .map_err(|e| RunError::Invalid(format!("imu.csv at t = {} s: {e}", row.t)))?;
+        samples += 1;
+    }
+    // Fixes still travelling when the IMU data ends (measured before its end).
+    for ev in &events[next..] {
+        push(&mut sched, ev);
+    }
+    let runtime_s = start.elapsed().as_secs_f64();
+
+    for (i, h) in health.iter_mut().enumerate() {
+        if let Some(s) = sched.sensor_stats(ids[i]) {
+            h.accepted = s.accepted;
+            h.gated = s.gated;
+            h.rejected = s.failed + s.too_old + s.duplicate + s.invalid + s.queue_full;
+            h.skipped += skipped_early[i];
+        }
+    }
+    let final_filter = sched.filter().clone();
+    let repairs = final_filter.ekf().counters().covariance_repairs;
+    let replays = sched.stats().replays;
+    drop(sched);
+    let estimates = Rc::try_unwrap(recorded)
+        .map(RefCell::into_inner)
+        .unwrap_or_else(|rc| rc.borrow().clone());
+    Ok(Sdins25Run {
+        estimates,
+        samples: samples + 1,
+        health: [
+            (SENSORS[0], health[0]),
+            (SENSORS[1], health[1]),
+            (SENSORS[2], health[2]),
+            (SENSORS[3], health[3]),
+        ],
+        repairs,
+        runtime_s,
+        replays,
+        final_filter,
+    })
+}
+
+/// Echo-sounder altitude at `t`: the latest row at or before `t` (m).
+fn altitude_at(log: &LogDir, t: f64) -> Option<f64> {
+    let rows = log.altitude.as_ref()?;
+    let k = rows.partition_point(|r| r.t <= t + 1e-9);
+    rows.get(k.checked_sub(1)?).map(|r| r.altitude)
+}
+
+/// `C_b^n` from Euler angles (rad).
+pub fn c_bn(roll: f64, pitch: f64, yaw: f64) -> Matrix3<f64> {
+    nav_runtime::attitude::Euler { roll, pitch, yaw }.c_bn()
+}

@@ -1,0 +1,643 @@
+//! VKF (MODELS.md section 3): the velocity Kalman filter, the switching box and
+//! the 9-state integrated filter, their simulation, and the `vkf` scenario of
+//! `navsim`, which runs pure INS, conventional INS-DVL and VKF-aided navigation
+//! on the same data, with a realistic DVL bias (+-0.005 m/s, the top-level
+//! keys) and with the paper's +-0.5 m/s (the `paper_dvl_bias` object).
+
+pub mod filter;
+pub mod model;
+pub mod simulation;
+
+use crate::montecarlo::{metric_values, RunError, RunOptions, RunResult, RunTable, Scenario};
+use crate::plot::{self, Line};
+use filter::{RunSettings, Source, VkfRun};
+use nav_runtime::log::LogDir;
+use nav_runtime::nalgebra::Vector3;
+use nav_runtime::stats;
+use serde_json::{json, Map, Value};
+use simulation::{DvlBias, RunTruth};
+use std::path::Path;
+
+pub use model::{Nav9, Nav9Dvl, Nav9Rpm, VelocityFilter, VelocityFilterDvl};
+
+/// The three navigators, in the order of the JSON keys.
+pub const SOLUTIONS: [&str; 3] = ["pure_ins", "ins_dvl", "vkf"];
+
+/// The `vkf` scenario.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct VkfScenario;
+
+/// Errors of one navigator in one run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Score {
+    /// Final horizontal error (m).
+    pub final_m: f64,
+    /// Largest horizontal error over the run (m).
+    pub max_m: f64,
+    /// RMS of the horizontal error over the 5 Hz epochs (m).
+    pub rms_m: f64,
+    /// Growth of the horizontal error vector over the DVL outages, summed (m).
+    pub outage_growth_m: f64,
+}
+
+/// Scores of one run over one log.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunScores {
+    /// Pure INS, INS-DVL, VKF (the order of [`SOLUTIONS`]).
+    pub scores: [Score; 3],
+    /// Horizontal distance travelled (m).
+    pub distance_m: f64,
+    /// DVL outages seen by the switch, `(start, end)` (s).
+    pub outages: Vec<(f64, f64)>,
+    /// Time, truth north/east and the three horizontal error vectors (N, E), per epoch.
+    pub series: Vec<[f64; 9]>,
+}
+
+/// Truth position NED from the start (m): trapezoidal integral of the truth
+/// velocity, the frame of the 9-state filter (flat, `d position/dt = v^n`).
+fn truth_positions(log: &LogDir) -> Vec<(f64, Vector3<f64>)> {
+    let rows = log.truth.as_deref().unwrap_or(&[]);
+    let mut out = Vec::with_capacity(rows.len());
+    let mut p = Vector3::zeros();
+    for (i, r) in rows.iter().enumerate() {
+        if i > 0 {
+            let q = &rows[i - 1];
+            p += 0.5 * (r.t - q.t) * Vector3::new(r.vn + q.vn, r.ve + q.ve, r.vd + q.vd);
+        }
+        out.push((r.t, p));
+    }
+    out
+}
+
+/// Scores a run against the log's truth.
+pub fn score(run: &VkfRun, log: &LogDir) -> Result<RunScores, RunError> {
+    let truth = truth_positions(log);
+    let mut series = Vec::with_capacity(run.records.len());
+    let mut j = 0usize;
+    let mut distance_m = 0.0;
+    let mut last_truth: Option<Vector3<f64>> = None;
+    let mut outages = Vec::new();
+    let mut outage_start: Option<(f64, usize)> = None;
+    let mut growth = [0.0; 3];
+    for r in &run.records {
+        while j + 1 < truth.len() && truth[j].0 < r.t - 1e-6 {
+            j += 1;
+        }
+        let Some(&(tt, p)) = truth.get(j) else { break };
+        if (tt - r.t).abs() > 1e-6 {
+            continue;
+        }
+        if let Some(q) = last_truth {
+            distance_m += (p - q).xy().norm();
+        }
+        last_truth = Some(p);
+        let e1 = r.ins_dvl - p;
+        let e2 = r.vkf - p;
+        series.push([
+            r.t,
+            p.x,
+            p.y,
+            r.pure_error.x,
+            r.pure_error.y,
+            e1.x,
+            e1.y,
+            e2.x,
+            e2.y,
+        ]);
+        let k = series.len() - 1;
+        match (r.source, outage_start) {
+            (Source::Rpm, None) => outage_start = Some((r.t, k.saturating_sub(1))),
+            (Source::Dvl, Some((t0, k0))) => {
+                outages.push((t0, r.t));
+                add_growth(&mut growth, &series[k0], &series[k]);
+                outage_start = None;
+            }
+            _ => {}
+        }
+    }
+    if let (Some((t0, k0)), Some(last)) = (outage_start, series.last()) {
+        outages.push((t0, last[0]));
+        add_growth(&mut growth, &series[k0], last);
+    }
+    let last = series
+        .last()
+        .ok_or_else(|| RunError::Invalid("no epoch matches a truth time".into()))?;
+    let scores = std::array::from_fn(|s| {
+        let h: Vec<f64> = series
+            .iter()
+            .map(|x| x[3 + 2 * s].hypot(x[4 + 2 * s]))
+            .collect();
+        Score {
+            final_m: last[3 + 2 * s].hypot(last[4 + 2 * s]),
+            max_m: stats::max(&h),
+            rms_m: stats::rms(&h),
+            outage_growth_m: growth[s],
+        }
+    });
+    Ok(RunScores {
+        scores,
+        distance_m,
+        outages,
+        series,
+    })
+}
+
+fn add_growth(growth: &mut [f64; 3], a: &[f64; 9], b: &[f64; 9]) {
+    for (s, g) in growth.iter_mut().enumerate() {
+        *g += (b[3 + 2 * s] - a[3 + 2 * s]).hypot(b[4 + 2 * s] - a[4 + 2 * s]);
+    }
+}
+
+/// Runs the navigators over one log and scores them.
+pub fn run_log(log: &LogDir) -> Result<(VkfRun, RunScores), RunError> {
+    let run =
+        filter::run(log, &RunSettings::default()).map_err(|e| RunError::Invalid(e.to_string()))?;
+    let scores = score(&run, log)?;
+    Ok((run, scores))
+}
+
+fn variant_prefix(bias: DvlBias) -> &'static str {
+    match bias {
+        DvlBias::Realistic => "realistic",
+        DvlBias::Paper => "paper",
+    }
+}
+
+fn put_scores(mut r: RunResult, bias: DvlBias, s: &RunScores) -> RunResult {
+    let v = variant_prefix(bias);
+    for (name, sc) in SOLUTIONS.iter().zip(&s.scores) {
+        r = r
+            .with_metric(&format!("{v}.{name}.final_m"), sc.final_m)
+            .with_metric(&format!("{v}.{name}.rms_m"), sc.rms_m)
+            .with_metric(&format!("{v}.{name}.max_m"), sc.max_m)
+            .with_metric(&format!("{v}.{name}.outage_growth_m"), sc.outage_growth_m);
+    }
+    r.with_metric(&format!("{v}.distance_m"), s.distance_m)
+}
+
+const TABLE: &str = "vkf";
+const COLUMNS: [&str; 27] = [
+    "t",
+    "truth_n",
+    "truth_e",
+    "pure_n",
+    "pure_e",
+    "ins_dvl_n",
+    "ins_dvl_e",
+    "vkf_n",
+    "vkf_e",
+    "pure_error_m",
+    "ins_dvl_error_m",
+    "vkf_error_m",
+    "altitude_m",
+    "dvl_in_use",
+    "rpm",
+    "dvl_vn",
+    "dvl_ve",
+    "dvl_forward",
+    "rpm_speed",
+    "rpm_vn",
+    "rpm_ve",
+    "sf",
+    "b",
+    "sf_sigma",
+    "b_sigma",
+    "sf_true_local",
+    "b_true_local",
+];
+const PAPER_TABLE: &str = "vkf-paper-bias";
+const PAPER_COLUMNS: [&str; 12] = [
+    "t",
+    "truth_n",
+    "truth_e",
+    "pure_n",
+    "pure_e",
+    "ins_dvl_n",
+    "ins_dvl_e",
+    "vkf_n",
+    "vkf_e",
+    "pure_error_m",
+    "ins_dvl_error_m",
+    "vkf_error_m",
+];
+
+/// Position columns of a scored epoch: truth, the three estimates, their errors.
+fn position_columns(x: &[f64; 9]) -> [f64; 12] {
+    [
+        x[0],
+        x[1],
+        x[2],
+        x[1] + x[3],
+        x[2] + x[4],
+        x[1] + x[5],
+        x[2] + x[6],
+        x[1] + x[7],
+        x[2] + x[8],
+        x[3].hypot(x[4]),
+        x[5].hypot(x[6]),
+        x[7].hypot(x[8]),
+    ]
+}
+
+/// 1 Hz tables of a run (every fifth epoch).
+fn tables(run: &VkfRun, s: &RunScores, paper: &RunScores, truth: &RunTruth) -> Vec<RunTable> {
+    let mut table = RunTable::new(TABLE, &COLUMNS);
+    let mut paper_table = RunTable::new(PAPER_TABLE, &PAPER_COLUMNS);
+    let by_time = |t: f64, xs: &[[f64; 9]]| xs.iter().find(|x| (x[0] - t).abs() < 1e-6).copied();
+    for r in run
+        .records
+        .iter()
+        .filter(|r| (r.t - r.t.round()).abs() < 1e-6)
+    {
+        let Some(x) = by_time(r.t, &s.series) else {
+            continue;
+        };
+        let (sf_true, b_true) = truth.map.tangent(r.rpm);
+        let mut row = position_columns(&x).to_vec();
+        row.extend([
+            r.altitude,
+            f64::from(u8::from(r.source == Source::Dvl)),
+            r.rpm,
+            r.dvl_n.x,
+            r.dvl_n.y,
+            r.dvl_forward,
+            r.rpm_speed,
+            r.rpm_n.x,
+            r.rpm_n.y,
+            r.sf,
+            r.b,
+            r.sf_sigma,
+            r.b_sigma,
+            sf_true,
+            b_true,
+        ]);
+        table.push(&row);
+        if let Some(y) = by_time(r.t, &paper.series) {
+            paper_table.push(&position_columns(&y));
+        }
+    }
+    vec![table, paper_table]
+}
+
+impl Scenario for VkfScenario {
+    fn name(&self) -> &'static str {
+        "vkf"
+    }
+    fn description(&self) -> &'static str {
+        "VKF: pure INS vs INS-DVL vs RPM/DVL velocity-filter aided INS, 27 min at 10 kn, DVL out of range twice"
+    }
+    fn default_runs(&self) -> usize {
+        20
+    }
+    fn run_one(&self, seed: u64, options: &RunOptions) -> Result<RunResult, RunError> {
+        let logs = simulation::simulate(seed);
+        let (run, real) = run_log(&logs.realistic)?;
+        let (_, paper) = run_log(&logs.paper)?;
+        let mut r = put_scores(RunResult::new(seed), DvlBias::Realistic, &real);
+        r = put_scores(r, DvlBias::Paper, &paper);
+        if let Some(last) = run.records.last() {
+            let (sf_true, b_true) = logs.truth.map.tangent(last.rpm);
+            r = r
+                .with_metric("sf_error_final", last.sf - sf_true)
+                .with_metric("b_error_final_m_s", last.b - b_true)
+                .with_metric("sf_sigma_final", last.sf_sigma)
+                .with_metric("b_sigma_final_m_s", last.b_sigma);
+        }
+        r = r
+            .with_metric("outage_s", real.outages.iter().map(|(a, b)| b - a).sum())
+            .with_metric("refused_ins_dvl", run.refused.0 as f64)
+            .with_metric("refused_vkf", run.refused.1 as f64);
+        r.extra = json!({ "outages_s": real.outages });
+        if options.keep_series {
+            r.tables = tables(&run, &real, &paper, &logs.truth);
+        }
+        Ok(r)
+    }
+    fn summarize(
+        &self,
+        runs: &[RunResult],
+        _options: &RunOptions,
+    ) -> Result<Map<String, Value>, RunError> {
+        let mut m = variant_summary(runs, DvlBias::Realistic);
+        m.insert(
+            "paper_dvl_bias".into(),
+            Value::Object(variant_summary(runs, DvlBias::Paper)),
+        );
+        let med = |k: &str| stats::median(&metric_values(runs, k));
+        m.insert(
+            "velocity_filter".into(),
+            json!({
+                "sf_error_final_median_abs": stats::median(&metric_values(runs, "sf_error_final").iter().map(|x| x.abs()).collect::<Vec<_>>()),
+                "b_error_final_median_abs_m_s": stats::median(&metric_values(runs, "b_error_final_m_s").iter().map(|x| x.abs()).collect::<Vec<_>>()),
+                "sf_sigma_final": med("sf_sigma_final"),
+                "b_sigma_final_m_s": med("b_sigma_final_m_s"),
+                "sf_error_over_sigma_median": stats::median(&metric_values(runs, "sf_error_final").iter().zip(metric_values(runs, "sf_sigma_final")).map(|(e, s)| e.abs() / s).collect::<Vec<_>>()),
+            }),
+        );
+        m.insert("outage_s".into(), Value::from(med("outage_s")));
+        if let Some(first) = runs.first() {
+            m.insert(
+                "outages_s".into(),
+                first.extra.get("outages_s").cloned().unwrap_or(Value::Null),
+            );
+        }
+        let refused: f64 = metric_values(runs, "refused_ins_dvl")
+            .iter()
+            .chain(&metric_values(runs, "refused_vkf"))
+            .sum();
+        m.insert("refused_updates".into(), Value::from(refused));
+        Ok(m)
+    }
+    fn write_outputs(&self, runs: &[RunResult], dir: &Path) -> Result<(), RunError> {
+        crate::montecarlo::write_run_tables(runs, dir)?;
+        match runs.iter().find(|r| !r.tables.is_empty()) {
+            Some(r) => write_figures(r, dir),
+            None => Ok(()),
+        }
+    }
+    fn simulate_log(&self, seed: u64, options: &RunOptions) -> Option<Result<LogDir, RunError>> {
+        let logs = simulation::simulate(seed);
+        Some(Ok(if options.draw_biases {
+            logs.paper
+        } else {
+            logs.realistic
+        }))
+    }
+}
+
+/// The JSON of one DVL-bias variant: `pure_ins`, `ins_dvl`, `vkf` (CONTRACT.md)
+/// plus the ratios the targets are stated in.
+fn variant_summary(runs: &[RunResult], bias: DvlBias) -> Map<String, Value> {
+    let v = variant_prefix(bias);
+    let distance = stats::median(&metric_values(runs, &format!("{v}.distance_m")));
+    let mut m = Map::new();
+    let mut finals = Vec::new();
+    for name in SOLUTIONS {
+        let f = metric_values(runs, &format!("{v}.{name}.final_m"));
+        let rms = metric_values(runs, &format!("{v}.{name}.rms_m"));
+        let growth = metric_values(runs, &format!("{v}.{name}.outage_growth_m"));
+        let max = metric_values(runs, &format!("{v}.{name}.max_m"));
+        finals.push(f.clone());
+        m.insert(
+            name.into(),
+            json!({
+                "horizontal_error_final_m": stats::median(&f),
+                "horizontal_error_rms_m": stats::median(&rms),
+                "distance_travelled_m": distance,
+                "horizontal_error_final_p95_m": stats::p95(&f),
+                "horizontal_error_final_max_m": stats::max(&f),
+                "outage_error_growth_m": stats::median(&growth),
+                "horizontal_error_max_m": stats::median(&max),
+                "final_percent_of_distance": 100.0 * stats::median(&f) / distance,
+            }),
+        );
+    }
+    let ratios: Vec<f64> = finals[2]
+        .iter()
+        .zip(&finals[1])
+        .map(|(a, b)| a / b)
+        .collect();
+    m.insert(
+        "dvl_bias_half_width_m_s".into(),
+        Value::from(bias.half_width()),
+    );
+    m.insert(
+        "vkf_to_ins_dvl_final".into(),
+        Value::from(stats::median(&finals[2]) / stats::median(&finals[1])),
+    );
+    m.insert(
+        "vkf_to_ins_dvl_final_per_run_median".into(),
+        Value::from(stats::median(&ratios)),
+    );
+    m.insert(
+        "vkf_to_pure_ins_final".into(),
+        Value::from(stats::median(&finals[2]) / stats::median(&finals[0])),
+    );
+    m
+}
+
+/// The paper's Figs. 8-12 for one run.
+fn write_figures(r: &RunResult, dir: &Path) -> Result<(), RunError> {
+    let Some(tab) = r.tables.iter().find(|t| t.name == TABLE) else {
+        return Ok(());
+    };
+    let c = |name: &str| tab.column(name);
+    let t = c("t");
+    let seed = r.seed;
+    let svg = |name: &str| dir.join(format!("{name}.svg"));
+    let line = |label: &'static str, x: &'static str, y: &'static str| (label, x, y);
+    let draw_lines =
+        |file: &str, title: String, x_label: &str, y_label: &str, specs: &[(&str, &str, &str)]| {
+            let cols: Vec<(Vec<f64>, Vec<f64>)> =
+                specs.iter().map(|(_, x, y)| (c(x), c(y))).collect();
+            let ls: Vec<Line<'_>> = specs
+                .iter()
+                .zip(&cols)
+                .map(|((label, _, _), (x, y))| Line { label, x, y })
+                .collect();
+            if x_label.contains("east") {
+                plot::tracks(&svg(file), &title, x_label, y_label, &ls)
+            } else {
+                plot::lines(&svg(file), &title, x_label, y_label, &ls)
+            }
+        };
+    // Fig. 8: the DVL in the navigation frame, noise beyond its range.
+    draw_lines(
+        "fig08-dvl-nav",
+        format!("DVL velocity in the navigation frame (seed {seed})"),
+        "t [s]",
+        "velocity [m/s]",
+        &[
+            line("DVL north", "t", "dvl_vn"),
+            line("DVL east", "t", "dvl_ve"),
+        ],
+    )?;
+    // Fig. 9: RPM and the echo sounder.
+    draw_lines(
+        "fig09-rpm",
+        format!("Propeller RPM (seed {seed})"),
+        "t [s]",
+        "rpm",
+        &[line("rpm", "t", "rpm")],
+    )?;
+    let range = vec![simulation::DVL_RANGE; t.len()];
+    let alt = c("altitude_m");
+    plot::lines(
+        &svg("fig09-altitude"),
+        &format!("Echo-sounder altitude and DVL range (seed {seed})"),
+        "t [s]",
+        "altitude [m]",
+        &[
+            Line {
+                label: "altitude",
+                x: &t,
+                y: &alt,
+            },
+            Line {
+                label: "DVL range (switch)",
+                x: &t,
+                y: &range,
+            },
+        ],
+    )?;
+    // Fig. 10: the velocity filter: DVL forward speed and the map estimates.
+    let dvl_fwd: Vec<f64> = c("dvl_forward")
+        .iter()
+        .zip(c("dvl_in_use"))
+        .map(|(v, u)| if u > 0.5 { *v } else { f64::NAN })
+        .collect();
+    let rpm_speed = c("rpm_speed");
+    plot::lines(
+        &svg("fig10-speed"),
+        &format!("Forward speed: DVL (in range) and RPM-derived (seed {seed})"),
+        "t [s]",
+        "speed [m/s]",
+        &[
+            Line {
+                label: "DVL forward",
+                x: &t,
+                y: &dvl_fwd,
+            },
+            Line {
+                label: "sf rpm + b",
+                x: &t,
+                y: &rpm_speed,
+            },
+        ],
+    )?;
+    let with_band =
+        |file: &str, title: String, y_label: &str, est: &str, sig: &str, truth: &str| {
+            let (e, s, tr) = (c(est), c(sig), c(truth));
+            let hi: Vec<f64> = e.iter().zip(&s).map(|(e, s)| e + 3.0 * s).collect();
+            let lo: Vec<f64> = e.iter().zip(&s).map(|(e, s)| e - 3.0 * s).collect();
+            plot::lines(
+                &svg(file),
+                &title,
+                "t [s]",
+                y_label,
+                &[
+                    Line {
+                        label: "estimate",
+                        x: &t,
+                        y: &e,
+                    },
+                    Line {
+                        label: "true local tangent",
+                        x: &t,
+                        y: &tr,
+                    },
+                    Line {
+                        label: "+3 sigma",
+                        x: &t,
+                        y: &hi,
+                    },
+                    Line {
+                        label: "-3 sigma",
+                        x: &t,
+                        y: &lo,
+                    },
+                ],
+            )
+        };
+    with_band(
+        "fig10-scale-factor",
+        format!("Velocity filter: scale factor sf (seed {seed})"),
+        "sf [(m/s)/rpm]",
+        "sf",
+        "sf_sigma",
+        "sf_true_local",
+    )?;
+    with_band(
+        "fig10-bias",
+        format!("Velocity filter: bias b (seed {seed})"),
+        "b [m/s]",
+        "b",
+        "b_sigma",
+        "b_true_local",
+    )?;
+    // Fig. 11: RPM-derived velocity vs DVL in the navigation frame.
+    draw_lines(
+        "fig11-rpm-velocity",
+        format!("RPM-derived vs DVL velocity, navigation frame (seed {seed})"),
+        "t [s]",
+        "velocity [m/s]",
+        &[
+            line("DVL north", "t", "dvl_vn"),
+            line("RPM north", "t", "rpm_vn"),
+            line("DVL east", "t", "dvl_ve"),
+            line("RPM east", "t", "rpm_ve"),
+        ],
+    )?;
+    // Fig. 12: tracks and horizontal errors.
+    let tracks = [
+        line("truth", "truth_e", "truth_n"),
+        line("pure INS", "pure_e", "pure_n"),
+        line("INS-DVL", "ins_dvl_e", "ins_dvl_n"),
+        line("VKF-aided", "vkf_e", "vkf_n"),
+    ];
+    draw_lines(
+        "fig12-tracks",
+        format!("Tracks, DVL bias +-0.005 m/s (seed {seed})"),
+        "east [m]",
+        "north [m]",
+        &tracks,
+    )?;
+    draw_lines(
+        "fig12-errors",
+        format!("Horizontal error, DVL bias +-0.005 m/s (seed {seed})"),
+        "t [s]",
+        "horizontal error [m]",
+        &[
+            line("INS-DVL", "t", "ins_dvl_error_m"),
+            line("VKF-aided", "t", "vkf_error_m"),
+        ],
+    )?;
+    draw_lines(
+        "fig12-errors-with-pure-ins",
+        format!("Horizontal error incl. pure INS, DVL bias +-0.005 m/s (seed {seed})"),
+        "t [s]",
+        "horizontal error [m]",
+        &[
+            line("pure INS", "t", "pure_error_m"),
+            line("INS-DVL", "t", "ins_dvl_error_m"),
+            line("VKF-aided", "t", "vkf_error_m"),
+        ],
+    )?;
+    if let Some(p) = r.tables.iter().find(|t| t.name == PAPER_TABLE) {
+        let pc = |name: &str| p.column(name);
+        let cols: Vec<(&str, Vec<f64>, Vec<f64>)> =
+            tracks.iter().map(|(l, x, y)| (*l, pc(x), pc(y))).collect();
+        let ls: Vec<Line<'_>> = cols
+            .iter()
+            .map(|(label, x, y)| Line { label, x, y })
+            .collect();
+        plot::tracks(
+            &svg("fig12-tracks-paper-bias"),
+            &format!("Tracks, paper DVL bias +-0.5 m/s (seed {seed})"),
+            "east [m]",
+            "north [m]",
+            &ls,
+        )?;
+        let pt = pc("t");
+        let errs: Vec<(&str, Vec<f64>)> = [
+            ("pure INS", "pure_error_m"),
+            ("INS-DVL", "ins_dvl_error_m"),
+            ("VKF-aided", "vkf_error_m"),
+        ]
+        .iter()
+        .map(|(l, k)| (*l, pc(k)))
+        .collect();
+        let ls: Vec<Line<'_>> = errs
+            .iter()
+            .map(|(label, y)| Line { label, x: &pt, y })
+            .collect();
+        plot::lines(
+            &svg("fig12-errors-paper-bias"),
+            &format!("Horizontal error, paper DVL bias +-0.5 m/s (seed {seed})"),
+            "t [s]",
+            "horizontal error [m]",
+            &ls,
+        )?;
+    }
+    Ok(())
+}

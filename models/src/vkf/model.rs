@@ -1,0 +1,89 @@
+//! VKF (MODELS.md section 3; velocity-filter paper, eqs. 6-18): the 3-state
+//! velocity Kalman filter that learns the propeller-RPM-to-speed map from the
+//! DVL, and the 9-state integrated navigation filter driven by the nav-frame
+//! acceleration and aided by the switching box's 3-axis velocity.
+
+nav_runtime::model! {
+    /// Velocity Kalman filter, `X = [V, sf, b]` (paper eqs. 6-10): the forward
+    /// speed is the RPM map `V_{k+1} = sf_k rpm_k + b_k`; the scale factor and the
+    /// bias are random walks; the DVL forward speed measures `V`.
+    /// Discrete, one step per RPM sample; noise intensities are per-step variances.
+    pub model VelocityFilter {
+        states {
+            /// Forward (body x) speed over ground `V`, m/s.
+            speed,
+            /// RPM-to-speed scale factor `sf`, (m/s)/rpm.
+            scale_factor,
+            /// RPM-to-speed bias `b`, m/s.
+            bias,
+        }
+        inputs {
+            /// Measured propeller revolutions per minute.
+            rpm,
+        }
+        noise {
+            /// Departure of the speed from the map in one step (map curvature,
+            /// RPM noise, sea state), m/s.
+            speed_noise,
+            /// Scale-factor random-walk step, (m/s)/rpm.
+            scale_factor_walk,
+            /// Bias random-walk step, m/s.
+            bias_walk,
+        }
+        discrete {
+            // eq. 7: V_{k+1} = sf_k rpm_k + b_k + w_V
+            speed = scale_factor * rpm + bias + speed_noise;
+            scale_factor = scale_factor + scale_factor_walk;
+            bias = bias + bias_walk;
+        }
+        /// DVL forward speed, eq. 9: `z = V + v` (the DVL velocity rotated to the
+        /// body forward axis with the Euler angles, eq. 5).
+        sensor Dvl: 1 {
+            h = speed;
+        }
+    }
+
+    /// 9-state integrated navigation filter (paper eqs. 13-18): local-level NED
+    /// position and velocity relative to the start point and the accelerometer
+    /// bias. The input is the nav-frame acceleration after the coordinate
+    /// transform, Coriolis and gravity compensation,
+    /// `a^n = C_b^n f^b - (2 w_ie^n + w_en^n) x v^n + g^n`; the bias is carried in
+    /// body axes and rotated with `C_b^n`, so a turn does not invalidate it (it
+    /// also absorbs the slowly growing tilt error, which this filter does not
+    /// estimate).
+    pub model Nav9 {
+        states {
+            /// Position north, east, down of the start point, m.
+            position: 3,
+            /// NED velocity over ground, m/s.
+            velocity: 3,
+            /// Accelerometer bias in body axes, m/s^2.
+            accel_bias: 3,
+        }
+        inputs {
+            /// Compensated nav-frame acceleration `a^n`, m/s^2.
+            accel_n: 3,
+            /// Attitude `C_b^n` of the strapdown attitude computer.
+            c_bn: 3x3,
+        }
+        noise {
+            /// Acceleration white noise (accelerometer noise, unmodelled tilt), (m/s^2)^2/Hz.
+            accel_noise: 3,
+            /// Bias random walk, (m/s^2)^2/s.
+            bias_walk: 3,
+        }
+        continuous {
+            d/dt position = velocity;
+            d/dt velocity = accel_n - c_bn * accel_bias + accel_noise;
+            d/dt accel_bias = bias_walk;
+        }
+        /// The DVL's NED velocity (valid below the DVL's range), eq. 12 upper branch.
+        sensor Dvl: 3 {
+            h = velocity;
+        }
+        /// The RPM-derived NED velocity `C_b^n [sf rpm + b, 0, 0]`, eqs. 11-12.
+        sensor Rpm: 3 {
+            h = velocity;
+        }
+    }
+}

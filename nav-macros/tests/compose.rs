@@ -1,0 +1,174 @@
+//! Composition: blocks declared in one module, vehicles assembled from them in
+//! another (by `use` and by path), checked against the same model written as one
+//! declaration.
+
+use nalgebra::{SMatrix, SVector};
+use nav_runtime::model::{Model, Record, Sensor};
+
+mod blocks {
+    nav_runtime::model! {
+        /// A 1D constant-velocity core.
+        pub block Cv {
+            states {
+                /// Position, m.
+                pos,
+                /// Velocity, m/s.
+                vel,
+            }
+            inputs { accel }
+            noise { accel_noise }
+            continuous {
+                let a = 1.0;
+                d/dt pos = vel;
+                d/dt vel = a * accel + accel_noise;
+            }
+        }
+
+        /// A position fix with a constant bias.
+        pub block Gps {
+            states { gps_bias }
+            needs { pos }
+            sensor Gps: 1 {
+                h = pos + gps_bias;
+            }
+        }
+
+        /// An odometer with a first-order Markov scale factor error.
+        pub block Odo {
+            states { odo_scale }
+            needs { vel }
+            parameters { odo_tau }
+            noise { odo_noise }
+            continuous {
+                let a = 1.0 / odo_tau;
+                d/dt odo_scale = -a * odo_scale + odo_noise;
+            }
+            sensor Odo: 1 {
+                inputs { odo_offset }
+                let a = 1.0 + odo_scale;
+                h = a * vel + odo_offset;
+            }
+        }
+    }
+}
+
+mod vehicles {
+    use super::blocks::{Cv, Gps};
+
+    nav_runtime::model! {
+        /// Core and position fix.
+        pub model CvGps = Cv + Gps;
+
+        /// All three blocks, in an explicit state order.
+        pub model CvAll = Cv + super::blocks::Odo + Gps {
+            order { gps_bias, pos, vel, odo_scale }
+        }
+
+        /// Without a position fix nothing observes the position.
+        pub model CvOdo = Cv + super::blocks::Odo {
+            allow_unused { pos }
+        }
+    }
+}
+
+nav_runtime::model! {
+    /// `CvAll` written as one declaration.
+    pub model CvMono {
+        states { gps_bias, pos, vel, odo_scale }
+        inputs { accel }
+        parameters { odo_tau }
+        noise { accel_noise, odo_noise }
+        continuous {
+            let a = 1.0;
+            d/dt pos = vel;
+            d/dt vel = a * accel + accel_noise;
+            let b = 1.0 / odo_tau;
+            d/dt odo_scale = -b * odo_scale + odo_noise;
+        }
+        sensor Odo: 1 {
+            inputs { odo_offset }
+            let a = 1.0 + odo_scale;
+            h = a * vel + odo_offset;
+        }
+        sensor Gps: 1 {
+            h = pos + gps_bias;
+        }
+    }
+}
+
+use vehicles::{CvAll, CvAllGps, CvAllOdo, CvGps, CvOdo};
+
+#[test]
+fn layout_follows_blocks_and_order() {
+    assert_eq!(CvGps::N, 3);
+    assert_eq!(<CvGps as Model<3>>::STATE_NAMES, ["pos", "vel", "gps_bias"]);
+    assert_eq!(
+        <CvAll as Model<4>>::STATE_NAMES,
+        <CvMono as Model<4>>::STATE_NAMES
+    );
+    assert_eq!((CvAll::GPS_BIAS, CvAll::POS, CvAll::ODO_SCALE), (0, 1, 3));
+    assert_eq!(CvAll::NW, 2);
+    assert_eq!(
+        <<CvAll as Model<4>>::Noise as Record>::NAMES,
+        ["accel_noise", "odo_noise"]
+    );
+    assert_eq!(<CvAllOdo as Sensor<4, 1>>::NAME, "Odo");
+    assert_eq!(CvGps::UNUSED_STATES, &[] as &[&str]);
+    assert_eq!(CvAll::UNUSED_STATES, &[] as &[&str]);
+    assert_eq!(CvOdo::UNUSED_STATES, &["pos"]);
+    assert_eq!(CvMono::UNUSED_STATES, &[] as &[&str]);
+}
+
+#[test]
+fn composed_equals_monolithic() {
+    let mut seed = 7u64;
+    let mut rnd = move || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    };
+    for _ in 0..20 {
+        let x = SVector::<f64, 4>::from_fn(|_, _| rnd());
+        let u_c = <CvAll as Model<4>>::Input::from_fn(|_| rnd());
+        let u_m = <CvMono as Model<4>>::Input::from_fn(|i| u_c.get(i));
+        let p_c = <CvAll as Model<4>>::Params::from_fn(|_| 2.0 + rnd());
+        let p_m = <CvMono as Model<4>>::Params::from_fn(|i| p_c.get(i));
+        let q_c = <CvAll as Model<4>>::Noise::from_fn(|_| 1.0 + rnd());
+        let q_m = <CvMono as Model<4>>::Noise::from_fn(|i| q_c.get(i));
+        let dt = 0.1;
+        assert_eq!(
+            CvAll::jacobian(&x, &u_c, &p_c, dt),
+            CvMono::jacobian(&x, &u_m, &p_m, dt)
+        );
+        assert_eq!(
+            CvAll::noise_jacobian(&x, &u_c, &p_c, dt),
+            CvMono::noise_jacobian(&x, &u_m, &p_m, dt)
+        );
+        assert_eq!(
+            CvAll::process_noise(&x, &u_c, &p_c, &q_c, dt),
+            CvMono::process_noise(&x, &u_m, &p_m, &q_m, dt)
+        );
+        assert_eq!(
+            CvAll::transition(&x, &u_c, &p_c, dt),
+            CvMono::transition(&x, &u_m, &p_m, dt)
+        );
+        let aux_c = vehicles::CvAllOdoAux { odo_offset: rnd() };
+        let aux_m = CvMonoOdoAux {
+            odo_offset: aux_c.odo_offset,
+        };
+        assert_eq!(
+            CvAllOdo::jacobian(&x, &u_c, &p_c, &aux_c),
+            CvMonoOdo::jacobian(&x, &u_m, &p_m, &aux_m)
+        );
+        assert_eq!(
+            CvAllOdo::predict(&x, &u_c, &p_c, &aux_c),
+            CvMonoOdo::predict(&x, &u_m, &p_m, &aux_m)
+        );
+        assert_eq!(
+            CvAllGps::jacobian(&x, &u_c, &p_c, &()),
+            CvMonoGps::jacobian(&x, &u_m, &p_m, &())
+        );
+        let _: SMatrix<f64, 1, 4> = CvAllGps::jacobian(&x, &u_c, &p_c, &());
+    }
+}
