@@ -7,4 +7,5 @@ pub mod montecarlo;
 pub mod plot;
 pub mod report;
 pub mod sdins25;
+pub mod vehicles;
 pub mod vkf;

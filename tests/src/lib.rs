@@ -1,1 +1,1 @@
-//! Workspace-level integration tests live in `tests/tests/`.
+#![doc = include_str!("../../README.md")]

@@ -202,9 +202,10 @@ nav_runtime::model! {
     /// A GNSS fix at the surface (antenna on a mast): no states of its own.
     pub block GnssFix {
         needs { position_error: 3, attitude_error: 3, latitude, height, c_bn: 3x3 }
-        /// Horizontal fix, INS antenna position minus fix in metres N/E:
-        /// `[(R_m+h) dL, (R_n+h) cos L dl] + ((C^ - C) r)_NE`.
-        sensor GnssFix: 2 {
+        /// INS antenna position minus fix, metres N/E and height:
+        /// `[(R_m+h) dL, (R_n+h) cos L dl, dh] + (C^ - C) r` (its down component with
+        /// the sign of height).
+        sensor GnssFix: 3 {
             inputs {
                 /// Antenna position in body axes relative to the IMU, m.
                 antenna_lever_arm: 3,
@@ -219,7 +220,8 @@ nav_runtime::model! {
             let arm_error = (c_bn - c_true) * antenna_lever_arm;
             h = [
                 (rm0 + height) * position_error[0] + arm_error[0],
-                (rn0 + height) * cos(latitude) * position_error[1] + arm_error[1]
+                (rn0 + height) * cos(latitude) * position_error[1] + arm_error[1],
+                position_error[2] - arm_error[2]
             ];
         }
     }

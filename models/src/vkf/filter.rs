@@ -92,7 +92,7 @@ impl Default for Tuning {
             switch_altitude: SWITCH_ALTITUDE,
             map_noise: 0.015,
             scale_factor_walk: 2e-7,
-            bias_walk: 1.5e-3,
+            bias_walk: 5e-4,
             scale_factor_sigma: 0.05,
             bias_sigma: 0.3,
             design_map: (design.slope, design.offset),
@@ -576,7 +576,7 @@ mod tests {
                 -0.2 + normal(&mut rng, 0.1),
             );
             let t = Tuning {
-                bias_walk: 1.5e-3,
+                bias_walk: 5e-4,
                 ..Tuning::default()
             };
             let mut vf = SpeedLearner::new(&t, 300.0, 0.02).unwrap();

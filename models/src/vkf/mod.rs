@@ -36,8 +36,9 @@ pub struct Score {
     pub max_m: f64,
     /// RMS of the horizontal error over the 5 Hz epochs (m).
     pub rms_m: f64,
-    /// Growth of the horizontal error vector over the DVL outages, summed (m).
-    pub outage_growth_m: f64,
+    /// Drift during the DVL outages: the largest change of the horizontal error
+    /// vector from the last epoch before an outage to any epoch inside it (m).
+    pub outage_drift_m: f64,
 }
 
 /// Scores of one run over one log.
@@ -78,7 +79,7 @@ pub fn score(run: &VkfRun, log: &LogDir) -> Result<RunScores, RunError> {
     let mut last_truth: Option<Vector3<f64>> = None;
     let mut outages = Vec::new();
     let mut outage_start: Option<(f64, usize)> = None;
-    let mut growth = [0.0; 3];
+    let mut drift = [0.0; 3];
     for r in &run.records {
         while j + 1 < truth.len() && truth[j].0 < r.t - 1e-6 {
             j += 1;
@@ -109,7 +110,7 @@ pub fn score(run: &VkfRun, log: &LogDir) -> Result<RunScores, RunError> {
             (Source::Rpm, None) => outage_start = Some((r.t, k.saturating_sub(1))),
             (Source::Dvl, Some((t0, k0))) => {
                 outages.push((t0, r.t));
-                add_growth(&mut growth, &series[k0], &series[k]);
+                add_drift(&mut drift, &series[k0..k]);
                 outage_start = None;
             }
             _ => {}
@@ -117,7 +118,7 @@ pub fn score(run: &VkfRun, log: &LogDir) -> Result<RunScores, RunError> {
     }
     if let (Some((t0, k0)), Some(last)) = (outage_start, series.last()) {
         outages.push((t0, last[0]));
-        add_growth(&mut growth, &series[k0], last);
+        add_drift(&mut drift, &series[k0..]);
     }
     let last = series
         .last()
@@ -131,7 +132,7 @@ pub fn score(run: &VkfRun, log: &LogDir) -> Result<RunScores, RunError> {
             final_m: last[3 + 2 * s].hypot(last[4 + 2 * s]),
             max_m: stats::max(&h),
             rms_m: stats::rms(&h),
-            outage_growth_m: growth[s],
+            outage_drift_m: drift[s],
         }
     });
     Ok(RunScores {
@@ -142,9 +143,12 @@ pub fn score(run: &VkfRun, log: &LogDir) -> Result<RunScores, RunError> {
     })
 }
 
-fn add_growth(growth: &mut [f64; 3], a: &[f64; 9], b: &[f64; 9]) {
-    for (s, g) in growth.iter_mut().enumerate() {
-        *g += (b[3 + 2 * s] - a[3 + 2 * s]).hypot(b[4 + 2 * s] - a[4 + 2 * s]);
+fn add_drift(drift: &mut [f64; 3], epochs: &[[f64; 9]]) {
+    let Some(a) = epochs.first() else { return };
+    for (s, d) in drift.iter_mut().enumerate() {
+        for b in epochs {
+            *d = d.max((b[3 + 2 * s] - a[3 + 2 * s]).hypot(b[4 + 2 * s] - a[4 + 2 * s]));
+        }
     }
 }
 
@@ -170,7 +174,7 @@ fn put_scores(mut r: RunResult, bias: DvlBias, s: &RunScores) -> RunResult {
             .with_metric(&format!("{v}.{name}.final_m"), sc.final_m)
             .with_metric(&format!("{v}.{name}.rms_m"), sc.rms_m)
             .with_metric(&format!("{v}.{name}.max_m"), sc.max_m)
-            .with_metric(&format!("{v}.{name}.outage_growth_m"), sc.outage_growth_m);
+            .with_metric(&format!("{v}.{name}.outage_drift_m"), sc.outage_drift_m);
     }
     r.with_metric(&format!("{v}.distance_m"), s.distance_m)
 }
@@ -375,7 +379,7 @@ fn variant_summary(runs: &[RunResult], bias: DvlBias) -> Map<String, Value> {
     for name in SOLUTIONS {
         let f = metric_values(runs, &format!("{v}.{name}.final_m"));
         let rms = metric_values(runs, &format!("{v}.{name}.rms_m"));
-        let growth = metric_values(runs, &format!("{v}.{name}.outage_growth_m"));
+        let drift = metric_values(runs, &format!("{v}.{name}.outage_drift_m"));
         let max = metric_values(runs, &format!("{v}.{name}.max_m"));
         finals.push(f.clone());
         m.insert(
@@ -386,7 +390,7 @@ fn variant_summary(runs: &[RunResult], bias: DvlBias) -> Map<String, Value> {
                 "distance_travelled_m": distance,
                 "horizontal_error_final_p95_m": stats::p95(&f),
                 "horizontal_error_final_max_m": stats::max(&f),
-                "outage_error_growth_m": stats::median(&growth),
+                "outage_drift_m": stats::median(&drift),
                 "horizontal_error_max_m": stats::median(&max),
                 "final_percent_of_distance": 100.0 * stats::median(&f) / distance,
             }),

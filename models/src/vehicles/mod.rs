@@ -1,0 +1,14 @@
+//! Vehicles assembled from model blocks: a new vehicle is one composition line.
+//!
+//! - [`blocks`]: the INS error-state core and the sensor blocks (USBL, depth,
+//!   DVL, calibrated DVL, compass, surface GNSS fix, RPM speed map).
+//! - [`sdins`]: SDINS-25 as core + USBL + depth + DVL + compass (equal to the
+//!   monolithic `crate::sdins25::model::Sdins25`, tested), and the 20-state
+//!   variant without USBL.
+//! - [`pressure_auv`]: the walk-through of docs/adding-a-sensor.md: a new
+//!   pressure-sensor block with a lever arm, a vehicle using it, and its filter
+//!   run through [`nav_runtime::ekf::Ekf`].
+
+pub mod blocks;
+pub mod pressure_auv;
+pub mod sdins;

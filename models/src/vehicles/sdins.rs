@@ -1,0 +1,244 @@
+//! SDINS-25 as a composition of blocks, and the same vehicle without USBL.
+//!
+//! [`Sdins25Composed`] is the core plus the USBL, depth, DVL and compass blocks
+//! in the paper's state order; the tests below show it equals the monolithic
+//! declaration [`crate::sdins25::model::Sdins25`] (same `F`, `G`, `Qd`, `H`, and
+//! the same estimates through [`nav_runtime::ekf::Ekf`]).
+//!
+//! [`Sdins20`] drops the USBL block: 20 states. Without USBL nothing measures
+//! the longitude error `dl` (`position_error[1]`) and no other state's dynamics
+//! depend on it (the Earth and transport rates depend on latitude only), so the
+//! generator flags it; the declaration accepts it with `allow_unused`.
+
+use super::blocks::{Compass, Depth, Dvl, InsCore, Usbl};
+
+nav_runtime::model! {
+    /// SDINS-25 assembled from blocks, in the paper's state order.
+    pub model Sdins25Composed = InsCore + Usbl + Depth + Dvl + Compass {
+        order {
+            position_error, velocity_error, attitude_error, accel_bias, gyro_bias,
+            usbl_bias, depth_bias, dvl_bias, compass_bias, usbl_misalignment,
+        }
+    }
+
+    /// SDINS-25 without USBL: 20 states.
+    pub model Sdins20 = InsCore + Depth + Dvl + Compass {
+        allow_unused { position_error[1] }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use nalgebra::{SMatrix, SVector};
+    use nav_runtime::ekf::Ekf;
+    use nav_runtime::model::{Model, Record, Sensor};
+
+    use super::*;
+    use crate::sdins25::model as mono;
+
+    /// splitmix64, uniform in [-1, 1].
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> f64 {
+            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+            let mut z = self.0;
+            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            z ^= z >> 31;
+            (z >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        }
+    }
+
+    /// A plausible nominal solution: mid latitude, shallow, moving, tilted.
+    fn input(rng: &mut Rng) -> mono::Sdins25Input {
+        let (roll, pitch, yaw) = (0.1 * rng.next(), 0.1 * rng.next(), 3.0 * rng.next());
+        let c_nb = nalgebra::Rotation3::from_euler_angles(roll, pitch, yaw);
+        mono::Sdins25Input {
+            latitude: 0.6 + 0.1 * rng.next(),
+            height: -50.0 + 10.0 * rng.next(),
+            velocity: SVector::from_fn(|_, _| 1.5 * rng.next()),
+            c_bn: *c_nb.matrix(),
+            specific_force: SVector::from([0.2 * rng.next(), 0.2 * rng.next(), -9.8 + 0.1 * rng.next()]),
+        }
+    }
+
+    /// A small error state (radians of latitude are small).
+    fn state(rng: &mut Rng) -> SVector<f64, 25> {
+        SVector::from_fn(|i, _| if i < 2 { 1e-6 } else { 1e-2 } * rng.next())
+    }
+
+    fn same<const R: usize, const C: usize>(what: &str, a: &SMatrix<f64, R, C>, b: &SMatrix<f64, R, C>) {
+        for (x, y) in a.iter().zip(b.iter()) {
+            assert!((x - y).abs() <= 1e-12 * (1.0 + x.abs()), "{what}: {x} vs {y}\n{a}\n{b}");
+        }
+    }
+
+    fn convert<A: Record, B: Record>(a: &A) -> B {
+        assert_eq!(A::NAMES, B::NAMES);
+        B::from_fn(|i| a.get(i))
+    }
+
+    #[test]
+    fn same_layout_as_the_monolithic_declaration() {
+        assert_eq!(Sdins25Composed::N, 25);
+        assert_eq!(
+            <Sdins25Composed as Model<25>>::STATE_NAMES,
+            <mono::Sdins25 as Model<25>>::STATE_NAMES
+        );
+        assert_eq!(
+            <Sdins25Composed as Model<25>>::JACOBIAN_SPARSITY,
+            <mono::Sdins25 as Model<25>>::JACOBIAN_SPARSITY
+        );
+        assert_eq!(
+            <Sdins25ComposedDvl as Sensor<25, 3>>::JACOBIAN_SPARSITY,
+            <mono::Sdins25Dvl as Sensor<25, 3>>::JACOBIAN_SPARSITY
+        );
+        assert_eq!(Sdins25Composed::USBL_MISALIGNMENT, mono::Sdins25::USBL_MISALIGNMENT);
+        assert_eq!(Sdins25Composed::UNUSED_STATES, &[] as &[&str]);
+        assert_eq!(Sdins20::N, 20);
+        assert_eq!(Sdins20::UNUSED_STATES, &["position_error[1]"]);
+    }
+
+    #[test]
+    fn same_f_g_qd_h_as_the_monolithic_declaration() {
+        let mut rng = Rng(25);
+        for _ in 0..50 {
+            let u = input(&mut rng);
+            let uc: <Sdins25Composed as Model<25>>::Input = convert(&u);
+            let x = state(&mut rng);
+            let q = mono::Sdins25Noise::from_fn(|_| 1e-6 * (1.5 + rng.next()));
+            let qc: <Sdins25Composed as Model<25>>::Noise = convert(&q);
+            let dt = 0.01;
+            same(
+                "F",
+                &Sdins25Composed::jacobian(&x, &uc, &Default::default(), dt),
+                &mono::Sdins25::jacobian(&x, &u, &Default::default(), dt),
+            );
+            same(
+                "G",
+                &Sdins25Composed::noise_jacobian(&x, &uc, &Default::default(), dt),
+                &mono::Sdins25::noise_jacobian(&x, &u, &Default::default(), dt),
+            );
+            same(
+                "Qd",
+                &Sdins25Composed::process_noise(&x, &uc, &Default::default(), &qc, dt),
+                &mono::Sdins25::process_noise(&x, &u, &Default::default(), &q, dt),
+            );
+            same(
+                "transition",
+                &Sdins25Composed::transition(&x, &uc, &Default::default(), dt),
+                &mono::Sdins25::transition(&x, &u, &Default::default(), dt),
+            );
+            let (p, pm) = (Sdins25ComposedParams::default(), mono::Sdins25Params::default());
+            same(
+                "H depth",
+                &Sdins25ComposedDepth::jacobian(&x, &uc, &p, &()),
+                &mono::Sdins25Depth::jacobian(&x, &u, &pm, &()),
+            );
+            same(
+                "H dvl",
+                &Sdins25ComposedDvl::jacobian(&x, &uc, &p, &()),
+                &mono::Sdins25Dvl::jacobian(&x, &u, &pm, &()),
+            );
+            same(
+                "H compass",
+                &Sdins25ComposedCompass::jacobian(&x, &uc, &p, &()),
+                &mono::Sdins25Compass::jacobian(&x, &u, &pm, &()),
+            );
+            same(
+                "H compass (small angle)",
+                &Sdins25ComposedCompassSmallAngle::jacobian(&x, &uc, &p, &()),
+                &mono::Sdins25CompassSmallAngle::jacobian(&x, &u, &pm, &()),
+            );
+            let r = SVector::from_fn(|_, _| 300.0 * rng.next());
+            same(
+                "H usbl",
+                &Sdins25ComposedUsbl::jacobian(&x, &uc, &p, &Sdins25ComposedUsblAux { relative_position: r }),
+                &mono::Sdins25Usbl::jacobian(&x, &u, &pm, &mono::Sdins25UsblAux { relative_position: r }),
+            );
+            same(
+                "h usbl",
+                &Sdins25ComposedUsbl::predict(&x, &uc, &p, &Sdins25ComposedUsblAux { relative_position: r }),
+                &mono::Sdins25Usbl::predict(&x, &u, &pm, &mono::Sdins25UsblAux { relative_position: r }),
+            );
+        }
+    }
+
+    /// A short synthetic run: both filters see the same inputs and measurements.
+    #[test]
+    fn same_estimates_through_the_ekf() {
+        let mut rng = Rng(2025);
+        let p0 = SMatrix::<f64, 25, 25>::from_diagonal(&SVector::from_fn(|i, _| {
+            if i < 2 {
+                1e-12
+            } else {
+                [1.0, 0.01, 1e-4, 1e-6, 1e-8][((i + 1) / 3).min(4)]
+            }
+        }));
+        let q = mono::Sdins25Noise {
+            accel_noise: SVector::repeat(1e-6),
+            gyro_noise: SVector::repeat(1e-10),
+        };
+        let mut a = Ekf::<mono::Sdins25, 25>::new(SVector::zeros(), p0, Default::default(), q)
+            .unwrap()
+            .with_default_gate(None);
+        let mut b = Ekf::<Sdins25Composed, 25>::new(SVector::zeros(), p0, Default::default(), convert(&q))
+            .unwrap()
+            .with_default_gate(None);
+        let mut u = input(&mut rng);
+        for step in 0..300 {
+            u.velocity += SVector::from_fn(|_, _| 0.01 * rng.next());
+            u.specific_force = SVector::from([0.2 * rng.next(), 0.2 * rng.next(), -9.8 + 0.1 * rng.next()]);
+            a.predict(0.01, &u).unwrap();
+            b.predict(0.01, &convert(&u)).unwrap();
+            let noise = |rng: &mut Rng, s: f64| SVector::<f64, 3>::from_fn(|_, _| s * rng.next());
+            if step % 10 == 0 {
+                let z = SVector::<f64, 3>::from_fn(|_, _| 0.02 * rng.next());
+                let r = SMatrix::<f64, 3, 3>::from_diagonal_element(1e-4);
+                a.update::<mono::Sdins25Dvl, 3>(&z, &r, &()).unwrap();
+                b.update::<Sdins25ComposedDvl, 3>(&z, &r, &()).unwrap();
+            }
+            if step % 20 == 5 {
+                let z = SVector::<f64, 1>::new(0.05 * rng.next());
+                let r = SMatrix::<f64, 1, 1>::new(1e-3);
+                a.update::<mono::Sdins25Depth, 1>(&z, &r, &()).unwrap();
+                b.update::<Sdins25ComposedDepth, 1>(&z, &r, &()).unwrap();
+                let z = SVector::<f64, 1>::new(0.01 * rng.next());
+                a.update::<mono::Sdins25Compass, 1>(&z, &r, &()).unwrap();
+                b.update::<Sdins25ComposedCompass, 1>(&z, &r, &()).unwrap();
+            }
+            if step % 50 == 25 {
+                let rel = noise(&mut rng, 200.0);
+                let z = SVector::<f64, 2>::from_fn(|_, _| 2.0 * rng.next());
+                let r = SMatrix::<f64, 2, 2>::from_diagonal_element(1.0);
+                a.update::<mono::Sdins25Usbl, 2>(&z, &r, &mono::Sdins25UsblAux { relative_position: rel })
+                    .unwrap();
+                b.update::<Sdins25ComposedUsbl, 2>(&z, &r, &Sdins25ComposedUsblAux { relative_position: rel })
+                    .unwrap();
+            }
+            same("x", a.state(), b.state());
+            same("P", a.covariance(), b.covariance());
+        }
+        assert!(a.state().norm() > 0.0, "the run moved the estimate");
+    }
+
+    #[test]
+    fn dropping_usbl_shrinks_the_generated_code() {
+        let (ops25, ops20) = (
+            Sdins25Composed::OPS_PROPAGATE_COVARIANCE,
+            Sdins20::OPS_PROPAGATE_COVARIANCE,
+        );
+        eprintln!(
+            "OPS_PROPAGATE_COVARIANCE: 25 states {ops25}, 20 states {ops20}; OPS_JACOBIAN {} vs {}; \
+             OPS_PROCESS_NOISE {} vs {}; monolithic {}",
+            Sdins25Composed::OPS_JACOBIAN,
+            Sdins20::OPS_JACOBIAN,
+            Sdins25Composed::OPS_PROCESS_NOISE,
+            Sdins20::OPS_PROCESS_NOISE,
+            mono::Sdins25::OPS_PROPAGATE_COVARIANCE,
+        );
+        assert_eq!(ops25, mono::Sdins25::OPS_PROPAGATE_COVARIANCE);
+        assert!(ops20 < ops25);
+        assert_eq!(Sdins25Composed::OPS_JACOBIAN, Sdins20::OPS_JACOBIAN);
+    }
+}
