@@ -17,7 +17,7 @@
 mod common;
 
 use common::*;
-use criterion::{criterion_group, criterion_main, Criterion};
+use criterion::{criterion_group, Criterion};
 use models::leveling::model::Leveling6;
 use models::marker::model::Marker9;
 use models::sdins25::model::Sdins25;
@@ -47,24 +47,48 @@ fn bench_model<Mo: Model<N>, const N: usize>(
     dense_propagate(&mut dense, &phi, &qd);
     let mut dense_model = p0;
     dense_propagate_with_model::<Mo, N>(&mut dense_model, &x, &u, &par, &q, dt);
-    assert!(rel_diff(&generated, &dense) < 1e-12, "{name}: generated != dense");
-    assert!(rel_diff(&dense_model, &dense) < 1e-12, "{name}: dense variants differ");
+    assert!(
+        rel_diff(&generated, &dense) < 1e-12,
+        "{name}: generated != dense"
+    );
+    assert!(
+        rel_diff(&dense_model, &dense) < 1e-12,
+        "{name}: dense variants differ"
+    );
 
     let mut g = c.benchmark_group(format!("propagate/{name}"));
     g.bench_function("generated", |b| {
         b.iter_custom(|iters| {
             time_in_place(iters, &p0, RESET_EVERY, |p| {
-                generated_propagate::<Mo, N>(p, black_box(&x), black_box(&u), black_box(&par), black_box(&q), dt)
+                generated_propagate::<Mo, N>(
+                    p,
+                    black_box(&x),
+                    black_box(&u),
+                    black_box(&par),
+                    black_box(&q),
+                    dt,
+                )
             })
         })
     });
     g.bench_function("dense", |b| {
-        b.iter_custom(|iters| time_in_place(iters, &p0, RESET_EVERY, |p| dense_propagate(p, black_box(&phi), black_box(&qd))))
+        b.iter_custom(|iters| {
+            time_in_place(iters, &p0, RESET_EVERY, |p| {
+                dense_propagate(p, black_box(&phi), black_box(&qd))
+            })
+        })
     });
     g.bench_function("dense_with_model", |b| {
         b.iter_custom(|iters| {
             time_in_place(iters, &p0, RESET_EVERY, |p| {
-                dense_propagate_with_model::<Mo, N>(p, black_box(&x), black_box(&u), black_box(&par), black_box(&q), dt)
+                dense_propagate_with_model::<Mo, N>(
+                    p,
+                    black_box(&x),
+                    black_box(&u),
+                    black_box(&par),
+                    black_box(&q),
+                    dt,
+                )
             })
         })
     });
@@ -82,16 +106,103 @@ fn propagation(c: &mut Criterion) {
     hand.propagate(&mut by_hand);
     let mut generated = p0;
     Sdins25::propagate_covariance(&mut generated, &x, &u, &par, &q, DT_SDINS);
-    assert!(rel_diff(&by_hand, &generated) < 1e-12, "hand-written != generated");
+    assert!(
+        rel_diff(&by_hand, &generated) < 1e-12,
+        "hand-written != generated"
+    );
 
     bench_model::<Sdins25, 25>(c, "sdins25", (x, u, par, q), p0, DT_SDINS, |g| {
         g.bench_function("handwritten", |b| {
-            b.iter_custom(|iters| time_in_place(iters, &p0, RESET_EVERY, |p| black_box(&hand).propagate(p)))
+            b.iter_custom(|iters| {
+                time_in_place(iters, &p0, RESET_EVERY, |p| black_box(&hand).propagate(p))
+            })
         });
     });
-    bench_model::<Leveling6, 6>(c, "leveling6", leveling6_point(), leveling6_covariance(), 0.01, |_| {});
-    bench_model::<Marker9, 9>(c, "marker9", marker9_point(), marker9_covariance(), 0.02, |_| {});
+    bench_model::<Leveling6, 6>(
+        c,
+        "leveling6",
+        leveling6_point(),
+        leveling6_covariance(),
+        0.01,
+        |_| {},
+    );
+    bench_model::<Marker9, 9>(
+        c,
+        "marker9",
+        marker9_point(),
+        marker9_covariance(),
+        0.02,
+        |_| {},
+    );
+}
+
+/// `PROPAGATE_ONLY=<model>/<variant>` (e.g. `sdins25/generated`): skip criterion
+/// and call that variant `PROPAGATE_CALLS` times (default 1000), for
+/// instruction counting under callgrind with `--toggle-collect` on the variant's
+/// function (see `scripts/bench.sh --callgrind`).
+fn only(which: &str) {
+    let calls: u64 = std::env::var("PROPAGATE_CALLS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1000);
+    fn run<Mo: Model<N>, const N: usize>(
+        variant: &str,
+        calls: u64,
+        point: (SVector<f64, N>, Mo::Input, Mo::Params, Mo::Noise),
+        p0: SMatrix<f64, N, N>,
+        dt: f64,
+    ) {
+        let (x, u, par, q) = point;
+        let phi = dense_phi::<Mo, N>(&x, &u, &par, dt);
+        let qd = Mo::process_noise(&x, &u, &par, &q, dt);
+        let hand = (N == 25).then(|| {
+            let f = Mo::jacobian(&x, &u, &par, dt);
+            let f = SMatrix::<f64, 25, 25>::from_fn(|i, j| f[(i, j)]);
+            let qd = SMatrix::<f64, 25, 25>::from_fn(|i, j| qd[(i, j)]);
+            HandWrittenSdins25::new(&f, &qd, dt)
+        });
+        let mut p25 =
+            SMatrix::<f64, 25, 25>::from_fn(|i, j| if i < N && j < N { p0[(i, j)] } else { 0.0 });
+        let mut p = p0;
+        for _ in 0..calls {
+            match variant {
+                "generated" => {
+                    generated_propagate::<Mo, N>(black_box(&mut p), &x, &u, &par, &q, dt)
+                }
+                "dense" => dense_propagate(black_box(&mut p), &phi, &qd),
+                "dense_with_model" => {
+                    dense_propagate_with_model::<Mo, N>(black_box(&mut p), &x, &u, &par, &q, dt)
+                }
+                "handwritten" => hand
+                    .as_ref()
+                    .expect("SDINS-25 only")
+                    .propagate(black_box(&mut p25)),
+                _ => panic!("unknown variant {variant}"),
+            }
+        }
+        black_box((p, p25));
+    }
+    match which.split_once('/') {
+        Some(("sdins25", v)) => {
+            run::<Sdins25, 25>(v, calls, sdins25_point(), sdins25_covariance(), DT_SDINS)
+        }
+        Some(("leveling6", v)) => {
+            run::<Leveling6, 6>(v, calls, leveling6_point(), leveling6_covariance(), 0.01)
+        }
+        Some(("marker9", v)) => {
+            run::<Marker9, 9>(v, calls, marker9_point(), marker9_covariance(), 0.02)
+        }
+        _ => panic!("PROPAGATE_ONLY={which}: expected <sdins25|leveling6|marker9>/<variant>"),
+    }
 }
 
 criterion_group!(benches, propagation);
-criterion_main!(benches);
+
+fn main() {
+    if let Ok(which) = std::env::var("PROPAGATE_ONLY") {
+        only(&which);
+        return;
+    }
+    benches();
+    Criterion::default().configure_from_args().final_summary();
+}

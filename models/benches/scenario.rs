@@ -9,13 +9,13 @@
 //! - `filter_only`: the filter over an already simulated log
 //!   (`sdins25::filter::run`), the estimator's own real-time factor.
 //!
-//! Group `montecarlo/lawnmower-dvl`: `threads_1`, `threads_2`; the speed-up
-//! is their ratio. `BENCH_MC_RUNS` overrides the 100 runs (e.g. for a quick
+//! Group `montecarlo/lawnmower-dvl`: `threads_1/<runs>`, `threads_2/<runs>`;
+//! the speed-up is their ratio. `BENCH_MC_RUNS` overrides the 100 runs (e.g. for a quick
 //! look). These are long: 10 samples each.
 //!
 //! Run: `cargo bench -p models --bench scenario` (ratios: `scripts/bench.sh`).
 
-use criterion::{criterion_group, criterion_main, Criterion};
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use models::montecarlo::{run_seeds, ProgressBar, RunOptions, Scenario};
 use models::sdins25::filter::{run, FilterOptions};
 use models::sdins25::simulation::{simulate, DURATION};
@@ -27,23 +27,42 @@ const SCENARIO: &str = "lawnmower-dvl";
 fn scenario(c: &mut Criterion) {
     let lawn = models::sdins25::scenario(SCENARIO).expect("the lawnmower-dvl scenario");
     let options = RunOptions::default();
-    assert!((DURATION - 500.0).abs() < 1e-9, "the scenario is no longer 500 s long");
+    assert!(
+        (DURATION - 500.0).abs() < 1e-9,
+        "the scenario is no longer 500 s long"
+    );
 
     let mut g = c.benchmark_group(format!("scenario/{SCENARIO}"));
     g.sample_size(10).measurement_time(Duration::from_secs(10));
-    g.bench_function("run_one", |b| b.iter(|| lawn.run_one(black_box(7), &options).unwrap()));
+    g.bench_function("run_one", |b| {
+        b.iter(|| lawn.run_one(black_box(7), &options).unwrap())
+    });
     let log = simulate(&lawn.config, 7).log;
-    g.bench_function("filter_only", |b| b.iter(|| run(black_box(&log), &FilterOptions::default(), &[]).unwrap()));
+    g.bench_function("filter_only", |b| {
+        b.iter(|| run(black_box(&log), &FilterOptions::default(), &[]).unwrap())
+    });
     g.finish();
 
-    let runs: usize = std::env::var("BENCH_MC_RUNS").ok().and_then(|s| s.parse().ok()).unwrap_or(100);
+    let runs: usize = std::env::var("BENCH_MC_RUNS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(100);
     let seeds: Vec<u64> = (1..=runs as u64).collect();
     let mut g = c.benchmark_group(format!("montecarlo/{SCENARIO}"));
-    g.sample_size(10).warm_up_time(Duration::from_millis(1)).measurement_time(Duration::from_secs(1));
+    g.sample_size(10)
+        .warm_up_time(Duration::from_millis(1))
+        .measurement_time(Duration::from_secs(1));
     for threads in [1, 2] {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-        g.bench_function(format!("threads_{threads}"), |b| {
-            b.iter(|| pool.install(|| run_seeds(&lawn, black_box(&seeds), &options, &ProgressBar::hidden()).unwrap()))
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        g.bench_function(BenchmarkId::new(format!("threads_{threads}"), runs), |b| {
+            b.iter(|| {
+                pool.install(|| {
+                    run_seeds(&lawn, black_box(&seeds), &options, &ProgressBar::hidden()).unwrap()
+                })
+            })
         });
     }
     g.finish();

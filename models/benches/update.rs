@@ -15,8 +15,8 @@ mod common;
 use common::*;
 use criterion::{criterion_group, criterion_main, Criterion};
 use models::sdins25::model::{
-    Sdins25, Sdins25Compass, Sdins25CompassSmallAngle, Sdins25Depth, Sdins25Dvl, Sdins25Input, Sdins25Params,
-    Sdins25Usbl, Sdins25UsblAux,
+    Sdins25, Sdins25Compass, Sdins25CompassSmallAngle, Sdins25Depth, Sdins25Dvl, Sdins25Input,
+    Sdins25Params, Sdins25Usbl, Sdins25UsblAux,
 };
 use nav_runtime::ekf::Ekf;
 use nav_runtime::model::Sensor;
@@ -33,13 +33,20 @@ type Filter = Ekf<Sdins25, 25>;
 /// prediction, gating off (every update is applied, as in the dense code).
 fn filter() -> (Filter, Sdins25Input, Sdins25Params) {
     let (x, u, par, q) = sdins25_point();
-    let mut f = Filter::new(x, sdins25_covariance(), par, q).unwrap().with_default_gate(None);
+    let mut f = Filter::new(x, sdins25_covariance(), par, q)
+        .unwrap()
+        .with_default_gate(None);
     f.predict(DT_SDINS, &u).unwrap();
     (f, u, par)
 }
 
-fn bench_sensor<S, const M: usize>(c: &mut Criterion, name: &str, z: SVector<f64, M>, r: SMatrix<f64, M, M>, aux: S::Aux)
-where
+fn bench_sensor<S, const M: usize>(
+    c: &mut Criterion,
+    name: &str,
+    z: SVector<f64, M>,
+    r: SMatrix<f64, M, M>,
+    aux: S::Aux,
+) where
     S: Sensor<25, M, Model = Sdins25>,
 {
     let (f0, u, par) = filter();
@@ -50,21 +57,38 @@ where
     f.update::<S, M>(&z, &r, &aux).unwrap();
     let (mut x, mut p) = prior;
     dense_joseph_update::<S, 25, M>(&mut x, &mut p, &z, &r, &u, &par, &aux);
-    assert!(rel_diff(f.covariance(), &p) < 1e-9, "{name}: covariances differ");
-    assert!((f.state() - x).amax() <= 1e-9 * x.amax().max(1e-300), "{name}: states differ");
+    assert!(
+        rel_diff(f.covariance(), &p) < 1e-9,
+        "{name}: covariances differ"
+    );
+    assert!(
+        (f.state() - x).amax() <= 1e-9 * x.amax().max(1e-300),
+        "{name}: states differ"
+    );
 
     let mut g = c.benchmark_group(format!("update/{name}"));
     g.bench_function("generated", |b| {
         b.iter_custom(|iters| {
             time_in_place(iters, &f0, RESET_EVERY, |f| {
-                black_box(f.update::<S, M>(black_box(&z), black_box(&r), black_box(&aux)).unwrap());
+                black_box(
+                    f.update::<S, M>(black_box(&z), black_box(&r), black_box(&aux))
+                        .unwrap(),
+                );
             })
         })
     });
     g.bench_function("dense", |b| {
         b.iter_custom(|iters| {
             time_in_place(iters, &prior, RESET_EVERY, |(x, p)| {
-                dense_joseph_update::<S, 25, M>(x, p, black_box(&z), black_box(&r), black_box(&u), black_box(&par), black_box(&aux))
+                dense_joseph_update::<S, 25, M>(
+                    x,
+                    p,
+                    black_box(&z),
+                    black_box(&r),
+                    black_box(&u),
+                    black_box(&par),
+                    black_box(&aux),
+                )
             })
         })
     });
@@ -73,7 +97,15 @@ where
     let (x, p) = prior;
     let mut g = c.benchmark_group(format!("innovation_terms/{name}"));
     g.bench_function("generated", |b| {
-        b.iter(|| S::innovation_terms(black_box(&p), black_box(&x), black_box(&u), black_box(&par), black_box(&aux)))
+        b.iter(|| {
+            S::innovation_terms(
+                black_box(&p),
+                black_box(&x),
+                black_box(&u),
+                black_box(&par),
+                black_box(&aux),
+            )
+        })
     });
     g.bench_function("dense", |b| {
         b.iter(|| {
@@ -114,7 +146,9 @@ fn updates(c: &mut Criterion) {
         "usbl",
         SVector::<f64, 2>::new(1.5, -0.8),
         SMatrix::<f64, 2, 2>::from_diagonal_element(1.0),
-        Sdins25UsblAux { relative_position: Vector3::new(120.0, -80.0, 45.0) },
+        Sdins25UsblAux {
+            relative_position: Vector3::new(120.0, -80.0, 45.0),
+        },
     );
     bench_sensor::<Sdins25Depth, 1>(
         c,

@@ -39,7 +39,10 @@ macro_rules! continuous_model {
                 ("jacobian".to_string(), $ty::OPS_JACOBIAN),
                 ("noise_jacobian".to_string(), $ty::OPS_NOISE_JACOBIAN),
                 ("process_noise".to_string(), $ty::OPS_PROCESS_NOISE),
-                ("propagate_covariance".to_string(), $ty::OPS_PROPAGATE_COVARIANCE),
+                (
+                    "propagate_covariance".to_string(),
+                    $ty::OPS_PROPAGATE_COVARIANCE,
+                ),
             ]),
         );
     };
@@ -54,7 +57,10 @@ macro_rules! discrete_model {
                 ("jacobian".to_string(), $ty::OPS_JACOBIAN),
                 ("noise_jacobian".to_string(), $ty::OPS_NOISE_JACOBIAN),
                 ("process_noise".to_string(), $ty::OPS_PROCESS_NOISE),
-                ("propagate_covariance".to_string(), $ty::OPS_PROPAGATE_COVARIANCE),
+                (
+                    "propagate_covariance".to_string(),
+                    $ty::OPS_PROPAGATE_COVARIANCE,
+                ),
             ]),
         );
     };
@@ -116,10 +122,14 @@ fn render(counts: &Counts) -> String {
 fn read_baseline() -> Counts {
     let path = baseline_path();
     let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let table: toml::Table = text.parse().unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let table: toml::Table = text
+        .parse()
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     let mut counts = Counts::new();
     for (item, fns) in table {
-        let fns = fns.as_table().unwrap_or_else(|| panic!("[{item}] is not a table"));
+        let fns = fns
+            .as_table()
+            .unwrap_or_else(|| panic!("[{item}] is not a table"));
         let entry = counts.entry(item.clone()).or_default();
         for (f, n) in fns {
             let n = n
@@ -155,9 +165,15 @@ fn op_counts_do_not_regress() {
                             100.0 * TOLERANCE
                         ));
                     } else if n < b {
-                        eprintln!("improved: {item}.{f}: {b} -> {n} ops ({:.1} %); update the baseline", 100.0 * change);
+                        eprintln!(
+                            "improved: {item}.{f}: {b} -> {n} ops ({:.1} %); update the baseline",
+                            100.0 * change
+                        );
                     } else if n > b {
-                        eprintln!("note: {item}.{f}: {b} -> {n} ops (+{:.1} %, within tolerance)", 100.0 * change);
+                        eprintln!(
+                            "note: {item}.{f}: {b} -> {n} ops (+{:.1} %, within tolerance)",
+                            100.0 * change
+                        );
                     }
                 }
             }
@@ -166,7 +182,9 @@ fn op_counts_do_not_regress() {
     for (item, fns) in &base {
         for f in fns.keys() {
             if now.get(item).and_then(|c| c.get(f)).is_none() {
-                failures.push(format!("baseline entry {item}.{f} is not measured by this test"));
+                failures.push(format!(
+                    "baseline entry {item}.{f} is not measured by this test"
+                ));
             }
         }
     }
@@ -198,7 +216,8 @@ struct PropagationCounts {
 /// A generic point (every scalar in [-1, 1] or so, no accidental zeros).
 fn generic<R: Record>(salt: u64) -> R {
     R::from_fn(|i| {
-        let z = (i as u64 + 1).wrapping_mul(0x9e37_79b9_7f4a_7c15) ^ salt.wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        let z = (i as u64 + 1).wrapping_mul(0x9e37_79b9_7f4a_7c15)
+            ^ salt.wrapping_mul(0xbf58_476d_1ce4_e5b9);
         0.3 + 0.6 * ((z >> 11) as f64 / (1u64 << 53) as f64)
     })
 }
@@ -208,7 +227,11 @@ fn generic<R: Record>(salt: u64) -> R {
 /// a generic point).
 fn propagation_counts<Mo: Model<N>, const N: usize>() -> PropagationCounts {
     let x = SVector::<f64, N>::from_fn(|i, _| 0.1 + 0.01 * i as f64);
-    let (u, p, q) = (generic::<Mo::Input>(1), generic::<Mo::Params>(2), generic::<Mo::Noise>(3));
+    let (u, p, q) = (
+        generic::<Mo::Input>(1),
+        generic::<Mo::Params>(2),
+        generic::<Mo::Noise>(3),
+    );
     let dt = 0.01;
     let jac = Mo::jacobian(&x, &u, &p, dt);
     let qd = Mo::process_noise(&x, &u, &p, &q, dt);
@@ -219,12 +242,20 @@ fn propagation_counts<Mo: Model<N>, const N: usize>() -> PropagationCounts {
     let mut form_phi = 0;
     for i in 0..N {
         for k in 0..N {
-            let nonzero = if Mo::DISCRETE { s[i][k] } else { s[i][k] || i == k };
+            let nonzero = if Mo::DISCRETE {
+                s[i][k]
+            } else {
+                s[i][k] || i == k
+            };
             if !nonzero {
                 continue;
             }
             terms[i].push(k);
-            unit[i][k] = if Mo::DISCRETE { jac[(i, k)] == 1.0 } else { i == k && !s[i][i] };
+            unit[i][k] = if Mo::DISCRETE {
+                jac[(i, k)] == 1.0
+            } else {
+                i == k && !s[i][i]
+            };
             if !Mo::DISCRETE && s[i][k] {
                 form_phi += if i == k { 2 } else { 1 };
             }
@@ -243,8 +274,8 @@ fn propagation_counts<Mo: Model<N>, const N: usize>() -> PropagationCounts {
     for i in 0..N {
         // Entries A[i][k] read by the upper triangle of A Phi^T: k in T_j, j >= i.
         let mut needed = vec![false; N];
-        for j in i..N {
-            for &k in &terms[j] {
+        for row in &terms[i..] {
+            for &k in row {
                 needed[k] = true;
             }
         }
@@ -253,7 +284,11 @@ fn propagation_counts<Mo: Model<N>, const N: usize>() -> PropagationCounts {
             minimum += row_cost(j) + usize::from(qd[(i, j)] != 0.0);
         }
     }
-    PropagationCounts { dense: 2 * N * N * (2 * N - 1) + N * N, minimum_product: minimum, form_phi }
+    PropagationCounts {
+        dense: 2 * N * N * (2 * N - 1) + N * N,
+        minimum_product: minimum,
+        form_phi,
+    }
 }
 
 #[test]
@@ -274,7 +309,11 @@ fn propagation_counts_against_dense_and_minimum() {
             Mo::OPS_JACOBIAN,
             process_noise_ops,
         );
-        assert!(generated < c.dense, "{name}: generated {generated} >= dense {}", c.dense);
+        assert!(
+            generated < c.dense,
+            "{name}: generated {generated} >= dense {}",
+            c.dense
+        );
     }
     let mut out = String::new();
     row::<Sdins25, 25>(&mut out, "Sdins25", Sdins25::OPS_PROCESS_NOISE);
@@ -282,4 +321,3 @@ fn propagation_counts_against_dense_and_minimum() {
     row::<Marker9, 9>(&mut out, "Marker9", Marker9::OPS_PROCESS_NOISE);
     eprintln!("{out}");
 }
-

@@ -104,7 +104,7 @@ pub fn block(b: &BlockDecl) -> TokenStream {
 /// inputs, so every mistake inside a block is reported once, at the block.
 fn check_block(decl: &ModelDecl) -> syn::Result<()> {
     let mut model = decl.clone();
-    model.inputs.extend(model.needs.drain(..));
+    model.inputs.append(&mut model.needs);
     if model.states.is_empty() {
         model.states.push(Var {
             attrs: Vec::new(),
@@ -355,13 +355,12 @@ fn assemble(
     let cx = Ctxt::new();
     let mut blocks = blocks;
     let mut process_lets: HashMap<String, usize> = HashMap::new();
-    for b in 0..blocks.len() {
-        let block_name = blocks[b].name.to_string();
+    for (b, block) in blocks.iter_mut().enumerate() {
+        let block_name = block.name.to_string();
         let taken = |name: &str, lets: &HashMap<String, usize>| {
             owners.get(name).is_some_and(|o| o.block != b)
                 || lets.get(name).is_some_and(|&o| o != b)
         };
-        let block = &mut blocks[b];
         if let Some(p) = &mut block.process {
             let mut renames = Vec::new();
             for stmt in &p.stmts {

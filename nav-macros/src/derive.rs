@@ -240,9 +240,9 @@ impl Derived {
             }
         }
         while let Some(i) = work.pop() {
-            for j in 0..n {
-                if j != i && !used[j] && !self.graph.is_zero(self.jacobian[i * n + j]) {
-                    used[j] = true;
+            for (j, u) in used.iter_mut().enumerate() {
+                if j != i && !*u && !self.graph.is_zero(self.jacobian[i * n + j]) {
+                    *u = true;
                     work.push(j);
                 }
             }

@@ -40,7 +40,8 @@
 //! }
 //! ```
 //!
-//! One invocation may hold several `model` declarations.
+//! One invocation may hold several `model` declarations, and `block`s and
+//! composed models (see "Blocks and composed models").
 //!
 //! # Sections
 //!
@@ -93,6 +94,85 @@
 //! do not see the process section's `let`s, and process noise in a sensor is an
 //! error.
 //!
+//! # Blocks and composed models
+//!
+//! A vehicle is usually an INS core plus a sensor suite. Each part can be
+//! declared once as a *block* and vehicles assembled from blocks in one line:
+//!
+//! ```ignore
+//! nav_runtime::model! {
+//!     /// The INS error-state core: states, the nominal solution as inputs, noise, dynamics.
+//!     pub block InsCore {
+//!         states { position_error: 3, velocity_error: 3, attitude_error: 3, accel_bias: 3, gyro_bias: 3 }
+//!         inputs { latitude, height, velocity: 3, c_bn: 3x3, specific_force: 3 }
+//!         noise { accel_noise: 3, gyro_noise: 3 }
+//!         continuous { .. }
+//!     }
+//!     /// A sensor block: its own states and sensors, and what it reads from other blocks.
+//!     pub block Depth {
+//!         states { depth_bias }
+//!         needs { position_error: 3 }
+//!         sensor Depth: 1 { h = [position_error[2] - depth_bias]; }
+//!     }
+//! }
+//!
+//! nav_runtime::model! {
+//!     pub model Auv = InsCore + Depth + Dvl + blocks::Compass;
+//!     pub model Sdins25 = InsCore + Usbl + Depth + Dvl + Compass {
+//!         order { position_error, velocity_error, .., usbl_misalignment }
+//!     }
+//!     pub model Submerged = InsCore + Depth + Dvl + Compass {
+//!         allow_unused { position_error[1] }
+//!     }
+//! }
+//! ```
+//!
+//! **Blocks.** `[doc comments] [pub] block Name { sections }` takes the sections
+//! of a model, all optional (a block may have no states, e.g. a GNSS fix that
+//! measures the core's position error), plus `needs { .. }`: the names the
+//! block reads from other blocks (states, inputs or parameters), with their
+//! shapes. A block is checked on its own when declared, its `needs` standing in
+//! for the other blocks, so a mistake inside a block is reported once, at the
+//! block; an unknown name hints at `needs`. A block without a process section
+//! has random-constant states (zero rows of `F`); a block's `continuous` section
+//! may give dynamics to the block's own states only (e.g. a Markov bias with its
+//! own noise). A block generates nothing but a `macro_rules!` named after it
+//! that re-emits its declaration (the standard way to let one macro invocation
+//! see another's tokens); `pub` makes it visible in the whole crate
+//! (`pub(crate) use`), other visibilities are kept. Blocks are therefore
+//! imported and named like macros (`use blocks::{InsCore, Dvl};` or a path
+//! `blocks::Dvl`) and cannot be shared across crates.
+//!
+//! **Composed models.** `[doc comments] [pub] model Name = A + B + ..;` or
+//! `= A + B .. { order { .. } allow_unused { .. } }`. The blocks' macros are
+//! called in turn and the last one hands every block's tokens back to `model!`,
+//! which assembles one declaration and runs the ordinary pipeline on it, so a
+//! composed model generates exactly what the same declaration written by hand
+//! would (tested for SDINS-25 in `models/src/vehicles/sdins.rs`):
+//! - states in block order, or in the order of `order { .. }`, which must list
+//!   every state once; inputs, parameters and noise in block order; the process
+//!   sections' statements concatenated; the sensors of all blocks;
+//! - every name belongs to one block: two blocks declaring the same state (or
+//!   input, ..) is an error at the second block of the composition; so is a
+//!   block listed twice and two sensors of one name;
+//! - every `needs` entry must be declared by another block of the model with the
+//!   same shape, else an error at the entry ("block `Dvl` needs `c_bn`, which no
+//!   block of `Auv` declares"): a block that needs an input the core does not
+//!   provide, or reads a state of a block that is not included, does not compile;
+//! - all process sections are `continuous` or all `discrete`;
+//! - local `let`s of different blocks never clash (they are renamed if needed);
+//! - **unused states are an error.** A state scalar is *used* if some sensor's
+//!   `H` depends on it, or the derivative of a used state does (`F[i][j] != 0`,
+//!   `i != j`), transitively; an unused state can never be corrected by a
+//!   measurement nor influence one (e.g. the longitude error without a
+//!   horizontal position fix). A composed model with unused states does not
+//!   compile unless `allow_unused { name, name[i], .. }` lists them (a whole
+//!   state or one component); listing a used state is an error too, so the list
+//!   stays true. (A warning is not possible from a proc macro on stable Rust; an
+//!   error with an explicit opt-out is.) Every model, composed or not, has the
+//!   constant `Name::UNUSED_STATES: &[&str]` naming its unused state scalars;
+//!   declarations written by hand are not checked.
+//!
 //! # Expressions
 //!
 //! Straight-line arithmetic on scalars, vectors and matrices. Everything is
@@ -142,6 +222,8 @@
 //!   `jacobian`, `process_noise`, `propagate_covariance`), with inherent items:
 //!   - `Foo::N`, `Foo::NW`, and one index constant per state block, the index
 //!     of its first scalar in SCREAMING_CASE (`Foo::VELOCITY`);
+//!   - `Foo::UNUSED_STATES`: the state scalars no sensor depends on (see
+//!     "Blocks and composed models");
 //!   - `Foo::derivative(x, u, p) -> SVector<f64, N>` (continuous models only);
 //!   - `Foo::process_with_noise(x, u, p, w, dt)`: `f` with an explicit noise
 //!     sample `w: SVector<f64, NW>`;
@@ -183,7 +265,7 @@
 //! `false` in `JACOBIAN_SPARSITY` and never becomes code, and unit entries of
 //! `Phi` cost nothing. The op count of a function (`OPS_*`, and "Total ops: N"
 //! in its doc comment) is the number of arithmetic nodes (`+ - * /`, negation,
-//! calls) it evaluates.
+//! calls) it evaluates. Blocks and compositions: `compose.rs`.
 
 mod check;
 mod compose;

@@ -73,6 +73,8 @@ pub fn lower(cx: &Ctxt, decl: &ModelDecl) -> Option<Lowered> {
                                 kind: Kind::Let,
                             },
                         );
+                    } else {
+                        lw.scope.failed.push(name.to_string());
                     }
                     process_lets.push(name.to_string());
                 }
@@ -129,6 +131,8 @@ pub fn lower(cx: &Ctxt, decl: &ModelDecl) -> Option<Lowered> {
                         kind: Kind::Let,
                     },
                 );
+            } else {
+                lw.scope.failed.push(name.to_string());
             }
         }
         let mut h = vec![Graph::ZERO; sensor.dim];
@@ -212,6 +216,8 @@ struct Binding {
 #[derive(Clone, Default)]
 struct Scope {
     names: HashMap<String, Binding>,
+    /// `let`s whose value had errors: their uses report nothing more.
+    failed: Vec<String>,
 }
 
 impl Scope {
@@ -369,6 +375,9 @@ impl Lowerer<'_> {
     fn ident(&mut self, ident: &syn::Ident) -> Option<Val> {
         let name = ident.to_string();
         let Some(b) = self.scope.names.get(&name) else {
+            if self.scope.failed.contains(&name) {
+                return None;
+            }
             let hint = if name == "dt" {
                 if self.sensor.is_some() {
                     "; `dt` is not available in sensors".to_string()

@@ -172,3 +172,30 @@ fn composed_equals_monolithic() {
         let _: SMatrix<f64, 1, 4> = CvAllGps::jacobian(&x, &u_c, &p_c, &());
     }
 }
+
+mod private_blocks {
+    nav_runtime::model! {
+        /// A private block, used in the same invocation; its sensor's `let vel`
+        /// shadows nothing although the core has a state `vel` (it is renamed).
+        block Tick {
+            states { tick_bias }
+            needs { pos }
+            sensor Tick: 1 {
+                let vel = 2.0 * pos;
+                h = vel + tick_bias;
+            }
+        }
+
+        pub model CvTick = super::blocks::Cv + Tick;
+    }
+}
+
+#[test]
+fn private_blocks_and_local_names() {
+    use private_blocks::{CvTick, CvTickTick};
+    let x = SVector::from([1.5, -3.0, 0.25]);
+    let u = <CvTick as Model<3>>::Input::default();
+    let z = CvTickTick::predict(&x, &u, &Default::default(), &());
+    assert_eq!(z[0], 2.0 * 1.5 + 0.25);
+    assert_eq!(CvTick::UNUSED_STATES, &[] as &[&str]);
+}

@@ -20,21 +20,48 @@ fn marker_path_two_seeds() {
         .collect();
     for r in &runs {
         let m = |k: &str| r.metric(k);
-        assert!(m("planning_time_s") < 0.5, "planning {} s", m("planning_time_s"));
+        assert!(
+            m("planning_time_s") < 0.5,
+            "planning {} s",
+            m("planning_time_s")
+        );
         for law in ["los", "improved_los", "convex"] {
-            assert_eq!(m(&format!("{law}.finished")), 1.0, "seed {} {law} did not finish", r.seed);
+            assert_eq!(
+                m(&format!("{law}.finished")),
+                1.0,
+                "seed {} {law} did not finish",
+                r.seed
+            );
         }
         assert_eq!(m("convex.collisions"), 0.0, "seed {}", r.seed);
         assert!(m("convex.min_clearance_m") > 0.0);
-        assert!(m("convex.path_rms_true_m") < 0.3, "seed {}: {}", r.seed, m("convex.path_rms_true_m"));
+        assert!(
+            m("convex.path_rms_true_m") < 0.3,
+            "seed {}: {}",
+            r.seed,
+            m("convex.path_rms_true_m")
+        );
         let gap = (m("convex.path_rms_true_m") - m("convex.path_rms_estimated_m")).abs();
-        assert!(gap < 0.1, "seed {}: true vs estimated RMS gap {gap}", r.seed);
+        assert!(
+            gap < 0.1,
+            "seed {}: true vs estimated RMS gap {gap}",
+            r.seed
+        );
         let calls = m("convex.qp_solved") + m("convex.qp_fallbacks");
-        assert!(m("convex.qp_fallbacks") <= 0.01 * calls, "fallbacks {}", m("convex.qp_fallbacks"));
+        assert!(
+            m("convex.qp_fallbacks") <= 0.01 * calls,
+            "fallbacks {}",
+            m("convex.qp_fallbacks")
+        );
         assert!(m("convex.fixes_accepted") > 50.0);
     }
     let summary = s.summarize(&runs, &options).expect("summary");
-    for k in ["path_rms_true_m", "path_rms_estimated_m", "planning_time_s", "qp_solve_time_ms"] {
+    for k in [
+        "path_rms_true_m",
+        "path_rms_estimated_m",
+        "planning_time_s",
+        "qp_solve_time_ms",
+    ] {
         for stat in ["median", "p95", "max"] {
             assert!(summary[k][stat].is_number(), "{k}.{stat}");
         }

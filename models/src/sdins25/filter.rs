@@ -79,6 +79,53 @@ pub struct FilterOptions {
     pub use_compass: bool,
     /// Use the USBL.
     pub use_usbl: bool,
+    /// Extra delivery delay of the DVL, depth and compass measurements
+    /// (fault injection; zero in normal runs).
+    pub delivery: Delivery,
+}
+
+/// Late delivery of the 2 Hz aiding measurements (DVL, depth, compass): each
+/// reaches the filter `delay_s + jitter_s u` after its measurement time, with
+/// `u` uniform in [0, 1) drawn per row from `seed`. A jitter larger than the
+/// sampling interval reorders the deliveries; the scheduler applies each at its
+/// measurement time (rollback and replay).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Delivery {
+    /// Fixed delay (s).
+    pub delay_s: f64,
+    /// Random extra delay, at most this (s).
+    pub jitter_s: f64,
+    /// Seed of the random delays.
+    pub seed: u64,
+}
+
+impl Delivery {
+    /// Whether measurements arrive late at all.
+    pub fn is_late(&self) -> bool {
+        self.delay_s > 0.0 || self.jitter_s > 0.0
+    }
+
+    /// Delay (s) of row `row` of sensor `sensor` (index in the health order).
+    pub fn delay(&self, sensor: usize, row: usize) -> f64 {
+        if !self.is_late() {
+            return 0.0;
+        }
+        let mut z = self
+            .seed
+            .wrapping_add((sensor as u64) << 40)
+            .wrapping_add(row as u64)
+            .wrapping_mul(0x9E37_79B9_7F4A_7C15);
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^= z >> 31;
+        let u = (z >> 11) as f64 / (1u64 << 53) as f64;
+        self.delay_s + self.jitter_s * u
+    }
+
+    /// Largest delay (s).
+    pub fn max_delay(&self) -> f64 {
+        self.delay_s + self.jitter_s
+    }
 }
 
 impl Default for FilterOptions {
@@ -91,6 +138,7 @@ impl Default for FilterOptions {
             use_depth: true,
             use_compass: true,
             use_usbl: true,
+            delivery: Delivery::default(),
         }
     }
 }
@@ -221,7 +269,8 @@ pub struct Estimate {
 }
 
 impl Estimate {
-    fn of(t: f64, f: &Filter) -> Self {
+    /// The estimate of filter `f` at time `t`.
+    pub fn of(t: f64, f: &Filter) -> Self {
         let nav = f.nominal().ins.state;
         let p = f.covariance();
         let (rm, rn) = (
@@ -410,6 +459,48 @@ fn outcome<const M: usize>(
     r.map(|rep| MeasurementOutcome::from(&rep))
 }
 
+/// A depth-meter measurement (`depth`: m, positive down) with noise sigma (m).
+pub fn depth_measurement(depth: f64, sigma: f64) -> Box<dyn Measurement<Filter>> {
+    let h_meas = -depth;
+    let r = SVector::<f64, 1>::new(sigma.powi(2));
+    Box::new(FnMeasurement::new(&[h_meas], move |f: &mut Filter| {
+        let nom = f.nominal();
+        let z = SVector::<f64, 1>::new(nom.ins.state.h - (h_meas - nom.depth_bias));
+        outcome(f.update_sequential::<Sdins25Depth, 1>(&z, &r, &()))
+    }))
+}
+
+/// A DVL measurement (body velocity, m/s) with noise sigma per axis (m/s).
+pub fn dvl_measurement(v: Vector3<f64>, sigma: f64) -> Box<dyn Measurement<Filter>> {
+    let r = SVector::<f64, 3>::repeat(sigma.powi(2));
+    Box::new(FnMeasurement::new(v.as_slice(), move |f: &mut Filter| {
+        let nom = f.nominal();
+        let s = &nom.ins.state;
+        let z = s.v_n - s.c_bn * (v - nom.dvl_bias);
+        outcome(f.update_sequential::<Sdins25Dvl, 3>(&z, &r, &()))
+    }))
+}
+
+/// A compass measurement (heading `psi`, rad) with noise sigma (rad).
+pub fn heading_measurement(
+    psi: f64,
+    sigma: f64,
+    form: CompassForm,
+) -> Box<dyn Measurement<Filter>> {
+    let r = SVector::<f64, 1>::new(sigma.powi(2));
+    Box::new(FnMeasurement::new(&[psi], move |f: &mut Filter| {
+        let nom = f.nominal();
+        let yaw = euler_from_c_bn(&nom.ins.state.c_bn).yaw;
+        let z = SVector::<f64, 1>::new(wrap_angle(yaw - (psi - nom.compass_bias)));
+        match form {
+            CompassForm::Exact => outcome(f.update_sequential::<Sdins25Compass, 1>(&z, &r, &())),
+            CompassForm::SmallAngle => {
+                outcome(f.update_sequential::<Sdins25CompassSmallAngle, 1>(&z, &r, &()))
+            }
+        }
+    }))
+}
+
 /// Runs the filter over `log`, recording estimates at `record_times` (s; each
 /// snapped to the nearest IMU sample time within half a period).
 pub fn run(
@@ -429,7 +520,7 @@ pub fn run(
     if let (true, Some(rows)) = (options.use_depth, &log.depth) {
         health[0].rows = rows.len() as u64;
         events.extend(rows.iter().enumerate().map(|(i, r)| Event {
-            delivery: r.t,
+            delivery: r.t + options.delivery.delay(0, i),
             time: r.t,
             kind: Kind::Depth(i),
         }));
@@ -442,7 +533,7 @@ pub fn run(
             let in_range = altitude_at(log, r.t).is_none_or(|a| a <= DVL_MAX_ALTITUDE);
             if r.velocity().is_some() && in_range {
                 events.push(Event {
-                    delivery: r.t,
+                    delivery: r.t + options.delivery.delay(1, i),
                     time: r.t,
                     kind: Kind::Dvl(i),
                 });
@@ -455,7 +546,7 @@ pub fn run(
     if let (true, Some(rows)) = (options.use_compass, &log.heading) {
         health[2].rows = rows.len() as u64;
         events.extend(rows.iter().enumerate().map(|(i, r)| Event {
-            delivery: r.t,
+            delivery: r.t + options.delivery.delay(2, i),
             time: r.t,
             kind: Kind::Heading(i),
         }));
@@ -526,7 +617,13 @@ pub fn run(
     let mut sched = Scheduler::new(filter, t0).map_err(|e| RunError::Invalid(e.to_string()))?;
     let mut ids: Vec<SensorId> = Vec::new();
     for (i, name) in SENSORS.iter().enumerate() {
-        let latency = if i == 3 { usbl_latency + 1.0 } else { 0.0 };
+        let latency = if i == 3 {
+            usbl_latency + 1.0
+        } else if options.delivery.is_late() {
+            options.delivery.max_delay() + 0.1
+        } else {
+            0.0
+        };
         ids.push(
             sched
                 .add_sensor(*name, 2.0, latency)
@@ -540,14 +637,8 @@ pub fn run(
     let make = |ev: &Event| -> (SensorId, Box<dyn Measurement<Filter>>) {
         match ev.kind {
             Kind::Depth(i) => {
-                let h_meas = -log.depth.as_ref().map_or(f64::NAN, |r| r[i].depth);
-                let r = SVector::<f64, 1>::new(depth_noise.noise_sigma.powi(2));
-                let m = FnMeasurement::new(&[h_meas], move |f: &mut Filter| {
-                    let nom = f.nominal();
-                    let z = SVector::<f64, 1>::new(nom.ins.state.h - (h_meas - nom.depth_bias));
-                    outcome(f.update_sequential::<Sdins25Depth, 1>(&z, &r, &()))
-                });
-                (ids[0], Box::new(m))
+                let depth = log.depth.as_ref().map_or(f64::NAN, |r| r[i].depth);
+                (ids[0], depth_measurement(depth, depth_noise.noise_sigma))
             }
             Kind::Dvl(i) => {
                 let v = log
@@ -555,31 +646,14 @@ pub fn run(
                     .as_ref()
                     .and_then(|r| r[i].velocity())
                     .map_or(Vector3::repeat(f64::NAN), Vector3::from);
-                let r = SVector::<f64, 3>::repeat(dvl_noise.noise_sigma.powi(2));
-                let m = FnMeasurement::new(v.as_slice(), move |f: &mut Filter| {
-                    let nom = f.nominal();
-                    let s = &nom.ins.state;
-                    let z = s.v_n - s.c_bn * (v - nom.dvl_bias);
-                    outcome(f.update_sequential::<Sdins25Dvl, 3>(&z, &r, &()))
-                });
-                (ids[1], Box::new(m))
+                (ids[1], dvl_measurement(v, dvl_noise.noise_sigma))
             }
             Kind::Heading(i) => {
                 let psi = log.heading.as_ref().map_or(f64::NAN, |r| r[i].heading);
-                let r = SVector::<f64, 1>::new(heading_noise.noise_sigma.powi(2));
-                let form = options.compass;
-                let m = FnMeasurement::new(&[psi], move |f: &mut Filter| {
-                    let nom = f.nominal();
-                    let yaw = euler_from_c_bn(&nom.ins.state.c_bn).yaw;
-                    let z = SVector::<f64, 1>::new(wrap_angle(yaw - (psi - nom.compass_bias)));
-                    outcome(match form {
-                        CompassForm::Exact => f.update_sequential::<Sdins25Compass, 1>(&z, &r, &()),
-                        CompassForm::SmallAngle => {
-                            f.update_sequential::<Sdins25CompassSmallAngle, 1>(&z, &r, &())
-                        }
-                    })
-                });
-                (ids[2], Box::new(m))
+                (
+                    ids[2],
+                    heading_measurement(psi, heading_noise.noise_sigma, options.compass),
+                )
             }
             Kind::Usbl(i) => {
                 let row = log.usbl.as_ref().map(|r| r[i]);

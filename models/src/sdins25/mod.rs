@@ -6,10 +6,12 @@
 //! score against truth.csv, so `navsim simulate` followed by `navsim replay
 //! --model sdins25` reproduces `navsim scenario` exactly.
 
+pub mod faults;
 pub mod filter;
 pub mod model;
 pub mod score;
 pub mod simulation;
+pub mod soak;
 
 #[cfg(test)]
 mod model_tests;
@@ -145,10 +147,39 @@ fn metrics(run: &Sdins25Run, scored: Option<&Scored>) -> Vec<(String, f64)> {
 
 /// One scenario run: simulate, filter over the log, score.
 pub fn run_one(config: &SimConfig, seed: u64, keep_series: bool) -> Result<RunResult, RunError> {
-    let sim = simulation::simulate(config, seed);
+    let options = RunOptions {
+        keep_series,
+        ..RunOptions::default()
+    };
+    run_one_with(config, seed, &options)
+}
+
+/// The simulated log of `seed` with the data faults of `faults` applied, and
+/// the number of samples each fault changed.
+pub fn simulate_with_faults(
+    config: &SimConfig,
+    seed: u64,
+    faults: &[String],
+) -> Result<(simulation::Simulated, faults::Injected), RunError> {
+    let mut sim = simulation::simulate(config, seed);
+    let injected = faults::apply(&mut sim.log, faults, seed)?;
+    Ok((sim, injected))
+}
+
+/// [`run_one`] with the faults of `options` injected (see [`faults`]).
+pub fn run_one_with(
+    config: &SimConfig,
+    seed: u64,
+    options: &RunOptions,
+) -> Result<RunResult, RunError> {
+    let (sim, injected) = simulate_with_faults(config, seed, &options.faults)?;
     let bias = config.compass.then_some(sim.errors.compass_bias);
+    let filter_options = FilterOptions {
+        delivery: faults::delivery(&options.faults, seed),
+        ..FilterOptions::default()
+    };
     let (run, scored) =
-        run_and_score(&sim.log, &FilterOptions::default(), bias).map_err(|e| RunError::Failed {
+        run_and_score(&sim.log, &filter_options, bias).map_err(|e| RunError::Failed {
             seed,
             message: e.to_string(),
         })?;
@@ -156,6 +187,10 @@ pub fn run_one(config: &SimConfig, seed: u64, keep_series: bool) -> Result<RunRe
     for (k, v) in metrics(&run, scored.as_ref()) {
         r = r.with_metric(&k, v);
     }
+    for (name, n) in injected {
+        r = r.with_metric(&format!("fault_{name}_injected"), n as f64);
+    }
+    let keep_series = options.keep_series;
     if let (true, Some(s)) = (keep_series, scored) {
         r.tables.push(s.table);
     }
@@ -196,13 +231,17 @@ impl Scenario for LawnMower {
     fn default_runs(&self) -> usize {
         100
     }
+    fn faults(&self) -> &'static [&'static str] {
+        let c = &self.config;
+        faults::accepted(c.usbl, c.dvl || c.depth || c.compass)
+    }
     fn run_one(&self, seed: u64, options: &RunOptions) -> Result<RunResult, RunError> {
-        run_one(&self.config, seed, options.keep_series)
+        run_one_with(&self.config, seed, options)
     }
     fn summarize(
         &self,
         runs: &[RunResult],
-        _options: &RunOptions,
+        options: &RunOptions,
     ) -> Result<Map<String, Value>, RunError> {
         let mut m = Map::new();
         for key in [
@@ -240,6 +279,17 @@ impl Scenario for LawnMower {
         }
         m.insert("runtime_s".into(), summary_of(runs, "runtime_s"));
         m.insert("health".into(), health(runs));
+        if !options.faults.is_empty() {
+            let mut inj = Map::new();
+            for f in &options.faults {
+                let total: f64 = metric_values(runs, &format!("fault_{f}_injected"))
+                    .iter()
+                    .filter(|x| x.is_finite())
+                    .sum();
+                inj.insert(f.clone(), Value::from(total));
+            }
+            m.insert("faults_injected".into(), Value::Object(inj));
+        }
         Ok(m)
     }
     fn write_outputs(&self, runs: &[RunResult], dir: &Path) -> Result<(), RunError> {
@@ -251,8 +301,8 @@ impl Scenario for LawnMower {
         }
         write_ensemble_nees(self.name, runs, dir)
     }
-    fn simulate_log(&self, seed: u64, _options: &RunOptions) -> Option<Result<LogDir, RunError>> {
-        Some(Ok(simulation::simulate(&self.config, seed).log))
+    fn simulate_log(&self, seed: u64, options: &RunOptions) -> Option<Result<LogDir, RunError>> {
+        Some(simulate_with_faults(&self.config, seed, &options.faults).map(|(sim, _)| sim.log))
     }
 }
 

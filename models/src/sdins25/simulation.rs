@@ -297,7 +297,7 @@ pub fn transducer(start: &nav_runtime::trajectory::TruthState) -> Geodetic {
 
 /// `[initial]` = truth at t = 0 plus a draw from [`INITIAL_SIGMA`], and
 /// `[initial_sigma]` = [`INITIAL_SIGMA`], so the filter's prior is consistent.
-fn initial_meta(s0: &nav_runtime::trajectory::TruthState, seed: u64) -> Meta {
+pub(crate) fn initial_meta(s0: &nav_runtime::trajectory::TruthState, seed: u64) -> Meta {
     let sig = INITIAL_SIGMA;
     let mut rng = ChaCha8Rng::seed_from_u64(derive_seed(seed, "sdins25-initial"));
     let mut n = |s: f64| normal(&mut rng, s);
@@ -325,7 +325,7 @@ fn initial_meta(s0: &nav_runtime::trajectory::TruthState, seed: u64) -> Meta {
     meta
 }
 
-fn sensor_noise(spec: &ErrorSpec) -> SensorNoise {
+pub(crate) fn sensor_noise(spec: &ErrorSpec) -> SensorNoise {
     let bias_sigma = match spec.bias {
         nav_runtime::sensors::Draw::Gaussian(s) => s,
         _ => 0.0,

@@ -253,3 +253,10 @@ nav_runtime::model! {
         }
     }
 }
+
+nav_runtime::model! {
+    /// Every block once (with the calibrated DVL): a vehicle that exists so that
+    /// each block's generated code is compiled and tested (finite-difference
+    /// Jacobians of every sensor).
+    pub model BlockCatalog = InsCore + Usbl + Depth + DvlCalibrated + Compass + GnssFix + RpmSpeed;
+}

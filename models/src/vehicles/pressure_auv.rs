@@ -110,10 +110,16 @@ pub fn simulate(seconds: f64, surface_seconds: f64, seed: u64) -> Result<Run, Fi
         truth = PressureAuv::transition(&truth, &u, &params, dt);
         filter.predict(dt, &u)?;
         if k % 10 == 0 {
-            let z = PressureAuvDvl::predict(&truth, &u, &params, &()) + SVector::from_fn(|_, _| gauss(0.01));
+            let z = PressureAuvDvl::predict(&truth, &u, &params, &())
+                + SVector::from_fn(|_, _| gauss(0.01));
             filter.update::<PressureAuvDvl, 3>(&z, &SMatrix::from_diagonal_element(1e-4), &())?;
-            let z = PressureAuvPressureDepth::predict(&truth, &u, &params, &lever).add_scalar(gauss(0.02));
-            filter.update::<PressureAuvPressureDepth, 1>(&z, &SMatrix::from_element(4e-4), &lever)?;
+            let z = PressureAuvPressureDepth::predict(&truth, &u, &params, &lever)
+                .add_scalar(gauss(0.02));
+            filter.update::<PressureAuvPressureDepth, 1>(
+                &z,
+                &SMatrix::from_element(4e-4),
+                &lever,
+            )?;
         }
         if k % 20 == 0 {
             let z = PressureAuvCompass::predict(&truth, &u, &params, &()).add_scalar(gauss(0.005));
@@ -122,7 +128,11 @@ pub fn simulate(seconds: f64, surface_seconds: f64, seed: u64) -> Result<Run, Fi
         if k % 100 == 0 && k as f64 * dt <= surface_seconds {
             let z = PressureAuvGnssFix::predict(&truth, &u, &params, &antenna)
                 + SVector::from_fn(|_, _| gauss(0.5));
-            filter.update::<PressureAuvGnssFix, 3>(&z, &SMatrix::from_diagonal_element(0.25), &antenna)?;
+            filter.update::<PressureAuvGnssFix, 3>(
+                &z,
+                &SMatrix::from_diagonal_element(0.25),
+                &antenna,
+            )?;
         }
     }
     Ok(Run { filter, truth })
@@ -138,7 +148,10 @@ mod tests {
         assert_eq!(PressureAuv::N, 20);
         assert_eq!(PressureAuv::PRESSURE_BIAS, 15);
         assert_eq!(PressureAuv::UNUSED_STATES, &[] as &[&str]);
-        assert_eq!(<PressureAuvPressureDepthAux as Record>::NAMES, ["lever_arm[0]", "lever_arm[1]", "lever_arm[2]"]);
+        assert_eq!(
+            <PressureAuvPressureDepthAux as Record>::NAMES,
+            ["lever_arm[0]", "lever_arm[1]", "lever_arm[2]"]
+        );
         // The pressure sensor sees height, roll and pitch errors (through the lever arm) and its bias.
         let sparsity = <PressureAuvPressureDepth as Sensor<N, 1>>::JACOBIAN_SPARSITY[0];
         let seen: Vec<&str> = (0..N)
@@ -147,7 +160,12 @@ mod tests {
             .collect();
         assert_eq!(
             seen,
-            ["position_error[2]", "attitude_error[0]", "attitude_error[1]", "pressure_bias"]
+            [
+                "position_error[2]",
+                "attitude_error[0]",
+                "attitude_error[1]",
+                "pressure_bias"
+            ]
         );
     }
 
@@ -159,7 +177,10 @@ mod tests {
         let sigma = run.filter.covariance()[(i, i)].sqrt();
         eprintln!("pressure bias: estimate {est:.4} m, truth {truth:.4} m, sigma {sigma:.4} m");
         assert!(sigma < 0.1, "sigma {sigma}");
-        assert!((est - truth).abs() < 4.0 * sigma.max(0.01), "{est} vs {truth} (sigma {sigma})");
+        assert!(
+            (est - truth).abs() < 4.0 * sigma.max(0.01),
+            "{est} vs {truth} (sigma {sigma})"
+        );
     }
 
     #[test]

@@ -58,7 +58,11 @@ mod tests {
             height: -50.0 + 10.0 * rng.next(),
             velocity: SVector::from_fn(|_, _| 1.5 * rng.next()),
             c_bn: *c_nb.matrix(),
-            specific_force: SVector::from([0.2 * rng.next(), 0.2 * rng.next(), -9.8 + 0.1 * rng.next()]),
+            specific_force: SVector::from([
+                0.2 * rng.next(),
+                0.2 * rng.next(),
+                -9.8 + 0.1 * rng.next(),
+            ]),
         }
     }
 
@@ -67,9 +71,16 @@ mod tests {
         SVector::from_fn(|i, _| if i < 2 { 1e-6 } else { 1e-2 } * rng.next())
     }
 
-    fn same<const R: usize, const C: usize>(what: &str, a: &SMatrix<f64, R, C>, b: &SMatrix<f64, R, C>) {
+    fn same<const R: usize, const C: usize>(
+        what: &str,
+        a: &SMatrix<f64, R, C>,
+        b: &SMatrix<f64, R, C>,
+    ) {
         for (x, y) in a.iter().zip(b.iter()) {
-            assert!((x - y).abs() <= 1e-12 * (1.0 + x.abs()), "{what}: {x} vs {y}\n{a}\n{b}");
+            assert!(
+                (x - y).abs() <= 1e-12 * (1.0 + x.abs()),
+                "{what}: {x} vs {y}\n{a}\n{b}"
+            );
         }
     }
 
@@ -93,7 +104,10 @@ mod tests {
             <Sdins25ComposedDvl as Sensor<25, 3>>::JACOBIAN_SPARSITY,
             <mono::Sdins25Dvl as Sensor<25, 3>>::JACOBIAN_SPARSITY
         );
-        assert_eq!(Sdins25Composed::USBL_MISALIGNMENT, mono::Sdins25::USBL_MISALIGNMENT);
+        assert_eq!(
+            Sdins25Composed::USBL_MISALIGNMENT,
+            mono::Sdins25::USBL_MISALIGNMENT
+        );
         assert_eq!(Sdins25Composed::UNUSED_STATES, &[] as &[&str]);
         assert_eq!(Sdins20::N, 20);
         assert_eq!(Sdins20::UNUSED_STATES, &["position_error[1]"]);
@@ -129,7 +143,10 @@ mod tests {
                 &Sdins25Composed::transition(&x, &uc, &Default::default(), dt),
                 &mono::Sdins25::transition(&x, &u, &Default::default(), dt),
             );
-            let (p, pm) = (Sdins25ComposedParams::default(), mono::Sdins25Params::default());
+            let (p, pm) = (
+                Sdins25ComposedParams::default(),
+                mono::Sdins25Params::default(),
+            );
             same(
                 "H depth",
                 &Sdins25ComposedDepth::jacobian(&x, &uc, &p, &()),
@@ -153,13 +170,41 @@ mod tests {
             let r = SVector::from_fn(|_, _| 300.0 * rng.next());
             same(
                 "H usbl",
-                &Sdins25ComposedUsbl::jacobian(&x, &uc, &p, &Sdins25ComposedUsblAux { relative_position: r }),
-                &mono::Sdins25Usbl::jacobian(&x, &u, &pm, &mono::Sdins25UsblAux { relative_position: r }),
+                &Sdins25ComposedUsbl::jacobian(
+                    &x,
+                    &uc,
+                    &p,
+                    &Sdins25ComposedUsblAux {
+                        relative_position: r,
+                    },
+                ),
+                &mono::Sdins25Usbl::jacobian(
+                    &x,
+                    &u,
+                    &pm,
+                    &mono::Sdins25UsblAux {
+                        relative_position: r,
+                    },
+                ),
             );
             same(
                 "h usbl",
-                &Sdins25ComposedUsbl::predict(&x, &uc, &p, &Sdins25ComposedUsblAux { relative_position: r }),
-                &mono::Sdins25Usbl::predict(&x, &u, &pm, &mono::Sdins25UsblAux { relative_position: r }),
+                &Sdins25ComposedUsbl::predict(
+                    &x,
+                    &uc,
+                    &p,
+                    &Sdins25ComposedUsblAux {
+                        relative_position: r,
+                    },
+                ),
+                &mono::Sdins25Usbl::predict(
+                    &x,
+                    &u,
+                    &pm,
+                    &mono::Sdins25UsblAux {
+                        relative_position: r,
+                    },
+                ),
             );
         }
     }
@@ -182,13 +227,15 @@ mod tests {
         let mut a = Ekf::<mono::Sdins25, 25>::new(SVector::zeros(), p0, Default::default(), q)
             .unwrap()
             .with_default_gate(None);
-        let mut b = Ekf::<Sdins25Composed, 25>::new(SVector::zeros(), p0, Default::default(), convert(&q))
-            .unwrap()
-            .with_default_gate(None);
+        let mut b =
+            Ekf::<Sdins25Composed, 25>::new(SVector::zeros(), p0, Default::default(), convert(&q))
+                .unwrap()
+                .with_default_gate(None);
         let mut u = input(&mut rng);
         for step in 0..300 {
             u.velocity += SVector::from_fn(|_, _| 0.01 * rng.next());
-            u.specific_force = SVector::from([0.2 * rng.next(), 0.2 * rng.next(), -9.8 + 0.1 * rng.next()]);
+            u.specific_force =
+                SVector::from([0.2 * rng.next(), 0.2 * rng.next(), -9.8 + 0.1 * rng.next()]);
             a.predict(0.01, &u).unwrap();
             b.predict(0.01, &convert(&u)).unwrap();
             let noise = |rng: &mut Rng, s: f64| SVector::<f64, 3>::from_fn(|_, _| s * rng.next());
@@ -211,10 +258,22 @@ mod tests {
                 let rel = noise(&mut rng, 200.0);
                 let z = SVector::<f64, 2>::from_fn(|_, _| 2.0 * rng.next());
                 let r = SMatrix::<f64, 2, 2>::from_diagonal_element(1.0);
-                a.update::<mono::Sdins25Usbl, 2>(&z, &r, &mono::Sdins25UsblAux { relative_position: rel })
-                    .unwrap();
-                b.update::<Sdins25ComposedUsbl, 2>(&z, &r, &Sdins25ComposedUsblAux { relative_position: rel })
-                    .unwrap();
+                a.update::<mono::Sdins25Usbl, 2>(
+                    &z,
+                    &r,
+                    &mono::Sdins25UsblAux {
+                        relative_position: rel,
+                    },
+                )
+                .unwrap();
+                b.update::<Sdins25ComposedUsbl, 2>(
+                    &z,
+                    &r,
+                    &Sdins25ComposedUsblAux {
+                        relative_position: rel,
+                    },
+                )
+                .unwrap();
             }
             same("x", a.state(), b.state());
             same("P", a.covariance(), b.covariance());

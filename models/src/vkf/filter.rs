@@ -565,8 +565,10 @@ mod tests {
         assert!((z.r_n[(1, 1)] - 1e-4).abs() < 1e-12 && (z.r_n[(0, 0)] - 25e-4).abs() < 1e-12);
     }
 
-    /// Velocity filter on a synthetic linear map, speed swept over +-1 kn: sf and
-    /// b end within 3 sigma of the truth and within physical bounds (0.5 % of sf).
+    /// Velocity filter on a synthetic linear map (constant sf and b, so the bias
+    /// walk is set small), speed swept over +-1 kn for 10 min: sf and b end within
+    /// 3 sigma of the truth and within 0.5 % of sf and 0.03 m/s of b (the DVL
+    /// noise averaged over the sweep allows about 0.1 %).
     #[test]
     fn velocity_filter_learns_a_synthetic_map() {
         for seed in 1..=4u64 {
@@ -576,7 +578,7 @@ mod tests {
                 -0.2 + normal(&mut rng, 0.1),
             );
             let t = Tuning {
-                bias_walk: 5e-4,
+                bias_walk: 1e-5,
                 ..Tuning::default()
             };
             let mut vf = SpeedLearner::new(&t, 300.0, 0.02).unwrap();

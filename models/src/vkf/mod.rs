@@ -50,6 +50,8 @@ pub struct RunScores {
     pub distance_m: f64,
     /// DVL outages seen by the switch, `(start, end)` (s).
     pub outages: Vec<(f64, f64)>,
+    /// RMS error of the RPM-derived forward speed while it is in use (m/s).
+    pub rpm_speed_error_rms_m_s: f64,
     /// Time, truth north/east and the three horizontal error vectors (N, E), per epoch.
     pub series: Vec<[f64; 9]>,
 }
@@ -80,6 +82,8 @@ pub fn score(run: &VkfRun, log: &LogDir) -> Result<RunScores, RunError> {
     let mut outages = Vec::new();
     let mut outage_start: Option<(f64, usize)> = None;
     let mut drift = [0.0; 3];
+    let rows = log.truth.as_deref().unwrap_or(&[]);
+    let mut rpm_errors = Vec::new();
     for r in &run.records {
         while j + 1 < truth.len() && truth[j].0 < r.t - 1e-6 {
             j += 1;
@@ -106,6 +110,9 @@ pub fn score(run: &VkfRun, log: &LogDir) -> Result<RunScores, RunError> {
             e2.y,
         ]);
         let k = series.len() - 1;
+        if let (Source::Rpm, Some(tr)) = (r.source, rows.get(j)) {
+            rpm_errors.push(r.rpm_speed - (tr.vn * tr.vn + tr.ve * tr.ve + tr.vd * tr.vd).sqrt());
+        }
         match (r.source, outage_start) {
             (Source::Rpm, None) => outage_start = Some((r.t, k.saturating_sub(1))),
             (Source::Dvl, Some((t0, k0))) => {
@@ -138,6 +145,7 @@ pub fn score(run: &VkfRun, log: &LogDir) -> Result<RunScores, RunError> {
     Ok(RunScores {
         scores,
         distance_m,
+        rpm_speed_error_rms_m_s: stats::rms(&rpm_errors),
         outages,
         series,
     })
@@ -308,6 +316,7 @@ impl Scenario for VkfScenario {
                 .with_metric("b_sigma_final_m_s", last.b_sigma);
         }
         r = r
+            .with_metric("rpm_speed_error_rms_m_s", real.rpm_speed_error_rms_m_s)
             .with_metric("outage_s", real.outages.iter().map(|(a, b)| b - a).sum())
             .with_metric("refused_ins_dvl", run.refused.0 as f64)
             .with_metric("refused_vkf", run.refused.1 as f64);
@@ -335,6 +344,7 @@ impl Scenario for VkfScenario {
                 "b_error_final_median_abs_m_s": stats::median(&metric_values(runs, "b_error_final_m_s").iter().map(|x| x.abs()).collect::<Vec<_>>()),
                 "sf_sigma_final": med("sf_sigma_final"),
                 "b_sigma_final_m_s": med("b_sigma_final_m_s"),
+                "rpm_speed_error_rms_in_outages_m_s": med("rpm_speed_error_rms_m_s"),
                 "sf_error_over_sigma_median": stats::median(&metric_values(runs, "sf_error_final").iter().zip(metric_values(runs, "sf_sigma_final")).map(|(e, s)| e.abs() / s).collect::<Vec<_>>()),
             }),
         );

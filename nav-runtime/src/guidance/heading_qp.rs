@@ -79,7 +79,7 @@ impl Default for QpConfig {
             mu: 0.5,
             rho: 200.0,
             trust_region: 0.5,
-            margin: 0.05,
+            margin: 0.1,
             keep_out_range: 1.5,
         }
     }
@@ -115,6 +115,11 @@ pub struct QpInput<'a> {
     pub vehicle_radius: f64,
     /// Current horizontal speed command, m/s.
     pub speed: f64,
+    /// Estimated horizontal ground speed, m/s: the prediction starts from it
+    /// and converges to the command at the velocity-loop bandwidth.
+    pub ground_speed: f64,
+    /// Velocity-loop bandwidth of the vehicle, 1/s.
+    pub velocity_bandwidth: f64,
 }
 
 /// One tick's result.
@@ -224,11 +229,15 @@ impl CourseQp {
         let mut pbar = Vec::with_capacity(n);
         let mut errs = Vec::with_capacity(n);
         let mut u = input.speed;
+        let mut lag = input.ground_speed - input.speed;
+        let decay = (-input.velocity_bandwidth * dt).exp();
         for &chi in chi_bar.iter() {
             let e = f.update(input.path, &p, g);
             u = g.speed_command(input.path, &e, chi, u, dt);
-            speeds.push(u);
-            p += Vector2::new(chi.cos(), chi.sin()) * (u * dt);
+            lag *= decay;
+            let moving = (u + lag).max(0.0);
+            speeds.push(moving);
+            p += Vector2::new(chi.cos(), chi.sin()) * (moving * dt);
             pbar.push(p);
             errs.push(f.update(input.path, &p, g));
         }
@@ -337,7 +346,9 @@ impl CourseQp {
             }
         }
         // 5. Keep-out half-spaces.
-        let m_lin = g.cruise_speed * dt * c.trust_region * c.trust_region / 2.0;
+        let m_lin =
+            speeds.iter().fold(0.0f64, |a, &b| a.max(b)) * dt * c.trust_region * c.trust_region
+                / 2.0;
         for k in 1..=n {
             let pk = Vector3::new(pbar[k - 1].x, pbar[k - 1].y, errs[k - 1].depth);
             let half_space = keep_out(input.structure, &pk, input.vehicle_radius, c);
@@ -561,9 +572,9 @@ mod tests {
         let tol = 1e-6;
         // A x + s = b with s in the cones.
         let mut ax = vec![0.0; p.b.len()];
-        for col in 0..p.a.n {
+        for (col, xc) in x.iter().enumerate().take(p.a.n) {
             for idx in p.a.colptr[col]..p.a.colptr[col + 1] {
-                ax[p.a.rowval[idx]] += p.a.nzval[idx] * x[col];
+                ax[p.a.rowval[idx]] += p.a.nzval[idx] * xc;
             }
         }
         let s: Vec<f64> = p.b.iter().zip(&ax).map(|(b, a)| b - a).collect();
@@ -578,19 +589,19 @@ mod tests {
         assert!(soc[0] >= tail - tol, "cone: {} < {tail}", soc[0]);
         // The same limits read directly off the variables.
         let mut prev = p.u_last;
-        for k in 0..n {
-            assert!(x[k].abs() <= g.max_course_rate + tol);
+        for (k, &u) in x.iter().enumerate().take(n) {
+            assert!(u.abs() <= g.max_course_rate + tol);
             let lim = if k == 0 {
                 g.max_course_accel * g.tick
             } else {
                 g.max_course_accel * c.dt
             };
-            assert!((x[k] - prev).abs() <= lim + tol, "step {k}");
-            prev = x[k];
+            assert!((u - prev).abs() <= lim + tol, "step {k}");
+            prev = u;
         }
         let mut chi = p.chi0;
-        for k in 0..n {
-            chi += c.dt * x[k];
+        for (k, u) in x.iter().enumerate().take(n) {
+            chi += c.dt * u;
             assert!((x[n + k] - chi).abs() < tol);
             assert!(x[3 * n + k] > -tol);
         }
@@ -619,6 +630,8 @@ mod tests {
                 structure: &s,
                 vehicle_radius: 0.3,
                 speed: 0.3,
+                ground_speed: 0.3,
+                velocity_bandwidth: 1.2,
             };
             let problem = qp.build(&input);
             let out = qp.step(&input);
@@ -657,6 +670,8 @@ mod tests {
             structure: &s,
             vehicle_radius: 0.3,
             speed: 0.2,
+            ground_speed: 0.2,
+            velocity_bandwidth: 1.2,
         };
         let mut last = qp.course();
         for i in 0..5 {

@@ -217,7 +217,8 @@ impl GuidanceConfig {
     }
 
     /// The speed command: the profile, slowed while the course is not yet
-    /// aligned with the path (`cos` of the course error, at least a quarter), and
+    /// aligned with the path (`cos` of the course error, never below the minimum
+    /// speed), and
     /// raised from `previous` by at most `acceleration * step`.
     pub fn speed_command(
         &self,
@@ -227,10 +228,10 @@ impl GuidanceConfig {
         previous: f64,
         step: f64,
     ) -> f64 {
-        let align = wrap_angle(course - e.path_angle).cos().max(0.25);
+        let align = wrap_angle(course - e.path_angle).cos().max(0.0);
         (self.speed(path, e.segment, e.along) * align)
             .min(previous + self.acceleration * step)
-            .max(self.min_speed.min(previous))
+            .max(self.min_speed)
     }
 }
 

@@ -253,8 +253,7 @@ fn jacket_markers(capsules: &[Capsule]) -> Vec<Marker> {
     };
     let y = Vector3::new(0.0, 1.0, 0.0);
     let mid = 0.5 * (JACKET_TOP + JACKET_BOTTOM);
-    for leg in 0..4 {
-        let c = &capsules[leg];
+    for (leg, c) in capsules.iter().enumerate().take(4) {
         let outward = if c.a.y > 0.0 { y } else { -y };
         for &z in &[13.5, mid, 18.5] {
             put(leg, Vector3::new(c.a.x, c.a.y, z), outward);

@@ -1,0 +1,204 @@
+// The mistakes shown in docs/adding-a-sensor.md, with the blocks of
+// models/src/vehicles/blocks.rs (copied: a test case cannot use that crate).
+nav_runtime::model! {
+    /// The 15-state INS error-state core: position, velocity and attitude errors,
+    /// accelerometer and gyro biases (MODELS.md SDINS-25 eqs. 4-9). Its inputs are
+    /// the nominal navigation solution, visible to every block through `needs`.
+    pub block InsCore {
+        states {
+            /// `[dL, dl, dh]`: latitude, longitude errors (rad) and height error (m).
+            position_error: 3,
+            /// `[dV_N, dV_E, dV_D]`, m/s.
+            velocity_error: 3,
+            /// `phi = [phi_N, phi_E, phi_D]` with `C^_b^n = (I - [phi x]) C_b^n`, rad.
+            attitude_error: 3,
+            /// Accelerometer biases `nabla` (body), m/s^2.
+            accel_bias: 3,
+            /// Gyro biases `eps` (body), rad/s.
+            gyro_bias: 3,
+        }
+        inputs {
+            /// Nominal (INS) latitude `L^`, rad.
+            latitude,
+            /// Nominal (INS) height `h^` (positive up), m.
+            height,
+            /// Nominal (INS) NED velocity `V^n`, m/s.
+            velocity: 3,
+            /// Nominal (INS) attitude `C^_b^n`.
+            c_bn: 3x3,
+            /// Measured specific force `f~^b` (after the current bias correction), m/s^2.
+            specific_force: 3,
+        }
+        noise {
+            /// Accelerometer white noise, (m/s^2)^2/Hz.
+            accel_noise: 3,
+            /// Gyro white noise, (rad/s)^2/Hz.
+            gyro_noise: 3,
+        }
+        continuous {
+            // WGS-84 (MODELS.md conventions), exact radii.
+            let a = 6378137.0;
+            let e2 = 0.0066943799901413165;
+            let omega = 7.292115e-5;
+            // True quantities from nominal value and error.
+            let lat = latitude - position_error[0];
+            let hgt = height - position_error[2];
+            let vel = velocity - velocity_error;
+            let c_true = c_bn + skew(attitude_error) * c_bn;
+            let f_true = specific_force - accel_bias - accel_noise;
+
+            // Nominal rates (eqs. 1-3, 5), evaluated at the INS solution.
+            let s0 = sin(latitude);
+            let k0 = 1.0 - e2 * s0 * s0;
+            let rm0 = a * (1.0 - e2) / (k0 * sqrt(k0));
+            let rn0 = a / sqrt(k0);
+            let wie0 = [omega * cos(latitude), 0.0, -omega * s0];
+            let wen0 = [velocity[1] / (rn0 + height), -velocity[0] / (rm0 + height),
+                        -velocity[1] * tan(latitude) / (rn0 + height)];
+            let g0 = 9.7803253359 * (1.0 + 0.00193185265241 * s0 * s0) / sqrt(k0)
+                     * (1.0 - 2.0 * height / a * (1.0 + 0.00335281066475 + 0.00344978600308
+                        - 2.0 * 0.00335281066475 * s0 * s0) + 3.0 * height * height / (a * a));
+
+            // The same rates at the true state.
+            let s1 = sin(lat);
+            let k1 = 1.0 - e2 * s1 * s1;
+            let rm1 = a * (1.0 - e2) / (k1 * sqrt(k1));
+            let rn1 = a / sqrt(k1);
+            let wie1 = [omega * cos(lat), 0.0, -omega * s1];
+            let wen1 = [vel[1] / (rn1 + hgt), -vel[0] / (rm1 + hgt), -vel[1] * tan(lat) / (rn1 + hgt)];
+            let g1 = 9.7803253359 * (1.0 + 0.00193185265241 * s1 * s1) / sqrt(k1)
+                     * (1.0 - 2.0 * hgt / a * (1.0 + 0.00335281066475 + 0.00344978600308
+                        - 2.0 * 0.00335281066475 * s1 * s1) + 3.0 * hgt * hgt / (a * a));
+
+            // eq. 1 (and its error, eq. 4)
+            d/dt position_error = [
+                velocity[0] / (rm0 + height) - vel[0] / (rm1 + hgt),
+                velocity[1] / ((rn0 + height) * cos(latitude)) - vel[1] / ((rn1 + hgt) * cos(lat)),
+                -velocity[2] + vel[2]
+            ];
+            // eq. 2 (and its error, eq. 5)
+            d/dt velocity_error = (c_bn * specific_force - cross(2.0 * wie0 + wen0, velocity) + [0.0, 0.0, g0])
+                                - (c_true * f_true - cross(2.0 * wie1 + wen1, vel) + [0.0, 0.0, g1]);
+            // eq. 6: phidot = -w_in x phi - C eps + dw_in
+            d/dt attitude_error = -cross(wie0 + wen0, attitude_error) - c_bn * (gyro_bias + gyro_noise)
+                                + (wie0 + wen0) - (wie1 + wen1);
+        }
+    }
+
+    /// Depth meter with a bias, at the IMU.
+    pub block Depth {
+        states {
+            /// Depth-meter bias, m.
+            depth_bias,
+        }
+        needs { position_error: 3 }
+        /// Depth meter, height convention: `h^ - h_meas = dh - b_depth` (eq. 10).
+        sensor Depth: 1 {
+            h = [position_error[2] - depth_bias];
+        }
+    }
+
+    /// DVL with a body-frame velocity bias (eq. 11).
+    pub block Dvl {
+        states {
+            /// DVL body-frame velocity error `a_v`, m/s.
+            dvl_bias: 3,
+        }
+        needs { velocity: 3, c_bn: 3x3, velocity_error: 3, attitude_error: 3 }
+        /// DVL, body 3-axis: `V^n - C^_b^n v_meas = dV - V^n x phi - C_b^n b_dvl` (eq. 11),
+        /// derived from the true velocity and attitude.
+        sensor Dvl: 3 {
+            let c_true = c_bn + skew(attitude_error) * c_bn;
+            h = velocity - c_bn * (transpose(c_true) * (velocity - velocity_error) + dvl_bias);
+        }
+    }
+
+    /// Magnetic compass with a bias: the exact yaw and the paper's small-angle form.
+    pub block Compass {
+        states {
+            /// Magnetic compass bias, rad.
+            compass_bias,
+        }
+        needs { attitude_error: 3, c_bn: 3x3 }
+        /// Magnetic compass, the paper's small-angle form `-phi_D - b_psi` (eq. 12).
+        sensor CompassSmallAngle: 1 {
+            angles = [0];
+            h = [-attitude_error[2] - compass_bias];
+        }
+        /// Magnetic compass, exact yaw of the perturbed attitude: `psi(C^) - psi(C) - b_psi`.
+        /// Equals the small-angle form when level; differs when the vehicle pitches.
+        sensor Compass: 1 {
+            angles = [0];
+            let c_true = c_bn + skew(attitude_error) * c_bn;
+            h = [atan2(c_bn[(1, 0)], c_bn[(0, 0)]) - atan2(c_true[(1, 0)], c_true[(0, 0)]) - compass_bias];
+        }
+    }
+}
+
+// The pressure block of the walk-through, as it should be.
+nav_runtime::model! {
+    pub block PressureDepth {
+        states { pressure_bias }
+        needs { position_error: 3, attitude_error: 3, c_bn: 3x3 }
+        sensor PressureDepth: 1 {
+            inputs { lever_arm: 3 }
+            let c_true = c_bn + skew(attitude_error) * c_bn;
+            let arm_error = (c_bn - c_true) * lever_arm;
+            h = [position_error[2] - arm_error[2] - pressure_bias];
+        }
+    }
+}
+
+// Mistake 1: reading a core state without listing it in `needs`.
+nav_runtime::model! {
+    pub block PressureNoNeeds {
+        states { pressure_bias }
+        needs { position_error: 3, c_bn: 3x3 }
+        sensor PressureDepth: 1 {
+            inputs { lever_arm: 3 }
+            let c_true = c_bn + skew(attitude_error) * c_bn;
+            let arm_error = (c_bn - c_true) * lever_arm;
+            h = [position_error[2] - arm_error[2] - pressure_bias];
+        }
+    }
+}
+
+// Mistake 2: a block copied from `Depth` that kept its state name.
+nav_runtime::model! {
+    pub block PressureCopied {
+        states { depth_bias }
+        needs { position_error: 3, attitude_error: 3, c_bn: 3x3 }
+        sensor PressureDepth: 1 {
+            inputs { lever_arm: 3 }
+            let c_true = c_bn + skew(attitude_error) * c_bn;
+            let arm_error = (c_bn - c_true) * lever_arm;
+            h = [position_error[2] - arm_error[2] - depth_bias];
+        }
+    }
+}
+
+nav_runtime::model! {
+    pub model BothDepths = InsCore + Depth + PressureCopied + Dvl + Compass;
+}
+
+// Mistake 3: a need of the wrong shape, and one no block provides.
+nav_runtime::model! {
+    pub block PressureWrongNeeds {
+        states { pressure_bias }
+        needs { position_error: 3, attitude_error: 3, c_bn: 3, water_density }
+        sensor PressureDepth: 1 {
+            h = [position_error[2] * water_density - pressure_bias + c_bn[0] * attitude_error[0]];
+        }
+    }
+}
+
+nav_runtime::model! {
+    pub model WrongNeeds = InsCore + PressureWrongNeeds + Dvl + Compass;
+}
+
+// Mistake 4: no horizontal position fix, so nothing observes the longitude error.
+nav_runtime::model! {
+    pub model Submerged = InsCore + PressureDepth + Dvl + Compass;
+}
+
+fn main() {}

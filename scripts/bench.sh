@@ -1,0 +1,233 @@
+#!/usr/bin/env bash
+# Runs the criterion benchmarks and prints every result as a ratio against the
+# baseline measured in the same run (medians of criterion's samples).
+#
+#   scripts/bench.sh                 # all benches (the scenario bench takes ~10 min)
+#   scripts/bench.sh --quick         # shorter measurement, 20-run Monte Carlo
+#   scripts/bench.sh propagation update   # only these benches
+#   scripts/bench.sh --report        # print the ratios of the last results only
+#   scripts/bench.sh --callgrind     # instructions per propagation (needs valgrind)
+#   scripts/bench.sh --expansion     # compile time of the model declarations
+#
+# Benches: propagation, update, filter_step, scenario (crate models) and
+# strapdown (crate nav-runtime). Needs python3 to read criterion's JSON.
+# See docs/performance.md for what each ratio means and the targets.
+set -euo pipefail
+
+cd "$(dirname "$0")/.."
+
+quick=0
+report_only=0
+mode=bench
+benches=()
+for arg in "$@"; do
+    case "$arg" in
+        --quick) quick=1 ;;
+        --report) report_only=1 ;;
+        --callgrind) mode=callgrind ;;
+        --expansion) mode=expansion ;;
+        -h | --help)
+            sed -n '2,15p' "$0"
+            exit 0
+            ;;
+        propagation | update | filter_step | scenario | strapdown) benches+=("$arg") ;;
+        *)
+            echo "unknown argument: $arg (see --help)" >&2
+            exit 2
+            ;;
+    esac
+done
+if [ ${#benches[@]} -eq 0 ]; then
+    benches=(propagation update filter_step strapdown scenario)
+fi
+
+target_dir=$(cargo metadata --no-deps --format-version 1 |
+    python3 -c 'import json, sys; print(json.load(sys.stdin)["target_directory"])')
+
+# Instructions per call of each propagation variant: the propagation bench
+# binary in its PROPAGATE_ONLY mode under callgrind, collecting only inside
+# the variant's function (and its callees), 1000 calls.
+if [ "$mode" = callgrind ]; then
+    command -v valgrind >/dev/null || {
+        echo "valgrind not found" >&2
+        exit 1
+    }
+    cargo bench -p models --bench propagation --no-run 2>&1 | tail -1
+    bin=$(cargo bench -p models --bench propagation --no-run --message-format=json 2>/dev/null |
+        python3 -c 'import json, sys
+for line in sys.stdin:
+    m = json.loads(line)
+    if m.get("reason") == "compiler-artifact" and m["target"]["name"] == "propagation" and m.get("executable"):
+        print(m["executable"])')
+    calls=1000
+    count() { # model/variant function-pattern
+        PROPAGATE_ONLY="$1" PROPAGATE_CALLS=$calls valgrind --tool=callgrind \
+            --callgrind-out-file=/dev/null --toggle-collect="$2" "$bin" 2>&1 |
+            awk -v c=$calls '/Collected/ { printf "%.0f", $4 / c }'
+    }
+    printf "%-10s %12s %12s %12s %18s %14s\n" model generated dense hand-written "dense incl. F, Qd" generated/dense
+    for m in sdins25 leveling6 marker9; do
+        g=$(count "$m/generated" '*generated_propagate*')
+        d=$(count "$m/dense" '*dense_propagate*')
+        dm=$(count "$m/dense_with_model" '*dense_propagate_with_model*')
+        h=-
+        [ "$m" = sdins25 ] && h=$(count "$m/handwritten" '*HandWrittenSdins25*propagate*')
+        printf "%-10s %12s %12s %12s %18s %14.3f\n" "$m" "$g" "$d" "$h" "$dm" "$(echo "$g / $d" | bc -l)"
+    done
+    exit 0
+fi
+
+# Compile time of the model declarations: a throw-away crate holding only the
+# declarations of models/src/*/model.rs (behind a feature) on nav-runtime
+# without std, built with and without them after touching its lib.rs; the
+# difference is the expansion plus the compilation of the generated code
+# (`check`: expansion + type checking; `build --release`: + optimized codegen).
+# Medians of 3.
+if [ "$mode" = expansion ]; then
+    probe=$(mktemp -d)
+    trap 'rm -rf "$probe"' EXIT
+    mkdir -p "$probe/src"
+    cat >"$probe/Cargo.toml" <<TOML
+[package]
+name = "expand_probe"
+version = "0.0.0"
+edition = "2021"
+publish = false
+
+[dependencies]
+nav-runtime = { path = "$PWD/nav-runtime", default-features = false }
+
+[features]
+models = []
+
+[workspace]
+TOML
+    cp Cargo.lock "$probe/"
+    {
+        echo '#![no_std]'
+        for f in "$PWD"/models/src/*/model.rs; do
+            m=$(basename "$(dirname "$f")")
+            echo "#[cfg(feature = \"models\")] #[path = \"$f\"] pub mod $m;"
+        done
+    } >"$probe/src/lib.rs"
+    echo "declarations: $(ls models/src/*/model.rs | tr '\n' ' ')"
+    export CARGO_TARGET_DIR="$probe/target"
+    time_of() { # cargo args...; median of 3 rebuilds of the probe crate only
+        for _ in 1 2 3; do
+            touch "$probe/src/lib.rs"
+            s=$(date +%s.%N)
+            (cd "$probe" && cargo "$@" -q 2>/dev/null)
+            e=$(date +%s.%N)
+            echo "$e - $s" | bc -l
+        done | sort -n | sed -n 2p
+    }
+    for cmd in "check" "build" "build --release"; do
+        # shellcheck disable=SC2086
+        (cd "$probe" && cargo $cmd -q --features models 2>/dev/null && cargo $cmd -q 2>/dev/null)
+        # shellcheck disable=SC2086
+        without=$(time_of $cmd)
+        # shellcheck disable=SC2086
+        with=$(time_of $cmd --features models)
+        printf "cargo %-16s without %6.2f s  with %6.2f s  declarations cost %6.2f s\n" \
+            "$cmd" "$without" "$with" "$(echo "$with - $without" | bc -l)"
+    done
+    echo "load average $(cut -d' ' -f1-3 /proc/loadavg) on $(nproc) cores"
+    exit 0
+fi
+
+if [ "$report_only" -eq 0 ]; then
+    criterion_args=()
+    if [ "$quick" -eq 1 ]; then
+        criterion_args=(--warm-up-time 1 --measurement-time 2)
+        export BENCH_MC_RUNS="${BENCH_MC_RUNS:-20}"
+    fi
+    echo "machine: $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg)"
+    for b in "${benches[@]}"; do
+        crate=models
+        [ "$b" = strapdown ] && crate=nav-runtime
+        echo "== cargo bench -p $crate --bench $b"
+        # Criterion's own per-benchmark lines go to the log; the ratios follow below.
+        cargo bench -p "$crate" --bench "$b" -- "${criterion_args[@]}" 2>&1 |
+            grep -E '^[a-z].*/|time:' || {
+            echo "bench $b failed" >&2
+            exit 1
+        }
+    done
+    echo "machine after: load average $(cut -d' ' -f1-3 /proc/loadavg)"
+fi
+
+python3 - "$target_dir/criterion" <<'EOF'
+import json, os, sys
+
+root = sys.argv[1]
+med = {}
+mc = {}  # threads -> (mtime, runs, median) of the newest Monte Carlo result
+for dirpath, _, files in os.walk(root):
+    if os.path.basename(dirpath) == "new" and "estimates.json" in files:
+        with open(os.path.join(dirpath, "benchmark.json")) as f:
+            b = json.load(f)
+        with open(os.path.join(dirpath, "estimates.json")) as f:
+            m = json.load(f)["median"]["point_estimate"]  # ns
+        med[b["full_id"]] = m
+        if b["group_id"] == "montecarlo/lawnmower-dvl" and b.get("value_str"):
+            t = b["function_id"]
+            mtime = os.path.getmtime(os.path.join(dirpath, "estimates.json"))
+            if t not in mc or mc[t][0] < mtime:
+                mc[t] = (mtime, b["value_str"], m)
+
+def t(ns):
+    for unit, scale in (("s", 1e9), ("ms", 1e6), ("us", 1e3)):
+        if ns >= scale:
+            return f"{ns / scale:8.3f} {unit}"
+    return f"{ns:8.1f} ns"
+
+def ratio(label, num, den, target=None, higher_is_better=False):
+    if num not in med or den not in med:
+        return
+    r = med[num] / med[den]
+    verdict = ""
+    if target is not None:
+        ok = r >= target if higher_is_better else r <= target
+        verdict = f"  target {'>=' if higher_is_better else '<='} {target}: {'met' if ok else 'NOT met'}"
+    print(f"  {label:<58} {t(med[num])} / {t(med[den])} = {r:7.3f}{verdict}")
+
+print("\nRatios (medians; numerator / baseline of the same run)")
+print("Covariance propagation P <- Phi P Phi^T + Qd")
+for m in ("sdins25", "leveling6", "marker9"):
+    g = f"propagate/{m}"
+    target = 0.13 if m == "sdins25" else None
+    ratio(f"{m}: generated / dense", f"{g}/generated", f"{g}/dense", target)
+    ratio(f"{m}: generated / dense incl. F, Qd eval", f"{g}/generated", f"{g}/dense_with_model")
+    ratio(f"{m}: hand-written / dense", f"{g}/handwritten", f"{g}/dense")
+    ratio(f"{m}: generated / hand-written", f"{g}/generated", f"{g}/handwritten", 1.0)
+
+print("Measurement update (Ekf::update vs dense Joseph)")
+for s in ("dvl", "compass", "compass_small_angle", "usbl", "depth"):
+    target = 0.2 if s == "dvl" else None
+    ratio(f"{s}: Ekf::update / dense Joseph", f"update/{s}/generated", f"update/{s}/dense", target)
+    ratio(f"{s}: innovation_terms / dense PH^T, HPH^T", f"innovation_terms/{s}/generated", f"innovation_terms/{s}/dense")
+
+print("Full SDINS-25 step at 100 Hz (aiding at 2 Hz amortized)")
+g = "step/sdins25"
+if f"{g}/full_step_x50" in med:
+    med[f"{g}/full_step"] = med[f"{g}/full_step_x50"] / 50
+    med[f"{g}/aiding_per_step"] = med[f"{g}/aiding_burst"] / 50 if f"{g}/aiding_burst" in med else 0
+    ratio("full step / one dense propagation", f"{g}/full_step", f"{g}/dense_propagation", 1.0)
+    for part in ("strapdown", "predict", "aiding_per_step"):
+        ratio(f"  part: {part} / full step", f"{g}/{part}", f"{g}/full_step")
+for fn in ("update_rates", "update_increments", "mechanization_rates"):
+    if f"strapdown/{fn}" in med:
+        print(f"  strapdown::{fn:<40} {t(med[f'strapdown/{fn}'])}")
+
+print("Scenario runs (lawnmower-dvl, 500 s of data)")
+g = "scenario/lawnmower-dvl"
+for fn, label in (("run_one", "simulate + filter + score"), ("filter_only", "filter only")):
+    if f"{g}/{fn}" in med:
+        rtf = 500e9 / med[f"{g}/{fn}"]
+        verdict = f"  target >= 5000: {'met' if rtf >= 5000 else 'NOT met'}" if fn == "run_one" else ""
+        print(f"  real-time factor, {label:<26} 500 s / {t(med[f'{g}/{fn}'])} = {rtf:9.0f}{verdict}")
+if "threads_1" in mc and "threads_2" in mc:
+    med["mc1"], med["mc2"] = mc["threads_1"][2], mc["threads_2"][2]
+    print(f"  Monte Carlo ({mc['threads_1'][1]} and {mc['threads_2'][1]} runs): 1 thread {t(med['mc1'])}, 2 threads {t(med['mc2'])}")
+    ratio("Monte Carlo speed-up, 1 thread / 2 threads", "mc1", "mc2", 1.8, higher_is_better=True)
+EOF
