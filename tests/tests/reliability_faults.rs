@@ -303,7 +303,7 @@ fn corrupted_logs_never_panic_the_replay() {
                         .collect();
                     if let Some(&(a, b)) = cells.get(rng.below(cells.len())) {
                         let e = extremes[rng.below(extremes.len())];
-                        text = [s[..a].as_bytes(), e.as_bytes(), s[b..].as_bytes()].concat();
+                        text = [&s.as_bytes()[..a], e.as_bytes(), &s.as_bytes()[b..]].concat();
                     }
                 }
             }
