@@ -11,7 +11,7 @@
 #
 # Benches: propagation, update, filter_step, scenario (crate models) and
 # strapdown (crate nav-runtime). Needs python3 to read criterion's JSON.
-# See docs/performance.md for what each ratio means and the targets.
+# See the README section "Performance" for what each ratio means and the targets.
 set -euo pipefail
 
 cd "$(dirname "$0")/.."

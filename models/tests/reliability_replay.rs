@@ -4,48 +4,13 @@
 //! directory; with `--lenient` the bad rows are skipped and counted in the JSON.
 //! Also the `--faults` option of the lawn-mower scenarios end to end.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-use std::sync::atomic::{AtomicUsize, Ordering};
+mod common;
+
+use common::{navsim, stderr, TempDir};
+use std::path::Path;
 
 use models::sdins25::simulation::{simulate, SimConfig};
 use serde_json::Value;
-
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new(tag: &str) -> TempDir {
-        static N: AtomicUsize = AtomicUsize::new(0);
-        let p = std::env::temp_dir().join(format!(
-            "navsim-reliability-{}-{tag}-{}",
-            std::process::id(),
-            N.fetch_add(1, Ordering::Relaxed)
-        ));
-        let _ = std::fs::remove_dir_all(&p);
-        std::fs::create_dir_all(&p).unwrap();
-        TempDir(p)
-    }
-    fn path(&self) -> &Path {
-        &self.0
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-fn navsim(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_navsim"))
-        .args(args)
-        .output()
-        .expect("navsim runs")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
 
 /// A 20 s SDINS-25 log with every aiding sensor (USBL fixes at 8 and 16 s).
 fn write_log(dir: &Path) {

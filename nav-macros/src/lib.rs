@@ -343,9 +343,10 @@ mod tests {
         }
     }
 
+    /// Expands the workspace's SDINS-25 declaration (the largest model) in process.
     #[test]
     fn ins25_expansion_is_fast() {
-        let body = macro_body(include_str!("../tests/ins25.rs"));
+        let body = macro_body(include_str!("../../models/src/sdins25/model.rs"));
         let start = std::time::Instant::now();
         let out = expand(body);
         let elapsed = start.elapsed();

@@ -31,7 +31,10 @@ pub fn step() -> Result<f64, FilterError> {
         Vector6::new(0.0, 0.0, 0.0, 0.0, 0.0, 1.0),
         SMatrix::<f64, 6, 6>::identity(),
         LevelingParams { gravity: 9.8 },
-        LevelingNoise { accel_noise: Vector3::repeat(1e-4), gyro_noise: Vector3::repeat(1e-8) },
+        LevelingNoise {
+            accel_noise: Vector3::repeat(1e-4),
+            gyro_noise: Vector3::repeat(1e-8),
+        },
     )?;
     let input = LevelingInput {
         gyro: Vector3::zeros(),
@@ -39,6 +42,7 @@ pub fn step() -> Result<f64, FilterError> {
         earth_rate_body: Vector3::zeros(),
     };
     ekf.predict(0.01, &input)?;
-    let report = ekf.update::<LevelingMoving, 2>(&Vector2::new(0.0, 1.0), &Matrix2::identity(), &())?;
+    let report =
+        ekf.update::<LevelingMoving, 2>(&Vector2::new(0.0, 1.0), &Matrix2::identity(), &())?;
     Ok(report.nis)
 }

@@ -11,8 +11,13 @@ use nav_runtime::log::{LogDir, Strictness};
 use nav_runtime::stats;
 
 fn runs(name: &str, n: u64, options: &RunOptions) -> Vec<RunResult> {
-    let s = scenarios().into_iter().find(|s| s.name() == name).expect("scenario");
-    (1..=n).map(|seed| s.run_one(seed, options).expect("run")).collect()
+    let s = scenarios()
+        .into_iter()
+        .find(|s| s.name() == name)
+        .expect("scenario");
+    (1..=n)
+        .map(|seed| s.run_one(seed, options).expect("run"))
+        .collect()
 }
 
 fn column(runs: &[RunResult], key: &str) -> Vec<f64> {
@@ -26,11 +31,19 @@ fn column(runs: &[RunResult], key: &str) -> Vec<f64> {
 #[test]
 fn stationary_mean_is_the_bias_floor() {
     let r = runs("leveling-stationary", 10, &RunOptions::default());
-    let floor = (MG / earth::normal_gravity(simulation::trajectory(Motion::Stationary).spec().start.lat, -10.0)).to_degrees();
+    let floor = (MG
+        / earth::normal_gravity(
+            simulation::trajectory(Motion::Stationary).spec().start.lat,
+            -10.0,
+        ))
+    .to_degrees();
     let roll = stats::mean(&column(&r, "roll_error_final_deg"));
     let pitch = stats::mean(&column(&r, "pitch_error_final_deg"));
     assert!((roll + floor).abs() < 0.01, "roll mean {roll} vs -{floor}");
-    assert!((pitch - floor).abs() < 0.01, "pitch mean {pitch} vs {floor}");
+    assert!(
+        (pitch - floor).abs() < 0.01,
+        "pitch mean {pitch} vs {floor}"
+    );
     // Paper: std 0.003 / 0.004 deg.
     assert!(stats::std_dev(&column(&r, "roll_error_final_deg")) < 0.003);
     assert!(stats::std_dev(&column(&r, "pitch_error_final_deg")) < 0.004);
@@ -47,7 +60,10 @@ fn moving_s_type_beats_the_paper_spread() {
     assert!(roll_std < 0.046, "roll std {roll_std}");
     assert!(pitch_std < 0.019, "pitch std {pitch_std}");
     let roll_sigma = stats::mean(&column(&r, "roll_sigma_final_deg"));
-    assert!(roll_sigma > 0.5 * roll_std, "filter sigma {roll_sigma} vs std {roll_std}");
+    assert!(
+        roll_sigma > 0.5 * roll_std,
+        "filter sigma {roll_sigma} vs std {roll_std}"
+    );
 }
 
 /// On a straight track roll is not observable from the speed log (paper Fig. 4a):
@@ -56,8 +72,16 @@ fn moving_s_type_beats_the_paper_spread() {
 fn straight_track_roll_stays_uncertain() {
     let r = runs("leveling-straight", 5, &RunOptions::default());
     for run in &r {
-        assert!(run.metric("roll_sigma_final_deg") > 1.0, "{:?}", run.metrics);
-        assert!(run.metric("pitch_error_final_deg").abs() < 0.2, "{:?}", run.metrics);
+        assert!(
+            run.metric("roll_sigma_final_deg") > 1.0,
+            "{:?}",
+            run.metrics
+        );
+        assert!(
+            run.metric("pitch_error_final_deg").abs() < 0.2,
+            "{:?}",
+            run.metrics
+        );
     }
 }
 
@@ -70,7 +94,9 @@ fn replay_of_a_written_log_detects_rest_and_levels() {
     let log = simulation::simulate(Motion::Stationary, Biases::OneSigma, 7);
     log.write(&dir).expect("write");
     let back = LogDir::read(&dir, Strictness::Strict).expect("read");
-    let out = Leveling6Replay.replay(&back, &ReplayOptions::default()).expect("replay");
+    let out = Leveling6Replay
+        .replay(&back, &ReplayOptions::default())
+        .expect("replay");
     std::fs::remove_dir_all(&dir).ok();
     assert_eq!(out.metrics["stationary"], serde_json::Value::Bool(true));
     for key in ["roll_error_final_deg", "pitch_error_final_deg"] {
@@ -91,10 +117,17 @@ fn upright_constraint_resolves_the_mirror_solution() {
         let opts = LevelingOptions {
             stationary: false,
             initial_attitude: start,
-            tuning: Tuning { upright, ..Tuning::default() },
+            tuning: Tuning {
+                upright,
+                ..Tuning::default()
+            },
         };
         let run = filter::run(&log, &opts).expect("run");
-        filter::errors_at_truth(&run, &log).last().expect("scored").1.to_degrees()
+        filter::errors_at_truth(&run, &log)
+            .last()
+            .expect("scored")
+            .1
+            .to_degrees()
     };
     assert!(final_roll(true).abs() < 0.5, "{}", final_roll(true));
     assert!(final_roll(false).abs() > 90.0, "{}", final_roll(false));

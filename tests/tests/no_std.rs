@@ -13,13 +13,29 @@ fn generated_code_and_ekf_build_without_std() {
         .arg(&target)
         .output()
         .expect("run cargo");
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     // The build really was without std: nav-runtime's std-only modules are absent.
-    let tree = std::process::Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()))
-        .current_dir(&root)
-        .args(["tree", "-p", "nostd-check", "-e", "features", "-i", "nav-runtime"])
-        .output()
-        .expect("run cargo tree");
+    let tree =
+        std::process::Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()))
+            .current_dir(&root)
+            .args([
+                "tree",
+                "-p",
+                "nostd-check",
+                "-e",
+                "features",
+                "-i",
+                "nav-runtime",
+            ])
+            .output()
+            .expect("run cargo tree");
     let text = String::from_utf8_lossy(&tree.stdout);
-    assert!(!text.contains("\"std\""), "nav-runtime built with std:\n{text}");
+    assert!(
+        !text.contains("\"std\""),
+        "nav-runtime built with std:\n{text}"
+    );
 }

@@ -1,7 +1,10 @@
 //! Runs LEVELING-6 over a log: IMU rows drive `predict`, speed-log rows (or, at
 //! rest, a 10 Hz zero-velocity pseudo-measurement) drive `update`.
 
-use super::model::{Leveling6, Leveling6Input, Leveling6Moving, Leveling6Noise, Leveling6Params, Leveling6Stationary};
+use super::model::{
+    Leveling6, Leveling6Input, Leveling6Moving, Leveling6Noise, Leveling6Params,
+    Leveling6Stationary,
+};
 use nav_runtime::earth;
 use nav_runtime::ekf::{Ekf, FilterError};
 use nav_runtime::log::{Event, LogDir};
@@ -103,7 +106,11 @@ pub fn roll_pitch(a: &Vector3<f64>) -> (f64, f64) {
 
 /// `a = C_n^b [0, 0, 1]` for roll and pitch (eq. 5).
 pub fn gravity_direction(roll: f64, pitch: f64) -> Vector3<f64> {
-    Vector3::new(-pitch.sin(), roll.sin() * pitch.cos(), roll.cos() * pitch.cos())
+    Vector3::new(
+        -pitch.sin(),
+        roll.sin() * pitch.cos(),
+        roll.cos() * pitch.cos(),
+    )
 }
 
 fn estimate(t: f64, x: &Vector6<f64>, p: &SMatrix<f64, 6, 6>) -> AttitudeEstimate {
@@ -130,11 +137,17 @@ pub fn run(log: &LogDir, options: &LevelingOptions) -> Result<LevelingRun, Filte
     let t = options.tuning;
     let (roll0, pitch0) = options.initial_attitude.unwrap_or((0.0, 0.0));
     let a0 = gravity_direction(roll0, pitch0);
-    let speed0 = if options.stationary { 0.0 } else { (init.vn * init.vn + init.ve * init.ve).sqrt() };
+    let speed0 = if options.stationary {
+        0.0
+    } else {
+        (init.vn * init.vn + init.ve * init.ve).sqrt()
+    };
     let x0 = Vector6::new(speed0, 0.0, 0.0, a0.x, a0.y, a0.z);
     let v2 = t.velocity_sigma * t.velocity_sigma;
     let p0 = SMatrix::<f64, 6, 6>::from_diagonal(&Vector6::new(v2, v2, v2, 1.0, 1.0, 1.0));
-    let params = Leveling6Params { gravity: earth::normal_gravity(lat, height) };
+    let params = Leveling6Params {
+        gravity: earth::normal_gravity(lat, height),
+    };
     let noise = Leveling6Noise {
         accel_noise: Vector3::repeat(t.accel_density * t.accel_density),
         gyro_noise: Vector3::repeat(t.gyro_density * t.gyro_density),
@@ -154,7 +167,8 @@ pub fn run(log: &LogDir, options: &LevelingOptions) -> Result<LevelingRun, Filte
     let mut out = LevelingRun::default();
     let mut last_imu: Option<(f64, Leveling6Input)> = None;
     let mut next_zero_velocity = 0.1;
-    let r_moving = Matrix2::from_diagonal(&Vector2::new(t.speed_sigma.powi(2), t.norm_sigma.powi(2)));
+    let r_moving =
+        Matrix2::from_diagonal(&Vector2::new(t.speed_sigma.powi(2), t.norm_sigma.powi(2)));
     let zv = t.zero_velocity_sigma.powi(2);
     let r_stationary = Matrix4::from_diagonal(&Vector4::new(zv, zv, zv, t.norm_sigma.powi(2)));
 
@@ -180,24 +194,35 @@ pub fn run(log: &LogDir, options: &LevelingOptions) -> Result<LevelingRun, Filte
                         }
                     }
                     let w = gyro - input.earth_rate_body;
-                    yaw = wrap_angle(yaw + dt * (w.y * roll.sin() + w.z * roll.cos()) / pitch.cos());
+                    yaw =
+                        wrap_angle(yaw + dt * (w.y * roll.sin() + w.z * roll.cos()) / pitch.cos());
                 }
                 last_imu = Some((row.t, input));
                 out.samples += 1;
                 if options.stationary && log.speed.is_none() && row.t + 1e-9 >= next_zero_velocity {
                     next_zero_velocity += 0.1;
                     let z = Vector4::new(0.0, 0.0, 0.0, 1.0);
-                    count(&mut out, ekf.update::<Leveling6Stationary, 4>(&z, &r_stationary, &()));
+                    count(
+                        &mut out,
+                        ekf.update::<Leveling6Stationary, 4>(&z, &r_stationary, &()),
+                    );
                 }
-                out.estimates.push(estimate(row.t, ekf.state(), ekf.covariance()));
+                out.estimates
+                    .push(estimate(row.t, ekf.state(), ekf.covariance()));
             }
             Event::Speed(row) if last_imu.is_some() => {
                 if options.stationary {
                     let z = Vector4::new(0.0, 0.0, 0.0, 1.0);
-                    count(&mut out, ekf.update::<Leveling6Stationary, 4>(&z, &r_stationary, &()));
+                    count(
+                        &mut out,
+                        ekf.update::<Leveling6Stationary, 4>(&z, &r_stationary, &()),
+                    );
                 } else {
                     let z = Vector2::new(row.speed, 1.0);
-                    count(&mut out, ekf.update::<Leveling6Moving, 2>(&z, &r_moving, &()));
+                    count(
+                        &mut out,
+                        ekf.update::<Leveling6Moving, 2>(&z, &r_moving, &()),
+                    );
                 }
                 if t.upright {
                     keep_upright(&mut ekf)?;
@@ -231,7 +256,10 @@ fn keep_upright(ekf: &mut Ekf<Leveling6, 6>) -> Result<(), FilterError> {
     ekf.set_covariance(p)
 }
 
-fn count<const M: usize>(out: &mut LevelingRun, r: Result<nav_runtime::ekf::UpdateReport<M>, FilterError>) {
+fn count<const M: usize>(
+    out: &mut LevelingRun,
+    r: Result<nav_runtime::ekf::UpdateReport<M>, FilterError>,
+) {
     match r {
         Ok(rep) if rep.accepted => out.accepted += 1,
         Ok(_) => out.gated += 1,
@@ -241,14 +269,19 @@ fn count<const M: usize>(out: &mut LevelingRun, r: Result<nav_runtime::ekf::Upda
 
 /// Roll and pitch errors (rad) of the estimate in force at each truth time.
 pub fn errors_at_truth(run: &LevelingRun, log: &LogDir) -> Vec<(f64, f64, f64)> {
-    let Some(truth) = &log.truth else { return Vec::new() };
+    let Some(truth) = &log.truth else {
+        return Vec::new();
+    };
     truth
         .iter()
         .filter_map(|row| {
             let i = run.estimates.partition_point(|e| e.t <= row.t + 1e-9);
             let e = run.estimates.get(i.checked_sub(1)?)?;
-            Some((row.t, wrap_angle(e.roll - row.roll), wrap_angle(e.pitch - row.pitch)))
+            Some((
+                row.t,
+                wrap_angle(e.roll - row.roll),
+                wrap_angle(e.pitch - row.pitch),
+            ))
         })
         .collect()
 }
-

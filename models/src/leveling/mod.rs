@@ -5,7 +5,9 @@ pub mod filter;
 pub mod model;
 pub mod simulation;
 
-use crate::montecarlo::{ReplayModel, ReplayOptions, ReplayOutput, RunError, RunOptions, RunResult, RunTable, Scenario};
+use crate::montecarlo::{
+    ReplayModel, ReplayOptions, ReplayOutput, RunError, RunOptions, RunResult, RunTable, Scenario,
+};
 use crate::plot::{self, Line};
 use filter::{errors_at_truth, LevelingOptions, Tuning};
 use nav_runtime::log::LogDir;
@@ -32,9 +34,18 @@ pub struct LevelingScenario {
 /// `leveling-moving` (S-type), `leveling-straight`, `leveling-stationary`.
 pub fn scenarios() -> Vec<LevelingScenario> {
     vec![
-        LevelingScenario { name: "leveling-moving", motion: Motion::SType },
-        LevelingScenario { name: "leveling-straight", motion: Motion::Straight },
-        LevelingScenario { name: "leveling-stationary", motion: Motion::Stationary },
+        LevelingScenario {
+            name: "leveling-moving",
+            motion: Motion::SType,
+        },
+        LevelingScenario {
+            name: "leveling-straight",
+            motion: Motion::Straight,
+        },
+        LevelingScenario {
+            name: "leveling-stationary",
+            motion: Motion::Stationary,
+        },
     ]
 }
 
@@ -47,23 +58,47 @@ fn biases(options: &RunOptions) -> Biases {
 }
 
 const TABLE: &str = "attitude";
-const COLUMNS: [&str; 5] = ["t", "roll_error_deg", "pitch_error_deg", "roll_sigma_deg", "pitch_sigma_deg"];
+const COLUMNS: [&str; 5] = [
+    "t",
+    "roll_error_deg",
+    "pitch_error_deg",
+    "roll_sigma_deg",
+    "pitch_sigma_deg",
+];
 
 /// Simulates, runs the filter from a guess `N(truth, 45 deg)` and scores one run.
 fn run_one(motion: Motion, seed: u64, options: &RunOptions) -> Result<RunResult, RunError> {
     let log = simulation::simulate(motion, biases(options), seed);
-    let truth0 = log.truth.as_ref().and_then(|t| t.first().copied()).ok_or_else(|| RunError::Invalid("no truth".into()))?;
+    let truth0 = log
+        .truth
+        .as_ref()
+        .and_then(|t| t.first().copied())
+        .ok_or_else(|| RunError::Invalid("no truth".into()))?;
     let mut rng = ChaCha8Rng::seed_from_u64(derive_seed(seed, "leveling-initial-attitude"));
     let sigma = INITIAL_ERROR_SIGMA_DEG.to_radians();
-    let guess = (truth0.roll + normal(&mut rng, sigma), truth0.pitch + normal(&mut rng, sigma));
-    let opts = LevelingOptions { stationary: motion.is_stationary(), initial_attitude: Some(guess), tuning: Tuning::default() };
+    let guess = (
+        truth0.roll + normal(&mut rng, sigma),
+        truth0.pitch + normal(&mut rng, sigma),
+    );
+    let opts = LevelingOptions {
+        stationary: motion.is_stationary(),
+        initial_attitude: Some(guess),
+        tuning: Tuning::default(),
+    };
     let run = filter::run(&log, &opts).map_err(|e| RunError::Invalid(e.to_string()))?;
     score(seed, &run, &log, options.keep_series)
 }
 
-fn score(seed: u64, run: &filter::LevelingRun, log: &LogDir, keep_series: bool) -> Result<RunResult, RunError> {
+fn score(
+    seed: u64,
+    run: &filter::LevelingRun,
+    log: &LogDir,
+    keep_series: bool,
+) -> Result<RunResult, RunError> {
     let errors = errors_at_truth(run, log);
-    let &(_, roll_final, pitch_final) = errors.last().ok_or_else(|| RunError::Invalid("no estimate at a truth time".into()))?;
+    let &(_, roll_final, pitch_final) = errors
+        .last()
+        .ok_or_else(|| RunError::Invalid("no estimate at a truth time".into()))?;
     let mut r = RunResult::new(seed)
         .with_metric("roll_error_final_deg", roll_final.to_degrees())
         .with_metric("pitch_error_final_deg", pitch_final.to_degrees())
@@ -78,9 +113,18 @@ fn score(seed: u64, run: &filter::LevelingRun, log: &LogDir, keep_series: bool) 
     if keep_series {
         let mut table = RunTable::new(TABLE, &COLUMNS);
         for &(t, re, pe) in &errors {
-            let i = run.estimates.partition_point(|e| e.t <= t + 1e-9).saturating_sub(1);
+            let i = run
+                .estimates
+                .partition_point(|e| e.t <= t + 1e-9)
+                .saturating_sub(1);
             let e = run.estimates.get(i).copied().unwrap_or(run.estimates[0]);
-            table.push(&[t, re.to_degrees(), pe.to_degrees(), e.roll_sigma.to_degrees(), e.pitch_sigma.to_degrees()]);
+            table.push(&[
+                t,
+                re.to_degrees(),
+                pe.to_degrees(),
+                e.roll_sigma.to_degrees(),
+                e.pitch_sigma.to_degrees(),
+            ]);
         }
         r.tables.push(table);
     }
@@ -104,21 +148,47 @@ impl Scenario for LevelingScenario {
     fn run_one(&self, seed: u64, options: &RunOptions) -> Result<RunResult, RunError> {
         run_one(self.motion, seed, options)
     }
-    fn summarize(&self, runs: &[RunResult], _options: &RunOptions) -> Result<Map<String, Value>, RunError> {
+    fn summarize(
+        &self,
+        runs: &[RunResult],
+        _options: &RunOptions,
+    ) -> Result<Map<String, Value>, RunError> {
         let roll = crate::montecarlo::metric_values(runs, "roll_error_final_deg");
         let pitch = crate::montecarlo::metric_values(runs, "pitch_error_final_deg");
         let mut m = Map::new();
-        m.insert("roll_error_mean_deg".into(), Value::from(stats::mean(&roll)));
-        m.insert("pitch_error_mean_deg".into(), Value::from(stats::mean(&pitch)));
-        m.insert("roll_error_std_deg".into(), Value::from(stats::std_dev(&roll)));
-        m.insert("pitch_error_std_deg".into(), Value::from(stats::std_dev(&pitch)));
+        m.insert(
+            "roll_error_mean_deg".into(),
+            Value::from(stats::mean(&roll)),
+        );
+        m.insert(
+            "pitch_error_mean_deg".into(),
+            Value::from(stats::mean(&pitch)),
+        );
+        m.insert(
+            "roll_error_std_deg".into(),
+            Value::from(stats::std_dev(&roll)),
+        );
+        m.insert(
+            "pitch_error_std_deg".into(),
+            Value::from(stats::std_dev(&pitch)),
+        );
         let roll_sigma = crate::montecarlo::metric_values(runs, "roll_sigma_final_deg");
         let pitch_sigma = crate::montecarlo::metric_values(runs, "pitch_sigma_final_deg");
-        m.insert("roll_sigma_filter_deg".into(), Value::from(stats::mean(&roll_sigma)));
-        m.insert("pitch_sigma_filter_deg".into(), Value::from(stats::mean(&pitch_sigma)));
+        m.insert(
+            "roll_sigma_filter_deg".into(),
+            Value::from(stats::mean(&roll_sigma)),
+        );
+        m.insert(
+            "pitch_sigma_filter_deg".into(),
+            Value::from(stats::mean(&pitch_sigma)),
+        );
         let gated: f64 = crate::montecarlo::metric_values(runs, "gated").iter().sum();
-        let rejected: f64 = crate::montecarlo::metric_values(runs, "rejected").iter().sum();
-        let repairs: f64 = crate::montecarlo::metric_values(runs, "repairs").iter().sum();
+        let rejected: f64 = crate::montecarlo::metric_values(runs, "rejected")
+            .iter()
+            .sum();
+        let repairs: f64 = crate::montecarlo::metric_values(runs, "repairs")
+            .iter()
+            .sum();
         m.insert("health".into(), serde_json::json!({"speed": {"gated": gated, "rejected": rejected}, "covariance_repairs": repairs}));
         Ok(m)
     }
@@ -134,41 +204,97 @@ impl Scenario for LevelingScenario {
 /// The paper's Figs. 6-9: ensemble mean and std of the roll and pitch errors
 /// over time, with the filter's mean predicted sigma.
 fn write_ensemble(name: &str, runs: &[RunResult], dir: &Path) -> Result<(), RunError> {
-    let tables: Vec<&RunTable> = runs.iter().filter_map(|r| r.tables.iter().find(|t| t.name == TABLE)).collect();
-    let Some(first) = tables.first() else { return Ok(()) };
+    let tables: Vec<&RunTable> = runs
+        .iter()
+        .filter_map(|r| r.tables.iter().find(|t| t.name == TABLE))
+        .collect();
+    let Some(first) = tables.first() else {
+        return Ok(());
+    };
     let len = tables.iter().map(|t| t.rows.len()).min().unwrap_or(0);
     let t: Vec<f64> = first.rows[..len].iter().map(|r| r[0]).collect();
     let column = |c: usize, f: fn(&[f64]) -> f64| -> Vec<f64> {
-        (0..len).map(|i| f(&tables.iter().map(|tab| tab.rows[i][c]).collect::<Vec<_>>())).collect()
+        (0..len)
+            .map(|i| f(&tables.iter().map(|tab| tab.rows[i][c]).collect::<Vec<_>>()))
+            .collect()
     };
     let (roll_mean, pitch_mean) = (column(1, stats::mean), column(2, stats::mean));
     let (roll_std, pitch_std) = (column(1, stats::std_dev), column(2, stats::std_dev));
     let (roll_sig, pitch_sig) = (column(3, stats::mean), column(4, stats::mean));
     let mut ensemble = RunTable::new(
         "ensemble",
-        &["t", "roll_mean_deg", "pitch_mean_deg", "roll_std_deg", "pitch_std_deg", "roll_sigma_deg", "pitch_sigma_deg"],
+        &[
+            "t",
+            "roll_mean_deg",
+            "pitch_mean_deg",
+            "roll_std_deg",
+            "pitch_std_deg",
+            "roll_sigma_deg",
+            "pitch_sigma_deg",
+        ],
     );
     for i in 0..len {
-        ensemble.push(&[t[i], roll_mean[i], pitch_mean[i], roll_std[i], pitch_std[i], roll_sig[i], pitch_sig[i]]);
+        ensemble.push(&[
+            t[i],
+            roll_mean[i],
+            pitch_mean[i],
+            roll_std[i],
+            pitch_std[i],
+            roll_sig[i],
+            pitch_sig[i],
+        ]);
     }
     ensemble.write_csv(&dir.join("ensemble.csv"))?;
     plot::lines(
         &dir.join("ensemble-mean.svg"),
-        &format!("{name}: ensemble mean of the level errors ({} runs)", tables.len()),
+        &format!(
+            "{name}: ensemble mean of the level errors ({} runs)",
+            tables.len()
+        ),
         "t [s]",
         "error [deg]",
-        &[Line { label: "roll", x: &t, y: &roll_mean }, Line { label: "pitch", x: &t, y: &pitch_mean }],
+        &[
+            Line {
+                label: "roll",
+                x: &t,
+                y: &roll_mean,
+            },
+            Line {
+                label: "pitch",
+                x: &t,
+                y: &pitch_mean,
+            },
+        ],
     )?;
     plot::lines(
         &dir.join("ensemble-std.svg"),
-        &format!("{name}: ensemble std vs filter sigma ({} runs)", tables.len()),
+        &format!(
+            "{name}: ensemble std vs filter sigma ({} runs)",
+            tables.len()
+        ),
         "t [s]",
         "std [deg]",
         &[
-            Line { label: "roll std", x: &t, y: &roll_std },
-            Line { label: "pitch std", x: &t, y: &pitch_std },
-            Line { label: "roll sigma (filter)", x: &t, y: &roll_sig },
-            Line { label: "pitch sigma (filter)", x: &t, y: &pitch_sig },
+            Line {
+                label: "roll std",
+                x: &t,
+                y: &roll_std,
+            },
+            Line {
+                label: "pitch std",
+                x: &t,
+                y: &pitch_std,
+            },
+            Line {
+                label: "roll sigma (filter)",
+                x: &t,
+                y: &roll_sig,
+            },
+            Line {
+                label: "pitch sigma (filter)",
+                x: &t,
+                y: &pitch_sig,
+            },
         ],
     )
 }
@@ -180,8 +306,14 @@ pub struct Leveling6Replay;
 /// Stationarity from the data: a speed log that never exceeds 0.05 m/s and a gyro
 /// whose magnitude never exceeds 0.5 deg/s.
 pub fn looks_stationary(log: &LogDir) -> bool {
-    let slow = log.speed.as_ref().is_none_or(|s| s.iter().all(|r| r.speed.abs() < 0.05));
-    let still = log.imu.iter().all(|r| (r.gx * r.gx + r.gy * r.gy + r.gz * r.gz).sqrt() < 0.5f64.to_radians());
+    let slow = log
+        .speed
+        .as_ref()
+        .is_none_or(|s| s.iter().all(|r| r.speed.abs() < 0.05));
+    let still = log
+        .imu
+        .iter()
+        .all(|r| (r.gx * r.gx + r.gy * r.gy + r.gz * r.gz).sqrt() < 0.5f64.to_radians());
     slow && still
 }
 
@@ -194,16 +326,26 @@ impl ReplayModel for Leveling6Replay {
     }
     fn replay(&self, log: &LogDir, options: &ReplayOptions) -> Result<ReplayOutput, RunError> {
         let stationary = options.stationary || looks_stationary(log);
-        let opts = LevelingOptions { stationary, initial_attitude: None, tuning: Tuning::default() };
+        let opts = LevelingOptions {
+            stationary,
+            initial_attitude: None,
+            tuning: Tuning::default(),
+        };
         let start = std::time::Instant::now();
         let run = filter::run(log, &opts).map_err(|e| RunError::Invalid(e.to_string()))?;
         let runtime_s = start.elapsed().as_secs_f64();
-        let mut out = ReplayOutput { samples: run.samples, runtime_s, ..Default::default() };
-        out.metrics.insert("stationary".into(), Value::from(stationary));
+        let mut out = ReplayOutput {
+            samples: run.samples,
+            runtime_s,
+            ..Default::default()
+        };
+        out.metrics
+            .insert("stationary".into(), Value::from(stationary));
         if log.truth.is_some() {
             let scored = score(0, &run, log, options.keep_series)?;
             for key in ["roll_error_final_deg", "pitch_error_final_deg"] {
-                out.metrics.insert(key.into(), Value::from(scored.metric(key)));
+                out.metrics
+                    .insert(key.into(), Value::from(scored.metric(key)));
             }
             out.tables = scored.tables;
         }

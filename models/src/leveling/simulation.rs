@@ -3,8 +3,8 @@
 
 use nav_runtime::earth::Geodetic;
 use nav_runtime::imu::{self, ImuErrors, ImuModel, ImuSpec};
-use nav_runtime::log::{ImuRow, LogDir, Meta, SensorNoise, SpeedRow, TruthRow};
 use nav_runtime::log::ImuNoise;
+use nav_runtime::log::{ImuRow, LogDir, Meta, SensorNoise, SpeedRow, TruthRow};
 use nav_runtime::nalgebra::Vector3;
 use nav_runtime::sensors::{derive_seed, Draw, ErrorSpec, ScalarSensor};
 use nav_runtime::trajectory::{scenarios, Trajectory, TruthSource};
@@ -84,7 +84,11 @@ pub fn simulate(motion: Motion, biases: Biases, seed: u64) -> LogDir {
         Biases::Drawn => ImuModel::new(spec, imu_seed),
     };
     let speed_spec = match biases {
-        Biases::OneSigma => ErrorSpec { bias: Draw::Fixed(0.1), scale: Draw::Zero, noise: 0.1 },
+        Biases::OneSigma => ErrorSpec {
+            bias: Draw::Fixed(0.1),
+            scale: Draw::Zero,
+            noise: 0.1,
+        },
         Biases::Drawn => ErrorSpec::leveling6_speed_log(),
     };
     let mut speed_log = ScalarSensor::new(speed_spec, derive_seed(seed, "leveling-speed"));
@@ -92,7 +96,9 @@ pub fn simulate(motion: Motion, biases: Biases, seed: u64) -> LogDir {
     let imu_rows: Vec<ImuRow> = imu::rates(&truth, IMU_RATE, DURATION)
         .map(|r| {
             let m = imu_model.corrupt_rate(&r);
-            ImuRow::new(m.t, m.w_ib_b.x, m.w_ib_b.y, m.w_ib_b.z, m.f_b.x, m.f_b.y, m.f_b.z)
+            ImuRow::new(
+                m.t, m.w_ib_b.x, m.w_ib_b.y, m.w_ib_b.z, m.f_b.x, m.f_b.y, m.f_b.z,
+            )
         })
         .collect();
     let n_speed = (DURATION * SPEED_RATE).round() as usize;
@@ -101,7 +107,11 @@ pub fn simulate(motion: Motion, biases: Biases, seed: u64) -> LogDir {
             let t = k as f64 / SPEED_RATE;
             let s = truth.truth(t);
             // A stationary vehicle's log reads exactly zero (paper section IV.3).
-            let v = if motion.is_stationary() { 0.0 } else { speed_log.measure_scalar(s.v_body().x) };
+            let v = if motion.is_stationary() {
+                0.0
+            } else {
+                speed_log.measure_scalar(s.v_body().x)
+            };
             SpeedRow::new(t, v)
         })
         .collect();
@@ -109,7 +119,15 @@ pub fn simulate(motion: Motion, biases: Biases, seed: u64) -> LogDir {
         .map(|k| {
             let s = truth.truth(k as f64 / SPEED_RATE);
             TruthRow::new(
-                s.t, s.lat, s.lon, s.depth(), s.v_n.x, s.v_n.y, s.v_n.z, s.euler.roll, s.euler.pitch,
+                s.t,
+                s.lat,
+                s.lon,
+                s.depth(),
+                s.v_n.x,
+                s.v_n.y,
+                s.v_n.z,
+                s.euler.roll,
+                s.euler.pitch,
                 s.euler.yaw,
             )
         })
@@ -127,7 +145,10 @@ pub fn simulate(motion: Motion, biases: Biases, seed: u64) -> LogDir {
         accel_bias_sigma: spec.accel_bias,
         accel_noise_sigma: spec.accel_noise,
     });
-    meta.sensors.speed = Some(SensorNoise { bias_sigma: 0.1, noise_sigma: 0.1 });
+    meta.sensors.speed = Some(SensorNoise {
+        bias_sigma: 0.1,
+        noise_sigma: 0.1,
+    });
 
     let mut log = LogDir::new(meta);
     log.imu = imu_rows;

@@ -473,7 +473,7 @@ mod tests {
         // run), so the band is wide; a filter that is overconfident by 2x in sigma
         // gives a NEES of about 8. One seed of four may exceed it: fixes resolved
         // with the estimated heading are correlated with the state, which this
-        // filter ignores (documented in docs/marker9.md).
+        // filter ignores (documented in the README (MARKER-9)).
         assert!(
             median > 0.3 && median < 5.0,
             "median NEES {median} ({nees:?})"

@@ -1,4 +1,4 @@
-// The mistakes shown in docs/adding-a-sensor.md, with the blocks of
+// The mistakes shown in the README section "Adding a sensor, building a vehicle", with the blocks of
 // models/src/vehicles/blocks.rs (copied: a test case cannot use that crate).
 nav_runtime::model! {
     /// The 15-state INS error-state core: position, velocity and attitude errors,
