@@ -17,6 +17,8 @@ use crate::montecarlo::{
     ReplayModel, ReplayOptions, RunError, RunOptions, Scenario, Shard, ShardFile, SHARD_FORMAT,
 };
 use crate::report::{self, StagedDir};
+use crate::sdins25::InsReplay;
+use crate::vehicles::sdins::{Sdins20, Sdins25Composed};
 
 /// Scenario run by `navsim` without a command (when it is registered).
 pub const DEFAULT_SCENARIO: &str = "lawnmower-dvl";
@@ -48,7 +50,9 @@ pub fn replay_models() -> Vec<Box<dyn ReplayModel>> {
     vec![
         Box::new(demo::DepthKf),
         Box::new(crate::leveling::Leveling6Replay),
-        Box::new(crate::sdins25::Sdins25Replay),
+        Box::new(crate::sdins25::Sdins25Replay::new()),
+        Box::new(InsReplay::<Sdins25Composed, 25>::new()),
+        Box::new(InsReplay::<Sdins20, 20>::new()),
     ]
 }
 
@@ -320,6 +324,9 @@ pub fn cmd_replay(args: &ReplayArgs) -> Result<(), RunError> {
         keep_series: args.out.is_some(),
     };
     let output = model.replay(&log, &options)?;
+    for w in &output.warnings {
+        eprintln!("warning: {w}");
+    }
     let value = report::replay_json(model.name(), &output, args.lenient, &log.skipped_rows);
     if let Some(out) = &args.out {
         let staged = StagedDir::new(out)?;

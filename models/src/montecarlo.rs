@@ -9,6 +9,10 @@
 //!
 //! # Adding a replay model
 //! Implement [`ReplayModel`] and add one line to [`crate::cli::replay_models`].
+//! A vehicle made of the INS core block and any of the depth, DVL, compass and
+//! USBL blocks needs no `ReplayModel` of its own: implement
+//! [`crate::sdins25::vehicle::InsVehicle`] for it (which generated sensor reads
+//! which log file) and register `crate::sdins25::InsReplay::<Vehicle, N>::new()`.
 //!
 //! # Shards
 //! `--shard K/N` runs the seed indices `i` (0-based) with `i % N == K - 1` and writes a
@@ -315,6 +319,9 @@ pub struct ReplayOutput {
     pub metrics: Map<String, Value>,
     /// Time series written under `--out` as `<table>.csv`.
     pub tables: Vec<RunTable>,
+    /// Notes for the user (e.g. a log sensor the model does not use), printed
+    /// on stderr as `warning: ...` lines; not part of the JSON.
+    pub warnings: Vec<String>,
 }
 
 /// A model that runs over a recorded log directory (`navsim replay --model <NAME>`).

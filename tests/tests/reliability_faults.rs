@@ -311,7 +311,7 @@ fn corrupted_logs_never_panic_the_replay() {
         std::fs::write(dir.join(files[k]), &text).unwrap();
         for strictness in [Strictness::Strict, Strictness::Lenient] {
             match LogDir::read(&dir, strictness) {
-                Ok(log) => match Sdins25Replay.replay(&log, &ReplayOptions::default()) {
+                Ok(log) => match Sdins25Replay::new().replay(&log, &ReplayOptions::default()) {
                     Ok(out) => {
                         ok += 1;
                         assert!(out.metrics["health"].is_object(), "case {case}");

@@ -42,7 +42,7 @@ fn simulate_write_read_replay_equals_scenario() {
     log.write(&dir).unwrap();
     let read = LogDir::read(&dir, Strictness::Strict).unwrap();
     let _ = std::fs::remove_dir_all(&dir);
-    let out = Sdins25Replay
+    let out = Sdins25Replay::new()
         .replay(&read, &ReplayOptions::default())
         .unwrap();
     for key in [
@@ -169,7 +169,7 @@ fn replay_with_a_subset_of_sensors() {
         ("depth+usbl", depth_usbl, 100.0),
         ("dvl+usbl", dvl_usbl, 15.0),
     ] {
-        let out = Sdins25Replay
+        let out = Sdins25Replay::new()
             .replay(&log, &ReplayOptions::default())
             .unwrap();
         let e = out.metrics["horizontal_error_final_m"].as_f64().unwrap();

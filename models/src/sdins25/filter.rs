@@ -12,6 +12,7 @@
 //! true) from the strapdown solution ([`Nominal::inject`]).
 
 use std::cell::RefCell;
+use std::marker::PhantomData;
 use std::rc::Rc;
 
 use nav_runtime::attitude::euler_from_c_bn;
@@ -28,18 +29,19 @@ use nav_runtime::scheduler::{FnMeasurement, Measurement, MeasurementOutcome, Sch
 use nav_runtime::sensors::ErrorSpec;
 use nav_runtime::strapdown::{NavError, NavState, Strapdown};
 
-use super::model::{
-    Sdins25, Sdins25Compass, Sdins25CompassSmallAngle, Sdins25Depth, Sdins25Dvl, Sdins25Input,
-    Sdins25Noise, Sdins25Params, Sdins25Usbl, Sdins25UsblAux,
-};
+use super::model::Sdins25;
 use super::simulation::{DVL_MAX_ALTITUDE, SOUND_SPEED, TRACKPOINT_MISALIGNMENT_SIGMA};
+use super::vehicle::{InsVehicle, Layout, Present, Slot};
 use crate::montecarlo::RunError;
 
-/// Number of error states.
+/// Number of error states of SDINS-25.
 pub const N: usize = 25;
 
-/// The error-state filter of this model.
-pub type Filter = ErrorStateFilter<Sdins25, Nominal, N>;
+/// The error-state filter of vehicle `V` (`N` states).
+pub type InsFilter<V, const N: usize> = ErrorStateFilter<V, InsNominal<V, N>, N>;
+
+/// The error-state filter of SDINS-25.
+pub type Filter = InsFilter<Sdins25, N>;
 
 /// Which compass residual the filter uses.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -183,9 +185,9 @@ impl Record for ImuSample {
     }
 }
 
-/// The nominal solution: strapdown INS plus the running sensor corrections.
-#[derive(Clone, Debug)]
-pub struct Nominal {
+/// The nominal solution of vehicle `V`: strapdown INS plus the running
+/// sensor corrections (those of sensors `V` lacks stay zero).
+pub struct InsNominal<V, const N: usize> {
     /// The strapdown INS.
     pub ins: Strapdown,
     /// Accelerometer bias correction, subtracted from the samples (m/s^2).
@@ -202,12 +204,60 @@ pub struct Nominal {
     pub compass_bias: f64,
     /// USBL misalignment correction (rad).
     pub usbl_misalignment: Vector3<f64>,
+    /// Where `V` keeps each error state.
+    layout: Layout,
+    vehicle: PhantomData<fn() -> V>,
 }
 
-impl Nominal {
-    /// A nominal solution at `state` with zero corrections.
-    pub fn new(ins: Strapdown) -> Self {
+/// The nominal solution of SDINS-25.
+pub type Nominal = InsNominal<Sdins25, N>;
+
+impl<V, const N: usize> Clone for InsNominal<V, N> {
+    fn clone(&self) -> Self {
         Self {
+            ins: self.ins.clone(),
+            layout: self.layout,
+            vehicle: PhantomData,
+            ..*self
+        }
+    }
+}
+
+impl<V, const N: usize> core::fmt::Debug for InsNominal<V, N> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("InsNominal")
+            .field("ins", &self.ins)
+            .field("accel_bias", &self.accel_bias)
+            .field("gyro_bias", &self.gyro_bias)
+            .field("usbl_bias", &self.usbl_bias)
+            .field("depth_bias", &self.depth_bias)
+            .field("dvl_bias", &self.dvl_bias)
+            .field("compass_bias", &self.compass_bias)
+            .field("usbl_misalignment", &self.usbl_misalignment)
+            .field("layout", &self.layout)
+            .finish()
+    }
+}
+
+impl<V: InsVehicle<N>, const N: usize> InsNominal<V, N> {
+    /// A nominal solution at `state` with zero corrections.
+    ///
+    /// # Panics
+    /// If `V` does not fit the replay loop ([`Layout::of`] fails); use
+    /// [`InsNominal::try_new`] to get the error.
+    pub fn new(ins: Strapdown) -> Self {
+        match Self::try_new(ins) {
+            Ok(n) => n,
+            Err(e) => panic!("{e}"),
+        }
+    }
+
+    /// A nominal solution at `state` with zero corrections.
+    ///
+    /// # Errors
+    /// As [`Layout::of`].
+    pub fn try_new(ins: Strapdown) -> Result<Self, RunError> {
+        Ok(Self {
             ins,
             accel_bias: Vector3::zeros(),
             gyro_bias: Vector3::zeros(),
@@ -216,37 +266,71 @@ impl Nominal {
             dvl_bias: Vector3::zeros(),
             compass_bias: 0.0,
             usbl_misalignment: Vector3::zeros(),
+            layout: Layout::of::<V, N>()?,
+            vehicle: PhantomData,
+        })
+    }
+
+    /// Where `V` keeps each error state.
+    pub fn layout(&self) -> &Layout {
+        &self.layout
+    }
+}
+
+impl<V: InsVehicle<N>, const N: usize> NominalState<N> for InsNominal<V, N> {
+    fn inject(&mut self, e: &SVector<f64, N>) {
+        let l = &self.layout;
+        let nav = l.navigation().map(|i| e[i]);
+        self.ins.inject(&NavError::from_slice(&nav));
+        let v3 = |i: usize| Vector3::new(e[i], e[i + 1], e[i + 2]);
+        self.accel_bias += v3(l.accel_bias);
+        self.gyro_bias += v3(l.gyro_bias);
+        if let Some(i) = l.usbl_bias {
+            self.usbl_bias += Vector2::new(e[i], e[i + 1]);
+        }
+        if let Some(i) = l.depth_bias {
+            self.depth_bias += e[i];
+        }
+        if let Some(i) = l.dvl_bias {
+            self.dvl_bias += v3(i);
+        }
+        if let Some(i) = l.compass_bias {
+            self.compass_bias += e[i];
+        }
+        if let Some(i) = l.usbl_misalignment {
+            self.usbl_misalignment += v3(i);
         }
     }
 }
 
-impl NominalState<N> for Nominal {
-    fn inject(&mut self, e: &SVector<f64, N>) {
-        self.ins.inject(&NavError::from_slice(&e.as_slice()[..9]));
-        let v3 = |i: usize| Vector3::new(e[i], e[i + 1], e[i + 2]);
-        self.accel_bias += v3(Sdins25::ACCEL_BIAS);
-        self.gyro_bias += v3(Sdins25::GYRO_BIAS);
-        self.usbl_bias += Vector2::new(e[Sdins25::USBL_BIAS], e[Sdins25::USBL_BIAS + 1]);
-        self.depth_bias += e[Sdins25::DEPTH_BIAS];
-        self.dvl_bias += v3(Sdins25::DVL_BIAS);
-        self.compass_bias += e[Sdins25::COMPASS_BIAS];
-        self.usbl_misalignment += v3(Sdins25::USBL_MISALIGNMENT);
-    }
-}
-
-impl Mechanization<Sdins25, N> for Nominal {
+impl<V: InsVehicle<N>, const N: usize> Mechanization<V, N> for InsNominal<V, N> {
     type Imu = ImuSample;
-    fn mechanize(&mut self, dt: f64, imu: &ImuSample) -> Sdins25Input {
+    fn mechanize(&mut self, dt: f64, imu: &ImuSample) -> V::Input {
         let w = imu.gyro - self.gyro_bias;
         let f = imu.accel - self.accel_bias;
         let s = &self.ins.state;
-        let input = Sdins25Input {
-            latitude: s.lat,
-            height: s.h,
-            velocity: s.v_n,
-            c_bn: s.c_bn,
-            specific_force: f,
-        };
+        let c = &s.c_bn;
+        // The INS core's inputs in record order (checked by `Layout::of`).
+        let values: [f64; 17] = [
+            s.lat,
+            s.h,
+            s.v_n.x,
+            s.v_n.y,
+            s.v_n.z,
+            c[(0, 0)],
+            c[(0, 1)],
+            c[(0, 2)],
+            c[(1, 0)],
+            c[(1, 1)],
+            c[(1, 2)],
+            c[(2, 0)],
+            c[(2, 1)],
+            c[(2, 2)],
+            f.x,
+            f.y,
+            f.z,
+        ];
+        let input = <V::Input as Record>::from_fn(|i| values[i]);
         self.ins.update_rates(&w, &f, dt);
         input
     }
@@ -269,10 +353,13 @@ pub struct Estimate {
 }
 
 impl Estimate {
-    /// The estimate of filter `f` at time `t`.
-    pub fn of(t: f64, f: &Filter) -> Self {
+    /// The estimate of filter `f` at time `t`. A bias the vehicle does not
+    /// estimate is reported as zero with a NaN sigma.
+    pub fn of<V: InsVehicle<N>, const N: usize>(t: f64, f: &InsFilter<V, N>) -> Self {
         let nav = f.nominal().ins.state;
         let p = f.covariance();
+        let layout = f.nominal().layout();
+        let idx = layout.navigation();
         let (rm, rn) = (
             meridian_radius(nav.lat) + nav.h,
             transverse_radius(nav.lat) + nav.h,
@@ -281,15 +368,14 @@ impl Estimate {
         scale[0] = rm;
         scale[1] = rn * nav.lat.cos();
         scale[2] = -1.0;
-        let cov = SMatrix::<f64, 9, 9>::from_fn(|i, j| scale[i] * p[(i, j)] * scale[j]);
-        let cb = Sdins25::COMPASS_BIAS;
-        let ub = Sdins25::USBL_BIAS;
+        let cov = SMatrix::<f64, 9, 9>::from_fn(|i, j| scale[i] * p[(idx[i], idx[j])] * scale[j]);
+        let sigma = |i: Option<usize>| i.map_or(f64::NAN, |i| p[(i, i)].sqrt());
         Self {
             t,
             nav,
             cov,
-            compass_bias: (f.nominal().compass_bias, p[(cb, cb)].sqrt()),
-            usbl_bias_n: (f.nominal().usbl_bias[0], p[(ub, ub)].sqrt()),
+            compass_bias: (f.nominal().compass_bias, sigma(layout.compass_bias)),
+            usbl_bias_n: (f.nominal().usbl_bias[0], sigma(layout.usbl_bias)),
         }
     }
 }
@@ -309,9 +395,9 @@ pub struct SensorHealth {
     pub skipped: u64,
 }
 
-/// The result of a run over a log.
+/// The result of a run of vehicle `V` over a log.
 #[derive(Clone, Debug)]
-pub struct Sdins25Run {
+pub struct InsRun<V: InsVehicle<N>, const N: usize> {
     /// Estimates at the requested times (`None` where no IMU sample is near).
     pub estimates: Vec<Option<Estimate>>,
     /// IMU samples processed.
@@ -325,14 +411,20 @@ pub struct Sdins25Run {
     /// Rollbacks for late measurements.
     pub replays: u64,
     /// The filter at the end (all measurements applied).
-    pub final_filter: Filter,
+    pub final_filter: InsFilter<V, N>,
+    /// Log sensors with rows that the vehicle has no sensor for (their rows
+    /// are counted as skipped).
+    pub ignored: Vec<&'static str>,
 }
+
+/// The result of an SDINS-25 run over a log.
+pub type Sdins25Run = InsRun<Sdins25, N>;
 
 /// Sensor registration order (also the order of measurements at equal times).
 const SENSORS: [&str; 4] = ["depth", "dvl", "heading", "usbl"];
 
-fn filter_error(e: FilterError) -> RunError {
-    RunError::Invalid(format!("sdins25 filter: {e}"))
+fn filter_error(name: &str, e: FilterError) -> RunError {
+    RunError::Invalid(format!("{name} filter: {e}"))
 }
 
 fn noise_or(n: Option<SensorNoise>, spec: ErrorSpec) -> SensorNoise {
@@ -345,10 +437,19 @@ fn noise_or(n: Option<SensorNoise>, spec: ErrorSpec) -> SensorNoise {
     })
 }
 
-/// Initial filter (nominal from `[initial]`, covariance from `[initial_sigma]`
-/// and the sensor bias sigmas of `[sensors.*]`, Table 1 where absent), with its
-/// nominal primed by the first IMU sample.
+/// Initial SDINS-25 filter: [`initial_vehicle_filter`] of [`Sdins25`].
 pub fn initial_filter(log: &LogDir, options: &FilterOptions) -> Result<Filter, RunError> {
+    initial_vehicle_filter::<Sdins25, N>(log, options)
+}
+
+/// Initial filter of vehicle `V` (nominal from `[initial]`, covariance from
+/// `[initial_sigma]` and the sensor bias sigmas of `[sensors.*]`, Table 1
+/// where absent), with its nominal primed by the first IMU sample.
+pub fn initial_vehicle_filter<V: InsVehicle<N>, const N: usize>(
+    log: &LogDir,
+    options: &FilterOptions,
+) -> Result<InsFilter<V, N>, RunError> {
+    let layout = Layout::of::<V, N>()?;
     let meta = &log.meta;
     let [roll, pitch, yaw] = meta.initial.attitude()?;
     let first = log
@@ -392,37 +493,47 @@ pub fn initial_filter(log: &LogDir, options: &FilterOptions) -> Result<Filter, R
     };
     let lat = state.lat;
     let mut sigma = [0.0; N];
-    sigma[0] = sp / (meridian_radius(lat) + state.h);
-    sigma[1] = sp / ((transverse_radius(lat) + state.h) * lat.cos());
-    sigma[2] = sp;
-    sigma[3..6].fill(sv);
-    sigma[6..8].fill(sl);
-    sigma[8] = sh;
-    sigma[9..12].fill(imu.accel_bias_sigma);
-    sigma[12..15].fill(imu.gyro_bias_sigma);
-    sigma[15..17].fill(usbl.bias_sigma);
-    sigma[17] = depth.bias_sigma;
-    sigma[18..21].fill(dvl.bias_sigma);
-    sigma[21] = heading.bias_sigma;
-    sigma[22..25].fill(misalignment);
+    let (p, v, a) = (layout.position, layout.velocity, layout.attitude);
+    sigma[p] = sp / (meridian_radius(lat) + state.h);
+    sigma[p + 1] = sp / ((transverse_radius(lat) + state.h) * lat.cos());
+    sigma[p + 2] = sp;
+    sigma[v..v + 3].fill(sv);
+    sigma[a..a + 2].fill(sl);
+    sigma[a + 2] = sh;
+    sigma[layout.accel_bias..layout.accel_bias + 3].fill(imu.accel_bias_sigma);
+    sigma[layout.gyro_bias..layout.gyro_bias + 3].fill(imu.gyro_bias_sigma);
+    for (at, len, s) in [
+        (layout.usbl_bias, 2, usbl.bias_sigma),
+        (layout.depth_bias, 1, depth.bias_sigma),
+        (layout.dvl_bias, 3, dvl.bias_sigma),
+        (layout.compass_bias, 1, heading.bias_sigma),
+        (layout.usbl_misalignment, 3, misalignment),
+    ] {
+        if let Some(i) = at {
+            sigma[i..i + len].fill(s);
+        }
+    }
     let p0 = SMatrix::<f64, N, N>::from_diagonal(&SVector::<f64, N>::from_fn(|i, _| {
         sigma[i].max(SIGMA_FLOOR).powi(2)
     }));
 
     // Noise densities from per-sample sigmas: q = sigma^2 dt.
     let dt = imu_period(log);
-    let noise = Sdins25Noise {
-        accel_noise: Vector3::repeat(imu.accel_noise_sigma.powi(2) * dt),
-        gyro_noise: Vector3::repeat(imu.gyro_noise_sigma.powi(2) * dt),
-    };
+    // The INS core's noise in record order (checked by `Layout::of`).
+    let (qa, qg) = (
+        imu.accel_noise_sigma.powi(2) * dt,
+        imu.gyro_noise_sigma.powi(2) * dt,
+    );
+    let noise = <V::Noise as Record>::from_fn(|i| if i < 3 { qa } else { qg });
+    let name = V::REPLAY_NAME;
     let gate = match options.gate_probability {
-        Some(p) => Some(Gate::new(p).map_err(filter_error)?),
+        Some(p) => Some(Gate::new(p).map_err(|e| filter_error(name, e))?),
         None => None,
     };
-    let ekf = Ekf::<Sdins25, N>::new(SVector::zeros(), p0, Sdins25Params::default(), noise)
-        .map_err(filter_error)?
+    let ekf = Ekf::<V, N>::new(SVector::zeros(), p0, V::Params::default(), noise)
+        .map_err(|e| filter_error(name, e))?
         .with_default_gate(gate);
-    Ok(ErrorStateFilter::new(ekf, Nominal::new(ins)))
+    Ok(ErrorStateFilter::new(ekf, InsNominal::try_new(ins)?))
 }
 
 /// Median IMU sampling interval (s).
@@ -459,65 +570,139 @@ fn outcome<const M: usize>(
     r.map(|rep| MeasurementOutcome::from(&rep))
 }
 
-/// A depth-meter measurement (`depth`: m, positive down) with noise sigma (m).
-pub fn depth_measurement(depth: f64, sigma: f64) -> Box<dyn Measurement<Filter>> {
+/// A depth-meter measurement (`depth`: m, positive down) with noise sigma (m),
+/// for the `Depth` sensor of vehicle `V`.
+pub fn depth_measurement<V: InsVehicle<N>, const N: usize>(
+    depth: f64,
+    sigma: f64,
+) -> Box<dyn Measurement<InsFilter<V, N>>> {
     let h_meas = -depth;
     let r = SVector::<f64, 1>::new(sigma.powi(2));
-    Box::new(FnMeasurement::new(&[h_meas], move |f: &mut Filter| {
-        let nom = f.nominal();
-        let z = SVector::<f64, 1>::new(nom.ins.state.h - (h_meas - nom.depth_bias));
-        outcome(f.update_sequential::<Sdins25Depth, 1>(&z, &r, &()))
-    }))
+    Box::new(FnMeasurement::new(
+        &[h_meas],
+        move |f: &mut InsFilter<V, N>| {
+            let nom = f.nominal();
+            let z = SVector::<f64, 1>::new(nom.ins.state.h - (h_meas - nom.depth_bias));
+            outcome(V::Depth::update(f, &z, &r, &[]))
+        },
+    ))
 }
 
-/// A DVL measurement (body velocity, m/s) with noise sigma per axis (m/s).
-pub fn dvl_measurement(v: Vector3<f64>, sigma: f64) -> Box<dyn Measurement<Filter>> {
+/// A DVL measurement (body velocity, m/s) with noise sigma per axis (m/s),
+/// for the `Dvl` sensor of vehicle `V`.
+pub fn dvl_measurement<V: InsVehicle<N>, const N: usize>(
+    v: Vector3<f64>,
+    sigma: f64,
+) -> Box<dyn Measurement<InsFilter<V, N>>> {
     let r = SVector::<f64, 3>::repeat(sigma.powi(2));
-    Box::new(FnMeasurement::new(v.as_slice(), move |f: &mut Filter| {
-        let nom = f.nominal();
-        let s = &nom.ins.state;
-        let z = s.v_n - s.c_bn * (v - nom.dvl_bias);
-        outcome(f.update_sequential::<Sdins25Dvl, 3>(&z, &r, &()))
-    }))
+    Box::new(FnMeasurement::new(
+        v.as_slice(),
+        move |f: &mut InsFilter<V, N>| {
+            let nom = f.nominal();
+            let s = &nom.ins.state;
+            let z = s.v_n - s.c_bn * (v - nom.dvl_bias);
+            outcome(V::Dvl::update(f, &z, &r, &[]))
+        },
+    ))
 }
 
-/// A compass measurement (heading `psi`, rad) with noise sigma (rad).
-pub fn heading_measurement(
+/// A compass measurement (heading `psi`, rad) with noise sigma (rad), for the
+/// `Compass` or `CompassSmallAngle` sensor of vehicle `V`.
+pub fn heading_measurement<V: InsVehicle<N>, const N: usize>(
     psi: f64,
     sigma: f64,
     form: CompassForm,
-) -> Box<dyn Measurement<Filter>> {
+) -> Box<dyn Measurement<InsFilter<V, N>>> {
     let r = SVector::<f64, 1>::new(sigma.powi(2));
-    Box::new(FnMeasurement::new(&[psi], move |f: &mut Filter| {
-        let nom = f.nominal();
-        let yaw = euler_from_c_bn(&nom.ins.state.c_bn).yaw;
-        let z = SVector::<f64, 1>::new(wrap_angle(yaw - (psi - nom.compass_bias)));
-        match form {
-            CompassForm::Exact => outcome(f.update_sequential::<Sdins25Compass, 1>(&z, &r, &())),
-            CompassForm::SmallAngle => {
-                outcome(f.update_sequential::<Sdins25CompassSmallAngle, 1>(&z, &r, &()))
+    Box::new(FnMeasurement::new(
+        &[psi],
+        move |f: &mut InsFilter<V, N>| {
+            let nom = f.nominal();
+            let yaw = euler_from_c_bn(&nom.ins.state.c_bn).yaw;
+            let z = SVector::<f64, 1>::new(wrap_angle(yaw - (psi - nom.compass_bias)));
+            match form {
+                CompassForm::Exact => outcome(V::Compass::update(f, &z, &r, &[])),
+                CompassForm::SmallAngle => outcome(V::CompassSmallAngle::update(f, &z, &r, &[])),
             }
-        }
-    }))
+        },
+    ))
 }
 
-/// Runs the filter over `log`, recording estimates at `record_times` (s; each
-/// snapped to the nearest IMU sample time within half a period).
+/// A USBL fix (`lat`, `lon`: rad) with noise sigma per axis (m) from the
+/// transducer at the origin of `frame`, for the `Usbl` sensor of vehicle `V`.
+pub fn usbl_measurement<V: InsVehicle<N>, const N: usize>(
+    lat: f64,
+    lon: f64,
+    sigma: f64,
+    frame: LocalNed,
+) -> Box<dyn Measurement<InsFilter<V, N>>> {
+    let r = SVector::<f64, 2>::repeat(sigma.powi(2));
+    Box::new(FnMeasurement::new(
+        &[lat, lon],
+        move |f: &mut InsFilter<V, N>| {
+            let nom = f.nominal();
+            let s = &nom.ins.state;
+            let rel = frame.geodetic_to_ned(&s.position());
+            let dn = (meridian_radius(s.lat) + s.h) * (s.lat - lat);
+            let de = (transverse_radius(s.lat) + s.h) * s.lat.cos() * wrap_angle(s.lon - lon);
+            let tilt = nom.usbl_misalignment.cross(&rel);
+            let z = Vector2::new(dn, de) + nom.usbl_bias + Vector2::new(tilt.x, tilt.y);
+            outcome(V::Usbl::update(f, &z, &r, rel.as_slice()))
+        },
+    ))
+}
+
+/// Runs the SDINS-25 filter over `log`: [`run_vehicle`] of [`Sdins25`].
 pub fn run(
     log: &LogDir,
     options: &FilterOptions,
     record_times: &[f64],
 ) -> Result<Sdins25Run, RunError> {
-    let filter = initial_filter(log, options)?;
+    run_vehicle::<Sdins25, N>(log, options, record_times)
+}
+
+/// Runs the filter of vehicle `V` over `log`, recording estimates at
+/// `record_times` (s; each snapped to the nearest IMU sample time within half
+/// a period). The rows of a log sensor `V` has no sensor for are not used:
+/// they are counted in that sensor's health as rows and skipped, and the
+/// sensor is listed in [`InsRun::ignored`].
+pub fn run_vehicle<V: InsVehicle<N>, const N: usize>(
+    log: &LogDir,
+    options: &FilterOptions,
+    record_times: &[f64],
+) -> Result<InsRun<V, N>, RunError> {
+    let filter = initial_vehicle_filter::<V, N>(log, options)?;
+    let has = Present::of::<V, N>();
+    let has_heading = match options.compass {
+        CompassForm::Exact => has.compass,
+        CompassForm::SmallAngle => has.compass_small_angle,
+    };
     let t0 = filter.nominal().ins.time;
     let dt_imu = imu_period(log);
     let imu_t: Vec<f64> = log.imu.iter().map(|r| r.t).collect();
     let mut health = [SensorHealth::default(); 4];
+    let mut ignored = Vec::new();
     let mut events: Vec<Event> = Vec::new();
+    // A log sensor the vehicle lacks: its rows are counted and skipped.
+    let mut lacking = |i: usize, present: bool, rows: Option<usize>| -> bool {
+        match rows {
+            Some(n) if !present => {
+                health[i].rows = n as u64;
+                health[i].skipped = n as u64;
+                ignored.push(SENSORS[i]);
+                true
+            }
+            _ => !present,
+        }
+    };
+    let skip_depth = lacking(0, has.depth, log.depth.as_ref().map(Vec::len));
+    let skip_dvl = lacking(1, has.dvl, log.dvl.as_ref().map(Vec::len));
+    let skip_heading = lacking(2, has_heading, log.heading.as_ref().map(Vec::len));
+    let skip_usbl = lacking(3, has.usbl, log.usbl.as_ref().map(Vec::len));
 
     // Depth meter (height convention).
     let depth_noise = noise_or(log.meta.sensors.depth, ErrorSpec::sdins25_depth());
-    if let (true, Some(rows)) = (options.use_depth, &log.depth) {
+    if let (true, false, Some(rows)) = (options.use_depth, skip_depth, &log.depth) {
         health[0].rows = rows.len() as u64;
         events.extend(rows.iter().enumerate().map(|(i, r)| Event {
             delivery: r.t + options.delivery.delay(0, i),
@@ -527,7 +712,7 @@ pub fn run(
     }
     // DVL: valid only with bottom lock and below its range.
     let dvl_noise = noise_or(log.meta.sensors.dvl, ErrorSpec::sdins25_dvl());
-    if let (true, Some(rows)) = (options.use_dvl, &log.dvl) {
+    if let (true, false, Some(rows)) = (options.use_dvl, skip_dvl, &log.dvl) {
         health[1].rows = rows.len() as u64;
         for (i, r) in rows.iter().enumerate() {
             let in_range = altitude_at(log, r.t).is_none_or(|a| a <= DVL_MAX_ALTITUDE);
@@ -543,7 +728,7 @@ pub fn run(
         }
     }
     let heading_noise = noise_or(log.meta.sensors.heading, ErrorSpec::sdins25_compass());
-    if let (true, Some(rows)) = (options.use_compass, &log.heading) {
+    if let (true, false, Some(rows)) = (options.use_compass, skip_heading, &log.heading) {
         health[2].rows = rows.len() as u64;
         events.extend(rows.iter().enumerate().map(|(i, r)| Event {
             delivery: r.t + options.delivery.delay(2, i),
@@ -559,7 +744,7 @@ pub fn run(
     );
     let frame = LocalNed::new(transducer);
     let mut usbl_latency: f64 = 0.0;
-    if let (true, Some(rows)) = (options.use_usbl, &log.usbl) {
+    if let (true, false, Some(rows)) = (options.use_usbl, skip_usbl, &log.usbl) {
         health[3].rows = rows.len() as u64;
         for (i, r) in rows.iter().enumerate() {
             let delay = match options.usbl_delivery {
@@ -634,7 +819,7 @@ pub fn run(
         .add_sensor("record", 10.0, 0.0)
         .map_err(|e| RunError::Invalid(e.to_string()))?;
 
-    let make = |ev: &Event| -> (SensorId, Box<dyn Measurement<Filter>>) {
+    let make = |ev: &Event| -> (SensorId, Box<dyn Measurement<InsFilter<V, N>>>) {
         match ev.kind {
             Kind::Depth(i) => {
                 let depth = log.depth.as_ref().map_or(f64::NAN, |r| r[i].depth);
@@ -658,28 +843,16 @@ pub fn run(
             Kind::Usbl(i) => {
                 let row = log.usbl.as_ref().map(|r| r[i]);
                 let (lat, lon) = row.map_or((f64::NAN, f64::NAN), |r| (r.lat, r.lon));
-                let r = SVector::<f64, 2>::repeat(usbl_noise.noise_sigma.powi(2));
-                let m = FnMeasurement::new(&[lat, lon], move |f: &mut Filter| {
-                    let nom = f.nominal();
-                    let s = &nom.ins.state;
-                    let rel = frame.geodetic_to_ned(&s.position());
-                    let dn = (meridian_radius(s.lat) + s.h) * (s.lat - lat);
-                    let de =
-                        (transverse_radius(s.lat) + s.h) * s.lat.cos() * wrap_angle(s.lon - lon);
-                    let tilt = nom.usbl_misalignment.cross(&rel);
-                    let z = Vector2::new(dn, de) + nom.usbl_bias + Vector2::new(tilt.x, tilt.y);
-                    let aux = Sdins25UsblAux {
-                        relative_position: rel,
-                    };
-                    outcome(f.update_sequential::<Sdins25Usbl, 2>(&z, &r, &aux))
-                });
-                (ids[3], Box::new(m))
+                (
+                    ids[3],
+                    usbl_measurement(lat, lon, usbl_noise.noise_sigma, frame),
+                )
             }
             Kind::Record(k) => {
                 let rec = Rc::clone(&recorded);
                 let list = slot_lists[k].clone();
                 let t = ev.time;
-                let m = FnMeasurement::new(&[], move |f: &mut Filter| {
+                let m = FnMeasurement::new(&[], move |f: &mut InsFilter<V, N>| {
                     let e = Estimate::of(t, f);
                     let mut v = rec.borrow_mut();
                     for &s in &list {
@@ -701,7 +874,7 @@ pub fn run(
     let mut next = 0;
     let mut samples = 0;
     let mut skipped_early = [0u64; 4];
-    let mut push = |sched: &mut Scheduler<Filter>, ev: &Event| {
+    let mut push = |sched: &mut Scheduler<InsFilter<V, N>>, ev: &Event| {
         let (id, m) = make(ev);
         if ev.time <= t0 {
             if id.index() < 4 {
@@ -747,7 +920,7 @@ pub fn run(
     let estimates = Rc::try_unwrap(recorded)
         .map(RefCell::into_inner)
         .unwrap_or_else(|rc| rc.borrow().clone());
-    Ok(Sdins25Run {
+    Ok(InsRun {
         estimates,
         samples: samples + 1,
         health: [
@@ -760,6 +933,7 @@ pub fn run(
         runtime_s,
         replays,
         final_filter,
+        ignored,
     })
 }
 

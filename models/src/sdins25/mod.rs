@@ -12,10 +12,12 @@ pub mod model;
 pub mod score;
 pub mod simulation;
 pub mod soak;
+pub mod vehicle;
 
 #[cfg(test)]
 mod model_tests;
 
+use std::marker::PhantomData;
 use std::path::Path;
 
 use nav_runtime::log::LogDir;
@@ -28,9 +30,10 @@ use crate::montecarlo::{
 };
 use crate::plot::{self, Line};
 use crate::report::summary_of;
-use filter::{FilterOptions, Sdins25Run};
+use filter::{FilterOptions, InsRun, Sdins25Run};
 use score::{nees_band_95, Scored, NEES_DOF};
 use simulation::SimConfig;
+use vehicle::{InsVehicle, Layout};
 
 pub use model::{
     Sdins25, Sdins25Compass, Sdins25CompassSmallAngle, Sdins25Depth, Sdins25Dvl, Sdins25Usbl,
@@ -80,14 +83,35 @@ pub fn scenario(name: &str) -> Option<LawnMower> {
 /// Per-sensor health keys of a run's metrics.
 const SENSOR_NAMES: [&str; 4] = ["depth", "dvl", "heading", "usbl"];
 
-/// Runs the filter over `log` with estimates at the truth times (or every
-/// 0.1 s without truth) and scores it. `compass_bias`: the true compass bias,
-/// when known, for the bias-estimation columns.
+/// SDINS-25 is replayed by the shared loop with every log sensor.
+impl InsVehicle<25> for Sdins25 {
+    const REPLAY_NAME: &'static str = "sdins25";
+    const DESCRIPTION: &'static str = "SDINS-25 error-state INS over imu.csv + any of dvl/depth/heading/usbl (late USBL fixes by travel time)";
+    type Depth = Sdins25Depth;
+    type Dvl = Sdins25Dvl;
+    type Compass = Sdins25Compass;
+    type CompassSmallAngle = Sdins25CompassSmallAngle;
+    type Usbl = Sdins25Usbl;
+}
+
+/// Runs the SDINS-25 filter over `log` and scores it: [`run_and_score_vehicle`]
+/// of [`Sdins25`].
 pub fn run_and_score(
     log: &LogDir,
     options: &FilterOptions,
     compass_bias: Option<f64>,
 ) -> Result<(Sdins25Run, Option<Scored>), RunError> {
+    run_and_score_vehicle::<Sdins25, 25>(log, options, compass_bias)
+}
+
+/// Runs the filter of vehicle `V` over `log` with estimates at the truth
+/// times (or every 0.1 s without truth) and scores it. `compass_bias`: the
+/// true compass bias, when known, for the bias-estimation columns.
+pub fn run_and_score_vehicle<V: InsVehicle<N>, const N: usize>(
+    log: &LogDir,
+    options: &FilterOptions,
+    compass_bias: Option<f64>,
+) -> Result<(InsRun<V, N>, Option<Scored>), RunError> {
     let times: Vec<f64> = match &log.truth {
         Some(t) => t.iter().map(|r| r.t).collect(),
         None => {
@@ -100,7 +124,7 @@ pub fn run_and_score(
                 .collect()
         }
     };
-    let run = filter::run(log, options, &times)?;
+    let run = filter::run_vehicle::<V, N>(log, options, &times)?;
     let scored = log
         .truth
         .as_ref()
@@ -109,7 +133,10 @@ pub fn run_and_score(
 }
 
 /// The metrics of a run (scored when truth exists).
-fn metrics(run: &Sdins25Run, scored: Option<&Scored>) -> Vec<(String, f64)> {
+fn metrics<V: InsVehicle<N>, const N: usize>(
+    run: &InsRun<V, N>,
+    scored: Option<&Scored>,
+) -> Vec<(String, f64)> {
     let mut m = vec![
         ("samples".to_string(), run.samples as f64),
         ("runtime_s".to_string(), run.runtime_s),
@@ -430,24 +457,68 @@ fn write_ensemble_nees(name: &str, runs: &[RunResult], dir: &Path) -> Result<(),
 /// Index of the `nees` column in [`score::COLUMNS`].
 const COLUMNS_NEES: usize = 19;
 
-/// `navsim replay DIR --model sdins25`.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct Sdins25Replay;
+/// `navsim replay DIR --model <V::REPLAY_NAME>`: the filter of vehicle `V`
+/// (`N` states) over a log, scored against `truth.csv` when present. One line
+/// in [`crate::cli::replay_models`] registers a vehicle:
+/// `Box::new(InsReplay::<Sdins20, 20>::new())`.
+pub struct InsReplay<V, const N: usize>(PhantomData<fn() -> V>);
 
-impl ReplayModel for Sdins25Replay {
+impl<V, const N: usize> InsReplay<V, N> {
+    /// The replay model of `V`.
+    pub const fn new() -> Self {
+        Self(PhantomData)
+    }
+}
+
+impl<V, const N: usize> Default for InsReplay<V, N> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<V, const N: usize> Clone for InsReplay<V, N> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<V, const N: usize> Copy for InsReplay<V, N> {}
+
+impl<V: InsVehicle<N>, const N: usize> std::fmt::Debug for InsReplay<V, N> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "InsReplay<{}>", V::NAME)
+    }
+}
+
+/// `navsim replay DIR --model sdins25`.
+pub type Sdins25Replay = InsReplay<Sdins25, 25>;
+
+impl<V: InsVehicle<N>, const N: usize> ReplayModel for InsReplay<V, N> {
     fn name(&self) -> &'static str {
-        "sdins25"
+        V::REPLAY_NAME
     }
     fn description(&self) -> &'static str {
-        "SDINS-25 error-state INS over imu.csv + any of dvl/depth/heading/usbl (late USBL fixes by travel time)"
+        V::DESCRIPTION
     }
     fn replay(&self, log: &LogDir, options: &ReplayOptions) -> Result<ReplayOutput, RunError> {
-        let (run, scored) = run_and_score(log, &FilterOptions::default(), None)?;
+        Layout::of::<V, N>()?;
+        let (run, scored) = run_and_score_vehicle::<V, N>(log, &FilterOptions::default(), None)?;
         let mut out = ReplayOutput {
             samples: run.samples,
             runtime_s: run.runtime_s,
             ..Default::default()
         };
+        for name in &run.ignored {
+            let rows = run
+                .health
+                .iter()
+                .find(|(n, _)| n == name)
+                .map_or(0, |(_, h)| h.rows);
+            out.warnings.push(format!(
+                "model {} has no {name} sensor: the {rows} rows of {name}.csv are not used",
+                V::REPLAY_NAME
+            ));
+        }
         if let Some(s) = &scored {
             for (k, v) in [
                 ("horizontal_error_final_m", s.horizontal_error_final_m),
@@ -483,7 +554,7 @@ impl ReplayModel for Sdins25Replay {
         for t in &output.tables {
             t.write_csv(&dir.join(format!("{}.csv", t.name)))?;
             if t.name == score::TABLE {
-                write_plots("sdins25", "replay", t, dir)?;
+                write_plots(V::REPLAY_NAME, "replay", t, dir)?;
             }
         }
         Ok(())

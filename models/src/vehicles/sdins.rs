@@ -11,6 +11,7 @@
 //! generator flags it; the declaration accepts it with `allow_unused`.
 
 use super::blocks::{Compass, Depth, Dvl, InsCore, Usbl};
+use crate::sdins25::vehicle::{Absent, InsVehicle};
 
 nav_runtime::model! {
     /// SDINS-25 assembled from blocks, in the paper's state order.
@@ -25,6 +26,31 @@ nav_runtime::model! {
     pub model Sdins20 = InsCore + Depth + Dvl + Compass {
         allow_unused { position_error[1] }
     }
+}
+
+// Registration for `navsim replay --model ..` (with one line each in
+// `crate::cli::replay_models`): which generated sensor reads which log file.
+
+impl InsVehicle<25> for Sdins25Composed {
+    const REPLAY_NAME: &'static str = "sdins25-composed";
+    const DESCRIPTION: &'static str =
+        "SDINS-25 composed from blocks (core + USBL + depth + DVL + compass); equals sdins25";
+    type Depth = Sdins25ComposedDepth;
+    type Dvl = Sdins25ComposedDvl;
+    type Compass = Sdins25ComposedCompass;
+    type CompassSmallAngle = Sdins25ComposedCompassSmallAngle;
+    type Usbl = Sdins25ComposedUsbl;
+}
+
+impl InsVehicle<20> for Sdins20 {
+    const REPLAY_NAME: &'static str = "sdins20";
+    const DESCRIPTION: &'static str =
+        "SDINS-25 without USBL (20 states) over imu.csv + any of dvl/depth/heading; usbl.csv rows are counted and not used";
+    type Depth = Sdins20Depth;
+    type Dvl = Sdins20Dvl;
+    type Compass = Sdins20Compass;
+    type CompassSmallAngle = Sdins20CompassSmallAngle;
+    type Usbl = Absent;
 }
 
 #[cfg(test)]

@@ -1,0 +1,437 @@
+//! Which vehicles the SDINS replay loop ([`super::filter::run_vehicle`]) can
+//! run: the INS error-state core plus any subset of the log-backed sensor
+//! blocks (depth meter, DVL, compass, USBL), declared either in one piece
+//! (`crate::sdins25::model::Sdins25`) or composed from
+//! `crate::vehicles::blocks`.
+//!
+//! A vehicle is registered with a short [`InsVehicle`] impl that names, for
+//! each log sensor, the vehicle's generated sensor type (or [`Absent`]):
+//!
+//! ```ignore
+//! impl InsVehicle<20> for Sdins20 {
+//!     const REPLAY_NAME: &'static str = "sdins20";
+//!     const DESCRIPTION: &'static str = "...";
+//!     type Depth = Sdins20Depth;
+//!     type Dvl = Sdins20Dvl;
+//!     type Compass = Sdins20Compass;
+//!     type CompassSmallAngle = Sdins20CompassSmallAngle;
+//!     type Usbl = Absent;
+//! }
+//! ```
+//!
+//! and one line in `crate::cli::replay_models`:
+//! `Box::new(InsReplay::<Sdins20, 20>::new())`. Everything else is found from
+//! the generated declaration by name, once per run ([`Layout::of`]): where each
+//! state lives in the vehicle's state vector, and that its inputs, noise and
+//! the USBL's auxiliary input are those of the INS core and the USBL block.
+//! A sensor type of another dimension or another vehicle does not compile; a
+//! sensor put in the wrong slot (e.g. the depth meter as the compass) or a
+//! vehicle without the core is a [`RunError`] naming what is wrong.
+
+use nav_runtime::ekf::{FilterError, UpdateReport};
+use nav_runtime::error_state::{ErrorStateFilter, NominalState};
+use nav_runtime::model::{Model, Record, Sensor};
+use nav_runtime::nalgebra::SVector;
+
+use crate::montecarlo::RunError;
+
+/// A vehicle the SDINS replay loop can run (see the module docs).
+///
+/// Each associated type is the vehicle's generated sensor type of the block
+/// named in its doc, or [`Absent`] when the vehicle does not have it; the
+/// rows of a log sensor the vehicle lacks are ignored and counted as skipped.
+pub trait InsVehicle<const N: usize>: Model<N> {
+    /// `navsim replay --model <REPLAY_NAME>`.
+    const REPLAY_NAME: &'static str;
+    /// One line for `navsim list`.
+    const DESCRIPTION: &'static str;
+    /// The `Depth` sensor (block `Depth`), fed by `depth.csv`.
+    type Depth: Slot<Self, N, 1>;
+    /// The `Dvl` sensor (block `Dvl`), fed by `dvl.csv`.
+    type Dvl: Slot<Self, N, 3>;
+    /// The exact `Compass` sensor (block `Compass`), fed by `heading.csv`.
+    type Compass: Slot<Self, N, 1>;
+    /// The small-angle `CompassSmallAngle` sensor (block `Compass`), used for
+    /// `heading.csv` with `CompassForm::SmallAngle`.
+    type CompassSmallAngle: Slot<Self, N, 1>;
+    /// The `Usbl` sensor (block `Usbl`), fed by `usbl.csv`.
+    type Usbl: Slot<Self, N, 2>;
+}
+
+/// A place of [`InsVehicle`]: a generated sensor of model `Mo` with `M`
+/// outputs (every [`Sensor`] is one), or [`Absent`].
+pub trait Slot<Mo: Model<N>, const N: usize, const M: usize> {
+    /// Whether the vehicle has the sensor.
+    const PRESENT: bool;
+    /// The sensor's declared name (empty for [`Absent`]).
+    const NAME: &'static str;
+    /// Names of the sensor's auxiliary inputs, in [`Record`] order.
+    const AUX_NAMES: &'static [&'static str];
+    /// Fuses the residual `z` with noise variances `r_diag`; `aux` holds the
+    /// auxiliary inputs in [`Slot::AUX_NAMES`] order (missing ones are NaN,
+    /// which the filter refuses).
+    ///
+    /// # Errors
+    /// As [`ErrorStateFilter::update_sequential`]; [`Absent`] always fails.
+    fn update<Nom: NominalState<N>>(
+        f: &mut ErrorStateFilter<Mo, Nom, N>,
+        z: &SVector<f64, M>,
+        r_diag: &SVector<f64, M>,
+        aux: &[f64],
+    ) -> Result<UpdateReport<M>, FilterError>;
+}
+
+impl<S, Mo, const N: usize, const M: usize> Slot<Mo, N, M> for S
+where
+    S: Sensor<N, M, Model = Mo>,
+    Mo: Model<N>,
+{
+    const PRESENT: bool = true;
+    const NAME: &'static str = <S as Sensor<N, M>>::NAME;
+    const AUX_NAMES: &'static [&'static str] = <S::Aux as Record>::NAMES;
+    fn update<Nom: NominalState<N>>(
+        f: &mut ErrorStateFilter<Mo, Nom, N>,
+        z: &SVector<f64, M>,
+        r_diag: &SVector<f64, M>,
+        aux: &[f64],
+    ) -> Result<UpdateReport<M>, FilterError> {
+        let aux = <S::Aux as Record>::from_fn(|i| aux.get(i).copied().unwrap_or(f64::NAN));
+        f.update_sequential::<S, M>(z, r_diag, &aux)
+    }
+}
+
+/// The vehicle has no such sensor.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Absent;
+
+impl<Mo: Model<N>, const N: usize, const M: usize> Slot<Mo, N, M> for Absent {
+    const PRESENT: bool = false;
+    const NAME: &'static str = "";
+    const AUX_NAMES: &'static [&'static str] = &[];
+    fn update<Nom: NominalState<N>>(
+        _: &mut ErrorStateFilter<Mo, Nom, N>,
+        _: &SVector<f64, M>,
+        _: &SVector<f64, M>,
+        _: &[f64],
+    ) -> Result<UpdateReport<M>, FilterError> {
+        Err(FilterError::InvalidSetup {
+            reason: "the vehicle has no such sensor",
+        })
+    }
+}
+
+/// The inputs of the INS core block, in [`Record`] order: the nominal solution
+/// and the specific force.
+pub const INPUT_NAMES: [&str; 17] = [
+    "latitude",
+    "height",
+    "velocity[0]",
+    "velocity[1]",
+    "velocity[2]",
+    "c_bn[0][0]",
+    "c_bn[0][1]",
+    "c_bn[0][2]",
+    "c_bn[1][0]",
+    "c_bn[1][1]",
+    "c_bn[1][2]",
+    "c_bn[2][0]",
+    "c_bn[2][1]",
+    "c_bn[2][2]",
+    "specific_force[0]",
+    "specific_force[1]",
+    "specific_force[2]",
+];
+
+/// The process noise of the INS core block, in [`Record`] order.
+pub const NOISE_NAMES: [&str; 6] = [
+    "accel_noise[0]",
+    "accel_noise[1]",
+    "accel_noise[2]",
+    "gyro_noise[0]",
+    "gyro_noise[1]",
+    "gyro_noise[2]",
+];
+
+/// The auxiliary input of the USBL block's sensor.
+pub const USBL_AUX_NAMES: [&str; 3] = [
+    "relative_position[0]",
+    "relative_position[1]",
+    "relative_position[2]",
+];
+
+/// Where the states the replay loop knows live in a vehicle's state vector
+/// (index of the first scalar of each), found by name from
+/// [`Model::STATE_NAMES`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Layout {
+    /// `position_error` (3).
+    pub position: usize,
+    /// `velocity_error` (3).
+    pub velocity: usize,
+    /// `attitude_error` (3).
+    pub attitude: usize,
+    /// `accel_bias` (3).
+    pub accel_bias: usize,
+    /// `gyro_bias` (3).
+    pub gyro_bias: usize,
+    /// `usbl_bias` (2), with the USBL block.
+    pub usbl_bias: Option<usize>,
+    /// `depth_bias` (1), with the depth block.
+    pub depth_bias: Option<usize>,
+    /// `dvl_bias` (3), with the DVL block.
+    pub dvl_bias: Option<usize>,
+    /// `compass_bias` (1), with the compass block.
+    pub compass_bias: Option<usize>,
+    /// `usbl_misalignment` (3), with the USBL block.
+    pub usbl_misalignment: Option<usize>,
+}
+
+/// Which log sensors a vehicle has.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Present {
+    /// `depth.csv`.
+    pub depth: bool,
+    /// `dvl.csv`.
+    pub dvl: bool,
+    /// `heading.csv`, exact form.
+    pub compass: bool,
+    /// `heading.csv`, small-angle form.
+    pub compass_small_angle: bool,
+    /// `usbl.csv`.
+    pub usbl: bool,
+}
+
+impl Present {
+    /// The sensors of vehicle `V`.
+    pub fn of<V: InsVehicle<N>, const N: usize>() -> Self {
+        Self {
+            depth: <V::Depth as Slot<V, N, 1>>::PRESENT,
+            dvl: <V::Dvl as Slot<V, N, 3>>::PRESENT,
+            compass: <V::Compass as Slot<V, N, 1>>::PRESENT,
+            compass_small_angle: <V::CompassSmallAngle as Slot<V, N, 1>>::PRESENT,
+            usbl: <V::Usbl as Slot<V, N, 2>>::PRESENT,
+        }
+    }
+}
+
+/// Index of the state group `name` of `len` scalars, if declared (its scalars
+/// contiguous and in order).
+fn group(names: &[&str], name: &str, len: usize) -> Result<Option<usize>, String> {
+    let first = if len == 1 {
+        name.to_string()
+    } else {
+        format!("{name}[0]")
+    };
+    let Some(i) = names.iter().position(|n| *n == first) else {
+        if names.iter().any(|n| n.starts_with(&format!("{name}["))) {
+            return Err(format!("state `{name}` does not have {len} scalars"));
+        }
+        return Ok(None);
+    };
+    for k in 1..len {
+        if names.get(i + k) != Some(&format!("{name}[{k}]").as_str()) {
+            return Err(format!("state `{name}` does not have {len} scalars"));
+        }
+    }
+    if len == 1
+        && names
+            .get(i + 1)
+            .is_some_and(|n| n.starts_with(&format!("{name}[")))
+    {
+        return Err(format!("state `{name}` is not a scalar"));
+    }
+    Ok(Some(i))
+}
+
+impl Layout {
+    /// The layout of `V`, after checking that `V` is the INS core plus the
+    /// blocks of its sensors: every sensor in its slot (by declared name), the
+    /// states of each present sensor's block, and the core's inputs and noise.
+    ///
+    /// # Errors
+    /// [`RunError::Invalid`] naming the vehicle and what does not fit.
+    pub fn of<V: InsVehicle<N>, const N: usize>() -> Result<Self, RunError> {
+        Self::check::<V, N>().map_err(|e| {
+            RunError::Invalid(format!(
+                "vehicle {} ({}) cannot be replayed: {e}",
+                V::REPLAY_NAME,
+                V::NAME
+            ))
+        })
+    }
+
+    fn check<V: InsVehicle<N>, const N: usize>() -> Result<Self, String> {
+        let names = &V::STATE_NAMES[..];
+        let need = |name: &str, len: usize| -> Result<usize, String> {
+            group(names, name, len)?
+                .ok_or_else(|| format!("no state `{name}` (the INS core block's)"))
+        };
+        let slot = |present: bool, declared: &str, expected: &str| -> Result<(), String> {
+            if present && declared != expected {
+                return Err(format!(
+                    "sensor `{declared}` is in the `{expected}` slot of the InsVehicle impl"
+                ));
+            }
+            Ok(())
+        };
+        slot(
+            <V::Depth as Slot<V, N, 1>>::PRESENT,
+            <V::Depth as Slot<V, N, 1>>::NAME,
+            "Depth",
+        )?;
+        slot(
+            <V::Dvl as Slot<V, N, 3>>::PRESENT,
+            <V::Dvl as Slot<V, N, 3>>::NAME,
+            "Dvl",
+        )?;
+        slot(
+            <V::Compass as Slot<V, N, 1>>::PRESENT,
+            <V::Compass as Slot<V, N, 1>>::NAME,
+            "Compass",
+        )?;
+        slot(
+            <V::CompassSmallAngle as Slot<V, N, 1>>::PRESENT,
+            <V::CompassSmallAngle as Slot<V, N, 1>>::NAME,
+            "CompassSmallAngle",
+        )?;
+        slot(
+            <V::Usbl as Slot<V, N, 2>>::PRESENT,
+            <V::Usbl as Slot<V, N, 2>>::NAME,
+            "Usbl",
+        )?;
+        if <V::Input as Record>::NAMES != INPUT_NAMES {
+            return Err(format!(
+                "its inputs {:?} are not the INS core's {INPUT_NAMES:?}",
+                <V::Input as Record>::NAMES
+            ));
+        }
+        if <V::Noise as Record>::NAMES != NOISE_NAMES {
+            return Err(format!(
+                "its process noise {:?} is not the INS core's {NOISE_NAMES:?}",
+                <V::Noise as Record>::NAMES
+            ));
+        }
+        let present = Present::of::<V, N>();
+        if present.usbl && <V::Usbl as Slot<V, N, 2>>::AUX_NAMES != USBL_AUX_NAMES {
+            return Err(format!(
+                "its USBL auxiliary input is not {USBL_AUX_NAMES:?}"
+            ));
+        }
+        let layout = Layout {
+            position: need("position_error", 3)?,
+            velocity: need("velocity_error", 3)?,
+            attitude: need("attitude_error", 3)?,
+            accel_bias: need("accel_bias", 3)?,
+            gyro_bias: need("gyro_bias", 3)?,
+            usbl_bias: group(names, "usbl_bias", 2)?,
+            depth_bias: group(names, "depth_bias", 1)?,
+            dvl_bias: group(names, "dvl_bias", 3)?,
+            compass_bias: group(names, "compass_bias", 1)?,
+            usbl_misalignment: group(names, "usbl_misalignment", 3)?,
+        };
+        let block = |present: bool, state: Option<usize>, name: &str| -> Result<(), String> {
+            if present && state.is_none() {
+                return Err(format!("it has the sensor but no state `{name}`"));
+            }
+            Ok(())
+        };
+        block(present.depth, layout.depth_bias, "depth_bias")?;
+        block(present.dvl, layout.dvl_bias, "dvl_bias")?;
+        block(present.compass, layout.compass_bias, "compass_bias")?;
+        block(
+            present.compass_small_angle,
+            layout.compass_bias,
+            "compass_bias",
+        )?;
+        block(present.usbl, layout.usbl_bias, "usbl_bias")?;
+        block(present.usbl, layout.usbl_misalignment, "usbl_misalignment")?;
+        Ok(layout)
+    }
+
+    /// Indices of the 9 navigation errors (position, velocity, attitude).
+    pub fn navigation(&self) -> [usize; 9] {
+        let (p, v, a) = (self.position, self.velocity, self.attitude);
+        [p, p + 1, p + 2, v, v + 1, v + 2, a, a + 1, a + 2]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sdins25::model::Sdins25;
+    use crate::vehicles::blocks::{Compass, Depth, InsCore};
+    use crate::vehicles::sdins::{Sdins20, Sdins25Composed};
+
+    #[test]
+    fn registered_vehicles_fit_the_loop() {
+        let mono = Layout::of::<Sdins25, 25>().unwrap();
+        assert_eq!(mono.navigation(), [0, 1, 2, 3, 4, 5, 6, 7, 8]);
+        assert_eq!(mono.usbl_bias, Some(Sdins25::USBL_BIAS));
+        assert_eq!(mono.usbl_misalignment, Some(Sdins25::USBL_MISALIGNMENT));
+        assert_eq!(Layout::of::<Sdins25Composed, 25>().unwrap(), mono);
+        let l20 = Layout::of::<Sdins20, 20>().unwrap();
+        assert_eq!(l20.usbl_bias, None);
+        assert_eq!(l20.usbl_misalignment, None);
+        assert_eq!(l20.depth_bias, Some(Sdins20::DEPTH_BIAS));
+        assert_eq!(l20.dvl_bias, Some(Sdins20::DVL_BIAS));
+        assert_eq!(l20.compass_bias, Some(Sdins20::COMPASS_BIAS));
+        let p = Present::of::<Sdins20, 20>();
+        assert!(p.depth && p.dvl && p.compass && p.compass_small_angle && !p.usbl);
+    }
+
+    nav_runtime::model! {
+        /// Core + depth + compass, registered below with two sensors swapped.
+        model Swapped = InsCore + Depth + Compass {
+            allow_unused { position_error[1] }
+        }
+    }
+
+    impl InsVehicle<17> for Swapped {
+        const REPLAY_NAME: &'static str = "swapped";
+        const DESCRIPTION: &'static str = "";
+        type Depth = SwappedCompass;
+        type Dvl = Absent;
+        type Compass = SwappedDepth;
+        type CompassSmallAngle = SwappedCompassSmallAngle;
+        type Usbl = Absent;
+    }
+
+    #[test]
+    fn a_sensor_in_the_wrong_slot_is_an_error() {
+        let e = Layout::of::<Swapped, 17>().unwrap_err().to_string();
+        assert!(
+            e.contains("swapped") && e.contains("sensor `Compass` is in the `Depth` slot"),
+            "{e}"
+        );
+    }
+
+    /// Not an INS: the leveling filter's 6 states.
+    impl InsVehicle<6> for crate::leveling::model::Leveling6 {
+        const REPLAY_NAME: &'static str = "leveling-as-ins";
+        const DESCRIPTION: &'static str = "";
+        type Depth = Absent;
+        type Dvl = Absent;
+        type Compass = Absent;
+        type CompassSmallAngle = Absent;
+        type Usbl = Absent;
+    }
+
+    #[test]
+    fn a_model_without_the_ins_core_is_an_error() {
+        let e = Layout::of::<crate::leveling::model::Leveling6, 6>()
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("leveling-as-ins") && e.contains("inputs"), "{e}");
+    }
+
+    #[test]
+    fn state_groups_are_found_by_name() {
+        let names = ["a", "b[0]", "b[1]", "c[0]", "c[2]"];
+        assert_eq!(group(&names, "a", 1), Ok(Some(0)));
+        assert_eq!(group(&names, "b", 2), Ok(Some(1)));
+        assert_eq!(group(&names, "d", 3), Ok(None));
+        assert!(group(&names, "b", 3).is_err());
+        assert!(group(&names, "c", 2).is_err());
+        assert!(group(&names, "b", 1).is_err());
+    }
+}
