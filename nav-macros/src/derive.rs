@@ -28,10 +28,30 @@ pub struct Derived {
     pub noise_jacobian: Vec<Id>,
     /// `Qd`, row-major N x N (upper triangle meaningful, lower mirrored ids).
     pub process_noise: Vec<Id>,
-    /// `Phi P Phi^T + Qd`, upper triangle as (i, j, id).
-    pub propagated: Vec<(usize, usize, Id)>,
+    /// The structure and coefficients of `Phi P Phi^T + Qd`.
+    pub propagation: Propagation,
     pub sensors: Vec<DerivedSensor>,
 }
+
+/// `P <- Phi P Phi^T + Qd` as the runtime's structured kernel takes it
+/// (`nav_runtime::propagation`): `Phi = I + C` (continuous, `C = F dt`) or
+/// `Phi = C` (discrete), only the rows of `Phi` that are not unit rows.
+pub struct Propagation {
+    pub identity: bool,
+    /// Changed rows (not unit rows of `Phi`), ascending.
+    pub rows: Vec<usize>,
+    /// Per changed row, `(column, coefficient)` of its nonzeros in `C`.
+    pub entries: Vec<Vec<(usize, Id)>>,
+    /// Nonzeros of the upper triangle of `Qd`.
+    pub noise: Vec<(usize, usize, Id)>,
+    /// For small models, `Phi P Phi^T + Qd` entry by entry over the upper
+    /// triangle of `P` as `(i, j, id)`: straight-line scalar code beats the
+    /// row kernel when everything fits in registers.
+    pub unrolled: Option<Vec<(usize, usize, Id)>>,
+}
+
+/// Models up to this many states get the unrolled scalar propagation.
+pub const UNROLL_MAX_STATES: usize = 12;
 
 /// One sensor's outputs.
 pub struct DerivedSensor {
@@ -90,21 +110,6 @@ pub fn derive(lowered: Lowered, nw: usize) -> Derived {
         }
     }
 
-    // Phi = I + F dt (continuous) or df/dx (discrete).
-    let phi: Vec<Id> = match kind {
-        ProcessKind::Continuous => (0..n * n)
-            .map(|ij| {
-                let fdt = g.mul(jacobian[ij], dt);
-                if ij / n == ij % n {
-                    g.add(Graph::ONE, fdt)
-                } else {
-                    fdt
-                }
-            })
-            .collect(),
-        ProcessKind::Discrete => jacobian.clone(),
-    };
-
     // Qd = G Q G^T (times dt if continuous); Q = diag(q).
     let q: Vec<Id> = (0..nw)
         .map(|k| g.sym(Sym::NoiseIntensity(k as u32)))
@@ -129,35 +134,98 @@ pub fn derive(lowered: Lowered, nw: usize) -> Derived {
         }
     }
 
-    // A = Phi P; result_ij = sum_k A_ik Phi_jk + Qd_ij for i <= j.
-    let p = |g: &mut Graph, i: usize, j: usize| g.sym(Sym::cov(i, j));
-    let nonzero_cols: Vec<Vec<usize>> = (0..n)
-        .map(|i| (0..n).filter(|&k| !g.is_zero(phi[i * n + k])).collect())
+    // Phi = I + C with C = F dt (continuous) or Phi = C = df/dx (discrete);
+    // a discrete row equal to e_i is a unit row, as is a zero row of F.
+    let identity = kind == ProcessKind::Continuous;
+    let mut rows = Vec::new();
+    let mut entries = Vec::new();
+    for i in 0..n {
+        let row = &jacobian[i * n..(i + 1) * n];
+        let unit = if identity {
+            row.iter().all(|&e| g.is_zero(e))
+        } else {
+            row.iter().enumerate().all(|(k, &e)| {
+                if k == i {
+                    e == Graph::ONE
+                } else {
+                    g.is_zero(e)
+                }
+            })
+        };
+        if unit {
+            continue;
+        }
+        rows.push(i);
+        let nonzero: Vec<(usize, Id)> = row
+            .iter()
+            .enumerate()
+            .filter(|(_, &e)| !g.is_zero(e))
+            .map(|(k, &e)| (k, e))
+            .collect();
+        entries.push(
+            nonzero
+                .into_iter()
+                .map(|(k, e)| (k, if identity { g.mul(e, dt) } else { e }))
+                .collect(),
+        );
+    }
+    let noise = (0..n)
+        .flat_map(|i| (i..n).map(move |j| (i, j)))
+        .map(|(i, j)| (i, j, process_noise[i * n + j]))
+        .filter(|&(_, _, e)| !g.is_zero(e))
         .collect();
-    let mut a = vec![Graph::ZERO; n * n];
-    for i in 0..n {
-        for k in 0..n {
-            let terms: Vec<Id> = nonzero_cols[i]
-                .iter()
-                .map(|&l| {
-                    let plk = p(g, l, k);
-                    g.mul(phi[i * n + l], plk)
-                })
-                .collect();
-            a[i * n + k] = g.sum(terms);
+    let p = |g: &mut Graph, i: usize, j: usize| g.sym(Sym::cov(i, j));
+    let unrolled = (n <= UNROLL_MAX_STATES).then(|| {
+        // A = Phi P; result_ij = sum_k A_ik Phi_jk + Qd_ij for i <= j.
+        let phi: Vec<Id> = (0..n * n)
+            .map(|ij| match kind {
+                ProcessKind::Continuous => {
+                    let fdt = g.mul(jacobian[ij], dt);
+                    if ij / n == ij % n {
+                        g.add(Graph::ONE, fdt)
+                    } else {
+                        fdt
+                    }
+                }
+                ProcessKind::Discrete => jacobian[ij],
+            })
+            .collect();
+        let nonzero_cols: Vec<Vec<usize>> = (0..n)
+            .map(|i| (0..n).filter(|&k| !g.is_zero(phi[i * n + k])).collect())
+            .collect();
+        let mut a = vec![Graph::ZERO; n * n];
+        for i in 0..n {
+            for k in 0..n {
+                let terms: Vec<Id> = nonzero_cols[i]
+                    .iter()
+                    .map(|&l| {
+                        let plk = p(g, l, k);
+                        g.mul(phi[i * n + l], plk)
+                    })
+                    .collect();
+                a[i * n + k] = g.sum(terms);
+            }
         }
-    }
-    let mut propagated = Vec::with_capacity(n * (n + 1) / 2);
-    for i in 0..n {
-        for j in i..n {
-            let terms: Vec<Id> = nonzero_cols[j]
-                .iter()
-                .map(|&k| g.mul(a[i * n + k], phi[j * n + k]))
-                .collect();
-            let s = g.sum(terms);
-            propagated.push((i, j, g.add(s, process_noise[i * n + j])));
+        let mut out = Vec::with_capacity(n * (n + 1) / 2);
+        for i in 0..n {
+            for j in i..n {
+                let terms: Vec<Id> = nonzero_cols[j]
+                    .iter()
+                    .map(|&k| g.mul(a[i * n + k], phi[j * n + k]))
+                    .collect();
+                let s = g.sum(terms);
+                out.push((i, j, g.add(s, process_noise[i * n + j])));
+            }
         }
-    }
+        out
+    });
+    let propagation = Propagation {
+        identity,
+        rows,
+        entries,
+        noise,
+        unrolled,
+    };
 
     let sensors = sensors
         .into_iter()
@@ -216,7 +284,7 @@ pub fn derive(lowered: Lowered, nw: usize) -> Derived {
         jacobian,
         noise_jacobian,
         process_noise,
-        propagated,
+        propagation,
         sensors,
     }
 }

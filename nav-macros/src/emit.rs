@@ -462,28 +462,106 @@ impl<'a> Emitter<'a> {
             }
         });
 
-        // propagate covariance
-        let pb = self.body(
-            &d.propagated.iter().map(|e| e.2).collect::<Vec<_>>(),
-            quote!(_p),
-        );
-        let pb_sets = d
-            .propagated
-            .iter()
-            .zip(&pb.exprs)
-            .filter_map(|(&(i, j, id), e)| {
-                // An entry equal to the old value of the same entry needs no store.
-                if self.g.node(id) == Node::Sym(Sym::cov(i, j)) {
-                    return None;
-                }
-                let (i, j) = (lit(i), lit(j));
-                Some(quote!(cov[(#i, #j)] = #e;))
-            });
-        let (pb_lets, pb_ops) = (&pb.lets, pb.ops);
-        let pb_doc = doc(&format!(
-            "`P <- Phi P Phi^T + Qd` from the upper triangle of `P`, generated from the sparsity of `Phi` and `G`; \
-             the result is mirrored.\n\nTotal ops: {pb_ops}"
+        // propagate covariance: small models unrolled entry by entry; larger
+        // ones evaluate the coefficients and Qd entries here and run the
+        // product in the runtime's row kernel.
+        let pr = &d.propagation;
+        let identity = pr.identity;
+        let structure_doc = doc(&format!(
+            "Structure of `Phi` ({}) and `Qd` for the covariance propagation: rows {:?} change, the others are unit rows.",
+            if identity { "`I + F dt`" } else { "`df/dx`" },
+            pr.rows
         ));
+        let rows = pr.rows.iter().map(|&i| lit(i));
+        let mut start = vec![0];
+        for e in &pr.entries {
+            start.push(start.last().copied().unwrap_or(0) + e.len());
+        }
+        let start = start.into_iter().map(lit);
+        let columns = pr.entries.iter().flatten().map(|e| lit(e.0));
+        let noise_at = pr.noise.iter().map(|&(i, j, _)| {
+            let (i, j) = (lit(i), lit(j));
+            quote!((#i, #j))
+        });
+        let structure = quote! {
+            #structure_doc
+            pub const PROPAGATION_STRUCTURE: ::nav_runtime::propagation::Structure<'static> =
+                ::nav_runtime::propagation::Structure {
+                    identity: #identity,
+                    rows: &[#(#rows),*],
+                    start: &[#(#start),*],
+                    columns: &[#(#columns),*],
+                    noise: &[#(#noise_at),*],
+                };
+        };
+        let (pb_body, pb_ops, pb_doc) = match &pr.unrolled {
+            Some(entries) => {
+                let pb = self.body(&entries.iter().map(|e| e.2).collect::<Vec<_>>(), quote!(_p));
+                let sets = entries
+                    .iter()
+                    .zip(&pb.exprs)
+                    .filter_map(|(&(i, j, id), e)| {
+                        // An entry equal to the old value of the same entry needs no store.
+                        if self.g.node(id) == Node::Sym(Sym::cov(i, j)) {
+                            return None;
+                        }
+                        let (i, j) = (lit(i), lit(j));
+                        Some(quote!(cov[(#i, #j)] = #e;))
+                    });
+                let lets = &pb.lets;
+                let n = &self.n;
+                let body = quote! {
+                    let _p = *cov;
+                    #lets
+                    #(#sets)*
+                    for i in 0..#n {
+                        for j in 0..i {
+                            cov[(i, j)] = cov[(j, i)];
+                        }
+                    }
+                };
+                let ops = lit(pb.ops);
+                let text = format!(
+                    "`P <- Phi P Phi^T + Qd` unrolled entry by entry from the upper triangle of `P` (a small \
+                     model: straight-line code fits the caches), generated from the sparsity of `Phi` and `G`; \
+                     the result is mirrored.\n\nTotal ops: {}",
+                    pb.ops
+                );
+                (body, quote!(#ops), doc(&text))
+            }
+            None => {
+                let mut roots: Vec<Id> = pr.entries.iter().flatten().map(|e| e.1).collect();
+                let nc = roots.len();
+                roots.extend(pr.noise.iter().map(|e| e.2));
+                let pb = self.body(&roots, nocov.clone());
+                let (lets, coefficients, noise_values) =
+                    (&pb.lets, &pb.exprs[..nc], &pb.exprs[nc..]);
+                let (n, changed) = (&self.n, lit(pr.rows.len()));
+                let body = quote! {
+                    #lets
+                    ::nav_runtime::propagation::propagate::<#n, #changed>(
+                        cov,
+                        &Self::PROPAGATION_STRUCTURE,
+                        &[#(#coefficients),*],
+                        &[#(#noise_values),*],
+                    );
+                };
+                let body_ops = lit(pb.ops);
+                let text = format!(
+                    "`P <- Phi P Phi^T + Qd`: the {nc} nonzero coefficients of `Phi` in its {} changed rows and \
+                     the {} nonzeros of `Qd` ({} ops), then `nav_runtime::propagation::propagate` over \
+                     [`Self::PROPAGATION_STRUCTURE`]. `P` must be symmetric; the result is exactly symmetric.",
+                    pr.rows.len(),
+                    pr.noise.len(),
+                    pb.ops
+                );
+                (
+                    body,
+                    quote!((#body_ops + Self::PROPAGATION_STRUCTURE.ops(#n))),
+                    doc(&text),
+                )
+            }
+        };
 
         // derivative and process with noise
         let continuous = d.kind == ProcessKind::Continuous;
@@ -524,13 +602,7 @@ impl<'a> Emitter<'a> {
         });
 
         let name_str = name.to_string();
-        let (tr_ops, jb_ops, gb_ops, qb_ops, pb_ops) = (
-            lit(tr_ops),
-            lit(jb_ops),
-            lit(gb_ops),
-            lit(qb_ops),
-            lit(pb_ops),
-        );
+        let (tr_ops, jb_ops, gb_ops, qb_ops) = (lit(tr_ops), lit(jb_ops), lit(gb_ops), lit(qb_ops));
         let type_doc = doc(&format!(
             "Generated by `model!`: {} model with {} states, {} noise inputs and {} sensors.",
             if continuous { "continuous" } else { "discrete" },
@@ -566,6 +638,7 @@ impl<'a> Emitter<'a> {
                 pub const OPS_PROCESS_NOISE: usize = #qb_ops;
                 /// Operations in `propagate_covariance`.
                 pub const OPS_PROPAGATE_COVARIANCE: usize = #pb_ops;
+                #structure
                 #derivative
                 #w_doc
                 pub fn process_with_noise(
@@ -620,14 +693,7 @@ impl<'a> Emitter<'a> {
                 fn propagate_covariance(
                     cov: &mut #smat<f64, #n, #n>, x: &#svec<f64, #n>, u: &#input_ty, p: &#params_ty, q: &#noise_ty, dt: f64,
                 ) {
-                    let _p = *cov;
-                    #pb_lets
-                    #(#pb_sets)*
-                    for i in 0..#n {
-                        for j in 0..i {
-                            cov[(i, j)] = cov[(j, i)];
-                        }
-                    }
+                    #pb_body
                 }
             }
         }

@@ -23,6 +23,7 @@ pub mod imu;
 pub mod log;
 pub mod math;
 pub mod model;
+pub mod propagation;
 #[cfg(feature = "std")]
 pub mod scheduler;
 #[cfg(feature = "std")]

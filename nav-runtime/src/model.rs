@@ -98,8 +98,10 @@ pub trait Model<const N: usize>: Sized + 'static {
     ) -> SMatrix<f64, N, N>;
 
     /// `P <- Phi P Phi^T + Qd` in place, generated from the sparsity of `Phi` and
-    /// `G`: only the upper triangle is computed (then mirrored), structural zeros
-    /// never become code. Reads only the upper triangle of `P`.
+    /// `G`: structural zeros and unit rows of `Phi` cost nothing. `P` must be
+    /// symmetric (the filter keeps it exactly so); the result is exactly
+    /// symmetric. Small models are unrolled entry by entry, larger ones run
+    /// [`crate::propagation::propagate`] over their structure.
     fn propagate_covariance(
         cov: &mut SMatrix<f64, N, N>,
         x: &SVector<f64, N>,

@@ -1,0 +1,291 @@
+//! `P <- Phi P Phi^T + Qd` over the structure of `Phi` and `Qd` that `model!`
+//! knows at compile time. The generated `Model::propagate_covariance` evaluates
+//! the nonzero coefficients and noise entries (symbolic, CSE'd) and calls
+//! [`propagate`] with its constant [`Structure`].
+//!
+//! Why a loop over tables and not generated straight-line code: the product
+//! unrolled entry by entry is, for a 25-state INS, about 48 KB of scalar code
+//! that runs front-end bound, and unrolled row by row it spills registers;
+//! here a row of `Phi P` is an `[f64; N]`, each nonzero of `Phi` is one
+//! vectorized row operation, and the structure costs a table read per nonzero.
+//!
+//! With `Phi = I + C` (Euler, continuous models) or `Phi = C` (discrete), only
+//! the rows of `Phi` that are not unit rows ("changed rows", set `D`) alter `P`:
+//! 1. `A = (Phi P)[D, :]`: per changed row, `P[i, :]` (Euler) plus a linear
+//!    combination of rows of `P`, vectorized over the columns;
+//! 2. `P[D, U] = A[:, U]` (`U`, the unit rows: `Phi[j, :] = e_j`), mirrored;
+//! 3. `P[D, D] = A Phi[D, :]^T`, upper triangle, mirrored;
+//! 4. `P[U, U]` is untouched; `Qd` is added at its nonzeros.
+//!
+//! Operations: `sum_D nnz(row) * N` multiply-adds for step 1, `nnz(row s)`
+//! per pair `r <= s` of step 3 ([`Structure::ops`]). The tests here check
+//! [`propagate`] against the dense product on random structures; every
+//! generated model's tests check its own.
+
+use nalgebra::SMatrix;
+
+/// Structure of `Phi` and `Qd`, emitted by `model!` as a constant.
+#[derive(Clone, Copy, Debug)]
+pub struct Structure<'a> {
+    /// `Phi = I + C` if true (continuous models, Euler), `Phi = C` if false.
+    pub identity: bool,
+    /// The changed rows `D`, ascending. Every other row of `Phi` is a unit row.
+    pub rows: &'a [usize],
+    /// Nonzeros of `C` in changed row `r` are `start[r]..start[r + 1]` of
+    /// [`Structure::columns`] (and of the coefficients); `rows.len() + 1` entries.
+    pub start: &'a [usize],
+    /// Column of each nonzero of `C` in the changed rows, row by row.
+    pub columns: &'a [usize],
+    /// Positions `(i, j)`, `i <= j`, of the nonzeros of `Qd`'s upper triangle.
+    pub noise: &'a [(usize, usize)],
+}
+
+impl Structure<'_> {
+    /// Arithmetic operations of the four steps for `N` states (multiplies and
+    /// adds, each counted once; the Qd adds of both triangles counted).
+    pub const fn ops(&self, n: usize) -> usize {
+        let mut ops = 0;
+        let d = self.rows.len();
+        let mut r = 0;
+        while r < d {
+            let nnz = self.start[r + 1] - self.start[r];
+            // Step 1: one multiply and one add per nonzero and column; without
+            // the identity the first term needs no add.
+            ops += 2 * nnz * n;
+            if !self.identity && nnz > 0 {
+                ops -= n;
+            }
+            // Step 3: pairs (r, s), s >= r, each nnz(s) multiply-adds.
+            let mut s = r;
+            while s < d {
+                let nnz_s = self.start[s + 1] - self.start[s];
+                ops += 2 * nnz_s;
+                if !self.identity && nnz_s > 0 {
+                    ops -= 1;
+                }
+                s += 1;
+            }
+            r += 1;
+        }
+        let mut k = 0;
+        while k < self.noise.len() {
+            let (i, j) = self.noise[k];
+            ops += if i == j { 1 } else { 2 };
+            k += 1;
+        }
+        ops
+    }
+}
+
+/// `P <- Phi P Phi^T + Qd` in place, the four steps over `structure`.
+/// `coefficients` are the nonzeros of `C` in the order of
+/// [`Structure::columns`], `noise` the values at [`Structure::noise`]; `D` is
+/// the number of changed rows (the scratch `A` is `D x N` on the stack).
+/// `P` must be symmetric (whole rows are read); the result is exactly
+/// symmetric. The generator's structure is consistent by construction; an
+/// inconsistent hand-made one panics on an index check, never reads out of
+/// bounds.
+#[inline]
+pub fn propagate<const N: usize, const D: usize>(
+    cov: &mut SMatrix<f64, N, N>,
+    structure: &Structure<'_>,
+    coefficients: &[f64],
+    noise: &[f64],
+) {
+    let s = structure;
+    // Column-major storage of a symmetric P: column k is row k.
+    let cols: &mut [[f64; N]; N] = &mut cov.data.0;
+    // The nonzeros of each changed row, as slices (no index arithmetic below).
+    let terms: [(&[usize], &[f64]); D] = core::array::from_fn(|r| {
+        let range = s.start[r]..s.start[r + 1];
+        (&s.columns[range.clone()], &coefficients[range])
+    });
+    // Step 1: A = (Phi P)[D, :], one row operation per nonzero, in column
+    // blocks whose accumulators stay in registers across the nonzeros.
+    let mut a = [[0.0f64; N]; D];
+    for ((row, &i), &(columns, values)) in a.iter_mut().zip(s.rows).zip(&terms) {
+        let base = if s.identity { Some(&cols[i]) } else { None };
+        combine_rows(row, base, columns, values, cols);
+    }
+    // Step 2: rows and columns D of P become those of A (the U entries are final).
+    for (ar, &i) in a.iter().zip(s.rows) {
+        set_row_and_column(cols, i, ar);
+    }
+    // Step 3 (reads only A): the D x D block, A Phi[D, :]^T, upper triangle
+    // computed and mirrored.
+    for (r, (ar, &i)) in a.iter().zip(s.rows).enumerate() {
+        for (&j, &(columns, values)) in s.rows[r..].iter().zip(&terms[r..]) {
+            let mut v = if s.identity { ar[j] } else { 0.0 };
+            for (&k, &c) in columns.iter().zip(values) {
+                v += c * ar[k];
+            }
+            cols[j][i] = v;
+            cols[i][j] = v;
+        }
+    }
+    // Step 4: Qd.
+    for (&(i, j), &q) in s.noise.iter().zip(noise) {
+        cols[j][i] += q;
+        if i != j {
+            cols[i][j] += q;
+        }
+    }
+}
+
+/// Columns per register block of step 1 (six SSE2 registers of accumulators).
+const BLOCK: usize = 12;
+/// Rows up to this length are one block (at most eight registers).
+const WHOLE_ROW: usize = 16;
+
+/// `row = base + sum_e values[e] P[columns[e], :]`, the accumulators of a
+/// block of columns kept in registers across the nonzeros.
+#[inline(always)]
+fn combine_rows<const N: usize>(
+    row: &mut [f64; N],
+    base: Option<&[f64; N]>,
+    columns: &[usize],
+    values: &[f64],
+    cols: &[[f64; N]; N],
+) {
+    if N <= WHOLE_ROW {
+        let mut acc = base.copied().unwrap_or([0.0; N]);
+        for (&k, &c) in columns.iter().zip(values) {
+            for (x, &y) in acc.iter_mut().zip(&cols[k]) {
+                *x += c * y;
+            }
+        }
+        *row = acc;
+        return;
+    }
+    let mut c0 = 0;
+    while c0 + BLOCK <= N {
+        let mut acc = [0.0f64; BLOCK];
+        if let Some(b) = base {
+            acc.copy_from_slice(&b[c0..c0 + BLOCK]);
+        }
+        for (&k, &c) in columns.iter().zip(values) {
+            for (x, &y) in acc.iter_mut().zip(&cols[k][c0..c0 + BLOCK]) {
+                *x += c * y;
+            }
+        }
+        row[c0..c0 + BLOCK].copy_from_slice(&acc);
+        c0 += BLOCK;
+    }
+    for t in c0..N {
+        let mut v = base.map_or(0.0, |b| b[t]);
+        for (&k, &c) in columns.iter().zip(values) {
+            v += c * cols[k][t];
+        }
+        row[t] = v;
+    }
+}
+
+/// Step 2: row and column `i` of the symmetric `P` (column-major columns)
+/// become `row`.
+#[inline(always)]
+fn set_row_and_column<const N: usize>(cols: &mut [[f64; N]; N], i: usize, row: &[f64; N]) {
+    for (col, &v) in cols.iter_mut().zip(row) {
+        col[i] = v;
+    }
+    for (p, &v) in cols[i].iter_mut().zip(row) {
+        *p = v;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::SMatrix;
+
+    /// A deterministic pseudo-random value in [-1, 1).
+    fn value(seed: &mut u64) -> f64 {
+        *seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((*seed >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+    }
+
+    /// Builds the tables of a random `C` whose nonzeros are in `rows`, runs
+    /// [`propagate`] and compares with the dense product.
+    fn check<const N: usize, const D: usize>(rows: [usize; D], identity: bool, seed: u64) {
+        let mut seed = seed;
+        let mut c = SMatrix::<f64, N, N>::zeros();
+        let (mut start, mut columns, mut coefficients) = (vec![0], vec![], vec![]);
+        for &i in &rows {
+            for k in 0..N {
+                if value(&mut seed) > 0.3 || (!identity && k == i) {
+                    c[(i, k)] = value(&mut seed);
+                    columns.push(k);
+                    coefficients.push(c[(i, k)]);
+                }
+            }
+            start.push(columns.len());
+        }
+        let mut qd = SMatrix::<f64, N, N>::zeros();
+        let mut noise_at = vec![];
+        let mut noise = vec![];
+        for i in 0..N {
+            for j in i..N {
+                if value(&mut seed) > 0.6 {
+                    let q = value(&mut seed);
+                    qd[(i, j)] = q;
+                    qd[(j, i)] = q;
+                    noise_at.push((i, j));
+                    noise.push(q);
+                }
+            }
+        }
+        let mut phi = if identity {
+            SMatrix::<f64, N, N>::identity() + c
+        } else {
+            c
+        };
+        if !identity {
+            for i in (0..N).filter(|i| !rows.contains(i)) {
+                phi[(i, i)] = 1.0;
+            }
+        }
+        let l = SMatrix::<f64, N, N>::from_fn(|_, _| value(&mut seed));
+        let p = l * l.transpose() + SMatrix::<f64, N, N>::identity();
+        let structure = Structure {
+            identity,
+            rows: &rows,
+            start: &start,
+            columns: &columns,
+            noise: &noise_at,
+        };
+        let mut got = p;
+        propagate::<N, D>(&mut got, &structure, &coefficients, &noise);
+        let want = phi * p * phi.transpose() + qd;
+        let err = (got - want).amax() / want.amax();
+        assert!(err < 1e-13, "relative error {err}");
+        assert_eq!(got, got.transpose(), "result not exactly symmetric");
+    }
+
+    #[test]
+    fn equals_the_dense_product() {
+        for seed in 0..20 {
+            check::<25, 9>([0, 1, 2, 3, 4, 5, 6, 7, 8], true, seed);
+            check::<25, 4>([2, 7, 8, 20], true, seed);
+            check::<9, 9>([0, 1, 2, 3, 4, 5, 6, 7, 8], false, seed);
+            check::<6, 3>([0, 3, 5], false, seed);
+            check::<17, 17>(core::array::from_fn(|i| i), true, seed);
+            check::<3, 0>([], true, seed);
+        }
+    }
+
+    #[test]
+    fn op_count_of_a_known_structure() {
+        // Two changed rows of N = 4 with 2 and 1 nonzeros; Qd diagonal (1, 1)
+        // and off-diagonal (0, 1).
+        let s = Structure {
+            identity: true,
+            rows: &[0, 1],
+            start: &[0, 2, 3],
+            columns: &[1, 3, 0],
+            noise: &[(1, 1), (0, 1)],
+        };
+        // Step 1: 2*(2+1)*4 = 24; step 3: pairs (0,0) 4, (0,1) 2, (1,1) 2; Qd 3.
+        assert_eq!(s.ops(4), 24 + 8 + 3);
+    }
+}
