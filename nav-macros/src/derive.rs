@@ -53,6 +53,19 @@ pub struct Propagation {
 /// Models up to this many states get the unrolled scalar propagation.
 pub const UNROLL_MAX_STATES: usize = 12;
 
+/// `sum_l row[l] P[l][k]` over the structural nonzeros `l` of a coefficient
+/// row (of `Phi` or `H`), as a node over the covariance symbols.
+fn row_times_cov(g: &mut Graph, row: &[Id], nonzero: &[usize], k: usize) -> Id {
+    let terms: Vec<Id> = nonzero
+        .iter()
+        .map(|&l| {
+            let plk = g.sym(Sym::cov(l, k));
+            g.mul(row[l], plk)
+        })
+        .collect();
+    g.sum(terms)
+}
+
 /// One sensor's outputs.
 pub struct DerivedSensor {
     pub m: usize,
@@ -174,7 +187,6 @@ pub fn derive(lowered: Lowered, nw: usize) -> Derived {
         .map(|(i, j)| (i, j, process_noise[i * n + j]))
         .filter(|&(_, _, e)| !g.is_zero(e))
         .collect();
-    let p = |g: &mut Graph, i: usize, j: usize| g.sym(Sym::cov(i, j));
     let unrolled = (n <= UNROLL_MAX_STATES).then(|| {
         // A = Phi P; result_ij = sum_k A_ik Phi_jk + Qd_ij for i <= j.
         let phi: Vec<Id> = (0..n * n)
@@ -196,14 +208,7 @@ pub fn derive(lowered: Lowered, nw: usize) -> Derived {
         let mut a = vec![Graph::ZERO; n * n];
         for i in 0..n {
             for k in 0..n {
-                let terms: Vec<Id> = nonzero_cols[i]
-                    .iter()
-                    .map(|&l| {
-                        let plk = p(g, l, k);
-                        g.mul(phi[i * n + l], plk)
-                    })
-                    .collect();
-                a[i * n + k] = g.sum(terms);
+                a[i * n + k] = row_times_cov(g, &phi[i * n..(i + 1) * n], &nonzero_cols[i], k);
             }
         }
         let mut out = Vec::with_capacity(n * (n + 1) / 2);
@@ -243,14 +248,7 @@ pub fn derive(lowered: Lowered, nw: usize) -> Derived {
             let mut pht = vec![Graph::ZERO; n * m];
             for i in 0..n {
                 for r in 0..m {
-                    let terms: Vec<Id> = nonzero[r]
-                        .iter()
-                        .map(|&k| {
-                            let pik = p(g, i, k);
-                            g.mul(pik, hj[r * n + k])
-                        })
-                        .collect();
-                    pht[i * m + r] = g.sum(terms);
+                    pht[i * m + r] = row_times_cov(g, &hj[r * n..(r + 1) * n], &nonzero[r], i);
                 }
             }
             let mut hpht = Vec::new();
