@@ -44,55 +44,37 @@ pub fn tests(decl: &ModelDecl, d: &Derived) -> TokenStream {
         quote! {
             #[test]
             fn #t_jac() {
-                let mut rng = SplitMix64(0x5eed_0002);
-                let mut checked = 0;
-                for _ in 0..ATTEMPTS {
-                    if checked == POINTS {
-                        break;
-                    }
-                    let x = random_vector::<N>(&mut rng);
-                    let u: #input_ty = random_record(&mut rng);
-                    let p: #params_ty = random_record(&mut rng);
-                    let aux: <#ty as Sensor<N, #m>>::Aux = random_record(&mut rng);
+                at_random_points(0x5eed_0002, |rng, x, u, p, dt| {
+                    let aux: <#ty as Sensor<N, #m>>::Aux = random_record(rng);
                     let jac = <#ty as Sensor<N, #m>>::jacobian(&x, &u, &p, &aux);
                     let h = |x: &SVector<f64, N>| <#ty as Sensor<N, #m>>::predict(x, &u, &p, &aux);
                     let fd = fd_jacobian(&x, h);
                     if !finite(&h(&x)) || !finite(&jac) || !finite(&fd.0) {
-                        continue;
+                        return false;
                     }
                     assert_close_fd(concat!(stringify!(#ty), "::jacobian"), &jac, &fd);
                     assert_sparsity(concat!(stringify!(#ty), "::jacobian"), &jac, &<#ty as Sensor<N, #m>>::JACOBIAN_SPARSITY);
-                    checked += 1;
-                }
-                assert!(checked > 0, "no point with finite values found");
+                    true
+                });
             }
 
             #[test]
             fn #t_inn() {
-                let mut rng = SplitMix64(0x5eed_0003);
-                let mut checked = 0;
-                for _ in 0..ATTEMPTS {
-                    if checked == POINTS {
-                        break;
-                    }
-                    let x = random_vector::<N>(&mut rng);
-                    let u: #input_ty = random_record(&mut rng);
-                    let p: #params_ty = random_record(&mut rng);
-                    let aux: <#ty as Sensor<N, #m>>::Aux = random_record(&mut rng);
-                    let cov = random_covariance(&mut rng);
+                at_random_points(0x5eed_0003, |rng, x, u, p, dt| {
+                    let aux: <#ty as Sensor<N, #m>>::Aux = random_record(rng);
+                    let cov = random_covariance(rng);
                     let hjac = <#ty as Sensor<N, #m>>::jacobian(&x, &u, &p, &aux);
                     let pred = <#ty as Sensor<N, #m>>::predict(&x, &u, &p, &aux);
                     if !finite(&hjac) || !finite(&pred) {
-                        continue;
+                        return false;
                     }
                     let (h, pht, s) = <#ty as Sensor<N, #m>>::innovation_terms(&upper_only(&cov), &x, &u, &p, &aux);
                     assert_close_rel("h", &h, &pred);
                     assert_close_rel("P H^T", &pht, &(cov * hjac.transpose()));
                     assert_close_rel("H P H^T", &s, &(hjac * cov * hjac.transpose()));
                     assert_eq!(s, s.transpose(), "H P H^T must be symmetric");
-                    checked += 1;
-                }
-                assert!(checked > 0, "no point with finite values found");
+                    true
+                });
             }
         }
     });
@@ -111,6 +93,30 @@ pub fn tests(decl: &ModelDecl, d: &Derived) -> TokenStream {
             const POINTS: usize = 6;
             /// Random draws tried to find them (points with non-finite values are skipped).
             const ATTEMPTS: usize = 400;
+
+            /// Calls `check` at random `(x, u, p, dt)` (it draws anything else from
+            /// `rng`) until `POINTS` points had finite values (`check` returns true
+            /// for those); fails if none had.
+            fn at_random_points(
+                seed: u64,
+                mut check: impl FnMut(&mut SplitMix64, SVector<f64, N>, #input_ty, #params_ty, f64) -> bool,
+            ) {
+                let mut rng = SplitMix64(seed);
+                let mut checked = 0;
+                for _ in 0..ATTEMPTS {
+                    if checked == POINTS {
+                        break;
+                    }
+                    let x = random_vector::<N>(&mut rng);
+                    let u: #input_ty = random_record(&mut rng);
+                    let p: #params_ty = random_record(&mut rng);
+                    let dt = random_dt(&mut rng);
+                    if check(&mut rng, x, u, p, dt) {
+                        checked += 1;
+                    }
+                }
+                assert!(checked > 0, "no point with finite values found");
+            }
 
             /// splitmix64: a tiny deterministic generator.
             struct SplitMix64(u64);
@@ -223,72 +229,43 @@ pub fn tests(decl: &ModelDecl, d: &Derived) -> TokenStream {
 
             #[test]
             fn jacobian_matches_finite_differences() {
-                let mut rng = SplitMix64(0x5eed_0000);
-                let mut checked = 0;
-                for _ in 0..ATTEMPTS {
-                    if checked == POINTS {
-                        break;
-                    }
-                    let x = random_vector::<N>(&mut rng);
-                    let u: #input_ty = random_record(&mut rng);
-                    let p: #params_ty = random_record(&mut rng);
-                    let dt = random_dt(&mut rng);
-                    let jac = <#name as Model<N>>::jacobian(&x, &u, &p, dt);
+                at_random_points(0x5eed_0000, |rng, x, u, p, dt| {
+                                        let jac = <#name as Model<N>>::jacobian(&x, &u, &p, dt);
                     let f = |x: &SVector<f64, N>| #f_of_x;
                     let fd = fd_jacobian(&x, f);
                     if !finite(&f(&x)) || !finite(&jac) || !finite(&fd.0) {
-                        continue;
+                        return false;
                     }
                     assert_close_fd("jacobian", &jac, &fd);
                     assert_sparsity("jacobian", &jac, &<#name as Model<N>>::JACOBIAN_SPARSITY);
-                    checked += 1;
-                }
-                assert!(checked > 0, "no point with finite values found");
+                    true
+                });
             }
 
             #[test]
             fn noise_jacobian_matches_finite_differences() {
-                let mut rng = SplitMix64(0x5eed_0001);
-                let mut checked = 0;
-                for _ in 0..ATTEMPTS {
-                    if checked == POINTS {
-                        break;
-                    }
-                    let x = random_vector::<N>(&mut rng);
-                    let u: #input_ty = random_record(&mut rng);
-                    let p: #params_ty = random_record(&mut rng);
-                    let dt = random_dt(&mut rng);
-                    let g = #name::noise_jacobian(&x, &u, &p, dt);
+                at_random_points(0x5eed_0001, |rng, x, u, p, dt| {
+                                        let g = #name::noise_jacobian(&x, &u, &p, dt);
                     let f = |w: &SVector<f64, NW>| #name::process_with_noise(&x, &u, &p, w, dt);
                     let w0 = SVector::<f64, NW>::zeros();
                     let fd = fd_jacobian(&w0, f);
                     if !finite(&f(&w0)) || !finite(&g) || !finite(&fd.0) {
-                        continue;
+                        return false;
                     }
                     assert_close_fd("noise_jacobian", &g, &fd);
-                    checked += 1;
-                }
-                assert!(checked > 0, "no point with finite values found");
+                    true
+                });
             }
 
             #[test]
             fn propagate_covariance_matches_dense_products() {
-                let mut rng = SplitMix64(0x5eed_0004);
-                let mut checked = 0;
-                for _ in 0..ATTEMPTS {
-                    if checked == POINTS {
-                        break;
-                    }
-                    let x = random_vector::<N>(&mut rng);
-                    let u: #input_ty = random_record(&mut rng);
-                    let p: #params_ty = random_record(&mut rng);
+                at_random_points(0x5eed_0004, |rng, x, u, p, dt| {
                     let q: #noise_ty = <#noise_ty as Record>::from_fn(|_| abs(rng.uniform()));
-                    let dt = random_dt(&mut rng);
-                    let cov = random_covariance(&mut rng);
+                    let cov = random_covariance(rng);
                     let jac = <#name as Model<N>>::jacobian(&x, &u, &p, dt);
                     let g = #name::noise_jacobian(&x, &u, &p, dt);
                     if !finite(&jac) || !finite(&g) {
-                        continue;
+                        return false;
                     }
                     let qdiag = SMatrix::<f64, NW, NW>::from_fn(|i, j| if i == j { q.get(i) } else { 0.0 });
                     let qd_dense = g * qdiag * g.transpose() * #qd_scale;
@@ -300,9 +277,8 @@ pub fn tests(decl: &ModelDecl, d: &Derived) -> TokenStream {
                     <#name as Model<N>>::propagate_covariance(&mut got, &x, &u, &p, &q, dt);
                     assert_close_rel("propagate_covariance", &got, &dense);
                     assert_eq!(got, got.transpose(), "the propagated covariance must be symmetric");
-                    checked += 1;
-                }
-                assert!(checked > 0, "no point with finite values found");
+                    true
+                });
             }
 
             #[test]
