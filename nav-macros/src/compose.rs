@@ -74,11 +74,23 @@ pub fn block(b: &BlockDecl) -> TokenStream {
     let tokens = &b.tokens;
     let attrs = &b.attrs;
     // `pub` blocks are visible in the whole crate (the most a `macro_rules!`
-    // defined by a macro can be); other visibilities are kept.
+    // defined by a macro can be); other visibilities are kept. A
+    // `#[macro_export]` block is used from other crates by path
+    // (`use lib::Block;`); in its own crate a macro-expanded exported macro
+    // cannot be named by path, so it gets no `use`.
+    let exported = attrs.iter().any(|a| a.path().is_ident("macro_export"));
     let use_vis = match &b.vis {
         Visibility::Public(_) => quote!(pub(crate)),
         Visibility::Inherited => quote!(pub(self)),
         v => quote!(#v),
+    };
+    let import = if exported {
+        TokenStream::new()
+    } else {
+        quote! {
+            #[allow(unused_imports)]
+            #use_vis use #name;
+        }
     };
     let doc = format!(
         "Model block `{name}`: use it in a composition `model Vehicle = .. + {name} + ..;` \
@@ -95,8 +107,7 @@ pub fn block(b: &BlockDecl) -> TokenStream {
                 ::nav_runtime::model! { @nav_block { #tokens } $($rest)* }
             };
         }
-        #[allow(unused_imports)]
-        #use_vis use #name;
+        #import
     }
 }
 

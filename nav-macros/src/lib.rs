@@ -141,7 +141,11 @@
 //! see another's tokens); `pub` makes it visible in the whole crate
 //! (`pub(crate) use`), other visibilities are kept. Blocks are therefore
 //! imported and named like macros (`use blocks::{InsCore, Dvl};` or a path
-//! `blocks::Dvl`) and cannot be shared across crates.
+//! `blocks::Dvl`). `#[macro_export] pub block ..` shares a block with other
+//! crates (`use nav_blocks::{InsCore, Dvl};`, as the standard blocks of the
+//! `nav-blocks` crate are used); in its own crate an exported block is not
+//! nameable by path (a limit of macro-generated `macro_export` macros), so a
+//! library of blocks lives in a crate of its own.
 //!
 //! **Composed models.** `[doc comments] [pub] model Name = A + B + ..;` or
 //! `= A + B .. { order { .. } allow_unused { .. } }`. The blocks' macros are

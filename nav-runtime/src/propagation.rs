@@ -138,7 +138,11 @@ const BLOCK: usize = 12;
 const WHOLE_ROW: usize = 16;
 
 /// `row = base + sum_e values[e] P[columns[e], :]`, the accumulators of a
-/// block of columns kept in registers across the nonzeros.
+/// block of columns kept in registers across the nonzeros. Rows longer than
+/// [`WHOLE_ROW`] are split into blocks of [`BLOCK`] columns; the last block
+/// and the remainder are split evenly into two blocks of 6 to 12 columns, so
+/// no column is left to a scalar loop (`N` is a constant: only one arm of
+/// the `match` survives compilation).
 #[inline(always)]
 fn combine_rows<const N: usize>(
     row: &mut [f64; N],
@@ -148,36 +152,83 @@ fn combine_rows<const N: usize>(
     cols: &[[f64; N]; N],
 ) {
     if N <= WHOLE_ROW {
-        let mut acc = base.copied().unwrap_or([0.0; N]);
-        for (&k, &c) in columns.iter().zip(values) {
-            for (x, &y) in acc.iter_mut().zip(&cols[k]) {
-                *x += c * y;
-            }
-        }
-        *row = acc;
+        block::<N, N>(row, base, columns, values, cols, 0);
         return;
     }
-    let mut c0 = 0;
-    while c0 + BLOCK <= N {
-        let mut acc = [0.0f64; BLOCK];
-        if let Some(b) = base {
-            acc.copy_from_slice(&b[c0..c0 + BLOCK]);
-        }
-        for (&k, &c) in columns.iter().zip(values) {
-            for (x, &y) in acc.iter_mut().zip(&cols[k][c0..c0 + BLOCK]) {
-                *x += c * y;
+    let full = N / BLOCK - 1;
+    for b in 0..full {
+        block::<N, BLOCK>(row, base, columns, values, cols, b * BLOCK);
+    }
+    let c0 = full * BLOCK;
+    let args = (row, base, columns, values, cols);
+    match N % BLOCK {
+        0 => block::<N, 12>(args.0, args.1, args.2, args.3, args.4, c0),
+        r => {
+            let (first, second) = split_remainder(r);
+            let mid = c0 + first;
+            match (first, second) {
+                (6, 7) => pair::<N, 6, 7>(args, c0, mid),
+                (7, 7) => pair::<N, 7, 7>(args, c0, mid),
+                (7, 8) => pair::<N, 7, 8>(args, c0, mid),
+                (8, 8) => pair::<N, 8, 8>(args, c0, mid),
+                (8, 9) => pair::<N, 8, 9>(args, c0, mid),
+                (9, 9) => pair::<N, 9, 9>(args, c0, mid),
+                (9, 10) => pair::<N, 9, 10>(args, c0, mid),
+                (10, 10) => pair::<N, 10, 10>(args, c0, mid),
+                (10, 11) => pair::<N, 10, 11>(args, c0, mid),
+                (11, 11) => pair::<N, 11, 11>(args, c0, mid),
+                _ => pair::<N, 11, 12>(args, c0, mid),
             }
         }
-        row[c0..c0 + BLOCK].copy_from_slice(&acc);
-        c0 += BLOCK;
     }
-    for t in c0..N {
-        let mut v = base.map_or(0.0, |b| b[t]);
-        for (&k, &c) in columns.iter().zip(values) {
-            v += c * cols[k][t];
+}
+
+/// The widths of the two last blocks when `remainder` columns (1 to 11)
+/// follow the last full block: `BLOCK + remainder` split evenly.
+const fn split_remainder(remainder: usize) -> (usize, usize) {
+    let total = BLOCK + remainder;
+    (total / 2, total - total / 2)
+}
+
+type RowArgs<'a, const N: usize> = (
+    &'a mut [f64; N],
+    Option<&'a [f64; N]>,
+    &'a [usize],
+    &'a [f64],
+    &'a [[f64; N]; N],
+);
+
+/// Two consecutive blocks of `A` and `B` columns starting at `c0` and `c1`.
+#[inline(always)]
+fn pair<const N: usize, const A: usize, const B: usize>(
+    (row, base, columns, values, cols): RowArgs<'_, N>,
+    c0: usize,
+    c1: usize,
+) {
+    block::<N, A>(row, base, columns, values, cols, c0);
+    block::<N, B>(row, base, columns, values, cols, c1);
+}
+
+/// Columns `c0..c0 + B` of `row = base + sum_e values[e] P[columns[e], :]`.
+#[inline(always)]
+fn block<const N: usize, const B: usize>(
+    row: &mut [f64; N],
+    base: Option<&[f64; N]>,
+    columns: &[usize],
+    values: &[f64],
+    cols: &[[f64; N]; N],
+    c0: usize,
+) {
+    let mut acc = [0.0f64; B];
+    if let Some(b) = base {
+        acc.copy_from_slice(&b[c0..c0 + B]);
+    }
+    for (&k, &c) in columns.iter().zip(values) {
+        for (x, &y) in acc.iter_mut().zip(&cols[k][c0..c0 + B]) {
+            *x += c * y;
         }
-        row[t] = v;
     }
+    row[c0..c0 + B].copy_from_slice(&acc);
 }
 
 /// Step 2: row and column `i` of the symmetric `P` (column-major columns)
@@ -270,7 +321,37 @@ mod tests {
             check::<9, 9>([0, 1, 2, 3, 4, 5, 6, 7, 8], false, seed);
             check::<6, 3>([0, 3, 5], false, seed);
             check::<17, 17>(core::array::from_fn(|i| i), true, seed);
+            check::<24, 3>([0, 11, 23], true, seed);
+            for_each_remainder(seed);
             check::<3, 0>([], true, seed);
+        }
+    }
+
+    /// Every split of the last blocks (N = 25 to 35 covers remainders 1 to 11).
+    fn for_each_remainder(seed: u64) {
+        check::<25, 2>([1, 24], true, seed);
+        check::<26, 2>([0, 25], false, seed);
+        check::<27, 1>([13], true, seed);
+        check::<28, 1>([27], true, seed);
+        check::<29, 1>([5], true, seed);
+        check::<30, 1>([5], false, seed);
+        check::<31, 1>([30], true, seed);
+        check::<32, 1>([0], true, seed);
+        check::<33, 1>([16], true, seed);
+        check::<34, 1>([1], true, seed);
+        check::<35, 1>([34], true, seed);
+        check::<36, 1>([35], true, seed);
+    }
+
+    #[test]
+    fn remainders_split_into_two_blocks_of_six_to_twelve() {
+        for r in 1..BLOCK {
+            let (a, b) = split_remainder(r);
+            assert_eq!(a + b, BLOCK + r);
+            assert!(
+                (6..=12).contains(&a) && (6..=12).contains(&b),
+                "{r}: {a} + {b}"
+            );
         }
     }
 

@@ -359,8 +359,8 @@ impl Layout {
 mod tests {
     use super::*;
     use crate::sdins25::model::Sdins25;
-    use crate::vehicles::blocks::{Compass, Depth, InsCore};
     use crate::vehicles::sdins::{Sdins20, Sdins25Composed};
+    use nav_blocks::{Compass, Depth, InsCore};
 
     #[test]
     fn registered_vehicles_fit_the_loop() {

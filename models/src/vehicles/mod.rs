@@ -1,7 +1,8 @@
 //! Vehicles assembled from model blocks: a new vehicle is one composition line.
 //!
-//! - [`blocks`]: the INS error-state core and the sensor blocks (USBL, depth,
-//!   DVL, calibrated DVL, compass, surface GNSS fix, RPM speed map).
+//! - [`blocks`]: `BlockCatalog`, every block of the `nav_blocks` crate (the
+//!   INS error-state core; USBL, depth, DVL, calibrated DVL, compass, surface
+//!   GNSS fix, RPM speed map) once, so that their generated tests run.
 //! - [`sdins`]: SDINS-25 as core + USBL + depth + DVL + compass (equal to the
 //!   monolithic `crate::sdins25::model::Sdins25`, tested), and the 20-state
 //!   variant without USBL.

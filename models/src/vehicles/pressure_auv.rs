@@ -9,7 +9,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 
-use super::blocks::{Compass, Dvl, GnssFix, InsCore};
+use nav_blocks::{Compass, Dvl, GnssFix, InsCore};
 
 // Step 1: the sensor block.
 nav_runtime::model! {

@@ -10,8 +10,8 @@
 //! depend on it (the Earth and transport rates depend on latitude only), so the
 //! generator flags it; the declaration accepts it with `allow_unused`.
 
-use super::blocks::{Compass, Depth, Dvl, InsCore, Usbl};
 use crate::sdins25::vehicle::{Absent, InsVehicle};
+use nav_blocks::{Compass, Depth, Dvl, InsCore, Usbl};
 
 nav_runtime::model! {
     /// SDINS-25 assembled from blocks, in the paper's state order.
