@@ -17,7 +17,9 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use models::leveling::model::{Leveling6, Leveling6Moving, Leveling6Stationary};
-use models::marker::model::{Marker9, Marker9Depth, Marker9Dvl, Marker9MarkerFix};
+use models::marker::model::{
+    Marker9, Marker9Depth, Marker9Dvl, Marker9MarkerFix, Marker9MarkerRelative,
+};
 use models::sdins25::model::{
     Sdins25, Sdins25Compass, Sdins25CompassSmallAngle, Sdins25Depth, Sdins25Dvl, Sdins25Usbl,
 };
@@ -96,6 +98,7 @@ fn current() -> Counts {
     sensor!(c, Marker9Dvl);
     sensor!(c, Marker9Depth);
     sensor!(c, Marker9MarkerFix);
+    sensor!(c, Marker9MarkerRelative);
     c
 }
 

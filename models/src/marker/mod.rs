@@ -469,18 +469,19 @@ mod tests {
             );
         }
         let median = stats::median(&nees);
-        // Samples are strongly correlated in time (about 4 independent values per
-        // run), so the band is wide; a filter that is overconfident by 2x in sigma
-        // gives a NEES of about 8. One seed of four may exceed it: fixes resolved
-        // with the estimated heading are correlated with the state, which this
-        // filter ignores (documented in the README (MARKER-9)).
+        eprintln!("MARKER-9 short-run NEES {nees:?}, {outside} of {total} beyond 3 sigma");
+        // Samples are strongly correlated in time (a few independent values per
+        // run), so no chi-square band applies to one run; the filter's position
+        // covariance must be within a factor of two of the error's: NEES in
+        // [1, 4] for 2 degrees of freedom, for the median and for every seed.
         assert!(
-            median > 0.3 && median < 5.0,
+            (1.0..=4.0).contains(&median),
             "median NEES {median} ({nees:?})"
         );
-        assert!(nees.iter().filter(|&&v| v > 5.0).count() <= 1, "{nees:?}");
+        assert!(nees.iter().all(|&v| (1.0..=4.0).contains(&v)), "{nees:?}");
+        // 2-D Gaussian errors leave 0.27 % of each axis beyond 3 sigma.
         assert!(
-            (outside as f64) < 0.1 * total as f64,
+            (outside as f64) < 0.02 * total as f64,
             "{outside} of {total} beyond 3 sigma"
         );
     }

@@ -50,9 +50,24 @@ nav_runtime::model! {
             h = [position[2]];
         }
         /// Horizontal position fix from a visible marker of known position (eq. 3,
-        /// already in the local frame), m.
+        /// already in the local frame), m. The fix is resolved with the estimated
+        /// attitude, so its error is correlated with the attitude error, which
+        /// this form cannot express; [`Marker9MarkerRelative`] can.
         sensor MarkerFix: 2 {
             h = [position[0], position[1]];
+        }
+        /// The raw camera detection of a marker of known position: the marker
+        /// relative to the camera in body axes, m. The attitude enters `h`, so an
+        /// update correlates position and attitude errors instead of treating a
+        /// fix resolved with the estimated heading as independent of it.
+        sensor MarkerRelative: 3 {
+            inputs {
+                /// Marker position in the local (structure) frame, m.
+                marker: 3,
+                /// Camera position in body axes, m.
+                lever_arm: 3,
+            }
+            h = transpose(euler_dcm(euler[0], euler[1], euler[2])) * (marker - position) - lever_arm;
         }
     }
 }

@@ -22,7 +22,8 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use super::model::{
-    Marker9, Marker9Depth, Marker9Dvl, Marker9Input, Marker9MarkerFix, Marker9Noise,
+    Marker9, Marker9Depth, Marker9Dvl, Marker9Input, Marker9MarkerRelative,
+    Marker9MarkerRelativeAux, Marker9Noise,
 };
 
 /// Gravity used to remove `g` from the specific force, m/s^2 (16 m depth, mid latitude).
@@ -325,12 +326,11 @@ pub fn run_mission(
     // absorb 0.034 m/s^2 over 0.2 s (1.5e-3 m/s per step, 6.7e-3 m/s per DVL
     // interval).
     let qv = (1.5e-3f64).powi(2);
-    // Attitude: gyro noise and bias give about 1e-6 rad per step, but the
-    // heading must also absorb the correlation of fixes resolved with the
-    // estimated heading (ignored by the update): 1e-4 rad per step keeps the
-    // short-run NEES near its 2 degrees of freedom (tested), so heading is
-    // effectively set by the fixes and the DVL.
-    let qa = (1e-4f64).powi(2);
+    // Attitude: gyro noise and bias give about 1e-6 rad per step. (Fixes
+    // resolved with the estimated heading needed 1e-4 to stay consistent; the
+    // camera detections are now fused as seen, `Marker9MarkerRelative`, and
+    // the update carries the attitude-position correlation itself.)
+    let qa = (1e-6f64).powi(2);
     let noise = Marker9Noise {
         velocity_noise: Vector3::repeat(qv),
         attitude_noise: Vector3::repeat(qa),
@@ -502,18 +502,18 @@ pub fn run_mission(
             let _ = ekf.update::<Marker9Depth, 1>(&z, &r, &());
         }
         // Camera at 5 Hz.
+        // Each detection is fused as seen (marker relative to the camera, body
+        // axes), so the update correlates attitude and position errors.
         if step % 20 == 10 {
-            let xe = *ekf.state();
-            let c_est = Euler::new(xe[6], xe[7], xe[8]).c_bn();
-            let sigma_heading = ekf.covariance()[(8, 8)].max(0.0).sqrt();
             for (i, _) in cfg.camera.visible(structure, &truth.position, &c_bn1) {
-                let fix =
-                    cfg.camera
-                        .fix(structure, i, &truth.position, &c_bn1, &c_est, &mut rng_cam);
-                let s = cfg.camera.fix_sigma(fix.range, sigma_heading);
-                let z = Vector2::new(fix.position.x, fix.position.y);
-                let r = Matrix2::identity().scale(s * s);
-                match ekf.update::<Marker9MarkerFix, 2>(&z, &r, &()) {
+                let d = cfg
+                    .camera
+                    .detect(structure, i, &truth.position, &c_bn1, &mut rng_cam);
+                let aux = Marker9MarkerRelativeAux {
+                    marker: structure.markers[i].position,
+                    lever_arm: cfg.camera.lever_arm,
+                };
+                match ekf.update::<Marker9MarkerRelative, 3>(&d.relative, &d.covariance, &aux) {
                     Ok(rep) if rep.accepted => fixes_accepted += 1,
                     _ => fixes_gated += 1,
                 }
