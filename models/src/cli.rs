@@ -315,12 +315,15 @@ pub fn cmd_replay(args: &ReplayArgs) -> Result<(), RunError> {
     for reason in &log.skip_reasons {
         eprintln!("warning: skipped {reason}");
     }
+    for file in &log.unknown_files {
+        eprintln!("warning: ignored unknown file {file}");
+    }
     let options = ReplayOptions {
         stationary: args.stationary,
         keep_series: args.out.is_some(),
     };
     let output = model.replay(&log, &options)?;
-    let value = report::replay_json(model.name(), &output, args.lenient, &log.skipped_rows);
+    let value = report::replay_json(model.name(), &output, args.lenient, &log);
     if let Some(out) = &args.out {
         let staged = StagedDir::new(out)?;
         model.write_outputs(&output, staged.path())?;
