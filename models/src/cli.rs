@@ -319,6 +319,9 @@ pub fn cmd_replay(args: &ReplayArgs) -> Result<(), RunError> {
     for reason in &log.skip_reasons {
         eprintln!("warning: skipped {reason}");
     }
+    for file in &log.unknown_files {
+        eprintln!("warning: ignored unknown file {file}");
+    }
     let options = ReplayOptions {
         stationary: args.stationary,
         keep_series: args.out.is_some(),
@@ -327,7 +330,7 @@ pub fn cmd_replay(args: &ReplayArgs) -> Result<(), RunError> {
     for w in &output.warnings {
         eprintln!("warning: {w}");
     }
-    let value = report::replay_json(model.name(), &output, args.lenient, &log.skipped_rows);
+    let value = report::replay_json(model.name(), &output, args.lenient, &log);
     if let Some(out) = &args.out {
         let staged = StagedDir::new(out)?;
         model.write_outputs(&output, staged.path())?;

@@ -23,13 +23,14 @@ pub fn summary_value(values: &[f64]) -> Value {
 }
 
 /// The JSON object of a replay: `model`, `samples`, `runtime_s`, `skipped_rows` (and
-/// `skipped_rows_by_file`) when `lenient`, then the model's keys.
+/// `skipped_rows_by_file`, `unknown_files`) when `lenient`, then the model's keys.
 pub fn replay_json(
     model: &str,
     output: &ReplayOutput,
     lenient: bool,
-    skipped: &std::collections::BTreeMap<String, usize>,
+    log: &nav_runtime::log::LogDir,
 ) -> Value {
+    let skipped = &log.skipped_rows;
     let mut m = output.metrics.clone();
     m.insert("model".into(), Value::from(model));
     m.insert("samples".into(), Value::from(output.samples));
@@ -44,6 +45,12 @@ pub fn replay_json(
             .map(|(k, v)| (k.clone(), Value::from(*v)))
             .collect();
         m.insert("skipped_rows_by_file".into(), Value::Object(by_file));
+        let unknown: Vec<Value> = log
+            .unknown_files
+            .iter()
+            .map(|f| Value::from(f.as_str()))
+            .collect();
+        m.insert("unknown_files".into(), Value::Array(unknown));
     }
     Value::Object(m)
 }

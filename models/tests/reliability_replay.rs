@@ -313,12 +313,63 @@ fn replay_json_reports_health_per_sensor() {
     assert!(o.status.success(), "{}", stderr(&o));
     let v: Value = serde_json::from_slice(&o.stdout).unwrap();
     for s in ["depth", "dvl", "heading", "usbl"] {
-        for k in ["rows", "accepted", "gated", "rejected", "skipped"] {
+        for k in ["rows", "accepted", "gated", "rejected", "skipped", "stuck"] {
             assert!(v["health"][s][k].is_number(), "{s}.{k}: {v}");
         }
     }
     assert!(v["health"]["covariance_repairs"].is_number());
     assert_eq!(v["health"]["usbl"]["rows"], 2.0);
+}
+
+/// An unknown CSV file in the log directory: strict replay fails with one
+/// `error:` line naming it, nothing on stdout and no output directory;
+/// `--lenient` replays, warns once and lists it in `unknown_files`.
+#[test]
+fn unknown_csv_file_is_an_error_unless_lenient() {
+    let tmp = TempDir::new("unknown-file");
+    let log = tmp.path().join("log");
+    write_log(&log);
+    std::fs::write(log.join("sonar.csv"), "t,range\n0.5,12\n").unwrap();
+    let out = tmp.path().join("out");
+    let o = navsim(&[
+        "replay",
+        log.to_str().unwrap(),
+        "--model",
+        "sdins25",
+        "--json",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    let err = stderr(&o);
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.starts_with("error: sonar.csv: unknown log file"),
+        "{err}"
+    );
+    assert!(o.stdout.is_empty());
+    assert!(!out.exists());
+
+    let o = navsim(&[
+        "replay",
+        log.to_str().unwrap(),
+        "--model",
+        "sdins25",
+        "--json",
+        "--lenient",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert_eq!(
+        err.lines()
+            .filter(|l| *l == "warning: ignored unknown file sonar.csv")
+            .count(),
+        1,
+        "{err}"
+    );
+    let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["unknown_files"], serde_json::json!(["sonar.csv"]));
+    assert_eq!(v["skipped_rows"], 0);
 }
 
 #[test]

@@ -31,6 +31,7 @@ pub mod sensors;
 #[cfg(feature = "std")]
 pub mod stats;
 pub mod strapdown;
+pub mod stuck;
 #[cfg(all(test, feature = "std"))]
 mod testmodels;
 #[cfg(feature = "std")]

@@ -21,10 +21,16 @@
 //! [`Strictness::Lenient`] bad CSV rows are skipped and counted per file instead
 //! (empty files, bad headers and `meta.toml` problems are always errors).
 //!
+//! A `.csv` file whose name is not in the table (e.g. `sonar.csv`, `IMU.CSV`) is
+//! an error ([`LogError::UnknownFile`]) in strict mode, so a misnamed sensor file
+//! is not silently dropped; the lenient reader ignores it and lists it in
+//! [`LogDir::unknown_files`]. Files with other extensions are not looked at.
+//!
 //! Writing goes to a temporary sibling directory that is moved into place only once
 //! every file is complete, so an error never leaves a partial log behind.
 
 mod error;
+pub mod fuzz;
 mod meta;
 mod rows;
 
@@ -97,6 +103,32 @@ pub struct LogDir {
     pub skipped_rows: BTreeMap<String, usize>,
     /// The first few reasons rows were skipped, over all files.
     pub skip_reasons: Vec<SkippedRow>,
+    /// `.csv` files of the directory that are not log files, sorted by name,
+    /// ignored by the lenient reader (the strict reader refuses them).
+    pub unknown_files: Vec<String>,
+}
+
+/// The `.csv` files of `dir` (extension compared without case) whose names are
+/// not in [`LOG_FILES`], sorted. Directories are not listed.
+pub fn unknown_csv_files(dir: &Path) -> Result<Vec<String>, LogError> {
+    let mut unknown = Vec::new();
+    for entry in fs::read_dir(dir).map_err(|e| LogError::io(dir, e))? {
+        let entry = entry.map_err(|e| LogError::io(dir, e))?;
+        let name = entry.file_name().to_string_lossy().into_owned();
+        let is_csv = name.len() > 4
+            && name
+                .get(name.len() - 4..)
+                .is_some_and(|ext| ext.eq_ignore_ascii_case(".csv"));
+        if !is_csv || LOG_FILES.contains(&name.as_str()) {
+            continue;
+        }
+        if entry.file_type().is_ok_and(|t| t.is_dir()) {
+            continue;
+        }
+        unknown.push(name);
+    }
+    unknown.sort();
+    Ok(unknown)
 }
 
 fn read_table<R: Row>(
@@ -145,6 +177,7 @@ impl LogDir {
             truth: None,
             skipped_rows: BTreeMap::new(),
             skip_reasons: Vec::new(),
+            unknown_files: Vec::new(),
         }
     }
 
@@ -172,6 +205,13 @@ impl LogDir {
             Err(e) => return Err(LogError::io(meta_path, e)),
         };
         let meta = Meta::parse(&meta_text)?;
+        let unknown_files = unknown_csv_files(dir)?;
+        if let (Strictness::Strict, Some(file)) = (strictness, unknown_files.first()) {
+            return Err(LogError::UnknownFile {
+                file: file.clone(),
+                dir: dir.to_path_buf(),
+            });
+        }
         let mut sk = BTreeMap::new();
         let mut rs = Vec::new();
         let s = strictness;
@@ -189,6 +229,7 @@ impl LogDir {
             truth: read_table(dir, s, false, &mut sk, &mut rs)?,
             skipped_rows: sk,
             skip_reasons: rs,
+            unknown_files,
         })
     }
 

@@ -36,6 +36,8 @@ use nalgebra::{SMatrix, SVector};
 
 use crate::ekf::{Estimator, FilterError, Propagate, UpdateReport};
 use crate::model::{Record, Sensor};
+use crate::stuck::StuckDetector;
+pub use crate::stuck::MAX_RAW_VALUES;
 
 /// Identifies a sensor registered with [`Scheduler::add_sensor`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -114,6 +116,15 @@ pub enum SchedulerError {
     /// Invalid configuration (rates, latencies, start time).
     #[error("invalid scheduler configuration: {0}")]
     InvalidConfig(&'static str),
+    /// The sensor repeated one value more often than noise and resolution
+    /// explain ([`Scheduler::set_stuck_detector`]).
+    #[error("sensor {sensor:?} is stuck: the same value {run} times in a row")]
+    Stuck {
+        /// The sensor.
+        sensor: SensorId,
+        /// Identical samples in a row, this one included.
+        run: u32,
+    },
     /// The filter refused a propagation (while stepping or replaying).
     #[error("propagation failed: {0}")]
     Propagation(FilterError),
@@ -132,6 +143,12 @@ pub trait Measurement<F> {
     /// # Errors
     /// As the filter's update; the filter is unchanged on error.
     fn apply(&self, filter: &mut F) -> Result<MeasurementOutcome, FilterError>;
+    /// The raw values the sensor reported (at most [`MAX_RAW_VALUES`]), for the
+    /// frozen-value check of [`StuckDetector`]; empty (the default) disables
+    /// the check for this measurement.
+    fn raw_values(&self) -> &[f64] {
+        &[]
+    }
 }
 
 /// The dimension-free part of an [`UpdateReport`].
@@ -232,6 +249,11 @@ where
         Ok(())
     }
 
+    fn raw_values(&self) -> &[f64] {
+        let z = self.z.as_slice();
+        z.get(..MAX_RAW_VALUES).unwrap_or(z)
+    }
+
     fn apply(&self, filter: &mut F) -> Result<MeasurementOutcome, FilterError> {
         let report = match &self.noise {
             MeasurementNoise::Full(r) => filter.update::<S, M>(&self.z, r, &self.aux)?,
@@ -256,15 +278,24 @@ where
 /// ```
 pub struct FnMeasurement<C> {
     finite: bool,
+    raw: [f64; MAX_RAW_VALUES],
+    raw_len: usize,
     apply: C,
 }
 
 impl<C> FnMeasurement<C> {
-    /// Wraps `apply`; `values` are the scalars it captured, checked for
-    /// finiteness so a non-finite measurement is refused before scheduling.
+    /// Wraps `apply`; `values` are the raw sensor values it captured, checked
+    /// for finiteness so a non-finite measurement is refused before
+    /// scheduling, and (the first [`MAX_RAW_VALUES`]) compared with the
+    /// previous ones of the sensor by a [`StuckDetector`].
     pub fn new(values: &[f64], apply: C) -> Self {
+        let mut raw = [0.0; MAX_RAW_VALUES];
+        let raw_len = values.len().min(MAX_RAW_VALUES);
+        raw[..raw_len].copy_from_slice(&values[..raw_len]);
         Self {
             finite: values.iter().all(|v| v.is_finite()),
+            raw,
+            raw_len,
             apply,
         }
     }
@@ -284,6 +315,10 @@ where
 
     fn apply(&self, filter: &mut F) -> Result<MeasurementOutcome, FilterError> {
         (self.apply)(filter)
+    }
+
+    fn raw_values(&self) -> &[f64] {
+        self.raw.get(..self.raw_len).unwrap_or(&[])
     }
 }
 
@@ -320,6 +355,11 @@ pub struct SensorStats {
     pub invalid: u64,
     /// Refused because the pending queue was full.
     pub queue_full: u64,
+    /// Refused as frozen values of a stuck sensor ([`Scheduler::set_stuck_detector`]).
+    pub stuck: u64,
+    /// Times the sensor was declared stuck (runs of identical values that
+    /// reached the detector's limit).
+    pub stuck_episodes: u64,
 }
 
 /// Scheduler-wide counts.
@@ -446,8 +486,32 @@ impl<F: Propagate + Clone> Scheduler<F> {
             },
             finalized: SensorStats::default(),
             last_time: None,
+            stuck: None,
         });
         Ok(SensorId(self.sensors.len() - 1))
+    }
+
+    /// Refuses the frozen values of sensor `id` with `detector` (see
+    /// [`crate::stuck`]): a measurement whose raw values
+    /// ([`Measurement::raw_values`]) repeat those of the sensor's previous
+    /// measurements (in arrival order) `detector.repeats()` times or more is
+    /// refused with [`SchedulerError::Stuck`] and counted in
+    /// [`SensorStats::stuck`]; the filter is unchanged. Only measurements that
+    /// pass every other check reach the detector.
+    ///
+    /// # Errors
+    /// [`SchedulerError::UnknownSensor`].
+    pub fn set_stuck_detector(
+        &mut self,
+        id: SensorId,
+        detector: StuckDetector,
+    ) -> Result<(), SchedulerError> {
+        let entry = self
+            .sensors
+            .get_mut(id.0)
+            .ok_or(SchedulerError::UnknownSensor(id))?;
+        entry.stuck = Some(detector);
+        Ok(())
     }
 
     /// The filter at [`Scheduler::now`].
@@ -484,6 +548,7 @@ impl<F: Propagate + Clone> Scheduler<F> {
     pub fn sensor_stats(&self, id: SensorId) -> Option<SensorStats> {
         let entry = self.sensors.get(id.0)?;
         let mut s = entry.finalized;
+        s.stuck_episodes = entry.stuck.map_or(0, |d| d.episodes());
         for q in self.queue.iter().filter(|q| q.sensor == id.0) {
             tally(&mut s, q.outcome.as_ref());
         }
@@ -540,6 +605,7 @@ impl<F: Propagate + Clone> Scheduler<F> {
                 SchedulerError::TooOld { .. } => s.too_old += 1,
                 SchedulerError::Duplicate { .. } => s.duplicate += 1,
                 SchedulerError::QueueFull { .. } => s.queue_full += 1,
+                SchedulerError::Stuck { .. } => s.stuck += 1,
                 SchedulerError::NonFiniteTime { .. }
                 | SchedulerError::InvalidMeasurement { .. } => s.invalid += 1,
                 _ => s.failed += 1,
@@ -648,19 +714,31 @@ impl<F: Propagate + Clone> Scheduler<F> {
         if self.queue.get(at).is_some_and(|q| q.key() == key) {
             return Err(SchedulerError::Duplicate { sensor, time });
         }
-        let entry = Queued {
-            sensor: sensor.0,
-            time,
-            measurement: m,
-            outcome: None,
-        };
-        if time > self.now {
+        let future = time > self.now;
+        if future {
             let pending = self.queue.len() - self.queue.partition_point(|q| q.time <= self.now);
             if pending >= self.max_pending {
                 return Err(SchedulerError::QueueFull {
                     capacity: self.max_pending,
                 });
             }
+        }
+        if let Some(detector) = self
+            .sensors
+            .get_mut(sensor.0)
+            .and_then(|e| e.stuck.as_mut())
+        {
+            if let crate::stuck::StuckVerdict::Stuck { run } = detector.observe(m.raw_values()) {
+                return Err(SchedulerError::Stuck { sensor, run });
+            }
+        }
+        let entry = Queued {
+            sensor: sensor.0,
+            time,
+            measurement: m,
+            outcome: None,
+        };
+        if future {
             self.queue.insert(at, entry);
             self.note_time(sensor, time);
             return Ok(Vec::new());
@@ -813,6 +891,7 @@ struct SensorEntry {
     /// Refusals, plus final outcomes of measurements that left the history.
     finalized: SensorStats,
     last_time: Option<f64>,
+    stuck: Option<StuckDetector>,
 }
 
 /// Propagates `filter` over `(t0, t1]` with `input`, stopping at each queued
@@ -1293,6 +1372,65 @@ mod tests {
             .push_measurement(ids2[0], 0.005, pos(0.0, 0.0, 0.0))
             .unwrap();
         assert!(rep[0].outcome.is_ok());
+    }
+
+    /// A frozen sensor: its repeats are refused with a typed error once the
+    /// run reaches the detector's limit, counted, and leave the filter
+    /// bit-identical; a changed value is taken again. Without a detector the
+    /// same values are applied.
+    #[test]
+    fn stuck_sensor_is_refused_until_its_value_changes() {
+        let fix = |z: f64| -> Box<dyn Measurement<Filter>> {
+            Box::new(SensorUpdate::<Pos, 3, 1>::new(
+                SVector::<f64, 1>::new(z),
+                SMatrix::<f64, 1, 1>::new(0.25),
+                Offset::default(),
+            ))
+        };
+        let drive = |detect: bool| {
+            let (mut s, ids) = scheduler(1);
+            if detect {
+                s.set_stuck_detector(ids[0], StuckDetector::new(3)).unwrap();
+            }
+            let mut refused = Vec::new();
+            for k in 1..=100 {
+                let t = f64::from(k) * DT;
+                s.push_imu(t, CvbInput { a: 0.0 }).unwrap();
+                if k % 10 == 5 {
+                    // Fixes 0-2 vary, 3-7 are frozen at 0.7, 8-9 vary again.
+                    let i = k / 10;
+                    let z = if (3..=7).contains(&i) {
+                        0.7
+                    } else {
+                        0.1 * f64::from(i)
+                    };
+                    let before = bits(&s);
+                    match s.push_measurement(ids[0], t + 0.001, fix(z)) {
+                        Err(SchedulerError::Stuck { run, .. }) => {
+                            assert_eq!(bits(&s), before, "fix {i} changed the filter");
+                            refused.push((i, run));
+                        }
+                        other => assert!(other.is_ok(), "fix {i}: {other:?}"),
+                    }
+                }
+            }
+            (s, ids, refused)
+        };
+        let (mut s, ids, refused) = drive(true);
+        // The third identical value and later ones are refused.
+        assert_eq!(refused, vec![(5, 3), (6, 4), (7, 5)]);
+        let st = s.sensor_stats(ids[0]).unwrap();
+        assert_eq!((st.stuck, st.stuck_episodes), (3, 1), "{st:?}");
+        assert_eq!(st.accepted + st.gated + st.pending, 7, "{st:?}");
+        let (plain, ids, refused) = drive(false);
+        assert!(refused.is_empty());
+        let st = plain.sensor_stats(ids[0]).unwrap();
+        assert_eq!((st.stuck, st.accepted + st.gated + st.pending), (0, 10));
+        assert_ne!(bits(&plain), bits(&s));
+        assert_eq!(
+            s.set_stuck_detector(SensorId(9), StuckDetector::new(3)),
+            Err(SchedulerError::UnknownSensor(SensorId(9)))
+        );
     }
 
     #[test]

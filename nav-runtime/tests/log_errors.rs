@@ -286,3 +286,39 @@ fn meta_accepts_minimal_and_integers() {
     );
     assert!(m.sensors.imu.is_none() && m.usbl.is_none() && m.initial_sigma.is_none());
 }
+
+/// A `.csv` file the format does not define (a misnamed or unsupported
+/// sensor) is refused by the strict reader with a typed error naming it; the
+/// lenient reader reads the log and lists it. Other extensions are not looked
+/// at, and a directory named like a CSV file is not a file.
+#[test]
+fn unknown_csv_files_are_refused_strictly_and_listed_leniently() {
+    let dir = sample_dir("unknown");
+    std::fs::write(dir.path().join("sonar.csv"), "t,range\n0.1,3\n").unwrap();
+    std::fs::write(dir.path().join("IMU.CSV"), "").unwrap();
+    std::fs::write(dir.path().join("notes.txt"), "not a log file").unwrap();
+    std::fs::create_dir(dir.path().join("plots.csv")).unwrap();
+    let err = LogDir::read(dir.path(), Strictness::Strict).unwrap_err();
+    // Sorted by name: `IMU.CSV` before `sonar.csv`.
+    match &err {
+        LogError::UnknownFile { file, dir: d } => {
+            assert_eq!((file.as_str(), d.as_path()), ("IMU.CSV", dir.path()));
+        }
+        other => panic!("{other:?}"),
+    }
+    assert_eq!(err.file(), Some("IMU.CSV"));
+    let text = err.to_string();
+    assert!(
+        text.starts_with("IMU.CSV: unknown log file") && !text.contains('\n'),
+        "{text}"
+    );
+    let log = LogDir::read(dir.path(), Strictness::Lenient).unwrap();
+    assert_eq!(log.unknown_files, vec!["IMU.CSV", "sonar.csv"]);
+    assert_eq!(log.total_skipped_rows(), 0);
+    assert_eq!(log.imu.len(), 40);
+    // Without them the strict reader accepts the log and lists nothing.
+    std::fs::remove_file(dir.path().join("sonar.csv")).unwrap();
+    std::fs::remove_file(dir.path().join("IMU.CSV")).unwrap();
+    let log = LogDir::read(dir.path(), Strictness::Strict).unwrap();
+    assert!(log.unknown_files.is_empty());
+}

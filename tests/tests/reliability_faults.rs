@@ -9,10 +9,11 @@ use models::montecarlo::{ReplayModel, ReplayOptions, RunOptions, RunResult, Scen
 use models::sdins25::faults::{self, ALL};
 use models::sdins25::filter::{self, FilterOptions, ImuSample};
 use models::sdins25::simulation::{simulate, SimConfig};
-use models::sdins25::{scenario, Sdins25Replay};
+use models::sdins25::{scenario, simulate_with_faults, Sdins25Replay};
 use nav_runtime::log::{LogDir, Strictness};
 use nav_runtime::nalgebra::Vector3;
 use nav_runtime::scheduler::{Scheduler, SchedulerError};
+use nav_runtime::stuck::StuckDetector;
 
 const SEEDS: [u64; 3] = [1, 2, 3];
 
@@ -162,6 +163,70 @@ fn all_faults_at_once() {
         assert!(r.metric("horizontal_error_final_m") < 30.0, "seed {seed}");
         assert!(r.metric("nees_mean").is_finite());
     }
+}
+
+/// A frozen compass or depth meter is declared stuck by the frozen-value
+/// detector: every repeat from the third identical sample on is refused and
+/// counted as `stuck`; sensors that are not frozen are never declared stuck.
+#[test]
+fn stuck_sensors_are_detected_and_refused() {
+    for seed in SEEDS {
+        let base = run("lawnmower-dvl", &[], seed);
+        assert_eq!(sum(&base, "stuck", &AIDING), 0.0, "seed {seed}");
+        for (fault, sensor) in [
+            (faults::STUCK_DEPTH, "depth"),
+            (faults::STUCK_COMPASS, "heading"),
+        ] {
+            let r = run("lawnmower-dvl", &[fault], seed);
+            let injected = r.metric(&format!("fault_{fault}_injected"));
+            let stuck = r.metric(&format!("{sensor}_stuck"));
+            // The detector the filter builds for this log: its run length
+            // follows from the sensor noise and the log's resolution.
+            let names = vec![fault.to_string()];
+            let (sim, _) = simulate_with_faults(&SimConfig::dvl(), seed, &names).unwrap();
+            let (values, sigma): (Vec<f64>, f64) = if sensor == "depth" {
+                let rows = sim.log.depth.as_ref().unwrap();
+                let s = sim.log.meta.sensors.depth.unwrap().noise_sigma;
+                (rows.iter().map(|r| r.depth).collect(), s)
+            } else {
+                let rows = sim.log.heading.as_ref().unwrap();
+                let s = sim.log.meta.sensors.heading.unwrap().noise_sigma;
+                (rows.iter().map(|r| r.heading).collect(), s)
+            };
+            let q = filter::log_resolution(values.iter().map(std::slice::from_ref));
+            let repeats =
+                filter::stuck_detector(sigma, q, StuckDetector::DEFAULT_FALSE_ALARM).repeats();
+            assert!((3..=5).contains(&repeats), "{fault} seed {seed}: {repeats}");
+            // `injected` counts the repeats after the first frozen value; the
+            // first `repeats - 2` repeats are still taken.
+            assert_eq!(
+                stuck,
+                injected - f64::from(repeats - 2),
+                "{fault} seed {seed}"
+            );
+            assert_eq!(sum(&r, "stuck", &AIDING), stuck, "{fault} seed {seed}");
+        }
+        let r = run("lawnmower-dvl", &[faults::SPIKES], seed);
+        assert_eq!(sum(&r, "stuck", &AIDING), 0.0, "spikes seed {seed}");
+    }
+}
+
+/// Seed 22 with every fault once diverged to 2.3 km: a frozen depth meter
+/// during a loss of DVL bottom lock was accepted at first, and the gate then
+/// refused every correct depth and DVL sample (gate lock-out). The frozen
+/// values are now refused as stuck.
+#[test]
+fn stuck_depth_during_no_lock_no_longer_locks_the_gate_out() {
+    let all: Vec<&str> = faults::WITHOUT_USBL.to_vec();
+    let r = run("lawnmower-dvl", &all, 22);
+    let err = r.metric("horizontal_error_final_m");
+    assert!(err < 30.0, "seed 22: {err} m");
+    assert!(
+        r.metric("depth_error_rms_m") < 5.0,
+        "{}",
+        r.metric("depth_error_rms_m")
+    );
+    assert!(r.metric("depth_stuck") > 100.0);
 }
 
 #[test]

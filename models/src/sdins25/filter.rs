@@ -28,6 +28,7 @@ use nav_runtime::nalgebra::{Matrix3, SMatrix, SVector, Vector2, Vector3};
 use nav_runtime::scheduler::{FnMeasurement, Measurement, MeasurementOutcome, Scheduler, SensorId};
 use nav_runtime::sensors::ErrorSpec;
 use nav_runtime::strapdown::{NavError, NavState, Strapdown};
+use nav_runtime::stuck::StuckDetector;
 
 use super::model::Sdins25;
 use super::simulation::{DVL_MAX_ALTITUDE, SOUND_SPEED, TRACKPOINT_MISALIGNMENT_SIGMA};
@@ -84,6 +85,10 @@ pub struct FilterOptions {
     /// Extra delivery delay of the DVL, depth and compass measurements
     /// (fault injection; zero in normal runs).
     pub delivery: Delivery,
+    /// False-alarm probability of the frozen-value (stuck sensor) check of
+    /// every aiding sensor ([`nav_runtime::stuck`], [`stuck_detector`]);
+    /// `None` disables it.
+    pub stuck_false_alarm: Option<f64>,
 }
 
 /// Late delivery of the 2 Hz aiding measurements (DVL, depth, compass): each
@@ -141,6 +146,7 @@ impl Default for FilterOptions {
             use_compass: true,
             use_usbl: true,
             delivery: Delivery::default(),
+            stuck_false_alarm: Some(StuckDetector::DEFAULT_FALSE_ALARM),
         }
     }
 }
@@ -393,6 +399,9 @@ pub struct SensorHealth {
     pub rejected: u64,
     /// Not used: no bottom lock, above the DVL range, or before the start.
     pub skipped: u64,
+    /// Refused as frozen values (the sensor repeated one value more often than
+    /// its noise and resolution explain; [`stuck_detector`]).
+    pub stuck: u64,
 }
 
 /// The result of a run of vehicle `V` over a log.
@@ -815,6 +824,37 @@ pub fn run_vehicle<V: InsVehicle<N>, const N: usize>(
                 .map_err(|e| RunError::Invalid(e.to_string()))?,
         );
     }
+    if let Some(alpha) = options.stuck_false_alarm {
+        // Resolution of each sensor in this log; USBL angles converted to metres.
+        let radius = meridian_radius(log.meta.initial.lat);
+        let q = [
+            log.depth.as_ref().map_or(0.0, |r| {
+                log_resolution(r.iter().map(|x| std::slice::from_ref(&x.depth)))
+            }),
+            log.dvl.as_ref().map_or(0.0, |r| {
+                let v: Vec<[f64; 3]> = r.iter().filter_map(|x| x.velocity()).collect();
+                log_resolution(v.iter().map(|x| x.as_slice()))
+            }),
+            log.heading.as_ref().map_or(0.0, |r| {
+                log_resolution(r.iter().map(|x| std::slice::from_ref(&x.heading)))
+            }),
+            log.usbl.as_ref().map_or(0.0, |r| {
+                let v: Vec<[f64; 2]> = r.iter().map(|x| [x.lat, x.lon]).collect();
+                radius * log_resolution(v.iter().map(|x| x.as_slice()))
+            }),
+        ];
+        let sigma = [
+            depth_noise.noise_sigma,
+            dvl_noise.noise_sigma,
+            heading_noise.noise_sigma,
+            usbl_noise.noise_sigma,
+        ];
+        for i in 0..4 {
+            sched
+                .set_stuck_detector(ids[i], stuck_detector(sigma[i], q[i], alpha))
+                .map_err(|e| RunError::Invalid(e.to_string()))?;
+        }
+    }
     let rec_id = sched
         .add_sensor("record", 10.0, 0.0)
         .map_err(|e| RunError::Invalid(e.to_string()))?;
@@ -911,6 +951,7 @@ pub fn run_vehicle<V: InsVehicle<N>, const N: usize>(
             h.gated = s.gated;
             h.rejected = s.failed + s.too_old + s.duplicate + s.invalid + s.queue_full;
             h.skipped += skipped_early[i];
+            h.stuck = s.stuck;
         }
     }
     let final_filter = sched.filter().clone();
@@ -935,6 +976,38 @@ pub fn run_vehicle<V: InsVehicle<N>, const N: usize>(
         final_filter,
         ignored,
     })
+}
+
+/// Output resolution of a sensor in a log: the smallest non-zero change
+/// between consecutive values of any component (a multiple of the
+/// quantization step, so never finer than it); 0 if no value changes.
+pub fn log_resolution<'a>(values: impl Iterator<Item = &'a [f64]>) -> f64 {
+    let mut previous: Option<&[f64]> = None;
+    let mut q = f64::INFINITY;
+    for v in values {
+        if let Some(p) = previous {
+            for (a, b) in p.iter().zip(v) {
+                let d = (a - b).abs();
+                if d > 0.0 && d.is_finite() {
+                    q = q.min(d);
+                }
+            }
+        }
+        previous = Some(v);
+    }
+    if q.is_finite() {
+        q
+    } else {
+        0.0
+    }
+}
+
+/// The frozen-value detector of a sensor with per-sample noise `noise_sigma`
+/// and log resolution `resolution` (same units) at false-alarm probability
+/// `false_alarm`: see [`StuckDetector::for_sensor`]. With full-precision logs
+/// (simulation) this is [`StuckDetector::MIN_REPEATS`] identical samples.
+pub fn stuck_detector(noise_sigma: f64, resolution: f64, false_alarm: f64) -> StuckDetector {
+    StuckDetector::for_sensor(noise_sigma, resolution, false_alarm)
 }
 
 /// Echo-sounder altitude at `t`: the latest row at or before `t` (m).

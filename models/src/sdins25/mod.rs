@@ -149,6 +149,7 @@ fn metrics<V: InsVehicle<N>, const N: usize>(
         m.push((format!("{name}_gated"), h.gated as f64));
         m.push((format!("{name}_rejected"), h.rejected as f64));
         m.push((format!("{name}_skipped"), h.skipped as f64));
+        m.push((format!("{name}_stuck"), h.stuck as f64));
     }
     if let Some(s) = scored {
         m.extend([
@@ -237,6 +238,7 @@ fn health(runs: &[RunResult]) -> Value {
                 "gated": sum(&format!("{name}_gated")),
                 "rejected": sum(&format!("{name}_rejected")),
                 "skipped": sum(&format!("{name}_skipped")),
+                "stuck": sum(&format!("{name}_stuck")),
             }),
         );
     }

@@ -127,6 +127,14 @@ pub enum LogError {
         /// The log directory.
         dir: PathBuf,
     },
+    /// A `.csv` file that is not one of the log files (strict reading only).
+    #[error("{file}: unknown log file in {} (log files: {})", dir.display(), super::LOG_FILES.join(", "))]
+    UnknownFile {
+        /// The file's name.
+        file: String,
+        /// The log directory.
+        dir: PathBuf,
+    },
     /// The CSV file has no header row.
     #[error("{file}: empty file (expected header `{expected}`)")]
     EmptyFile {
@@ -173,6 +181,7 @@ impl LogError {
         match self {
             LogError::Io { .. } | LogError::Write { .. } => None,
             LogError::MissingFile { file, .. }
+            | LogError::UnknownFile { file, .. }
             | LogError::EmptyFile { file, .. }
             | LogError::Csv { file, .. } => Some(file),
             LogError::Meta { .. } => Some("meta.toml"),
