@@ -9,11 +9,14 @@
 //! `innovation_terms/<sensor>` with `generated` and `dense`.
 //!
 //! Run: `cargo bench -p models --bench update` (ratios: `scripts/bench.sh`).
+//! `UPDATE_ONLY=<sensor>/<generated|dense>` skips criterion and calls that
+//! variant `UPDATE_CALLS` times (default 1000), for instruction counts under
+//! callgrind (`scripts/bench.sh --callgrind`).
 
 mod common;
 
 use common::*;
-use criterion::{criterion_group, criterion_main, Criterion};
+use criterion::{criterion_group, Criterion};
 use models::sdins25::model::{
     Sdins25, Sdins25Compass, Sdins25CompassSmallAngle, Sdins25Depth, Sdins25Dvl, Sdins25Input,
     Sdins25Params, Sdins25Usbl, Sdins25UsblAux,
@@ -40,6 +43,19 @@ fn filter() -> (Filter, Sdins25Input, Sdins25Params) {
     (f, u, par)
 }
 
+/// `Ekf::update` behind a call boundary, so callgrind can collect inside it.
+#[inline(never)]
+fn generated_update<S, const M: usize>(
+    f: &mut Filter,
+    z: &SVector<f64, M>,
+    r: &SMatrix<f64, M, M>,
+    aux: &S::Aux,
+) where
+    S: Sensor<25, M, Model = Sdins25>,
+{
+    black_box(f.update::<S, M>(z, r, aux).unwrap());
+}
+
 fn bench_sensor<S, const M: usize>(
     c: &mut Criterion,
     name: &str,
@@ -51,6 +67,34 @@ fn bench_sensor<S, const M: usize>(
 {
     let (f0, u, par) = filter();
     let prior = (*f0.state(), *f0.covariance());
+    if let Ok(only) = std::env::var("UPDATE_ONLY") {
+        let calls: u64 = std::env::var("UPDATE_CALLS")
+            .ok()
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(1000);
+        match only.split_once('/') {
+            Some((sensor, "generated")) if sensor == name => {
+                let mut f = f0.clone();
+                for i in 0..calls {
+                    if i % RESET_EVERY == 0 {
+                        f.clone_from(&f0);
+                    }
+                    generated_update::<S, M>(&mut f, &z, &r, &aux);
+                }
+            }
+            Some((sensor, "dense")) if sensor == name => {
+                let (mut x, mut p) = prior;
+                for i in 0..calls {
+                    if i % RESET_EVERY == 0 {
+                        (x, p) = prior;
+                    }
+                    dense_joseph_update::<S, 25, M>(&mut x, &mut p, &z, &r, &u, &par, &aux);
+                }
+            }
+            _ => {}
+        }
+        return;
+    }
 
     // Both updates give the same posterior before anything is timed.
     let mut f = f0.clone();
@@ -70,10 +114,7 @@ fn bench_sensor<S, const M: usize>(
     g.bench_function("generated", |b| {
         b.iter_custom(|iters| {
             time_in_place(iters, &f0, RESET_EVERY, |f| {
-                black_box(
-                    f.update::<S, M>(black_box(&z), black_box(&r), black_box(&aux))
-                        .unwrap(),
-                );
+                generated_update::<S, M>(f, black_box(&z), black_box(&r), black_box(&aux))
             })
         })
     });
@@ -160,4 +201,12 @@ fn updates(c: &mut Criterion) {
 }
 
 criterion_group!(benches, updates);
-criterion_main!(benches);
+
+fn main() {
+    if std::env::var("UPDATE_ONLY").is_ok() {
+        updates(&mut Criterion::default());
+        return;
+    }
+    benches();
+    Criterion::default().configure_from_args().final_summary();
+}

@@ -454,10 +454,8 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
     /// [`FilterError::NonFiniteResult`] if the model produced NaN/infinity.
     /// The filter is unchanged in every case.
     pub fn predict(&mut self, dt: f64, input: &Mo::Input) -> Result<(), FilterError> {
-        match self.predicted(dt, input) {
-            Ok((x, p, repairs)) => {
-                self.x = x;
-                self.p = p;
+        match self.predict_in_place(dt, input) {
+            Ok(repairs) => {
                 self.input = *input;
                 self.counters.predictions += 1;
                 self.counters.covariance_repairs += u64::from(repairs);
@@ -500,8 +498,21 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
     where
         S: Sensor<N, M, Model = Mo>,
     {
-        let result = self.batch_update::<S, M>(z, r, aux);
-        self.commit(result)
+        match self.batch_update::<S, M>(z, r, aux) {
+            Ok(report) => {
+                if report.accepted {
+                    self.counters.updates_accepted += 1;
+                    self.counters.covariance_repairs += u64::from(report.repairs);
+                } else {
+                    self.counters.updates_gated += 1;
+                }
+                Ok(report)
+            }
+            Err(e) => {
+                self.counters.updates_rejected += 1;
+                Err(e)
+            }
+        }
     }
 
     /// Fuses measurement `z` of sensor `S` as `M` scalar updates, one per row of
@@ -565,13 +576,13 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
         }
     }
 
-    /// The state and covariance after a prediction, without storing them.
-    #[allow(clippy::type_complexity)]
-    fn predicted(
-        &self,
-        dt: f64,
-        u: &Mo::Input,
-    ) -> Result<(SVector<f64, N>, SMatrix<f64, N, N>, u32), FilterError> {
+    /// Propagates `x` and `P` in place (eq. P1); on error both are unchanged.
+    /// Returns the number of repaired variances.
+    ///
+    /// The state is propagated into a temporary and checked first; `P` is
+    /// propagated in place with one backup copy, which is restored if the
+    /// result has a non-finite covariance.
+    fn predict_in_place(&mut self, dt: f64, u: &Mo::Input) -> Result<u32, FilterError> {
         if !(dt.is_finite() && dt > 0.0) {
             return Err(FilterError::InvalidTimeStep { dt });
         }
@@ -581,52 +592,75 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
                 name: name_of::<Mo::Input>(index),
             });
         }
-        let (x, p) = (&self.x, &self.p);
+        let not_finite = FilterError::NonFiniteResult {
+            stage: "prediction",
+        };
         let (par, q) = (&self.params, &self.noise);
         let method = if Mo::DISCRETE {
             Discretization::FirstOrder
         } else {
             self.discretization
         };
-        let (x_new, mut p_new) = match method {
+        let prev = self.p;
+        let x_new = match method {
             Discretization::FirstOrder => {
-                let mut p_new = *p;
-                Mo::propagate_covariance(&mut p_new, x, u, par, q, dt);
-                (Mo::transition(x, u, par, dt), p_new)
+                let x_new = Mo::transition(&self.x, u, par, dt);
+                if !all_finite(x_new.as_slice()) {
+                    return Err(not_finite);
+                }
+                // The generated propagation writes an exactly symmetric `P`
+                // (it computes the upper triangle and mirrors it), so there
+                // is nothing to mirror here.
+                Mo::propagate_covariance(&mut self.p, &self.x, u, par, q, dt);
+                x_new
             }
             Discretization::SecondOrder => {
-                let f = Mo::jacobian(x, u, par, dt);
-                let qc = Mo::process_noise(x, u, par, q, dt) / dt;
+                let f = Mo::jacobian(&self.x, u, par, dt);
+                let qc = Mo::process_noise(&self.x, u, par, q, dt) / dt;
                 let (phi, qd) = second_order(&f, &qc, dt);
-                (heun::<Mo, N>(x, u, par, dt), phi * p * phi.transpose() + qd)
+                let x_new = heun::<Mo, N>(&self.x, u, par, dt);
+                if !all_finite(x_new.as_slice()) {
+                    return Err(not_finite);
+                }
+                self.p = phi * prev * phi.transpose() + qd;
+                mirror_upper(&mut self.p);
+                x_new
             }
             Discretization::VanLoan => {
-                let f = Mo::jacobian(x, u, par, dt);
-                let qc = Mo::process_noise(x, u, par, q, dt) / dt;
+                let f = Mo::jacobian(&self.x, u, par, dt);
+                let qc = Mo::process_noise(&self.x, u, par, q, dt) / dt;
                 let (phi, qd) = van_loan(&f, &qc, dt);
-                (
-                    runge_kutta4::<Mo, N>(x, u, par, dt),
-                    phi * p * phi.transpose() + qd,
-                )
+                let x_new = runge_kutta4::<Mo, N>(&self.x, u, par, dt);
+                if !all_finite(x_new.as_slice()) {
+                    return Err(not_finite);
+                }
+                self.p = phi * prev * phi.transpose() + qd;
+                mirror_upper(&mut self.p);
+                x_new
             }
         };
-        mirror_upper(&mut p_new);
-        if !all_finite(x_new.as_slice()) {
-            return Err(FilterError::NonFiniteResult {
-                stage: "prediction",
-            });
+        let mut repairs = 0;
+        if !covariance_is_clean(&self.p) {
+            if !off_diagonal_finite(&self.p) {
+                self.p = prev;
+                return Err(not_finite);
+            }
+            repairs = repair_diagonal(&mut self.p, &prev.diagonal(), self.variance_floor);
         }
-        let repairs = repair_covariance(&mut p_new, p, self.variance_floor, "prediction")?;
-        Ok((x_new, p_new, repairs))
+        self.x = x_new;
+        Ok(repairs)
     }
 
     /// Eqs. U1-U6 with the generated sparse innovation terms.
+    ///
+    /// Stores the posterior in place if the update is accepted and succeeds;
+    /// on error `x` and `P` are unchanged.
     fn batch_update<S, const M: usize>(
-        &self,
+        &mut self,
         z: &SVector<f64, M>,
         r: &SMatrix<f64, M, M>,
         aux: &S::Aux,
-    ) -> Result<Proposal<N, M>, FilterError>
+    ) -> Result<UpdateReport<M>, FilterError>
     where
         S: Sensor<N, M, Model = Mo>,
     {
@@ -658,23 +692,17 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
             repairs: 0,
         };
         if !report.accepted {
-            return Ok(Proposal {
-                report,
-                posterior: None,
-            });
+            return Ok(report);
         }
         // K^T = S^-1 U^T (S symmetric), eq. U4.
         let k = chol.solve(&u.transpose()).transpose();
         let x_new = self.x + k * nu;
-        let mut p_new = joseph_update(&self.p, &k, &u, &s);
         if !all_finite(x_new.as_slice()) {
             return Err(FilterError::NonFiniteResult { stage: "update" });
         }
-        report.repairs = repair_covariance(&mut p_new, &self.p, self.variance_floor, "update")?;
-        Ok(Proposal {
-            report,
-            posterior: Some((x_new, p_new)),
-        })
+        report.repairs = joseph_in_place(&mut self.p, &k, &u, &s, self.variance_floor)?;
+        self.x = x_new;
+        Ok(report)
     }
 
     /// Scalar sequential fusion for diagonal `R` (see [`Ekf::update_sequential`]).
@@ -733,13 +761,8 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
             let ki = ui / si;
             dx += ki * ei;
             // Scalar Joseph form: P - k u^T - u k^T + k s k^T (eq. U6, M = 1).
-            for c in 0..N {
-                for r in 0..=c {
-                    let v = p[(r, c)] - ki[r] * ui[c] - ui[r] * ki[c] + ki[r] * si * ki[c];
-                    p[(r, c)] = v;
-                    p[(c, r)] = v;
-                }
-            }
+            let _ = joseph_lower(&mut p, &ki, &ui, &SMatrix::<f64, 1, 1>::new(si));
+            mirror_lower(&mut p);
         }
         if !nis.is_finite() {
             return Err(not_pd);
@@ -764,7 +787,12 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
         if !all_finite(x_new.as_slice()) {
             return Err(FilterError::NonFiniteResult { stage: "update" });
         }
-        report.repairs = repair_covariance(&mut p, &self.p, self.variance_floor, "update")?;
+        if !covariance_is_clean(&p) {
+            if !off_diagonal_finite(&p) {
+                return Err(FilterError::NonFiniteResult { stage: "update" });
+            }
+            report.repairs = repair_diagonal(&mut p, &self.p.diagonal(), self.variance_floor);
+        }
         Ok(Proposal {
             report,
             posterior: Some((x_new, p)),
@@ -892,27 +920,94 @@ pub fn van_loan<const N: usize>(
 
 /// The Joseph covariance update `P - K U^T - U K^T + K S K^T` (eq. U6) with
 /// `U = P H^T` and `S = H P H^T + R`, which equals
-/// `(I - K H) P (I - K H)^T + K R K^T` for any gain `K`. Only the upper
-/// triangle is computed, O(N^2 M), then mirrored.
+/// `(I - K H) P (I - K H)^T + K R K^T` for any gain `K`. O(N^2 M) on one
+/// triangle, then mirrored (see [`joseph_lower`]).
+#[cfg(test)]
 pub(crate) fn joseph_update<const N: usize, const M: usize>(
     p: &SMatrix<f64, N, N>,
     k: &SMatrix<f64, N, M>,
     u: &SMatrix<f64, N, M>,
     s: &SMatrix<f64, M, M>,
 ) -> SMatrix<f64, N, N> {
-    let ks = k * s;
     let mut out = *p;
-    for c in 0..N {
-        for r in 0..=c {
-            let mut v = p[(r, c)];
-            for m in 0..M {
-                v += -k[(r, m)] * u[(c, m)] - u[(r, m)] * k[(c, m)] + ks[(r, m)] * k[(c, m)];
-            }
-            out[(r, c)] = v;
-            out[(c, r)] = v;
-        }
-    }
+    let _ = joseph_lower(&mut out, k, u, s);
+    mirror_lower(&mut out);
     out
+}
+
+/// The lower triangle (diagonal included) of the Joseph update (eq. U6),
+/// computed in place; the strict upper triangle of `p` is left as it was.
+/// Returns `true` if the result needs no repair (every entry finite, every
+/// variance positive), checked in the same pass; `false` may also mean that a
+/// checksum overflowed, so the caller then checks exactly.
+///
+/// With `W = K S - U`, eq. U6 is `P - K U^T + W K^T` (`K S K^T - U K^T =
+/// W K^T`), so column `c` of the result is
+/// `P[:, c] - sum_m K[:, m] U[c, m] + sum_m W[:, m] K[c, m]`: one loop over
+/// the contiguous rows `c..N` of the column (`P`, `K`, `W` are column-major),
+/// which the compiler vectorizes. Each entry reads only its own prior value,
+/// so the prior's upper triangle (equal to its lower one, `P` being exactly
+/// symmetric) stays available to undo the update.
+fn joseph_lower<const N: usize, const M: usize>(
+    p: &mut SMatrix<f64, N, N>,
+    k: &SMatrix<f64, N, M>,
+    u: &SMatrix<f64, N, M>,
+    s: &SMatrix<f64, M, M>,
+) -> bool {
+    let w = k * s - u;
+    let (kd, ud, wd) = (&k.data.0, &u.data.0, &w.data.0);
+    // Row sums of the result: finite if every entry is (an overflowing sum
+    // merely sends the caller to the exact slow path).
+    let mut acc = [0.0f64; N];
+    let mut diagonal_ok = true;
+    for (c, col) in p.data.0.iter_mut().enumerate() {
+        let mut a = [0.0f64; M];
+        let mut b = [0.0f64; M];
+        for m in 0..M {
+            a[m] = ud[m][c];
+            b[m] = kd[m][c];
+        }
+        for r in c..N {
+            let mut v = col[r];
+            for m in 0..M {
+                v += wd[m][r] * b[m] - kd[m][r] * a[m];
+            }
+            col[r] = v;
+            acc[r] += v;
+        }
+        diagonal_ok &= col[c] > 0.0 && col[c] <= f64::MAX;
+    }
+    diagonal_ok && acc.iter().all(|x| x.is_finite())
+}
+
+/// Eq. U6 stored in `p` in place, with the checks and repairs of
+/// [`Ekf::update`]; returns the number of repaired variances.
+///
+/// The lower triangle is computed over the prior's (see [`joseph_lower`])
+/// and checked in one pass; only then is it mirrored. If an off-diagonal
+/// entry is not finite, the prior is restored exactly (its upper triangle
+/// and its saved diagonal) and the update is refused.
+fn joseph_in_place<const N: usize, const M: usize>(
+    p: &mut SMatrix<f64, N, N>,
+    k: &SMatrix<f64, N, M>,
+    u: &SMatrix<f64, N, M>,
+    s: &SMatrix<f64, M, M>,
+    floor: f64,
+) -> Result<u32, FilterError> {
+    let prior_diagonal = p.diagonal();
+    if joseph_lower(p, k, u, s) {
+        mirror_lower(p);
+        return Ok(0);
+    }
+    if !off_diagonal_finite(p) {
+        for (i, d) in prior_diagonal.iter().enumerate() {
+            p[(i, i)] = *d;
+        }
+        mirror_upper(p);
+        return Err(FilterError::NonFiniteResult { stage: "update" });
+    }
+    mirror_lower(p);
+    Ok(repair_diagonal(p, &prior_diagonal, floor))
 }
 
 /// A computed update not yet stored: the report and, if accepted, `(x, P)`.
@@ -1174,29 +1269,52 @@ fn is_symmetric<const N: usize>(m: &SMatrix<f64, N, N>) -> bool {
     })
 }
 
-/// Repairs a covariance after a prediction or update (see [`Ekf::update`]);
-/// returns the number of repaired diagonal entries. A non-finite off-diagonal
-/// entry cannot be repaired meaningfully and is an error.
-fn repair_covariance<const N: usize>(
-    p: &mut SMatrix<f64, N, N>,
-    prev: &SMatrix<f64, N, N>,
-    floor: f64,
-    stage: &'static str,
-) -> Result<u32, FilterError> {
-    for c in 0..N {
-        for r in 0..c {
-            if !p[(r, c)].is_finite() {
-                return Err(FilterError::NonFiniteResult { stage });
-            }
+/// `true` if every entry of `p` is finite and every diagonal entry positive:
+/// the common case, in which nothing needs repairing. One branch-free,
+/// vectorizable pass: the sum of all entries is finite if they all are (a sum
+/// that overflows merely sends the caller to the exact slow path,
+/// [`off_diagonal_finite`] and [`repair_diagonal`]).
+fn covariance_is_clean<const N: usize>(p: &SMatrix<f64, N, N>) -> bool {
+    let mut acc = [0.0f64; 4];
+    let mut chunks = p.as_slice().chunks_exact(4);
+    for chunk in &mut chunks {
+        for (a, x) in acc.iter_mut().zip(chunk) {
+            *a += x;
         }
     }
+    for (a, x) in acc.iter_mut().zip(chunks.remainder()) {
+        *a += x;
+    }
+    let diagonal_ok = p.diagonal().iter().all(|d| *d > 0.0 && *d <= f64::MAX);
+    diagonal_ok && (acc[0] + acc[1] + acc[2] + acc[3]).is_finite()
+}
+
+/// `true` if every entry below the diagonal of `p` is finite (for a symmetric
+/// `p`, every off-diagonal entry). A non-finite off-diagonal entry cannot be
+/// repaired meaningfully: the prediction or update is refused.
+fn off_diagonal_finite<const N: usize>(p: &SMatrix<f64, N, N>) -> bool {
+    p.as_slice()
+        .chunks_exact(N)
+        .enumerate()
+        .all(|(c, col)| col.get(c + 1..).is_none_or(all_finite))
+}
+
+/// Repairs the diagonal of a symmetric covariance after a prediction or
+/// update (see [`Ekf::update`]): each variance that is not positive and
+/// finite is reset to its previous value `prev[i]` (if above `floor`) or to
+/// `floor`, with its row and column zeroed. Returns the number repaired.
+fn repair_diagonal<const N: usize>(
+    p: &mut SMatrix<f64, N, N>,
+    prev: &SVector<f64, N>,
+    floor: f64,
+) -> u32 {
     let mut repairs = 0;
     for i in 0..N {
         let d = p[(i, i)];
         if d.is_finite() && d > 0.0 {
             continue;
         }
-        let before = prev[(i, i)];
+        let before = prev[i];
         let value = if before.is_finite() && before > floor {
             before
         } else {
@@ -1209,7 +1327,7 @@ fn repair_covariance<const N: usize>(
         p[(i, i)] = value;
         repairs += 1;
     }
-    Ok(repairs)
+    repairs
 }
 
 /// The gate decision: `nis <= threshold`, always true without a gate. A NaN
@@ -1230,8 +1348,30 @@ fn mirror_upper<const N: usize>(m: &mut SMatrix<f64, N, N>) {
     }
 }
 
+/// Copies the lower triangle onto the upper one.
+fn mirror_lower<const N: usize>(m: &mut SMatrix<f64, N, N>) {
+    for c in 0..N {
+        for r in 0..c {
+            m[(r, c)] = m[(c, r)];
+        }
+    }
+}
+
+/// `true` if every element is finite. Branch-free over chunks of four (`x * 0`
+/// is zero for a finite `x` and NaN otherwise, and NaN survives the sums), so
+/// the check vectorizes.
 fn all_finite(v: &[f64]) -> bool {
-    v.iter().all(|x| x.is_finite())
+    let mut acc = [0.0f64; 4];
+    let mut chunks = v.chunks_exact(4);
+    for chunk in &mut chunks {
+        for (a, x) in acc.iter_mut().zip(chunk) {
+            *a += x * 0.0;
+        }
+    }
+    for (a, x) in acc.iter_mut().zip(chunks.remainder()) {
+        *a += x * 0.0;
+    }
+    acc.iter().all(|a| *a == 0.0)
 }
 
 /// Index of the first non-finite scalar of a record.
@@ -1629,6 +1769,54 @@ mod tests {
             f.counters().updates_accepted + f.counters().updates_gated,
             0
         );
+    }
+
+    /// Results that overflow are refused after `P` was (partly) overwritten in
+    /// place: the prior must come back bit for bit, for every discretization
+    /// and for both updates.
+    #[test]
+    fn overflowing_results_are_refused_and_leave_state_unchanged() {
+        // Valid setup (symmetric, finite, non-negative variances) whose
+        // propagation and update overflow in off-diagonal entries.
+        let p = M3::new(1.0, 1e200, 1e200, 1e200, 1e300, 0.0, 1e200, 0.0, 1e300);
+        let x = V3::new(0.1, 0.2, 0.3);
+        for method in [
+            Discretization::FirstOrder,
+            Discretization::SecondOrder,
+            Discretization::VanLoan,
+        ] {
+            let mut f = Ekf::<Cvb, 3>::new(x, p, (), NOISE)
+                .unwrap()
+                .with_discretization(method)
+                .with_default_gate(None);
+            let before = f.clone();
+            let err = f.predict(1e10, &CvbInput { a: 0.0 }).unwrap_err();
+            assert_eq!(
+                err,
+                FilterError::NonFiniteResult {
+                    stage: "prediction"
+                },
+                "{method:?}"
+            );
+            assert!(same_bits(&f, &before), "{method:?}");
+            assert_eq!(f.counters().predictions_rejected, 1);
+        }
+        let mut f = Ekf::<Cvb, 3>::new(x, p, (), NOISE)
+            .unwrap()
+            .with_default_gate(None);
+        let before = f.clone();
+        let z = SVector::<f64, 1>::new(0.5);
+        let err = f
+            .update::<Pos, 1>(&z, &SMatrix::<f64, 1, 1>::new(0.1), &Offset::default())
+            .unwrap_err();
+        assert_eq!(err, FilterError::NonFiniteResult { stage: "update" });
+        assert!(same_bits(&f, &before));
+        let err = f
+            .update_sequential::<Pos, 1>(&z, &SVector::<f64, 1>::new(0.1), &Offset::default())
+            .unwrap_err();
+        assert_eq!(err, FilterError::NonFiniteResult { stage: "update" });
+        assert!(same_bits(&f, &before));
+        assert_eq!(f.counters().updates_rejected, 2);
     }
 
     #[test]
