@@ -1275,8 +1275,8 @@ fn is_symmetric<const N: usize>(m: &SMatrix<f64, N, N>) -> bool {
 /// that overflows merely sends the caller to the exact slow path,
 /// [`off_diagonal_finite`] and [`repair_diagonal`]).
 fn covariance_is_clean<const N: usize>(p: &SMatrix<f64, N, N>) -> bool {
-    let mut acc = [0.0f64; 4];
-    let mut chunks = p.as_slice().chunks_exact(4);
+    let mut acc = [0.0f64; 8];
+    let mut chunks = p.as_slice().chunks_exact(8);
     for chunk in &mut chunks {
         for (a, x) in acc.iter_mut().zip(chunk) {
             *a += x;
@@ -1285,8 +1285,12 @@ fn covariance_is_clean<const N: usize>(p: &SMatrix<f64, N, N>) -> bool {
     for (a, x) in acc.iter_mut().zip(chunks.remainder()) {
         *a += x;
     }
-    let diagonal_ok = p.diagonal().iter().all(|d| *d > 0.0 && *d <= f64::MAX);
-    diagonal_ok && (acc[0] + acc[1] + acc[2] + acc[3]).is_finite()
+    let mut diagonal_ok = true;
+    for (i, col) in p.data.0.iter().enumerate() {
+        let d = col[i];
+        diagonal_ok &= d > 0.0 && d <= f64::MAX;
+    }
+    diagonal_ok && acc.iter().sum::<f64>().is_finite()
 }
 
 /// `true` if every entry below the diagonal of `p` is finite (for a symmetric

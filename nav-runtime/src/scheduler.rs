@@ -402,6 +402,11 @@ pub struct Scheduler<F: Propagate + Clone> {
     window: f64,
     snapshot_every: usize,
     since_snapshot: usize,
+    /// Checkpoint buffers dropped from the history, reused for new ones so
+    /// that a running scheduler does not allocate for its checkpoints.
+    spare: Vec<Box<F>>,
+    /// Number of steps in the history holding a checkpoint (at least 1).
+    checkpoints: usize,
     max_pending: usize,
     stats: SchedulerStats,
 }
@@ -422,7 +427,7 @@ impl<F: Propagate + Clone> Scheduler<F> {
         steps.push_back(Step {
             time,
             input: None,
-            snapshot: Some(filter.clone()),
+            snapshot: Some(Box::new(filter.clone())),
         });
         Ok(Self {
             filter,
@@ -434,6 +439,8 @@ impl<F: Propagate + Clone> Scheduler<F> {
             window: 0.0,
             snapshot_every: 1,
             since_snapshot: 0,
+            spare: Vec::new(),
+            checkpoints: 1,
             max_pending: Self::DEFAULT_MAX_PENDING,
             stats: SchedulerStats::default(),
         })
@@ -652,36 +659,54 @@ impl<F: Propagate + Clone> Scheduler<F> {
             return Err(SchedulerError::DuplicateImu { time });
         }
         F::check_input(&input).map_err(SchedulerError::InvalidImu)?;
-        let mut next = self.filter.clone();
         let range = self.interval(self.now, time);
-        let start = range.start;
-        let outcomes = run_interval(&mut next, self.now, time, &input, &self.queue, range)?;
-        // Commit.
-        let mut reports = Vec::with_capacity(outcomes.len());
-        for (offset, outcome) in outcomes.into_iter().enumerate() {
-            if let Some(q) = self.queue.get_mut(start + offset) {
-                q.outcome = Some(outcome);
-                reports.push(Report {
-                    sensor: SensorId(q.sensor),
-                    time: q.time,
-                    replay: false,
-                    outcome,
-                });
+        let reports = if range.is_empty() {
+            // Nothing to apply: one propagation, which leaves the filter
+            // unchanged on error, so it runs on the filter itself.
+            self.filter
+                .propagate(time - self.now, &input)
+                .map_err(SchedulerError::Propagation)?;
+            Vec::new()
+        } else {
+            // Several propagations and updates: on a copy, committed only if
+            // every propagation succeeds.
+            let mut next = self.filter.clone();
+            let start = range.start;
+            let outcomes = run_interval(&mut next, self.now, time, &input, &self.queue, range)?;
+            let mut reports = Vec::with_capacity(outcomes.len());
+            for (offset, outcome) in outcomes.into_iter().enumerate() {
+                if let Some(q) = self.queue.get_mut(start + offset) {
+                    q.outcome = Some(outcome);
+                    reports.push(Report {
+                        sensor: SensorId(q.sensor),
+                        time: q.time,
+                        replay: false,
+                        outcome,
+                    });
+                }
             }
-        }
+            self.filter = next;
+            reports
+        };
         self.since_snapshot += 1;
         let snapshot = if self.since_snapshot >= self.snapshot_every {
             self.since_snapshot = 0;
-            Some(next.clone())
+            Some(match self.spare.pop() {
+                Some(mut buffer) => {
+                    buffer.as_mut().clone_from(&self.filter);
+                    buffer
+                }
+                None => Box::new(self.filter.clone()),
+            })
         } else {
             None
         };
+        self.checkpoints += usize::from(snapshot.is_some());
         self.steps.push_back(Step {
             time,
             input: Some(input),
             snapshot,
         });
-        self.filter = next;
         self.now = time;
         self.stats.imu_samples += 1;
         self.trim();
@@ -768,7 +793,11 @@ impl<F: Propagate + Clone> Scheduler<F> {
             .iter()
             .rposition(|s| s.time < time && s.snapshot.is_some())
             .ok_or(lost)?;
-        let Some(mut filter) = self.steps.get(base).and_then(|s| s.snapshot.clone()) else {
+        let Some(mut filter) = self
+            .steps
+            .get(base)
+            .and_then(|s| s.snapshot.as_deref().cloned())
+        else {
             return Err(lost);
         };
         let mut snapshots = Vec::new();
@@ -792,8 +821,8 @@ impl<F: Propagate + Clone> Scheduler<F> {
         self.stats.replays += 1;
         self.stats.replayed_steps += (self.steps.len() - base - 1) as u64;
         for (i, snap) in snapshots {
-            if let Some(step) = self.steps.get_mut(i) {
-                step.snapshot = Some(snap);
+            if let Some(buffer) = self.steps.get_mut(i).and_then(|s| s.snapshot.as_mut()) {
+                **buffer = snap;
             }
         }
         let mut reports = Vec::new();
@@ -823,7 +852,9 @@ impl<F: Propagate + Clone> Scheduler<F> {
     /// `now - window`, and finalizes the measurements it contained.
     fn trim(&mut self) {
         let limit = self.now - self.window;
-        loop {
+        // With a single checkpoint there is nothing to drop (and no need to
+        // scan the history for a second one).
+        while self.checkpoints >= 2 {
             let second = self
                 .steps
                 .iter()
@@ -832,7 +863,14 @@ impl<F: Propagate + Clone> Scheduler<F> {
                 .map(|i| i + 1);
             match second {
                 Some(i) if self.steps.get(i).is_some_and(|s| s.time < limit) => {
-                    self.steps.drain(..i);
+                    for step in self.steps.drain(..i) {
+                        if let Some(buffer) = step.snapshot {
+                            self.checkpoints -= 1;
+                            if self.spare.len() < MAX_SPARE_SNAPSHOTS {
+                                self.spare.push(buffer);
+                            }
+                        }
+                    }
                 }
                 _ => break,
             }
@@ -865,12 +903,16 @@ impl<F: Propagate + Clone + core::fmt::Debug> core::fmt::Debug for Scheduler<F> 
     }
 }
 
+/// Checkpoint buffers kept for reuse (see `Scheduler::spare`).
+const MAX_SPARE_SNAPSHOTS: usize = 4;
+
 /// One IMU step: the sample held over `(previous time, time]` and, every
-/// `snapshot_every` steps, the filter after the step.
+/// `snapshot_every` steps, the filter after the step (boxed: most steps hold
+/// none, and the history moves steps around).
 struct Step<F: Propagate> {
     time: f64,
     input: Option<F::Input>,
-    snapshot: Option<F>,
+    snapshot: Option<Box<F>>,
 }
 
 struct Queued<F> {

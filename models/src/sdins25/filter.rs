@@ -803,21 +803,37 @@ pub fn run_vehicle<V: InsVehicle<N>, const N: usize>(
                 time: imu_t[j],
                 kind: Kind::Record(slot_lists.len()),
             });
-            slot_lists.push(list);
+            slot_lists.push(Rc::<[usize]>::from(list));
         }
     }
     events.sort_by(|a, b| a.delivery.total_cmp(&b.delivery));
 
-    let mut sched = Scheduler::new(filter, t0).map_err(|e| RunError::Invalid(e.to_string()))?;
-    let mut ids: Vec<SensorId> = Vec::new();
-    for (i, name) in SENSORS.iter().enumerate() {
-        let latency = if i == 3 {
-            usbl_latency + 1.0
+    // Latencies: the history spans the largest. USBL fixes travel (plus a
+    // margin) only if there are any; the 2 Hz aiding is late only with
+    // delivery faults.
+    let has_usbl = events.iter().any(|e| matches!(e.kind, Kind::Usbl(_)));
+    let latencies: [f64; 4] = std::array::from_fn(|i| {
+        if i == 3 {
+            if has_usbl {
+                usbl_latency + 1.0
+            } else {
+                0.0
+            }
         } else if options.delivery.is_late() {
             options.delivery.max_delay() + 0.1
         } else {
             0.0
-        };
+        }
+    });
+    let mut sched = Scheduler::new(filter, t0)
+        .map_err(|e| RunError::Invalid(e.to_string()))?
+        .with_snapshot_every(snapshot_interval(
+            latencies.iter().fold(0.0, |a, &b| a.max(b)),
+            dt_imu,
+        ));
+    let mut ids: Vec<SensorId> = Vec::new();
+    for (i, name) in SENSORS.iter().enumerate() {
+        let latency = latencies[i];
         ids.push(
             sched
                 .add_sensor(*name, 2.0, latency)
@@ -890,12 +906,12 @@ pub fn run_vehicle<V: InsVehicle<N>, const N: usize>(
             }
             Kind::Record(k) => {
                 let rec = Rc::clone(&recorded);
-                let list = slot_lists[k].clone();
+                let list = Rc::clone(&slot_lists[k]);
                 let t = ev.time;
                 let m = FnMeasurement::new(&[], move |f: &mut InsFilter<V, N>| {
                     let e = Estimate::of(t, f);
                     let mut v = rec.borrow_mut();
-                    for &s in &list {
+                    for &s in list.iter() {
                         v[s] = Some(e);
                     }
                     Ok(MeasurementOutcome {
@@ -1008,6 +1024,25 @@ pub fn log_resolution<'a>(values: impl Iterator<Item = &'a [f64]>) -> f64 {
 /// (simulation) this is [`StuckDetector::MIN_REPEATS`] identical samples.
 pub fn stuck_detector(noise_sigma: f64, resolution: f64, false_alarm: f64) -> StuckDetector {
     StuckDetector::for_sensor(noise_sigma, resolution, false_alarm)
+}
+
+/// IMU steps between the scheduler's checkpoints for a history of `window`
+/// seconds at IMU period `dt` (s). A checkpoint (a copy of the whole filter)
+/// every step costs more than the steps themselves save: a late measurement
+/// re-propagates from the newest checkpoint before it, so spacing them by a
+/// tenth of the window adds at most a tenth of the window to a replay, while
+/// copying the filter ten times less often. Without late sensors (`window`
+/// 0) a replay can only be for a measurement at the current IMU time, which
+/// the replay loop always delivers before that sample: one checkpoint a
+/// second. Results do not depend on the spacing (the replay recomputes the
+/// same steps); see [`Scheduler::with_snapshot_every`].
+fn snapshot_interval(window: f64, dt: f64) -> usize {
+    let steps = if window > 0.0 { window / 10.0 } else { 1.0 } / dt;
+    if steps.is_finite() {
+        (steps.ceil() as usize).clamp(1, 1000)
+    } else {
+        1
+    }
 }
 
 /// Echo-sounder altitude at `t`: the latest row at or before `t` (m).
