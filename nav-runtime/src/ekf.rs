@@ -960,22 +960,58 @@ fn joseph_lower<const N: usize, const M: usize>(
     // merely sends the caller to the exact slow path).
     let mut acc = [0.0f64; N];
     let mut diagonal_ok = true;
-    for (c, col) in p.data.0.iter_mut().enumerate() {
+    // Coefficients of column `c`: `U[c, m]` and `K[c, m]`.
+    let coefficients = |c: usize| {
         let mut a = [0.0f64; M];
         let mut b = [0.0f64; M];
         for m in 0..M {
             a[m] = ud[m][c];
             b[m] = kd[m][c];
         }
-        for r in c..N {
-            let mut v = col[r];
-            for m in 0..M {
-                v += wd[m][r] * b[m] - kd[m][r] * a[m];
-            }
-            col[r] = v;
-            acc[r] += v;
+        (a, b)
+    };
+    let cols = &mut p.data.0;
+    // Two columns per pass share the loads of the rows of `K` and `W`.
+    let mut c = 0;
+    while c + 1 < N {
+        let (a0, b0) = coefficients(c);
+        let (a1, b1) = coefficients(c + 1);
+        let (left, right) = cols.split_at_mut(c + 1);
+        let (Some(col0), Some(col1)) = (left.last_mut(), right.first_mut()) else {
+            break;
+        };
+        let mut v = col0[c];
+        for m in 0..M {
+            v += wd[m][c] * b0[m] - kd[m][c] * a0[m];
         }
-        diagonal_ok &= col[c] > 0.0 && col[c] <= f64::MAX;
+        col0[c] = v;
+        acc[c] += v;
+        for r in c + 1..N {
+            let (mut v0, mut v1) = (col0[r], col1[r]);
+            for m in 0..M {
+                let (k_r, w_r) = (kd[m][r], wd[m][r]);
+                v0 += w_r * b0[m] - k_r * a0[m];
+                v1 += w_r * b1[m] - k_r * a1[m];
+            }
+            col0[r] = v0;
+            col1[r] = v1;
+            acc[r] += v0 + v1;
+        }
+        diagonal_ok &= col0[c] > 0.0 && col0[c] <= f64::MAX;
+        diagonal_ok &= col1[c + 1] > 0.0 && col1[c + 1] <= f64::MAX;
+        c += 2;
+    }
+    if c + 1 == N {
+        let (a, b) = coefficients(c);
+        if let Some(col) = cols.last_mut() {
+            let mut v = col[c];
+            for m in 0..M {
+                v += wd[m][c] * b[m] - kd[m][c] * a[m];
+            }
+            col[c] = v;
+            acc[c] += v;
+            diagonal_ok &= v > 0.0 && v <= f64::MAX;
+        }
     }
     diagonal_ok && acc.iter().all(|x| x.is_finite())
 }
