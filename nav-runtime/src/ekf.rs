@@ -160,6 +160,10 @@ pub struct FilterCounters {
     /// Covariance diagonal entries repaired (non-positive or non-finite after a
     /// prediction or an update); each repaired entry counts once.
     pub covariance_repairs: u64,
+    /// Updates applied although they failed the gate, because the sensor's
+    /// gate had refused [`Ekf::with_lockout_release`] measurements in a row
+    /// (counted in `updates_accepted` too).
+    pub updates_released: u64,
 }
 
 /// The outcome of one measurement update.
@@ -253,6 +257,8 @@ pub struct Ekf<Mo: Model<N>, const N: usize> {
     discretization: Discretization,
     default_gate: Option<Gate>,
     gates: GateTable,
+    lockout_release: Option<u32>,
+    refusals: RefusalTable,
     variance_floor: f64,
     counters: FilterCounters,
     _model: PhantomData<fn() -> Mo>,
@@ -298,6 +304,8 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
             discretization: Discretization::FirstOrder,
             default_gate: Some(Gate::default()),
             gates: GateTable::new(),
+            lockout_release: None,
+            refusals: RefusalTable::new(),
             variance_floor: DEFAULT_VARIANCE_FLOOR,
             counters: FilterCounters::default(),
             _model: PhantomData,
@@ -309,6 +317,42 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
     pub fn with_discretization(mut self, discretization: Discretization) -> Self {
         self.discretization = discretization;
         self
+    }
+
+    /// Gate lock-out release: after `limit` consecutive gate refusals of one
+    /// sensor, its next measurement is applied whatever its NIS (`None`, the
+    /// default: never). See [`Ekf::set_lockout_release`].
+    #[must_use]
+    pub fn with_lockout_release(mut self, limit: Option<u32>) -> Self {
+        self.lockout_release = limit;
+        self
+    }
+
+    /// Changes the gate lock-out release (`None`: never).
+    ///
+    /// The gate assumes that the predicted innovation covariance `S` is right.
+    /// It is not after the filter has accepted an outlier it could not
+    /// recognise (while `H P H^T` was much larger than `R`, a 10-sigma outlier
+    /// is a small fraction of `sqrt(S)`): the estimate is then off by the
+    /// outlier while `S` has shrunk, and every later, correct measurement of
+    /// that sensor fails the gate (lock-out). A consistent filter refuses
+    /// `limit` good measurements in a row with probability `(1 - p)^limit`
+    /// (1e-12 for `limit = 3` at the default `p`), and independent outliers
+    /// at rate `e` come `limit` in a row with probability `e^limit`; a longer
+    /// run of refusals means the filter, not the sensor, is wrong, so the
+    /// next measurement is applied (counted in
+    /// [`FilterCounters::updates_released`]) and the refusal count restarts.
+    /// A sensor that is itself persistently wrong (a bias step, a drift) is
+    /// then applied once every `limit + 1` samples instead of being refused.
+    pub fn set_lockout_release(&mut self, limit: Option<u32>) {
+        self.lockout_release = limit;
+    }
+
+    /// `true` if sensor `S` has been refused often enough in a row that its
+    /// next measurement is released (see [`Ekf::set_lockout_release`]).
+    fn released<S: 'static>(&self) -> bool {
+        self.lockout_release
+            .is_some_and(|k| self.refusals.get(TypeId::of::<S>()) >= k)
     }
 
     /// Sets the gate used by sensors without their own setting; `None` disables it.
@@ -498,13 +542,12 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
     where
         S: Sensor<N, M, Model = Mo>,
     {
+        let sensor = TypeId::of::<S>();
         match self.batch_update::<S, M>(z, r, aux) {
             Ok(report) => {
+                self.count_gate_outcome(sensor, &report);
                 if report.accepted {
-                    self.counters.updates_accepted += 1;
                     self.counters.covariance_repairs += u64::from(report.repairs);
-                } else {
-                    self.counters.updates_gated += 1;
                 }
                 Ok(report)
             }
@@ -543,30 +586,43 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
         S: Sensor<N, M, Model = Mo>,
     {
         let result = self.sequential_update::<S, M>(z, r_diag, aux);
-        self.commit(result)
+        self.commit(TypeId::of::<S>(), result)
+    }
+
+    /// Accepted/gated totals and the per-sensor run of gate refusals of one
+    /// update that was not an error (see [`Ekf::set_lockout_release`]).
+    fn count_gate_outcome<const M: usize>(&mut self, sensor: TypeId, report: &UpdateReport<M>) {
+        if report.accepted {
+            self.counters.updates_accepted += 1;
+            if !passes(report.nis, report.threshold) {
+                self.counters.updates_released += 1;
+            }
+            if self.lockout_release.is_some() {
+                self.refusals.set(sensor, 0);
+            }
+        } else {
+            self.counters.updates_gated += 1;
+            if self.lockout_release.is_some() {
+                let n = self.refusals.get(sensor);
+                self.refusals.set(sensor, n.saturating_add(1));
+            }
+        }
     }
 
     /// Stores an update's result and keeps the totals.
     fn commit<const M: usize>(
         &mut self,
+        sensor: TypeId,
         result: Result<Proposal<N, M>, FilterError>,
     ) -> Result<UpdateReport<M>, FilterError> {
         match result {
-            Ok(Proposal {
-                report,
-                posterior: Some((x, p)),
-            }) => {
-                self.x = x;
-                self.p = p;
-                self.counters.updates_accepted += 1;
-                self.counters.covariance_repairs += u64::from(report.repairs);
-                Ok(report)
-            }
-            Ok(Proposal {
-                report,
-                posterior: None,
-            }) => {
-                self.counters.updates_gated += 1;
+            Ok(Proposal { report, posterior }) => {
+                if let Some((x, p)) = posterior {
+                    self.x = x;
+                    self.p = p;
+                    self.counters.covariance_repairs += u64::from(report.repairs);
+                }
+                self.count_gate_outcome(sensor, &report);
                 Ok(report)
             }
             Err(e) => {
@@ -684,7 +740,7 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
         let threshold = self.sensor_gate::<S, M>().map(|g| g.threshold(M));
         let mut report = UpdateReport {
             sensor: S::NAME,
-            accepted: passes(nis, threshold),
+            accepted: passes(nis, threshold) || self.released::<S>(),
             nis,
             threshold,
             innovation: nu,
@@ -770,7 +826,7 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
         let threshold = self.sensor_gate::<S, M>().map(|g| g.threshold(M));
         let mut report = UpdateReport {
             sensor: S::NAME,
-            accepted: passes(nis, threshold),
+            accepted: passes(nis, threshold) || self.released::<S>(),
             nis,
             threshold,
             innovation: nu,
@@ -811,6 +867,8 @@ impl<Mo: Model<N>, const N: usize> Clone for Ekf<Mo, N> {
             discretization: self.discretization,
             default_gate: self.default_gate,
             gates: self.gates,
+            lockout_release: self.lockout_release,
+            refusals: self.refusals,
             variance_floor: self.variance_floor,
             counters: self.counters,
             _model: PhantomData,
@@ -1050,6 +1108,37 @@ fn joseph_in_place<const N: usize, const M: usize>(
 struct Proposal<const N: usize, const M: usize> {
     report: UpdateReport<M>,
     posterior: Option<(SVector<f64, N>, SMatrix<f64, N, N>)>,
+}
+
+/// Consecutive gate refusals per sensor type, in a fixed array (sensors
+/// beyond [`MAX_SENSOR_GATES`] are not counted, so never released).
+#[derive(Clone, Copy, Debug)]
+struct RefusalTable {
+    entries: [Option<(TypeId, u32)>; MAX_SENSOR_GATES],
+}
+
+impl RefusalTable {
+    fn new() -> Self {
+        Self {
+            entries: [None; MAX_SENSOR_GATES],
+        }
+    }
+
+    fn get(&self, id: TypeId) -> u32 {
+        self.entries
+            .iter()
+            .flatten()
+            .find(|(k, _)| *k == id)
+            .map_or(0, |(_, n)| *n)
+    }
+
+    fn set(&mut self, id: TypeId, n: u32) {
+        if let Some(slot) = self.entries.iter_mut().flatten().find(|(k, _)| *k == id) {
+            slot.1 = n;
+        } else if let Some(slot) = self.entries.iter_mut().find(|e| e.is_none()) {
+            *slot = Some((id, n));
+        }
+    }
 }
 
 /// Per-sensor gate settings keyed by the sensor type, in a fixed array.
@@ -1606,6 +1695,80 @@ mod tests {
                 .unwrap()
                 .accepted
         );
+    }
+
+    #[test]
+    fn lockout_release_applies_the_measurement_after_consecutive_refusals() {
+        let r = SMatrix::<f64, 1, 1>::new(0.25);
+        let gate = Some(Gate::new(0.9999).unwrap());
+        // The filter is 10 sigma off the sensor (as after an accepted outlier).
+        let off = |f: &Ekf<Cvb, 3>| {
+            let sigma = (f.covariance()[(0, 0)] + 0.25).sqrt();
+            SVector::<f64, 1>::new(f.state()[0] + 10.0 * sigma)
+        };
+        let mut locked = filter().with_default_gate(gate);
+        let mut released = filter()
+            .with_default_gate(gate)
+            .with_lockout_release(Some(3));
+        for k in 0..3 {
+            let z = off(&released);
+            let rep = released
+                .update::<Pos, 1>(&z, &r, &Offset::default())
+                .unwrap();
+            assert!(!rep.accepted, "refusal {k}");
+            let z = off(&locked);
+            assert!(
+                !locked
+                    .update::<Pos, 1>(&z, &r, &Offset::default())
+                    .unwrap()
+                    .accepted
+            );
+        }
+        // The fourth is applied despite its NIS of 100.
+        let z = off(&released);
+        let rep = released
+            .update::<Pos, 1>(&z, &r, &Offset::default())
+            .unwrap();
+        assert!(rep.accepted && (rep.nis - 100.0).abs() < 1e-9);
+        assert_eq!(released.counters().updates_released, 1);
+        assert_eq!(released.counters().updates_gated, 3);
+        assert_eq!(released.counters().updates_accepted, 1);
+        // The count restarts: the next outlier is gated again.
+        let z = off(&released);
+        assert!(
+            !released
+                .update::<Pos, 1>(&z, &r, &Offset::default())
+                .unwrap()
+                .accepted
+        );
+        // Without the release the sensor stays locked out.
+        let z = off(&locked);
+        assert!(
+            !locked
+                .update::<Pos, 1>(&z, &r, &Offset::default())
+                .unwrap()
+                .accepted
+        );
+        assert_eq!(locked.counters().updates_released, 0);
+        // Isolated outliers between good samples are never released.
+        let mut f = filter()
+            .with_default_gate(gate)
+            .with_lockout_release(Some(1));
+        for _ in 0..5 {
+            let good = SVector::<f64, 1>::new(f.state()[0]);
+            assert!(
+                f.update::<Pos, 1>(&good, &r, &Offset::default())
+                    .unwrap()
+                    .accepted
+            );
+            let z = off(&f);
+            assert!(
+                !f.update::<Pos, 1>(&z, &r, &Offset::default())
+                    .unwrap()
+                    .accepted
+            );
+        }
+        assert_eq!(f.counters().updates_released, 0);
     }
 
     /// Over 10,000 consistent draws the acceptance rate is the gate probability
