@@ -1706,49 +1706,30 @@ mod tests {
             let sigma = (f.covariance()[(0, 0)] + 0.25).sqrt();
             SVector::<f64, 1>::new(f.state()[0] + 10.0 * sigma)
         };
+        // Fuses a measurement 10 sigma off; returns whether it was accepted.
+        let outlier = |f: &mut Ekf<Cvb, 3>| {
+            let z = off(f);
+            let rep = f.update::<Pos, 1>(&z, &r, &Offset::default()).unwrap();
+            (rep.accepted, rep.nis)
+        };
         let mut locked = filter().with_default_gate(gate);
         let mut released = filter()
             .with_default_gate(gate)
             .with_lockout_release(Some(3));
         for k in 0..3 {
-            let z = off(&released);
-            let rep = released
-                .update::<Pos, 1>(&z, &r, &Offset::default())
-                .unwrap();
-            assert!(!rep.accepted, "refusal {k}");
-            let z = off(&locked);
-            assert!(
-                !locked
-                    .update::<Pos, 1>(&z, &r, &Offset::default())
-                    .unwrap()
-                    .accepted
-            );
+            assert!(!outlier(&mut released).0, "refusal {k}");
+            assert!(!outlier(&mut locked).0);
         }
         // The fourth is applied despite its NIS of 100.
-        let z = off(&released);
-        let rep = released
-            .update::<Pos, 1>(&z, &r, &Offset::default())
-            .unwrap();
-        assert!(rep.accepted && (rep.nis - 100.0).abs() < 1e-9);
+        let (accepted, nis) = outlier(&mut released);
+        assert!(accepted && (nis - 100.0).abs() < 1e-9);
         assert_eq!(released.counters().updates_released, 1);
         assert_eq!(released.counters().updates_gated, 3);
         assert_eq!(released.counters().updates_accepted, 1);
         // The count restarts: the next outlier is gated again.
-        let z = off(&released);
-        assert!(
-            !released
-                .update::<Pos, 1>(&z, &r, &Offset::default())
-                .unwrap()
-                .accepted
-        );
+        assert!(!outlier(&mut released).0);
         // Without the release the sensor stays locked out.
-        let z = off(&locked);
-        assert!(
-            !locked
-                .update::<Pos, 1>(&z, &r, &Offset::default())
-                .unwrap()
-                .accepted
-        );
+        assert!(!outlier(&mut locked).0);
         assert_eq!(locked.counters().updates_released, 0);
         // Isolated outliers between good samples are never released.
         let mut f = filter()
