@@ -266,39 +266,11 @@ impl Layout {
             group(names, name, len)?
                 .ok_or_else(|| format!("no state `{name}` (the INS core block's)"))
         };
-        let slot = |present: bool, declared: &str, expected: &str| -> Result<(), String> {
-            if present && declared != expected {
-                return Err(format!(
-                    "sensor `{declared}` is in the `{expected}` slot of the InsVehicle impl"
-                ));
-            }
-            Ok(())
-        };
-        slot(
-            <V::Depth as Slot<V, N, 1>>::PRESENT,
-            <V::Depth as Slot<V, N, 1>>::NAME,
-            "Depth",
-        )?;
-        slot(
-            <V::Dvl as Slot<V, N, 3>>::PRESENT,
-            <V::Dvl as Slot<V, N, 3>>::NAME,
-            "Dvl",
-        )?;
-        slot(
-            <V::Compass as Slot<V, N, 1>>::PRESENT,
-            <V::Compass as Slot<V, N, 1>>::NAME,
-            "Compass",
-        )?;
-        slot(
-            <V::CompassSmallAngle as Slot<V, N, 1>>::PRESENT,
-            <V::CompassSmallAngle as Slot<V, N, 1>>::NAME,
-            "CompassSmallAngle",
-        )?;
-        slot(
-            <V::Usbl as Slot<V, N, 2>>::PRESENT,
-            <V::Usbl as Slot<V, N, 2>>::NAME,
-            "Usbl",
-        )?;
+        check_slot::<V, V::Depth, N, 1>("Depth")?;
+        check_slot::<V, V::Dvl, N, 3>("Dvl")?;
+        check_slot::<V, V::Compass, N, 1>("Compass")?;
+        check_slot::<V, V::CompassSmallAngle, N, 1>("CompassSmallAngle")?;
+        check_slot::<V, V::Usbl, N, 2>("Usbl")?;
         if <V::Input as Record>::NAMES != INPUT_NAMES {
             return Err(format!(
                 "its inputs {:?} are not the INS core's {INPUT_NAMES:?}",
@@ -353,6 +325,20 @@ impl Layout {
         let (p, v, a) = (self.position, self.velocity, self.attitude);
         [p, p + 1, p + 2, v, v + 1, v + 2, a, a + 1, a + 2]
     }
+}
+
+/// A present sensor in slot `expected` of an [`InsVehicle`] impl must be the
+/// one declared with that name.
+fn check_slot<V: Model<N>, S: Slot<V, N, M>, const N: usize, const M: usize>(
+    expected: &str,
+) -> Result<(), String> {
+    if S::PRESENT && S::NAME != expected {
+        return Err(format!(
+            "sensor `{}` is in the `{expected}` slot of the InsVehicle impl",
+            S::NAME
+        ));
+    }
+    Ok(())
 }
 
 #[cfg(test)]
