@@ -3,8 +3,12 @@
 //! and in which order they are computed (children first). Single-use nodes are
 //! written inline in their user. The order depends only on the outputs' order,
 //! never on hash-map iteration, so generated code is deterministic.
+//!
+//! `sin(a)` and `cos(a)` of one argument both needed become one `sin_cos` call
+//! (one argument reduction instead of two): both are temporaries, defined
+//! together where the first of them is due.
 
-use crate::expr::{Graph, Id};
+use crate::expr::{Func, Graph, Id, Node};
 use crate::ops;
 
 /// The temporaries of one generated function.
@@ -13,6 +17,8 @@ pub struct Schedule {
     pub temps: Vec<Id>,
     /// For each node of the graph, its temporary number if it has one.
     pub temp_of: Vec<Option<usize>>,
+    /// `(sin(a), cos(a))` pairs computed by one `sin_cos` call.
+    pub sin_cos: Vec<(Id, Id)>,
     /// Arithmetic operations of the function.
     pub ops: usize,
 }
@@ -45,6 +51,20 @@ pub fn schedule(g: &Graph, roots: &[Id]) -> Schedule {
             }
         }
     }
+    let mut sin_cos = Vec::new();
+    for &id in &post {
+        if let Node::Call(Func::Sin, a) = g.node(id) {
+            if let Some(cos) = g
+                .find(Node::Call(Func::Cos, a))
+                .filter(|c| visited[c.0 as usize])
+            {
+                sin_cos.push((id, cos));
+                // Defined by the pair's `let`, so never written inline.
+                uses[id.0 as usize] += 1;
+                uses[cos.0 as usize] += 1;
+            }
+        }
+    }
     let mut temp_of = vec![None; n];
     let mut temps = Vec::new();
     for id in post {
@@ -56,6 +76,7 @@ pub fn schedule(g: &Graph, roots: &[Id]) -> Schedule {
     Schedule {
         temps,
         temp_of,
+        sin_cos,
         ops: ops::count(g, roots),
     }
 }
@@ -63,7 +84,7 @@ pub fn schedule(g: &Graph, roots: &[Id]) -> Schedule {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::expr::{Func, Sym};
+    use crate::expr::Sym;
 
     #[test]
     fn shared_subexpressions_become_temporaries_in_order() {
@@ -76,11 +97,13 @@ mod tests {
         let out1 = g.mul(sin, cos);
         let out2 = g.mul(sin, x);
         let sch = schedule(&g, &[out1, out2]);
-        assert_eq!(sch.temps, vec![s, sin]);
+        assert_eq!(sch.temps, vec![s, sin, cos], "sin and cos of s in one call");
+        assert_eq!(sch.sin_cos, vec![(sin, cos)]);
         assert_eq!(sch.ops, 5);
         assert_eq!(sch.temp_of[x.0 as usize], None);
         // A root used twice is a temporary too.
         let sch = schedule(&g, &[cos, cos]);
         assert_eq!(sch.temps, vec![cos]);
+        assert!(sch.sin_cos.is_empty(), "sin(s) is not needed here");
     }
 }

@@ -10,6 +10,7 @@ use crate::cse::{schedule, Schedule};
 use crate::derive::Derived;
 use crate::expr::{Graph, Id, Node, Sym};
 use crate::parse::{ModelDecl, ProcessKind, Shape, Var};
+use crate::strength;
 
 /// All items generated for one model.
 pub fn model(decl: &ModelDecl, d: &Derived) -> TokenStream {
@@ -94,6 +95,12 @@ fn doc(text: &str) -> TokenStream {
     quote!(#[doc = #text])
 }
 
+/// A function being emitted: its own graph and schedule.
+struct Function<'g> {
+    graph: &'g Graph,
+    sch: &'g Schedule,
+}
+
 /// One function body: shared temporaries, then the output expressions.
 struct Body {
     lets: TokenStream,
@@ -158,15 +165,42 @@ impl<'a> Emitter<'a> {
         }
     }
 
+    /// One function's code: its outputs strength-reduced in a graph of their
+    /// own ([`strength::reduce`]), shared nodes as `let` temporaries.
     fn body(&self, roots: &[Id], cov: TokenStream) -> Body {
-        let sch = schedule(self.g, roots);
+        let (graph, roots) = strength::reduce(self.g, roots);
+        let sch = schedule(&graph, &roots);
+        let f = Function {
+            graph: &graph,
+            sch: &sch,
+        };
+        let math = quote!(::nav_runtime::math);
+        let temp = |id: Id| sch.temp_of[id.0 as usize].map(|k| format_ident!("_t{}", k));
         let mut lets = TokenStream::new();
+        let mut paired = vec![false; sch.temps.len()];
         for (k, &id) in sch.temps.iter().enumerate() {
+            if paired[k] {
+                continue;
+            }
             let t = format_ident!("_t{}", k);
-            let e = self.node_expr(&sch, id, &cov, 0);
+            if let Some(&(sin, cos)) = sch.sin_cos.iter().find(|p| p.0 == id || p.1 == id) {
+                let Node::Call(_, a) = graph.node(sin) else {
+                    unreachable!("a sin_cos pair is two calls");
+                };
+                let a = self.expr(&f, a, &cov, 0);
+                let (ts, tc) = (temp(sin), temp(cos));
+                lets.extend(quote!(let (#ts, #tc) = #math::sin_cos(#a);));
+                for p in [sin, cos] {
+                    if let Some(j) = sch.temp_of[p.0 as usize] {
+                        paired[j] = true;
+                    }
+                }
+                continue;
+            }
+            let e = self.node_expr(&f, id, &cov, 0);
             lets.extend(quote!(let #t = #e;));
         }
-        let exprs = roots.iter().map(|&r| self.expr(&sch, r, &cov, 0)).collect();
+        let exprs = roots.iter().map(|&r| self.expr(&f, r, &cov, 0)).collect();
         Body {
             lets,
             exprs,
@@ -176,17 +210,17 @@ impl<'a> Emitter<'a> {
 
     /// The expression of `id` in a context of precedence `min` (0: none,
     /// 1: `+ -`, 2: `* /`, 3: unary).
-    fn expr(&self, sch: &Schedule, id: Id, cov: &TokenStream, min: u8) -> TokenStream {
-        if let Some(t) = sch.temp_of[id.0 as usize] {
+    fn expr(&self, f: &Function<'_>, id: Id, cov: &TokenStream, min: u8) -> TokenStream {
+        if let Some(t) = f.sch.temp_of[id.0 as usize] {
             let t = format_ident!("_t{}", t);
             return quote!(#t);
         }
-        self.node_expr(sch, id, cov, min)
+        self.node_expr(f, id, cov, min)
     }
 
-    fn node_expr(&self, sch: &Schedule, id: Id, cov: &TokenStream, min: u8) -> TokenStream {
+    fn node_expr(&self, f: &Function<'_>, id: Id, cov: &TokenStream, min: u8) -> TokenStream {
         let math = quote!(::nav_runtime::math);
-        let (prec, tokens) = match self.g.node(id) {
+        let (prec, tokens) = match f.graph.node(id) {
             Node::Const(bits) => {
                 let v = f64::from_bits(bits);
                 let l = float_literal(v.abs());
@@ -198,36 +232,36 @@ impl<'a> Emitter<'a> {
             }
             Node::Sym(s) => (4, self.read(s, cov)),
             Node::Add(a, b) => {
-                let (a, b) = (self.expr(sch, a, cov, 1), self.expr(sch, b, cov, 2));
+                let (a, b) = (self.expr(f, a, cov, 1), self.expr(f, b, cov, 2));
                 (1, quote!(#a + #b))
             }
             Node::Sub(a, b) => {
-                let (a, b) = (self.expr(sch, a, cov, 1), self.expr(sch, b, cov, 2));
+                let (a, b) = (self.expr(f, a, cov, 1), self.expr(f, b, cov, 2));
                 (1, quote!(#a - #b))
             }
             Node::Mul(a, b) => {
-                let (a, b) = (self.expr(sch, a, cov, 2), self.expr(sch, b, cov, 3));
+                let (a, b) = (self.expr(f, a, cov, 2), self.expr(f, b, cov, 3));
                 (2, quote!(#a * #b))
             }
             Node::Div(a, b) => {
-                let (a, b) = (self.expr(sch, a, cov, 2), self.expr(sch, b, cov, 3));
+                let (a, b) = (self.expr(f, a, cov, 2), self.expr(f, b, cov, 3));
                 (2, quote!(#a / #b))
             }
             Node::Neg(a) => {
-                let a = self.expr(sch, a, cov, 4);
+                let a = self.expr(f, a, cov, 4);
                 (3, quote!(-#a))
             }
-            Node::Call(f, a) => {
-                let fname = format_ident!("{}", f.name());
-                let a = self.expr(sch, a, cov, 0);
+            Node::Call(func, a) => {
+                let fname = format_ident!("{}", func.name());
+                let a = self.expr(f, a, cov, 0);
                 (4, quote!(#math::#fname(#a)))
             }
             Node::Atan2(y, x) => {
-                let (y, x) = (self.expr(sch, y, cov, 0), self.expr(sch, x, cov, 0));
+                let (y, x) = (self.expr(f, y, cov, 0), self.expr(f, x, cov, 0));
                 (4, quote!(#math::atan2(#y, #x)))
             }
             Node::Powi(a, n) => {
-                let a = self.expr(sch, a, cov, 0);
+                let a = self.expr(f, a, cov, 0);
                 let n = Literal::i32_unsuffixed(n);
                 (4, quote!(#math::powi(#a, #n)))
             }

@@ -167,6 +167,11 @@ impl Graph {
         self.nodes.len()
     }
 
+    /// The id of `node` if the graph holds it (never adds it).
+    pub fn find(&self, node: Node) -> Option<Id> {
+        self.index.get(&node).copied()
+    }
+
     /// The constant value of a node, if it is a constant.
     pub fn as_const(&self, id: Id) -> Option<f64> {
         match self.node(id) {

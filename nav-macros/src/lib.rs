@@ -283,6 +283,7 @@ mod expr;
 mod lower;
 mod ops;
 mod parse;
+mod strength;
 
 use proc_macro::TokenStream;
 

@@ -1006,6 +1006,7 @@ pub(crate) fn joseph_update<const N: usize, const M: usize>(
 /// which the compiler vectorizes. Each entry reads only its own prior value,
 /// so the prior's upper triangle (equal to its lower one, `P` being exactly
 /// symmetric) stays available to undo the update.
+#[inline(always)]
 fn joseph_lower<const N: usize, const M: usize>(
     p: &mut SMatrix<f64, N, N>,
     k: &SMatrix<f64, N, M>,
@@ -1074,14 +1075,27 @@ fn joseph_lower<const N: usize, const M: usize>(
     diagonal_ok && acc.iter().all(|x| x.is_finite())
 }
 
-/// Eq. U6 stored in `p` in place, with the checks and repairs of
-/// [`Ekf::update`]; returns the number of repaired variances.
-///
-/// The lower triangle is computed over the prior's (see [`joseph_lower`])
-/// and checked in one pass; only then is it mirrored. If an off-diagonal
-/// entry is not finite, the prior is restored exactly (its upper triangle
-/// and its saved diagonal) and the update is refused.
-fn joseph_in_place<const N: usize, const M: usize>(
+crate::dispatch::avx_dispatch! {
+    /// Eq. U6 stored in `p` in place, with the checks and repairs of
+    /// [`Ekf::update`]; returns the number of repaired variances.
+    ///
+    /// The lower triangle is computed over the prior's (see [`joseph_lower`])
+    /// and checked in one pass; only then is it mirrored. If an off-diagonal
+    /// entry is not finite, the prior is restored exactly (its upper triangle
+    /// and its saved diagonal) and the update is refused. Runs compiled for
+    /// AVX where the CPU has it (bit-identical results).
+    fn joseph_in_place<const N: usize, const M: usize>(
+        p: &mut SMatrix<f64, N, N>,
+        k: &SMatrix<f64, N, M>,
+        u: &SMatrix<f64, N, M>,
+        s: &SMatrix<f64, M, M>,
+        floor: f64,
+    ) -> Result<u32, FilterError> => joseph_in_place_steps;
+}
+
+/// The body of [`joseph_in_place`].
+#[inline(always)]
+fn joseph_in_place_steps<const N: usize, const M: usize>(
     p: &mut SMatrix<f64, N, N>,
     k: &SMatrix<f64, N, M>,
     u: &SMatrix<f64, N, M>,
@@ -1592,6 +1606,27 @@ mod tests {
                 max_rel(&got, &standard)
             );
             assert_eq!(got, got.transpose());
+        }
+    }
+
+    #[test]
+    fn joseph_vector_width_never_changes_a_bit() {
+        let mut g = Gauss::new(7);
+        for _ in 0..20 {
+            let p: SMatrix<f64, 25, 25> = g.spd(0.1);
+            let h = SMatrix::<f64, 3, 25>::from_fn(|_, _| g.normal());
+            let r: SMatrix<f64, 3, 3> = g.spd(0.05);
+            let u = p * h.transpose();
+            let s = h * u + r;
+            let k = u * s.try_inverse().unwrap();
+            let (mut dispatched, mut portable) = (p, p);
+            let a = joseph_in_place(&mut dispatched, &k, &u, &s, 0.0);
+            let b = joseph_in_place_steps(&mut portable, &k, &u, &s, 0.0);
+            assert_eq!(a, b);
+            assert!(dispatched
+                .iter()
+                .zip(&portable)
+                .all(|(x, y)| x.to_bits() == y.to_bits()));
         }
     }
 

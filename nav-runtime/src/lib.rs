@@ -11,6 +11,7 @@ pub use nav_macros::model;
 pub mod attitude;
 #[cfg(feature = "std")]
 pub mod camera;
+mod dispatch;
 pub mod earth;
 pub mod ekf;
 pub mod error_state;

@@ -12,6 +12,13 @@ macro_rules! unary {
 }
 unary!(sin, cos, tan, asin, acos, atan, sqrt, exp);
 
+/// `(sin x, cos x)` with one argument reduction; the same values as
+/// [`sin`] and [`cos`] (tested).
+#[inline(always)]
+pub fn sin_cos(x: f64) -> (f64, f64) {
+    libm::sincos(x)
+}
+
 /// Natural logarithm.
 #[inline(always)]
 pub fn ln(x: f64) -> f64 {
@@ -51,6 +58,20 @@ pub fn wrap_angle(a: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn sin_cos_equals_sin_and_cos() {
+        let mut x = -40.0;
+        while x < 40.0 {
+            assert_eq!(sin_cos(x), (sin(x), cos(x)), "at {x}");
+            x += 0.0137;
+        }
+        for x in [0.0, -0.0, 1e-300, 1e22, f64::MAX, f64::INFINITY, f64::NAN] {
+            let (s, c) = sin_cos(x);
+            assert_eq!(s.to_bits(), sin(x).to_bits(), "sin at {x}");
+            assert_eq!(c.to_bits(), cos(x).to_bits(), "cos at {x}");
+        }
+    }
 
     #[test]
     fn wrap_angle_cases() {

@@ -77,16 +77,27 @@ impl Structure<'_> {
     }
 }
 
-/// `P <- Phi P Phi^T + Qd` in place, the four steps over `structure`.
-/// `coefficients` are the nonzeros of `C` in the order of
-/// [`Structure::columns`], `noise` the values at [`Structure::noise`]; `D` is
-/// the number of changed rows (the scratch `A` is `D x N` on the stack).
-/// `P` must be symmetric (whole rows are read); the result is exactly
-/// symmetric. The generator's structure is consistent by construction; an
-/// inconsistent hand-made one panics on an index check, never reads out of
-/// bounds.
-#[inline]
-pub fn propagate<const N: usize, const D: usize>(
+crate::dispatch::avx_dispatch! {
+    /// `P <- Phi P Phi^T + Qd` in place, the four steps over `structure`.
+    /// `coefficients` are the nonzeros of `C` in the order of
+    /// [`Structure::columns`], `noise` the values at [`Structure::noise`]; `D` is
+    /// the number of changed rows (the scratch `A` is `D x N` on the stack).
+    /// `P` must be symmetric (whole rows are read); the result is exactly
+    /// symmetric. The generator's structure is consistent by construction; an
+    /// inconsistent hand-made one panics on an index check, never reads out of
+    /// bounds.
+    /// Runs compiled for AVX where the CPU has it (bit-identical results).
+    pub fn propagate<const N: usize, const D: usize>(
+        cov: &mut SMatrix<f64, N, N>,
+        structure: &Structure<'_>,
+        coefficients: &[f64],
+        noise: &[f64],
+    ) => propagate_steps;
+}
+
+/// The four steps of [`propagate`].
+#[inline(always)]
+fn propagate_steps<const N: usize, const D: usize>(
     cov: &mut SMatrix<f64, N, N>,
     structure: &Structure<'_>,
     coefficients: &[f64],
@@ -107,20 +118,46 @@ pub fn propagate<const N: usize, const D: usize>(
         let base = if s.identity { Some(&cols[i]) } else { None };
         combine_rows(row, base, columns, values, cols);
     }
-    // Step 2: rows and columns D of P become those of A (the U entries are final).
+    // Step 2: rows and columns D of P become those of A (the U entries are
+    // final). Columns first, then rows: afterwards every column `k` holds
+    // `A[:, k]` in the rows D, which step 3 reads as vectors.
     for (ar, &i) in a.iter().zip(s.rows) {
-        set_row_and_column(cols, i, ar);
+        cols[i].copy_from_slice(ar);
     }
-    // Step 3 (reads only A): the D x D block, A Phi[D, :]^T, upper triangle
-    // computed and mirrored.
-    for (r, (ar, &i)) in a.iter().zip(s.rows).enumerate() {
-        for (&j, &(columns, values)) in s.rows[r..].iter().zip(&terms[r..]) {
-            let mut v = if s.identity { ar[j] } else { 0.0 };
-            for (&k, &c) in columns.iter().zip(values) {
-                v += c * ar[k];
+    for (ar, &i) in a.iter().zip(s.rows) {
+        for (col, &v) in cols.iter_mut().zip(ar) {
+            col[i] = v;
+        }
+    }
+    // Step 3: the D x D block, A Phi[D, :]^T, upper triangle kept and mirrored.
+    if let Some(d0) = contiguous(s.rows) {
+        // Column `s` of the block is a combination of the columns of A, each
+        // `P[d0..d0 + D, k]` now: vectorized like step 1.
+        let block: [[f64; D]; D] = core::array::from_fn(|r| {
+            let (columns, values) = terms[r];
+            let base = if s.identity {
+                Some(&cols[d0 + r])
+            } else {
+                None
+            };
+            combination::<N, D>(base, columns, values, cols, d0)
+        });
+        for (c, column) in block.iter().enumerate() {
+            for (r, &v) in column.iter().enumerate().take(c + 1) {
+                cols[d0 + c][d0 + r] = v;
+                cols[d0 + r][d0 + c] = v;
             }
-            cols[j][i] = v;
-            cols[i][j] = v;
+        }
+    } else {
+        for (r, (ar, &i)) in a.iter().zip(s.rows).enumerate() {
+            for (&j, &(columns, values)) in s.rows[r..].iter().zip(&terms[r..]) {
+                let mut v = if s.identity { ar[j] } else { 0.0 };
+                for (&k, &c) in columns.iter().zip(values) {
+                    v += c * ar[k];
+                }
+                cols[j][i] = v;
+                cols[i][j] = v;
+            }
         }
     }
     // Step 4: Qd.
@@ -219,6 +256,19 @@ fn block<const N: usize, const B: usize>(
     cols: &[[f64; N]; N],
     c0: usize,
 ) {
+    row[c0..c0 + B].copy_from_slice(&combination::<N, B>(base, columns, values, cols, c0));
+}
+
+/// `base[c0..c0 + B] + sum_e values[e] P[columns[e], c0..c0 + B]` (rows of
+/// the symmetric `P` are its columns), accumulated in registers.
+#[inline(always)]
+fn combination<const N: usize, const B: usize>(
+    base: Option<&[f64; N]>,
+    columns: &[usize],
+    values: &[f64],
+    cols: &[[f64; N]; N],
+    c0: usize,
+) -> [f64; B] {
     let mut acc = [0.0f64; B];
     if let Some(b) = base {
         acc.copy_from_slice(&b[c0..c0 + B]);
@@ -228,19 +278,15 @@ fn block<const N: usize, const B: usize>(
             *x += c * y;
         }
     }
-    row[c0..c0 + B].copy_from_slice(&acc);
+    acc
 }
 
-/// Step 2: row and column `i` of the symmetric `P` (column-major columns)
-/// become `row`.
+/// The first row if `rows` are consecutive (the usual error-state layout: the
+/// navigation errors first).
 #[inline(always)]
-fn set_row_and_column<const N: usize>(cols: &mut [[f64; N]; N], i: usize, row: &[f64; N]) {
-    for (col, &v) in cols.iter_mut().zip(row) {
-        col[i] = v;
-    }
-    for (p, &v) in cols[i].iter_mut().zip(row) {
-        *p = v;
-    }
+fn contiguous(rows: &[usize]) -> Option<usize> {
+    let (&first, &last) = (rows.first()?, rows.last()?);
+    (last - first + 1 == rows.len()).then_some(first)
 }
 
 #[cfg(test)]
@@ -311,6 +357,15 @@ mod tests {
         let err = (got - want).amax() / want.amax();
         assert!(err < 1e-13, "relative error {err}");
         assert_eq!(got, got.transpose(), "result not exactly symmetric");
+        // The vector width chosen at run time never changes a bit.
+        let mut portable = p;
+        propagate_steps::<N, D>(&mut portable, &structure, &coefficients, &noise);
+        assert!(
+            got.iter()
+                .zip(&portable)
+                .all(|(a, b)| a.to_bits() == b.to_bits()),
+            "dispatched and portable results differ"
+        );
     }
 
     #[test]

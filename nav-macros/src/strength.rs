@@ -1,0 +1,229 @@
+//! Strength reduction of one generated function before it is scheduled: the
+//! slow scalar operations of its DAG are replaced by cheaper ones that the
+//! compiler may not substitute itself (Rust never reassociates floating point):
+//!
+//! - `a / b` with a divisor `b` shared by two or more divisions of the function
+//!   becomes `a * (1 / b)`: one division per divisor. Derivatives of
+//!   `V / (R + h)` divide by the same radius a dozen times (SDINS-25's `F`
+//!   had 35 divisions by 8 divisors);
+//! - `a / c` with a constant `c` becomes `a * (1 / c)`;
+//! - `tan(a)` becomes `sin(a) / cos(a)` when `sin(a)` or `cos(a)` is computed
+//!   anyway; `sin` and `cos` of one argument are then one `sin_cos` call (see
+//!   [`crate::cse`]).
+//!
+//! Each rewrite changes a value by at most a rounding in the last place (the
+//! tests below compare values before and after; every model's generated tests
+//! check its Jacobians against finite differences and its covariance algebra
+//! against dense products).
+//!
+//! The function is copied into a graph of its own (only the nodes its outputs
+//! reach), so the model's graph, shared by all functions, stays as derived.
+
+use std::collections::{HashMap, HashSet};
+
+use crate::expr::{Func, Graph, Id, Node};
+
+/// The outputs `roots` of one function, reduced, in a new graph (same order).
+pub fn reduce(source: &Graph, roots: &[Id]) -> (Graph, Vec<Id>) {
+    // Pass 1: tangents of arguments whose sine or cosine is computed anyway.
+    let trig_arguments: HashSet<Id> = reachable(source, roots)
+        .into_iter()
+        .filter_map(|id| match source.node(id) {
+            Node::Call(Func::Sin | Func::Cos, a) => Some(a),
+            _ => None,
+        })
+        .collect();
+    let (first, roots) = copy(source, roots, |g, node, kids| match node {
+        Node::Call(Func::Tan, a) if trig_arguments.contains(&a) => {
+            let sin = g.call(Func::Sin, kids[0]);
+            let cos = g.call(Func::Cos, kids[0]);
+            g.div(sin, cos)
+        }
+        _ => g.rebuild(node, kids),
+    });
+
+    // Pass 2: divisions by constants and by shared divisors.
+    let mut divisions: HashMap<Id, u32> = HashMap::new();
+    for id in reachable(&first, &roots) {
+        if let Node::Div(_, b) = first.node(id) {
+            *divisions.entry(b).or_default() += 1;
+        }
+    }
+    copy(&first, &roots, |g, node, kids| match node {
+        Node::Div(_, b) => {
+            let reciprocal = match first.as_const(b) {
+                Some(c) => Some(1.0 / c)
+                    .filter(|r| r.is_normal())
+                    .map(|r| g.constant(r)),
+                None if divisions[&b] >= 2 => Some(g.div(Graph::ONE, kids[1])),
+                None => None,
+            };
+            match reciprocal {
+                Some(r) => g.mul(kids[0], r),
+                None => g.rebuild(node, kids),
+            }
+        }
+        _ => g.rebuild(node, kids),
+    })
+}
+
+/// The nodes reachable from `roots` (each once).
+fn reachable(g: &Graph, roots: &[Id]) -> Vec<Id> {
+    let mut seen = vec![false; g.len()];
+    let mut stack = roots.to_vec();
+    let mut out = Vec::new();
+    while let Some(id) = stack.pop() {
+        if std::mem::replace(&mut seen[id.0 as usize], true) {
+            continue;
+        }
+        out.push(id);
+        stack.extend(g.node(id).children());
+    }
+    out
+}
+
+/// Copies the nodes reachable from `roots` into a new graph, children first;
+/// `build(graph, node, new operands)` makes each operation node there.
+fn copy(
+    source: &Graph,
+    roots: &[Id],
+    mut build: impl FnMut(&mut Graph, Node, &[Id]) -> Id,
+) -> (Graph, Vec<Id>) {
+    let mut g = Graph::new();
+    let mut new_id: Vec<Option<Id>> = vec![None; source.len()];
+    for &root in roots {
+        let mut stack = vec![(root, false)];
+        while let Some((id, expanded)) = stack.pop() {
+            if new_id[id.0 as usize].is_some() {
+                continue;
+            }
+            let node = source.node(id);
+            let id_in = |new_id: &[Option<Id>], c: Id| new_id[c.0 as usize];
+            let made = match node {
+                Node::Const(bits) => g.constant(f64::from_bits(bits)),
+                Node::Sym(s) => g.sym(s),
+                _ if expanded => {
+                    let kids: Vec<Id> = node
+                        .children()
+                        .map(|c| id_in(&new_id, c).expect("children are copied first"))
+                        .collect();
+                    build(&mut g, node, &kids)
+                }
+                _ => {
+                    stack.push((id, true));
+                    stack.extend(
+                        node.children()
+                            .filter(|&c| id_in(&new_id, c).is_none())
+                            .map(|c| (c, false)),
+                    );
+                    continue;
+                }
+            };
+            new_id[id.0 as usize] = Some(made);
+        }
+    }
+    let roots = roots
+        .iter()
+        .map(|r| new_id[r.0 as usize].expect("roots are copied"))
+        .collect();
+    (g, roots)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::expr::Sym;
+
+    fn symbols(g: &mut Graph) -> (Id, Id, Id) {
+        (
+            g.sym(Sym::State(0)),
+            g.sym(Sym::State(1)),
+            g.sym(Sym::State(2)),
+        )
+    }
+
+    fn count(g: &Graph, roots: &[Id], pred: impl Fn(Node) -> bool) -> usize {
+        reachable(g, roots)
+            .into_iter()
+            .filter(|&id| pred(g.node(id)))
+            .count()
+    }
+
+    fn env(s: Sym) -> f64 {
+        match s {
+            Sym::State(k) => [0.7, -1.3, 2.9][k as usize],
+            _ => 0.0,
+        }
+    }
+
+    /// Values before and after agree to rounding.
+    fn assert_same_values(before: (&Graph, &[Id]), after: (&Graph, &[Id])) {
+        for (&a, &b) in before.1.iter().zip(after.1) {
+            let (va, vb) = (before.0.eval(a, &env), after.0.eval(b, &env));
+            assert!(
+                (va - vb).abs() <= 4.0 * f64::EPSILON * va.abs(),
+                "{va} vs {vb}"
+            );
+        }
+    }
+
+    #[test]
+    fn shared_divisors_are_inverted_once() {
+        let mut g = Graph::new();
+        let (x, y, z) = symbols(&mut g);
+        let r = g.add(y, z);
+        let a = g.div(x, r);
+        let b = g.div(y, r);
+        let r2 = g.mul(r, r);
+        let c = g.div(z, r2); // a divisor used once stays a division
+        let roots = [a, b, c];
+        let (h, reduced) = reduce(&g, &roots);
+        let is_div = |n: Node| matches!(n, Node::Div(..));
+        assert_eq!(count(&g, &roots, is_div), 3);
+        assert_eq!(count(&h, &reduced, is_div), 2, "1 / r and z / r^2");
+        assert_same_values((&g, &roots), (&h, &reduced));
+    }
+
+    #[test]
+    fn constant_divisors_become_multiplications() {
+        let mut g = Graph::new();
+        let (x, ..) = symbols(&mut g);
+        let c = g.constant(6378137.0);
+        let a = g.div(x, c);
+        let zero = g.constant(0.0);
+        let by_zero = g.div(x, zero); // 1 / 0 is not finite: kept
+        let roots = [a, by_zero];
+        let (h, reduced) = reduce(&g, &roots);
+        assert!(matches!(h.node(reduced[0]), Node::Mul(..)));
+        assert!(matches!(h.node(reduced[1]), Node::Div(..)));
+        let (va, vb) = (g.eval(a, &env), h.eval(reduced[0], &env));
+        assert!((va - vb).abs() <= f64::EPSILON * va.abs());
+    }
+
+    #[test]
+    fn tangent_shares_sine_and_cosine() {
+        let mut g = Graph::new();
+        let (x, y, _) = symbols(&mut g);
+        let s = g.call(Func::Sin, x);
+        let t = g.call(Func::Tan, x);
+        let ty = g.call(Func::Tan, y); // no sin(y) or cos(y): stays a call
+        let roots = [s, t, ty];
+        let (h, reduced) = reduce(&g, &roots);
+        let is_tan = |n: Node| matches!(n, Node::Call(Func::Tan, _));
+        assert_eq!(count(&h, &reduced, is_tan), 1);
+        assert!(matches!(h.node(reduced[1]), Node::Div(..)));
+        assert_same_values((&g, &roots), (&h, &reduced));
+    }
+
+    #[test]
+    fn only_reachable_nodes_are_copied() {
+        let mut g = Graph::new();
+        let (x, y, z) = symbols(&mut g);
+        let _unused = g.mul(y, z);
+        let a = g.add(x, y);
+        let (h, reduced) = reduce(&g, &[a]);
+        // 0, 1, x, y and x + y.
+        assert_eq!(h.len(), 5);
+        assert_same_values((&g, &[a]), (&h, &reduced));
+    }
+}

@@ -1,0 +1,43 @@
+//! Run-time CPU feature detection for the hot loops (covariance propagation,
+//! Joseph update). The portable build targets SSE2 (two `f64` lanes); where
+//! the CPU has AVX the same loops run compiled for four lanes. Only the
+//! vector width changes, never the operations or their order (no FMA
+//! contraction), so results are bit-identical on every CPU (tested beside
+//! each use). Without `std` there is no detection: the portable code runs,
+//! vectorized for whatever `-C target-feature` the build enables.
+
+/// Whether the CPU executes AVX instructions (std caches the answer).
+#[cfg(all(feature = "std", target_arch = "x86_64"))]
+#[inline(always)]
+pub fn has_avx() -> bool {
+    std::arch::is_x86_feature_detected!("avx")
+}
+
+/// `fn name<const ..>(args) -> ret => portable;` defines `name`, which calls
+/// `portable` (an `#[inline(always)]` function with the same signature)
+/// compiled for AVX when the CPU has it, and as built otherwise.
+macro_rules! avx_dispatch {
+    (
+        $(#[$meta:meta])*
+        $vis:vis fn $name:ident<$(const $c:ident: usize),*>($($arg:ident: $ty:ty),* $(,)?)
+            $(-> $ret:ty)? => $portable:ident;
+    ) => {
+        $(#[$meta])*
+        #[inline]
+        $vis fn $name<$(const $c: usize),*>($($arg: $ty),*) $(-> $ret)? {
+            #[cfg(all(feature = "std", target_arch = "x86_64"))]
+            {
+                #[target_feature(enable = "avx")]
+                unsafe fn with_avx<$(const $c: usize),*>($($arg: $ty),*) $(-> $ret)? {
+                    $portable::<$($c),*>($($arg),*)
+                }
+                if $crate::dispatch::has_avx() {
+                    // SAFETY: the CPU executes AVX instructions (checked above).
+                    return unsafe { with_avx::<$($c),*>($($arg),*) };
+                }
+            }
+            $portable::<$($c),*>($($arg),*)
+        }
+    };
+}
+pub(crate) use avx_dispatch;
