@@ -7,7 +7,10 @@
 //! - `run_one`: simulate + filter + score (`Scenario::run_one`, what the Monte
 //!   Carlo repeats); real-time factor = 500 s / its time;
 //! - `filter_only`: the filter over an already simulated log
-//!   (`sdins25::filter::run`), the estimator's own real-time factor.
+//!   (`sdins25::filter::run`), the estimator's own real-time factor;
+//! - `reference`: the truth trajectory, its error-free IMU samples and truth
+//!   rows (`simulation::Reference::new`), shared by all runs of a process:
+//!   the first run pays it on top of `run_one`.
 //!
 //! Group `montecarlo/lawnmower-dvl`: `threads_1/<runs>`, `threads_2/<runs>`;
 //! the speed-up is their ratio. `BENCH_MC_RUNS` overrides the 100 runs (e.g. for a quick
@@ -18,7 +21,7 @@
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use models::montecarlo::{run_seeds, ProgressBar, RunOptions, Scenario};
 use models::sdins25::filter::{run, FilterOptions};
-use models::sdins25::simulation::{simulate, DURATION};
+use models::sdins25::simulation::{simulate, Reference, DURATION};
 use std::hint::black_box;
 use std::time::Duration;
 
@@ -40,6 +43,9 @@ fn scenario(c: &mut Criterion) {
     let log = simulate(&lawn.config, 7).log;
     g.bench_function("filter_only", |b| {
         b.iter(|| run(black_box(&log), &FilterOptions::default(), &[]).unwrap())
+    });
+    g.bench_function("reference", |b| {
+        b.iter(|| Reference::new(black_box(&lawn.config)))
     });
     g.finish();
 

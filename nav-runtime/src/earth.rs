@@ -173,48 +173,63 @@ fn lin_ecc() -> f64 {
     A * sqrt(E2)
 }
 
+/// Terms of the series of [`q_and_qp_of_z`] at most.
+const SERIES_TERMS: usize = 60;
+
+/// The series' coefficients, `(-1)^(k+1) / ((2k+1)(2k+3))` for `k = 1..`, at
+/// compile time (one multiplication per term at run time, no division).
+const SERIES: [f64; SERIES_TERMS] = {
+    let mut c = [0.0; SERIES_TERMS];
+    let mut k = 1;
+    while k < SERIES_TERMS {
+        let kf = k as f64;
+        let sign = if k % 2 == 1 { 1.0 } else { -1.0 };
+        c[k] = sign / ((2.0 * kf + 1.0) * (2.0 * kf + 3.0));
+        k += 1;
+    }
+    c
+};
+
+/// `q` and `q'` (below) at `z = E/u` in one pass over the powers of `z^2`.
+///
 /// Heiskanen & Moritz eq. 2-57, `q(u) = 1/2 [(1 + 3u^2/E^2) atan(E/u) - 3u/E]`,
 /// as the series in `z = E/u`: `q = sum_{k>=1} (-1)^(k+1) 2k z^(2k+1) / ((2k+1)(2k+3))`.
 /// The series avoids the cancellation of the closed form (terms of size 36 that
 /// cancel to 7e-5 on the ellipsoid). Valid for `z < 1` (outside the focal disk).
-fn q_of_z(z: f64) -> f64 {
+///
+/// Eq. 2-67's `q' = 3 (1 + u^2/E^2)(1 - (u/E) atan(E/u)) - 1` is the series
+/// `q' = sum_{k>=1} (-1)^(k+1) 6 z^(2k) / ((2k+1)(2k+3))`; `dq/du = -E/(u^2+E^2) q'`.
+fn q_and_qp_of_z(z: f64) -> (f64, f64) {
     let z2 = z * z;
-    let mut zp = z * z2; // z^(2k+1)
-    let mut sum = 0.0;
-    let mut sign = 1.0;
-    for k in 1..60 {
-        let kf = k as f64;
-        let term = sign * 2.0 * kf * zp / ((2.0 * kf + 1.0) * (2.0 * kf + 3.0));
-        sum += term;
-        if crate::math::abs(term) < 1e-18 * crate::math::abs(sum) {
+    let mut zp = z2; // z^(2k)
+    let (mut q, mut qp) = (0.0, 0.0);
+    for (k, &c) in SERIES.iter().enumerate().skip(1) {
+        let term = c * zp;
+        q += 2.0 * k as f64 * term;
+        qp += 6.0 * term;
+        if crate::math::abs(term) < 1e-18 * crate::math::abs(qp) {
             break;
         }
         zp *= z2;
-        sign = -sign;
     }
-    sum
+    (q * z, qp)
 }
 
-/// Heiskanen & Moritz eq. 2-67's `q' = 3 (1 + u^2/E^2)(1 - (u/E) atan(E/u)) - 1`,
-/// as the series `q' = sum_{k>=1} (-1)^(k+1) 6 z^(2k) / ((2k+1)(2k+3))`, `z = E/u`.
-/// It satisfies `dq/du = -E/(u^2+E^2) q'`.
-fn qp_of_z(z: f64) -> f64 {
-    let z2 = z * z;
-    let mut zp = z2;
-    let mut sum = 0.0;
-    let mut sign = 1.0;
-    for k in 1..60 {
-        let kf = k as f64;
-        let term = sign * 6.0 * zp / ((2.0 * kf + 1.0) * (2.0 * kf + 3.0));
-        sum += term;
-        if crate::math::abs(term) < 1e-18 * crate::math::abs(sum) {
-            break;
-        }
-        zp *= z2;
-        sign = -sign;
-    }
-    sum
+/// `q(z)`, see [`q_and_qp_of_z`].
+#[cfg(test)]
+fn q_of_z(z: f64) -> f64 {
+    q_and_qp_of_z(z).0
 }
+
+/// `q'(z)`, see [`q_and_qp_of_z`].
+#[cfg(test)]
+fn qp_of_z(z: f64) -> f64 {
+    q_and_qp_of_z(z).1
+}
+
+/// `q0 = q(E/b)` on the ellipsoid's surface (a constant; its value from the
+/// series is checked by a test).
+const Q0: f64 = 7.334_625_787_083_45e-5;
 
 /// The exact normal gravity field at a point: potential and gravity vector.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -250,10 +265,17 @@ impl NormalGravity {
 /// geodetic north and down. Valid for points outside the focal disk
 /// (anywhere within thousands of km of the surface).
 pub fn normal_gravity_field(lat: f64, h: f64) -> NormalGravity {
+    field::<true>(lat, h)
+}
+
+/// [`normal_gravity_field`], the potential only if `POTENTIAL` (the strapdown
+/// and the truth generator need only the gradient).
+#[inline(always)]
+fn field<const POTENTIAL: bool>(lat: f64, h: f64) -> NormalGravity {
     let e = lin_ecc();
     let e2l = e * e;
-    let (sl, cl) = (sin(lat), cos(lat));
-    let rn = transverse_radius(lat);
+    let (sl, cl) = crate::math::sin_cos(lat);
+    let rn = A / sqrt(1.0 - E2 * sl * sl);
     // Meridian-plane coordinates (p, z) of the point.
     let p = (rn + h) * cl;
     let z = (rn * (1.0 - E2) + h) * sl;
@@ -269,21 +291,26 @@ pub fn normal_gravity_field(lat: f64, h: f64) -> NormalGravity {
     let u = sqrt(u2);
     let ue2 = u2 + e2l;
     let ue = sqrt(ue2);
-    // Reduced latitude beta (H&M eq. 6-8b): tan beta = z sqrt(u^2+E^2) / (p u).
-    let beta = atan2(z * ue, p * u);
-    let (sb, cb) = (sin(beta), cos(beta));
+    // Reduced latitude beta (H&M eq. 6-8b): tan beta = z sqrt(u^2+E^2) / (p u),
+    // its sine and cosine directly.
+    let (y, x) = (z * ue, p * u);
+    let r = sqrt(x * x + y * y);
+    let (sb, cb) = (y / r, x / r);
 
     let w2 = OMEGA * OMEGA;
     let zz = e / u;
-    let q0 = q_of_z(e / B);
-    let qu = q_of_z(zz);
-    let dq_du = -e / ue2 * qp_of_z(zz);
+    let (qu, qp) = q_and_qp_of_z(zz);
+    let dq_du = -e / ue2 * qp;
 
-    let potential = GM / e * atan(zz)
-        + 0.5 * w2 * A * A * (qu / q0) * (sb * sb - 1.0 / 3.0)
-        + 0.5 * w2 * ue2 * cb * cb;
-    let du = -GM / ue2 + 0.5 * w2 * A * A * (dq_du / q0) * (sb * sb - 1.0 / 3.0) + w2 * u * cb * cb;
-    let dbeta = sb * cb * w2 * (A * A * qu / q0 - ue2);
+    let potential = if POTENTIAL {
+        GM / e * atan(zz)
+            + 0.5 * w2 * A * A * (qu / Q0) * (sb * sb - 1.0 / 3.0)
+            + 0.5 * w2 * ue2 * cb * cb
+    } else {
+        f64::NAN
+    };
+    let du = -GM / ue2 + 0.5 * w2 * A * A * (dq_du / Q0) * (sb * sb - 1.0 / 3.0) + w2 * u * cb * cb;
+    let dbeta = sb * cb * w2 * (A * A * qu / Q0 - ue2);
 
     // Metric: |dr/du|^2 = w^2, |dr/dbeta|^2 = w^2 (u^2+E^2) = u^2 + E^2 sin^2 beta.
     let hb2 = u2 + e2l * sb * sb;
@@ -306,12 +333,12 @@ pub fn normal_gravity_field(lat: f64, h: f64) -> NormalGravity {
 /// Exact normal gravity in NED, `g^n = [g_N, 0, g_D]` (m/s^2), `g_D > 0`.
 /// This is the `g^n` of MODELS.md SDINS-25 eq. 2 used by [`crate::strapdown`].
 pub fn normal_gravity_ned(lat: f64, h: f64) -> Vector3<f64> {
-    normal_gravity_field(lat, h).ned()
+    field::<false>(lat, h).ned()
 }
 
 /// Exact magnitude of normal gravity |gamma|(L, h) (m/s^2).
 pub fn normal_gravity(lat: f64, h: f64) -> f64 {
-    normal_gravity_field(lat, h).magnitude()
+    field::<false>(lat, h).magnitude()
 }
 
 /// Somigliana's closed form on the ellipsoid,
@@ -526,6 +553,22 @@ mod tests {
                 z: v[11],
             }
         })
+    }
+
+    #[test]
+    fn q0_is_the_series_at_the_surface() {
+        let q0 = q_of_z(lin_ecc() / B);
+        assert!((Q0 - q0).abs() <= 2.0 * f64::EPSILON * q0, "{q0:e}");
+    }
+
+    #[test]
+    fn gradient_only_field_equals_the_full_field() {
+        for (lat, h) in [(0.3, -120.0), (-1.2, 0.0), (1.5, 2500.0), (0.0, 40.0)] {
+            let full = normal_gravity_field(lat, h);
+            let g = normal_gravity_ned(lat, h);
+            assert_eq!((g[0], g[2]), (full.north, full.down));
+            assert!(full.potential.is_finite());
+        }
     }
 
     #[test]

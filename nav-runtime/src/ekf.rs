@@ -732,8 +732,10 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
         let mut s = hph + r;
         mirror_upper(&mut s);
         let not_pd = FilterError::InnovationCovarianceNotPositiveDefinite { sensor: S::NAME };
-        let chol = Cholesky::new(s).ok_or(not_pd)?;
-        let nis = nu.dot(&chol.solve(&nu));
+        // S^-1 once (M x M, from the Cholesky factor): the NIS and the gain
+        // are then products, cheaper than M + N triangular solve pairs.
+        let s_inverse = Cholesky::new(s).ok_or(not_pd)?.inverse();
+        let nis = nu.dot(&(s_inverse * nu));
         if !nis.is_finite() {
             return Err(not_pd);
         }
@@ -750,8 +752,8 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
         if !report.accepted {
             return Ok(report);
         }
-        // K^T = S^-1 U^T (S symmetric), eq. U4.
-        let k = chol.solve(&u.transpose()).transpose();
+        // K = U S^-1, eq. U4.
+        let k = u * s_inverse;
         let x_new = self.x + k * nu;
         if !all_finite(x_new.as_slice()) {
             return Err(FilterError::NonFiniteResult { stage: "update" });
@@ -1408,12 +1410,19 @@ fn is_symmetric<const N: usize>(m: &SMatrix<f64, N, N>) -> bool {
     })
 }
 
-/// `true` if every entry of `p` is finite and every diagonal entry positive:
-/// the common case, in which nothing needs repairing. One branch-free,
-/// vectorizable pass: the sum of all entries is finite if they all are (a sum
-/// that overflows merely sends the caller to the exact slow path,
-/// [`off_diagonal_finite`] and [`repair_diagonal`]).
-fn covariance_is_clean<const N: usize>(p: &SMatrix<f64, N, N>) -> bool {
+crate::dispatch::avx_dispatch! {
+    /// `true` if every entry of `p` is finite and every diagonal entry positive:
+    /// the common case, in which nothing needs repairing. One branch-free,
+    /// vectorizable pass: the sum of all entries is finite if they all are (a sum
+    /// that overflows merely sends the caller to the exact slow path,
+    /// [`off_diagonal_finite`] and [`repair_diagonal`]).
+    /// Runs compiled for AVX where the CPU has it.
+    fn covariance_is_clean<const N: usize>(p: &SMatrix<f64, N, N>) -> bool => covariance_is_clean_pass;
+}
+
+/// The pass of [`covariance_is_clean`].
+#[inline(always)]
+fn covariance_is_clean_pass<const N: usize>(p: &SMatrix<f64, N, N>) -> bool {
     let mut acc = [0.0f64; 8];
     let mut chunks = p.as_slice().chunks_exact(8);
     for chunk in &mut chunks {
