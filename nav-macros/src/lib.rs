@@ -262,9 +262,13 @@
 //! constants and drop `x + 0`, `x * 1`, `x * 0`, `x - x`, `--x`, ..) ->
 //! differentiate, memoized per (node, variable) (`diff.rs`) -> build `F`, `G`,
 //! `Qd`, `Phi P Phi^T + Qd` over symbols `P_ij` of the upper triangle, and per
-//! sensor `H`, `P H^T`, `H P H^T` (`derive.rs`) -> one scheduling pass per
-//! generated function over all its outputs: nodes used twice become `let _tN`
-//! temporaries (`cse.rs`) -> emit (`emit.rs`, `emit_tests.rs`). An entry of a
+//! sensor `H`, `P H^T`, `H P H^T` (`derive.rs`) -> per generated function,
+//! strength reduction of its outputs in a graph of their own (`strength.rs`:
+//! a divisor shared by several divisions is inverted once, division by a
+//! constant becomes a multiplication, `tan` becomes `sin / cos` when those are
+//! computed anyway) -> one scheduling pass over all its outputs: nodes used
+//! twice become `let _tN` temporaries, `sin` and `cos` of one argument one
+//! `sin_cos` call (`cse.rs`) -> emit (`emit.rs`, `emit_tests.rs`). An entry of a
 //! Jacobian that simplifies to the literal 0 is a structural zero: it is
 //! `false` in `JACOBIAN_SPARSITY` and never becomes code, and unit entries of
 //! `Phi` cost nothing. The op count of a function (`OPS_*`, and "Total ops: N"

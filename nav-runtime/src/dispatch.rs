@@ -14,8 +14,10 @@ pub fn has_avx() -> bool {
 }
 
 /// `fn name<const ..>(args) -> ret => portable;` defines `name`, which calls
-/// `portable` (an `#[inline(always)]` function with the same signature)
-/// compiled for AVX when the CPU has it, and as built otherwise.
+/// `portable` (an `#[inline(always)]` function with the same signature and a
+/// last `const AVX: bool`) compiled for AVX with `AVX = true` when the CPU has
+/// it, and as built with `AVX = false` otherwise (the flag lets a kernel pick
+/// block sizes for the register file it gets).
 macro_rules! avx_dispatch {
     (
         $(#[$meta:meta])*
@@ -29,14 +31,14 @@ macro_rules! avx_dispatch {
             {
                 #[target_feature(enable = "avx")]
                 unsafe fn with_avx<$(const $c: usize),*>($($arg: $ty),*) $(-> $ret)? {
-                    $portable::<$($c),*>($($arg),*)
+                    $portable::<$($c,)* true>($($arg),*)
                 }
                 if $crate::dispatch::has_avx() {
                     // SAFETY: the CPU executes AVX instructions (checked above).
                     return unsafe { with_avx::<$($c),*>($($arg),*) };
                 }
             }
-            $portable::<$($c),*>($($arg),*)
+            $portable::<$($c,)* false>($($arg),*)
         }
     };
 }

@@ -1097,7 +1097,7 @@ crate::dispatch::avx_dispatch! {
 
 /// The body of [`joseph_in_place`].
 #[inline(always)]
-fn joseph_in_place_steps<const N: usize, const M: usize>(
+fn joseph_in_place_steps<const N: usize, const M: usize, const AVX: bool>(
     p: &mut SMatrix<f64, N, N>,
     k: &SMatrix<f64, N, M>,
     u: &SMatrix<f64, N, M>,
@@ -1422,7 +1422,7 @@ crate::dispatch::avx_dispatch! {
 
 /// The pass of [`covariance_is_clean`].
 #[inline(always)]
-fn covariance_is_clean_pass<const N: usize>(p: &SMatrix<f64, N, N>) -> bool {
+fn covariance_is_clean_pass<const N: usize, const AVX: bool>(p: &SMatrix<f64, N, N>) -> bool {
     let mut acc = [0.0f64; 8];
     let mut chunks = p.as_slice().chunks_exact(8);
     for chunk in &mut chunks {
@@ -1630,7 +1630,7 @@ mod tests {
             let k = u * s.try_inverse().unwrap();
             let (mut dispatched, mut portable) = (p, p);
             let a = joseph_in_place(&mut dispatched, &k, &u, &s, 0.0);
-            let b = joseph_in_place_steps(&mut portable, &k, &u, &s, 0.0);
+            let b = joseph_in_place_steps::<25, 3, false>(&mut portable, &k, &u, &s, 0.0);
             assert_eq!(a, b);
             assert!(dispatched
                 .iter()

@@ -97,7 +97,7 @@ crate::dispatch::avx_dispatch! {
 
 /// The four steps of [`propagate`].
 #[inline(always)]
-fn propagate_steps<const N: usize, const D: usize>(
+fn propagate_steps<const N: usize, const D: usize, const AVX: bool>(
     cov: &mut SMatrix<f64, N, N>,
     structure: &Structure<'_>,
     coefficients: &[f64],
@@ -116,7 +116,7 @@ fn propagate_steps<const N: usize, const D: usize>(
     let mut a = [[0.0f64; N]; D];
     for ((row, &i), &(columns, values)) in a.iter_mut().zip(s.rows).zip(&terms) {
         let base = if s.identity { Some(&cols[i]) } else { None };
-        combine_rows(row, base, columns, values, cols);
+        combine_rows::<N, AVX>(row, base, columns, values, cols);
     }
     // Step 2: rows and columns D of P become those of A (the U entries are
     // final). Columns first, then rows: afterwards every column `k` holds
@@ -171,24 +171,31 @@ fn propagate_steps<const N: usize, const D: usize>(
 
 /// Columns per register block of step 1 (six SSE2 registers of accumulators).
 const BLOCK: usize = 12;
-/// Rows up to this length are one block (at most eight registers).
-const WHOLE_ROW: usize = 16;
+/// Rows up to this length are one block: at most 8 SSE2 registers of
+/// accumulators, or 7 AVX registers (a 25-state row), of the 16 there are.
+const fn whole_row(avx: bool) -> usize {
+    if avx {
+        28
+    } else {
+        16
+    }
+}
 
 /// `row = base + sum_e values[e] P[columns[e], :]`, the accumulators of a
 /// block of columns kept in registers across the nonzeros. Rows longer than
-/// [`WHOLE_ROW`] are split into blocks of [`BLOCK`] columns; the last block
+/// [`whole_row`] are split into blocks of [`BLOCK`] columns; the last block
 /// and the remainder are split evenly into two blocks of 6 to 12 columns, so
 /// no column is left to a scalar loop (`N` is a constant: only one arm of
 /// the `match` survives compilation).
 #[inline(always)]
-fn combine_rows<const N: usize>(
+fn combine_rows<const N: usize, const AVX: bool>(
     row: &mut [f64; N],
     base: Option<&[f64; N]>,
     columns: &[usize],
     values: &[f64],
     cols: &[[f64; N]; N],
 ) {
-    if N <= WHOLE_ROW {
+    if N <= whole_row(AVX) {
         block::<N, N>(row, base, columns, values, cols, 0);
         return;
     }
@@ -359,7 +366,7 @@ mod tests {
         assert_eq!(got, got.transpose(), "result not exactly symmetric");
         // The vector width chosen at run time never changes a bit.
         let mut portable = p;
-        propagate_steps::<N, D>(&mut portable, &structure, &coefficients, &noise);
+        propagate_steps::<N, D, false>(&mut portable, &structure, &coefficients, &noise);
         assert!(
             got.iter()
                 .zip(&portable)
