@@ -6,7 +6,10 @@
 #   scripts/bench.sh --quick         # shorter measurement, 20-run Monte Carlo
 #   scripts/bench.sh propagation update   # only these benches
 #   scripts/bench.sh --report        # print the ratios of the last results only
-#   scripts/bench.sh --callgrind     # instructions per propagation (needs valgrind)
+#   scripts/bench.sh --callgrind     # instructions per propagation and update (needs
+#                                    # valgrind); fails if one is >10 % above
+#                                    # models/perf/instructions.toml
+#   scripts/bench.sh --callgrind --update-baseline   # rewrite that file
 #   scripts/bench.sh --expansion     # compile time of the model declarations
 #
 # Benches: propagation, update, filter_step, scenario (crate models) and
@@ -18,6 +21,7 @@ cd "$(dirname "$0")/.."
 
 quick=0
 report_only=0
+update_baseline=0
 mode=bench
 benches=()
 for arg in "$@"; do
@@ -25,9 +29,10 @@ for arg in "$@"; do
         --quick) quick=1 ;;
         --report) report_only=1 ;;
         --callgrind) mode=callgrind ;;
+        --update-baseline) update_baseline=1 ;;
         --expansion) mode=expansion ;;
         -h | --help)
-            sed -n '2,15p' "$0"
+            sed -n '2,18p' "$0"
             exit 0
             ;;
         propagation | update | filter_step | scenario | strapdown) benches+=("$arg") ;;
@@ -52,29 +57,79 @@ if [ "$mode" = callgrind ]; then
         echo "valgrind not found" >&2
         exit 1
     }
-    cargo bench -p models --bench propagation --no-run 2>&1 | tail -1
-    bin=$(cargo bench -p models --bench propagation --no-run --message-format=json 2>/dev/null |
-        python3 -c 'import json, sys
+    executable() { # bench name
+        cargo bench -p models --bench "$1" --no-run 2>&1 | tail -1 >&2
+        cargo bench -p models --bench "$1" --no-run --message-format=json 2>/dev/null |
+            python3 -c 'import json, sys
 for line in sys.stdin:
     m = json.loads(line)
-    if m.get("reason") == "compiler-artifact" and m["target"]["name"] == "propagation" and m.get("executable"):
-        print(m["executable"])')
-    calls=1000
-    count() { # model/variant function-pattern
-        PROPAGATE_ONLY="$1" PROPAGATE_CALLS=$calls valgrind --tool=callgrind \
-            --callgrind-out-file=/dev/null --toggle-collect="$2" "$bin" 2>&1 |
-            awk -v c=$calls '/Collected/ { printf "%.0f", $4 / c }'
+    if m.get("reason") == "compiler-artifact" and m["target"]["name"] == sys.argv[1] and m.get("executable"):
+        print(m["executable"])' "$1"
     }
+    propagation_bin=$(executable propagation)
+    update_bin=$(executable update)
+    calls=1000
+    count() { # ONLY-variable value function-pattern binary
+        env "$1=$2" PROPAGATE_CALLS=$calls UPDATE_CALLS=$calls valgrind --tool=callgrind \
+            --callgrind-out-file=/dev/null --toggle-collect="$3" "$4" 2>&1 |
+            awk -v c=$calls '/Collected/ { v = $4 / c; if (v > m) m = v } END { printf "%.0f", m }'
+    }
+    measured=$(mktemp)
+    trap 'rm -f "$measured"' EXIT
     printf "%-10s %12s %12s %12s %18s %14s\n" model generated dense hand-written "dense incl. F, Qd" generated/dense
     for m in sdins25 leveling6 marker9; do
-        g=$(count "$m/generated" '*generated_propagate*')
-        d=$(count "$m/dense" '*dense_propagate*')
-        dm=$(count "$m/dense_with_model" '*dense_propagate_with_model*')
+        g=$(count PROPAGATE_ONLY "$m/generated" '*generated_propagate*' "$propagation_bin")
+        d=$(count PROPAGATE_ONLY "$m/dense" '*dense_propagate*' "$propagation_bin")
+        dm=$(count PROPAGATE_ONLY "$m/dense_with_model" '*dense_propagate_with_model*' "$propagation_bin")
         h=-
-        [ "$m" = sdins25 ] && h=$(count "$m/handwritten" '*HandWrittenSdins25*propagate*')
+        [ "$m" = sdins25 ] && h=$(count PROPAGATE_ONLY "$m/handwritten" '*HandWrittenSdins25*propagate*' "$propagation_bin")
         printf "%-10s %12s %12s %12s %18s %14.3f\n" "$m" "$g" "$d" "$h" "$dm" "$(echo "$g / $d" | bc -l)"
+        echo "propagate.$m = $g" >>"$measured"
     done
-    exit 0
+    printf "\n%-20s %12s %12s %14s\n" "update (SDINS-25)" generated dense generated/dense
+    for s in dvl compass usbl depth; do
+        g=$(count UPDATE_ONLY "$s/generated" '*generated_update*' "$update_bin")
+        d=$(count UPDATE_ONLY "$s/dense" '*dense_joseph_update*' "$update_bin")
+        printf "%-20s %12s %12s %14.3f\n" "$s" "$g" "$d" "$(echo "$g / $d" | bc -l)"
+        echo "update.$s = $g" >>"$measured"
+    done
+    # Regression check against the checked-in instruction counts: more than
+    # 10 % above the baseline fails (exit 1). `--update-baseline` rewrites it.
+    baseline=models/perf/instructions.toml
+    if [ "$update_baseline" -eq 1 ]; then
+        {
+            echo "# Instructions per call (callgrind, 1000 calls) of the generated code,"
+            echo "# checked by 'scripts/bench.sh --callgrind' (fails above +10 %)."
+            echo "# Rewrite with 'scripts/bench.sh --callgrind --update-baseline'."
+            cat "$measured"
+        } >"$baseline"
+        echo "wrote $baseline"
+        exit 0
+    fi
+    python3 - "$baseline" "$measured" <<'PY'
+import sys
+def read(path):
+    out = {}
+    for line in open(path):
+        line = line.split("#")[0].strip()
+        if line:
+            k, v = line.split("=")
+            out[k.strip()] = int(v)
+    return out
+base, now = read(sys.argv[1]), read(sys.argv[2])
+failed = False
+print()
+for k in sorted(now):
+    if k not in base:
+        print(f"{k}: {now[k]} (no baseline)")
+        continue
+    change = now[k] / base[k] - 1
+    bad = change > 0.10
+    failed |= bad
+    print(f"{k:<22} {now[k]:>8} vs baseline {base[k]:>8} ({change:+.1%}){'  REGRESSION > 10 %' if bad else ''}")
+sys.exit(1 if failed else 0)
+PY
+    exit $?
 fi
 
 # Compile time of the model declarations: a throw-away crate holding only the

@@ -116,21 +116,7 @@ pub fn simulate(motion: Motion, biases: Biases, seed: u64) -> LogDir {
         })
         .collect();
     let truth_rows: Vec<TruthRow> = (0..=n_speed)
-        .map(|k| {
-            let s = truth.truth(k as f64 / SPEED_RATE);
-            TruthRow::new(
-                s.t,
-                s.lat,
-                s.lon,
-                s.depth(),
-                s.v_n.x,
-                s.v_n.y,
-                s.v_n.z,
-                s.euler.roll,
-                s.euler.pitch,
-                s.euler.yaw,
-            )
-        })
+        .map(|k| TruthRow::from(&truth.truth(k as f64 / SPEED_RATE)))
         .collect();
 
     let s0 = truth.truth(0.0);

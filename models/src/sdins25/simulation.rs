@@ -194,21 +194,7 @@ impl Reference {
         let imu = imu::rates(&trajectory, config.imu_rate, config.duration).collect();
         let n_truth = (config.duration * TRUTH_RATE + 1e-9).floor() as usize;
         let truth_rows = (0..=n_truth)
-            .map(|k| {
-                let s = trajectory.truth(k as f64 / TRUTH_RATE);
-                TruthRow::new(
-                    s.t,
-                    s.lat,
-                    s.lon,
-                    s.depth(),
-                    s.v_n.x,
-                    s.v_n.y,
-                    s.v_n.z,
-                    s.euler.roll,
-                    s.euler.pitch,
-                    s.euler.yaw,
-                )
-            })
+            .map(|k| TruthRow::from(&trajectory.truth(k as f64 / TRUTH_RATE)))
             .collect();
         Reference {
             trajectory,

@@ -242,18 +242,7 @@ pub fn simulate(seed: u64) -> RunLogs {
     for k in 0..=n {
         let t = k as f64 / AIDING_RATE;
         let s = truth.truth(t);
-        truth_rows.push(TruthRow::new(
-            t,
-            s.lat,
-            s.lon,
-            s.depth(),
-            s.v_n.x,
-            s.v_n.y,
-            s.v_n.z,
-            s.euler.roll,
-            s.euler.pitch,
-            s.euler.yaw,
-        ));
+        truth_rows.push(TruthRow::from(&s));
         if k == 0 {
             continue;
         }

@@ -235,6 +235,24 @@ impl RangeCheck for UsblRow {
         check_lat_lon(self.lat, self.lon)
     }
 }
+impl From<&crate::trajectory::TruthState> for TruthRow {
+    /// The `truth.csv` row of a simulated truth sample.
+    fn from(s: &crate::trajectory::TruthState) -> Self {
+        TruthRow::new(
+            s.t,
+            s.lat,
+            s.lon,
+            s.depth(),
+            s.v_n.x,
+            s.v_n.y,
+            s.v_n.z,
+            s.euler.roll,
+            s.euler.pitch,
+            s.euler.yaw,
+        )
+    }
+}
+
 impl RangeCheck for TruthRow {
     fn range_check(&self) -> Result<(), (usize, f64, &'static str)> {
         check_lat_lon(self.lat, self.lon)
