@@ -81,6 +81,10 @@ impl Term {
                 duration,
                 delta,
             } => {
+                if t <= t0 {
+                    // Not started (what `smooth_step` gives, without the division).
+                    return (0.0, 0.0, 0.0);
+                }
                 let (v, d, i) = smooth_step((t - t0) / duration);
                 (delta * v, delta * d / duration, delta * duration * i)
             }
@@ -374,29 +378,24 @@ impl Trajectory {
             nodes: Vec::with_capacity(n + 1),
         };
         let mut y = [me.spec.start.lat, me.spec.start.lon];
-        let f = |me: &Self, t: f64, y: &[f64; 2]| -> [f64; 2] {
-            let k = me.kinematics(t);
+        // Latitude and longitude rates from the kinematics at a time (which
+        // do not depend on the position) and a position.
+        let f = |k: &Kin, y: &[f64; 2]| -> [f64; 2] {
             let rm = meridian_radius(y[0]) + k.h;
             let rn = transverse_radius(y[0]) + k.h;
             [k.v_n[0] / rm, k.v_n[1] / (rn * y[0].cos())]
         };
         for i in 0..=n {
             let t = i as f64 * node_dt;
-            let d = f(&me, t, &y);
+            let d = f(&me.kinematics(t), &y);
             me.nodes.push([y[0], y[1], d[0], d[1]]);
             let h = node_dt;
+            // RK4's two midpoint stages share the kinematics at t + h/2.
+            let mid = me.kinematics(t + h / 2.0);
             let k1 = d;
-            let k2 = f(
-                &me,
-                t + h / 2.0,
-                &[y[0] + h / 2.0 * k1[0], y[1] + h / 2.0 * k1[1]],
-            );
-            let k3 = f(
-                &me,
-                t + h / 2.0,
-                &[y[0] + h / 2.0 * k2[0], y[1] + h / 2.0 * k2[1]],
-            );
-            let k4 = f(&me, t + h, &[y[0] + h * k3[0], y[1] + h * k3[1]]);
+            let k2 = f(&mid, &[y[0] + h / 2.0 * k1[0], y[1] + h / 2.0 * k1[1]]);
+            let k3 = f(&mid, &[y[0] + h / 2.0 * k2[0], y[1] + h / 2.0 * k2[1]]);
+            let k4 = f(&me.kinematics(t + h), &[y[0] + h * k3[0], y[1] + h * k3[1]]);
             for j in 0..2 {
                 y[j] += h / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]);
             }
