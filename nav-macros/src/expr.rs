@@ -167,6 +167,21 @@ impl Graph {
         self.nodes.len()
     }
 
+    /// The nodes reachable from `roots`, each once (roots included).
+    pub fn reachable(&self, roots: &[Id]) -> Vec<Id> {
+        let mut seen = vec![false; self.len()];
+        let mut stack = roots.to_vec();
+        let mut out = Vec::new();
+        while let Some(id) = stack.pop() {
+            if std::mem::replace(&mut seen[id.0 as usize], true) {
+                continue;
+            }
+            out.push(id);
+            stack.extend(self.node(id).children());
+        }
+        out
+    }
+
     /// The id of `node` if the graph holds it (never adds it).
     pub fn find(&self, node: Node) -> Option<Id> {
         self.index.get(&node).copied()

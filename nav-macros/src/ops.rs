@@ -6,20 +6,10 @@ use crate::expr::{Graph, Id};
 
 /// Arithmetic operations needed to compute all of `roots` with full sharing.
 pub fn count(g: &Graph, roots: &[Id]) -> usize {
-    let mut seen = vec![false; g.len()];
-    let mut stack: Vec<Id> = roots.to_vec();
-    let mut ops = 0;
-    while let Some(id) = stack.pop() {
-        if std::mem::replace(&mut seen[id.0 as usize], true) {
-            continue;
-        }
-        let node = g.node(id);
-        if node.is_op() {
-            ops += 1;
-        }
-        stack.extend(node.children());
-    }
-    ops
+    g.reachable(roots)
+        .into_iter()
+        .filter(|&id| g.node(id).is_op())
+        .count()
 }
 
 #[cfg(test)]

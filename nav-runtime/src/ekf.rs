@@ -1586,15 +1586,30 @@ mod tests {
         bits(a) == bits(b)
     }
 
+    /// A random SPD prior `P`, `H`, SPD `R`, and `U = P H^T`, `S = H U + R`.
+    #[allow(clippy::type_complexity)]
+    fn random_update<const N: usize, const M: usize>(
+        g: &mut Gauss,
+    ) -> (
+        SMatrix<f64, N, N>,
+        SMatrix<f64, M, N>,
+        SMatrix<f64, M, M>,
+        SMatrix<f64, N, M>,
+        SMatrix<f64, M, M>,
+    ) {
+        let p: SMatrix<f64, N, N> = g.spd(0.1);
+        let h = SMatrix::<f64, M, N>::from_fn(|_, _| g.normal());
+        let r: SMatrix<f64, M, M> = g.spd(0.05);
+        let u = p * h.transpose();
+        let s = h * u + r;
+        (p, h, r, u, s)
+    }
+
     #[test]
     fn joseph_equals_textbook_for_any_gain_and_standard_form_for_optimal_gain() {
         let mut g = Gauss::new(1);
         for _ in 0..50 {
-            let p: SMatrix<f64, 5, 5> = g.spd(0.1);
-            let h = SMatrix::<f64, 2, 5>::from_fn(|_, _| g.normal());
-            let r: SMatrix<f64, 2, 2> = g.spd(0.05);
-            let u = p * h.transpose();
-            let s = h * u + r;
+            let (p, h, r, u, s) = random_update::<5, 2>(&mut g);
             let i5 = SMatrix::<f64, 5, 5>::identity();
             // Random suboptimal gain.
             let k = SMatrix::<f64, 5, 2>::from_fn(|_, _| g.normal());
@@ -1622,11 +1637,7 @@ mod tests {
     fn joseph_vector_width_never_changes_a_bit() {
         let mut g = Gauss::new(7);
         for _ in 0..20 {
-            let p: SMatrix<f64, 25, 25> = g.spd(0.1);
-            let h = SMatrix::<f64, 3, 25>::from_fn(|_, _| g.normal());
-            let r: SMatrix<f64, 3, 3> = g.spd(0.05);
-            let u = p * h.transpose();
-            let s = h * u + r;
+            let (p, _, _, u, s) = random_update::<25, 3>(&mut g);
             let k = u * s.try_inverse().unwrap();
             let (mut dispatched, mut portable) = (p, p);
             let a = joseph_in_place(&mut dispatched, &k, &u, &s, 0.0);
