@@ -1,4 +1,4 @@
-//! The estimators of the source papers (MODELS.md), declared with `nav_runtime::model!`.
+//! The estimators of the source papers (docs/models/), declared with `nav_runtime::model!`.
 
 pub mod cli;
 pub mod leveling;

@@ -10,7 +10,7 @@
 //!
 //! A second test prints the covariance propagation counts next to a dense
 //! `Phi P Phi^T + Qd` and the minimum for each model's sparsity (see
-//! the README section "Performance"), and checks the generated count stays below dense.
+//! docs/performance.md), and checks the generated count stays below dense.
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;

@@ -14,7 +14,7 @@
 //! macros (a composition expands them one after another), so the crate that
 //! uses them names `nav_runtime` as a dependency.
 //!
-//! Conventions are those of SDINS-25 (MODELS.md section 1): indirect
+//! Conventions are those of SDINS-25 (docs/models/sdins25.md): indirect
 //! feedback, errors are INS value minus true value, every measurement is "INS
 //! prediction minus sensor" and the true quantities are written from the
 //! nominal ones and the errors (`C = (I + [phi x]) C^`), so the generator
@@ -25,7 +25,7 @@
 
 nav_runtime::model! {
     /// The 15-state INS error-state core: position, velocity and attitude errors,
-    /// accelerometer and gyro biases (MODELS.md SDINS-25 eqs. 4-9). Its inputs are
+    /// accelerometer and gyro biases (docs/models/sdins25.md, eqs. 4-9). Its inputs are
     /// the nominal navigation solution, visible to every block through `needs`.
     #[macro_export]
     pub block InsCore {
@@ -60,7 +60,7 @@ nav_runtime::model! {
             gyro_noise: 3,
         }
         continuous {
-            // WGS-84 (MODELS.md conventions), exact radii.
+            // WGS-84 (docs/models/conventions.md, item 4), exact radii.
             let a = 6378137.0;
             let e2 = 0.0066943799901413165;
             let omega = 7.292115e-5;

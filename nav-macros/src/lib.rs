@@ -200,7 +200,7 @@
 //! | `skew(v)` | 3-vector -> 3x3 matrix with `skew(a) * b == cross(a, b)` |
 //! | `norm_squared(v)`, `norm(v)` | vector -> scalar |
 //! | `transpose(m)` | matrix(r,c) -> matrix(c,r) |
-//! | `euler_dcm(roll, pitch, yaw)` | scalars -> `C_b^n`, the transpose of `C_n^b = C_x(roll) C_y(pitch) C_z(yaw)` (MODELS.md "Conventions") |
+//! | `euler_dcm(roll, pitch, yaw)` | scalars -> `C_b^n`, the transpose of `C_n^b = C_x(roll) C_y(pitch) C_z(yaw)` (docs/models/conventions.md, item 2) |
 //!
 //! Every function may also be written as a method of its first argument:
 //! `x.sin()`, `y.atan2(x)`, `a.dot(b)`, `x.powi(2)`, `m.transpose()`. Generated

@@ -695,7 +695,7 @@ impl Lowerer<'_> {
 }
 
 /// `C_b^n` from roll, pitch, yaw (Z-Y-X), the transpose of `C_n^b` as printed
-/// in MODELS.md "Conventions".
+/// in docs/models/conventions.md, item 2.
 fn euler_dcm(g: &mut Graph, roll: Id, pitch: Id, yaw: Id) -> Vec<Id> {
     let (sf, cf) = (g.call(Func::Sin, roll), g.call(Func::Cos, roll));
     let (st, ct) = (g.call(Func::Sin, pitch), g.call(Func::Cos, pitch));

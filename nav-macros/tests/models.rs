@@ -1,4 +1,4 @@
-//! Integration tests: the models of MODELS.md declared with `nav_runtime::model!`,
+//! Integration tests: the models of docs/models/ declared with `nav_runtime::model!`,
 //! compared with hand-written matrices; every generated model also carries its
 //! own finite-difference and dense-product tests (`__*_generated_tests`).
 
@@ -6,7 +6,7 @@ use nav_runtime::model::{Model, Record, Sensor};
 use nav_runtime::nalgebra::{SMatrix, SVector};
 
 nav_runtime::model! {
-    /// LEVELING-6, MODELS.md section 2 (eqs. 15-17, 26, 29-34).
+    /// LEVELING-6, docs/models/leveling6.md (eqs. 15-17, 26, 29-34).
     pub model Leveling6 {
         states {
             /// body velocity, m/s
@@ -35,7 +35,7 @@ nav_runtime::model! {
 }
 
 nav_runtime::model! {
-    /// MARKER-9, MODELS.md section 4, eq. 2 (discrete).
+    /// MARKER-9, docs/models/marker9.md, eq. 2 (discrete).
     pub model Marker9 {
         states { position: 3, velocity: 3, roll, pitch, yaw }
         inputs { gyro: 3, acceleration: 3 }
@@ -273,7 +273,7 @@ fn leveling_generated_api() {
     assert_eq!(s.to_vector(), x);
 }
 
-/// C_b^n as printed in MODELS.md "Conventions" (transposed C_n^b).
+/// C_b^n as printed in docs/models/conventions.md, item 2 (transposed C_n^b).
 fn c_bn(phi: f64, theta: f64, psi: f64) -> SMatrix<f64, 3, 3> {
     let (sf, cf, st, ct, sp, cp) = (
         phi.sin(),

@@ -2,7 +2,7 @@
 //! rotation vectors and quaternions, plus the small-rotation error conventions
 //! of the error-state filter.
 //!
-//! Conventions (MODELS.md, Conventions): n = North-East-Down, b = forward-right-down,
+//! Conventions (docs/models/conventions.md): n = North-East-Down, b = forward-right-down,
 //! Z-Y-X Euler angles (yaw psi, pitch theta, roll phi) with
 //! `C_n^b = C_x(phi) C_y(theta) C_z(psi)` and `C_b^n = (C_n^b)^T`. Attitude
 //! errors follow SDINS-25: the computed matrix is `C^_b^n = (I - [phi x]) C_b^n`.
@@ -63,7 +63,7 @@ pub fn vee(m: &Matrix3<f64>) -> Vector3<f64> {
     )
 }
 
-/// `C_n^b = C_x(phi) C_y(theta) C_z(psi)`, the matrix printed in MODELS.md.
+/// `C_n^b = C_x(phi) C_y(theta) C_z(psi)`, the matrix printed in docs/models/conventions.md.
 pub fn c_nb_from_euler(e: &Euler) -> Matrix3<f64> {
     let (sf, cf) = (sin(e.roll), cos(e.roll));
     let (st, ct) = (sin(e.pitch), cos(e.pitch));
@@ -231,7 +231,7 @@ pub fn orthonormalize(c: &Matrix3<f64>) -> Matrix3<f64> {
 }
 
 /// Applies an attitude error to a true matrix: `C^_b^n = (I - [phi x]) C_b^n`
-/// (MODELS.md SDINS-25 error state 6-8), re-orthonormalized so the result is a
+/// (docs/models/sdins25.md, error state 6-8), re-orthonormalized so the result is a
 /// rotation. `phi` (rad) in n.
 pub fn perturb_c_bn(c_bn: &Matrix3<f64>, phi: &Vector3<f64>) -> Matrix3<f64> {
     orthonormalize(&((Matrix3::identity() - skew(phi)) * c_bn))
@@ -257,7 +257,7 @@ mod tests {
     use core::f64::consts::PI;
 
     fn rotx(a: f64) -> Matrix3<f64> {
-        // Frame rotation (passive), as in C_x(phi) of MODELS.md.
+        // Frame rotation (passive), as in C_x(phi) of docs/models/conventions.md.
         Matrix3::new(1.0, 0.0, 0.0, 0.0, a.cos(), a.sin(), 0.0, -a.sin(), a.cos())
     }
     fn roty(a: f64) -> Matrix3<f64> {

@@ -1,5 +1,5 @@
 //! A forward-looking camera that detects active markers of known position and
-//! turns each detection into a vehicle position fix (MODELS.md section 4, eq. 3).
+//! turns each detection into a vehicle position fix (docs/models/marker9.md, eq. 3).
 //!
 //! Visibility: within `[min_range, max_range]`, inside the field of view around
 //! body x, the marker face turned toward the camera (angle between its normal and

@@ -1,7 +1,7 @@
 //! WGS-84 Earth model: radii of curvature, normal gravity, Earth and transport
 //! rates, geodetic <-> ECEF <-> local NED.
 //!
-//! Conventions follow `MODELS.md` (Conventions): geodetic latitude `lat` and
+//! Conventions follow `docs/models/conventions.md`: geodetic latitude `lat` and
 //! longitude `lon` in rad, height `h` in m positive up (depth `d = -h`), the
 //! navigation frame is local North-East-Down.
 //!
@@ -102,14 +102,14 @@ pub fn transverse_radius(lat: f64) -> f64 {
 }
 
 /// `dR_m/dL = 3 a (1 - e^2) e^2 sin L cos L / (1 - e^2 sin^2 L)^2.5` (m/rad);
-/// the papers' `R_mm` (MODELS.md eq. 16).
+/// the papers' `R_mm` (docs/models/sdins25.md, eq. 16).
 pub fn meridian_radius_dlat(lat: f64) -> f64 {
     let w = w2(lat);
     3.0 * A * (1.0 - E2) * E2 * sin(lat) * cos(lat) / (w * w * sqrt(w))
 }
 
 /// `dR_n/dL = a e^2 sin L cos L / (1 - e^2 sin^2 L)^1.5` (m/rad); the papers'
-/// `R_ll` (MODELS.md eq. 16).
+/// `R_ll` (docs/models/sdins25.md, eq. 16).
 pub fn transverse_radius_dlat(lat: f64) -> f64 {
     let w = w2(lat);
     A * E2 * sin(lat) * cos(lat) / (w * sqrt(w))
@@ -139,20 +139,20 @@ pub fn radii(lat: f64) -> Radii {
 }
 
 /// Earth rate in the navigation frame, `w_ie^n = [Omega cos L, 0, -Omega sin L]`
-/// (rad/s). MODELS.md SDINS-25 eq. 3.
+/// (rad/s). docs/models/sdins25.md, eq. 3.
 pub fn earth_rate_n(lat: f64) -> Vector3<f64> {
     Vector3::new(OMEGA * cos(lat), 0.0, -OMEGA * sin(lat))
 }
 
 /// Transport rate `w_en^n = [V_E/(R_n+h), -V_N/(R_m+h), -V_E tan L/(R_n+h)]`
-/// (rad/s) for NED velocity `v_n` (m/s). MODELS.md SDINS-25 eq. 3.
+/// (rad/s) for NED velocity `v_n` (m/s). docs/models/sdins25.md, eq. 3.
 pub fn transport_rate_n(lat: f64, h: f64, v_n: &Vector3<f64>) -> Vector3<f64> {
     let rn = transverse_radius(lat) + h;
     let rm = meridian_radius(lat) + h;
     Vector3::new(v_n[1] / rn, -v_n[0] / rm, -v_n[1] * tan(lat) / rn)
 }
 
-/// Rates of the position coordinates, MODELS.md SDINS-25 eq. 1:
+/// Rates of the position coordinates, docs/models/sdins25.md, eq. 1:
 /// `(Ldot, ldot, hdot) = (V_N/(R_m+h), V_E/((R_n+h) cos L), -V_D)`
 /// (rad/s, rad/s, m/s).
 pub fn position_rates(lat: f64, h: f64, v_n: &Vector3<f64>) -> Vector3<f64> {
@@ -331,7 +331,7 @@ fn field<const POTENTIAL: bool>(lat: f64, h: f64) -> NormalGravity {
 }
 
 /// Exact normal gravity in NED, `g^n = [g_N, 0, g_D]` (m/s^2), `g_D > 0`.
-/// This is the `g^n` of MODELS.md SDINS-25 eq. 2 used by [`crate::strapdown`].
+/// This is the `g^n` of docs/models/sdins25.md, eq. 2 used by [`crate::strapdown`].
 pub fn normal_gravity_ned(lat: f64, h: f64) -> Vector3<f64> {
     field::<false>(lat, h).ned()
 }
@@ -478,7 +478,7 @@ impl LocalNed {
 
 /// Small-offset conversion of geodetic errors to metres:
 /// `[(R_m+h) dL, (R_n+h) cos L dl, -dh]` (N, E, D in m), the form used by the
-/// USBL residual (MODELS.md SDINS-25 measurement table).
+/// USBL residual (docs/models/sdins25.md, measurement table).
 pub fn geodetic_error_to_ned(lat: f64, h: f64, dlat: f64, dlon: f64, dh: f64) -> Vector3<f64> {
     Vector3::new(
         (meridian_radius(lat) + h) * dlat,
@@ -506,8 +506,8 @@ mod tests {
         z: f64,
     }
 
-    /// The reference table (GeographicLib 2.1.2), copied from
-    /// `shared/reference/wgs84-geographiclib.txt`.
+    /// The reference table: values computed with GeographicLib 2.1.2
+    /// (`NormalGravity::WGS84()`, `Geocentric::WGS84()`) at these points.
     const TABLE: &str = "
   0.00      0 9.780325335904 9.780325335904 0.000e+00 -9.780325335904 62636851.714569 6335439.327293 6378137.000000 6378137.000000 0.000000 0.000000
   0.00   -100 9.780325335904 9.780634122936 0.000e+00 -9.780634122936 62637829.762542 6335439.327293 6378137.000000 6378037.000000 0.000000 0.000000

@@ -1,4 +1,4 @@
-//! Indirect-feedback (error-state) filtering, as in SDINS-25 (MODELS.md sec. 1).
+//! Indirect-feedback (error-state) filtering, as in SDINS-25 (docs/models/sdins25.md).
 //!
 //! The navigation solution is carried outside the filter, in a *nominal state*
 //! (the strapdown INS solution and the current sensor corrections). The
@@ -9,7 +9,7 @@
 //! *Strapdown Inertial Navigation Technology*, 2nd ed., sec. 12.3.3; Maybeck,
 //! *Stochastic Models, Estimation and Control* vol. 1, sec. 6.5).
 //!
-//! **Sign convention.** Following MODELS.md, an error is *INS value minus true
+//! **Sign convention.** Following docs/models/conventions.md (item 7), an error is *INS value minus true
 //! value*: `dx = x_nominal - x_true`, and a measurement residual is *INS value
 //! minus sensor value*. The best estimate of the truth is therefore
 //! `x_nominal - dx_hat`, so [`NominalState::inject`] *subtracts* the estimated

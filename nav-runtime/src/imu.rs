@@ -14,12 +14,12 @@
 //! Error model (per axis, independent): a constant bias drawn once per run,
 //! an optional constant scale-factor error drawn once per run, and white noise
 //! drawn per sample, all from a seeded ChaCha generator, so a run is
-//! reproducible. Noise figures follow MODELS.md: "1-sigma per sample at the
+//! reproducible. Noise figures follow docs/models/conventions.md, item 8: "1-sigma per sample at the
 //! sensor's rate": a rate sample gets `N(0, sigma)` added, an increment gets
 //! `N(0, sigma) dt` (so that increment / dt has the tabulated sigma).
 //!
 //! Units: SI in all fields (m/s^2, rad/s); [`ImuSpec::from_table`] takes the
-//! datasheet units of MODELS.md Table 1 (mg, ug, deg/h).
+//! datasheet units of docs/models/sdins25.md, Table 1 (mg, ug, deg/h).
 
 use crate::sensors::normal;
 use crate::trajectory::TruthSource;
@@ -159,7 +159,7 @@ impl ImuSpec {
         gyro_scale: 0.0,
     };
 
-    /// From datasheet units (MODELS.md Table 1 style): accelerometer bias (mg) and
+    /// From datasheet units (docs/models/sdins25.md, Table 1 style): accelerometer bias (mg) and
     /// noise (ug), gyro bias and noise (deg/h); no scale-factor error.
     pub fn from_table(
         accel_bias_mg: f64,

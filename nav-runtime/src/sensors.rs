@@ -1,11 +1,11 @@
 //! Aiding-sensor error models: a constant bias (and optional scale-factor error)
 //! drawn once per run, plus white noise drawn per sample, from a seeded ChaCha
 //! generator. Used for the DVL, depth meter, compass, USBL and speed log of
-//! MODELS.md (SDINS-25 Table 1, LEVELING-6 Table 1, the VKF DVL model).
+//! docs/models/ (sdins25.md Table 1, leveling6.md Table 1, the DVL model of vkf.md).
 //!
 //! The measurement is `z = (1 + s) x + b + v`, per axis, with `s`, `b` drawn once
 //! and `v ~ N(0, sigma)` drawn each call. Noise figures are 1-sigma per sample at
-//! the sensor's rate (MODELS.md Conventions). Units are those of the measured
+//! the sensor's rate (docs/models/conventions.md, item 8). Units are those of the measured
 //! quantity (m, m/s, rad).
 //!
 //! Seeds: every model takes a seed; [`derive_seed`] turns one run seed into

@@ -1,5 +1,5 @@
 //! Strapdown inertial navigation in the local-level NED frame: the nominal
-//! mechanization of MODELS.md SDINS-25 eqs. 1-3, integrated at the IMU rate from
+//! mechanization of docs/models/sdins25.md, eqs. 1-3, integrated at the IMU rate from
 //! increments (delta-theta, delta-v) or from rates, plus the feedback helpers of
 //! an error-state filter.
 //!
@@ -10,7 +10,7 @@
 //!   with the body rotation vector `sigma = dtheta_k + 1/12 dtheta_{k-1} x dtheta_k`
 //!   (coning correction, exact for a rate linear in time over two samples) and the
 //!   navigation-frame rotation `zeta = w_in^n dt` evaluated at mid-interval;
-//! - velocity (T&W ch. 11, velocity computation; MODELS.md eq. 2): the specific-force increment
+//! - velocity (T&W ch. 11, velocity computation; docs/models/sdins25.md, eq. 2): the specific-force increment
 //!   `C_b^n(k-1) [dv + 1/2 dtheta x dv + 1/12 (dtheta_{k-1} x dv + dv_{k-1} x dtheta)
 //!   + 1/6 dtheta x (dtheta x dv)]` (rotation compensation, sculling, second-order
 //!   rotation term), corrected for the rotation of n during the interval to second
@@ -127,7 +127,7 @@ impl NavState {
 }
 
 /// Navigation errors in the order of the first 9 SDINS-25 error states
-/// (MODELS.md table: dL, dl, dh, dV_N, dV_E, dV_D, phi_N, phi_E, phi_D);
+/// (docs/models/sdins25.md error-state table: dL, dl, dh, dV_N, dV_E, dV_D, phi_N, phi_E, phi_D);
 /// error = computed (INS) minus true.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct NavError {
@@ -176,7 +176,7 @@ impl NavError {
     }
 }
 
-/// Time derivatives of the nominal state, MODELS.md SDINS-25 eqs. 1-3.
+/// Time derivatives of the nominal state, docs/models/sdins25.md, eqs. 1-3.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NavRates {
     /// `Ldot = V_N/(R_m+h)` (rad/s).
@@ -191,7 +191,7 @@ pub struct NavRates {
     pub c_bn: Matrix3<f64>,
 }
 
-/// Continuous mechanization, MODELS.md SDINS-25 eqs. 1-3, for body rate
+/// Continuous mechanization, docs/models/sdins25.md, eqs. 1-3, for body rate
 /// `w_ib_b` (rad/s) and specific force `f_b` (m/s^2).
 pub fn mechanization_rates(s: &NavState, w_ib_b: &Vector3<f64>, f_b: &Vector3<f64>) -> NavRates {
     let pr = position_rates(s.lat, s.h, &s.v_n);

@@ -15,7 +15,7 @@
 //!
 //! Outputs ([`TruthState`]) at any time: position, `v^n` and its derivative,
 //! Euler angles and `C_b^n`, and the IMU quantities consistent with WGS-84 and
-//! MODELS.md SDINS-25 eqs. 2-3:
+//! docs/models/sdins25.md, eqs. 2-3:
 //! `f^b = C_n^b (vdot^n + (2 w_ie^n + w_en^n) x v^n - g^n)`,
 //! `w_ib^b = w_nb^b + C_n^b (w_ie^n + w_en^n)`.
 //! Latitude and longitude are integrated (eq. 1) by RK4 on a grid and
@@ -517,7 +517,7 @@ pub mod scenarios {
         )
     }
 
-    /// SDINS-25 lawn-mowing survey (MODELS.md Table 2): heading north, level, at
+    /// SDINS-25 lawn-mowing survey (docs/models/sdins25.md, Table 2): heading north, level, at
     /// 1.5 m/s (the project's canonical speed; the paper gives none), starting at
     /// 10 m depth (the paper gives none), with the commanded depth and heading
     /// increments at 30, 100, 120, 150, 220, 240, 270, 340, 360, 390, 460, 480 s.
@@ -640,7 +640,7 @@ mod tests {
     #[test]
     fn truth_is_self_consistent() {
         // Derivatives of the truth match its own rates (finite differences), and
-        // the specific force / body rate satisfy MODELS.md eqs. 2-3.
+        // the specific force / body rate satisfy docs/models/sdins25.md, eqs. 2-3.
         let mut spec = scenarios::sdins25_lawn_mower();
         spec.roll.add_sine(0.05, 0.7, 0.0);
         let tr = spec.build(200.0);

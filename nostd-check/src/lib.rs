@@ -7,7 +7,7 @@ use nav_runtime::ekf::{Ekf, FilterError};
 use nav_runtime::nalgebra::{Matrix2, SMatrix, Vector2, Vector3, Vector6};
 
 nav_runtime::model! {
-    /// LEVELING-6 (MODELS.md section 2), as in `models`.
+    /// LEVELING-6 (docs/models/leveling6.md), as in `models`.
     pub model Leveling {
         states { velocity: 3, a: 3 }
         inputs { gyro: 3, specific_force: 3, earth_rate_body: 3 }

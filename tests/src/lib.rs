@@ -1,5 +1,17 @@
-//! Workspace-level integration tests live in `tests/tests/`. The crate's docs are
-//! the README, so its Rust examples are compiled and run as doctests.
-// The README is prose for GitHub-flavoured Markdown, not rustdoc-formatted docs.
-#![allow(clippy::doc_lazy_continuation, clippy::doc_overindented_list_items)]
-#![doc = include_str!("../../README.md")]
+//! Workspace-level integration tests live in `tests/tests/`.
+//!
+//! The guide chapters of `docs/` that hold Rust examples are included below as
+//! documentation of empty modules, so every example in them is compiled and run
+//! as a doctest of this crate (a crate that is neither `nav-blocks` nor
+//! `models`, as a user's crate would be).
+
+/// `docs/guide/declaring-a-model.md`.
+// The chapters are GitHub-flavoured Markdown, not rustdoc-formatted docs.
+#[allow(clippy::doc_lazy_continuation, clippy::doc_overindented_list_items)]
+#[doc = include_str!("../../docs/guide/declaring-a-model.md")]
+pub mod guide_declaring_a_model {}
+
+/// `docs/guide/building-a-vehicle.md`.
+#[allow(clippy::doc_lazy_continuation, clippy::doc_overindented_list_items)]
+#[doc = include_str!("../../docs/guide/building-a-vehicle.md")]
+pub mod guide_building_a_vehicle {}

@@ -1,4 +1,4 @@
-//! LEVELING-6 scenarios (MODELS.md section 2) against the paper and against the
+//! LEVELING-6 scenarios (docs/models/leveling6.md) against the paper and against the
 //! analytic accelerometer-bias floor.
 
 use models::leveling::filter::{self, LevelingOptions, Tuning};

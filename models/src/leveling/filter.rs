@@ -23,7 +23,7 @@ pub struct LevelingOptions {
     pub tuning: Tuning,
 }
 
-/// Filter tuning (documented in the README, not fitted to a seed).
+/// Filter tuning (documented in docs/results/leveling6.md, not fitted to a seed).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tuning {
     /// Accelerometer noise density, m/s^2/sqrt(Hz); covers the unmodelled 1 mg bias drift.
@@ -39,7 +39,7 @@ pub struct Tuning {
     /// overcounts it, and linearized at a wrong `a` (45-degree initial errors)
     /// a tight sigma makes the filter confident before it has converged: with
     /// 0.01 the S-type roll std is 0.04 deg against a filter sigma of 0.02 deg;
-    /// with 1.0, 0.016 deg against 0.024 deg (README, LEVELING-6).
+    /// with 1.0, 0.016 deg against 0.024 deg (docs/results/leveling6.md).
     pub norm_sigma: f64,
     /// Initial velocity 1-sigma, m/s.
     pub velocity_sigma: f64,

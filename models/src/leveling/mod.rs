@@ -1,4 +1,4 @@
-//! LEVELING-6 (MODELS.md section 2): the model, its simulation, the filter run,
+//! LEVELING-6 (docs/models/leveling6.md): the model, its simulation, the filter run,
 //! and the `leveling-*` scenarios and `leveling6` replay model of `navsim`.
 
 pub mod filter;

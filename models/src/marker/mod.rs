@@ -1,4 +1,4 @@
-//! MARKER-9 (MODELS.md section 4): marker-aided navigation of a hover-capable
+//! MARKER-9 (docs/models/marker9.md): marker-aided navigation of a hover-capable
 //! AUV at the test jacket, with planning and path following in closed loop; the
 //! `marker-path` scenario of `navsim`.
 //!
@@ -160,7 +160,7 @@ fn law_summary(runs: &[RunResult], law: Law) -> Value {
     Value::Object(m)
 }
 
-/// The comparison table (text, for stderr / the README).
+/// The comparison table (text, for stderr / docs/results/marker9.md).
 pub fn comparison_table(by_law: &Map<String, Value>) -> String {
     let mut out = String::from(
         "law           rms true med/max [m]   rms est med/max [m]   collisions  min clearance [m]  fallbacks\n",

@@ -1,5 +1,5 @@
 //! MARKER-9: marker-aided navigation of a hover-capable AUV near a structure
-//! (MODELS.md section 4). Total-state, discrete-time (eq. 2), states
+//! (docs/models/marker9.md). Total-state, discrete-time (eq. 2), states
 //! `[X, Y, Z, u, v, w, phi, theta, psi]`.
 
 nav_runtime::model! {

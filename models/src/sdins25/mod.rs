@@ -1,4 +1,4 @@
-//! SDINS-25 (MODELS.md section 1): the model, its simulation, the filter run
+//! SDINS-25 (docs/models/sdins25.md): the model, its simulation, the filter run
 //! over a log, scoring, and the `lawnmower-*` scenarios and `sdins25` replay
 //! model of `navsim`.
 //!

@@ -1,5 +1,5 @@
 //! SDINS-25: INS error-state filter aided by DVL, compass, depth meter and USBL
-//! (MODELS.md section 1; Lee, Lee, Seong). Indirect feedback: the states are the
+//! (docs/models/sdins25.md; Lee, Lee, Seong). Indirect feedback: the states are the
 //! errors of the strapdown solution (error = INS value minus true value); after
 //! every update they are fed back and reset to zero.
 //!
@@ -11,7 +11,7 @@
 //! paper, gravity's height derivative (about `-2g/R`) is included in F.
 
 nav_runtime::model! {
-    /// 25-state indirect-feedback INS error model, MODELS.md SDINS-25 eqs. 4-17.
+    /// 25-state indirect-feedback INS error model, docs/models/sdins25.md, eqs. 4-17.
     pub model Sdins25 {
         states {
             /// `[dL, dl, dh]`: latitude, longitude errors (rad) and height error (m).
@@ -54,7 +54,7 @@ nav_runtime::model! {
             gyro_noise: 3,
         }
         continuous {
-            // WGS-84 (MODELS.md conventions), exact radii.
+            // WGS-84 (docs/models/conventions.md, item 4), exact radii.
             let a = 6378137.0;
             let e2 = 0.0066943799901413165;
             let omega = 7.292115e-5;

@@ -1,5 +1,5 @@
 //! The generated Jacobians against the paper: F against eq. 16 (blocks F11..F35,
-//! written out by hand from MODELS.md), H against eq. 17, and the two compass
+//! written out by hand from docs/models/sdins25.md), H against eq. 17, and the two compass
 //! residuals on a pitched vehicle.
 
 use nav_runtime::attitude::{euler_from_c_bn, perturb_c_bn, skew, Euler};
@@ -44,7 +44,7 @@ fn block(m: &mut Mat, r: usize, c: usize, b: &Matrix3<f64>) {
     m.fixed_view_mut::<3, 3>(r, c).copy_from(b);
 }
 
-/// F of MODELS.md eq. 16, entry by entry, plus the gravity terms the paper omits.
+/// F of docs/models/sdins25.md, eq. 16, entry by entry, plus the gravity terms the paper omits.
 fn paper_f(u: &Sdins25Input) -> Mat {
     let (lat, h, v) = (u.latitude, u.height, u.velocity);
     let (vn, ve, vd) = (v.x, v.y, v.z);

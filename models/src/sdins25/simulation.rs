@@ -1,4 +1,4 @@
-//! Synthetic logs of the SDINS-25 lawn-mowing survey (MODELS.md section 1,
+//! Synthetic logs of the SDINS-25 lawn-mowing survey (docs/models/sdins25.md,
 //! Table 2): truth from [`scenarios::sdins25_lawn_mower`] at 1.5 m/s, the IMU
 //! synthesized consistently from it, and the aiding sensors with the Table 1
 //! errors at their rates (DVL, compass and depth meter 2 Hz, USBL every 8 s).

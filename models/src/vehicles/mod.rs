@@ -6,7 +6,7 @@
 //! - [`sdins`]: SDINS-25 as core + USBL + depth + DVL + compass (equal to the
 //!   monolithic `crate::sdins25::model::Sdins25`, tested), and the 20-state
 //!   variant without USBL.
-//! - [`pressure_auv`]: the walk-through of the README section "Adding a sensor, building a vehicle": a new
+//! - [`pressure_auv`]: the walk-through of docs/guide/building-a-vehicle.md: a new
 //!   pressure-sensor block with a lever arm, a vehicle using it, and its filter
 //!   run through [`nav_runtime::ekf::Ekf`].
 

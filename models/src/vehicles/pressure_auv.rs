@@ -1,4 +1,4 @@
-//! The walk-through of the README section "Adding a sensor, building a vehicle": a new sensor block (a pressure
+//! The walk-through of docs/guide/building-a-vehicle.md: a new sensor block (a pressure
 //! depth sensor mounted away from the IMU, with a bias), a vehicle using it, and
 //! the vehicle's filter run from Rust through [`nav_runtime::ekf::Ekf`].
 

@@ -1,4 +1,4 @@
-//! VKF (MODELS.md section 3): the velocity Kalman filter, the switching box and
+//! VKF (docs/models/vkf.md): the velocity Kalman filter, the switching box and
 //! the 9-state integrated filter, their simulation, and the `vkf` scenario of
 //! `navsim`, which runs pure INS, conventional INS-DVL and VKF-aided navigation
 //! on the same data, with a realistic DVL bias (+-0.005 m/s, the top-level
@@ -379,7 +379,7 @@ impl Scenario for VkfScenario {
     }
 }
 
-/// The JSON of one DVL-bias variant: `pure_ins`, `ins_dvl`, `vkf` (CONTRACT.md)
+/// The JSON of one DVL-bias variant: `pure_ins`, `ins_dvl`, `vkf` (docs/cli-and-json.md)
 /// plus the ratios the targets are stated in.
 fn variant_summary(runs: &[RunResult], bias: DvlBias) -> Map<String, Value> {
     let v = variant_prefix(bias);

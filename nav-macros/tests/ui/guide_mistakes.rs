@@ -1,4 +1,4 @@
-// The mistakes shown in the README section "Adding a sensor, building a vehicle",
+// The mistakes shown in docs/guide/building-a-vehicle.md,
 // with the standard blocks of the nav-blocks crate, as a user's crate uses them.
 use nav_blocks::{Compass, Depth, Dvl, InsCore};
 

@@ -1,5 +1,5 @@
 //! The constrained course correction: one convex program per guidance tick,
-//! solved with clarabel (GUIDANCE.md, "Constrained heading correction").
+//! solved with clarabel (docs/guidance.md, "The constrained heading correction").
 //!
 //! Horizon `N` steps of `dt`; decision variables
 //! `x = [u_0..u_{N-1}, chi_1..chi_N, e_1..e_N, sigma_1..sigma_N]`: course-rate

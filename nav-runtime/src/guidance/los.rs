@@ -1,4 +1,4 @@
-//! Line-of-sight course laws (MODELS.md section 4, eq. 4; GUIDANCE.md).
+//! Line-of-sight course laws (docs/models/marker9.md, eq. 4; docs/guidance.md).
 //!
 //! Eq. 4 (enclosure LOS): `chi_d = chi_p + chi_r`, `chi_r = atan(-e / Delta)`,
 //! `Delta = sqrt(R^2 - e^2)`: the vehicle steers at the point where a circle of

@@ -10,7 +10,7 @@
 //! slows down before corners; the estimated water current enters as the
 //! feed-forward that converts ground velocity into water-relative velocity.
 //!
-//! Errors against segment `k` (GUIDANCE.md, Fossen's MSS conventions): path angle
+//! Errors against segment `k` (docs/guidance.md, Fossen's MSS conventions): path angle
 //! `pi_h = atan2(dy, dx)`, along-track `x_e`, cross-track `y_e` (positive to the
 //! right of the direction of travel in NED, i.e. east of a northbound leg).
 

@@ -3,7 +3,7 @@
 //! checks, camera occlusion and keep-out constraints are built on.
 //!
 //! Frame: local North-East-Down, metres, origin at the jacket's horizontal centre
-//! and the sea surface, so `z` is depth. The test jacket of MODELS.md section 4 is
+//! and the sea surface, so `z` is depth. The test jacket of docs/models/marker9.md is
 //! 6 m (x) by 2.8 m (y) by 7.8 m (z), centred at 16 m depth; the planning space is
 //! 8 m (x) by 6 m (y) by 12 m (z) around it.
 
@@ -156,7 +156,7 @@ pub const LEG_RADIUS: f64 = 0.15;
 pub const BRACE_RADIUS: f64 = 0.08;
 
 impl Structure {
-    /// The test jacket of MODELS.md section 4: four vertical legs at the corners
+    /// The test jacket of docs/models/marker9.md: four vertical legs at the corners
     /// of 6 x 2.8 m, twelve braces (top and bottom frames, a mid-depth horizontal
     /// and a diagonal on each long face), 25 markers, and the 8 x 6 x 12 m planning
     /// space (depth 10-22 m).
