@@ -17,6 +17,7 @@ use crate::montecarlo::{
     ReplayModel, ReplayOptions, RunError, RunOptions, Scenario, Shard, ShardFile, SHARD_FORMAT,
 };
 use crate::report::{self, StagedDir};
+use crate::scenario_text::{scenario_text, Plots};
 use crate::sdins25::InsReplay;
 use crate::vehicles::sdins::{Sdins20, Sdins25Composed};
 
@@ -299,12 +300,24 @@ pub fn cmd_scenario(args: &ScenarioArgs) -> Result<(), RunError> {
         std::fs::write(&path, report::json_line(&summary) + "\n")
             .map_err(|e| RunError::io(&path, e))?;
         let dir = staged.commit()?;
-        emit(&summary, args.json);
-        note(args.json, &format!("outputs written to {}", dir.display()));
+        emit_scenario(&summary, args.json, Plots::WrittenTo(&dir));
     } else {
-        emit(&summary, args.json);
+        emit_scenario(&summary, args.json, Plots::NotWritten);
     }
     Ok(())
+}
+
+/// Prints a scenario result: one JSON line on stdout with `json` (and where the
+/// outputs went on stderr), otherwise the scenario text.
+fn emit_scenario(value: &Value, json: bool, plots: Plots<'_>) {
+    if json {
+        println!("{}", report::json_line(value));
+        if let Plots::WrittenTo(dir) = plots {
+            eprintln!("outputs written to {}", dir.display());
+        }
+    } else {
+        print!("{}", scenario_text(value, plots));
+    }
 }
 
 /// `navsim replay`.
@@ -381,7 +394,7 @@ pub fn cmd_merge(args: &MergeArgs) -> Result<(), RunError> {
         &merged.results,
         &merged.options,
     )?;
-    emit(&summary, args.json);
+    emit_scenario(&summary, args.json, Plots::InShards);
     Ok(())
 }
 

@@ -6,6 +6,7 @@ pub mod marker;
 pub mod montecarlo;
 pub mod plot;
 pub mod report;
+pub mod scenario_text;
 pub mod sdins25;
 pub mod vehicles;
 pub mod vkf;

@@ -73,6 +73,25 @@ fn fmt_number(v: &Value) -> String {
     }
 }
 
+/// Text of one value for people: whole numbers (counts, even when the JSON
+/// spells them `2000.0`) without decimals, other numbers with four, arrays as
+/// `[a, b]`, strings without quotes, `null` as `n/a`.
+pub fn format_value(v: &Value) -> String {
+    match v {
+        Value::Number(_) => match v.as_f64() {
+            Some(x) if x.fract() == 0.0 && x.abs() < 1e15 => format!("{x:.0}"),
+            _ => fmt_number(v),
+        },
+        Value::Array(items) => {
+            let parts: Vec<String> = items.iter().map(format_value).collect();
+            format!("[{}]", parts.join(", "))
+        }
+        Value::String(s) => s.clone(),
+        Value::Null => "n/a".to_string(),
+        other => other.to_string(),
+    }
+}
+
 /// Human-readable rendering of a result object: `scenario`/`model` first, then one
 /// `key: value` line per key; `{"median","p95","max"}` objects on one line.
 pub fn human(value: &Value) -> String {
@@ -111,8 +130,7 @@ fn render(out: &mut String, key: &str, v: &Value, width: usize, indent: usize) {
                 render(out, k, v, w, indent + 2);
             }
         }
-        Value::String(s) => out.push_str(&format!("{pad}{key:width$}  {s}\n")),
-        other => out.push_str(&format!("{pad}{key:width$}  {}\n", fmt_number(other))),
+        other => out.push_str(&format!("{pad}{key:width$}  {}\n", format_value(other))),
     }
 }
 
@@ -207,6 +225,20 @@ mod tests {
         assert!(lines[0].starts_with("scenario"));
         assert!(h.contains("median 1.0000  p95 2.5000  max 3.0000"));
         assert!(h.contains("nested:\n  a  1.5000"));
+    }
+
+    #[test]
+    fn counts_are_integers_and_arrays_are_readable() {
+        let v: Value = serde_json::json!({
+            "accepted": 99990.0, "band": [4.115373097378335, 15.763189220193315],
+            "name": "x", "missing": null, "flag": true
+        });
+        let h = human(&v);
+        assert!(h.contains("accepted  99990\n"), "{h}");
+        assert!(h.contains("band      [4.1154, 15.7632]\n"), "{h}");
+        assert!(h.contains("name      x\n"), "{h}");
+        assert!(h.contains("missing   n/a\n"), "{h}");
+        assert!(h.contains("flag      true\n"), "{h}");
     }
 
     #[test]
