@@ -1,4 +1,5 @@
 //! The estimators of the source papers (docs/models/), declared with `nav_runtime::model!`.
+#![warn(missing_docs)]
 
 pub mod cli;
 pub mod leveling;

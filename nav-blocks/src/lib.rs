@@ -22,6 +22,7 @@
 //! generated code is compiled and tested in `models` (`BlockCatalog`), from
 //! another crate, as users use them.
 #![no_std]
+#![warn(missing_docs)]
 
 nav_runtime::model! {
     /// The 15-state INS error-state core: position, velocity and attitude errors,

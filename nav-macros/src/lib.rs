@@ -274,6 +274,7 @@
 //! `Phi` cost nothing. The op count of a function (`OPS_*`, and "Total ops: N"
 //! in its doc comment) is the number of arithmetic nodes (`+ - * /`, negation,
 //! calls) it evaluates. Blocks and compositions: `compose.rs`.
+#![warn(missing_docs)]
 
 mod check;
 mod compose;

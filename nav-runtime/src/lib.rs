@@ -4,6 +4,7 @@
 //! The model traits ([`model`]) are the only contract between generated code and
 //! this crate; the EKF core and the generated code build without `std` (libm).
 #![cfg_attr(not(feature = "std"), no_std)]
+#![warn(missing_docs)]
 
 pub use nalgebra;
 pub use nav_macros::model;

@@ -4,6 +4,7 @@
 //! documentation of empty modules, so every example in them is compiled and run
 //! as a doctest of this crate (a crate that is neither `nav-blocks` nor
 //! `models`, as a user's crate would be).
+#![warn(missing_docs)]
 
 /// `docs/guide/declaring-a-model.md`.
 // The chapters are GitHub-flavoured Markdown, not rustdoc-formatted docs.

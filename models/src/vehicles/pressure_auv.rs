@@ -45,7 +45,9 @@ pub const N: usize = PressureAuv::N;
 
 /// The outcome of [`simulate`]: the filter after the run and the true error state.
 pub struct Run {
+    /// The filter at the end of the run.
     pub filter: Ekf<PressureAuv, N>,
+    /// The true error state at the end of the run.
     pub truth: SVector<f64, N>,
 }
 
