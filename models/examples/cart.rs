@@ -49,7 +49,9 @@ fn main() -> Result<(), FilterError> {
     )?;
     // A fixed sequence of fix errors (m), so the run is reproducible without a
     // random number generator.
-    let fix_errors = [0.05, -0.08, 0.02, 0.11, -0.04, -0.09, 0.07, 0.0, -0.03, 0.06];
+    let fix_errors = [
+        0.05, -0.08, 0.02, 0.11, -0.04, -0.09, 0.07, 0.0, -0.03, 0.06,
+    ];
     println!("    t   position  estimate  sigma    velocity  estimate  sigma    NIS");
     for step in 1..=1000 {
         position += velocity * dt + 0.5 * acceleration * dt * dt;
