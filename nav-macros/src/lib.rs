@@ -257,39 +257,41 @@
 //!
 //! # How the code is derived
 //!
-//! parse (`parse.rs`) -> check (`check.rs`, errors collected in `ctxt.rs`) ->
-//! lower to a hash-consed scalar DAG (`lower.rs`, `expr.rs`; constructors fold
-//! constants and drop `x + 0`, `x * 1`, `x * 0`, `x - x`, `--x`, ..) ->
-//! differentiate, memoized per (node, variable) (`diff.rs`) -> build `F`, `G`,
-//! `Qd`, `Phi P Phi^T + Qd` over symbols `P_ij` of the upper triangle, and per
-//! sensor `H`, `P H^T`, `H P H^T` (`derive.rs`) -> per generated function,
-//! strength reduction of its outputs in a graph of their own (`strength.rs`:
-//! a divisor shared by several divisions is inverted once, division by a
-//! constant becomes a multiplication, `tan` becomes `sin / cos` when those are
-//! computed anyway) -> one scheduling pass over all its outputs: nodes used
-//! twice become `let _tN` temporaries, `sin` and `cos` of one argument one
-//! `sin_cos` call (`cse.rs`) -> emit (`emit.rs`, `emit_tests.rs`). An entry of a
-//! Jacobian that simplifies to the literal 0 is a structural zero: it is
-//! `false` in `JACOBIAN_SPARSITY` and never becomes code, and unit entries of
-//! `Phi` cost nothing. The op count of a function (`OPS_*`, and "Total ops: N"
-//! in its doc comment) is the number of arithmetic nodes (`+ - * /`, negation,
-//! calls) it evaluates. Blocks and compositions: `compose.rs`.
+//! Three stages, data flowing one way:
+//!
+//! - **Front end** (`src/front/`, syn): parse (`parse/`, including the grammar
+//!   of compositions) -> check (`check.rs`, errors collected in `ctxt.rs`,
+//!   spellings and suggestions in `names.rs`) -> lower to a hash-consed scalar
+//!   DAG (`lower.rs`); blocks and compositions are assembled into one
+//!   declaration first (`compose.rs`).
+//! - **Symbolic core** (`src/symbolic/`, no syn): the graph (`expr.rs`;
+//!   constructors fold constants and drop `x + 0`, `x * 1`, `x * 0`, `x - x`,
+//!   `--x`, ..) -> differentiate, memoized per (node, variable) (`diff.rs`) ->
+//!   build `F`, `G`, `Qd`, `Phi P Phi^T + Qd` over symbols `P_ij` of the upper
+//!   triangle, and per sensor `H`, `P H^T`, `H P H^T` (`derive.rs`) -> per
+//!   generated function, strength reduction of its outputs in a graph of their
+//!   own (`strength.rs`: a divisor shared by several divisions is inverted once,
+//!   division by a constant becomes a multiplication, `tan` becomes `sin / cos`
+//!   when those are computed anyway) -> one scheduling pass over all its
+//!   outputs: nodes used twice become `let _tN` temporaries, `sin` and `cos` of
+//!   one argument one `sin_cos` call (`cse.rs`); op counts (`ops.rs`).
+//! - **Back end** (`src/back/`): emit the types, trait impls and inherent items
+//!   (`emit.rs`) and the generated tests (`emit_tests.rs`).
+//!
+//! An entry of a Jacobian that simplifies to the literal 0 is a structural
+//! zero: it is `false` in `JACOBIAN_SPARSITY` and never becomes code, and unit
+//! entries of `Phi` cost nothing. The op count of a function (`OPS_*`, and
+//! "Total ops: N" in its doc comment) is the number of arithmetic nodes
+//! (`+ - * /`, negation, calls) it evaluates.
 
-mod check;
-mod compose;
-mod cse;
-mod ctxt;
-mod derive;
-mod diff;
-mod emit;
-mod emit_tests;
-mod expr;
-mod lower;
-mod ops;
-mod parse;
-mod strength;
+mod back;
+mod front;
+mod symbolic;
 
 use proc_macro::TokenStream;
+
+use front::{check, compose, ctxt, lower, parse};
+use symbolic::derive;
 
 /// Declares estimator models; see the crate documentation for the language.
 #[proc_macro]
@@ -333,7 +335,7 @@ fn derive_model(decl: &parse::ModelDecl) -> syn::Result<derive::Derived> {
 
 fn expand_model(decl: &parse::ModelDecl) -> syn::Result<proc_macro2::TokenStream> {
     let derived = derive_model(decl)?;
-    Ok(emit::model(decl, &derived))
+    Ok(back::emit::model(decl, &derived))
 }
 
 #[cfg(test)]

@@ -8,20 +8,10 @@ use std::collections::HashMap;
 use quote::ToTokens;
 use syn::{BinOp, Expr, ExprLit, Lit, UnOp};
 
-use crate::check::suggest;
-use crate::ctxt::Ctxt;
-use crate::expr::{Func, Graph, Id, Sym};
-use crate::parse::{ModelDecl, ProcessKind, SensorDecl, Shape, Stmt, Var};
-
-/// The scalarized model.
-pub struct Lowered {
-    pub graph: Graph,
-    pub kind: ProcessKind,
-    /// `f(x, u, p, w)` (continuous) or `f(x, u, p, dt, w)` (discrete), per state scalar.
-    pub f: Vec<Id>,
-    /// Each sensor's `h`, in declaration order.
-    pub sensors: Vec<Vec<Id>>,
-}
+use super::ctxt::Ctxt;
+use super::names::suggest;
+use super::parse::{ModelDecl, SensorDecl, Shape, Stmt, Var};
+use crate::symbolic::{Func, Graph, Id, Lowered, ProcessKind, Sym};
 
 /// Lowers one checked declaration; `None` if there is no process section.
 pub fn lower(cx: &Ctxt, decl: &ModelDecl) -> Option<Lowered> {

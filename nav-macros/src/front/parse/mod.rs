@@ -1,15 +1,22 @@
 //! Syntax: the declaration as written, parsed with syn into this crate's small
-//! AST. Nothing is validated here beyond the grammar (see `check.rs`).
+//! AST. Nothing is validated here beyond the grammar (see `front/check.rs`).
+//! The grammar of compositions and of their internal steps is in
+//! [`composition`].
+
+mod composition;
+
+pub use crate::symbolic::ProcessKind;
+pub use composition::Step;
 
 use proc_macro2::{Delimiter, Span, TokenStream, TokenTree};
 use syn::parse::{Parse, ParseStream, Parser};
 use syn::{braced, bracketed, Attribute, Expr, Ident, LitInt, Path, Token, Visibility};
 
 /// Everything inside one `model! { .. }` invocation: declarations, or one
-/// internal step of a composition (see `compose.rs`).
+/// internal step of a composition (see `front/compose.rs`).
 pub enum Declarations {
     Items(Vec<Item>),
-    Step(Box<crate::compose::Step>),
+    Step(Box<Step>),
 }
 
 /// One declaration of an invocation.
@@ -106,13 +113,6 @@ impl std::fmt::Display for Shape {
     }
 }
 
-/// Continuous (`d/dt x = ..`) or discrete (`x = ..` from the previous values).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ProcessKind {
-    Continuous,
-    Discrete,
-}
-
 /// The `continuous { .. }` or `discrete { .. }` section.
 #[derive(Clone)]
 pub struct Process {
@@ -189,7 +189,7 @@ impl Parse for Item {
         }
         if input.peek(Ident) && input.peek2(Token![=]) {
             let name: Ident = input.parse()?;
-            let compose = parse_composition(input, attrs, vis, name)?;
+            let compose = composition::parse_composition(input, attrs, vis, name)?;
             // The tokens consumed since `start`, re-parsed at every composition step.
             let end = input.cursor();
             let tokens = start.step(|cursor| {
@@ -210,90 +210,6 @@ impl Parse for Item {
         decl.unknown_hint = "";
         Ok(Item::Model(decl))
     }
-}
-
-impl Parse for ComposeDecl {
-    /// A composition as carried through the steps: `#[..] pub model Foo = A + B ..`.
-    fn parse(input: ParseStream) -> syn::Result<Self> {
-        match input.parse::<Item>()? {
-            Item::Compose(c) => Ok(c),
-            _ => Err(input.error("expected a composition `model Name = A + B;`")),
-        }
-    }
-}
-
-/// `= A + path::B ;` or `= A + B { order { .. } allow_unused { .. } }`.
-fn parse_composition(
-    input: ParseStream,
-    attrs: Vec<Attribute>,
-    vis: Visibility,
-    name: Ident,
-) -> syn::Result<ComposeDecl> {
-    input.parse::<Token![=]>()?;
-    let mut blocks = vec![input.call(Path::parse_mod_style)?];
-    while input.peek(Token![+]) {
-        input.parse::<Token![+]>()?;
-        blocks.push(input.call(Path::parse_mod_style)?);
-    }
-    let mut compose = ComposeDecl {
-        attrs,
-        vis,
-        name,
-        blocks,
-        order: None,
-        allow_unused: Vec::new(),
-        tokens: TokenStream::new(),
-    };
-    if input.peek(syn::token::Brace) {
-        let body;
-        braced!(body in input);
-        while !body.is_empty() {
-            let kw: Ident = body.parse()?;
-            let inner;
-            braced!(inner in body);
-            if kw == "order" && compose.order.is_none() {
-                let names = inner.parse_terminated(Ident::parse, Token![,])?;
-                compose.order = Some((kw, names.into_iter().collect()));
-            } else if kw == "allow_unused" && compose.allow_unused.is_empty() {
-                while !inner.is_empty() {
-                    let name: Ident = inner.parse()?;
-                    let index = if inner.peek(syn::token::Bracket) {
-                        let ix;
-                        bracketed!(ix in inner);
-                        Some(ix.parse::<LitInt>()?)
-                    } else {
-                        None
-                    };
-                    compose.allow_unused.push((name, index));
-                    if inner.is_empty() {
-                        break;
-                    }
-                    inner.parse::<Token![,]>()?;
-                }
-            } else if kw == "order" || kw == "allow_unused" {
-                return Err(syn::Error::new(
-                    kw.span(),
-                    format!("duplicate `{kw}` section"),
-                ));
-            } else {
-                return Err(syn::Error::new(
-                    kw.span(),
-                    format!("unknown section `{kw}` of a composition; expected `order` or `allow_unused`"),
-                ));
-            }
-        }
-        if input.peek(Token![;]) {
-            input.parse::<Token![;]>()?;
-        }
-    } else {
-        input.parse::<Token![;]>().map_err(|e| {
-            syn::Error::new(
-                e.span(),
-                "expected `+ Block`, `;` or `{ order { .. } allow_unused { .. } }` after the blocks of a composition",
-            )
-        })?;
-    }
-    Ok(compose)
 }
 
 /// `Name { sections }`: the sections of a model or a block, with the tokens as written.

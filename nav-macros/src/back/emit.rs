@@ -5,12 +5,12 @@ use proc_macro2::{Literal, TokenStream};
 use quote::{format_ident, quote};
 use syn::Ident;
 
-use crate::check::screaming_case;
-use crate::cse::{schedule, Schedule};
-use crate::derive::Derived;
-use crate::expr::{Graph, Id, Node, Sym};
-use crate::parse::{ModelDecl, ProcessKind, Shape, Var};
-use crate::strength;
+use crate::front::names::screaming_case;
+use crate::front::parse::{ModelDecl, Shape, Var};
+use crate::symbolic::cse::{schedule, Schedule};
+use crate::symbolic::derive::Derived;
+use crate::symbolic::strength;
+use crate::symbolic::{Graph, Id, Node, ProcessKind, Sym};
 
 /// All items generated for one model.
 pub fn model(decl: &ModelDecl, d: &Derived) -> TokenStream {
@@ -933,7 +933,7 @@ impl<'a> Emitter<'a> {
     }
 
     fn tests(&self) -> TokenStream {
-        crate::emit_tests::tests(self.decl, self.d)
+        super::emit_tests::tests(self.decl, self.d)
     }
 }
 

@@ -3,7 +3,7 @@
 
 use std::collections::HashMap;
 
-use crate::expr::{Func, Graph, Id, Node, Sym};
+use super::expr::{Func, Graph, Id, Node, Sym};
 
 /// Differentiator with a memo table that lives as long as the graph is extended.
 #[derive(Default)]
