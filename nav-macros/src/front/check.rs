@@ -42,6 +42,9 @@ pub fn check(cx: &Ctxt, decl: &ModelDecl) {
             check_shape(cx, v);
         }
     }
+    for (name, _) in &decl.lets {
+        model_names.declare(cx, name, "a model-level `let` binding");
+    }
     for v in &decl.states {
         let konst = screaming_case(&v.name.to_string());
         if RESERVED_CONSTS.contains(&konst.as_str()) {

@@ -85,6 +85,7 @@ fn check_block(decl: &ModelDecl) -> syn::Result<()> {
             name: Ident::new("__nav_block_without_states", Span::call_site()),
             shape: Shape::Scalar,
             shape_span: Span::call_site(),
+            manifold: super::parse::Manifold::Plain,
         });
     }
     if model.process.is_none() {
@@ -416,6 +417,7 @@ fn assemble(
         params: Vec::new(),
         noise: Vec::new(),
         needs: Vec::new(),
+        lets: Vec::new(),
         process: process.map(|(_, kind, keyword)| Process {
             kind,
             keyword,

@@ -10,6 +10,7 @@ pub mod diff;
 pub mod expr;
 mod lowered;
 pub mod ops;
+pub mod rotation;
 pub mod strength;
 
 pub use expr::{Func, Graph, Id, Node, Sym};

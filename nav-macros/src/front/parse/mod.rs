@@ -43,6 +43,9 @@ pub struct ModelDecl {
     pub noise: Vec<Var>,
     /// `needs { .. }`: names a block reads from other blocks (blocks only).
     pub needs: Vec<Var>,
+    /// Model-level `let name = expr;`, in order: seen by the process section
+    /// and by every sensor.
+    pub lets: Vec<(Ident, Expr)>,
     pub process: Option<Process>,
     pub sensors: Vec<SensorDecl>,
     /// `"; .."` appended to unknown-name errors (a hint about `needs` in blocks).
@@ -82,6 +85,20 @@ pub struct Var {
     pub shape: Shape,
     /// The tokens of the shape, for error spans (the name's span if scalar).
     pub shape_span: Span,
+    /// `x: angle` or `q: quaternion` (states only): what the filter keeps
+    /// the state on after every step (see `Model::normalize_state`).
+    pub manifold: Manifold,
+}
+
+/// The set a state lives on, restored after every predict and update.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Manifold {
+    /// Any real values.
+    Plain,
+    /// A scalar angle (rad), wrapped to (-pi, pi].
+    Angle,
+    /// A unit quaternion `[w, x, y, z]`, renormalized.
+    UnitQuaternion,
 }
 
 /// Shapes of declared names and of expression values.
@@ -170,6 +187,9 @@ impl Parse for Item {
         let start = input.fork();
         let attrs = input.call(Attribute::parse_outer)?;
         let vis: Visibility = input.parse()?;
+        if input.peek(Token![let]) {
+            return Err(syn::Error::new(input.span(), MISPLACED_LET));
+        }
         let kw: Ident = input.parse()?;
         if kw == "block" {
             let (decl, tokens) = parse_named_body(input, Vec::new(), vis.clone(), true)?;
@@ -256,6 +276,7 @@ fn parse_sections(
             params: Vec::new(),
             noise: Vec::new(),
             needs: Vec::new(),
+            lets: Vec::new(),
             process: None,
             sensors: Vec::new(),
             unknown_hint: if is_block {
@@ -267,6 +288,20 @@ fn parse_sections(
         let mut seen: Vec<String> = Vec::new();
         while !body.is_empty() {
             let attrs = body.call(Attribute::parse_outer)?;
+            if body.peek(Token![let]) {
+                let span = body.span();
+                if is_block {
+                    return Err(syn::Error::new(
+                        span,
+                        "a block has no block-level `let`: write it in the block's process section or sensor",
+                    ));
+                }
+                match body.parse::<Stmt>()? {
+                    Stmt::Let { name, value } => decl.lets.push((name, value)),
+                    Stmt::Assign { .. } => unreachable!("`let` parses as a let statement"),
+                }
+                continue;
+            }
             let kw: Ident = body.parse()?;
             let kw_str = kw.to_string();
             if kw_str != "sensor" {
@@ -279,7 +314,7 @@ fn parse_sections(
                 seen.push(kw_str.clone());
             }
             match kw_str.as_str() {
-                "states" => decl.states = parse_vars(body)?,
+                "states" => decl.states = parse_declarations(body, true)?,
                 "inputs" => decl.inputs = parse_vars(body)?,
                 "parameters" => decl.params = parse_vars(body)?,
                 "noise" => decl.noise = parse_vars(body)?,
@@ -365,17 +400,53 @@ impl Parse for Stmt {
     }
 }
 
+/// Where a `let` may stand, for errors at a `let` anywhere else.
+const MISPLACED_LET: &str = "a `let` may stand at the top level of a model (seen by the process section and every \
+                             sensor), in `continuous { .. }` / `discrete { .. }`, or in a `sensor`; not in a list of \
+                             declarations";
+
 /// `{ a, b: 3, c: 3x3, }` with doc comments on each entry.
 fn parse_vars(input: ParseStream) -> syn::Result<Vec<Var>> {
+    parse_declarations(input, false)
+}
+
+/// [`parse_vars`], also with `x: angle` and `q: quaternion` if `states`.
+fn parse_declarations(input: ParseStream, states: bool) -> syn::Result<Vec<Var>> {
     let inner;
     braced!(inner in input);
     let mut vars = Vec::new();
     while !inner.is_empty() {
         let attrs = inner.call(Attribute::parse_outer)?;
+        if inner.peek(Token![let]) {
+            return Err(syn::Error::new(inner.span(), MISPLACED_LET));
+        }
         let name: Ident = inner.parse()?;
+        let mut manifold = Manifold::Plain;
         let (shape, shape_span) = if inner.peek(Token![:]) {
             inner.parse::<Token![:]>()?;
-            parse_shape(&inner)?
+            if inner.peek(Ident) {
+                let kind: Ident = inner.parse()?;
+                let (m, shape) = match kind.to_string().as_str() {
+                    "angle" => (Manifold::Angle, Shape::Scalar),
+                    "quaternion" => (Manifold::UnitQuaternion, Shape::Vector(4)),
+                    _ => {
+                        return Err(syn::Error::new(
+                            kind.span(),
+                            format!("expected a dimension like `3` or `3x3`, `angle` or `quaternion`, found `{kind}`"),
+                        ))
+                    }
+                };
+                if !states {
+                    return Err(syn::Error::new(
+                        kind.span(),
+                        format!("`{kind}` marks a state (kept on its manifold by the filter); other declarations take a dimension like `3` or `3x3`"),
+                    ));
+                }
+                manifold = m;
+                (shape, kind.span())
+            } else {
+                parse_shape(&inner)?
+            }
         } else {
             (Shape::Scalar, name.span())
         };
@@ -384,6 +455,7 @@ fn parse_vars(input: ParseStream) -> syn::Result<Vec<Var>> {
             name,
             shape,
             shape_span,
+            manifold,
         });
         if inner.is_empty() {
             break;
