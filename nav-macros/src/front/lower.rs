@@ -819,8 +819,8 @@ impl Lowerer<'_> {
     }
 }
 
-/// `C_b^n` from roll, pitch, yaw (Z-Y-X), the transpose of `C_n^b` as printed
-/// in MODELS.md "Conventions".
+/// `C_b^n` from roll, pitch, yaw (Z-Y-X), the transpose of
+/// `C_n^b = C_x(roll) C_y(pitch) C_z(yaw)` (see `docs/language.md`).
 fn euler_dcm(g: &mut Graph, roll: Id, pitch: Id, yaw: Id) -> Vec<Id> {
     let (sf, cf) = (g.call(Func::Sin, roll), g.call(Func::Cos, roll));
     let (st, ct) = (g.call(Func::Sin, pitch), g.call(Func::Cos, pitch));
