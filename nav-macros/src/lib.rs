@@ -45,8 +45,8 @@
 //!
 //! # Sections
 //!
-//! A declaration is `[doc comments] [pub] model Name { sections }`. Sections may
-//! come in any order; each of `states`, `inputs`, `parameters`, `noise` appears
+//! A declaration is `[doc comments] [pub] model Name { sections }`. Sections
+//! (and model-level `let`s, see below) may come in any order; each of `states`, `inputs`, `parameters`, `noise` appears
 //! at most once, exactly one process section is required, `sensor` any number
 //! of times.
 //!
@@ -63,9 +63,56 @@
 //! Entries of `states`, `inputs`, `parameters`, `noise` and sensor `inputs` are
 //! comma-separated: `x` (scalar), `x: n` (vector), `x: RxC` (row-major matrix,
 //! also `R x C`). Doc comments on entries become field docs. Every name is
-//! unique across states, inputs, parameters, noise, the process section's `let`s
-//! and each sensor's inputs and `let`s (different sensors may reuse their own
-//! names); `dt` is reserved.
+//! unique across states, inputs, parameters, noise, model-level `let`s, the
+//! process section's `let`s and each sensor's inputs and `let`s (different
+//! sensors may reuse their own names); `dt` is reserved.
+//!
+//! ## States kept on a manifold
+//!
+//! Two state entries declare what the filter keeps a state on after every
+//! predict and every accepted update (`Ekf::predict`, `Ekf::update`,
+//! `Ekf::update_sequential`), through the generated
+//! `Model::normalize_state` (a no-op for models without them):
+//!
+//! - `heading: angle`: a scalar angle (rad), wrapped to (-pi, pi]. (A sensor's
+//!   `angles = [..]` wraps innovations; this wraps the state itself.)
+//! - `q: quaternion`: a unit quaternion `[w, x, y, z]` (a 4-vector),
+//!   renormalized to unit norm (left as it is if its norm is zero or not
+//!   finite, which the filter's own checks then report).
+//!
+//! `angle` and `quaternion` mark states only; elsewhere they are an error.
+//! Renormalizing fixes the norm drift of a first-order quaternion step, but a
+//! full quaternion state keeps a covariance with a direction (along `q`) that
+//! no measurement sees: for attitude, prefer the multiplicative error-state
+//! pattern of `docs/language.md`.
+//!
+//! ## Model-level `let`
+//!
+//! `let name = expr;` beside the sections (not inside one) is evaluated once
+//! and seen by the process section and by every sensor, e.g. a direction
+//! cosine matrix used by several sensors:
+//!
+//! ```ignore
+//! nav_runtime::model! {
+//!     pub model Ahrs {
+//!         states { q: quaternion }
+//!         inputs { gyro: 3 }
+//!         parameters { gravity, magnetic_field: 3 }
+//!         noise { gyro_noise: 3 }
+//!         let c_bn = quat_to_dcm(q);
+//!         continuous { d/dt q = 0.5 * quat_mul(q, [0.0, gyro[0], gyro[1], gyro[2]]); }
+//!         sensor Accel: 3 { h = transpose(c_bn) * [0.0, 0.0, -gravity]; }
+//!         sensor Mag: 3 { h = transpose(c_bn) * magnetic_field; }
+//!     }
+//! }
+//! ```
+//!
+//! A model-level `let` reads states, inputs, parameters and earlier
+//! model-level `let`s; process noise is refused there (sensors would see it).
+//! A `let` may stand at model level, in the process section or in a sensor;
+//! anywhere else (inside `states { .. }`, at the top of the macro) is an error
+//! that says so. Blocks have no block-level `let` (write it in the block's
+//! process section or sensor).
 //!
 //! ## Process sections
 //!
@@ -90,8 +137,8 @@
 //! - `let name = expr;` (evaluated in order);
 //! - `h = expr;` (required): a vector of length `M`, or a scalar if `M == 1`.
 //!
-//! Sensors see states, inputs, parameters and their own inputs and `let`s; they
-//! do not see the process section's `let`s, and process noise in a sensor is an
+//! Sensors see states, inputs, parameters, model-level `let`s and their own
+//! inputs and `let`s; they do not see the process section's `let`s, and process noise in a sensor is an
 //! error.
 //!
 //! # Blocks and composed models
@@ -200,7 +247,42 @@
 //! | `skew(v)` | 3-vector -> 3x3 matrix with `skew(a) * b == cross(a, b)` |
 //! | `norm_squared(v)`, `norm(v)` | vector -> scalar |
 //! | `transpose(m)` | matrix(r,c) -> matrix(c,r) |
-//! | `euler_dcm(roll, pitch, yaw)` | scalars -> `C_b^n`, the transpose of `C_n^b = C_x(roll) C_y(pitch) C_z(yaw)` (docs/models/conventions.md, item 2) |
+//! | `euler_dcm(roll, pitch, yaw)` | scalars -> `C_b^n`, the transpose of `C_n^b = C_x(roll) C_y(pitch) C_z(yaw)` (Z-Y-X Euler angles) |
+//! | `dcm_to_euler(c)` | 3x3 `C_b^n` -> `[roll, pitch, yaw]`, the inverse of `euler_dcm` |
+//! | `quat_mul(p, q)` | 4-vectors -> 4-vector, the Hamilton product `p ⊗ q` |
+//! | `quat_to_dcm(q)` | unit 4-vector -> 3x3 `C_b^n` |
+//! | `rotvec_to_quat(v)` | 3-vector (rad) -> unit 4-vector, the exponential map |
+//! | `normalize(v)` | vector -> vector `v / norm(v)` |
+//! | `min(a, b)`, `max(a, b)` | scalars -> scalar |
+//! | `clamp(x, low, high)` | scalars -> scalar, `min(max(x, low), high)` |
+//! | `sign(x)` | scalar -> 1, -1, or `x` itself for 0 (and NaN) |
+//!
+//! **Rotations.** Quaternions are Hamilton, stored `[w, x, y, z]` (scalar
+//! first), and rotate body to navigation axes like `C_b^n`:
+//! `v_n = q ⊗ [0, v_b] ⊗ q^* = quat_to_dcm(q) * v_b`; `quat_to_dcm(p ⊗ q) =
+//! quat_to_dcm(p) * quat_to_dcm(q)`, and the attitude kinematics are
+//! `d/dt q = 0.5 * quat_mul(q, [0, w])` with `w` the body rate. `quat_to_dcm`
+//! assumes a unit quaternion (`1 - 2(y² + z²)`, ..): apply `normalize` to one
+//! that may not be. `dcm_to_euler(c)` is `[atan2(c21, c22), atan2(-c20,
+//! sqrt(c21² + c22²)), atan2(c10, c00)]` (pitch in [-pi/2, pi/2]; singular at
+//! ±pi/2). `rotvec_to_quat(v) = [cos(θ/2), sin(θ/2) v / θ]`, `θ = |v|`, is
+//! built from `|v|²` so that it and its Jacobian are finite at `v = 0` (where
+//! `dq/dv = [0; I/2]`): the error quaternion of the multiplicative
+//! error-state pattern. All are scalarized and differentiated like every
+//! other expression.
+//!
+//! **Non-smooth functions** have one-sided derivatives, so Jacobians never
+//! hold NaN: `abs` differentiates to `sign(x)` (0 at the kink), `sign` to 0;
+//! `min(a, b)` / `max(a, b)` to the derivative of the argument they select,
+//! of the *first* argument at a tie (`min(x, 1)` at `x = 1` has derivative
+//! 1); `clamp(x, low, high) = min(max(x, low), high)` therefore has
+//! derivative 1 in `x` on `[low, high]` (boundaries included) and 0 outside.
+//! `min` and `max` propagate NaN (unlike `f64::min`). The generated
+//! finite-difference tests evaluate at random points, where a kink is met
+//! with probability zero.
+//!
+//! `x^2` is Rust's exclusive or, and is refused with a hint towards
+//! `powi(x, 2)`.
 //!
 //! Every function may also be written as a method of its first argument:
 //! `x.sin()`, `y.atan2(x)`, `a.dot(b)`, `x.powi(2)`, `m.transpose()`. Generated
@@ -232,6 +314,8 @@
 //!   - `Foo::process_with_noise(x, u, p, w, dt)`: `f` with an explicit noise
 //!     sample `w: SVector<f64, NW>`;
 //!   - `Foo::noise_jacobian(x, u, p, dt) -> SMatrix<f64, N, NW>` (`G`);
+//!   - `normalize_state` in the `Model` impl if a state is declared `angle`
+//!     or `quaternion` (see "States kept on a manifold");
 //!   - `Foo::OPS_TRANSITION`, `OPS_DERIVATIVE`, `OPS_JACOBIAN`,
 //!     `OPS_NOISE_JACOBIAN`, `OPS_PROCESS_NOISE`, `OPS_PROPAGATE_COVARIANCE`.
 //! - `FooState`, `FooInput`, `FooParams`, `FooNoise`: structs with one public
@@ -252,45 +336,57 @@
 //!   of `innovation_terms` against dense `P H^T`, `H P H^T` (1e-12 relative,
 //!   with a NaN lower triangle in `P` to prove only the upper one is read).
 //!
+//! Parameters may change at run time without rebuilding the filter:
+//! `Ekf::set_params(params)` checks them as `Ekf::new` does (every scalar
+//! finite) and leaves them unchanged on error.
+//!
 //! Conventions (see `nav_runtime::model`): continuous `Phi = I + F dt`,
 //! `Qd = G Q G^T dt`; discrete `Phi = df/dx`, `Qd = G Q G^T`; `Q = diag(q)`.
 //!
 //! # How the code is derived
 //!
-//! parse (`parse.rs`) -> check (`check.rs`, errors collected in `ctxt.rs`) ->
-//! lower to a hash-consed scalar DAG (`lower.rs`, `expr.rs`; constructors fold
-//! constants and drop `x + 0`, `x * 1`, `x * 0`, `x - x`, `--x`, ..) ->
-//! differentiate, memoized per (node, variable) (`diff.rs`) -> build `F`, `G`,
-//! `Qd`, `Phi P Phi^T + Qd` over symbols `P_ij` of the upper triangle, and per
-//! sensor `H`, `P H^T`, `H P H^T` (`derive.rs`) -> per generated function,
-//! strength reduction of its outputs in a graph of their own (`strength.rs`:
-//! a divisor shared by several divisions is inverted once, division by a
-//! constant becomes a multiplication, `tan` becomes `sin / cos` when those are
-//! computed anyway) -> one scheduling pass over all its outputs: nodes used
-//! twice become `let _tN` temporaries, `sin` and `cos` of one argument one
-//! `sin_cos` call (`cse.rs`) -> emit (`emit.rs`, `emit_tests.rs`). An entry of a
-//! Jacobian that simplifies to the literal 0 is a structural zero: it is
-//! `false` in `JACOBIAN_SPARSITY` and never becomes code, and unit entries of
-//! `Phi` cost nothing. The op count of a function (`OPS_*`, and "Total ops: N"
-//! in its doc comment) is the number of arithmetic nodes (`+ - * /`, negation,
-//! calls) it evaluates. Blocks and compositions: `compose.rs`.
+//! Three stages, data flowing one way:
+//!
+//! - **Front end** (`src/front/`, syn): parse (`parse/`, including the grammar
+//!   of compositions) -> check (`check.rs`, errors collected in `ctxt.rs`,
+//!   spellings and suggestions in `names.rs`) -> lower to a hash-consed scalar
+//!   DAG (`lower.rs`); blocks and compositions are assembled into one
+//!   declaration first (`compose.rs`).
+//! - **Symbolic core** (`src/symbolic/`, no syn): the graph (`expr.rs`;
+//!   constructors fold constants and drop `x + 0`, `x * 1`, `x * 0`, `x - x`,
+//!   `--x`, ..) -> differentiate, memoized per (node, variable) (`diff.rs`) ->
+//!   build `F`, `G`, `Qd`, `Phi P Phi^T + Qd` over symbols `P_ij` of the upper
+//!   triangle, and per sensor `H`, `P H^T`, `H P H^T` (`derive.rs`) -> per
+//!   generated function, strength reduction of its outputs in a graph of their
+//!   own (`strength.rs`: a divisor shared by several divisions is inverted once,
+//!   division by a constant becomes a multiplication, `tan` becomes `sin / cos`
+//!   when those are computed anyway) -> one scheduling pass over all its
+//!   outputs: nodes used twice become `let _tN` temporaries, `sin` and `cos` of
+//!   one argument one `sin_cos` call (`cse.rs`); op counts (`ops.rs`).
+//! - **Back end** (`src/back/`): emit the types, trait impls and inherent items
+//!   (`emit.rs`) and the generated tests (`emit_tests.rs`).
+//!
+//! An entry of a Jacobian that simplifies to the literal 0 is a structural
+//! zero: it is `false` in `JACOBIAN_SPARSITY` and never becomes code, and unit
+//! entries of `Phi` cost nothing. The op count of a function (`OPS_*`, and
+//! "Total ops: N" in its doc comment) is the number of arithmetic nodes
+//! (`+ - * /`, negation, calls) it evaluates.
+//!
+//! The formatted expansions of the four paper models, with their op counts,
+//! are committed under `nav-macros/snapshots/` and checked by the unit test
+//! `snapshots_are_current`, so a change of the generator shows in review as a
+//! diff of generated code (`UPDATE_SNAPSHOTS=1 cargo test -p nav-macros --lib
+//! snapshots` regenerates them).
 #![warn(missing_docs)]
 
-mod check;
-mod compose;
-mod cse;
-mod ctxt;
-mod derive;
-mod diff;
-mod emit;
-mod emit_tests;
-mod expr;
-mod lower;
-mod ops;
-mod parse;
-mod strength;
+mod back;
+mod front;
+mod symbolic;
 
 use proc_macro::TokenStream;
+
+use front::{check, compose, ctxt, lower, parse};
+use symbolic::derive;
 
 /// Declares estimator models; see the crate documentation for the language.
 #[proc_macro]
@@ -334,7 +430,7 @@ fn derive_model(decl: &parse::ModelDecl) -> syn::Result<derive::Derived> {
 
 fn expand_model(decl: &parse::ModelDecl) -> syn::Result<proc_macro2::TokenStream> {
     let derived = derive_model(decl)?;
-    Ok(emit::model(decl, &derived))
+    Ok(back::emit::model(decl, &derived))
 }
 
 #[cfg(test)]
@@ -367,5 +463,65 @@ mod tests {
         }
         eprintln!("INS-25 expansion: {elapsed:?}, {} bytes", text.len());
         assert!(elapsed.as_secs_f64() < 5.0, "expansion took {elapsed:?}");
+    }
+
+    /// The paper models whose expansions are committed under `snapshots/`.
+    const SNAPSHOTS: [(&str, &str); 4] = [
+        ("sdins25", include_str!("../../models/src/sdins25/model.rs")),
+        (
+            "leveling",
+            include_str!("../../models/src/leveling/model.rs"),
+        ),
+        ("vkf", include_str!("../../models/src/vkf/model.rs")),
+        ("marker", include_str!("../../models/src/marker/model.rs")),
+    ];
+
+    /// The expansion of `source`'s model, formatted, after a header listing its
+    /// op counts.
+    fn snapshot(name: &str, source: &str) -> String {
+        let out = expand(macro_body(source));
+        let file: syn::File = syn::parse2(out).expect("the expansion parses as a file");
+        let code = prettyplease::unparse(&file);
+        let mut header = format!(
+            "// Expansion of `nav_runtime::model!` in models/src/{name}/model.rs, formatted.\n\
+             // Checked by `snapshots_are_current` (nav-macros/src/lib.rs); regenerate with\n\
+             // `UPDATE_SNAPSHOTS=1 cargo test -p nav-macros --lib snapshots`.\n//\n// Op counts:\n"
+        );
+        // The inherent `OPS_*` constants, under the type of their `impl` block.
+        let mut owner = "";
+        for line in code.lines() {
+            if let Some(rest) = line.strip_prefix("impl ") {
+                owner = rest.trim_end_matches(" {");
+            }
+            if let Some(rest) = line.trim().strip_prefix("pub const OPS_") {
+                let rest = rest.trim_end_matches(';').replace(": usize", "");
+                header.push_str(&format!("//   {owner}::OPS_{rest}\n"));
+            }
+        }
+        header.push('\n');
+        header + &code
+    }
+
+    /// The committed expansions match the generator: a change of the generated
+    /// code shows in review as a diff of `snapshots/*.rs`.
+    #[test]
+    fn snapshots_are_current() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("snapshots");
+        let update = std::env::var_os("UPDATE_SNAPSHOTS").is_some();
+        let mut stale = Vec::new();
+        for (name, source) in SNAPSHOTS {
+            let text = snapshot(name, source);
+            let path = dir.join(format!("{name}.rs"));
+            if update {
+                std::fs::create_dir_all(&dir).unwrap();
+                std::fs::write(&path, &text).unwrap();
+            } else if std::fs::read_to_string(&path).ok().as_deref() != Some(text.as_str()) {
+                stale.push(path.display().to_string());
+            }
+        }
+        assert!(
+            stale.is_empty(),
+            "generated code changed: {stale:?}; review it and run `UPDATE_SNAPSHOTS=1 cargo test -p nav-macros --lib snapshots`"
+        );
     }
 }

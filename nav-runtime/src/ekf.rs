@@ -487,6 +487,22 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
         Ok(())
     }
 
+    /// Replaces the parameters, checked as at construction (every scalar
+    /// finite), e.g. a beacon position or a sound speed that changes at run
+    /// time.
+    ///
+    /// # Errors
+    /// [`FilterError::InvalidSetup`] (parameters unchanged).
+    pub fn set_params(&mut self, params: Mo::Params) -> Result<(), FilterError> {
+        if first_non_finite(&params).is_some() {
+            return Err(FilterError::InvalidSetup {
+                reason: "a parameter is not finite",
+            });
+        }
+        self.params = params;
+        Ok(())
+    }
+
     /// Propagates state and covariance over `dt` seconds with `input` held
     /// constant (eq. P1), using [`Model::transition`] and, by default, the
     /// generated sparse [`Model::propagate_covariance`]; see [`Discretization`].
@@ -500,6 +516,7 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
     pub fn predict(&mut self, dt: f64, input: &Mo::Input) -> Result<(), FilterError> {
         match self.predict_in_place(dt, input) {
             Ok(repairs) => {
+                Mo::normalize_state(&mut self.x);
                 self.input = *input;
                 self.counters.predictions += 1;
                 self.counters.covariance_repairs += u64::from(repairs);
@@ -547,6 +564,7 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
             Ok(report) => {
                 self.count_gate_outcome(sensor, &report);
                 if report.accepted {
+                    Mo::normalize_state(&mut self.x);
                     self.counters.covariance_repairs += u64::from(report.repairs);
                 }
                 Ok(report)
@@ -619,6 +637,7 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
             Ok(Proposal { report, posterior }) => {
                 if let Some((x, p)) = posterior {
                     self.x = x;
+                    Mo::normalize_state(&mut self.x);
                     self.p = p;
                     self.counters.covariance_repairs += u64::from(report.repairs);
                 }

@@ -97,6 +97,16 @@ pub trait Model<const N: usize>: Sized + 'static {
         dt: f64,
     ) -> SMatrix<f64, N, N>;
 
+    /// Returns the state to its manifold: states declared `angle` are wrapped
+    /// to (-pi, pi], states declared `quaternion` renormalized to unit norm
+    /// (left as they are if their norm is zero or not finite, which the
+    /// filter's finiteness checks report). The filter calls it after every
+    /// predict and every accepted update; the default does nothing.
+    /// No allocation, no panic.
+    fn normalize_state(x: &mut SVector<f64, N>) {
+        let _ = x;
+    }
+
     /// `P <- Phi P Phi^T + Qd` in place, generated from the sparsity of `Phi` and
     /// `G`: structural zeros and unit rows of `Phi` cost nothing. `P` must be
     /// symmetric (the filter keeps it exactly so); the result is exactly

@@ -3,7 +3,7 @@
 
 use std::collections::HashMap;
 
-use crate::expr::{Func, Graph, Id, Node, Sym};
+use super::expr::{Func, Graph, Id, Node, Sym};
 
 /// Differentiator with a memo table that lives as long as the graph is extended.
 #[derive(Default)]
@@ -80,6 +80,25 @@ impl Diff {
                     g.div(num, den)
                 }
             }
+            Node::Min(a, b) | Node::Max(a, b) => {
+                // One-sided: the derivative of the selected argument, of the
+                // first one at a tie (`a == b`):
+                // d min(a, b) = da + step(a - b) (db - da),
+                // d max(a, b) = da + step(b - a) (db - da).
+                let (da, db) = (self.diff(g, a, var), self.diff(g, b, var));
+                let change = g.sub(db, da);
+                if g.is_zero(change) {
+                    da
+                } else {
+                    let gap = match g.node(id) {
+                        Node::Min(..) => g.sub(a, b),
+                        _ => g.sub(b, a),
+                    };
+                    let step = g.call(Func::Step, gap);
+                    let term = g.mul(step, change);
+                    g.add(da, term)
+                }
+            }
             Node::Powi(a, n) => {
                 let da = self.diff(g, a, var);
                 if g.is_zero(da) {
@@ -131,7 +150,29 @@ impl Diff {
             }
             Func::Exp => node,
             Func::Ln => g.div(Graph::ONE, a),
-            Func::Abs => g.div(a, node),
+            // One-sided derivatives: 0 at the kink of `abs` (sign(0) = 0) and
+            // at the jump of `sign` and `step`.
+            Func::Abs => g.call(Func::Sign, a),
+            Func::Sign | Func::Step => Graph::ZERO,
+            // d/ds cos(sqrt(s)/2) = -HalfSinc(s) / 4.
+            Func::HalfCos => {
+                let k = g.constant(-0.25);
+                let sinc = g.call(Func::HalfSinc, a);
+                g.mul(k, sinc)
+            }
+            Func::HalfSinc => g.call(Func::HalfSincSlope, a),
+            // -(HalfSinc + 24 HalfSincSlope) / (16 s): only a second derivative
+            // of the exponential map reaches it (first-order Jacobians never
+            // do); ill-conditioned near s = 0.
+            Func::HalfSincSlope => {
+                let sinc = g.call(Func::HalfSinc, a);
+                let c24 = g.constant(24.0);
+                let t = g.mul(c24, node);
+                let num = g.add(sinc, t);
+                let c16 = g.constant(-1.0 / 16.0);
+                let num = g.mul(c16, num);
+                g.div(num, a)
+            }
         }
     }
 }
@@ -180,6 +221,20 @@ mod tests {
         ("exp", |g, x| g.call(Func::Exp, x), f64::exp),
         ("ln", |g, x| g.call(Func::Ln, x), |x| 1.0 / x),
         ("abs", |g, x| g.call(Func::Abs, x), f64::signum),
+        ("sign", |g, x| g.call(Func::Sign, x), |_| 0.0),
+        (
+            "half_cos",
+            |g, x| g.call(Func::HalfCos, x),
+            |x: f64| -(0.5 * x.sqrt()).sin() / (4.0 * x.sqrt()),
+        ),
+        (
+            "half_sinc",
+            |g, x| g.call(Func::HalfSinc, x),
+            |x: f64| {
+                let r = x.sqrt();
+                ((0.5 * r).cos() / 4.0 - (0.5 * r).sin() / (2.0 * r)) / x
+            },
+        ),
         ("powi3", |g, x| g.powi(x, 3), |x| 3.0 * x * x),
         ("powi-2", |g, x| g.powi(x, -2), |x| -2.0 / (x * x * x)),
         (
@@ -207,7 +262,8 @@ mod tests {
             let x = g.sym(Sym::State(0));
             let e = f(&mut g, x);
             let d = Diff::new().diff(&mut g, e, Sym::State(0));
-            for &v in &[0.3, 0.7, 0.45, 0.55] {
+            // 0.5 is the tie of the `min`/`max` rules (one-sided derivatives).
+            for &v in &[0.3, 0.7, 0.45, 0.55, 0.5] {
                 let got = g.eval(d, &|_| v);
                 let want = df(v);
                 assert!(
@@ -215,6 +271,35 @@ mod tests {
                     "{name} at {v}: {got} vs {want}"
                 );
             }
+        }
+    }
+
+    /// The half-angle factors of the exponential map: limits at 0, the series
+    /// and the quotient agree where they switch, and the slope of the slope
+    /// against a central difference.
+    #[test]
+    fn exponential_map_factors() {
+        let (c, s, d) = (Func::HalfCos, Func::HalfSinc, Func::HalfSincSlope);
+        assert_eq!(c.apply(0.0), 1.0);
+        assert_eq!(s.apply(0.0), 0.5);
+        assert_eq!(d.apply(0.0), -1.0 / 48.0);
+        let at = crate::symbolic::expr::HALF_SINC_SERIES_BELOW;
+        for f in [s, d] {
+            let (below, above) = (f.apply(at * (1.0 - 1e-12)), f.apply(at));
+            assert!((below - above).abs() < 1e-13, "{f:?}: {below} vs {above}");
+        }
+        for x in [0.3f64, 1.2, 4.0] {
+            // S(s) at theta = sqrt(s): sin(theta/2)/theta.
+            let r: f64 = x.sqrt();
+            assert!((s.apply(x) - (0.5 * r).sin() / r).abs() < 1e-15);
+            let mut g = Graph::new();
+            let v = g.sym(Sym::State(0));
+            let e = g.call(d, v);
+            let de = Diff::new().diff(&mut g, e, Sym::State(0));
+            let got = g.eval(de, &|_| x);
+            let h = 1e-5;
+            let want = (d.apply(x + h) - d.apply(x - h)) / (2.0 * h);
+            assert!((got - want).abs() < 1e-8, "at {x}: {got} vs {want}");
         }
     }
 
@@ -273,6 +358,10 @@ mod proptests {
         Atan2(Box<T>, Box<T>),
         /// `powi(1 + a^2, n)`
         Powi(Box<T>, i32),
+        /// `sign(a) * a` (a piecewise-linear function; `sign` alone has derivative 0)
+        Sign(Box<T>),
+        Min(Box<T>, Box<T>),
+        Max(Box<T>, Box<T>),
     }
 
     fn tree() -> impl Strategy<Value = T> {
@@ -299,7 +388,10 @@ mod proptests {
                 inner.clone().prop_map(move |x| T::Sqrt(b(x))),
                 inner.clone().prop_map(move |x| T::Exp(b(x))),
                 inner.clone().prop_map(move |x| T::Ln(b(x))),
-                inner.prop_map(move |x| T::Abs(b(x))),
+                inner.clone().prop_map(move |x| T::Abs(b(x))),
+                inner.clone().prop_map(move |x| T::Sign(b(x))),
+                (inner.clone(), inner.clone()).prop_map(move |(x, y)| T::Min(b(x), b(y))),
+                (inner.clone(), inner).prop_map(move |(x, y)| T::Max(b(x), b(y))),
             ]
         })
     }
@@ -327,6 +419,19 @@ mod proptests {
                         let den = g.add(two, c);
                         g.atan2(x, den)
                     }
+                }
+            }
+            T::Sign(a) => {
+                let x = to_graph(a, g);
+                let s = g.call(Func::Sign, x);
+                g.mul(s, x)
+            }
+            T::Min(a, b) | T::Max(a, b) => {
+                let (x, y) = (to_graph(a, g), to_graph(b, g));
+                if matches!(t, T::Min(..)) {
+                    g.min(x, y)
+                } else {
+                    g.max(x, y)
                 }
             }
             T::Powi(a, n) => {
@@ -496,6 +601,24 @@ mod proptests {
                     d: (den.v * y.d - y.v * den.d) / r2,
                 }
             }
+            T::Sign(a) => {
+                let x = ev(a);
+                let sign = Func::Sign.apply(x.v);
+                Dual::c(sign).mul(x)
+            }
+            T::Min(a, b) | T::Max(a, b) => {
+                let (x, y) = (ev(a), ev(b));
+                let first = if matches!(t, T::Min(..)) {
+                    x.v <= y.v
+                } else {
+                    x.v >= y.v
+                };
+                if first {
+                    x
+                } else {
+                    y
+                }
+            }
             T::Powi(a, n) => {
                 let x = ev(a).one_plus_sq();
                 x.chain(x.v.powi(*n), *n as f64 * x.v.powi(n - 1))
@@ -543,6 +666,13 @@ mod proptests {
             Func::Exp,
             Func::Ln,
             Func::Abs,
+            Func::Sign,
+            // In the derivatives of `Min` and `Max`.
+            Func::Step,
+            // Checked in `derivative_rules` and `exponential_map_factors`.
+            Func::HalfCos,
+            Func::HalfSinc,
+            Func::HalfSincSlope,
         ];
         assert_eq!(covered, Func::ALL);
     }

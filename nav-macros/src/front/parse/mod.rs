@@ -1,15 +1,22 @@
 //! Syntax: the declaration as written, parsed with syn into this crate's small
-//! AST. Nothing is validated here beyond the grammar (see `check.rs`).
+//! AST. Nothing is validated here beyond the grammar (see `front/check.rs`).
+//! The grammar of compositions and of their internal steps is in
+//! [`composition`].
+
+mod composition;
+
+pub use crate::symbolic::ProcessKind;
+pub use composition::Step;
 
 use proc_macro2::{Delimiter, Span, TokenStream, TokenTree};
 use syn::parse::{Parse, ParseStream, Parser};
 use syn::{braced, bracketed, Attribute, Expr, Ident, LitInt, Path, Token, Visibility};
 
 /// Everything inside one `model! { .. }` invocation: declarations, or one
-/// internal step of a composition (see `compose.rs`).
+/// internal step of a composition (see `front/compose.rs`).
 pub enum Declarations {
     Items(Vec<Item>),
-    Step(Box<crate::compose::Step>),
+    Step(Box<Step>),
 }
 
 /// One declaration of an invocation.
@@ -36,6 +43,9 @@ pub struct ModelDecl {
     pub noise: Vec<Var>,
     /// `needs { .. }`: names a block reads from other blocks (blocks only).
     pub needs: Vec<Var>,
+    /// Model-level `let name = expr;`, in order: seen by the process section
+    /// and by every sensor.
+    pub lets: Vec<(Ident, Expr)>,
     pub process: Option<Process>,
     pub sensors: Vec<SensorDecl>,
     /// `"; .."` appended to unknown-name errors (a hint about `needs` in blocks).
@@ -75,6 +85,20 @@ pub struct Var {
     pub shape: Shape,
     /// The tokens of the shape, for error spans (the name's span if scalar).
     pub shape_span: Span,
+    /// `x: angle` or `q: quaternion` (states only): what the filter keeps
+    /// the state on after every step (see `Model::normalize_state`).
+    pub manifold: Manifold,
+}
+
+/// The set a state lives on, restored after every predict and update.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Manifold {
+    /// Any real values.
+    Plain,
+    /// A scalar angle (rad), wrapped to (-pi, pi].
+    Angle,
+    /// A unit quaternion `[w, x, y, z]`, renormalized.
+    UnitQuaternion,
 }
 
 /// Shapes of declared names and of expression values.
@@ -104,13 +128,6 @@ impl std::fmt::Display for Shape {
             Shape::Matrix(r, c) => write!(f, "{r}x{c} matrix"),
         }
     }
-}
-
-/// Continuous (`d/dt x = ..`) or discrete (`x = ..` from the previous values).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ProcessKind {
-    Continuous,
-    Discrete,
 }
 
 /// The `continuous { .. }` or `discrete { .. }` section.
@@ -170,6 +187,9 @@ impl Parse for Item {
         let start = input.fork();
         let attrs = input.call(Attribute::parse_outer)?;
         let vis: Visibility = input.parse()?;
+        if input.peek(Token![let]) {
+            return Err(syn::Error::new(input.span(), MISPLACED_LET));
+        }
         let kw: Ident = input.parse()?;
         if kw == "block" {
             let (decl, tokens) = parse_named_body(input, Vec::new(), vis.clone(), true)?;
@@ -189,7 +209,7 @@ impl Parse for Item {
         }
         if input.peek(Ident) && input.peek2(Token![=]) {
             let name: Ident = input.parse()?;
-            let compose = parse_composition(input, attrs, vis, name)?;
+            let compose = composition::parse_composition(input, attrs, vis, name)?;
             // The tokens consumed since `start`, re-parsed at every composition step.
             let end = input.cursor();
             let tokens = start.step(|cursor| {
@@ -210,90 +230,6 @@ impl Parse for Item {
         decl.unknown_hint = "";
         Ok(Item::Model(decl))
     }
-}
-
-impl Parse for ComposeDecl {
-    /// A composition as carried through the steps: `#[..] pub model Foo = A + B ..`.
-    fn parse(input: ParseStream) -> syn::Result<Self> {
-        match input.parse::<Item>()? {
-            Item::Compose(c) => Ok(c),
-            _ => Err(input.error("expected a composition `model Name = A + B;`")),
-        }
-    }
-}
-
-/// `= A + path::B ;` or `= A + B { order { .. } allow_unused { .. } }`.
-fn parse_composition(
-    input: ParseStream,
-    attrs: Vec<Attribute>,
-    vis: Visibility,
-    name: Ident,
-) -> syn::Result<ComposeDecl> {
-    input.parse::<Token![=]>()?;
-    let mut blocks = vec![input.call(Path::parse_mod_style)?];
-    while input.peek(Token![+]) {
-        input.parse::<Token![+]>()?;
-        blocks.push(input.call(Path::parse_mod_style)?);
-    }
-    let mut compose = ComposeDecl {
-        attrs,
-        vis,
-        name,
-        blocks,
-        order: None,
-        allow_unused: Vec::new(),
-        tokens: TokenStream::new(),
-    };
-    if input.peek(syn::token::Brace) {
-        let body;
-        braced!(body in input);
-        while !body.is_empty() {
-            let kw: Ident = body.parse()?;
-            let inner;
-            braced!(inner in body);
-            if kw == "order" && compose.order.is_none() {
-                let names = inner.parse_terminated(Ident::parse, Token![,])?;
-                compose.order = Some((kw, names.into_iter().collect()));
-            } else if kw == "allow_unused" && compose.allow_unused.is_empty() {
-                while !inner.is_empty() {
-                    let name: Ident = inner.parse()?;
-                    let index = if inner.peek(syn::token::Bracket) {
-                        let ix;
-                        bracketed!(ix in inner);
-                        Some(ix.parse::<LitInt>()?)
-                    } else {
-                        None
-                    };
-                    compose.allow_unused.push((name, index));
-                    if inner.is_empty() {
-                        break;
-                    }
-                    inner.parse::<Token![,]>()?;
-                }
-            } else if kw == "order" || kw == "allow_unused" {
-                return Err(syn::Error::new(
-                    kw.span(),
-                    format!("duplicate `{kw}` section"),
-                ));
-            } else {
-                return Err(syn::Error::new(
-                    kw.span(),
-                    format!("unknown section `{kw}` of a composition; expected `order` or `allow_unused`"),
-                ));
-            }
-        }
-        if input.peek(Token![;]) {
-            input.parse::<Token![;]>()?;
-        }
-    } else {
-        input.parse::<Token![;]>().map_err(|e| {
-            syn::Error::new(
-                e.span(),
-                "expected `+ Block`, `;` or `{ order { .. } allow_unused { .. } }` after the blocks of a composition",
-            )
-        })?;
-    }
-    Ok(compose)
 }
 
 /// `Name { sections }`: the sections of a model or a block, with the tokens as written.
@@ -340,6 +276,7 @@ fn parse_sections(
             params: Vec::new(),
             noise: Vec::new(),
             needs: Vec::new(),
+            lets: Vec::new(),
             process: None,
             sensors: Vec::new(),
             unknown_hint: if is_block {
@@ -351,6 +288,20 @@ fn parse_sections(
         let mut seen: Vec<String> = Vec::new();
         while !body.is_empty() {
             let attrs = body.call(Attribute::parse_outer)?;
+            if body.peek(Token![let]) {
+                let span = body.span();
+                if is_block {
+                    return Err(syn::Error::new(
+                        span,
+                        "a block has no block-level `let`: write it in the block's process section or sensor",
+                    ));
+                }
+                match body.parse::<Stmt>()? {
+                    Stmt::Let { name, value } => decl.lets.push((name, value)),
+                    Stmt::Assign { .. } => unreachable!("`let` parses as a let statement"),
+                }
+                continue;
+            }
             let kw: Ident = body.parse()?;
             let kw_str = kw.to_string();
             if kw_str != "sensor" {
@@ -363,7 +314,7 @@ fn parse_sections(
                 seen.push(kw_str.clone());
             }
             match kw_str.as_str() {
-                "states" => decl.states = parse_vars(body)?,
+                "states" => decl.states = parse_declarations(body, true)?,
                 "inputs" => decl.inputs = parse_vars(body)?,
                 "parameters" => decl.params = parse_vars(body)?,
                 "noise" => decl.noise = parse_vars(body)?,
@@ -449,17 +400,53 @@ impl Parse for Stmt {
     }
 }
 
+/// Where a `let` may stand, for errors at a `let` anywhere else.
+const MISPLACED_LET: &str = "a `let` may stand at the top level of a model (seen by the process section and every \
+                             sensor), in `continuous { .. }` / `discrete { .. }`, or in a `sensor`; not in a list of \
+                             declarations";
+
 /// `{ a, b: 3, c: 3x3, }` with doc comments on each entry.
 fn parse_vars(input: ParseStream) -> syn::Result<Vec<Var>> {
+    parse_declarations(input, false)
+}
+
+/// [`parse_vars`], also with `x: angle` and `q: quaternion` if `states`.
+fn parse_declarations(input: ParseStream, states: bool) -> syn::Result<Vec<Var>> {
     let inner;
     braced!(inner in input);
     let mut vars = Vec::new();
     while !inner.is_empty() {
         let attrs = inner.call(Attribute::parse_outer)?;
+        if inner.peek(Token![let]) {
+            return Err(syn::Error::new(inner.span(), MISPLACED_LET));
+        }
         let name: Ident = inner.parse()?;
+        let mut manifold = Manifold::Plain;
         let (shape, shape_span) = if inner.peek(Token![:]) {
             inner.parse::<Token![:]>()?;
-            parse_shape(&inner)?
+            if inner.peek(Ident) {
+                let kind: Ident = inner.parse()?;
+                let (m, shape) = match kind.to_string().as_str() {
+                    "angle" => (Manifold::Angle, Shape::Scalar),
+                    "quaternion" => (Manifold::UnitQuaternion, Shape::Vector(4)),
+                    _ => {
+                        return Err(syn::Error::new(
+                            kind.span(),
+                            format!("expected a dimension like `3` or `3x3`, `angle` or `quaternion`, found `{kind}`"),
+                        ))
+                    }
+                };
+                if !states {
+                    return Err(syn::Error::new(
+                        kind.span(),
+                        format!("`{kind}` marks a state (kept on its manifold by the filter); other declarations take a dimension like `3` or `3x3`"),
+                    ));
+                }
+                manifold = m;
+                (shape, kind.span())
+            } else {
+                parse_shape(&inner)?
+            }
         } else {
             (Shape::Scalar, name.span())
         };
@@ -468,6 +455,7 @@ fn parse_vars(input: ParseStream) -> syn::Result<Vec<Var>> {
             name,
             shape,
             shape_span,
+            manifold,
         });
         if inner.is_empty() {
             break;

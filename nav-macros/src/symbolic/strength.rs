@@ -9,7 +9,7 @@
 //! - `a / c` with a constant `c` becomes `a * (1 / c)`;
 //! - `tan(a)` becomes `sin(a) / cos(a)` when `sin(a)` or `cos(a)` is computed
 //!   anyway; `sin` and `cos` of one argument are then one `sin_cos` call (see
-//!   [`crate::cse`]).
+//!   [`crate::symbolic::cse`]).
 //!
 //! Each rewrite changes a value by at most a rounding in the last place (the
 //! tests below compare values before and after; every model's generated tests
@@ -21,7 +21,7 @@
 
 use std::collections::{HashMap, HashSet};
 
-use crate::expr::{Func, Graph, Id, Node};
+use super::expr::{Func, Graph, Id, Node};
 
 /// The outputs `roots` of one function, reduced, in a new graph (same order).
 pub fn reduce(source: &Graph, roots: &[Id]) -> (Graph, Vec<Id>) {
@@ -118,7 +118,7 @@ fn copy(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::expr::Sym;
+    use crate::symbolic::expr::Sym;
 
     fn symbols(g: &mut Graph) -> (Id, Id, Id) {
         (

@@ -2,7 +2,7 @@
 //! arithmetic nodes (`+ - * /`, negation, function calls) reachable from its
 //! outputs, each computed once (shared temporaries count once).
 
-use crate::expr::{Graph, Id};
+use super::expr::{Graph, Id};
 
 /// Arithmetic operations needed to compute all of `roots` with full sharing.
 pub fn count(g: &Graph, roots: &[Id]) -> usize {
@@ -15,7 +15,7 @@ pub fn count(g: &Graph, roots: &[Id]) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::expr::{Func, Sym};
+    use crate::symbolic::expr::{Func, Sym};
 
     #[test]
     fn shared_nodes_count_once() {

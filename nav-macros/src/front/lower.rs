@@ -8,20 +8,11 @@ use std::collections::HashMap;
 use quote::ToTokens;
 use syn::{BinOp, Expr, ExprLit, Lit, UnOp};
 
-use crate::check::suggest;
-use crate::ctxt::Ctxt;
-use crate::expr::{Func, Graph, Id, Sym};
-use crate::parse::{ModelDecl, ProcessKind, SensorDecl, Shape, Stmt, Var};
-
-/// The scalarized model.
-pub struct Lowered {
-    pub graph: Graph,
-    pub kind: ProcessKind,
-    /// `f(x, u, p, w)` (continuous) or `f(x, u, p, dt, w)` (discrete), per state scalar.
-    pub f: Vec<Id>,
-    /// Each sensor's `h`, in declaration order.
-    pub sensors: Vec<Vec<Id>>,
-}
+use super::ctxt::Ctxt;
+use super::names::suggest;
+use super::parse::{ModelDecl, SensorDecl, Shape, Stmt, Var};
+use crate::symbolic::rotation;
+use crate::symbolic::{Func, Graph, Id, Lowered, ProcessKind, Sym};
 
 /// Lowers one checked declaration; `None` if there is no process section.
 pub fn lower(cx: &Ctxt, decl: &ModelDecl) -> Option<Lowered> {
@@ -32,6 +23,22 @@ pub fn lower(cx: &Ctxt, decl: &ModelDecl) -> Option<Lowered> {
     model_scope.bind_record(&mut graph, &decl.inputs, Kind::Input, Sym::Input);
     model_scope.bind_record(&mut graph, &decl.params, Kind::Param, Sym::Param);
     model_scope.bind_record(&mut graph, &decl.noise, Kind::Noise, Sym::Noise);
+    // Model-level `let`s, seen by the process section and every sensor.
+    {
+        let mut lw = Lowerer {
+            cx,
+            g: &mut graph,
+            scope: model_scope,
+            sensor: None,
+            model_let: true,
+            process_lets: &[],
+            unknown_hint: decl.unknown_hint,
+        };
+        for (name, value) in &decl.lets {
+            lw.bind_let(name, value);
+        }
+        model_scope = lw.scope;
+    }
 
     // The process section.
     let n: usize = decl.states.iter().map(|s| s.shape.len()).sum();
@@ -59,6 +66,7 @@ pub fn lower(cx: &Ctxt, decl: &ModelDecl) -> Option<Lowered> {
             g: &mut graph,
             scope,
             sensor: None,
+            model_let: false,
             process_lets: &[],
             unknown_hint: decl.unknown_hint,
         };
@@ -119,6 +127,7 @@ pub fn lower(cx: &Ctxt, decl: &ModelDecl) -> Option<Lowered> {
             g: &mut graph,
             scope,
             sensor: Some(sensor),
+            model_let: false,
             process_lets: &process_lets,
             unknown_hint: decl.unknown_hint,
         };
@@ -263,6 +272,14 @@ enum Builtin {
     Norm,
     Transpose,
     EulerDcm,
+    Min,
+    Max,
+    Clamp,
+    QuatMul,
+    QuatToDcm,
+    DcmToEuler,
+    RotvecToQuat,
+    Normalize,
 }
 
 const BUILTINS: &[(&str, Builtin, usize)] = &[
@@ -276,6 +293,15 @@ const BUILTINS: &[(&str, Builtin, usize)] = &[
     ("exp", Builtin::Scalar(Func::Exp), 1),
     ("ln", Builtin::Scalar(Func::Ln), 1),
     ("abs", Builtin::Scalar(Func::Abs), 1),
+    ("sign", Builtin::Scalar(Func::Sign), 1),
+    ("min", Builtin::Min, 2),
+    ("max", Builtin::Max, 2),
+    ("clamp", Builtin::Clamp, 3),
+    ("quat_mul", Builtin::QuatMul, 2),
+    ("quat_to_dcm", Builtin::QuatToDcm, 1),
+    ("dcm_to_euler", Builtin::DcmToEuler, 1),
+    ("rotvec_to_quat", Builtin::RotvecToQuat, 1),
+    ("normalize", Builtin::Normalize, 1),
     ("atan2", Builtin::Atan2, 2),
     ("powi", Builtin::Powi, 2),
     ("dot", Builtin::Dot, 2),
@@ -293,6 +319,8 @@ struct Lowerer<'a> {
     scope: Scope,
     /// The sensor being lowered, or `None` in the process section.
     sensor: Option<&'a SensorDecl>,
+    /// Lowering a model-level `let` (which may not read process noise).
+    model_let: bool,
     /// Names of the process section's `let`s (for hints in sensors).
     process_lets: &'a [String],
     /// Appended to unknown-name errors without a suggestion (blocks: about `needs`).
@@ -300,6 +328,22 @@ struct Lowerer<'a> {
 }
 
 impl Lowerer<'_> {
+    /// `let name = value;`: binds the value, or records the name as failed so
+    /// its uses report nothing more.
+    fn bind_let(&mut self, name: &syn::Ident, value: &Expr) {
+        if let Some(val) = self.expr(value) {
+            self.scope.insert_new(
+                &name.to_string(),
+                Binding {
+                    val,
+                    kind: Kind::Let,
+                },
+            );
+        } else {
+            self.scope.failed.push(name.to_string());
+        }
+    }
+
     fn expr(&mut self, e: &Expr) -> Option<Val> {
         match e {
             Expr::Lit(ExprLit { lit, .. }) => {
@@ -385,7 +429,7 @@ impl Lowerer<'_> {
                     "; `dt` is only available in `discrete` sections (a continuous model gives `d/dt`)".to_string()
                 }
             } else if self.sensor.is_some() && self.process_lets.contains(&name) {
-                format!("; `{name}` is a `let` of the process section, which sensors do not see (repeat it in the sensor)")
+                format!("; `{name}` is a `let` of the process section, which sensors do not see (move it to the model level, beside the sections, to share it)")
             } else {
                 let mut cands: Vec<String> = self.scope.names.keys().cloned().collect();
                 cands.sort();
@@ -398,6 +442,15 @@ impl Lowerer<'_> {
             };
             return self.fail(ident, format!("unknown name `{name}`{hint}"));
         };
+        if b.kind == Kind::Noise && self.model_let {
+            return self.fail(
+                ident,
+                format!(
+                    "process noise `{name}` cannot be used in a model-level `let`, which the sensors see too: \
+                     use it in the process section"
+                ),
+            );
+        }
         if b.kind == Kind::Noise {
             if let Some(sensor) = self.sensor {
                 return self.fail(
@@ -426,6 +479,12 @@ impl Lowerer<'_> {
             BinOp::Sub(_) => ("subtract", "and"),
             BinOp::Mul(_) => ("multiply", "by"),
             BinOp::Div(_) => ("divide", "by"),
+            BinOp::BitXor(_) => {
+                return self.fail(
+                    op,
+                    "`^` is exclusive or in Rust, not a power: write `powi(x, 2)` (or `x.powi(2)`) for a square",
+                );
+            }
             _ => {
                 return self.fail(
                     op,
@@ -532,6 +591,23 @@ impl Lowerer<'_> {
                 Some(Val::scalar(self.g.atan2(y?, x?)))
             }
             Builtin::Powi => unreachable!("handled above"),
+            Builtin::Min | Builtin::Max | Builtin::Clamp => {
+                let xs: Vec<Option<Id>> = args
+                    .iter()
+                    .zip(&vals)
+                    .map(|(a, v)| self.scalar_arg(&fname, a, v.clone()))
+                    .collect();
+                let xs: Vec<Id> = xs.into_iter().collect::<Option<_>>()?;
+                let g = &mut *self.g;
+                Some(Val::scalar(match builtin {
+                    Builtin::Min => g.min(xs[0], xs[1]),
+                    Builtin::Max => g.max(xs[0], xs[1]),
+                    _ => {
+                        let low = g.max(xs[0], xs[1]);
+                        g.min(low, xs[2])
+                    }
+                }))
+            }
             Builtin::Dot => match (vals[0].shape, vals[1].shape) {
                 (Shape::Vector(a), Shape::Vector(b)) if a == b => {
                     let terms: Vec<Id> = vals[0]
@@ -603,6 +679,55 @@ impl Lowerer<'_> {
                     })
                 }
                 a => self.fail(args[0], format!("`transpose` needs a matrix, found {a}")),
+            },
+            Builtin::QuatMul => match (vals[0].shape, vals[1].shape) {
+                (Shape::Vector(4), Shape::Vector(4)) => Some(Val {
+                    shape: Shape::Vector(4),
+                    e: rotation::quat_mul(g, &vals[0].e, &vals[1].e),
+                }),
+                (a, b) => self.fail(
+                    e,
+                    format!("`quat_mul` needs two quaternions (4-vectors [w, x, y, z]), found {a} and {b}"),
+                ),
+            },
+            Builtin::QuatToDcm => match vals[0].shape {
+                Shape::Vector(4) => Some(Val {
+                    shape: Shape::Matrix(3, 3),
+                    e: rotation::quat_to_dcm(g, &vals[0].e),
+                }),
+                a => self.fail(
+                    args[0],
+                    format!("`quat_to_dcm` needs a quaternion (4-vector [w, x, y, z]), found {a}"),
+                ),
+            },
+            Builtin::DcmToEuler => match vals[0].shape {
+                Shape::Matrix(3, 3) => Some(Val {
+                    shape: Shape::Vector(3),
+                    e: rotation::dcm_to_euler(g, &vals[0].e),
+                }),
+                a => self.fail(
+                    args[0],
+                    format!("`dcm_to_euler` needs a 3x3 matrix `C_b^n`, found {a}"),
+                ),
+            },
+            Builtin::RotvecToQuat => match vals[0].shape {
+                Shape::Vector(3) => Some(Val {
+                    shape: Shape::Vector(4),
+                    e: rotation::rotvec_to_quat(g, &vals[0].e),
+                }),
+                a => self.fail(
+                    args[0],
+                    format!("`rotvec_to_quat` needs a rotation vector (3-vector, rad), found {a}"),
+                ),
+            },
+            Builtin::Normalize => match vals[0].shape {
+                Shape::Vector(_) => {
+                    let terms: Vec<Id> = vals[0].e.iter().map(|&x| g.mul(x, x)).collect();
+                    let s = g.sum(terms);
+                    let norm = g.call(Func::Sqrt, s);
+                    Some(self.map(&vals[0].clone(), |g, x| g.div(x, norm)))
+                }
+                a => self.fail(args[0], format!("`normalize` needs a vector, found {a}")),
             },
             Builtin::EulerDcm => {
                 let r = self.scalar_arg(&fname, args[0], vals[0].clone());
@@ -694,8 +819,8 @@ impl Lowerer<'_> {
     }
 }
 
-/// `C_b^n` from roll, pitch, yaw (Z-Y-X), the transpose of `C_n^b` as printed
-/// in docs/models/conventions.md, item 2.
+/// `C_b^n` from roll, pitch, yaw (Z-Y-X), the transpose of
+/// `C_n^b = C_x(roll) C_y(pitch) C_z(yaw)` (see `docs/language.md`).
 fn euler_dcm(g: &mut Graph, roll: Id, pitch: Id, yaw: Id) -> Vec<Id> {
     let (sf, cf) = (g.call(Func::Sin, roll), g.call(Func::Cos, roll));
     let (st, ct) = (g.call(Func::Sin, pitch), g.call(Func::Cos, pitch));

@@ -52,12 +52,26 @@ pub enum Func {
     Exp,
     Ln,
     Abs,
+    /// `sign(x)`: 1 for x > 0, -1 for x < 0, x itself for 0 and NaN.
+    Sign,
+    /// The unit step `1 if x > 0 else 0` (NaN gives 0): only built by
+    /// differentiation (of `min` and `max`), never written by users.
+    Step,
+    /// `cos(sqrt(s) / 2)` of `s = |v|^2`: the scalar part of the exponential
+    /// map (`rotvec_to_quat`), smooth in `s` (no square-root kink at 0).
+    HalfCos,
+    /// `sin(sqrt(s) / 2) / sqrt(s)` (1/2 at `s = 0`): the vector-part factor
+    /// of the exponential map.
+    HalfSinc,
+    /// `d/ds HalfSinc(s) = (HalfCos(s) - 2 HalfSinc(s)) / (4 s)` (-1/48 at 0;
+    /// a series below `s = 1e-3`, where the quotient would cancel).
+    HalfSincSlope,
 }
 
 impl Func {
     /// All functions, for tables and tests.
     #[cfg(test)]
-    pub const ALL: [Func; 10] = [
+    pub const ALL: [Func; 15] = [
         Func::Sin,
         Func::Cos,
         Func::Tan,
@@ -68,6 +82,11 @@ impl Func {
         Func::Exp,
         Func::Ln,
         Func::Abs,
+        Func::Sign,
+        Func::Step,
+        Func::HalfCos,
+        Func::HalfSinc,
+        Func::HalfSincSlope,
     ];
 
     /// The name in the surface language and in `nav_runtime::math`.
@@ -83,6 +102,11 @@ impl Func {
             Func::Exp => "exp",
             Func::Ln => "ln",
             Func::Abs => "abs",
+            Func::Sign => "sign",
+            Func::Step => "step",
+            Func::HalfCos => "half_cos",
+            Func::HalfSinc => "half_sinc",
+            Func::HalfSincSlope => "half_sinc_slope",
         }
     }
 
@@ -99,6 +123,39 @@ impl Func {
             Func::Exp => x.exp(),
             Func::Ln => x.ln(),
             Func::Abs => x.abs(),
+            Func::Sign => {
+                if x > 0.0 {
+                    1.0
+                } else if x < 0.0 {
+                    -1.0
+                } else {
+                    x
+                }
+            }
+            Func::Step => {
+                if x > 0.0 {
+                    1.0
+                } else {
+                    0.0
+                }
+            }
+            Func::HalfCos => (0.5 * x.sqrt()).cos(),
+            Func::HalfSinc => {
+                if x < HALF_SINC_SERIES_BELOW {
+                    0.5 - x / 48.0 + x * x / 3840.0 - x * x * x / 645_120.0
+                } else {
+                    let r = x.sqrt();
+                    (0.5 * r).sin() / r
+                }
+            }
+            Func::HalfSincSlope => {
+                if x < HALF_SINC_SERIES_BELOW {
+                    -1.0 / 48.0 + x / 1920.0 - x * x / 215_040.0
+                } else {
+                    let r = x.sqrt();
+                    ((0.5 * r).cos() - 2.0 * (0.5 * r).sin() / r) / (4.0 * x)
+                }
+            }
         }
     }
 }
@@ -116,6 +173,10 @@ pub enum Node {
     Call(Func, Id),
     Atan2(Id, Id),
     Powi(Id, i32),
+    /// `min(a, b)`: `a` when `a <= b`, `b` when `b < a`, NaN if either is NaN.
+    Min(Id, Id),
+    /// `max(a, b)`: `a` when `a >= b`, `b` when `b > a`, NaN if either is NaN.
+    Max(Id, Id),
 }
 
 impl Node {
@@ -132,7 +193,9 @@ impl Node {
             | Node::Sub(a, b)
             | Node::Mul(a, b)
             | Node::Div(a, b)
-            | Node::Atan2(a, b) => (Some(a), Some(b)),
+            | Node::Atan2(a, b)
+            | Node::Min(a, b)
+            | Node::Max(a, b) => (Some(a), Some(b)),
             Node::Neg(a) | Node::Call(_, a) | Node::Powi(a, _) => (Some(a), None),
         };
         a.into_iter().chain(b)
@@ -362,6 +425,26 @@ impl Graph {
         self.intern(Node::Atan2(y, x))
     }
 
+    pub fn min(&mut self, a: Id, b: Id) -> Id {
+        if a == b {
+            return a;
+        }
+        if let Some(v) = self.fold2(a, b, min) {
+            return v;
+        }
+        self.intern(Node::Min(a, b))
+    }
+
+    pub fn max(&mut self, a: Id, b: Id) -> Id {
+        if a == b {
+            return a;
+        }
+        if let Some(v) = self.fold2(a, b, max) {
+            return v;
+        }
+        self.intern(Node::Max(a, b))
+    }
+
     pub fn powi(&mut self, a: Id, n: i32) -> Id {
         match n {
             0 => return Graph::ONE,
@@ -446,6 +529,8 @@ impl Graph {
             Node::Call(f, _) => self.call(f, kids[0]),
             Node::Atan2(..) => self.atan2(kids[0], kids[1]),
             Node::Powi(_, n) => self.powi(kids[0], n),
+            Node::Min(..) => self.min(kids[0], kids[1]),
+            Node::Max(..) => self.max(kids[0], kids[1]),
         }
     }
 
@@ -473,6 +558,8 @@ impl Graph {
             Node::Call(f, a) => f.apply(ev(a)),
             Node::Atan2(y, x) => ev(y).atan2(ev(x)),
             Node::Powi(a, n) => ev(a).powi(n),
+            Node::Min(a, b) => min(ev(a), ev(b)),
+            Node::Max(a, b) => max(ev(a), ev(b)),
         };
         memo.insert(id, v);
         v
@@ -491,6 +578,32 @@ impl Graph {
         self.nodes.push(node);
         self.index.insert(node, id);
         id
+    }
+}
+
+/// Below this `s`, [`Func::HalfSinc`] and [`Func::HalfSincSlope`] are
+/// evaluated by their Taylor series (truncation error below 1e-16 there).
+pub const HALF_SINC_SERIES_BELOW: f64 = 1e-3;
+
+/// The value of [`Node::Min`] (NaN-propagating, unlike `f64::min`).
+pub fn min(a: f64, b: f64) -> f64 {
+    if a <= b {
+        a
+    } else if b < a {
+        b
+    } else {
+        a + b
+    }
+}
+
+/// The value of [`Node::Max`] (NaN-propagating, unlike `f64::max`).
+pub fn max(a: f64, b: f64) -> f64 {
+    if a >= b {
+        a
+    } else if b > a {
+        b
+    } else {
+        a + b
     }
 }
 

@@ -16,53 +16,16 @@ use std::collections::HashMap;
 
 use proc_macro2::{Span, TokenStream};
 use quote::quote;
-use syn::parse::{Parse, ParseStream};
+use syn::parse::ParseStream;
 use syn::visit_mut::VisitMut;
-use syn::{braced, Ident, Token, Visibility};
+use syn::{Ident, Visibility};
 
-use crate::check::suggest;
-use crate::ctxt::Ctxt;
-use crate::parse::{
-    parse_named_body, BlockDecl, ComposeDecl, ModelDecl, Process, ProcessKind, Shape, Stmt, Var,
+use super::ctxt::Ctxt;
+use super::names::suggest;
+use super::parse::{
+    parse_named_body, BlockDecl, ComposeDecl, ModelDecl, Process, ProcessKind, Shape, Step, Stmt,
+    Var,
 };
-
-/// One step of a composition: `@nav_block { B { .. } } @nav_compose { C } { collected }`.
-pub struct Step {
-    block: TokenStream,
-    compose: TokenStream,
-    collected: TokenStream,
-}
-
-impl Parse for Step {
-    fn parse(input: ParseStream) -> syn::Result<Self> {
-        let marker = |input: ParseStream, kw: &str| -> syn::Result<()> {
-            input.parse::<Token![@]>()?;
-            let ident: Ident = input.parse()?;
-            if ident != kw {
-                return Err(syn::Error::new(
-                    ident.span(),
-                    format!("internal composition step: expected `@{kw}`"),
-                ));
-            }
-            Ok(())
-        };
-        let group = |input: ParseStream| -> syn::Result<TokenStream> {
-            let inner;
-            braced!(inner in input);
-            inner.parse()
-        };
-        marker(input, "nav_block")?;
-        let block = group(input)?;
-        marker(input, "nav_compose")?;
-        let compose = group(input)?;
-        let collected = group(input)?;
-        Ok(Step {
-            block,
-            compose,
-            collected,
-        })
-    }
-}
 
 /// `block Name { .. }`: checks the block on its own and emits its macro.
 pub fn block(b: &BlockDecl) -> TokenStream {
@@ -122,6 +85,7 @@ fn check_block(decl: &ModelDecl) -> syn::Result<()> {
             name: Ident::new("__nav_block_without_states", Span::call_site()),
             shape: Shape::Scalar,
             shape_span: Span::call_site(),
+            manifold: super::parse::Manifold::Plain,
         });
     }
     if model.process.is_none() {
@@ -132,8 +96,8 @@ fn check_block(decl: &ModelDecl) -> syn::Result<()> {
         });
     }
     let cx = Ctxt::new();
-    crate::check::check(&cx, &model);
-    let _ = crate::lower::lower(&cx, &model);
+    super::check::check(&cx, &model);
+    let _ = super::lower::lower(&cx, &model);
     cx.check()
 }
 
@@ -166,7 +130,7 @@ pub fn step(step: Step) -> syn::Result<TokenStream> {
     let (decl, owners) = assemble(&compose, blocks)?;
     let derived = crate::derive_model(&decl)?;
     check_unused(&compose, &decl, &owners, &derived.used_states())?;
-    Ok(crate::emit::model(&decl, &derived))
+    Ok(crate::back::emit::model(&decl, &derived))
 }
 
 /// What declared a name: the block (index) and the kind of declaration.
@@ -453,6 +417,7 @@ fn assemble(
         params: Vec::new(),
         noise: Vec::new(),
         needs: Vec::new(),
+        lets: Vec::new(),
         process: process.map(|(_, kind, keyword)| Process {
             kind,
             keyword,
@@ -508,7 +473,7 @@ impl VisitMut for Rename {
     }
 }
 
-/// A composed model may not have unused states (see [`crate::derive::Derived::used_states`])
+/// A composed model may not have unused states (see [`crate::symbolic::derive::Derived::used_states`])
 /// unless its `allow_unused { .. }` lists them; every listed state must be unused.
 fn check_unused(
     c: &ComposeDecl,

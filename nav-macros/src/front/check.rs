@@ -6,8 +6,10 @@ use std::collections::HashMap;
 
 use syn::Ident;
 
-use crate::ctxt::Ctxt;
-use crate::parse::{ModelDecl, ProcessKind, Shape, Stmt, Var};
+use super::ctxt::Ctxt;
+use super::names::screaming_case;
+use super::names::suggest;
+use super::parse::{ModelDecl, ProcessKind, Shape, Stmt, Var};
 
 /// Inherent constants of the model type; a state must not produce one of them.
 pub const RESERVED_CONSTS: &[&str] = &[
@@ -39,6 +41,9 @@ pub fn check(cx: &Ctxt, decl: &ModelDecl) {
             model_names.declare(cx, &v.name, kind);
             check_shape(cx, v);
         }
+    }
+    for (name, _) in &decl.lets {
+        model_names.declare(cx, name, "a model-level `let` binding");
     }
     for v in &decl.states {
         let konst = screaming_case(&v.name.to_string());
@@ -171,55 +176,6 @@ pub fn check(cx: &Ctxt, decl: &ModelDecl) {
     }
 }
 
-/// `velocity_error` -> `VELOCITY_ERROR`.
-pub fn screaming_case(name: &str) -> String {
-    let mut out = String::new();
-    let mut prev_lower = false;
-    for ch in name.trim_start_matches("r#").chars() {
-        if ch.is_uppercase() && prev_lower {
-            out.push('_');
-        }
-        prev_lower = ch.is_lowercase() || ch.is_ascii_digit();
-        out.extend(ch.to_uppercase());
-    }
-    out
-}
-
-/// `" ; did you mean `x`?"` for the closest candidate by edit distance, if close.
-pub fn suggest(name: &str, candidates: impl IntoIterator<Item = String>) -> String {
-    let mut best: Option<(usize, String)> = None;
-    for c in candidates {
-        let d = edit_distance(name, &c);
-        let limit = 1.max(name.chars().count().max(c.chars().count()) / 3);
-        let better = match &best {
-            None => true,
-            Some((bd, bc)) => (d, &c) < (*bd, bc),
-        };
-        if d <= limit && better {
-            best = Some((d, c));
-        }
-    }
-    match best {
-        Some((_, c)) => format!("; did you mean `{c}`?"),
-        None => String::new(),
-    }
-}
-
-/// Levenshtein distance.
-fn edit_distance(a: &str, b: &str) -> usize {
-    let b: Vec<char> = b.chars().collect();
-    let mut prev: Vec<usize> = (0..=b.len()).collect();
-    for (i, ca) in a.chars().enumerate() {
-        let mut cur = vec![i + 1];
-        for (j, cb) in b.iter().enumerate() {
-            let sub = prev[j] + usize::from(ca != *cb);
-            cur.push(sub.min(prev[j + 1] + 1).min(cur[j] + 1));
-        }
-        prev = cur;
-    }
-    prev[b.len()]
-}
-
 fn check_shape(cx: &Ctxt, v: &Var) {
     let zero = match v.shape {
         Shape::Scalar => false,
@@ -255,39 +211,6 @@ impl Names {
             None => {
                 self.kinds.insert(s, kind);
             }
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn suggestions() {
-        let cands = || ["velocity", "a", "gyro", "specific_force"].map(String::from);
-        let cases = [
-            ("velocty", "; did you mean `velocity`?"),
-            ("gyr", "; did you mean `gyro`?"),
-            ("specific_forc", "; did you mean `specific_force`?"),
-            ("zzz", ""),
-            ("b", "; did you mean `a`?"),
-        ];
-        for (name, want) in cases {
-            assert_eq!(suggest(name, cands()), want, "{name}");
-        }
-    }
-
-    #[test]
-    fn screaming() {
-        let cases = [
-            ("velocity", "VELOCITY"),
-            ("c_bn", "C_BN"),
-            ("Vx", "VX"),
-            ("gyroBias", "GYRO_BIAS"),
-        ];
-        for (name, want) in cases {
-            assert_eq!(screaming_case(name), want);
         }
     }
 }

@@ -5,12 +5,12 @@ use proc_macro2::{Literal, TokenStream};
 use quote::{format_ident, quote};
 use syn::Ident;
 
-use crate::check::screaming_case;
-use crate::cse::{schedule, Schedule};
-use crate::derive::Derived;
-use crate::expr::{Graph, Id, Node, Sym};
-use crate::parse::{ModelDecl, ProcessKind, Shape, Var};
-use crate::strength;
+use crate::front::names::screaming_case;
+use crate::front::parse::{Manifold, ModelDecl, Shape, Var};
+use crate::symbolic::cse::{schedule, Schedule};
+use crate::symbolic::derive::Derived;
+use crate::symbolic::strength;
+use crate::symbolic::{Func, Graph, Id, Node, ProcessKind, Sym};
 
 /// All items generated for one model.
 pub fn model(decl: &ModelDecl, d: &Derived) -> TokenStream {
@@ -251,10 +251,70 @@ impl<'a> Emitter<'a> {
                 let a = self.expr(f, a, cov, 4);
                 (3, quote!(-#a))
             }
+            Node::Call(Func::Sign, a) => {
+                let a = self.expr(f, a, cov, 0);
+                (
+                    4,
+                    quote!({ let a = #a; if a > 0.0 { 1.0 } else if a < 0.0 { -1.0 } else { a } }),
+                )
+            }
+            Node::Call(Func::Step, a) => {
+                let a = self.expr(f, a, cov, 0);
+                (4, quote!({ if #a > 0.0 { 1.0 } else { 0.0 } }))
+            }
+            Node::Call(Func::HalfCos, a) => {
+                let a = self.expr(f, a, cov, 0);
+                (4, quote!(#math::cos(0.5 * #math::sqrt(#a))))
+            }
+            Node::Call(Func::HalfSinc, a) => {
+                let a = self.expr(f, a, cov, 0);
+                let below = Literal::f64_unsuffixed(crate::symbolic::expr::HALF_SINC_SERIES_BELOW);
+                (
+                    4,
+                    quote!({
+                        let s = #a;
+                        if s < #below {
+                            0.5 - s / 48.0 + s * s / 3840.0 - s * s * s / 645120.0
+                        } else {
+                            let r = #math::sqrt(s);
+                            #math::sin(0.5 * r) / r
+                        }
+                    }),
+                )
+            }
+            Node::Call(Func::HalfSincSlope, a) => {
+                let a = self.expr(f, a, cov, 0);
+                let below = Literal::f64_unsuffixed(crate::symbolic::expr::HALF_SINC_SERIES_BELOW);
+                (
+                    4,
+                    quote!({
+                        let s = #a;
+                        if s < #below {
+                            -1.0 / 48.0 + s / 1920.0 - s * s / 215040.0
+                        } else {
+                            let r = #math::sqrt(s);
+                            (#math::cos(0.5 * r) - 2.0 * #math::sin(0.5 * r) / r) / (4.0 * s)
+                        }
+                    }),
+                )
+            }
             Node::Call(func, a) => {
                 let fname = format_ident!("{}", func.name());
                 let a = self.expr(f, a, cov, 0);
                 (4, quote!(#math::#fname(#a)))
+            }
+            Node::Min(a, b) | Node::Max(a, b) => {
+                let (a, b) = (self.expr(f, a, cov, 0), self.expr(f, b, cov, 0));
+                let (first, second) = if matches!(f.graph.node(id), Node::Min(..)) {
+                    (quote!(<=), quote!(<))
+                } else {
+                    (quote!(>=), quote!(>))
+                };
+                // NaN-propagating: a NaN operand fails both comparisons.
+                (
+                    4,
+                    quote!({ let (a, b) = (#a, #b); if a #first b { a } else if b #second a { b } else { a + b } }),
+                )
             }
             Node::Atan2(y, x) => {
                 let (y, x) = (self.expr(f, y, cov, 0), self.expr(f, x, cov, 0));
@@ -597,6 +657,7 @@ impl<'a> Emitter<'a> {
             }
         };
 
+        let normalize = normalize_state(&self.decl.states, &self.n);
         // derivative and process with noise
         let continuous = d.kind == ProcessKind::Continuous;
         let derivative = if continuous {
@@ -723,6 +784,7 @@ impl<'a> Emitter<'a> {
                     #qb_fill
                     out
                 }
+                #normalize
                 #pb_doc
                 fn propagate_covariance(
                     cov: &mut #smat<f64, #n, #n>, x: &#svec<f64, #n>, u: &#input_ty, p: &#params_ty, q: &#noise_ty, dt: f64,
@@ -933,7 +995,7 @@ impl<'a> Emitter<'a> {
     }
 
     fn tests(&self) -> TokenStream {
-        crate::emit_tests::tests(self.decl, self.d)
+        super::emit_tests::tests(self.decl, self.d)
     }
 }
 
@@ -945,4 +1007,43 @@ fn float_literal(v: f64) -> TokenStream {
     }
     let lit: syn::LitFloat = syn::LitFloat::new(&s, proc_macro2::Span::call_site());
     quote!(#lit)
+}
+
+/// `Model::normalize_state` for states declared `angle` or `quaternion`, or
+/// nothing (the trait's no-op default) if there are none.
+fn normalize_state(states: &[Var], n: &Literal) -> TokenStream {
+    let math = quote!(::nav_runtime::math);
+    let mut offset = 0;
+    let mut body = TokenStream::new();
+    for v in states {
+        match v.manifold {
+            Manifold::Plain => {}
+            Manifold::Angle => body.extend(quote! {
+                x[#offset] = #math::wrap_angle(x[#offset]);
+            }),
+            Manifold::UnitQuaternion => {
+                let k: Vec<usize> = (offset..offset + 4).collect();
+                body.extend(quote! {
+                    {
+                        let norm = #math::sqrt(#(x[#k] * x[#k])+*);
+                        if norm > 0.0 && norm.is_finite() {
+                            let inv = 1.0 / norm;
+                            #(x[#k] *= inv;)*
+                        }
+                    }
+                });
+            }
+        }
+        offset += v.shape.len();
+    }
+    if body.is_empty() {
+        return body;
+    }
+    quote! {
+        /// Wraps the `angle` states to (-pi, pi] and renormalizes the
+        /// `quaternion` states (see `Model::normalize_state`).
+        fn normalize_state(x: &mut ::nav_runtime::nalgebra::SVector<f64, #n>) {
+            #body
+        }
+    }
 }

@@ -6,8 +6,10 @@
 use proc_macro2::{Literal, TokenStream};
 use quote::{format_ident, quote};
 
-use crate::derive::Derived;
-use crate::parse::{ModelDecl, ProcessKind};
+use crate::front::names::snake_case;
+use crate::front::parse::ModelDecl;
+use crate::symbolic::derive::Derived;
+use crate::symbolic::ProcessKind;
 
 /// The test module of one model.
 pub fn tests(decl: &ModelDecl, d: &Derived) -> TokenStream {
@@ -297,18 +299,4 @@ pub fn tests(decl: &ModelDecl, d: &Derived) -> TokenStream {
             #(#sensor_tests)*
         }
     }
-}
-
-/// `Leveling6` -> `leveling6`, `MarkerFix` -> `marker_fix`.
-pub fn snake_case(name: &str) -> String {
-    let mut out = String::new();
-    let mut prev_lower = false;
-    for ch in name.chars() {
-        if ch.is_uppercase() && prev_lower {
-            out.push('_');
-        }
-        prev_lower = ch.is_lowercase() || ch.is_ascii_digit();
-        out.extend(ch.to_lowercase());
-    }
-    out
 }

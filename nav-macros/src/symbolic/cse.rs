@@ -8,8 +8,8 @@
 //! (one argument reduction instead of two): both are temporaries, defined
 //! together where the first of them is due.
 
-use crate::expr::{Func, Graph, Id, Node};
-use crate::ops;
+use super::expr::{Func, Graph, Id, Node};
+use super::ops;
 
 /// The temporaries of one generated function.
 pub struct Schedule {
@@ -84,7 +84,7 @@ pub fn schedule(g: &Graph, roots: &[Id]) -> Schedule {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::expr::Sym;
+    use crate::symbolic::expr::Sym;
 
     #[test]
     fn shared_subexpressions_become_temporaries_in_order() {

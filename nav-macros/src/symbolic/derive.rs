@@ -5,10 +5,9 @@
 
 use std::collections::HashMap;
 
-use crate::diff::Diff;
-use crate::expr::{Graph, Id, Sym};
-use crate::lower::Lowered;
-use crate::parse::ProcessKind;
+use super::diff::Diff;
+use super::expr::{Graph, Id, Sym};
+use super::lowered::{Lowered, ProcessKind};
 
 /// Everything the emitter needs, as node ids of `graph`.
 pub struct Derived {

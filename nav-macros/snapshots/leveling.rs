@@ -1,0 +1,1154 @@
+// Expansion of `nav_runtime::model!` in models/src/leveling/model.rs, formatted.
+// Checked by `snapshots_are_current` (nav-macros/src/lib.rs); regenerate with
+// `UPDATE_SNAPSHOTS=1 cargo test -p nav-macros --lib snapshots`.
+//
+// Op counts:
+//   Leveling6::OPS_TRANSITION = 45
+//   Leveling6::OPS_JACOBIAN = 12
+//   Leveling6::OPS_NOISE_JACOBIAN = 3
+//   Leveling6::OPS_PROCESS_NOISE = 30
+//   Leveling6::OPS_PROPAGATE_COVARIANCE = 289
+//   Leveling6::OPS_DERIVATIVE = 33
+//   Leveling6Moving::OPS_PREDICT = 5
+//   Leveling6Moving::OPS_JACOBIAN = 3
+//   Leveling6Moving::OPS_INNOVATION_TERMS = 43
+//   Leveling6Stationary::OPS_PREDICT = 5
+//   Leveling6Stationary::OPS_JACOBIAN = 3
+//   Leveling6Stationary::OPS_INNOVATION_TERMS = 43
+
+///The state of [`Leveling6`] (6 scalars), with named fields.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[allow(non_snake_case)]
+pub struct Leveling6State {
+    /// Body-frame velocity over ground `V^b`, m/s.
+    pub velocity: ::nav_runtime::nalgebra::SVector<f64, 3>,
+    /// Gravity direction in body axes `a = [-sin theta, sin phi cos theta, cos phi cos theta]`.
+    pub gravity_direction: ::nav_runtime::nalgebra::SVector<f64, 3>,
+}
+#[allow(clippy::all, unused)]
+impl ::nav_runtime::model::Record for Leveling6State {
+    const LEN: usize = 6;
+    const NAMES: &'static [&'static str] = &[
+        "velocity[0]",
+        "velocity[1]",
+        "velocity[2]",
+        "gravity_direction[0]",
+        "gravity_direction[1]",
+        "gravity_direction[2]",
+    ];
+    fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
+        let mut v = [0.0f64; 6];
+        for (i, slot) in v.iter_mut().enumerate() {
+            *slot = f(i);
+        }
+        Self {
+            velocity: ::nav_runtime::nalgebra::SVector::<
+                f64,
+                3,
+            >::from_column_slice(&v[0..3]),
+            gravity_direction: ::nav_runtime::nalgebra::SVector::<
+                f64,
+                3,
+            >::from_column_slice(&v[3..6]),
+        }
+    }
+    fn get(&self, i: usize) -> f64 {
+        match i {
+            0 => self.velocity[0],
+            1 => self.velocity[1],
+            2 => self.velocity[2],
+            3 => self.gravity_direction[0],
+            4 => self.gravity_direction[1],
+            5 => self.gravity_direction[2],
+            _ => f64::NAN,
+        }
+    }
+}
+#[allow(clippy::all, unused)]
+impl Leveling6State {
+    /// The state from its vector (declaration order).
+    pub fn from_vector(v: &::nav_runtime::nalgebra::SVector<f64, 6>) -> Self {
+        <Self as ::nav_runtime::model::Record>::from_fn(|i| v[i])
+    }
+    /// The state as a vector (declaration order).
+    pub fn to_vector(&self) -> ::nav_runtime::nalgebra::SVector<f64, 6> {
+        ::nav_runtime::nalgebra::SVector::<
+            f64,
+            6,
+        >::from_column_slice(
+            &[
+                self.velocity[0],
+                self.velocity[1],
+                self.velocity[2],
+                self.gravity_direction[0],
+                self.gravity_direction[1],
+                self.gravity_direction[2],
+            ],
+        )
+    }
+}
+///The inputs `u` of [`Leveling6`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[allow(non_snake_case)]
+pub struct Leveling6Input {
+    /// Gyro output `w_ib^b`, rad/s.
+    pub gyro: ::nav_runtime::nalgebra::SVector<f64, 3>,
+    /// Accelerometer output `f^b`, m/s^2.
+    pub specific_force: ::nav_runtime::nalgebra::SVector<f64, 3>,
+    /// Earth rate in body axes from the current estimate `W^b` (eq. 16), rad/s.
+    pub earth_rate_body: ::nav_runtime::nalgebra::SVector<f64, 3>,
+}
+#[allow(clippy::all, unused)]
+impl ::nav_runtime::model::Record for Leveling6Input {
+    const LEN: usize = 9;
+    const NAMES: &'static [&'static str] = &[
+        "gyro[0]",
+        "gyro[1]",
+        "gyro[2]",
+        "specific_force[0]",
+        "specific_force[1]",
+        "specific_force[2]",
+        "earth_rate_body[0]",
+        "earth_rate_body[1]",
+        "earth_rate_body[2]",
+    ];
+    fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
+        let mut v = [0.0f64; 9];
+        for (i, slot) in v.iter_mut().enumerate() {
+            *slot = f(i);
+        }
+        Self {
+            gyro: ::nav_runtime::nalgebra::SVector::<
+                f64,
+                3,
+            >::from_column_slice(&v[0..3]),
+            specific_force: ::nav_runtime::nalgebra::SVector::<
+                f64,
+                3,
+            >::from_column_slice(&v[3..6]),
+            earth_rate_body: ::nav_runtime::nalgebra::SVector::<
+                f64,
+                3,
+            >::from_column_slice(&v[6..9]),
+        }
+    }
+    fn get(&self, i: usize) -> f64 {
+        match i {
+            0 => self.gyro[0],
+            1 => self.gyro[1],
+            2 => self.gyro[2],
+            3 => self.specific_force[0],
+            4 => self.specific_force[1],
+            5 => self.specific_force[2],
+            6 => self.earth_rate_body[0],
+            7 => self.earth_rate_body[1],
+            8 => self.earth_rate_body[2],
+            _ => f64::NAN,
+        }
+    }
+}
+///The parameters `p` of [`Leveling6`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[allow(non_snake_case)]
+pub struct Leveling6Params {
+    /// Local gravity magnitude `g`, m/s^2.
+    pub gravity: f64,
+}
+#[allow(clippy::all, unused)]
+impl ::nav_runtime::model::Record for Leveling6Params {
+    const LEN: usize = 1;
+    const NAMES: &'static [&'static str] = &["gravity"];
+    fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
+        let mut v = [0.0f64; 1];
+        for (i, slot) in v.iter_mut().enumerate() {
+            *slot = f(i);
+        }
+        Self { gravity: v[0] }
+    }
+    fn get(&self, i: usize) -> f64 {
+        match i {
+            0 => self.gravity,
+            _ => f64::NAN,
+        }
+    }
+}
+///The process-noise power spectral densities `q` of [`Leveling6`], one per noise scalar (units^2 / s).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[allow(non_snake_case)]
+pub struct Leveling6Noise {
+    /// Accelerometer white noise, (m/s^2)^2/Hz.
+    pub accel_noise: ::nav_runtime::nalgebra::SVector<f64, 3>,
+    /// Gyro white noise, (rad/s)^2/Hz.
+    pub gyro_noise: ::nav_runtime::nalgebra::SVector<f64, 3>,
+}
+#[allow(clippy::all, unused)]
+impl ::nav_runtime::model::Record for Leveling6Noise {
+    const LEN: usize = 6;
+    const NAMES: &'static [&'static str] = &[
+        "accel_noise[0]",
+        "accel_noise[1]",
+        "accel_noise[2]",
+        "gyro_noise[0]",
+        "gyro_noise[1]",
+        "gyro_noise[2]",
+    ];
+    fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
+        let mut v = [0.0f64; 6];
+        for (i, slot) in v.iter_mut().enumerate() {
+            *slot = f(i);
+        }
+        Self {
+            accel_noise: ::nav_runtime::nalgebra::SVector::<
+                f64,
+                3,
+            >::from_column_slice(&v[0..3]),
+            gyro_noise: ::nav_runtime::nalgebra::SVector::<
+                f64,
+                3,
+            >::from_column_slice(&v[3..6]),
+        }
+    }
+    fn get(&self, i: usize) -> f64 {
+        match i {
+            0 => self.accel_noise[0],
+            1 => self.accel_noise[1],
+            2 => self.accel_noise[2],
+            3 => self.gyro_noise[0],
+            4 => self.gyro_noise[1],
+            5 => self.gyro_noise[2],
+            _ => f64::NAN,
+        }
+    }
+}
+/// Roll/pitch leveling filter, eqs. 15, 17 and 26 of the leveling paper.
+///
+///Generated by `model!`: continuous model with 6 states, 6 noise inputs and 2 sensors.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Leveling6;
+#[allow(clippy::all, unused)]
+impl Leveling6 {
+    /// Number of scalar states.
+    pub const N: usize = 6;
+    /// Number of scalar process-noise inputs.
+    pub const NW: usize = 6;
+    ///Index of the first scalar of `velocity` in the state vector.
+    pub const VELOCITY: usize = 0;
+    ///Index of the first scalar of `gravity_direction` in the state vector.
+    pub const GRAVITY_DIRECTION: usize = 3;
+    /// State scalars no sensor depends on, directly or through the dynamics
+    /// (no measurement can correct them). A composed model must list them
+    /// in `allow_unused { .. }`.
+    pub const UNUSED_STATES: &'static [&'static str] = &[];
+    /// Operations in `transition`.
+    pub const OPS_TRANSITION: usize = 45;
+    /// Operations in `jacobian`.
+    pub const OPS_JACOBIAN: usize = 12;
+    /// Operations in [`Self::noise_jacobian`].
+    pub const OPS_NOISE_JACOBIAN: usize = 3;
+    /// Operations in `process_noise`.
+    pub const OPS_PROCESS_NOISE: usize = 30;
+    /// Operations in `propagate_covariance`.
+    pub const OPS_PROPAGATE_COVARIANCE: usize = 289;
+    ///Structure of `Phi` (`I + F dt`) and `Qd` for the covariance propagation: rows [0, 1, 2, 3, 4, 5] change, the others are unit rows.
+    pub const PROPAGATION_STRUCTURE: ::nav_runtime::propagation::Structure<'static> = ::nav_runtime::propagation::Structure {
+        identity: true,
+        rows: &[0, 1, 2, 3, 4, 5],
+        start: &[0, 3, 6, 9, 11, 13, 15],
+        columns: &[1, 2, 3, 0, 2, 4, 0, 1, 5, 4, 5, 3, 5, 3, 4],
+        noise: &[(0, 0), (1, 1), (2, 2), (3, 3), (3, 4), (3, 5), (4, 4), (4, 5), (5, 5)],
+    };
+    /// Operations in [`Self::derivative`].
+    pub const OPS_DERIVATIVE: usize = 33;
+    /**The state derivative `f(x, u, p)` at `w = 0`.
+
+Total ops: 33*/
+    pub fn derivative(
+        x: &::nav_runtime::nalgebra::SVector<f64, 6>,
+        u: &Leveling6Input,
+        p: &Leveling6Params,
+    ) -> ::nav_runtime::nalgebra::SVector<f64, 6> {
+        let _t0 = u.gyro[2] + u.earth_rate_body[2];
+        let _t1 = u.gyro[1] + u.earth_rate_body[1];
+        let _t2 = u.gyro[0] + u.earth_rate_body[0];
+        let _t3 = u.gyro[2] - u.earth_rate_body[2];
+        let _t4 = u.gyro[1] - u.earth_rate_body[1];
+        let _t5 = u.gyro[0] - u.earth_rate_body[0];
+        let mut out = ::nav_runtime::nalgebra::SVector::<f64, 6>::zeros();
+        out[0] = u.specific_force[0] + (x[1] * _t0 - x[2] * _t1 + x[3] * p.gravity);
+        out[1] = u.specific_force[1] + (x[2] * _t2 - _t0 * x[0] + p.gravity * x[4]);
+        out[2] = u.specific_force[2] + (_t1 * x[0] - x[1] * _t2 + p.gravity * x[5]);
+        out[3] = x[4] * _t3 - x[5] * _t4;
+        out[4] = x[5] * _t5 - x[3] * _t3;
+        out[5] = x[3] * _t4 - x[4] * _t5;
+        out
+    }
+    /**`f(x, u, p, w)` with an explicit noise sample `w` (`dt` is unused).
+
+Total ops: 39*/
+    pub fn process_with_noise(
+        x: &::nav_runtime::nalgebra::SVector<f64, 6>,
+        u: &Leveling6Input,
+        p: &Leveling6Params,
+        w: &::nav_runtime::nalgebra::SVector<f64, 6>,
+        dt: f64,
+    ) -> ::nav_runtime::nalgebra::SVector<f64, 6> {
+        let _t0 = u.gyro[2] + u.earth_rate_body[2];
+        let _t1 = u.gyro[1] + u.earth_rate_body[1];
+        let _t2 = u.gyro[0] + u.earth_rate_body[0];
+        let _t3 = w[5] + (u.gyro[2] - u.earth_rate_body[2]);
+        let _t4 = w[4] + (u.gyro[1] - u.earth_rate_body[1]);
+        let _t5 = w[3] + (u.gyro[0] - u.earth_rate_body[0]);
+        let mut out = ::nav_runtime::nalgebra::SVector::<f64, 6>::zeros();
+        out[0] = w[0]
+            + (u.specific_force[0] + (x[1] * _t0 - x[2] * _t1 + x[3] * p.gravity));
+        out[1] = w[1]
+            + (u.specific_force[1] + (x[2] * _t2 - _t0 * x[0] + p.gravity * x[4]));
+        out[2] = w[2]
+            + (u.specific_force[2] + (_t1 * x[0] - x[1] * _t2 + p.gravity * x[5]));
+        out[3] = x[4] * _t3 - x[5] * _t4;
+        out[4] = x[5] * _t5 - x[3] * _t3;
+        out[5] = x[3] * _t4 - x[4] * _t5;
+        out
+    }
+    /**The noise Jacobian `G = df/dw` at `w = 0` (N x NW, noise scalars in declaration order).
+
+Total ops: 3*/
+    pub fn noise_jacobian(
+        x: &::nav_runtime::nalgebra::SVector<f64, 6>,
+        u: &Leveling6Input,
+        p: &Leveling6Params,
+        dt: f64,
+    ) -> ::nav_runtime::nalgebra::SMatrix<f64, 6, 6> {
+        let mut out = ::nav_runtime::nalgebra::SMatrix::<f64, 6, 6>::zeros();
+        out[(0, 0)] = 1.0;
+        out[(1, 1)] = 1.0;
+        out[(2, 2)] = 1.0;
+        out[(3, 4)] = -x[5];
+        out[(3, 5)] = x[4];
+        out[(4, 3)] = x[5];
+        out[(4, 5)] = -x[3];
+        out[(5, 3)] = -x[4];
+        out[(5, 4)] = x[3];
+        out
+    }
+}
+#[allow(clippy::all, unused)]
+impl ::nav_runtime::model::Model<6> for Leveling6 {
+    type Input = Leveling6Input;
+    type Params = Leveling6Params;
+    type Noise = Leveling6Noise;
+    type State = Leveling6State;
+    const NAME: &'static str = "Leveling6";
+    const DISCRETE: bool = !true;
+    const STATE_NAMES: [&'static str; 6] = [
+        "velocity[0]",
+        "velocity[1]",
+        "velocity[2]",
+        "gravity_direction[0]",
+        "gravity_direction[1]",
+        "gravity_direction[2]",
+    ];
+    const JACOBIAN_SPARSITY: [[bool; 6]; 6] = [
+        [false, true, true, true, false, false],
+        [true, false, true, false, true, false],
+        [true, true, false, false, false, true],
+        [false, false, false, false, true, true],
+        [false, false, false, true, false, true],
+        [false, false, false, true, true, false],
+    ];
+    const OPS_PROPAGATE_COVARIANCE: usize = 289;
+    const OPS_JACOBIAN: usize = 12;
+    /**One Euler step `x + f(x, u, p) dt`.
+
+Total ops: 45*/
+    fn transition(
+        x: &::nav_runtime::nalgebra::SVector<f64, 6>,
+        u: &Leveling6Input,
+        p: &Leveling6Params,
+        dt: f64,
+    ) -> ::nav_runtime::nalgebra::SVector<f64, 6> {
+        let _t0 = u.gyro[2] + u.earth_rate_body[2];
+        let _t1 = u.gyro[1] + u.earth_rate_body[1];
+        let _t2 = u.gyro[0] + u.earth_rate_body[0];
+        let _t3 = u.gyro[2] - u.earth_rate_body[2];
+        let _t4 = u.gyro[1] - u.earth_rate_body[1];
+        let _t5 = u.gyro[0] - u.earth_rate_body[0];
+        let mut out = ::nav_runtime::nalgebra::SVector::<f64, 6>::zeros();
+        out[0] = x[0]
+            + (u.specific_force[0] + (x[1] * _t0 - x[2] * _t1 + x[3] * p.gravity)) * dt;
+        out[1] = x[1]
+            + dt * (u.specific_force[1] + (x[2] * _t2 - x[0] * _t0 + p.gravity * x[4]));
+        out[2] = x[2]
+            + dt * (u.specific_force[2] + (x[0] * _t1 - x[1] * _t2 + p.gravity * x[5]));
+        out[3] = x[3] + dt * (x[4] * _t3 - x[5] * _t4);
+        out[4] = x[4] + dt * (x[5] * _t5 - x[3] * _t3);
+        out[5] = x[5] + dt * (x[3] * _t4 - x[4] * _t5);
+        out
+    }
+    /**`F = df/dx` at `w = 0` (`dt` is unused).
+
+Total ops: 12*/
+    fn jacobian(
+        x: &::nav_runtime::nalgebra::SVector<f64, 6>,
+        u: &Leveling6Input,
+        p: &Leveling6Params,
+        dt: f64,
+    ) -> ::nav_runtime::nalgebra::SMatrix<f64, 6, 6> {
+        let _t0 = u.gyro[2] + u.earth_rate_body[2];
+        let _t1 = u.gyro[1] + u.earth_rate_body[1];
+        let _t2 = u.gyro[0] + u.earth_rate_body[0];
+        let mut out = ::nav_runtime::nalgebra::SMatrix::<f64, 6, 6>::zeros();
+        out[(0, 1)] = _t0;
+        out[(0, 2)] = -_t1;
+        out[(0, 3)] = p.gravity;
+        out[(1, 0)] = -_t0;
+        out[(1, 2)] = _t2;
+        out[(1, 4)] = p.gravity;
+        out[(2, 0)] = _t1;
+        out[(2, 1)] = -_t2;
+        out[(2, 5)] = p.gravity;
+        out[(3, 4)] = u.gyro[2] - u.earth_rate_body[2];
+        out[(3, 5)] = u.earth_rate_body[1] - u.gyro[1];
+        out[(4, 3)] = u.earth_rate_body[2] - u.gyro[2];
+        out[(4, 5)] = u.gyro[0] - u.earth_rate_body[0];
+        out[(5, 3)] = u.gyro[1] - u.earth_rate_body[1];
+        out[(5, 4)] = u.earth_rate_body[0] - u.gyro[0];
+        out
+    }
+    /**`Qd = G Q G^T dt`, `Q = diag(q)`.
+
+Total ops: 30*/
+    fn process_noise(
+        x: &::nav_runtime::nalgebra::SVector<f64, 6>,
+        u: &Leveling6Input,
+        p: &Leveling6Params,
+        q: &Leveling6Noise,
+        dt: f64,
+    ) -> ::nav_runtime::nalgebra::SMatrix<f64, 6, 6> {
+        let _t0 = x[5] * q.gyro_noise[1];
+        let _t1 = x[4] * q.gyro_noise[2];
+        let _t2 = x[5] * q.gyro_noise[0];
+        let mut out = ::nav_runtime::nalgebra::SMatrix::<f64, 6, 6>::zeros();
+        out[(0, 0)] = dt * q.accel_noise[0];
+        out[(1, 1)] = dt * q.accel_noise[1];
+        out[(2, 2)] = dt * q.accel_noise[2];
+        out[(3, 3)] = dt * (x[5] * _t0 + x[4] * _t1);
+        out[(3, 4)] = -(dt * (_t1 * x[3]));
+        out[(3, 5)] = -(dt * (_t0 * x[3]));
+        out[(4, 4)] = dt * (x[5] * _t2 + x[3] * (q.gyro_noise[2] * x[3]));
+        out[(4, 5)] = -(dt * (x[4] * _t2));
+        out[(5, 5)] = dt
+            * (x[4] * (x[4] * q.gyro_noise[0]) + x[3] * (q.gyro_noise[1] * x[3]));
+        for i in 0..6 {
+            for j in 0..i {
+                out[(i, j)] = out[(j, i)];
+            }
+        }
+        out
+    }
+    /**`P <- Phi P Phi^T + Qd` unrolled entry by entry from the upper triangle of `P` (a small model: straight-line code fits the caches), generated from the sparsity of `Phi` and `G`; the result is mirrored.
+
+Total ops: 289*/
+    fn propagate_covariance(
+        cov: &mut ::nav_runtime::nalgebra::SMatrix<f64, 6, 6>,
+        x: &::nav_runtime::nalgebra::SVector<f64, 6>,
+        u: &Leveling6Input,
+        p: &Leveling6Params,
+        q: &Leveling6Noise,
+        dt: f64,
+    ) {
+        let _p = *cov;
+        let _t0 = dt * p.gravity;
+        let _t1 = dt * (u.gyro[2] + u.earth_rate_body[2]);
+        let _t2 = dt * (u.gyro[1] + u.earth_rate_body[1]);
+        let _t3 = _p[(3, 3)] * _t0 + (_p[(1, 3)] * _t1 + _p[(0, 3)] - _p[(2, 3)] * _t2);
+        let _t4 = _t1 * _p[(0, 1)];
+        let _t5 = _t2 * _p[(0, 2)];
+        let _t6 = _t0 * _p[(0, 3)] + (_p[(0, 0)] + _t4 - _t5);
+        let _t7 = _t0 * _p[(1, 3)] + (_p[(0, 1)] + _t1 * _p[(1, 1)] - _t2 * _p[(1, 2)]);
+        let _t8 = _t0 * _p[(2, 3)] + (_p[(0, 2)] + _t1 * _p[(1, 2)] - _t2 * _p[(2, 2)]);
+        let _t9 = _t0 * _p[(3, 4)];
+        let _t10 = _t9 + (_p[(0, 4)] + _t1 * _p[(1, 4)] - _t2 * _p[(2, 4)]);
+        let _t11 = dt * (u.gyro[0] + u.earth_rate_body[0]);
+        let _t12 = _t0 * _p[(3, 5)];
+        let _t13 = _t12 + (_p[(0, 5)] + _t1 * _p[(1, 5)] - _t2 * _p[(2, 5)]);
+        let _t14 = dt * (u.earth_rate_body[1] - u.gyro[1]);
+        let _t15 = dt * (u.gyro[2] - u.earth_rate_body[2]);
+        let _t16 = dt * (u.gyro[0] - u.earth_rate_body[0]);
+        let _t17 = dt * (u.earth_rate_body[2] - u.gyro[2]);
+        let _t18 = dt * (u.gyro[1] - u.earth_rate_body[1]);
+        let _t19 = dt * (u.earth_rate_body[0] - u.gyro[0]);
+        let _t20 = _t0 * _p[(4, 4)]
+            + (_p[(2, 4)] * _t11 + (_p[(1, 4)] - _t1 * _p[(0, 4)]));
+        let _t21 = _t0 * _p[(2, 4)]
+            + (_p[(2, 2)] * _t11 + (_p[(1, 2)] - _t1 * _p[(0, 2)]));
+        let _t22 = _p[(1, 2)] * _t11;
+        let _t23 = _t0 * _p[(1, 4)] + (_t22 + (_p[(1, 1)] - _t4));
+        let _t24 = _t0 * _p[(0, 4)]
+            + (_p[(0, 2)] * _t11 + (_p[(0, 1)] - _t1 * _p[(0, 0)]));
+        let _t25 = _t0 * _p[(4, 5)];
+        let _t26 = _t25 + (_t11 * _p[(2, 5)] + (_p[(1, 5)] - _t1 * _p[(0, 5)]));
+        let _t27 = _t9 + (_p[(2, 3)] * _t11 + (_p[(1, 3)] - _t1 * _p[(0, 3)]));
+        let _t28 = _t0 * _p[(5, 5)]
+            + (_p[(2, 5)] + (_t2 * _p[(0, 5)] - _t11 * _p[(1, 5)]));
+        let _t29 = _t12 + (_p[(2, 3)] + (_t2 * _p[(0, 3)] - _p[(1, 3)] * _t11));
+        let _t30 = _t25 + (_p[(2, 4)] + (_t2 * _p[(0, 4)] - _p[(1, 4)] * _t11));
+        let _t31 = x[5] * q.gyro_noise[1];
+        let _t32 = x[4] * q.gyro_noise[2];
+        let _t33 = _t14 * _p[(5, 5)] + (_p[(3, 5)] + _t15 * _p[(4, 5)]);
+        let _t34 = _p[(3, 5)] * _t14 + (_p[(3, 3)] + _p[(3, 4)] * _t15);
+        let _t35 = _t14 * _p[(4, 5)] + (_p[(3, 4)] + _t15 * _p[(4, 4)]);
+        let _t36 = x[5] * q.gyro_noise[0];
+        let _t37 = _t16 * _p[(5, 5)] + (_p[(4, 5)] + _p[(3, 5)] * _t17);
+        let _t38 = _t16 * _p[(4, 5)] + (_p[(4, 4)] + _p[(3, 4)] * _t17);
+        let _t39 = _p[(3, 5)] * _t16 + (_p[(3, 4)] + _p[(3, 3)] * _t17);
+        cov[(0, 0)] = q.accel_noise[0] * dt
+            + (_t0 * _t3 + (_t6 + _t1 * _t7 - _t2 * _t8));
+        cov[(0, 1)] = _t0 * _t10 + (_t8 * _t11 + (_t7 - _t1 * _t6));
+        cov[(0, 2)] = _t0 * _t13 + (_t8 + (_t2 * _t6 - _t7 * _t11));
+        cov[(0, 3)] = _t13 * _t14 + (_t3 + _t10 * _t15);
+        cov[(0, 4)] = _t13 * _t16 + (_t10 + _t3 * _t17);
+        cov[(0, 5)] = _t13 + (_t3 * _t18 + _t10 * _t19);
+        cov[(1, 1)] = dt * q.accel_noise[1]
+            + (_t0 * _t20 + (_t11 * _t21 + (_t23 - _t1 * _t24)));
+        cov[(1, 2)] = _t0 * _t26 + (_t21 + (_t2 * _t24 - _t11 * _t23));
+        cov[(1, 3)] = _t14 * _t26 + (_t27 + _t15 * _t20);
+        cov[(1, 4)] = _t16 * _t26 + (_t20 + _t17 * _t27);
+        cov[(1, 5)] = _t26 + (_t18 * _t27 + _t19 * _t20);
+        cov[(2, 2)] = dt * q.accel_noise[2]
+            + (_t0 * _t28
+                + (_t0 * _p[(2, 5)] + (_p[(2, 2)] + (_t5 - _t22))
+                    + (_t2
+                        * (_t0 * _p[(0, 5)]
+                            + (_p[(0, 2)] + (_t2 * _p[(0, 0)] - _p[(0, 1)] * _t11)))
+                        - _t11
+                            * (_t0 * _p[(1, 5)]
+                                + (_p[(1, 2)] + (_t2 * _p[(0, 1)] - _p[(1, 1)] * _t11))))));
+        cov[(2, 3)] = _t14 * _t28 + (_t29 + _t15 * _t30);
+        cov[(2, 4)] = _t16 * _t28 + (_t30 + _t17 * _t29);
+        cov[(2, 5)] = _t28 + (_t18 * _t29 + _t19 * _t30);
+        cov[(3, 3)] = dt * (x[5] * _t31 + x[4] * _t32)
+            + (_t14 * _t33 + (_t34 + _t15 * _t35));
+        cov[(3, 4)] = _t16 * _t33 + (_t35 + _t17 * _t34) - dt * (_t32 * x[3]);
+        cov[(3, 5)] = _t33 + (_t18 * _t34 + _t19 * _t35) - dt * (_t31 * x[3]);
+        cov[(4, 4)] = dt * (x[5] * _t36 + x[3] * (q.gyro_noise[2] * x[3]))
+            + (_t16 * _t37 + (_t38 + _t17 * _t39));
+        cov[(4, 5)] = _t37 + (_t18 * _t39 + _t19 * _t38) - dt * (x[4] * _t36);
+        cov[(5, 5)] = dt
+            * (x[4] * (x[4] * q.gyro_noise[0]) + x[3] * (q.gyro_noise[1] * x[3]))
+            + (_p[(5, 5)] + (_p[(3, 5)] * _t18 + _t19 * _p[(4, 5)])
+                + (_t18 * (_p[(3, 5)] + (_p[(3, 3)] * _t18 + _p[(3, 4)] * _t19))
+                    + _t19 * (_p[(4, 5)] + (_p[(3, 4)] * _t18 + _t19 * _p[(4, 4)]))));
+        for i in 0..6 {
+            for j in 0..i {
+                cov[(i, j)] = cov[(j, i)];
+            }
+        }
+    }
+}
+/// Moving: forward speed log and the unit-norm constraint (eqs. 29-30).
+///
+///Sensor `Moving` of [`Leveling6`]: 2 outputs.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Leveling6Moving;
+#[allow(clippy::all, unused)]
+impl Leveling6Moving {
+    /// Number of measurement components.
+    pub const M: usize = 2;
+    /// The declared sensor name.
+    pub const NAME: &'static str = "Moving";
+    /// Operations in `predict`.
+    pub const OPS_PREDICT: usize = 5;
+    /// Operations in `jacobian`.
+    pub const OPS_JACOBIAN: usize = 3;
+    /// Operations in `innovation_terms`.
+    pub const OPS_INNOVATION_TERMS: usize = 43;
+}
+#[allow(clippy::all, unused)]
+impl ::nav_runtime::model::Sensor<6, 2> for Leveling6Moving {
+    type Model = Leveling6;
+    type Aux = ();
+    const NAME: &'static str = "Moving";
+    const ANGLES: [bool; 2] = [false, false];
+    const JACOBIAN_SPARSITY: [[bool; 6]; 2] = [
+        [true, false, false, false, false, false],
+        [false, false, false, true, true, true],
+    ];
+    const OPS_INNOVATION_TERMS: usize = 43;
+    /**The predicted measurement `h(x, u, p, aux)`.
+
+Total ops: 5*/
+    fn predict(
+        x: &::nav_runtime::nalgebra::SVector<f64, 6>,
+        u: &Leveling6Input,
+        p: &Leveling6Params,
+        aux: &(),
+    ) -> ::nav_runtime::nalgebra::SVector<f64, 2> {
+        let mut out = ::nav_runtime::nalgebra::SVector::<f64, 2>::zeros();
+        out[0] = x[0];
+        out[1] = x[5] * x[5] + (x[3] * x[3] + x[4] * x[4]);
+        out
+    }
+    /**`H = dh/dx`.
+
+Total ops: 3*/
+    fn jacobian(
+        x: &::nav_runtime::nalgebra::SVector<f64, 6>,
+        u: &Leveling6Input,
+        p: &Leveling6Params,
+        aux: &(),
+    ) -> ::nav_runtime::nalgebra::SMatrix<f64, 2, 6> {
+        let mut out = ::nav_runtime::nalgebra::SMatrix::<f64, 2, 6>::zeros();
+        out[(0, 0)] = 1.0;
+        out[(1, 3)] = x[3] + x[3];
+        out[(1, 4)] = x[4] + x[4];
+        out[(1, 5)] = x[5] + x[5];
+        out
+    }
+    /**`(h, P H^T, H P H^T)` from the upper triangle of `P` and the sparsity of `H`.
+
+Total ops: 43*/
+    fn innovation_terms(
+        cov: &::nav_runtime::nalgebra::SMatrix<f64, 6, 6>,
+        x: &::nav_runtime::nalgebra::SVector<f64, 6>,
+        u: &Leveling6Input,
+        p: &Leveling6Params,
+        aux: &(),
+    ) -> (
+        ::nav_runtime::nalgebra::SVector<f64, 2>,
+        ::nav_runtime::nalgebra::SMatrix<f64, 6, 2>,
+        ::nav_runtime::nalgebra::SMatrix<f64, 2, 2>,
+    ) {
+        let _t0 = x[5] + x[5];
+        let _t1 = x[3] + x[3];
+        let _t2 = x[4] + x[4];
+        let _t3 = cov[(0, 5)] * _t0 + (cov[(0, 3)] * _t1 + cov[(0, 4)] * _t2);
+        let _t4 = _t0 * cov[(3, 5)] + (_t1 * cov[(3, 3)] + _t2 * cov[(3, 4)]);
+        let _t5 = _t0 * cov[(4, 5)] + (_t1 * cov[(3, 4)] + _t2 * cov[(4, 4)]);
+        let _t6 = _t0 * cov[(5, 5)] + (_t1 * cov[(3, 5)] + _t2 * cov[(4, 5)]);
+        let mut h = ::nav_runtime::nalgebra::SVector::<f64, 2>::zeros();
+        let mut pht = ::nav_runtime::nalgebra::SMatrix::<f64, 6, 2>::zeros();
+        let mut s = ::nav_runtime::nalgebra::SMatrix::<f64, 2, 2>::zeros();
+        h[0] = x[0];
+        h[1] = x[5] * x[5] + (x[3] * x[3] + x[4] * x[4]);
+        pht[(0, 0)] = cov[(0, 0)];
+        pht[(0, 1)] = _t3;
+        pht[(1, 0)] = cov[(0, 1)];
+        pht[(1, 1)] = _t0 * cov[(1, 5)] + (_t1 * cov[(1, 3)] + _t2 * cov[(1, 4)]);
+        pht[(2, 0)] = cov[(0, 2)];
+        pht[(2, 1)] = _t0 * cov[(2, 5)] + (_t1 * cov[(2, 3)] + _t2 * cov[(2, 4)]);
+        pht[(3, 0)] = cov[(0, 3)];
+        pht[(3, 1)] = _t4;
+        pht[(4, 0)] = cov[(0, 4)];
+        pht[(4, 1)] = _t5;
+        pht[(5, 0)] = cov[(0, 5)];
+        pht[(5, 1)] = _t6;
+        s[(0, 0)] = cov[(0, 0)];
+        s[(0, 1)] = _t3;
+        s[(1, 1)] = _t0 * _t6 + (_t1 * _t4 + _t2 * _t5);
+        for i in 0..2 {
+            for j in 0..i {
+                s[(i, j)] = s[(j, i)];
+            }
+        }
+        (h, pht, s)
+    }
+}
+/// Stationary: zero velocity on three axes and the unit norm (eqs. 32-33).
+///
+///Sensor `Stationary` of [`Leveling6`]: 4 outputs.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Leveling6Stationary;
+#[allow(clippy::all, unused)]
+impl Leveling6Stationary {
+    /// Number of measurement components.
+    pub const M: usize = 4;
+    /// The declared sensor name.
+    pub const NAME: &'static str = "Stationary";
+    /// Operations in `predict`.
+    pub const OPS_PREDICT: usize = 5;
+    /// Operations in `jacobian`.
+    pub const OPS_JACOBIAN: usize = 3;
+    /// Operations in `innovation_terms`.
+    pub const OPS_INNOVATION_TERMS: usize = 43;
+}
+#[allow(clippy::all, unused)]
+impl ::nav_runtime::model::Sensor<6, 4> for Leveling6Stationary {
+    type Model = Leveling6;
+    type Aux = ();
+    const NAME: &'static str = "Stationary";
+    const ANGLES: [bool; 4] = [false, false, false, false];
+    const JACOBIAN_SPARSITY: [[bool; 6]; 4] = [
+        [true, false, false, false, false, false],
+        [false, true, false, false, false, false],
+        [false, false, true, false, false, false],
+        [false, false, false, true, true, true],
+    ];
+    const OPS_INNOVATION_TERMS: usize = 43;
+    /**The predicted measurement `h(x, u, p, aux)`.
+
+Total ops: 5*/
+    fn predict(
+        x: &::nav_runtime::nalgebra::SVector<f64, 6>,
+        u: &Leveling6Input,
+        p: &Leveling6Params,
+        aux: &(),
+    ) -> ::nav_runtime::nalgebra::SVector<f64, 4> {
+        let mut out = ::nav_runtime::nalgebra::SVector::<f64, 4>::zeros();
+        out[0] = x[0];
+        out[1] = x[1];
+        out[2] = x[2];
+        out[3] = x[5] * x[5] + (x[3] * x[3] + x[4] * x[4]);
+        out
+    }
+    /**`H = dh/dx`.
+
+Total ops: 3*/
+    fn jacobian(
+        x: &::nav_runtime::nalgebra::SVector<f64, 6>,
+        u: &Leveling6Input,
+        p: &Leveling6Params,
+        aux: &(),
+    ) -> ::nav_runtime::nalgebra::SMatrix<f64, 4, 6> {
+        let mut out = ::nav_runtime::nalgebra::SMatrix::<f64, 4, 6>::zeros();
+        out[(0, 0)] = 1.0;
+        out[(1, 1)] = 1.0;
+        out[(2, 2)] = 1.0;
+        out[(3, 3)] = x[3] + x[3];
+        out[(3, 4)] = x[4] + x[4];
+        out[(3, 5)] = x[5] + x[5];
+        out
+    }
+    /**`(h, P H^T, H P H^T)` from the upper triangle of `P` and the sparsity of `H`.
+
+Total ops: 43*/
+    fn innovation_terms(
+        cov: &::nav_runtime::nalgebra::SMatrix<f64, 6, 6>,
+        x: &::nav_runtime::nalgebra::SVector<f64, 6>,
+        u: &Leveling6Input,
+        p: &Leveling6Params,
+        aux: &(),
+    ) -> (
+        ::nav_runtime::nalgebra::SVector<f64, 4>,
+        ::nav_runtime::nalgebra::SMatrix<f64, 6, 4>,
+        ::nav_runtime::nalgebra::SMatrix<f64, 4, 4>,
+    ) {
+        let _t0 = x[5] + x[5];
+        let _t1 = x[3] + x[3];
+        let _t2 = x[4] + x[4];
+        let _t3 = cov[(0, 5)] * _t0 + (cov[(0, 3)] * _t1 + cov[(0, 4)] * _t2);
+        let _t4 = _t0 * cov[(1, 5)] + (_t1 * cov[(1, 3)] + _t2 * cov[(1, 4)]);
+        let _t5 = _t0 * cov[(2, 5)] + (_t1 * cov[(2, 3)] + _t2 * cov[(2, 4)]);
+        let _t6 = _t0 * cov[(3, 5)] + (_t1 * cov[(3, 3)] + _t2 * cov[(3, 4)]);
+        let _t7 = _t0 * cov[(4, 5)] + (_t1 * cov[(3, 4)] + _t2 * cov[(4, 4)]);
+        let _t8 = _t0 * cov[(5, 5)] + (_t1 * cov[(3, 5)] + _t2 * cov[(4, 5)]);
+        let mut h = ::nav_runtime::nalgebra::SVector::<f64, 4>::zeros();
+        let mut pht = ::nav_runtime::nalgebra::SMatrix::<f64, 6, 4>::zeros();
+        let mut s = ::nav_runtime::nalgebra::SMatrix::<f64, 4, 4>::zeros();
+        h[0] = x[0];
+        h[1] = x[1];
+        h[2] = x[2];
+        h[3] = x[5] * x[5] + (x[3] * x[3] + x[4] * x[4]);
+        pht[(0, 0)] = cov[(0, 0)];
+        pht[(0, 1)] = cov[(0, 1)];
+        pht[(0, 2)] = cov[(0, 2)];
+        pht[(0, 3)] = _t3;
+        pht[(1, 0)] = cov[(0, 1)];
+        pht[(1, 1)] = cov[(1, 1)];
+        pht[(1, 2)] = cov[(1, 2)];
+        pht[(1, 3)] = _t4;
+        pht[(2, 0)] = cov[(0, 2)];
+        pht[(2, 1)] = cov[(1, 2)];
+        pht[(2, 2)] = cov[(2, 2)];
+        pht[(2, 3)] = _t5;
+        pht[(3, 0)] = cov[(0, 3)];
+        pht[(3, 1)] = cov[(1, 3)];
+        pht[(3, 2)] = cov[(2, 3)];
+        pht[(3, 3)] = _t6;
+        pht[(4, 0)] = cov[(0, 4)];
+        pht[(4, 1)] = cov[(1, 4)];
+        pht[(4, 2)] = cov[(2, 4)];
+        pht[(4, 3)] = _t7;
+        pht[(5, 0)] = cov[(0, 5)];
+        pht[(5, 1)] = cov[(1, 5)];
+        pht[(5, 2)] = cov[(2, 5)];
+        pht[(5, 3)] = _t8;
+        s[(0, 0)] = cov[(0, 0)];
+        s[(0, 1)] = cov[(0, 1)];
+        s[(0, 2)] = cov[(0, 2)];
+        s[(0, 3)] = _t3;
+        s[(1, 1)] = cov[(1, 1)];
+        s[(1, 2)] = cov[(1, 2)];
+        s[(1, 3)] = _t4;
+        s[(2, 2)] = cov[(2, 2)];
+        s[(2, 3)] = _t5;
+        s[(3, 3)] = _t0 * _t8 + (_t1 * _t6 + _t2 * _t7);
+        for i in 0..4 {
+            for j in 0..i {
+                s[(i, j)] = s[(j, i)];
+            }
+        }
+        (h, pht, s)
+    }
+}
+#[cfg(test)]
+#[allow(clippy::all, unused, non_snake_case)]
+mod __leveling6_generated_tests {
+    use super::*;
+    use ::nav_runtime::model::{Model, Record, Sensor};
+    use ::nav_runtime::nalgebra::{SMatrix, SVector};
+    const N: usize = 6;
+    const NW: usize = 6;
+    /// Points checked per test.
+    const POINTS: usize = 6;
+    /// Random draws tried to find them (points with non-finite values are skipped).
+    const ATTEMPTS: usize = 400;
+    /// Calls `check` at random `(x, u, p, dt)` (it draws anything else from
+    /// `rng`) until `POINTS` points had finite values (`check` returns true
+    /// for those); fails if none had.
+    fn at_random_points(
+        seed: u64,
+        mut check: impl FnMut(
+            &mut SplitMix64,
+            SVector<f64, N>,
+            Leveling6Input,
+            Leveling6Params,
+            f64,
+        ) -> bool,
+    ) {
+        let mut rng = SplitMix64(seed);
+        let mut checked = 0;
+        for _ in 0..ATTEMPTS {
+            if checked == POINTS {
+                break;
+            }
+            let x = random_vector::<N>(&mut rng);
+            let u: Leveling6Input = random_record(&mut rng);
+            let p: Leveling6Params = random_record(&mut rng);
+            let dt = random_dt(&mut rng);
+            if check(&mut rng, x, u, p, dt) {
+                checked += 1;
+            }
+        }
+        assert!(checked > 0, "no point with finite values found");
+    }
+    /// splitmix64: a tiny deterministic generator.
+    struct SplitMix64(u64);
+    impl SplitMix64 {
+        fn next_u64(&mut self) -> u64 {
+            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+            let mut z = self.0;
+            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            z ^ (z >> 31)
+        }
+        /// Uniform in [-1, 1].
+        fn uniform(&mut self) -> f64 {
+            ((self.next_u64() >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+        }
+    }
+    fn abs(v: f64) -> f64 {
+        ::nav_runtime::math::abs(v)
+    }
+    fn random_record<R: Record>(rng: &mut SplitMix64) -> R {
+        R::from_fn(|_| rng.uniform())
+    }
+    fn random_vector<const K: usize>(rng: &mut SplitMix64) -> SVector<f64, K> {
+        SVector::<f64, K>::from_fn(|_, _| rng.uniform())
+    }
+    fn random_dt(rng: &mut SplitMix64) -> f64 {
+        0.01 + 0.1 * abs(rng.uniform())
+    }
+    /// A random symmetric positive definite matrix `L L^T + I`.
+    fn random_covariance(rng: &mut SplitMix64) -> SMatrix<f64, N, N> {
+        let l = SMatrix::<f64, N, N>::from_fn(|_, _| rng.uniform());
+        l * l.transpose() + SMatrix::<f64, N, N>::identity()
+    }
+    /// The upper triangle of `m`, NaN below (generated code must not read it).
+    fn upper_only(m: &SMatrix<f64, N, N>) -> SMatrix<f64, N, N> {
+        SMatrix::<f64, N, N>::from_fn(|i, j| if i <= j { m[(i, j)] } else { f64::NAN })
+    }
+    fn finite<const R: usize, const C: usize>(m: &SMatrix<f64, R, C>) -> bool {
+        m.iter().all(|v| v.is_finite())
+    }
+    /// Central differences with step `1e-6 (1 + |x_j|)`, and for each entry
+    /// the rounding bound `4 eps |f| / step` of the difference quotient
+    /// (it matters only for outputs of order 1e6, such as Earth radii).
+    fn fd_jacobian<const R: usize, const C: usize>(
+        x: &SVector<f64, C>,
+        f: impl Fn(&SVector<f64, C>) -> SVector<f64, R>,
+    ) -> (SMatrix<f64, R, C>, SMatrix<f64, R, C>) {
+        let mut out = SMatrix::<f64, R, C>::zeros();
+        let mut rounding = SMatrix::<f64, R, C>::zeros();
+        for j in 0..C {
+            let h = 1e-6 * (1.0 + abs(x[j]));
+            let (mut xp, mut xm) = (*x, *x);
+            xp[j] += h;
+            xm[j] -= h;
+            let (fp, fm) = (f(&xp), f(&xm));
+            let col = (fp - fm) / (xp[j] - xm[j]);
+            out.set_column(j, &col);
+            for r in 0..R {
+                let big = if abs(fp[r]) > abs(fm[r]) { abs(fp[r]) } else { abs(fm[r]) };
+                rounding[(r, j)] = 4.0 * f64::EPSILON * big / h;
+            }
+        }
+        (out, rounding)
+    }
+    /// `|J - J_fd| <= 1e-6 (1 + |J|)` entrywise (plus the rounding bound).
+    fn assert_close_fd<const R: usize, const C: usize>(
+        what: &str,
+        j: &SMatrix<f64, R, C>,
+        (fd, rounding): &(SMatrix<f64, R, C>, SMatrix<f64, R, C>),
+    ) {
+        for r in 0..R {
+            for c in 0..C {
+                let (a, b) = (j[(r, c)], fd[(r, c)]);
+                assert!(
+                    abs(a - b) <= 1e-6 * (1.0 + abs(a)) + rounding[(r, c)],
+                    "{what}[({r}, {c})]: generated {a} vs finite differences {b}"
+                );
+            }
+        }
+    }
+    /// Equal to `1e-12` relative to the largest entry of `want`.
+    fn assert_close_rel<const R: usize, const C: usize>(
+        what: &str,
+        got: &SMatrix<f64, R, C>,
+        want: &SMatrix<f64, R, C>,
+    ) {
+        let scale = want
+            .iter()
+            .fold(1.0f64, |m, v| if abs(*v) > m { abs(*v) } else { m });
+        for r in 0..R {
+            for c in 0..C {
+                let (a, b) = (got[(r, c)], want[(r, c)]);
+                assert!(
+                    abs(a - b) <= 1e-12 * scale,
+                    "{what}[({r}, {c})]: generated {a} vs dense {b}"
+                );
+            }
+        }
+    }
+    fn assert_sparsity<const R: usize, const C: usize>(
+        what: &str,
+        j: &SMatrix<f64, R, C>,
+        sparsity: &[[bool; C]; R],
+    ) {
+        for r in 0..R {
+            for c in 0..C {
+                assert!(
+                    sparsity[r] [c] || j[(r, c)] == 0.0,
+                    "{what}[({r}, {c})] is a structural zero but is {}", j[(r, c)]
+                );
+            }
+        }
+    }
+    #[test]
+    fn jacobian_matches_finite_differences() {
+        at_random_points(
+            0x5eed_0000,
+            |rng, x, u, p, dt| {
+                let jac = <Leveling6 as Model<N>>::jacobian(&x, &u, &p, dt);
+                let f = |x: &SVector<f64, N>| Leveling6::derivative(x, &u, &p);
+                let fd = fd_jacobian(&x, f);
+                if !finite(&f(&x)) || !finite(&jac) || !finite(&fd.0) {
+                    return false;
+                }
+                assert_close_fd("jacobian", &jac, &fd);
+                assert_sparsity(
+                    "jacobian",
+                    &jac,
+                    &<Leveling6 as Model<N>>::JACOBIAN_SPARSITY,
+                );
+                true
+            },
+        );
+    }
+    #[test]
+    fn noise_jacobian_matches_finite_differences() {
+        at_random_points(
+            0x5eed_0001,
+            |rng, x, u, p, dt| {
+                let g = Leveling6::noise_jacobian(&x, &u, &p, dt);
+                let f = |w: &SVector<f64, NW>| Leveling6::process_with_noise(
+                    &x,
+                    &u,
+                    &p,
+                    w,
+                    dt,
+                );
+                let w0 = SVector::<f64, NW>::zeros();
+                let fd = fd_jacobian(&w0, f);
+                if !finite(&f(&w0)) || !finite(&g) || !finite(&fd.0) {
+                    return false;
+                }
+                assert_close_fd("noise_jacobian", &g, &fd);
+                true
+            },
+        );
+    }
+    #[test]
+    fn propagate_covariance_matches_dense_products() {
+        at_random_points(
+            0x5eed_0004,
+            |rng, x, u, p, dt| {
+                let q: Leveling6Noise = <Leveling6Noise as Record>::from_fn(|_| abs(
+                    rng.uniform(),
+                ));
+                let cov = random_covariance(rng);
+                let jac = <Leveling6 as Model<N>>::jacobian(&x, &u, &p, dt);
+                let g = Leveling6::noise_jacobian(&x, &u, &p, dt);
+                if !finite(&jac) || !finite(&g) {
+                    return false;
+                }
+                let qdiag = SMatrix::<
+                    f64,
+                    NW,
+                    NW,
+                >::from_fn(|i, j| if i == j { q.get(i) } else { 0.0 });
+                let qd_dense = g * qdiag * g.transpose() * dt;
+                let qd = <Leveling6 as Model<N>>::process_noise(&x, &u, &p, &q, dt);
+                assert_close_rel("process_noise", &qd, &qd_dense);
+                let phi = SMatrix::<f64, N, N>::identity() + jac * dt;
+                let dense = phi * cov * phi.transpose() + qd_dense;
+                let mut got = cov;
+                <Leveling6 as Model<
+                    N,
+                >>::propagate_covariance(&mut got, &x, &u, &p, &q, dt);
+                assert_close_rel("propagate_covariance", &got, &dense);
+                assert_eq!(
+                    got, got.transpose(), "the propagated covariance must be symmetric"
+                );
+                true
+            },
+        );
+    }
+    #[test]
+    fn state_record_round_trips() {
+        let mut rng = SplitMix64(0x5eed_0005);
+        let x = random_vector::<N>(&mut rng);
+        let s = Leveling6State::from_vector(&x);
+        assert_eq!(s.to_vector(), x);
+        for i in 0..N {
+            assert_eq!(s.get(i), x[i]);
+        }
+        assert_eq!(<< Leveling6 as Model < N >> ::State as Record > ::NAMES.len(), N);
+        assert_eq!(< Leveling6 as Model < N >> ::STATE_NAMES.len(), N);
+    }
+    #[test]
+    fn sensor_moving_jacobian_matches_finite_differences() {
+        at_random_points(
+            0x5eed_0002,
+            |rng, x, u, p, dt| {
+                let aux: <Leveling6Moving as Sensor<N, 2>>::Aux = random_record(rng);
+                let jac = <Leveling6Moving as Sensor<N, 2>>::jacobian(&x, &u, &p, &aux);
+                let h = |x: &SVector<f64, N>| <Leveling6Moving as Sensor<
+                    N,
+                    2,
+                >>::predict(x, &u, &p, &aux);
+                let fd = fd_jacobian(&x, h);
+                if !finite(&h(&x)) || !finite(&jac) || !finite(&fd.0) {
+                    return false;
+                }
+                assert_close_fd(
+                    concat!(stringify!(Leveling6Moving), "::jacobian"),
+                    &jac,
+                    &fd,
+                );
+                assert_sparsity(
+                    concat!(stringify!(Leveling6Moving), "::jacobian"),
+                    &jac,
+                    &<Leveling6Moving as Sensor<N, 2>>::JACOBIAN_SPARSITY,
+                );
+                true
+            },
+        );
+    }
+    #[test]
+    fn sensor_moving_innovation_terms_match_dense_products() {
+        at_random_points(
+            0x5eed_0003,
+            |rng, x, u, p, dt| {
+                let aux: <Leveling6Moving as Sensor<N, 2>>::Aux = random_record(rng);
+                let cov = random_covariance(rng);
+                let hjac = <Leveling6Moving as Sensor<N, 2>>::jacobian(&x, &u, &p, &aux);
+                let pred = <Leveling6Moving as Sensor<N, 2>>::predict(&x, &u, &p, &aux);
+                if !finite(&hjac) || !finite(&pred) {
+                    return false;
+                }
+                let (h, pht, s) = <Leveling6Moving as Sensor<
+                    N,
+                    2,
+                >>::innovation_terms(&upper_only(&cov), &x, &u, &p, &aux);
+                assert_close_rel("h", &h, &pred);
+                assert_close_rel("P H^T", &pht, &(cov * hjac.transpose()));
+                assert_close_rel("H P H^T", &s, &(hjac * cov * hjac.transpose()));
+                assert_eq!(s, s.transpose(), "H P H^T must be symmetric");
+                true
+            },
+        );
+    }
+    #[test]
+    fn sensor_stationary_jacobian_matches_finite_differences() {
+        at_random_points(
+            0x5eed_0002,
+            |rng, x, u, p, dt| {
+                let aux: <Leveling6Stationary as Sensor<N, 4>>::Aux = random_record(rng);
+                let jac = <Leveling6Stationary as Sensor<
+                    N,
+                    4,
+                >>::jacobian(&x, &u, &p, &aux);
+                let h = |x: &SVector<f64, N>| <Leveling6Stationary as Sensor<
+                    N,
+                    4,
+                >>::predict(x, &u, &p, &aux);
+                let fd = fd_jacobian(&x, h);
+                if !finite(&h(&x)) || !finite(&jac) || !finite(&fd.0) {
+                    return false;
+                }
+                assert_close_fd(
+                    concat!(stringify!(Leveling6Stationary), "::jacobian"),
+                    &jac,
+                    &fd,
+                );
+                assert_sparsity(
+                    concat!(stringify!(Leveling6Stationary), "::jacobian"),
+                    &jac,
+                    &<Leveling6Stationary as Sensor<N, 4>>::JACOBIAN_SPARSITY,
+                );
+                true
+            },
+        );
+    }
+    #[test]
+    fn sensor_stationary_innovation_terms_match_dense_products() {
+        at_random_points(
+            0x5eed_0003,
+            |rng, x, u, p, dt| {
+                let aux: <Leveling6Stationary as Sensor<N, 4>>::Aux = random_record(rng);
+                let cov = random_covariance(rng);
+                let hjac = <Leveling6Stationary as Sensor<
+                    N,
+                    4,
+                >>::jacobian(&x, &u, &p, &aux);
+                let pred = <Leveling6Stationary as Sensor<
+                    N,
+                    4,
+                >>::predict(&x, &u, &p, &aux);
+                if !finite(&hjac) || !finite(&pred) {
+                    return false;
+                }
+                let (h, pht, s) = <Leveling6Stationary as Sensor<
+                    N,
+                    4,
+                >>::innovation_terms(&upper_only(&cov), &x, &u, &p, &aux);
+                assert_close_rel("h", &h, &pred);
+                assert_close_rel("P H^T", &pht, &(cov * hjac.transpose()));
+                assert_close_rel("H P H^T", &s, &(hjac * cov * hjac.transpose()));
+                assert_eq!(s, s.transpose(), "H P H^T must be symmetric");
+                true
+            },
+        );
+    }
+}
