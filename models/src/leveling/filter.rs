@@ -3,13 +3,15 @@
 
 use super::model::{
     Leveling6, Leveling6Input, Leveling6Moving, Leveling6Noise, Leveling6Params,
-    Leveling6Stationary,
+    Leveling6Stationary, Leveling8, Leveling8Input, Leveling8Moving, Leveling8Noise,
+    Leveling8Params, Leveling8Stationary,
 };
 use nav_runtime::earth;
 use nav_runtime::ekf::{Ekf, FilterError};
 use nav_runtime::log::{Event, LogDir};
 use nav_runtime::math::wrap_angle;
-use nav_runtime::nalgebra::{Matrix2, Matrix4, SMatrix, Vector2, Vector3, Vector4, Vector6};
+use nav_runtime::model::{Model, Sensor};
+use nav_runtime::nalgebra::{Matrix2, Matrix4, SMatrix, SVector, Vector2, Vector3, Vector4};
 
 /// How the filter is set up.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -49,6 +51,11 @@ pub struct Tuning {
     /// initial error beyond 90 degrees otherwise converges to the mirror
     /// solution (roll off by 180 degrees).
     pub upright: bool,
+    /// Carry the horizontal accelerometer bias as states ([`Leveling8`]); `false`
+    /// is the paper's six-state filter.
+    pub bias_states: bool,
+    /// Initial 1-sigma of the bias states, m/s^2 (the IMU's bias specification).
+    pub accel_bias_sigma: f64,
 }
 
 impl Default for Tuning {
@@ -61,6 +68,8 @@ impl Default for Tuning {
             norm_sigma: 1.0,
             velocity_sigma: 0.5,
             upright: true,
+            bias_states: false,
+            accel_bias_sigma: nav_runtime::imu::MG,
         }
     }
 }
@@ -79,6 +88,8 @@ pub struct AttitudeEstimate {
     pub roll_sigma: f64,
     /// Pitch 1-sigma, rad.
     pub pitch_sigma: f64,
+    /// Covariance of roll and pitch, rad^2.
+    pub roll_pitch_covariance: f64,
 }
 
 /// What a run produced.
@@ -96,6 +107,9 @@ pub struct LevelingRun {
     pub repairs: u64,
     /// IMU samples processed.
     pub samples: usize,
+    /// Final estimate and 1-sigma of the x and y accelerometer bias, m/s^2
+    /// (with bias states; NaN without).
+    pub accel_bias_final: [f64; 4],
 }
 
 /// Roll and pitch from `a` (eq. 28).
@@ -113,7 +127,7 @@ pub fn gravity_direction(roll: f64, pitch: f64) -> Vector3<f64> {
     )
 }
 
-fn estimate(t: f64, x: &Vector6<f64>, p: &SMatrix<f64, 6, 6>) -> AttitudeEstimate {
+fn estimate<const N: usize>(t: f64, x: &SVector<f64, N>, p: &SMatrix<f64, N, N>) -> AttitudeEstimate {
     let a = Vector3::new(x[3], x[4], x[5]);
     let (roll, pitch) = roll_pitch(&a);
     let n2 = a.y * a.y + a.z * a.z;
@@ -126,11 +140,102 @@ fn estimate(t: f64, x: &Vector6<f64>, p: &SMatrix<f64, 6, 6>) -> AttitudeEstimat
         pitch,
         roll_sigma: (j_roll.transpose() * pa * j_roll)[0].max(0.0).sqrt(),
         pitch_sigma: (j_pitch.transpose() * pa * j_pitch)[0].max(0.0).sqrt(),
+        roll_pitch_covariance: (j_roll.transpose() * pa * j_pitch)[0],
     }
 }
 
-/// Runs the filter over `log`.
+/// What the run needs from a leveling model: its input, parameters, noise and
+/// initial state, and its two measurement models.
+pub trait LevelingModel<const N: usize>: Model<N> {
+    /// Speed log and unit norm.
+    type Moving: Sensor<N, 2, Model = Self, Aux = ()>;
+    /// Zero velocity and unit norm.
+    type Stationary: Sensor<N, 4, Model = Self, Aux = ()>;
+    /// The input of one IMU sample.
+    fn input(gyro: Vector3<f64>, specific_force: Vector3<f64>, earth_rate_body: Vector3<f64>)
+        -> Self::Input;
+    /// Parameters at local gravity `gravity` (m/s^2).
+    fn params(gravity: f64) -> Self::Params;
+    /// Noise intensities of `t`.
+    fn noise(t: &Tuning) -> Self::Noise;
+    /// Initial state and covariance from the forward speed (m/s) and `a`.
+    fn initial(
+        speed: f64,
+        a: &Vector3<f64>,
+        t: &Tuning,
+    ) -> (SVector<f64, N>, SMatrix<f64, N, N>);
+}
+
+impl LevelingModel<6> for Leveling6 {
+    type Moving = Leveling6Moving;
+    type Stationary = Leveling6Stationary;
+    fn input(gyro: Vector3<f64>, specific_force: Vector3<f64>, earth_rate_body: Vector3<f64>) -> Leveling6Input {
+        Leveling6Input {
+            gyro,
+            specific_force,
+            earth_rate_body,
+        }
+    }
+    fn params(gravity: f64) -> Leveling6Params {
+        Leveling6Params { gravity }
+    }
+    fn noise(t: &Tuning) -> Leveling6Noise {
+        Leveling6Noise {
+            accel_noise: Vector3::repeat(t.accel_density * t.accel_density),
+            gyro_noise: Vector3::repeat(t.gyro_density * t.gyro_density),
+        }
+    }
+    fn initial(speed: f64, a: &Vector3<f64>, t: &Tuning) -> (SVector<f64, 6>, SMatrix<f64, 6, 6>) {
+        let x0 = SVector::<f64, 6>::from_column_slice(&[speed, 0.0, 0.0, a.x, a.y, a.z]);
+        let v2 = t.velocity_sigma * t.velocity_sigma;
+        let d = SVector::<f64, 6>::from_column_slice(&[v2, v2, v2, 1.0, 1.0, 1.0]);
+        (x0, SMatrix::from_diagonal(&d))
+    }
+}
+
+impl LevelingModel<8> for Leveling8 {
+    type Moving = Leveling8Moving;
+    type Stationary = Leveling8Stationary;
+    fn input(gyro: Vector3<f64>, specific_force: Vector3<f64>, earth_rate_body: Vector3<f64>) -> Leveling8Input {
+        Leveling8Input {
+            gyro,
+            specific_force,
+            earth_rate_body,
+        }
+    }
+    fn params(gravity: f64) -> Leveling8Params {
+        Leveling8Params { gravity }
+    }
+    fn noise(t: &Tuning) -> Leveling8Noise {
+        Leveling8Noise {
+            accel_noise: Vector3::repeat(t.accel_density * t.accel_density),
+            gyro_noise: Vector3::repeat(t.gyro_density * t.gyro_density),
+            bias_walk: Vector2::zeros(),
+        }
+    }
+    fn initial(speed: f64, a: &Vector3<f64>, t: &Tuning) -> (SVector<f64, 8>, SMatrix<f64, 8, 8>) {
+        let x0 = SVector::<f64, 8>::from_column_slice(&[speed, 0.0, 0.0, a.x, a.y, a.z, 0.0, 0.0]);
+        let v2 = t.velocity_sigma * t.velocity_sigma;
+        let b2 = t.accel_bias_sigma * t.accel_bias_sigma;
+        let d = SVector::<f64, 8>::from_column_slice(&[v2, v2, v2, 1.0, 1.0, 1.0, b2, b2]);
+        (x0, SMatrix::from_diagonal(&d))
+    }
+}
+
+/// Runs the filter over `log`: [`Leveling6`], or [`Leveling8`] with
+/// `options.tuning.bias_states`.
 pub fn run(log: &LogDir, options: &LevelingOptions) -> Result<LevelingRun, FilterError> {
+    if options.tuning.bias_states {
+        run_model::<Leveling8, 8>(log, options)
+    } else {
+        run_model::<Leveling6, 6>(log, options)
+    }
+}
+
+fn run_model<M: LevelingModel<N>, const N: usize>(
+    log: &LogDir,
+    options: &LevelingOptions,
+) -> Result<LevelingRun, FilterError> {
     let init = &log.meta.initial;
     let lat = init.lat;
     let height = -init.depth;
@@ -142,20 +247,13 @@ pub fn run(log: &LogDir, options: &LevelingOptions) -> Result<LevelingRun, Filte
     } else {
         (init.vn * init.vn + init.ve * init.ve).sqrt()
     };
-    let x0 = Vector6::new(speed0, 0.0, 0.0, a0.x, a0.y, a0.z);
-    let v2 = t.velocity_sigma * t.velocity_sigma;
-    let p0 = SMatrix::<f64, 6, 6>::from_diagonal(&Vector6::new(v2, v2, v2, 1.0, 1.0, 1.0));
-    let params = Leveling6Params {
-        gravity: earth::normal_gravity(lat, height),
-    };
-    let noise = Leveling6Noise {
-        accel_noise: Vector3::repeat(t.accel_density * t.accel_density),
-        gyro_noise: Vector3::repeat(t.gyro_density * t.gyro_density),
-    };
+    let (x0, p0) = M::initial(speed0, &a0, &t);
+    let params = M::params(earth::normal_gravity(lat, height));
+    let noise = M::noise(&t);
     // No innovation gate: during convergence from a 45-degree error the linearized
     // S understates the innovation and a gate would reject the very measurements
     // that make the attitude observable (the paper uses none).
-    let mut ekf = Ekf::<Leveling6, 6>::new(x0, p0, params, noise)?.with_default_gate(None);
+    let mut ekf = Ekf::<M, N>::new(x0, p0, params, noise)?.with_default_gate(None);
     if t.upright {
         keep_upright(&mut ekf)?;
     }
@@ -165,7 +263,7 @@ pub fn run(log: &LogDir, options: &LevelingOptions) -> Result<LevelingRun, Filte
     let mut yaw = init.yaw.unwrap_or(0.0);
 
     let mut out = LevelingRun::default();
-    let mut last_imu: Option<(f64, Leveling6Input)> = None;
+    let mut last_imu: Option<(f64, M::Input)> = None;
     let mut next_zero_velocity = 0.1;
     let r_moving =
         Matrix2::from_diagonal(&Vector2::new(t.speed_sigma.powi(2), t.norm_sigma.powi(2)));
@@ -179,11 +277,8 @@ pub fn run(log: &LogDir, options: &LevelingOptions) -> Result<LevelingRun, Filte
                 let x = *ekf.state();
                 let (roll, pitch) = roll_pitch(&Vector3::new(x[3], x[4], x[5]));
                 let c_nb = nav_runtime::attitude::Euler::new(roll, pitch, yaw).c_nb();
-                let input = Leveling6Input {
-                    gyro,
-                    specific_force: Vector3::new(row.ax, row.ay, row.az),
-                    earth_rate_body: c_nb * w_ie_n,
-                };
+                let earth_rate_body = c_nb * w_ie_n;
+                let input = M::input(gyro, Vector3::new(row.ax, row.ay, row.az), earth_rate_body);
                 if let Some((t_prev, prev)) = last_imu {
                     let dt = row.t - t_prev;
                     match ekf.predict(dt, &prev) {
@@ -193,7 +288,7 @@ pub fn run(log: &LogDir, options: &LevelingOptions) -> Result<LevelingRun, Filte
                             continue;
                         }
                     }
-                    let w = gyro - input.earth_rate_body;
+                    let w = gyro - earth_rate_body;
                     yaw =
                         wrap_angle(yaw + dt * (w.y * roll.sin() + w.z * roll.cos()) / pitch.cos());
                 }
@@ -204,7 +299,7 @@ pub fn run(log: &LogDir, options: &LevelingOptions) -> Result<LevelingRun, Filte
                     let z = Vector4::new(0.0, 0.0, 0.0, 1.0);
                     count(
                         &mut out,
-                        ekf.update::<Leveling6Stationary, 4>(&z, &r_stationary, &()),
+                        ekf.update::<M::Stationary, 4>(&z, &r_stationary, &()),
                     );
                 }
                 out.estimates
@@ -215,13 +310,13 @@ pub fn run(log: &LogDir, options: &LevelingOptions) -> Result<LevelingRun, Filte
                     let z = Vector4::new(0.0, 0.0, 0.0, 1.0);
                     count(
                         &mut out,
-                        ekf.update::<Leveling6Stationary, 4>(&z, &r_stationary, &()),
+                        ekf.update::<M::Stationary, 4>(&z, &r_stationary, &()),
                     );
                 } else {
                     let z = Vector2::new(row.speed, 1.0);
                     count(
                         &mut out,
-                        ekf.update::<Leveling6Moving, 2>(&z, &r_moving, &()),
+                        ekf.update::<M::Moving, 2>(&z, &r_moving, &()),
                     );
                 }
                 if t.upright {
@@ -235,18 +330,24 @@ pub fn run(log: &LogDir, options: &LevelingOptions) -> Result<LevelingRun, Filte
         }
     }
     out.repairs = ekf.counters().covariance_repairs;
+    out.accel_bias_final = if N >= 8 {
+        let (x, p) = (ekf.state(), ekf.covariance());
+        [x[6], x[7], p[(6, 6)].max(0.0).sqrt(), p[(7, 7)].max(0.0).sqrt()]
+    } else {
+        [f64::NAN; 4]
+    };
     Ok(out)
 }
 
 /// Reflects `a3 -> -a3` (and its covariance row and column) when `a3 < 0`.
-fn keep_upright(ekf: &mut Ekf<Leveling6, 6>) -> Result<(), FilterError> {
+fn keep_upright<M: Model<N>, const N: usize>(ekf: &mut Ekf<M, N>) -> Result<(), FilterError> {
     let mut x = *ekf.state();
     if x[5] >= 0.0 {
         return Ok(());
     }
     x[5] = -x[5];
     let mut p = *ekf.covariance();
-    for i in 0..6 {
+    for i in 0..N {
         if i != 5 {
             p[(i, 5)] = -p[(i, 5)];
             p[(5, i)] = -p[(5, i)];

@@ -3,6 +3,7 @@
 
 pub mod filter;
 pub mod model;
+pub mod observability;
 pub mod simulation;
 
 use crate::montecarlo::{
@@ -10,7 +11,9 @@ use crate::montecarlo::{
 };
 use crate::plot::{self, Line};
 use filter::{errors_at_truth, LevelingOptions, Tuning};
+use nav_runtime::imu::{ImuSpec, MG};
 use nav_runtime::log::LogDir;
+use nav_runtime::nalgebra::{Matrix2, Vector2};
 use nav_runtime::sensors::{derive_seed, normal};
 use nav_runtime::stats;
 use rand::SeedableRng;
@@ -80,13 +83,68 @@ fn run_one(motion: Motion, seed: u64, options: &RunOptions) -> Result<RunResult,
         truth0.roll + normal(&mut rng, sigma),
         truth0.pitch + normal(&mut rng, sigma),
     );
-    let opts = LevelingOptions {
+    let mut opts = LevelingOptions {
         stationary: motion.is_stationary(),
         initial_attitude: Some(guess),
         tuning: Tuning::default(),
     };
     let run = filter::run(&log, &opts).map_err(|e| RunError::Invalid(e.to_string()))?;
-    score(seed, &run, &log, options.keep_series)
+    let mut r = score(seed, &run, &log, options.keep_series)?;
+    // The same run with the horizontal accelerometer bias as states.
+    opts.tuning.bias_states = true;
+    let run8 = filter::run(&log, &opts).map_err(|e| RunError::Invalid(e.to_string()))?;
+    for (key, value) in final_metrics(&run8, &log)? {
+        r = r.with_metric(&format!("{BIAS_STATES}.{key}"), value);
+    }
+    for (i, key) in ["accel_bias_x", "accel_bias_y"].iter().enumerate() {
+        r = r
+            .with_metric(
+                &format!("{BIAS_STATES}.{key}_final_mg"),
+                run8.accel_bias_final[i] / MG,
+            )
+            .with_metric(
+                &format!("{BIAS_STATES}.{key}_sigma_final_mg"),
+                run8.accel_bias_final[2 + i] / MG,
+            );
+    }
+    Ok(r)
+}
+
+/// Prefix of the metrics of the filter with bias states.
+const BIAS_STATES: &str = "accel_bias_states";
+
+/// Final tilt magnitude (deg) and the tilt NEES (2 dof) of the last estimate,
+/// plus the roll and pitch errors and sigmas (deg).
+fn final_metrics(run: &filter::LevelingRun, log: &LogDir) -> Result<Vec<(&'static str, f64)>, RunError> {
+    let &(_, roll, pitch) = errors_at_truth(run, log)
+        .last()
+        .ok_or_else(|| RunError::Invalid("no estimate at a truth time".into()))?;
+    let last = run
+        .estimates
+        .last()
+        .ok_or_else(|| RunError::Invalid("no estimate".into()))?;
+    Ok(vec![
+        ("roll_error_final_deg", roll.to_degrees()),
+        ("pitch_error_final_deg", pitch.to_degrees()),
+        ("tilt_error_final_deg", roll.hypot(pitch).to_degrees()),
+        ("roll_sigma_final_deg", last.roll_sigma.to_degrees()),
+        ("pitch_sigma_final_deg", last.pitch_sigma.to_degrees()),
+        ("tilt_nees_final", tilt_nees(roll, pitch, last)),
+    ])
+}
+
+/// `e^T P^-1 e` of the roll and pitch error `e` (rad) under the estimate's
+/// 2 x 2 covariance; NaN if that covariance is singular.
+pub fn tilt_nees(roll_error: f64, pitch_error: f64, e: &filter::AttitudeEstimate) -> f64 {
+    let p = Matrix2::new(
+        e.roll_sigma * e.roll_sigma,
+        e.roll_pitch_covariance,
+        e.roll_pitch_covariance,
+        e.pitch_sigma * e.pitch_sigma,
+    );
+    let v = Vector2::new(roll_error, pitch_error);
+    p.try_inverse()
+        .map_or(f64::NAN, |inv| (v.transpose() * inv * v)[0])
 }
 
 fn score(
@@ -102,6 +160,10 @@ fn score(
     let mut r = RunResult::new(seed)
         .with_metric("roll_error_final_deg", roll_final.to_degrees())
         .with_metric("pitch_error_final_deg", pitch_final.to_degrees())
+        .with_metric(
+            "tilt_error_final_deg",
+            roll_final.hypot(pitch_final).to_degrees(),
+        )
         .with_metric("gated", run.gated as f64)
         .with_metric("rejected", run.rejected as f64)
         .with_metric("repairs", run.repairs as f64);
@@ -189,6 +251,19 @@ impl Scenario for LevelingScenario {
         let repairs: f64 = crate::montecarlo::metric_values(runs, "repairs")
             .iter()
             .sum();
+        m.insert(
+            "tilt_error_mean_deg".into(),
+            Value::from(stats::mean(&crate::montecarlo::metric_values(
+                runs,
+                "tilt_error_final_deg",
+            ))),
+        );
+        m.insert(
+            "mean_tilt_magnitude_deg".into(),
+            Value::from(stats::mean(&roll).hypot(stats::mean(&pitch))),
+        );
+        m.insert("two_axis_floor_deg".into(), Value::from(two_axis_floor_deg()));
+        m.insert(BIAS_STATES.into(), Value::Object(bias_states_summary(runs)));
         m.insert("health".into(), serde_json::json!({"speed": {"gated": gated, "rejected": rejected}, "covariance_repairs": repairs}));
         Ok(m)
     }
@@ -199,6 +274,57 @@ impl Scenario for LevelingScenario {
     fn simulate_log(&self, seed: u64, options: &RunOptions) -> Option<Result<LogDir, RunError>> {
         Some(Ok(simulation::simulate(self.motion, biases(options), seed)))
     }
+}
+
+/// The tilt an uncompensated 1-sigma accelerometer bias on x and y causes at
+/// rest, `sqrt(2) b / g` (deg; 1 mg at the scenarios' start: 0.081 deg).
+pub fn two_axis_floor_deg() -> f64 {
+    let start = simulation::trajectory(Motion::Stationary).spec().start;
+    let g = nav_runtime::earth::normal_gravity(start.lat, start.h);
+    (std::f64::consts::SQRT_2 * ImuSpec::leveling6().accel_bias / g).to_degrees()
+}
+
+/// The JSON of the filter with bias states: roll, pitch and tilt statistics
+/// over the runs, the mean filter sigma, the tilt NEES and the bias estimates.
+fn bias_states_summary(runs: &[RunResult]) -> Map<String, Value> {
+    let col = |k: &str| crate::montecarlo::metric_values(runs, &format!("{BIAS_STATES}.{k}"));
+    let (roll, pitch) = (col("roll_error_final_deg"), col("pitch_error_final_deg"));
+    let nees: Vec<f64> = col("tilt_nees_final")
+        .into_iter()
+        .filter(|x| x.is_finite())
+        .collect();
+    let mut m = Map::new();
+    for (key, value) in [
+        ("roll_error_mean_deg", stats::mean(&roll)),
+        ("pitch_error_mean_deg", stats::mean(&pitch)),
+        ("roll_error_std_deg", stats::std_dev(&roll)),
+        ("pitch_error_std_deg", stats::std_dev(&pitch)),
+        ("tilt_error_mean_deg", stats::mean(&col("tilt_error_final_deg"))),
+        (
+            "tilt_error_rms_deg",
+            stats::rms(&col("tilt_error_final_deg")),
+        ),
+        (
+            "mean_tilt_magnitude_deg",
+            stats::mean(&roll).hypot(stats::mean(&pitch)),
+        ),
+        ("roll_sigma_filter_deg", stats::mean(&col("roll_sigma_final_deg"))),
+        ("pitch_sigma_filter_deg", stats::mean(&col("pitch_sigma_final_deg"))),
+        ("tilt_nees_mean", stats::mean(&nees)),
+        ("accel_bias_x_mean_mg", stats::mean(&col("accel_bias_x_final_mg"))),
+        ("accel_bias_y_mean_mg", stats::mean(&col("accel_bias_y_final_mg"))),
+        (
+            "accel_bias_x_sigma_mg",
+            stats::mean(&col("accel_bias_x_sigma_final_mg")),
+        ),
+        (
+            "accel_bias_y_sigma_mg",
+            stats::mean(&col("accel_bias_y_sigma_final_mg")),
+        ),
+    ] {
+        m.insert(key.into(), Value::from(value));
+    }
+    m
 }
 
 /// The paper's Figs. 6-9: ensemble mean and std of the roll and pitch errors

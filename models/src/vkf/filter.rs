@@ -18,12 +18,14 @@
 //! Aiding stamped `t` is fused after the IMU step ending at `t` (it is buffered
 //! and applied before the next IMU step).
 
+use super::attitude_computer::AttitudeComputer;
+use super::coupled::{CoupledNav, MapTuning};
 use super::model::{
     Nav9, Nav9Dvl, Nav9Input, Nav9Noise, Nav9Params, Nav9Rpm, VelocityFilter, VelocityFilterDvl,
     VelocityFilterInput, VelocityFilterNoise, VelocityFilterParams,
 };
 use nav_runtime::attitude::Euler;
-use nav_runtime::earth::{geodetic_error_to_ned, meridian_radius, transverse_radius, Geodetic};
+use nav_runtime::earth::{geodetic_error_to_ned, Geodetic};
 use nav_runtime::ekf::{Ekf, FilterError};
 use nav_runtime::log::{Event, LogDir};
 use nav_runtime::nalgebra::{Matrix1, Matrix3, SMatrix, SVector, Vector1, Vector3};
@@ -219,10 +221,7 @@ pub fn rpm_nav(
 #[derive(Clone, Debug)]
 pub struct AidedNav {
     ekf: Ekf<Nav9, 9>,
-    attitude: Strapdown,
-    origin: Geodetic,
-    /// Metres per radian of latitude and of longitude at the origin.
-    scale: (f64, f64),
+    attitude: AttitudeComputer,
     max_innovation: f64,
     /// Updates refused (implausible or by the filter).
     pub refused: u64,
@@ -243,16 +242,9 @@ impl AidedNav {
         };
         let ekf = Ekf::new(x0, SMatrix::from_diagonal(&d), Nav9Params::default(), noise)?
             .with_default_gate(None);
-        let origin = state.position();
-        let scale = (
-            meridian_radius(origin.lat) + origin.h,
-            (transverse_radius(origin.lat) + origin.h) * origin.lat.cos(),
-        );
         Ok(AidedNav {
             ekf,
-            attitude: Strapdown::new(state),
-            origin,
-            scale,
+            attitude: AttitudeComputer::new(state),
             max_innovation: t.max_innovation,
             refused: 0,
         })
@@ -275,7 +267,7 @@ impl AidedNav {
 
     /// Attitude `C_b^n` of the attitude computer.
     pub fn c_bn(&self) -> Matrix3<f64> {
-        self.attitude.state.c_bn
+        self.attitude.c_bn()
     }
 
     /// One IMU step: slave the attitude computer to the filter, integrate the
@@ -287,15 +279,7 @@ impl AidedNav {
         dt: f64,
     ) -> Result<(), FilterError> {
         let (p, v) = (self.position(), self.velocity());
-        let s = &mut self.attitude.state;
-        s.lat = self.origin.lat + p.x / self.scale.0;
-        s.lon = self.origin.lon + p.y / self.scale.1;
-        s.h = self.origin.h - p.z;
-        s.v_n = v;
-        let (v0, c0) = (s.v_n, s.c_bn);
-        self.attitude.update_increments(dtheta, dv, dt);
-        let accel_n = (self.attitude.state.v_n - v0) / dt;
-        let c_bn = 0.5 * (c0 + self.attitude.state.c_bn);
+        let (accel_n, c_bn) = self.attitude.step(&p, &v, dtheta, dv, dt);
         self.ekf.predict(dt, &Nav9Input { accel_n, c_bn })
     }
 
@@ -328,6 +312,10 @@ pub struct Record {
     pub ins_dvl: Vector3<f64>,
     /// VKF-aided position.
     pub vkf: Vector3<f64>,
+    /// Position of the VKF with the speed map inside the integrated filter.
+    pub vkf_coupled: Vector3<f64>,
+    /// Its map's forward speed at this epoch's RPM (m/s).
+    pub coupled_map_speed: f64,
     /// Switch decision.
     pub source: Source,
     /// Measured altitude (m).
@@ -361,6 +349,8 @@ pub struct VkfRun {
     pub samples: usize,
     /// Updates refused by the INS-DVL and VKF navigators.
     pub refused: (u64, u64),
+    /// Updates refused by the speed-map VKF navigator.
+    pub refused_coupled: u64,
     /// Velocity-filter updates applied.
     pub speed_updates: u64,
 }
@@ -370,6 +360,8 @@ pub struct VkfRun {
 pub struct RunSettings {
     /// Tuning.
     pub tuning: Tuning,
+    /// Tuning of the speed-map states of the coupled VKF navigator.
+    pub map: MapTuning,
 }
 
 #[derive(Clone, Copy, Debug, Default)]
@@ -407,6 +399,7 @@ pub fn run(log: &LogDir, settings: &RunSettings) -> Result<VkfRun, FilterError> 
     let mut pure = Strapdown::new(start);
     let mut ins_dvl = AidedNav::new(start, &tn)?;
     let mut vkf = AidedNav::new(start, &tn)?;
+    let mut coupled = CoupledNav::new(start, &tn, &settings.map)?;
     let mut learner = SpeedLearner::new(&tn, rpm0, dvl_noise)?;
     let mut out = VkfRun::default();
     let mut t_prev = log.imu.first().map_or(0.0, |r| r.t - 0.01).min(0.0);
@@ -418,6 +411,7 @@ pub fn run(log: &LogDir, settings: &RunSettings) -> Result<VkfRun, FilterError> 
                      pure: &Strapdown,
                      ins_dvl: &mut AidedNav,
                      vkf: &mut AidedNav,
+                     coupled: &mut CoupledNav,
                      learner: &mut SpeedLearner,
                      out: &mut VkfRun|
      -> Result<(), FilterError> {
@@ -449,6 +443,13 @@ pub fn run(log: &LogDir, settings: &RunSettings) -> Result<VkfRun, FilterError> 
         } else {
             vkf.update(&rpm_out);
         }
+        // The speed-map navigator: the DVL in range, the RPM constraint always.
+        if source == Source::Dvl {
+            if let Some(v) = p.dvl {
+                coupled.update_dvl(&(coupled.c_bn() * v), dvl_noise);
+            }
+        }
+        coupled.update_rpm(rpm);
         // Record at this epoch, pure INS scored against the truth row at p.t.
         while truth_i + 1 < truth.len() && truth[truth_i].t < p.t - 1e-6 {
             truth_i += 1;
@@ -473,6 +474,8 @@ pub fn run(log: &LogDir, settings: &RunSettings) -> Result<VkfRun, FilterError> 
             pure_error,
             ins_dvl: ins_dvl.position(),
             vkf: vkf.position(),
+            vkf_coupled: coupled.position(),
+            coupled_map_speed: coupled.map_speed(rpm),
             source,
             altitude,
             rpm,
@@ -496,6 +499,7 @@ pub fn run(log: &LogDir, settings: &RunSettings) -> Result<VkfRun, FilterError> 
                     &pure,
                     &mut ins_dvl,
                     &mut vkf,
+                    &mut coupled,
                     &mut learner,
                     &mut out,
                 )?;
@@ -509,6 +513,7 @@ pub fn run(log: &LogDir, settings: &RunSettings) -> Result<VkfRun, FilterError> 
                 pure.update_increments(&dtheta, &dv, dt);
                 ins_dvl.propagate(&dtheta, &dv, dt)?;
                 vkf.propagate(&dtheta, &dv, dt)?;
+                coupled.propagate(&dtheta, &dv, dt)?;
                 out.samples += 1;
             }
             Event::Dvl(row) => {
@@ -531,10 +536,12 @@ pub fn run(log: &LogDir, settings: &RunSettings) -> Result<VkfRun, FilterError> 
         &pure,
         &mut ins_dvl,
         &mut vkf,
+        &mut coupled,
         &mut learner,
         &mut out,
     )?;
     out.refused = (ins_dvl.refused, vkf.refused);
+    out.refused_coupled = coupled.refused;
     Ok(out)
 }
 

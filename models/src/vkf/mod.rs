@@ -4,6 +4,8 @@
 //! on the same data, with a realistic DVL bias (+-0.005 m/s, the top-level
 //! keys) and with the paper's +-0.5 m/s (the `paper_dvl_bias` object).
 
+pub mod attitude_computer;
+pub mod coupled;
 pub mod filter;
 pub mod model;
 pub mod simulation;
@@ -20,8 +22,15 @@ use std::path::Path;
 
 pub use model::{Nav9, Nav9Dvl, Nav9Rpm, VelocityFilter, VelocityFilterDvl};
 
-/// The three navigators, in the order of the JSON keys.
-pub const SOLUTIONS: [&str; 3] = ["pure_ins", "ins_dvl", "vkf"];
+/// The navigators, in the order of the JSON keys: pure INS, INS-DVL, the
+/// paper's VKF, and the VKF with the speed map inside the integrated filter
+/// ([`coupled`]).
+pub const SOLUTIONS: [&str; 4] = ["pure_ins", "ins_dvl", "vkf", "vkf_coupled"];
+
+/// Number of navigators.
+const S: usize = SOLUTIONS.len();
+/// Width of a scored epoch: time, truth N and E, then N and E errors per navigator.
+const W: usize = 3 + 2 * S;
 
 /// The `vkf` scenario.
 #[derive(Clone, Copy, Debug, Default)]
@@ -39,21 +48,51 @@ pub struct Score {
     /// Drift during the DVL outages: the largest change of the horizontal error
     /// vector from the last epoch before an outage to any epoch inside it (m).
     pub outage_drift_m: f64,
+    /// RMS of the horizontal error over the epochs inside all outages (m).
+    pub outage_rms_m: f64,
+}
+
+/// Errors of one navigator in one outage.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OutageScore {
+    /// Growth of the horizontal error over the outage: norm of the change of the
+    /// error vector from the last epoch before it to its last epoch (m).
+    pub drift_m: f64,
+    /// RMS of the horizontal error over the epochs inside it (m).
+    pub rms_m: f64,
+    /// Horizontal error 10 s after the DVL returns (m; NaN if the run ends first).
+    pub after_m: f64,
+}
+
+/// One DVL outage seen by the switch.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Outage {
+    /// Start and end (s).
+    pub span: (f64, f64),
+    /// Per navigator, the order of [`SOLUTIONS`].
+    pub scores: [OutageScore; S],
 }
 
 /// Scores of one run over one log.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RunScores {
-    /// Pure INS, INS-DVL, VKF (the order of [`SOLUTIONS`]).
-    pub scores: [Score; 3],
+    /// The order of [`SOLUTIONS`].
+    pub scores: [Score; S],
     /// Horizontal distance travelled (m).
     pub distance_m: f64,
     /// DVL outages seen by the switch, `(start, end)` (s).
     pub outages: Vec<(f64, f64)>,
+    /// Per-outage scores, the order of `outages`.
+    pub outage_scores: Vec<Outage>,
     /// RMS error of the RPM-derived forward speed while it is in use (m/s).
     pub rpm_speed_error_rms_m_s: f64,
-    /// Time, truth north/east and the three horizontal error vectors (N, E), per epoch.
-    pub series: Vec<[f64; 9]>,
+    /// Horizontal norm of the DVL's own velocity error (measurement minus truth,
+    /// rotated to n) integrated over the epochs it is in use (m): the position
+    /// error any DVL-aided solution inherits.
+    pub dvl_error_integral_m: f64,
+    /// Time, truth north/east and the horizontal error vectors (N, E) of the
+    /// navigators, per epoch.
+    pub series: Vec<[f64; W]>,
 }
 
 /// Truth position NED from the start (m): trapezoidal integral of the truth
@@ -75,15 +114,17 @@ fn truth_positions(log: &LogDir) -> Vec<(f64, Vector3<f64>)> {
 /// Scores a run against the log's truth.
 pub fn score(run: &VkfRun, log: &LogDir) -> Result<RunScores, RunError> {
     let truth = truth_positions(log);
-    let mut series = Vec::with_capacity(run.records.len());
+    let mut series: Vec<[f64; W]> = Vec::with_capacity(run.records.len());
     let mut j = 0usize;
     let mut distance_m = 0.0;
     let mut last_truth: Option<Vector3<f64>> = None;
-    let mut outages = Vec::new();
-    let mut outage_start: Option<(f64, usize)> = None;
-    let mut drift = [0.0; 3];
+    // Outages as epoch ranges: the last epoch before, and one past the last inside.
+    let mut spans: Vec<(usize, usize)> = Vec::new();
+    let mut outage_start: Option<usize> = None;
     let rows = log.truth.as_deref().unwrap_or(&[]);
     let mut rpm_errors = Vec::new();
+    let mut dvl_integral = Vector3::zeros();
+    let mut last_t: Option<f64> = None;
     for r in &run.records {
         while j + 1 < truth.len() && truth[j].0 < r.t - 1e-6 {
             j += 1;
@@ -96,67 +137,108 @@ pub fn score(run: &VkfRun, log: &LogDir) -> Result<RunScores, RunError> {
             distance_m += (p - q).xy().norm();
         }
         last_truth = Some(p);
-        let e1 = r.ins_dvl - p;
-        let e2 = r.vkf - p;
-        series.push([
-            r.t,
-            p.x,
-            p.y,
-            r.pure_error.x,
-            r.pure_error.y,
-            e1.x,
-            e1.y,
-            e2.x,
-            e2.y,
-        ]);
+        let dt = last_t.map_or(0.0, |t0| r.t - t0);
+        last_t = Some(r.t);
+        let mut x = [0.0; W];
+        x[..3].copy_from_slice(&[r.t, p.x, p.y]);
+        let errors = [r.pure_error, r.ins_dvl - p, r.vkf - p, r.vkf_coupled - p];
+        for (s, e) in errors.iter().enumerate() {
+            x[3 + 2 * s] = e.x;
+            x[4 + 2 * s] = e.y;
+        }
+        series.push(x);
         let k = series.len() - 1;
-        if let (Source::Rpm, Some(tr)) = (r.source, rows.get(j)) {
-            rpm_errors.push(r.rpm_speed - (tr.vn * tr.vn + tr.ve * tr.ve + tr.vd * tr.vd).sqrt());
+        if let Some(tr) = rows.get(j) {
+            let v_true = Vector3::new(tr.vn, tr.ve, tr.vd);
+            match r.source {
+                Source::Rpm => rpm_errors.push(r.rpm_speed - v_true.norm()),
+                Source::Dvl if r.dvl_n.iter().all(|v| v.is_finite()) => {
+                    dvl_integral += dt * (r.dvl_n - v_true);
+                }
+                Source::Dvl => {}
+            }
         }
         match (r.source, outage_start) {
-            (Source::Rpm, None) => outage_start = Some((r.t, k.saturating_sub(1))),
-            (Source::Dvl, Some((t0, k0))) => {
-                outages.push((t0, r.t));
-                add_drift(&mut drift, &series[k0..k]);
+            (Source::Rpm, None) => outage_start = Some(k.saturating_sub(1)),
+            (Source::Dvl, Some(k0)) => {
+                spans.push((k0, k));
                 outage_start = None;
             }
             _ => {}
         }
     }
-    if let (Some((t0, k0)), Some(last)) = (outage_start, series.last()) {
-        outages.push((t0, last[0]));
-        add_drift(&mut drift, &series[k0..]);
+    if let Some(k0) = outage_start {
+        spans.push((k0, series.len()));
     }
     let last = series
         .last()
         .ok_or_else(|| RunError::Invalid("no epoch matches a truth time".into()))?;
+    let horizontal = |x: &[f64; W], s: usize| x[3 + 2 * s].hypot(x[4 + 2 * s]);
+    let outage_scores: Vec<Outage> = spans
+        .iter()
+        .map(|&(k0, k1)| Outage {
+            span: (
+                series[(k0 + 1).min(k1 - 1)][0],
+                series[k1.min(series.len() - 1)][0],
+            ),
+            scores: std::array::from_fn(|s| outage_score(&series, k0, k1, s)),
+        })
+        .collect();
+    let inside: Vec<&[f64; W]> = spans
+        .iter()
+        .flat_map(|&(k0, k1)| series[k0 + 1..k1].iter())
+        .collect();
     let scores = std::array::from_fn(|s| {
-        let h: Vec<f64> = series
-            .iter()
-            .map(|x| x[3 + 2 * s].hypot(x[4 + 2 * s]))
-            .collect();
+        let h: Vec<f64> = series.iter().map(|x| horizontal(x, s)).collect();
+        let hin: Vec<f64> = inside.iter().map(|x| horizontal(x, s)).collect();
         Score {
-            final_m: last[3 + 2 * s].hypot(last[4 + 2 * s]),
+            final_m: horizontal(last, s),
             max_m: stats::max(&h),
             rms_m: stats::rms(&h),
-            outage_drift_m: drift[s],
+            outage_drift_m: spans
+                .iter()
+                .map(|&(k0, k1)| largest_change(&series[k0..k1], s))
+                .fold(0.0, f64::max),
+            outage_rms_m: stats::rms(&hin),
         }
     });
     Ok(RunScores {
         scores,
         distance_m,
         rpm_speed_error_rms_m_s: stats::rms(&rpm_errors),
-        outages,
+        dvl_error_integral_m: dvl_integral.xy().norm(),
+        outages: outage_scores.iter().map(|o| o.span).collect(),
+        outage_scores,
         series,
     })
 }
 
-fn add_drift(drift: &mut [f64; 3], epochs: &[[f64; 9]]) {
-    let Some(a) = epochs.first() else { return };
-    for (s, d) in drift.iter_mut().enumerate() {
-        for b in epochs {
-            *d = d.max((b[3 + 2 * s] - a[3 + 2 * s]).hypot(b[4 + 2 * s] - a[4 + 2 * s]));
-        }
+/// Largest change of navigator `s`'s horizontal error vector from the first
+/// epoch of `epochs` to any of them (m).
+fn largest_change(epochs: &[[f64; W]], s: usize) -> f64 {
+    let Some(a) = epochs.first() else { return 0.0 };
+    epochs
+        .iter()
+        .map(|b| (b[3 + 2 * s] - a[3 + 2 * s]).hypot(b[4 + 2 * s] - a[4 + 2 * s]))
+        .fold(0.0, f64::max)
+}
+
+/// Navigator `s` over the outage whose last epoch before is `k0` and whose
+/// epochs are `k0 + 1 .. k1`.
+fn outage_score(series: &[[f64; W]], k0: usize, k1: usize, s: usize) -> OutageScore {
+    let e = |x: &[f64; W]| Vector3::new(x[3 + 2 * s], x[4 + 2 * s], 0.0);
+    let a = e(&series[k0]);
+    let end = e(&series[k1 - 1]);
+    let h: Vec<f64> = series[k0 + 1..k1].iter().map(|x| e(x).norm()).collect();
+    let t_after = series[k1 - 1][0] + 10.0;
+    let after = series[k1..]
+        .iter()
+        .find(|x| x[0] >= t_after - 1e-6)
+        .map_or(f64::NAN, |x| e(x).norm());
+    OutageScore {
+        drift_m: (end - a).norm(),
+        rms_m: stats::rms(&h),
+        after_m: after,
     }
 }
 
@@ -182,13 +264,25 @@ fn put_scores(mut r: RunResult, bias: DvlBias, s: &RunScores) -> RunResult {
             .with_metric(&format!("{v}.{name}.final_m"), sc.final_m)
             .with_metric(&format!("{v}.{name}.rms_m"), sc.rms_m)
             .with_metric(&format!("{v}.{name}.max_m"), sc.max_m)
-            .with_metric(&format!("{v}.{name}.outage_drift_m"), sc.outage_drift_m);
+            .with_metric(&format!("{v}.{name}.outage_drift_m"), sc.outage_drift_m)
+            .with_metric(&format!("{v}.{name}.outage_rms_m"), sc.outage_rms_m);
+    }
+    for (i, o) in s.outage_scores.iter().enumerate() {
+        for (name, sc) in SOLUTIONS.iter().zip(&o.scores) {
+            let k = format!("{v}.{name}.outage{i}");
+            r = r
+                .with_metric(&format!("{k}.drift_m"), sc.drift_m)
+                .with_metric(&format!("{k}.rms_m"), sc.rms_m)
+                .with_metric(&format!("{k}.after_m"), sc.after_m);
+        }
     }
     r.with_metric(&format!("{v}.distance_m"), s.distance_m)
+        .with_metric(&format!("{v}.outages"), s.outage_scores.len() as f64)
+        .with_metric(&format!("{v}.dvl_error_integral_m"), s.dvl_error_integral_m)
 }
 
 const TABLE: &str = "vkf";
-const COLUMNS: [&str; 27] = [
+const COLUMNS: [&str; 31] = [
     "t",
     "truth_n",
     "truth_e",
@@ -216,9 +310,13 @@ const COLUMNS: [&str; 27] = [
     "b_sigma",
     "sf_true_local",
     "b_true_local",
+    "vkf_coupled_n",
+    "vkf_coupled_e",
+    "vkf_coupled_error_m",
+    "coupled_map_speed",
 ];
 const PAPER_TABLE: &str = "vkf-paper-bias";
-const PAPER_COLUMNS: [&str; 12] = [
+const PAPER_COLUMNS: [&str; 15] = [
     "t",
     "truth_n",
     "truth_e",
@@ -231,10 +329,14 @@ const PAPER_COLUMNS: [&str; 12] = [
     "pure_error_m",
     "ins_dvl_error_m",
     "vkf_error_m",
+    "vkf_coupled_n",
+    "vkf_coupled_e",
+    "vkf_coupled_error_m",
 ];
 
-/// Position columns of a scored epoch: truth, the three estimates, their errors.
-fn position_columns(x: &[f64; 9]) -> [f64; 12] {
+/// Position columns of a scored epoch: truth, the first three estimates and
+/// their errors (the original column order).
+fn position_columns(x: &[f64; W]) -> [f64; 12] {
     [
         x[0],
         x[1],
@@ -253,9 +355,10 @@ fn position_columns(x: &[f64; 9]) -> [f64; 12] {
 
 /// 1 Hz tables of a run (every fifth epoch).
 fn tables(run: &VkfRun, s: &RunScores, paper: &RunScores, truth: &RunTruth) -> Vec<RunTable> {
+    let coupled = |x: &[f64; W]| [x[1] + x[9], x[2] + x[10], x[9].hypot(x[10])];
     let mut table = RunTable::new(TABLE, &COLUMNS);
     let mut paper_table = RunTable::new(PAPER_TABLE, &PAPER_COLUMNS);
-    let by_time = |t: f64, xs: &[[f64; 9]]| xs.iter().find(|x| (x[0] - t).abs() < 1e-6).copied();
+    let by_time = |t: f64, xs: &[[f64; W]]| xs.iter().find(|x| (x[0] - t).abs() < 1e-6).copied();
     for r in run
         .records
         .iter()
@@ -283,9 +386,13 @@ fn tables(run: &VkfRun, s: &RunScores, paper: &RunScores, truth: &RunTruth) -> V
             sf_true,
             b_true,
         ]);
+        row.extend(coupled(&x));
+        row.push(r.coupled_map_speed);
         table.push(&row);
         if let Some(y) = by_time(r.t, &paper.series) {
-            paper_table.push(&position_columns(&y));
+            let mut row = position_columns(&y).to_vec();
+            row.extend(coupled(&y));
+            paper_table.push(&row);
         }
     }
     vec![table, paper_table]
@@ -319,7 +426,8 @@ impl Scenario for VkfScenario {
             .with_metric("rpm_speed_error_rms_m_s", real.rpm_speed_error_rms_m_s)
             .with_metric("outage_s", real.outages.iter().map(|(a, b)| b - a).sum())
             .with_metric("refused_ins_dvl", run.refused.0 as f64)
-            .with_metric("refused_vkf", run.refused.1 as f64);
+            .with_metric("refused_vkf", run.refused.1 as f64)
+            .with_metric("refused_vkf_coupled", run.refused_coupled as f64);
         r.extra = json!({ "outages_s": real.outages });
         if options.keep_series {
             r.tables = tables(&run, &real, &paper, &logs.truth);
@@ -360,6 +468,11 @@ impl Scenario for VkfScenario {
             .chain(&metric_values(runs, "refused_vkf"))
             .sum();
         m.insert("refused_updates".into(), Value::from(refused));
+        let refused_coupled: f64 = metric_values(runs, "refused_vkf_coupled").iter().sum();
+        m.insert(
+            "refused_updates_vkf_coupled".into(),
+            Value::from(refused_coupled),
+        );
         Ok(m)
     }
     fn write_outputs(&self, runs: &[RunResult], dir: &Path) -> Result<(), RunError> {
@@ -386,15 +499,42 @@ fn variant_summary(runs: &[RunResult], bias: DvlBias) -> Map<String, Value> {
     let distance = stats::median(&metric_values(runs, &format!("{v}.distance_m")));
     let mut m = Map::new();
     let mut finals = Vec::new();
+    let mut outage_rms = Vec::new();
+    let outages = metric_values(runs, &format!("{v}.outages"))
+        .into_iter()
+        .fold(0.0, f64::max) as usize;
+    // Median over the runs that have outage `i`.
+    let med_present = |key: &str| {
+        let xs: Vec<f64> = metric_values(runs, key)
+            .into_iter()
+            .filter(|x| x.is_finite())
+            .collect();
+        stats::median(&xs)
+    };
     for name in SOLUTIONS {
         let f = metric_values(runs, &format!("{v}.{name}.final_m"));
         let rms = metric_values(runs, &format!("{v}.{name}.rms_m"));
         let drift = metric_values(runs, &format!("{v}.{name}.outage_drift_m"));
         let max = metric_values(runs, &format!("{v}.{name}.max_m"));
         finals.push(f.clone());
+        let orms = metric_values(runs, &format!("{v}.{name}.outage_rms_m"));
+        outage_rms.push(orms.clone());
+        let per_outage: Vec<Value> = (0..outages)
+            .map(|i| {
+                let k = format!("{v}.{name}.outage{i}");
+                json!({
+                    "outage_drift_m": med_present(&format!("{k}.drift_m")),
+                    "outage_rms_m": med_present(&format!("{k}.rms_m")),
+                    "error_10s_after_m": med_present(&format!("{k}.after_m")),
+                })
+            })
+            .collect();
         m.insert(
             name.into(),
             json!({
+                "outage_rms_m": stats::median(&orms),
+                "max_error_m": stats::median(&max),
+                "outages": per_outage,
                 "horizontal_error_final_m": stats::median(&f),
                 "horizontal_error_rms_m": stats::median(&rms),
                 "distance_travelled_m": distance,
@@ -406,11 +546,38 @@ fn variant_summary(runs: &[RunResult], bias: DvlBias) -> Map<String, Value> {
             }),
         );
     }
+    let per_run = |a: &[f64], b: &[f64]| -> f64 {
+        let r: Vec<f64> = a.iter().zip(b).map(|(a, b)| a / b).collect();
+        stats::median(&r)
+    };
     let ratios: Vec<f64> = finals[2]
         .iter()
         .zip(&finals[1])
         .map(|(a, b)| a / b)
         .collect();
+    m.insert(
+        "vkf_coupled_to_ins_dvl_final".into(),
+        Value::from(stats::median(&finals[3]) / stats::median(&finals[1])),
+    );
+    m.insert(
+        "vkf_coupled_to_ins_dvl_final_per_run_median".into(),
+        Value::from(per_run(&finals[3], &finals[1])),
+    );
+    m.insert(
+        "vkf_coupled_to_ins_dvl_outage_rms".into(),
+        Value::from(stats::median(&outage_rms[3]) / stats::median(&outage_rms[1])),
+    );
+    m.insert(
+        "vkf_to_ins_dvl_outage_rms".into(),
+        Value::from(stats::median(&outage_rms[2]) / stats::median(&outage_rms[1])),
+    );
+    m.insert(
+        "dvl_error_integral_m".into(),
+        Value::from(stats::median(&metric_values(
+            runs,
+            &format!("{v}.dvl_error_integral_m"),
+        ))),
+    );
     m.insert(
         "dvl_bias_half_width_m_s".into(),
         Value::from(bias.half_width()),

@@ -87,3 +87,81 @@ nav_runtime::model! {
         }
     }
 }
+
+nav_runtime::model! {
+    /// The integrated filter with the RPM speed map inside (docs/results/vkf.md,
+    /// "Speed-map states"): [`Nav9`]'s position, velocity and accelerometer bias
+    /// plus the map's correlated errors, so that the covariance keeps what an
+    /// error of the RPM-derived speed does to the position during an outage and
+    /// the returning DVL can take it back. The map is
+    /// `V_rpm = (1 + speed_scale) sf0 rpm + speed_offset`, and the forward
+    /// through-water speed departs from it by a first-order Gauss-Markov
+    /// `speed_disturbance` (sea state, loading) with correlation time `tau`.
+    pub model NavSpeedMap {
+        states {
+            /// Position north, east, down of the start point, m.
+            position: 3,
+            /// NED velocity over ground, m/s.
+            velocity: 3,
+            /// Accelerometer bias in body axes, m/s^2.
+            accel_bias: 3,
+            /// Relative error of the design slope `sf0` of the RPM map (dimensionless).
+            speed_scale,
+            /// Offset of the RPM map, m/s.
+            speed_offset,
+            /// Forward speed not explained by the map, m/s (Gauss-Markov).
+            speed_disturbance,
+        }
+        inputs {
+            /// Compensated nav-frame acceleration `a^n`, m/s^2.
+            accel_n: 3,
+            /// Attitude `C_b^n` of the strapdown attitude computer.
+            c_bn: 3x3,
+        }
+        parameters {
+            /// Design slope of the RPM map `sf0`, (m/s)/rpm.
+            design_slope,
+            /// Correlation time of the speed disturbance, s.
+            tau,
+        }
+        noise {
+            /// Acceleration white noise, (m/s^2)^2/Hz.
+            accel_noise: 3,
+            /// Bias random walk, (m/s^2)^2/s.
+            bias_walk: 3,
+            /// Scale random walk, 1/s.
+            scale_walk,
+            /// Offset random walk, (m/s)^2/s.
+            offset_walk,
+            /// Drive of the speed disturbance, (m/s)^2/s (`2 sigma^2 / tau`).
+            disturbance_drive,
+        }
+        continuous {
+            d/dt position = velocity;
+            d/dt velocity = accel_n - c_bn * accel_bias + accel_noise;
+            d/dt accel_bias = bias_walk;
+            d/dt speed_scale = scale_walk;
+            d/dt speed_offset = offset_walk;
+            d/dt speed_disturbance = -speed_disturbance / tau + disturbance_drive;
+        }
+        /// The DVL's NED velocity (in range).
+        sensor Dvl: 3 {
+            h = velocity;
+        }
+        /// The RPM as a velocity constraint in body axes, `z = [0, 0, 0]`: the
+        /// forward body velocity minus the map's speed and the disturbance, and the
+        /// lateral and vertical body velocity (no sideslip, no heave).
+        sensor Rpm: 3 {
+            inputs {
+                /// Measured propeller revolutions per minute.
+                rpm,
+            }
+            let v_b = transpose(c_bn) * velocity;
+            h = [
+                v_b[0] - (1.0 + speed_scale) * design_slope * rpm - speed_offset - speed_disturbance,
+                v_b[1],
+                v_b[2]
+            ];
+        }
+    }
+}
