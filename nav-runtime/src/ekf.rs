@@ -33,6 +33,7 @@ use core::marker::PhantomData;
 use nalgebra::{Cholesky, SMatrix, SVector};
 
 use crate::gate::Gate;
+use crate::lockout::Lockout;
 use crate::math::wrap_angle;
 use crate::model::{Model, Record, Sensor};
 
@@ -160,9 +161,10 @@ pub struct FilterCounters {
     /// Covariance diagonal entries repaired (non-positive or non-finite after a
     /// prediction or an update); each repaired entry counts once.
     pub covariance_repairs: u64,
-    /// Updates applied although they failed the gate, because the sensor's
-    /// gate had refused [`Ekf::with_lockout_release`] measurements in a row
-    /// (counted in `updates_accepted` too).
+    /// Gate lock-out releases: runs of refused measurements of one sensor
+    /// that agreed within their noise, after which the covariance of the
+    /// states they observe was inflated (see [`crate::lockout`]; no
+    /// measurement is applied by a release).
     pub updates_released: u64,
 }
 
@@ -257,8 +259,8 @@ pub struct Ekf<Mo: Model<N>, const N: usize> {
     discretization: Discretization,
     default_gate: Option<Gate>,
     gates: GateTable,
-    lockout_release: Option<u32>,
-    refusals: RefusalTable,
+    /// Gate lock-out release state (see [`crate::lockout`]).
+    pub(crate) lockout: Lockout,
     variance_floor: f64,
     counters: FilterCounters,
     _model: PhantomData<fn() -> Mo>,
@@ -304,8 +306,7 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
             discretization: Discretization::FirstOrder,
             default_gate: Some(Gate::default()),
             gates: GateTable::new(),
-            lockout_release: None,
-            refusals: RefusalTable::new(),
+            lockout: Lockout::new(),
             variance_floor: DEFAULT_VARIANCE_FLOOR,
             counters: FilterCounters::default(),
             _model: PhantomData,
@@ -317,42 +318,6 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
     pub fn with_discretization(mut self, discretization: Discretization) -> Self {
         self.discretization = discretization;
         self
-    }
-
-    /// Gate lock-out release: after `limit` consecutive gate refusals of one
-    /// sensor, its next measurement is applied whatever its NIS (`None`, the
-    /// default: never). See [`Ekf::set_lockout_release`].
-    #[must_use]
-    pub fn with_lockout_release(mut self, limit: Option<u32>) -> Self {
-        self.lockout_release = limit;
-        self
-    }
-
-    /// Changes the gate lock-out release (`None`: never).
-    ///
-    /// The gate assumes that the predicted innovation covariance `S` is right.
-    /// It is not after the filter has accepted an outlier it could not
-    /// recognise (while `H P H^T` was much larger than `R`, a 10-sigma outlier
-    /// is a small fraction of `sqrt(S)`): the estimate is then off by the
-    /// outlier while `S` has shrunk, and every later, correct measurement of
-    /// that sensor fails the gate (lock-out). A consistent filter refuses
-    /// `limit` good measurements in a row with probability `(1 - p)^limit`
-    /// (1e-12 for `limit = 3` at the default `p`), and independent outliers
-    /// at rate `e` come `limit` in a row with probability `e^limit`; a longer
-    /// run of refusals means the filter, not the sensor, is wrong, so the
-    /// next measurement is applied (counted in
-    /// [`FilterCounters::updates_released`]) and the refusal count restarts.
-    /// A sensor that is itself persistently wrong (a bias step, a drift) is
-    /// then applied once every `limit + 1` samples instead of being refused.
-    pub fn set_lockout_release(&mut self, limit: Option<u32>) {
-        self.lockout_release = limit;
-    }
-
-    /// `true` if sensor `S` has been refused often enough in a row that its
-    /// next measurement is released (see [`Ekf::set_lockout_release`]).
-    fn released<S: 'static>(&self) -> bool {
-        self.lockout_release
-            .is_some_and(|k| self.refusals.get(TypeId::of::<S>()) >= k)
     }
 
     /// Sets the gate used by sensors without their own setting; `None` disables it.
@@ -559,14 +524,14 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
     where
         S: Sensor<N, M, Model = Mo>,
     {
-        let sensor = TypeId::of::<S>();
         match self.batch_update::<S, M>(z, r, aux) {
             Ok(report) => {
-                self.count_gate_outcome(sensor, &report);
+                self.count_gate_outcome(&report);
                 if report.accepted {
                     Mo::normalize_state(&mut self.x);
                     self.counters.covariance_repairs += u64::from(report.repairs);
                 }
+                self.after_gate::<S, M>(&report, aux);
                 Ok(report)
             }
             Err(e) => {
@@ -604,33 +569,40 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
         S: Sensor<N, M, Model = Mo>,
     {
         let result = self.sequential_update::<S, M>(z, r_diag, aux);
-        self.commit(TypeId::of::<S>(), result)
+        let report = self.commit(result)?;
+        self.after_gate::<S, M>(&report, aux);
+        Ok(report)
     }
 
-    /// Accepted/gated totals and the per-sensor run of gate refusals of one
-    /// update that was not an error (see [`Ekf::set_lockout_release`]).
-    fn count_gate_outcome<const M: usize>(&mut self, sensor: TypeId, report: &UpdateReport<M>) {
+    // ---- gate lock-out (crate::lockout): the one call of both updates ----
+    /// Hands the gate's decision to the lock-out release, which may inflate
+    /// `P` (see [`crate::lockout`]).
+    fn after_gate<S, const M: usize>(&mut self, report: &UpdateReport<M>, aux: &S::Aux)
+    where
+        S: Sensor<N, M, Model = Mo>,
+    {
+        let (p, x, u, par) = (&mut self.p, &self.x, &self.input, &self.params);
+        if self
+            .lockout
+            .after_gate::<S, N, M>(report, p, x, u, par, aux)
+        {
+            self.counters.updates_released += 1;
+        }
+    }
+    // ---- end of gate lock-out ----
+
+    /// Accepted/gated totals of one update that was not an error.
+    fn count_gate_outcome<const M: usize>(&mut self, report: &UpdateReport<M>) {
         if report.accepted {
             self.counters.updates_accepted += 1;
-            if !passes(report.nis, report.threshold) {
-                self.counters.updates_released += 1;
-            }
-            if self.lockout_release.is_some() {
-                self.refusals.set(sensor, 0);
-            }
         } else {
             self.counters.updates_gated += 1;
-            if self.lockout_release.is_some() {
-                let n = self.refusals.get(sensor);
-                self.refusals.set(sensor, n.saturating_add(1));
-            }
         }
     }
 
     /// Stores an update's result and keeps the totals.
     fn commit<const M: usize>(
         &mut self,
-        sensor: TypeId,
         result: Result<Proposal<N, M>, FilterError>,
     ) -> Result<UpdateReport<M>, FilterError> {
         match result {
@@ -641,7 +613,7 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
                     self.p = p;
                     self.counters.covariance_repairs += u64::from(report.repairs);
                 }
-                self.count_gate_outcome(sensor, &report);
+                self.count_gate_outcome(&report);
                 Ok(report)
             }
             Err(e) => {
@@ -761,7 +733,7 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
         let threshold = self.sensor_gate::<S, M>().map(|g| g.threshold(M));
         let mut report = UpdateReport {
             sensor: S::NAME,
-            accepted: passes(nis, threshold) || self.released::<S>(),
+            accepted: passes(nis, threshold),
             nis,
             threshold,
             innovation: nu,
@@ -847,7 +819,7 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
         let threshold = self.sensor_gate::<S, M>().map(|g| g.threshold(M));
         let mut report = UpdateReport {
             sensor: S::NAME,
-            accepted: passes(nis, threshold) || self.released::<S>(),
+            accepted: passes(nis, threshold),
             nis,
             threshold,
             innovation: nu,
@@ -888,8 +860,7 @@ impl<Mo: Model<N>, const N: usize> Clone for Ekf<Mo, N> {
             discretization: self.discretization,
             default_gate: self.default_gate,
             gates: self.gates,
-            lockout_release: self.lockout_release,
-            refusals: self.refusals,
+            lockout: self.lockout,
             variance_floor: self.variance_floor,
             counters: self.counters,
             _model: PhantomData,
@@ -1143,37 +1114,6 @@ fn joseph_in_place_steps<const N: usize, const M: usize, const AVX: bool>(
 struct Proposal<const N: usize, const M: usize> {
     report: UpdateReport<M>,
     posterior: Option<(SVector<f64, N>, SMatrix<f64, N, N>)>,
-}
-
-/// Consecutive gate refusals per sensor type, in a fixed array (sensors
-/// beyond [`MAX_SENSOR_GATES`] are not counted, so never released).
-#[derive(Clone, Copy, Debug)]
-struct RefusalTable {
-    entries: [Option<(TypeId, u32)>; MAX_SENSOR_GATES],
-}
-
-impl RefusalTable {
-    fn new() -> Self {
-        Self {
-            entries: [None; MAX_SENSOR_GATES],
-        }
-    }
-
-    fn get(&self, id: TypeId) -> u32 {
-        self.entries
-            .iter()
-            .flatten()
-            .find(|(k, _)| *k == id)
-            .map_or(0, |(_, n)| *n)
-    }
-
-    fn set(&mut self, id: TypeId, n: u32) {
-        if let Some(slot) = self.entries.iter_mut().flatten().find(|(k, _)| *k == id) {
-            slot.1 = n;
-        } else if let Some(slot) = self.entries.iter_mut().find(|e| e.is_none()) {
-            *slot = Some((id, n));
-        }
-    }
 }
 
 /// Per-sensor gate settings keyed by the sensor type, in a fixed array.
@@ -1771,57 +1711,82 @@ mod tests {
         );
     }
 
+    /// A filter 10 sigma off its sensor (as after an accepted outlier) with
+    /// measurements that agree with each other: the third refusal in a row
+    /// releases the lock-out by inflating `P`, and the fourth sample passes
+    /// the gate on its own and is applied through the Kalman gain. Refusals
+    /// that disagree, or lie beyond the plausibility bound, never release.
     #[test]
     fn lockout_release_applies_the_measurement_after_consecutive_refusals() {
+        use crate::lockout::LockoutRelease;
         let r = SMatrix::<f64, 1, 1>::new(0.25);
         let gate = Some(Gate::new(0.9999).unwrap());
-        // The filter is 10 sigma off the sensor (as after an accepted outlier).
-        let off = |f: &Ekf<Cvb, 3>| {
-            let sigma = (f.covariance()[(0, 0)] + 0.25).sqrt();
-            SVector::<f64, 1>::new(f.state()[0] + 10.0 * sigma)
-        };
-        // Fuses a measurement 10 sigma off; returns whether it was accepted.
-        let outlier = |f: &mut Ekf<Cvb, 3>| {
-            let z = off(f);
-            let rep = f.update::<Pos, 1>(&z, &r, &Offset::default()).unwrap();
+        let rule = Some(LockoutRelease::default());
+        let none = Offset::default();
+        // The sensor's constant reading, 10 innovation sigmas off the estimate.
+        let f0 = filter().with_default_gate(gate);
+        let sigma = (f0.covariance()[(0, 0)] + 0.25).sqrt();
+        let reading = SVector::<f64, 1>::new(f0.state()[0] + 10.0 * sigma);
+        let fuse = |f: &mut Ekf<Cvb, 3>, z: SVector<f64, 1>| {
+            let rep = f.update::<Pos, 1>(&z, &r, &none).unwrap();
             (rep.accepted, rep.nis)
         };
-        let mut locked = filter().with_default_gate(gate);
-        let mut released = filter()
-            .with_default_gate(gate)
-            .with_lockout_release(Some(3));
+        let mut locked = f0.clone();
+        let mut released = f0.clone().with_lockout_release(rule);
         for k in 0..3 {
-            assert!(!outlier(&mut released).0, "refusal {k}");
-            assert!(!outlier(&mut locked).0);
+            let before = released.clone();
+            assert!(!fuse(&mut released, reading).0, "refusal {k}");
+            assert!(!fuse(&mut locked, reading).0);
+            // A refusal never moves the state; only the third inflates `P`.
+            assert_eq!(released.state(), before.state());
+            assert_eq!(released.covariance() == before.covariance(), k < 2);
         }
-        // The fourth is applied despite its NIS of 100.
-        let (accepted, nis) = outlier(&mut released);
-        assert!(accepted && (nis - 100.0).abs() < 1e-9);
         assert_eq!(released.counters().updates_released, 1);
         assert_eq!(released.counters().updates_gated, 3);
+        // Inflated along the position: `S` grew by about the offset squared.
+        let s_after = released.covariance()[(0, 0)] + 0.25;
+        assert!(s_after > 99.0 * sigma * sigma, "{s_after}");
+        // The fourth passes the gate (no forcing) and is applied: the estimate
+        // moves onto the reading, within the sensor noise.
+        let (accepted, nis) = fuse(&mut released, reading);
+        assert!(accepted && nis < 1.0, "NIS {nis}");
         assert_eq!(released.counters().updates_accepted, 1);
-        // The count restarts: the next outlier is gated again.
-        assert!(!outlier(&mut released).0);
-        // Without the release the sensor stays locked out.
-        assert!(!outlier(&mut locked).0);
+        assert!((released.state()[0] - reading[0]).abs() < 0.5);
+        // A repeat is consistent now.
+        assert!(fuse(&mut released, reading).0);
+        // Without the rule the sensor stays locked out.
+        assert!(!fuse(&mut locked, reading).0);
         assert_eq!(locked.counters().updates_released, 0);
-        // Isolated outliers between good samples are never released.
-        let mut f = filter()
-            .with_default_gate(gate)
-            .with_lockout_release(Some(1));
+
+        // Refusals that disagree (+10, -10, +10 sigma ...) never release.
+        let mut f = f0.clone().with_lockout_release(rule);
+        for k in 0..12 {
+            let sign = if k % 2 == 0 { 10.0 } else { -10.0 };
+            let z = SVector::<f64, 1>::new(f0.state()[0] + sign * sigma);
+            assert!(!fuse(&mut f, z).0);
+        }
+        assert_eq!(f.counters().updates_released, 0);
+        assert_eq!(f.covariance(), f0.covariance());
+
+        // Agreeing refusals beyond the plausibility bound never release.
+        let mut f = f0.clone().with_lockout_release(rule);
+        f.set_lockout_bound(Pos::NAME, 5.0 * sigma).unwrap();
+        for _ in 0..12 {
+            assert!(!fuse(&mut f, reading).0);
+        }
+        assert_eq!(f.counters().updates_released, 0);
+        assert_eq!(f.covariance(), f0.covariance());
+
+        // Isolated outliers between good samples never release.
+        let mut f = f0
+            .clone()
+            .with_lockout_release(Some(LockoutRelease::new(2, 0.999).unwrap()));
         for _ in 0..5 {
             let good = SVector::<f64, 1>::new(f.state()[0]);
-            assert!(
-                f.update::<Pos, 1>(&good, &r, &Offset::default())
-                    .unwrap()
-                    .accepted
-            );
-            let z = off(&f);
-            assert!(
-                !f.update::<Pos, 1>(&z, &r, &Offset::default())
-                    .unwrap()
-                    .accepted
-            );
+            assert!(fuse(&mut f, good).0);
+            let s = (f.covariance()[(0, 0)] + 0.25).sqrt();
+            let z = SVector::<f64, 1>::new(f.state()[0] + 10.0 * s);
+            assert!(!fuse(&mut f, z).0);
         }
         assert_eq!(f.counters().updates_released, 0);
     }

@@ -21,6 +21,7 @@ pub mod gate;
 pub mod guidance;
 #[cfg(feature = "std")]
 pub mod imu;
+pub mod lockout;
 #[cfg(feature = "std")]
 pub mod log;
 pub mod math;

@@ -405,8 +405,10 @@ fn corrupted_logs_never_panic_the_replay() {
 /// spike is a small part of the large initial innovation sigma (1.2 m,
 /// 10 deg), passes the gate and shrinks `S`, after which every good sample
 /// of that sensor failed the gate for the rest of the run (936-946 refused,
-/// NEES 99 for seed 28). The gate lock-out release applies the fourth refused
-/// sample in a row, so only the spikes are refused.
+/// NEES 99 for seed 28). The good samples refused agree with each other, so
+/// the lock-out release inflates the covariance after three of them and the
+/// next one passes the gate: only the spikes and a few good samples are
+/// refused.
 #[test]
 fn spike_accepted_at_start_no_longer_locks_the_gate_out() {
     let cfg = scenario("lawnmower-dvl").unwrap().config;
@@ -426,5 +428,157 @@ fn spike_accepted_at_start_no_longer_locks_the_gate_out() {
         assert!(locked.0 > 900, "seed {seed}: {locked:?}");
         assert!(gated < 80, "seed {seed}: {gated} gated");
         assert!(nees < 20.0, "seed {seed}: NEES {nees}");
+    }
+}
+
+/// A gross sensor fault, injected into the rows of a simulated log.
+struct Gross {
+    what: &'static str,
+    /// Index in the health order (depth, dvl, heading, usbl).
+    sensor: usize,
+    /// Changes the rows in `[t0, t1)` (s) and returns how many it changed.
+    inject: fn(&mut LogDir, f64, f64) -> usize,
+    /// The fault's time window (s).
+    window: (f64, f64),
+}
+
+/// 10 km north, in latitude (rad).
+const TEN_KM_LAT: f64 = 1e4 / 6.37e6;
+
+const GROSS: &[Gross] = &[
+    Gross {
+        what: "4 consecutive USBL fixes 10 km off",
+        sensor: 3,
+        inject: |log, t0, t1| {
+            let rows = log.usbl.as_mut().unwrap();
+            let mut n = 0;
+            for r in rows.iter_mut().filter(|r| r.t >= t0 && r.t < t1).take(4) {
+                r.lat += TEN_KM_LAT;
+                n += 1;
+            }
+            n
+        },
+        window: (250.0, 500.0),
+    },
+    Gross {
+        what: "DVL 30 m/s too fast for 5 s",
+        sensor: 1,
+        inject: |log, t0, t1| {
+            let rows = log.dvl.as_mut().unwrap();
+            let mut n = 0;
+            for r in rows.iter_mut().filter(|r| r.t >= t0 && r.t < t1) {
+                if let Some(vx) = r.vx.as_mut() {
+                    *vx += 30.0;
+                    n += 1;
+                }
+            }
+            n
+        },
+        window: (250.0, 255.0),
+    },
+    Gross {
+        what: "depth 100 m deeper from 200 s on",
+        sensor: 0,
+        inject: |log, t0, t1| {
+            let rows = log.depth.as_mut().unwrap();
+            let mut n = 0;
+            for r in rows.iter_mut().filter(|r| r.t >= t0 && r.t < t1) {
+                r.depth += 100.0;
+                n += 1;
+            }
+            n
+        },
+        window: (200.0, 1e9),
+    },
+    Gross {
+        what: "compass flipped by 180 deg for 60 s",
+        sensor: 2,
+        inject: |log, t0, t1| {
+            let rows = log.heading.as_mut().unwrap();
+            let mut n = 0;
+            for r in rows.iter_mut().filter(|r| r.t >= t0 && r.t < t1) {
+                r.heading = nav_runtime::math::wrap_angle(r.heading + std::f64::consts::PI);
+                n += 1;
+            }
+            n
+        },
+        window: (250.0, 310.0),
+    },
+];
+
+/// The same log without the rows of `sensor` in `[t0, t1)`.
+fn without(log: &LogDir, sensor: usize, (t0, t1): (f64, f64)) -> LogDir {
+    let mut log = log.clone();
+    let keep = |t: f64| !(t >= t0 && t < t1);
+    match sensor {
+        0 => log.depth.as_mut().unwrap().retain(|r| keep(r.t)),
+        1 => log.dvl.as_mut().unwrap().retain(|r| keep(r.t)),
+        2 => log.heading.as_mut().unwrap().retain(|r| keep(r.t)),
+        _ => {
+            // Only the 4 fixes that were changed.
+            let rows = log.usbl.as_mut().unwrap();
+            let first = rows.iter().position(|r| r.t >= t0).unwrap();
+            rows.drain(first..first + 4);
+        }
+    }
+    log
+}
+
+/// Gross faults a sensor can show (a USBL fix 10 km off, a DVL reading
+/// 30 m/s too fast, a 100 m depth step, a compass flipped by 180 deg) agree
+/// with themselves, so agreement alone would release them; they lie beyond
+/// the sensors' plausibility bounds, so every faulty sample is refused and
+/// the lock-out release never fires. The estimate is then the one without
+/// those samples: the final horizontal error, RMS depth error and NEES equal
+/// those of the log with the faulty rows removed to 1e-9 (the old count
+/// release applied the fourth faulty sample: 36 m after the USBL fixes,
+/// 28 m after the DVL burst).
+#[test]
+fn gross_outliers_are_never_released() {
+    let cfg = scenario("lawnmower-usbl").unwrap().config;
+    for seed in SEEDS {
+        let sim = simulate(&cfg, seed);
+        let bias = Some(sim.errors.compass_bias);
+        for g in GROSS {
+            let mut log = sim.log.clone();
+            let changed = (g.inject)(&mut log, g.window.0, g.window.1);
+            assert!(changed >= 4, "{}: {changed} rows", g.what);
+            let clean = without(&sim.log, g.sensor, g.window);
+            let options = FilterOptions::default();
+            let (run, scored) = run_and_score(&log, &options, bias).unwrap();
+            let (base_run, base) = run_and_score(&clean, &options, bias).unwrap();
+            let (scored, base) = (scored.unwrap(), base.unwrap());
+            let health = run.health[g.sensor].1;
+            let base_health = base_run.health[g.sensor].1;
+            // Every faulty row refused by the gate (none stuck: the values vary).
+            assert_eq!(
+                health.gated,
+                base_health.gated + changed as u64,
+                "{} seed {seed}",
+                g.what
+            );
+            let released = run.final_filter.ekf().counters().updates_released;
+            let base_released = base_run.final_filter.ekf().counters().updates_released;
+            assert_eq!(released, base_released, "{} seed {seed}", g.what);
+            for (name, a, b) in [
+                (
+                    "final error",
+                    scored.horizontal_error_final_m,
+                    base.horizontal_error_final_m,
+                ),
+                (
+                    "depth rms",
+                    scored.depth_error_rms_m,
+                    base.depth_error_rms_m,
+                ),
+                ("NEES", scored.nees_mean, base.nees_mean),
+            ] {
+                assert!(
+                    (a - b).abs() <= 1e-9 * (1.0 + b.abs()),
+                    "{} seed {seed}: {name} {a} vs {b} without the faulty rows",
+                    g.what
+                );
+            }
+        }
     }
 }

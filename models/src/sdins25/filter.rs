@@ -30,6 +30,7 @@ use nav_runtime::sensors::ErrorSpec;
 use nav_runtime::strapdown::{NavError, NavState, Strapdown};
 use nav_runtime::stuck::StuckDetector;
 
+use super::lockout::LockoutOptions;
 use super::model::Sdins25;
 use super::simulation::{DVL_MAX_ALTITUDE, SOUND_SPEED, TRACKPOINT_MISALIGNMENT_SIGMA};
 use super::vehicle::{InsVehicle, Layout, Present, Slot};
@@ -74,10 +75,9 @@ pub struct FilterOptions {
     pub usbl_delivery: UsblDelivery,
     /// Innovation-gate probability for every sensor (`None`: no gating).
     pub gate_probability: Option<f64>,
-    /// Gate lock-out release: after this many consecutive gate refusals of
-    /// one sensor its next measurement is applied ([`Ekf::set_lockout_release`];
-    /// `None`: never).
-    pub lockout_release: Option<u32>,
+    /// Gate lock-out release: the rule and the per-sensor plausibility
+    /// bounds ([`super::lockout`]; `None`: a refused sensor stays refused).
+    pub lockout_release: Option<LockoutOptions>,
     /// Use these sensors if present in the log.
     pub use_dvl: bool,
     /// Use the depth meter.
@@ -145,7 +145,7 @@ impl Default for FilterOptions {
             compass: CompassForm::Exact,
             usbl_delivery: UsblDelivery::Acoustic,
             gate_probability: Some(Gate::DEFAULT_PROBABILITY),
-            lockout_release: Some(LOCKOUT_RELEASE),
+            lockout_release: Some(LockoutOptions::default()),
             use_dvl: true,
             use_depth: true,
             use_compass: true,
@@ -155,10 +155,6 @@ impl Default for FilterOptions {
         }
     }
 }
-
-/// Default [`FilterOptions::lockout_release`]: 3 refusals in a row (a
-/// consistent filter refuses 3 good samples in a row with probability 1e-12).
-pub const LOCKOUT_RELEASE: u32 = 3;
 
 /// Defaults when `[initial_sigma]` lacks a key (m, m/s, rad).
 pub const DEFAULT_INITIAL_SIGMA: [f64; 4] = [
@@ -550,8 +546,9 @@ pub fn initial_vehicle_filter<V: InsVehicle<N>, const N: usize>(
     };
     let ekf = Ekf::<V, N>::new(SVector::zeros(), p0, V::Params::default(), noise)
         .map_err(|e| filter_error(name, e))?
-        .with_default_gate(gate)
-        .with_lockout_release(options.lockout_release);
+        .with_default_gate(gate);
+    let ekf = super::lockout::configure(ekf, options.lockout_release)
+        .map_err(|e| filter_error(name, e))?;
     Ok(ErrorStateFilter::new(ekf, InsNominal::try_new(ins)?))
 }
 

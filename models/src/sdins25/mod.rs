@@ -8,6 +8,7 @@
 
 pub mod faults;
 pub mod filter;
+pub mod lockout;
 pub mod model;
 pub mod score;
 pub mod simulation;
