@@ -1,10 +1,12 @@
 //! The estimators of the source papers (MODELS.md), declared with `nav_runtime::model!`.
 
 pub mod cli;
+pub mod interrupt;
 pub mod leveling;
 pub mod marker;
 pub mod montecarlo;
 pub mod plot;
+pub mod preflight;
 pub mod report;
 pub mod sdins25;
 pub mod vehicles;
