@@ -9,13 +9,15 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
-use nav_runtime::log::{LogDir, Strictness};
+use nav_runtime::log::{LogDir, Strictness, Warning, WarningKind};
 use serde_json::Value;
 
+use crate::interrupt::Pending;
 use crate::montecarlo::{
     demo, find_shard_files, merge_shards, progress_bar, run_seeds, seeds, summary_json,
     ReplayModel, ReplayOptions, RunError, RunOptions, Scenario, Shard, ShardFile, SHARD_FORMAT,
 };
+use crate::preflight::{self, PreflightOptions};
 use crate::report::{self, StagedDir};
 use crate::scenario_text::{scenario_text, Plots};
 use crate::sdins25::InsReplay;
@@ -110,6 +112,25 @@ pub enum Command {
     Merge(MergeArgs),
     /// List the scenarios and replay models.
     List(ListArgs),
+    /// Check a log directory for unit, sign, frame and clock mistakes without
+    /// running a model.
+    Check(CheckArgs),
+}
+
+/// `navsim check`.
+#[derive(Debug, Args)]
+pub struct CheckArgs {
+    /// Log directory.
+    pub dir: PathBuf,
+    /// Print one JSON object on stdout.
+    #[arg(long)]
+    pub json: bool,
+    /// Skip (and count) bad CSV rows; IMU gaps and a frozen IMU are warnings.
+    #[arg(long)]
+    pub lenient: bool,
+    /// An IMU interval longer than this many IMU periods is a gap.
+    #[arg(long, default_value_t = 10.0, value_name = "N")]
+    pub max_gap_periods: f64,
 }
 
 /// `navsim scenario`.
@@ -160,6 +181,10 @@ pub struct ReplayArgs {
     /// Use the model's stationary measurement model.
     #[arg(long)]
     pub stationary: bool,
+    /// An IMU interval longer than this many IMU periods is a gap (an error,
+    /// a warning with --lenient).
+    #[arg(long, default_value_t = 10.0, value_name = "N")]
+    pub max_gap_periods: f64,
 }
 
 /// `navsim simulate`.
@@ -323,40 +348,204 @@ fn emit_scenario(value: &Value, json: bool, plots: Plots<'_>) {
 /// `navsim replay`.
 pub fn cmd_replay(args: &ReplayArgs) -> Result<(), RunError> {
     let model = find_replay_model(&args.model)?;
-    let strictness = if args.lenient {
-        Strictness::Lenient
-    } else {
-        Strictness::Strict
+    if args.stationary && !model.has_stationary_mode() {
+        return Err(RunError::Invalid(format!(
+            "--stationary: model {} has no stationary mode",
+            model.name()
+        )));
+    }
+    let (log, report) = read_and_check(
+        &args.dir,
+        args.lenient,
+        args.max_gap_periods,
+        model.log_files(),
+    )?;
+    if let Some(first) = report.errors().next() {
+        let more = report.errors().count() - 1;
+        let tail = if more > 0 {
+            format!(" ({more} more problems: see `navsim check`)")
+        } else {
+            String::new()
+        };
+        return Err(RunError::Invalid(format!("{first}{tail}")));
+    }
+    let options = ReplayOptions {
+        stationary: args.stationary,
+        keep_series: args.out.is_some(),
     };
-    let log = LogDir::read(&args.dir, strictness)?;
     for reason in &log.skip_reasons {
         eprintln!("warning: skipped {reason}");
     }
     for file in &log.unknown_files {
         eprintln!("warning: ignored unknown file {file}");
     }
-    let options = ReplayOptions {
-        stationary: args.stationary,
-        keep_series: args.out.is_some(),
-    };
     let output = model.replay(&log, &options)?;
     for w in &output.warnings {
         eprintln!("warning: {w}");
     }
-    let value = report::replay_json(model.name(), &output, args.lenient, &log);
+    // The other warnings are in the result (JSON `warnings`, or the text).
+    let mut warnings: Vec<Warning> = log.warnings.clone();
+    warnings.extend(report.warnings().cloned());
+    warnings.extend(output.warnings.iter().map(|w| model_warning(w)));
+    let mut value = report::replay_json(model.name(), &output, args.lenient, &log);
+    if let Value::Object(m) = &mut value {
+        m.insert("warnings".into(), warnings_json(&warnings));
+    }
     if let Some(out) = &args.out {
-        let staged = StagedDir::new(out)?;
-        model.write_outputs(&output, staged.path())?;
-        let path = staged.path().join("summary.json");
-        std::fs::write(&path, report::json_line(&value) + "\n")
-            .map_err(|e| RunError::io(&path, e))?;
-        let dir = staged.commit()?;
+        let dir = write_out(out, |dir| {
+            model.write_outputs(&output, dir)?;
+            let path = dir.join("summary.json");
+            std::fs::write(&path, report::json_line(&value) + "\n")
+                .map_err(|e| RunError::io(&path, e))
+        })?;
         emit(&value, args.json);
         note(args.json, &format!("outputs written to {}", dir.display()));
     } else {
         emit(&value, args.json);
     }
     Ok(())
+}
+
+/// Reads the log and runs the preflight (bad rows skipped and IMU gaps or a
+/// frozen IMU downgraded to warnings when `lenient`).
+fn read_and_check(
+    dir: &std::path::Path,
+    lenient: bool,
+    max_gap_periods: f64,
+    model_files: Option<&'static [&'static str]>,
+) -> Result<(LogDir, preflight::Report), RunError> {
+    if !(max_gap_periods.is_finite() && max_gap_periods >= 1.0) {
+        return Err(RunError::Invalid(format!(
+            "--max-gap-periods {max_gap_periods}: expected a number >= 1"
+        )));
+    }
+    let strictness = if lenient {
+        Strictness::Lenient
+    } else {
+        Strictness::Strict
+    };
+    let log = LogDir::read(dir, strictness)?;
+    let options = PreflightOptions {
+        lenient,
+        max_gap_periods,
+        model_files,
+        ..PreflightOptions::default()
+    };
+    let report = preflight::check(&log, &options);
+    Ok((log, report))
+}
+
+/// A replay model's note as a warning: a file the model does not use (or
+/// scores only in part) names it.
+fn model_warning(text: &str) -> Warning {
+    let file = text
+        .split_whitespace()
+        .map(|w| w.trim_matches(|c: char| !c.is_alphanumeric() && c != '.' && c != '_'))
+        .find(|w| w.ends_with(".csv"));
+    match file {
+        Some(f) if text.contains("not used") => Warning::about(WarningKind::UnusedFile, f, text),
+        Some(f) if text.contains("are scored") => {
+            Warning::about(WarningKind::PartialScoring, f, text)
+        }
+        _ => Warning {
+            kind: WarningKind::Model,
+            file: None,
+            line: None,
+            key: None,
+            message: text.to_string(),
+        },
+    }
+}
+
+/// The JSON `warnings` array: `{"kind","file","line","key","message"}`
+/// objects (`null` for an unknown location part).
+pub fn warnings_json(warnings: &[Warning]) -> Value {
+    Value::Array(
+        warnings
+            .iter()
+            .map(|w| {
+                serde_json::json!({
+                    "kind": w.kind.as_str(),
+                    "file": w.file,
+                    "line": w.line,
+                    "key": w.key,
+                    "message": w.message,
+                })
+            })
+            .collect(),
+    )
+}
+
+/// Writes an output directory atomically: `fill` writes into a staging
+/// directory that is moved to `out` at the end, removed on error or on
+/// SIGINT/SIGTERM. Errors name `out`, the path the user gave.
+fn write_out(
+    out: &std::path::Path,
+    fill: impl FnOnce(&std::path::Path) -> Result<(), RunError>,
+) -> Result<PathBuf, RunError> {
+    let at_out = |e: RunError| match e {
+        RunError::Io { source, .. } => {
+            RunError::Invalid(format!("--out {}: {source}", out.display()))
+        }
+        other => other,
+    };
+    let staged = StagedDir::new(out).map_err(at_out)?;
+    let pending = Pending::new(staged.path());
+    fill(staged.path()).map_err(|e| match e {
+        RunError::Io { source, path } => RunError::Invalid(format!(
+            "--out {}: writing {}: {source}",
+            out.display(),
+            path.file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default()
+        )),
+        other => other,
+    })?;
+    pending.finish(|| staged.commit()).map_err(at_out)
+}
+
+/// `navsim check`: reads the log, runs the preflight and prints every
+/// finding; fails when there is an error.
+pub fn cmd_check(args: &CheckArgs) -> Result<(), RunError> {
+    let (log, report) = read_and_check(&args.dir, args.lenient, args.max_gap_periods, None)?;
+    let errors: Vec<Warning> = report.errors().cloned().collect();
+    let mut warnings = log.warnings.clone();
+    warnings.extend(report.warnings().cloned());
+    let span = log.imu_time_span();
+    let value = serde_json::json!({
+        "dir": args.dir.display().to_string(),
+        "ok": errors.is_empty(),
+        "imu_rows": log.imu.len(),
+        "imu_span_s": span.map(|(a, b)| b - a),
+        "errors": warnings_json(&errors),
+        "warnings": warnings_json(&warnings),
+    });
+    if args.json {
+        println!("{}", report::json_line(&value));
+    } else {
+        println!(
+            "{}: {} IMU rows over {:.3} s",
+            args.dir.display(),
+            log.imu.len(),
+            span.map_or(0.0, |(a, b)| b - a)
+        );
+        for e in &errors {
+            println!("error: {e}");
+        }
+        for w in &warnings {
+            println!("warning: {w}");
+        }
+        if errors.is_empty() && warnings.is_empty() {
+            println!("no problems found");
+        }
+    }
+    match errors.len() {
+        0 => Ok(()),
+        n => Err(RunError::Invalid(format!(
+            "{n} problem(s) found; first: {}",
+            errors[0]
+        ))),
+    }
 }
 
 /// `navsim simulate`.
@@ -437,6 +626,7 @@ pub fn run(cli: &Cli) -> Result<(), RunError> {
         Some(Command::Simulate(a)) => cmd_simulate(a),
         Some(Command::Merge(a)) => cmd_merge(a),
         Some(Command::List(a)) => cmd_list(a),
+        Some(Command::Check(a)) => cmd_check(a),
         None => cmd_scenario(&ScenarioArgs {
             name: default_scenario().to_string(),
             seed: DEFAULT_SEED,

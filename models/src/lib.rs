@@ -2,10 +2,12 @@
 #![warn(missing_docs)]
 
 pub mod cli;
+pub mod interrupt;
 pub mod leveling;
 pub mod marker;
 pub mod montecarlo;
 pub mod plot;
+pub mod preflight;
 pub mod report;
 pub mod scenario_text;
 pub mod sdins25;

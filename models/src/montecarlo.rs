@@ -332,6 +332,17 @@ pub trait ReplayModel: Send + Sync {
     fn description(&self) -> &'static str {
         ""
     }
+    /// Whether the model has a stationary measurement model (`--stationary`
+    /// is refused otherwise).
+    fn has_stationary_mode(&self) -> bool {
+        false
+    }
+    /// The log files the model reads (`imu.csv`, `dvl.csv`, ...), when it
+    /// declares them: other files present are listed as unused in the
+    /// warnings. `None`: not declared, nothing is listed.
+    fn log_files(&self) -> Option<&'static [&'static str]> {
+        None
+    }
     /// Runs the model over the log. Time only the filter into `runtime_s`.
     fn replay(&self, log: &LogDir, options: &ReplayOptions) -> Result<ReplayOutput, RunError>;
     /// Writes time series and plots into `dir` (which exists). Default: each table

@@ -26,6 +26,10 @@
 //! is not silently dropped; the lenient reader ignores it and lists it in
 //! [`LogDir::unknown_files`]. Files with other extensions are not looked at.
 //!
+//! Problems that do not stop reading are collected in [`LogDir::warnings`]:
+//! unknown `meta.toml` sections, unknown files and skipped rows (lenient).
+//! A symbolic link whose target is missing is an error, never an absent sensor.
+//!
 //! Writing goes to a temporary sibling directory that is moved into place only once
 //! every file is complete, so an error never leaves a partial log behind.
 
@@ -33,6 +37,7 @@ mod error;
 pub mod fuzz;
 mod meta;
 mod rows;
+mod warning;
 
 use std::collections::BTreeMap;
 use std::fs;
@@ -47,6 +52,7 @@ pub use rows::{
     format_f64, parse_csv, write_csv, AltitudeRow, Cell, DepthRow, DvlRow, HeadingRow, ImuRow, Row,
     RpmRow, SpeedRow, Table, TruthRow, UsblRow, MAX_SKIP_REASONS,
 };
+pub use warning::{Warning, WarningKind};
 
 /// How the reader treats bad CSV rows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -106,6 +112,9 @@ pub struct LogDir {
     /// `.csv` files of the directory that are not log files, sorted by name,
     /// ignored by the lenient reader (the strict reader refuses them).
     pub unknown_files: Vec<String>,
+    /// What the reader noticed without refusing the log: unknown `meta.toml`
+    /// sections, unknown files and skipped rows (lenient reading).
+    pub warnings: Vec<Warning>,
 }
 
 /// The `.csv` files of `dir` (extension compared without case) whose names are
@@ -142,6 +151,7 @@ fn read_table<R: Row>(
     let file = match fs::File::open(&path) {
         Ok(f) => f,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            dangling_link(&path)?;
             if required {
                 return Err(LogError::MissingFile {
                     file: R::FILE.to_string(),
@@ -178,6 +188,7 @@ impl LogDir {
             skipped_rows: BTreeMap::new(),
             skip_reasons: Vec::new(),
             unknown_files: Vec::new(),
+            warnings: Vec::new(),
         }
     }
 
@@ -197,14 +208,15 @@ impl LogDir {
                 problem: format!("not valid UTF-8 ({e})"),
             })?,
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                dangling_link(&meta_path)?;
                 return Err(LogError::MissingFile {
                     file: META_FILE.to_string(),
                     dir: dir.to_path_buf(),
-                })
+                });
             }
             Err(e) => return Err(LogError::io(meta_path, e)),
         };
-        let meta = Meta::parse(&meta_text)?;
+        let (meta, mut warnings) = Meta::parse_with_warnings(&meta_text)?;
         let unknown_files = unknown_csv_files(dir)?;
         if let (Strictness::Strict, Some(file)) = (strictness, unknown_files.first()) {
             return Err(LogError::UnknownFile {
@@ -216,7 +228,7 @@ impl LogDir {
         let mut rs = Vec::new();
         let s = strictness;
         let imu = read_table::<ImuRow>(dir, s, true, &mut sk, &mut rs)?.unwrap_or_default();
-        Ok(LogDir {
+        let mut log = LogDir {
             meta,
             imu,
             dvl: read_table(dir, s, false, &mut sk, &mut rs)?,
@@ -230,7 +242,42 @@ impl LogDir {
             skipped_rows: sk,
             skip_reasons: rs,
             unknown_files,
-        })
+            warnings: Vec::new(),
+        };
+        for file in &log.unknown_files {
+            warnings.push(Warning::about(
+                WarningKind::UnknownFile,
+                file,
+                "not a log file: ignored",
+            ));
+        }
+        for r in &log.skip_reasons {
+            warnings.push(
+                Warning::about(
+                    WarningKind::SkippedRow,
+                    &r.file,
+                    format!("row skipped: {}", r.problem),
+                )
+                .at_line(r.line)
+                .with_key(&r.column),
+            );
+        }
+        let listed = log.skip_reasons.len();
+        let total = log.total_skipped_rows();
+        if total > listed {
+            warnings.push(Warning {
+                kind: WarningKind::SkippedRow,
+                file: None,
+                line: None,
+                key: None,
+                message: format!(
+                    "{} more rows skipped (first {listed} listed)",
+                    total - listed
+                ),
+            });
+        }
+        log.warnings = warnings;
+        Ok(log)
     }
 
     /// Total number of rows the lenient reader skipped.
@@ -396,6 +443,26 @@ impl Iterator for Events<'_> {
         let (k, e) = best?;
         self.next[k] += 1;
         Some(e)
+    }
+}
+
+/// An error if `path` is a symbolic link whose target does not exist (the
+/// sensor must not silently vanish); `Ok` when there is nothing at `path`.
+fn dangling_link(path: &Path) -> Result<(), LogError> {
+    match fs::symlink_metadata(path) {
+        Ok(m) if m.file_type().is_symlink() => {
+            let target = fs::read_link(path)
+                .map(|t| t.display().to_string())
+                .unwrap_or_else(|_| "?".into());
+            Err(LogError::io(
+                path,
+                std::io::Error::new(
+                    std::io::ErrorKind::NotFound,
+                    format!("symbolic link to `{target}`, which does not exist"),
+                ),
+            ))
+        }
+        _ => Ok(()),
     }
 }
 

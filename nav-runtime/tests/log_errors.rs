@@ -77,8 +77,19 @@ fn cases() -> Vec<Case> {
         ("meta missing key", "meta.toml", Some("[initial]\nlat = 0.1\ndepth = 3\n"), Meta("initial.lon", Some(1)), true),
         ("meta unknown key", "meta.toml", Some("[initial]\nlat = 0.1\nlon = 0.2\ndepth = 3\nheight = 4\n"),
             Meta("initial.height", Some(5)), true),
-        ("meta unknown section", "meta.toml", Some("[initial]\nlat = 0.1\nlon = 0.2\ndepth = 3\n\n[extra]\na = 1\n"),
-            Meta("extra", Some(6)), true),
+        ("meta zero noise sigma", "meta.toml",
+            Some("[initial]\nlat = 0.1\nlon = 0.2\ndepth = 3\n[sensors.dvl]\nnoise_sigma = 0\n"),
+            Meta("sensors.dvl.noise_sigma", Some(6)), true),
+        ("meta zero imu noise sigma", "meta.toml",
+            Some("[initial]\nlat = 0.1\nlon = 0.2\ndepth = 3\n[sensors.imu]\ngyro_noise_sigma = 0.0\naccel_noise_sigma = 0.01\n"),
+            Meta("sensors.imu.gyro_noise_sigma", Some(6)), true),
+        ("meta yaw in degrees", "meta.toml", Some("[initial]\nlat = 0.1\nlon = 0.2\ndepth = 3\nyaw = 90\n"),
+            Meta("initial.yaw", Some(5)), true),
+        ("meta misalignment sigma negative", "meta.toml",
+            Some("[initial]\nlat = 0.1\nlon = 0.2\ndepth = 3\n[sensors.usbl]\nnoise_sigma = 1\nmisalignment_sigma = -1\n"),
+            Meta("sensors.usbl.misalignment_sigma", Some(7)), true),
+        ("meta initial t not a number", "meta.toml", Some("[initial]\nt = \"start\"\nlat = 0.1\nlon = 0.2\ndepth = 3\n"),
+            Meta("initial.t", Some(2)), true),
         ("meta unknown sensor", "meta.toml",
             Some("[initial]\nlat = 0.1\nlon = 0.2\ndepth = 3\n[sensors.sonar]\nnoise_sigma = 1.0\n"),
             Meta("sensors.sonar", Some(5)), true),
@@ -272,6 +283,127 @@ fn not_a_directory_is_an_io_error() {
     let err = LogDir::read(&missing, Strictness::Strict).unwrap_err();
     assert!(matches!(err, LogError::Io { .. }));
     assert!(err.to_string().contains("nope"));
+}
+
+/// Meta problems whose message must say more than the key: the likely cause
+/// or the closest valid name.
+#[test]
+fn meta_messages_name_the_likely_cause() {
+    for (text, needle) in [
+        (
+            "[initial]\nlat = 0.1\nlon = 0.2\ndepth = 3\nyaw = 179.9\n",
+            "degrees?",
+        ),
+        (
+            "[initial]\nlat = 0.1\nlon = 0.2\ndepth = 3\nlatt = 1\n",
+            "did you mean `lat`?",
+        ),
+        (
+            "[initial]\nlat = 0.1\nlon = 0.2\ndepth = 3\n[sensors.dvl]\nnoise_sgima = 1\n",
+            "did you mean `noise_sigma`?",
+        ),
+        (
+            "[initial]\nlat = 0.1\nlon = 0.2\ndepth = 3\n[sensors.dvll]\nnoise_sigma = 1\n",
+            "did you mean `dvl`?",
+        ),
+        (
+            "[initial]\nlat = 0.1\nlon = 0.2\ndepth = 3\n[sensors.dvl]\nnoise_sigma = 0\n",
+            "must be > 0",
+        ),
+    ] {
+        let msg = Meta::parse(text).unwrap_err().to_string();
+        assert!(msg.contains(needle), "{text:?}: {msg}");
+    }
+}
+
+/// Another tool's top-level sections are accepted and listed as warnings
+/// naming the section and its line; the new `[initial] t` and USBL
+/// misalignment keys are read and round-trip.
+#[test]
+fn meta_unknown_sections_are_warnings_and_new_keys_are_read() {
+    let text = "[vehicle]\nname = \"x\"\n[initial]\nt = 2.5\nlat = 0.1\nlon = 0.2\ndepth = 3\n\
+                [sensors.usbl]\nnoise_sigma = 1\nbias_sigma = 0.5\nmisalignment_sigma = 0.001\n\
+                [generator.settings]\nseed = 4\n";
+    let (meta, warnings) = Meta::parse_with_warnings(text).unwrap();
+    assert_eq!(meta.initial.t, Some(2.5));
+    assert_eq!(meta.sensors.usbl_misalignment_sigma, Some(0.001));
+    let names: Vec<_> = warnings
+        .iter()
+        .map(|w| (w.key.clone().unwrap(), w.line))
+        .collect();
+    assert_eq!(
+        names,
+        [
+            ("generator".to_string(), Some(12)),
+            ("vehicle".to_string(), Some(1))
+        ]
+    );
+    assert!(warnings
+        .iter()
+        .all(|w| w.kind == WarningKind::UnknownSection));
+    assert_eq!(Meta::parse(&meta.to_toml()).unwrap(), meta);
+    let bare = Meta::parse("[initial]\nlat = 0\nlon = 1\ndepth = 5\n").unwrap();
+    assert_eq!(
+        (bare.initial.t, bare.sensors.usbl_misalignment_sigma),
+        (None, None)
+    );
+    // The reader carries them into the log's warnings.
+    let dir = sample_dir("unknown-section");
+    let meta_path = dir.path().join("meta.toml");
+    let old = std::fs::read_to_string(&meta_path).unwrap();
+    std::fs::write(
+        &meta_path,
+        format!("{old}\n[generator]\nname = \"other\"\n"),
+    )
+    .unwrap();
+    let log = LogDir::read(dir.path(), Strictness::Strict).unwrap();
+    assert_eq!(log.warnings.len(), 1, "{:?}", log.warnings);
+    assert!(log.warnings[0].to_string().starts_with("meta.toml:"));
+}
+
+/// A DVL row with some cells empty is not "no bottom lock": an error naming
+/// line and column, a skipped row (and a warning) with the lenient reader.
+#[test]
+fn partly_empty_dvl_row_is_refused() {
+    let dir = sample_dir("partial");
+    std::fs::write(
+        dir.path().join("dvl.csv"),
+        "t,vx,vy,vz\n0.1,1,2,3\n0.2,,,\n0.3,1,,3\n",
+    )
+    .unwrap();
+    let err = LogDir::read(dir.path(), Strictness::Strict).unwrap_err();
+    assert_eq!(
+        (err.file(), err.line(), err.column()),
+        (Some("dvl.csv"), Some(4), Some("vy"))
+    );
+    assert!(
+        matches!(err.csv_problem(), Some(CsvProblem::PartlyEmpty)),
+        "{err}"
+    );
+    let log = LogDir::read(dir.path(), Strictness::Lenient).unwrap();
+    assert_eq!(log.dvl.as_ref().unwrap().len(), 2);
+    assert!(log
+        .warnings
+        .iter()
+        .any(|w| w.kind == WarningKind::SkippedRow
+            && w.file.as_deref() == Some("dvl.csv")
+            && w.line == Some(4)));
+}
+
+/// A symbolic link whose target is gone is an error naming the link, not
+/// an absent sensor.
+#[cfg(unix)]
+#[test]
+fn dangling_symlink_is_an_error() {
+    let dir = sample_dir("dangling");
+    std::fs::remove_file(dir.path().join("dvl.csv")).unwrap();
+    std::os::unix::fs::symlink(dir.path().join("gone.csv"), dir.path().join("dvl.csv")).unwrap();
+    let err = LogDir::read(dir.path(), Strictness::Lenient).unwrap_err();
+    let msg = err.to_string();
+    assert!(
+        msg.contains("dvl.csv") && msg.contains("does not exist"),
+        "{msg}"
+    );
 }
 
 #[test]

@@ -450,6 +450,12 @@ impl ReplayModel for Leveling6Replay {
     fn description(&self) -> &'static str {
         "LEVELING-6 roll/pitch alignment over imu.csv + speed.csv (stationary detected or --stationary)"
     }
+    fn has_stationary_mode(&self) -> bool {
+        true
+    }
+    fn log_files(&self) -> Option<&'static [&'static str]> {
+        Some(&["imu.csv", "speed.csv", "truth.csv"])
+    }
     fn replay(&self, log: &LogDir, options: &ReplayOptions) -> Result<ReplayOutput, RunError> {
         let stationary = options.stationary || looks_stationary(log);
         let opts = LevelingOptions {

@@ -129,7 +129,9 @@ pub fn run_and_score_vehicle<V: InsVehicle<N>, const N: usize>(
     let scored = log
         .truth
         .as_ref()
-        .map(|t| score::score(&run.estimates, t, compass_bias));
+        .map(|t| score::score(&run.estimates, t, compass_bias, log.imu_time_span()))
+        .transpose()
+        .map_err(|e| RunError::Invalid(e.to_string()))?;
     Ok((run, scored))
 }
 
@@ -161,6 +163,7 @@ fn metrics<V: InsVehicle<N>, const N: usize>(
             ("horizontal_error_rms_m".into(), s.horizontal_error_rms_m),
             ("depth_error_rms_m".into(), s.depth_error_rms_m),
             ("nees_mean".into(), s.nees_mean),
+            ("scored_seconds".into(), s.scored_seconds),
             (
                 "compass_bias_error_final_deg".into(),
                 s.compass_bias_error_final_deg,
@@ -503,6 +506,17 @@ impl<V: InsVehicle<N>, const N: usize> ReplayModel for InsReplay<V, N> {
     fn description(&self) -> &'static str {
         V::DESCRIPTION
     }
+    fn log_files(&self) -> Option<&'static [&'static str]> {
+        // Aiding files of sensors `V` lacks are reported by the replay itself.
+        Some(&[
+            "imu.csv",
+            "dvl.csv",
+            "depth.csv",
+            "heading.csv",
+            "usbl.csv",
+            "truth.csv",
+        ])
+    }
     fn replay(&self, log: &LogDir, options: &ReplayOptions) -> Result<ReplayOutput, RunError> {
         Layout::of::<V, N>()?;
         let (run, scored) = run_and_score_vehicle::<V, N>(log, &FilterOptions::default(), None)?;
@@ -528,9 +542,11 @@ impl<V: InsVehicle<N>, const N: usize> ReplayModel for InsReplay<V, N> {
                 ("horizontal_error_rms_m", s.horizontal_error_rms_m),
                 ("depth_error_rms_m", s.depth_error_rms_m),
                 ("nees_mean", s.nees_mean),
+                ("scored_seconds", s.scored_seconds),
             ] {
                 out.metrics.insert(k.into(), Value::from(v));
             }
+            out.warnings.extend(s.partial.clone());
         }
         let single = RunResult {
             metrics: metrics(&run, scored.as_ref()).into_iter().collect(),

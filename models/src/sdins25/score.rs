@@ -66,6 +66,46 @@ pub struct Scored {
     pub compass_bias_error_final_deg: f64,
     /// Filter sigma of the compass bias at the end (deg).
     pub compass_bias_sigma_final_deg: f64,
+    /// Time from the first to the last scored truth row (s): the overlap of
+    /// truth and estimate.
+    pub scored_seconds: f64,
+    /// Number of scored truth rows.
+    pub scored_rows: usize,
+    /// Set when the scored rows cover less than half of the truth's span.
+    pub partial: Option<String>,
+}
+
+/// Why a run cannot be scored.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ScoreError {
+    /// `truth.csv` has no rows.
+    #[error("truth.csv: no rows after the header: nothing to score (remove the file to replay without scoring)")]
+    NoTruth,
+    /// Fewer than two truth rows have an estimate.
+    #[error(
+        "truth.csv (t = {truth_start}..{truth_end} s) and the estimate overlap in {rows} row(s) only: \
+         nothing to score (the IMU covers t = {imu_start}..{imu_end} s)"
+    )]
+    NoOverlap {
+        /// First truth time, s.
+        truth_start: f64,
+        /// Last truth time, s.
+        truth_end: f64,
+        /// First IMU time, s (NaN without IMU rows).
+        imu_start: f64,
+        /// Last IMU time, s.
+        imu_end: f64,
+        /// Truth rows with an estimate.
+        rows: usize,
+    },
+    /// An error came out non-finite (a truth value far out of range).
+    #[error(
+        "truth.csv:{line}: the error against this row is not finite (truth value out of range?)"
+    )]
+    NotFinite {
+        /// 1-based line of the truth row.
+        line: u64,
+    },
 }
 
 /// The truth row as a navigation state.
@@ -79,24 +119,29 @@ pub fn truth_state(r: &TruthRow) -> NavState {
     }
 }
 
-/// Scores `estimates` (one per truth row, `None` where missing) against `truth`.
-/// `compass_bias` is the true compass bias (rad) when known.
+/// Scores `estimates` (one per truth row, `None` where missing) against `truth`,
+/// only where both exist (truth rows outside the estimate's span are not
+/// scored; `scored_seconds` says how much is). `compass_bias` is the true
+/// compass bias (rad) when known; `imu_span` the IMU's first and last time, for
+/// the messages.
+///
+/// # Errors
+/// No truth rows, fewer than two scored rows, or a non-finite error.
 pub fn score(
     estimates: &[Option<Estimate>],
     truth: &[TruthRow],
     compass_bias: Option<f64>,
-) -> Scored {
+    imu_span: Option<(f64, f64)>,
+) -> Result<Scored, ScoreError> {
     let mut table = RunTable::new(TABLE, &COLUMNS);
     let Some(first) = truth.first() else {
-        return Scored {
-            table,
-            ..Scored::default()
-        };
+        return Err(ScoreError::NoTruth);
     };
+    let (mut t_first, mut t_last) = (f64::NAN, f64::NAN);
     let frame = LocalNed::new(Geodetic::new(first.lat, first.lon, -first.depth));
     let (mut h2, mut d2, mut nees_sum, mut n) = (0.0, 0.0, 0.0, 0usize);
     let mut out = Scored::default();
-    for (est, row) in estimates.iter().zip(truth) {
+    for (i, (est, row)) in estimates.iter().zip(truth).enumerate() {
         let Some(e) = est else { continue };
         let tr = truth_state(row);
         let err = e.nav.error_from(&tr);
@@ -106,6 +151,13 @@ pub fn score(
         ]);
         let nees = Cholesky::new(e.cov).map_or(f64::NAN, |c| x.dot(&c.solve(&x)));
         let horizontal = p.x.hypot(p.y);
+        if !(horizontal.is_finite() && p.z.is_finite()) {
+            return Err(ScoreError::NotFinite { line: i as u64 + 2 });
+        }
+        if n == 0 {
+            t_first = row.t;
+        }
+        t_last = row.t;
         h2 += horizontal * horizontal;
         d2 += p.z * p.z;
         nees_sum += nees;
@@ -150,19 +202,34 @@ pub fn score(
             cb_sig,
         ]);
     }
-    if n > 0 {
-        let k = n as f64;
-        out.horizontal_error_rms_m = (h2 / k).sqrt();
-        out.depth_error_rms_m = (d2 / k).sqrt();
-        out.nees_mean = nees_sum / k;
-    } else {
-        out.horizontal_error_final_m = f64::NAN;
-        out.horizontal_error_rms_m = f64::NAN;
-        out.depth_error_rms_m = f64::NAN;
-        out.nees_mean = f64::NAN;
+    if n < 2 {
+        let (imu_start, imu_end) = imu_span.unwrap_or((f64::NAN, f64::NAN));
+        return Err(ScoreError::NoOverlap {
+            truth_start: first.t,
+            truth_end: truth.last().map_or(first.t, |r| r.t),
+            imu_start,
+            imu_end,
+            rows: n,
+        });
+    }
+    let k = n as f64;
+    out.horizontal_error_rms_m = (h2 / k).sqrt();
+    out.depth_error_rms_m = (d2 / k).sqrt();
+    out.nees_mean = nees_sum / k;
+    out.scored_seconds = t_last - t_first;
+    out.scored_rows = n;
+    let truth_span = truth.last().map_or(0.0, |r| r.t) - first.t;
+    if out.scored_seconds < 0.5 * truth_span {
+        out.partial = Some(format!(
+            "truth.csv: only {:.1} s of its {:.1} s (t = {t_first}..{t_last} s, {n} of {} rows) \
+             overlap the estimate and are scored",
+            out.scored_seconds,
+            truth_span,
+            truth.len()
+        ));
     }
     out.table = table;
-    out
+    Ok(out)
 }
 
 /// Two-sided 95 % band of the NEES of `dof` states averaged over `runs`

@@ -3,10 +3,14 @@
 use std::fmt::Write as _;
 
 use super::error::LogError;
+use super::warning::{Warning, WarningKind};
 
 /// `[initial]`: the initial estimate (not necessarily the truth). Angles in rad.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Initial {
+    /// Epoch of the initial estimate, s in the log's time base (optional; when
+    /// absent the estimate holds at the start of the first IMU interval).
+    pub t: Option<f64>,
     /// Latitude, rad (required).
     pub lat: f64,
     /// Longitude, rad (required).
@@ -98,6 +102,10 @@ pub struct Sensors {
     pub rpm: Option<SensorNoise>,
     /// `[sensors.altitude]`.
     pub altitude: Option<SensorNoise>,
+    /// `[sensors.usbl] misalignment_sigma`: one-sigma prior of the USBL array
+    /// misalignment about each axis, rad (optional; independent of the USBL
+    /// bias sigma; `0` = no misalignment state).
+    pub usbl_misalignment_sigma: Option<f64>,
 }
 
 /// Aiding sensor names accepted under `[sensors.<name>]` (besides `imu`).
@@ -134,6 +142,7 @@ impl Meta {
     pub fn at(lat: f64, lon: f64, depth: f64) -> Self {
         Meta {
             initial: Initial {
+                t: None,
                 lat,
                 lon,
                 depth,
@@ -150,12 +159,21 @@ impl Meta {
         }
     }
 
+    /// Parses and validates `meta.toml` text; [`Meta::parse_with_warnings`]
+    /// without the warnings.
+    pub fn parse(text: &str) -> Result<Meta, LogError> {
+        Self::parse_with_warnings(text).map(|(meta, _)| meta)
+    }
+
     /// Parses and validates `meta.toml` text.
     ///
-    /// Unknown sections, unknown keys and unknown sensor names are errors; so are
-    /// non-numbers, non-finite numbers, negative sigmas, `|lat| > pi/2`, `|lon| > 2 pi`,
-    /// `|roll| > pi` and `|pitch| > pi/2`.
-    pub fn parse(text: &str) -> Result<Meta, LogError> {
+    /// Unknown keys inside a known section and unknown sensor names are errors
+    /// (with the closest valid name suggested); so are non-numbers, non-finite
+    /// numbers, negative sigmas, zero or negative noise sigmas, `|lat| > pi/2`,
+    /// `|lon| > 2 pi`, `|roll| > pi`, `|pitch| > pi/2` and `|yaw| > 2 pi` (named as
+    /// degrees, the likely cause). An unknown top-level section (another tool's
+    /// `[vehicle]` or `[generator]`) is accepted and returned as a warning.
+    pub fn parse_with_warnings(text: &str) -> Result<(Meta, Vec<Warning>), LogError> {
         let table: toml::Table = text.parse().map_err(|e: toml::de::Error| {
             let line = e.span().map(|s| {
                 text.as_bytes()[..s.start.min(text.len())]
@@ -171,7 +189,26 @@ impl Meta {
             }
         })?;
         let cx = Cx { text };
-        cx.check_keys(&table, "", &["initial", "initial_sigma", "sensors", "usbl"])?;
+        let mut warnings = Vec::new();
+        for name in table.keys() {
+            if !TOP_LEVEL.contains(&name.as_str()) {
+                let line = cx.locate(name, "");
+                let mut message = format!(
+                    "unknown section `{name}` ignored (sections read: {})",
+                    TOP_LEVEL.join(", ")
+                );
+                if let Some(close) = did_you_mean(name, TOP_LEVEL) {
+                    message.push_str(&format!("; did you mean `{close}`?"));
+                }
+                warnings.push(Warning {
+                    kind: WarningKind::UnknownSection,
+                    file: Some(super::META_FILE.to_string()),
+                    line,
+                    key: Some(name.clone()),
+                    message,
+                });
+            }
+        }
 
         let initial = cx
             .section(&table, "", "initial")?
@@ -180,10 +217,11 @@ impl Meta {
             initial,
             "initial",
             &[
-                "lat", "lon", "depth", "vn", "ve", "vd", "roll", "pitch", "yaw",
+                "t", "lat", "lon", "depth", "vn", "ve", "vd", "roll", "pitch", "yaw",
             ],
         )?;
         let initial = Initial {
+            t: cx.opt(initial, "initial", "t", Range::Any)?,
             lat: cx.req(initial, "initial", "lat", Range::Lat)?,
             lon: cx.req(initial, "initial", "lon", Range::Lon)?,
             depth: cx.req(initial, "initial", "depth", Range::Any)?,
@@ -192,7 +230,7 @@ impl Meta {
             vd: cx.opt(initial, "initial", "vd", Range::Any)?.unwrap_or(0.0),
             roll: cx.opt(initial, "initial", "roll", Range::Roll)?,
             pitch: cx.opt(initial, "initial", "pitch", Range::Lat)?,
-            yaw: cx.opt(initial, "initial", "yaw", Range::Any)?,
+            yaw: cx.opt(initial, "initial", "yaw", Range::Yaw)?,
         };
 
         let initial_sigma = match cx.section(&table, "", "initial_sigma")? {
@@ -230,11 +268,11 @@ impl Meta {
                     gyro_bias_sigma: cx
                         .opt(imu, sec, "gyro_bias_sigma", Range::Sigma)?
                         .unwrap_or(0.0),
-                    gyro_noise_sigma: cx.req(imu, sec, "gyro_noise_sigma", Range::Sigma)?,
+                    gyro_noise_sigma: cx.req(imu, sec, "gyro_noise_sigma", Range::Noise)?,
                     accel_bias_sigma: cx
                         .opt(imu, sec, "accel_bias_sigma", Range::Sigma)?
                         .unwrap_or(0.0),
-                    accel_noise_sigma: cx.req(imu, sec, "accel_noise_sigma", Range::Sigma)?,
+                    accel_noise_sigma: cx.req(imu, sec, "accel_noise_sigma", Range::Noise)?,
                 });
             }
             for name in AIDING_SENSORS {
@@ -242,10 +280,20 @@ impl Meta {
                 let Some(t) = cx.section(s, "sensors", name)? else {
                     continue;
                 };
-                cx.check_keys(t, &sec, &["bias_sigma", "noise_sigma"])?;
+                if *name == "usbl" {
+                    cx.check_keys(
+                        t,
+                        &sec,
+                        &["bias_sigma", "noise_sigma", "misalignment_sigma"],
+                    )?;
+                    sensors.usbl_misalignment_sigma =
+                        cx.opt(t, &sec, "misalignment_sigma", Range::Sigma)?;
+                } else {
+                    cx.check_keys(t, &sec, &["bias_sigma", "noise_sigma"])?;
+                }
                 let noise = SensorNoise {
                     bias_sigma: cx.opt(t, &sec, "bias_sigma", Range::Sigma)?.unwrap_or(0.0),
-                    noise_sigma: cx.req(t, &sec, "noise_sigma", Range::Sigma)?,
+                    noise_sigma: cx.req(t, &sec, "noise_sigma", Range::Noise)?,
                 };
                 let slot = match *name {
                     "dvl" => &mut sensors.dvl,
@@ -272,12 +320,15 @@ impl Meta {
             }
         };
 
-        Ok(Meta {
-            initial,
-            initial_sigma,
-            sensors,
-            usbl,
-        })
+        Ok((
+            Meta {
+                initial,
+                initial_sigma,
+                sensors,
+                usbl,
+            },
+            warnings,
+        ))
     }
 
     /// Renders `meta.toml` text that [`Meta::parse`] reads back to the same value.
@@ -290,6 +341,7 @@ impl Meta {
         let i = &self.initial;
         let _ = writeln!(s, "[initial]");
         for (k, v) in [
+            ("t", i.t),
             ("lat", Some(i.lat)),
             ("lon", Some(i.lon)),
             ("depth", Some(i.depth)),
@@ -338,6 +390,9 @@ impl Meta {
                 let _ = writeln!(s, "\n[sensors.{name}]");
                 let _ = writeln!(s, "bias_sigma = {}", f(n.bias_sigma));
                 let _ = writeln!(s, "noise_sigma = {}", f(n.noise_sigma));
+                if let ("usbl", Some(m)) = (name, sn.usbl_misalignment_sigma) {
+                    let _ = writeln!(s, "misalignment_sigma = {}", f(m));
+                }
             }
         }
         if let Some(u) = &self.usbl {
@@ -350,13 +405,45 @@ impl Meta {
     }
 }
 
+/// The top-level sections `meta.toml` is read from.
+const TOP_LEVEL: &[&str] = &["initial", "initial_sigma", "sensors", "usbl"];
+
+/// The valid name closest to `name` (edit distance at most 2, or a
+/// case-insensitive match), if any.
+fn did_you_mean<'a>(name: &str, valid: &[&'a str]) -> Option<&'a str> {
+    let lower = name.to_ascii_lowercase();
+    valid
+        .iter()
+        .map(|v| (edit_distance(&lower, v), *v))
+        .filter(|(d, v)| *d <= 2 && *d < v.len())
+        .min_by_key(|(d, _)| *d)
+        .map(|(_, v)| v)
+}
+
+/// Levenshtein distance of two short strings (bytes).
+fn edit_distance(a: &str, b: &str) -> usize {
+    let (a, b) = (a.as_bytes(), b.as_bytes());
+    let mut prev: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.iter().enumerate() {
+        let mut cur = vec![i + 1; b.len() + 1];
+        for (j, cb) in b.iter().enumerate() {
+            let sub = prev[j] + usize::from(ca != cb);
+            cur[j + 1] = sub.min(prev[j + 1] + 1).min(cur[j] + 1);
+        }
+        prev = cur;
+    }
+    prev[b.len()]
+}
+
 #[derive(Clone, Copy)]
 enum Range {
     Any,
     Lat,
     Lon,
     Roll,
+    Yaw,
     Sigma,
+    Noise,
 }
 
 impl Range {
@@ -367,7 +454,9 @@ impl Range {
             Range::Lat => v.abs() <= FRAC_PI_2,
             Range::Lon => v.abs() <= 2.0 * PI,
             Range::Roll => v.abs() <= PI,
+            Range::Yaw => v.abs() <= 2.0 * PI,
             Range::Sigma => v >= 0.0,
+            Range::Noise => v > 0.0,
         };
         if ok {
             Ok(())
@@ -377,7 +466,11 @@ impl Range {
                 Range::Lat => "allowed: |value| <= pi/2",
                 Range::Lon => "allowed: |value| <= 2 pi",
                 Range::Roll => "allowed: |value| <= pi",
+                Range::Yaw => "allowed: |value| <= 2 pi; degrees? the format is radians",
                 Range::Sigma => "a sigma must be >= 0",
+                Range::Noise => {
+                    "a noise sigma must be > 0: zero noise makes the filter trust the sensor exactly"
+                }
             })
         }
     }
@@ -452,10 +545,11 @@ impl Cx<'_> {
                 } else {
                     "unknown key"
                 };
-                return Err(self.err(
-                    &join(section, k),
-                    format!("{what}; expected one of: {}", allowed.join(", ")),
-                ));
+                let mut problem = format!("{what}; expected one of: {}", allowed.join(", "));
+                if let Some(close) = did_you_mean(k, allowed) {
+                    problem.push_str(&format!("; did you mean `{close}`?"));
+                }
+                return Err(self.err(&join(section, k), problem));
             }
         }
         Ok(())

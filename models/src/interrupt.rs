@@ -1,0 +1,79 @@
+//! Clean-up on interruption: staging directories of `--out` that are being
+//! written are removed when the process receives SIGINT or SIGTERM, so an
+//! interrupted run leaves neither a partial output nor a `.partial-*`
+//! directory behind.
+//!
+//! [`Pending::new`] registers a directory and installs the signal handler
+//! once (a thread waiting for the signal: removing files is not allowed in a
+//! signal handler itself); dropping the [`Pending`] unregisters it. On a
+//! signal every registered directory is removed and the process exits with
+//! status 130 (SIGINT) or 143 (SIGTERM).
+
+use std::path::{Path, PathBuf};
+use std::sync::{Mutex, Once};
+
+static PENDING: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+static HANDLER: Once = Once::new();
+
+/// A directory removed if the process is interrupted while this value lives.
+#[derive(Debug)]
+pub struct Pending {
+    path: PathBuf,
+}
+
+impl Pending {
+    /// Registers `path` (a staging directory being written).
+    pub fn new(path: &Path) -> Pending {
+        install();
+        if let Ok(mut list) = PENDING.lock() {
+            list.push(path.to_path_buf());
+        }
+        Pending {
+            path: path.to_path_buf(),
+        }
+    }
+}
+
+impl Pending {
+    /// Runs `commit` (moving the directory into place) with interruption
+    /// held off, so a signal cannot remove a half-moved directory; then
+    /// unregisters it.
+    pub fn finish<T>(self, commit: impl FnOnce() -> T) -> T {
+        let result = {
+            let _hold = PENDING.lock();
+            commit()
+        };
+        drop(self);
+        result
+    }
+}
+
+impl Drop for Pending {
+    fn drop(&mut self) {
+        if let Ok(mut list) = PENDING.lock() {
+            list.retain(|p| p != &self.path);
+        }
+    }
+}
+
+fn install() {
+    HANDLER.call_once(|| {
+        use signal_hook::consts::{SIGINT, SIGTERM};
+        let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM]) else {
+            return;
+        };
+        std::thread::spawn(move || {
+            if let Some(signal) = signals.forever().next() {
+                // Hold the lock until exit: no directory is committed meanwhile.
+                let list = PENDING.lock();
+                if let Ok(list) = &list {
+                    for dir in list.iter() {
+                        let _ = std::fs::remove_dir_all(dir);
+                    }
+                }
+                eprintln!("error: interrupted; partial outputs removed");
+                std::process::exit(128 + signal);
+            }
+        });
+    });
+}
