@@ -114,6 +114,22 @@
 //! that says so. Blocks have no block-level `let` (write it in the block's
 //! process section or sensor).
 //!
+//! ## Model functions
+//!
+//! `fn name(a, b) = expr;` beside the sections declares a small function,
+//! inlined (scalarized and differentiated) wherever it is called, in the
+//! process section, a sensor or a model-level `let`:
+//!
+//! ```ignore
+//! fn body_axes(q, v) = transpose(quat_to_dcm(q)) * v;
+//! sensor Accel: 3 { h = body_axes(q, [0.0, 0.0, -gravity]); }
+//! ```
+//!
+//! Parameters take any shape (the body is checked for each call's shapes);
+//! the body sees only its parameters and may call builtins and other model
+//! functions, not itself. A function may not be named like a builtin, and
+//! blocks do not declare functions.
+//!
 //! ## Process sections
 //!
 //! - `continuous { .. }`: statements `let name = expr;` and `d/dt state = expr;`.
