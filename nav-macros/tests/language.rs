@@ -157,7 +157,7 @@ fn non_smooth_values_and_one_sided_derivatives() {
 }
 
 nav_runtime::model! {
-    /// A model-level `let` shared by the process section and two sensors;
+    /// Model-level `let`s and functions shared by the process section and two sensors;
     /// the same quaternion dynamics as `QuatAttitude`, with `q` declared a
     /// unit quaternion and a heading declared an angle.
     pub model Shared {
@@ -165,6 +165,8 @@ nav_runtime::model! {
         inputs { gyro: 3 }
         parameters { gravity, heading_rate }
         noise { gyro_noise: 3, heading_noise }
+        fn body_axes(q, v) = transpose(quat_to_dcm(q)) * v;
+        fn yaw_of(c) = atan2(c[(1, 0)], c[(0, 0)]);
         let c_bn = quat_to_dcm(q);
         let down = [0.0, 0.0, -gravity];
         continuous {
@@ -173,11 +175,11 @@ nav_runtime::model! {
             d/dt heading = heading_rate + heading_noise;
         }
         sensor Accel: 3 {
-            h = transpose(c_bn) * down;
+            h = body_axes(q, down);
         }
         sensor Yaw: 1 {
             angles = [0];
-            h = [atan2(c_bn[(1, 0)], c_bn[(0, 0)])];
+            h = [yaw_of(c_bn)];
         }
         sensor Heading: 1 {
             angles = [0];

@@ -199,16 +199,16 @@ fn run(seed: u64) -> (Vec<f64>, Vec<f64>) {
 /// time, and their grand means within 10 % of 3 and 6.
 #[test]
 fn multiplicative_ahrs_is_consistent_over_seeds() {
-    let runs: Vec<(Vec<f64>, Vec<f64>)> = (1..=20u64).map(|s| run(s * 7919)).collect();
-    let n = runs[0].0.len();
-    let k = runs.len() as f64;
-    let averaged = |pick: fn(&(Vec<f64>, Vec<f64>)) -> &Vec<f64>| -> Vec<f64> {
+    let (nis_runs, nees_runs): (Vec<Vec<f64>>, Vec<Vec<f64>>) =
+        (1..=20u64).map(|s| run(s * 7919)).unzip();
+    let n = nis_runs[0].len();
+    let averaged = |runs: &[Vec<f64>]| -> Vec<f64> {
         (0..n)
-            .map(|i| runs.iter().map(|r| pick(r)[i]).sum::<f64>() / k)
+            .map(|i| runs.iter().map(|r| r[i]).sum::<f64>() / runs.len() as f64)
             .collect()
     };
-    let nis = averaged(|r| &r.0);
-    let nees = averaged(|r| &r.1);
+    let nis = averaged(&nis_runs);
+    let nees = averaged(&nees_runs);
     let inside = |v: &[f64], lo: f64, hi: f64| {
         v.iter().filter(|&&x| x >= lo && x <= hi).count() as f64 / v.len() as f64
     };

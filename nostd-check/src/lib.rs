@@ -4,10 +4,10 @@
 #![no_std]
 
 use nav_runtime::ekf::{Ekf, FilterError};
-use nav_runtime::nalgebra::{Matrix2, SMatrix, Vector2, Vector3, Vector6};
+use nav_runtime::nalgebra::{Matrix2, SMatrix, SVector, Vector2, Vector3, Vector6};
 
 nav_runtime::model! {
-    /// LEVELING-6 (docs/models/leveling6.md), as in `models`.
+    /// LEVELING-6, as in `models`.
     pub model Leveling {
         states { velocity: 3, a: 3 }
         inputs { gyro: 3, specific_force: 3, earth_rate_body: 3 }
@@ -23,6 +23,60 @@ nav_runtime::model! {
             h = [velocity[0], norm_squared(a)];
         }
     }
+}
+
+nav_runtime::model! {
+    /// The second round of the language without std: a model-level `let`, a
+    /// quaternion and an angle state (renormalized and wrapped by the filter),
+    /// rotations and non-smooth functions.
+    pub model Attitude {
+        states { q: quaternion, heading: angle, attitude_error: 3 }
+        inputs { gyro: 3 }
+        parameters { gravity, limit }
+        noise { gyro_noise: 3 }
+        let c_bn = quat_to_dcm(quat_mul(q, rotvec_to_quat(attitude_error)));
+        continuous {
+            let w = gyro + gyro_noise;
+            d/dt q = 0.5 * quat_mul(q, [0.0, w[0], w[1], w[2]]);
+            d/dt heading = clamp(w[2], -limit, limit) + sign(w[0]) * min(abs(w[1]), max(w[0], 0.0));
+        }
+        sensor Accel: 3 {
+            h = transpose(c_bn) * [0.0, 0.0, -gravity];
+        }
+        sensor Euler: 3 {
+            angles = [0, 2];
+            h = dcm_to_euler(c_bn);
+        }
+    }
+}
+
+/// One predict and one update of [`Attitude`]; returns the quaternion norm
+/// after them (1 to rounding).
+pub fn attitude_step() -> Result<f64, FilterError> {
+    let x0 = SVector::<f64, 8>::from_column_slice(&[1.0, 0.0, 0.0, 0.0, 3.0, 0.0, 0.0, 0.0]);
+    let mut ekf = Ekf::<Attitude, 8>::new(
+        x0,
+        SMatrix::<f64, 8, 8>::identity() * 1e-2,
+        AttitudeParams {
+            gravity: 9.8,
+            limit: 1.0,
+        },
+        AttitudeNoise {
+            gyro_noise: Vector3::repeat(1e-6),
+        },
+    )?;
+    ekf.predict(
+        0.1,
+        &AttitudeInput {
+            gyro: Vector3::new(0.1, 0.2, 0.3),
+        },
+    )?;
+    ekf.update::<AttitudeAccel, 3>(
+        &Vector3::new(0.1, 0.0, -9.8),
+        &SMatrix::<f64, 3, 3>::identity(),
+        &(),
+    )?;
+    Ok(ekf.state().fixed_rows::<4>(0).norm())
 }
 
 /// One predict and one update at rest; returns the NIS.

@@ -382,7 +382,7 @@ impl<'a> Emitter<'a> {
             .collect();
         quote! {
             #state
-            #[allow(clippy::all, unused)]
+            #[allow(clippy::possible_missing_comma)]
             impl #state_ty {
                 /// The state from its vector (declaration order).
                 pub fn from_vector(v: &::nav_runtime::nalgebra::SVector<f64, #nl>) -> Self {
@@ -438,7 +438,7 @@ impl<'a> Emitter<'a> {
             #vis struct #ty {
                 #(#fields)*
             }
-            #[allow(clippy::all, unused)]
+            #[allow(clippy::possible_missing_comma)]
             impl ::nav_runtime::model::Record for #ty {
                 const LEN: usize = #len;
                 const NAMES: &'static [&'static str] = &[#(#names),*];
@@ -712,7 +712,7 @@ impl<'a> Emitter<'a> {
             #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
             #vis struct #name;
 
-            #[allow(clippy::all, unused)]
+            #[allow(clippy::possible_missing_comma)]
             impl #name {
                 /// Number of scalar states.
                 pub const N: usize = #n;
@@ -751,7 +751,7 @@ impl<'a> Emitter<'a> {
                 }
             }
 
-            #[allow(clippy::all, unused)]
+            #[allow(clippy::possible_missing_comma)]
             impl ::nav_runtime::model::Model<#n> for #name {
                 type Input = #input_ty;
                 type Params = #params_ty;
@@ -877,7 +877,7 @@ impl<'a> Emitter<'a> {
             #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
             #vis struct #ty;
 
-            #[allow(clippy::all, unused)]
+            #[allow(clippy::possible_missing_comma)]
             impl #ty {
                 /// Number of measurement components.
                 pub const M: usize = #m;
@@ -891,7 +891,7 @@ impl<'a> Emitter<'a> {
                 pub const OPS_INNOVATION_TERMS: usize = #i_ops;
             }
 
-            #[allow(clippy::all, unused)]
+            #[allow(clippy::possible_missing_comma)]
             impl ::nav_runtime::model::Sensor<#n, #m> for #ty {
                 type Model = #name;
                 type Aux = #aux_ty;

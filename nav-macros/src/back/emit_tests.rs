@@ -83,7 +83,7 @@ pub fn tests(decl: &ModelDecl, d: &Derived) -> TokenStream {
 
     quote! {
         #[cfg(test)]
-        #[allow(clippy::all, unused, non_snake_case)]
+        #[allow(clippy::possible_missing_comma, non_snake_case)]
         mod #module {
             use super::*;
             use ::nav_runtime::model::{Model, Record, Sensor};

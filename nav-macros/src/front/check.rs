@@ -45,6 +45,29 @@ pub fn check(cx: &Ctxt, decl: &ModelDecl) {
     for (name, _) in &decl.lets {
         model_names.declare(cx, name, "a model-level `let` binding");
     }
+    let mut functions: Vec<String> = Vec::new();
+    for f in &decl.functions {
+        let name = f.name.to_string();
+        if super::lower::is_builtin(&name) {
+            cx.error_spanned_by(
+                &f.name,
+                format!("`{name}` is a builtin function; name the model function otherwise"),
+            );
+        } else if functions.contains(&name) {
+            cx.error_spanned_by(&f.name, format!("function `{name}` is declared twice"));
+        }
+        functions.push(name);
+        let mut params: Vec<String> = Vec::new();
+        for p in &f.params {
+            if params.contains(&p.to_string()) {
+                cx.error_spanned_by(
+                    p,
+                    format!("parameter `{p}` of `{}` is listed twice", f.name),
+                );
+            }
+            params.push(p.to_string());
+        }
+    }
     for v in &decl.states {
         let konst = screaming_case(&v.name.to_string());
         if RESERVED_CONSTS.contains(&konst.as_str()) {

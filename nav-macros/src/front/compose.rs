@@ -418,6 +418,7 @@ fn assemble(
         noise: Vec::new(),
         needs: Vec::new(),
         lets: Vec::new(),
+        functions: Vec::new(),
         process: process.map(|(_, kind, keyword)| Process {
             kind,
             keyword,

@@ -10,7 +10,7 @@ use syn::{BinOp, Expr, ExprLit, Lit, UnOp};
 
 use super::ctxt::Ctxt;
 use super::names::suggest;
-use super::parse::{ModelDecl, SensorDecl, Shape, Stmt, Var};
+use super::parse::{FnDecl, ModelDecl, SensorDecl, Shape, Stmt, Var};
 use crate::symbolic::rotation;
 use crate::symbolic::{Func, Graph, Id, Lowered, ProcessKind, Sym};
 
@@ -31,6 +31,8 @@ pub fn lower(cx: &Ctxt, decl: &ModelDecl) -> Option<Lowered> {
             scope: model_scope,
             sensor: None,
             model_let: true,
+            functions: &decl.functions,
+            calling: Vec::new(),
             process_lets: &[],
             unknown_hint: decl.unknown_hint,
         };
@@ -67,6 +69,8 @@ pub fn lower(cx: &Ctxt, decl: &ModelDecl) -> Option<Lowered> {
             scope,
             sensor: None,
             model_let: false,
+            functions: &decl.functions,
+            calling: Vec::new(),
             process_lets: &[],
             unknown_hint: decl.unknown_hint,
         };
@@ -128,6 +132,8 @@ pub fn lower(cx: &Ctxt, decl: &ModelDecl) -> Option<Lowered> {
             scope,
             sensor: Some(sensor),
             model_let: false,
+            functions: &decl.functions,
+            calling: Vec::new(),
             process_lets: &process_lets,
             unknown_hint: decl.unknown_hint,
         };
@@ -313,6 +319,11 @@ const BUILTINS: &[(&str, Builtin, usize)] = &[
     ("euler_dcm", Builtin::EulerDcm, 3),
 ];
 
+/// Whether `name` is a builtin function.
+pub fn is_builtin(name: &str) -> bool {
+    BUILTINS.iter().any(|(n, ..)| *n == name)
+}
+
 struct Lowerer<'a> {
     cx: &'a Ctxt,
     g: &'a mut Graph,
@@ -321,6 +332,9 @@ struct Lowerer<'a> {
     sensor: Option<&'a SensorDecl>,
     /// Lowering a model-level `let` (which may not read process noise).
     model_let: bool,
+    /// The model's functions, and those being inlined (to refuse recursion).
+    functions: &'a [FnDecl],
+    calling: Vec<String>,
     /// Names of the process section's `let`s (for hints in sensors).
     process_lets: &'a [String],
     /// Appended to unknown-name errors without a suggestion (blocks: about `needs`).
@@ -428,6 +442,8 @@ impl Lowerer<'_> {
                 } else {
                     "; `dt` is only available in `discrete` sections (a continuous model gives `d/dt`)".to_string()
                 }
+            } else if let Some(f) = self.calling.last() {
+                format!("; the body of model function `{f}` sees only its parameters (pass `{name}` as an argument)")
             } else if self.sensor.is_some() && self.process_lets.contains(&name) {
                 format!("; `{name}` is a `let` of the process section, which sensors do not see (move it to the model level, beside the sections, to share it)")
             } else {
@@ -555,6 +571,9 @@ impl Lowerer<'_> {
 
     fn call(&mut self, e: &Expr, name: &syn::Ident, args: &[&Expr]) -> Option<Val> {
         let fname = name.to_string();
+        if let Some(f) = self.functions.iter().find(|f| f.name == fname) {
+            return self.inline(e, f, args);
+        }
         let Some(&(_, builtin, arity)) = BUILTINS.iter().find(|(n, ..)| *n == fname) else {
             let hint = suggest(&fname, BUILTINS.iter().map(|(n, ..)| n.to_string()));
             return self.fail(name, format!("unknown function `{fname}`{hint}"));
@@ -739,6 +758,47 @@ impl Lowerer<'_> {
                 })
             }
         }
+    }
+
+    /// A call of a model function: its body lowered in a scope of its
+    /// parameters bound to the arguments.
+    fn inline(&mut self, e: &Expr, f: &FnDecl, args: &[&Expr]) -> Option<Val> {
+        let fname = f.name.to_string();
+        if args.len() != f.params.len() {
+            let n = f.params.len();
+            return self.fail(
+                e,
+                format!(
+                    "`{fname}` takes {n} argument{}, found {}",
+                    if n == 1 { "" } else { "s" },
+                    args.len()
+                ),
+            );
+        }
+        if self.calling.contains(&fname) {
+            return self.fail(
+                e,
+                format!("`{fname}` calls itself: model functions cannot be recursive"),
+            );
+        }
+        let vals: Vec<Option<Val>> = args.iter().map(|a| self.expr(a)).collect();
+        let vals: Vec<Val> = vals.into_iter().collect::<Option<_>>()?;
+        let mut scope = Scope::default();
+        for (p, val) in f.params.iter().zip(vals) {
+            scope.insert(
+                &p.to_string(),
+                Binding {
+                    val,
+                    kind: Kind::Let,
+                },
+            );
+        }
+        let outer = std::mem::replace(&mut self.scope, scope);
+        self.calling.push(fname);
+        let out = self.expr(&f.body);
+        self.calling.pop();
+        self.scope = outer;
+        out
     }
 
     fn scalar_arg(&self, fname: &str, at: &Expr, v: Val) -> Option<Id> {

@@ -1,5 +1,8 @@
 //! Spellings of names: the constant and module names generated from declared
-//! names, and "did you mean" suggestions for unknown ones.
+//! names, "did you mean" suggestions for unknown ones, and collisions of
+//! generated type names.
+
+use super::parse::Item;
 
 /// `velocity_error` -> `VELOCITY_ERROR`.
 pub fn screaming_case(name: &str) -> String {
@@ -62,6 +65,67 @@ pub fn snake_case(name: &str) -> String {
         out.extend(ch.to_lowercase());
     }
     out
+}
+
+/// Sensors whose generated type names (`ModelSensor`, `ModelSensorAux`)
+/// collide with a type generated for another declaration of the same
+/// invocation (`model Cart { sensor Fix .. }` beside `model CartFix`): one
+/// error per model, at the first colliding sensor's name, keyed by model
+/// name. (Declarations in other invocations are out of a macro's sight: there
+/// rustc reports the duplicate types.)
+pub fn collisions(items: &[Item]) -> std::collections::HashMap<String, syn::Error> {
+    use std::collections::HashMap;
+    let records = ["", "State", "Input", "Params", "Noise"];
+    // Generated type name -> what generates it.
+    let mut owners: HashMap<String, Vec<String>> = HashMap::new();
+    let mut add = |ty: String, what: String| owners.entry(ty).or_default().push(what);
+    for item in items {
+        let name = match item {
+            Item::Model(d) => d.name.to_string(),
+            Item::Compose(c) => c.name.to_string(),
+            Item::Block(_) => continue,
+        };
+        for r in records {
+            add(format!("{name}{r}"), format!("model `{name}`"));
+        }
+        if let Item::Model(d) = item {
+            for s in &d.sensors {
+                let what = format!("sensor `{}` of model `{name}`", s.name);
+                add(format!("{name}{}", s.name), what.clone());
+                if !s.inputs.is_empty() {
+                    add(format!("{name}{}Aux", s.name), what);
+                }
+            }
+        }
+    }
+    let mut errors = HashMap::new();
+    for item in items {
+        let Item::Model(d) = item else { continue };
+        let name = d.name.to_string();
+        for s in &d.sensors {
+            let ty = format!("{name}{}", s.name);
+            let mut tys = vec![ty.clone()];
+            if !s.inputs.is_empty() {
+                tys.push(format!("{ty}Aux"));
+            }
+            let me = format!("sensor `{}` of model `{name}`", s.name);
+            let clash = tys.iter().find_map(|t| {
+                let other = owners[t].iter().find(|w| **w != me)?;
+                Some((t.clone(), other.clone()))
+            });
+            if let Some((t, other)) = clash {
+                errors.entry(name.clone()).or_insert_with(|| {
+                    syn::Error::new(
+                        s.name.span(),
+                        format!(
+                            "{me} generates the type `{t}`, which {other} also generates; rename the sensor or the model"
+                        ),
+                    )
+                });
+            }
+        }
+    }
+    errors
 }
 
 #[cfg(test)]

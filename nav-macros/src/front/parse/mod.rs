@@ -46,10 +46,21 @@ pub struct ModelDecl {
     /// Model-level `let name = expr;`, in order: seen by the process section
     /// and by every sensor.
     pub lets: Vec<(Ident, Expr)>,
+    /// `fn name(a, b) = expr;` at model level: inlined at every call.
+    pub functions: Vec<FnDecl>,
     pub process: Option<Process>,
     pub sensors: Vec<SensorDecl>,
     /// `"; .."` appended to unknown-name errors (a hint about `needs` in blocks).
     pub unknown_hint: &'static str,
+}
+
+/// `fn name(a, b) = expr;`: a small function of the model, inlined where it
+/// is called; its body sees only its parameters.
+#[derive(Clone)]
+pub struct FnDecl {
+    pub name: Ident,
+    pub params: Vec<Ident>,
+    pub body: Expr,
 }
 
 /// `pub block Foo { .. }`: a reusable part of a model (see `compose.rs`).
@@ -277,6 +288,7 @@ fn parse_sections(
             noise: Vec::new(),
             needs: Vec::new(),
             lets: Vec::new(),
+            functions: Vec::new(),
             process: None,
             sensors: Vec::new(),
             unknown_hint: if is_block {
@@ -288,6 +300,17 @@ fn parse_sections(
         let mut seen: Vec<String> = Vec::new();
         while !body.is_empty() {
             let attrs = body.call(Attribute::parse_outer)?;
+            if body.peek(Token![fn]) {
+                let span = body.span();
+                if is_block {
+                    return Err(syn::Error::new(
+                        span,
+                        "functions are declared in models, not in blocks",
+                    ));
+                }
+                decl.functions.push(parse_function(body)?);
+                continue;
+            }
             if body.peek(Token![let]) {
                 let span = body.span();
                 if is_block {
@@ -398,6 +421,28 @@ impl Parse for Stmt {
             value,
         })
     }
+}
+
+/// `fn name(a, b) = expr;`.
+fn parse_function(input: ParseStream) -> syn::Result<FnDecl> {
+    input.parse::<Token![fn]>()?;
+    let name: Ident = input.parse()?;
+    let args;
+    syn::parenthesized!(args in input);
+    let params = args.parse_terminated(Ident::parse, Token![,])?;
+    input.parse::<Token![=]>().map_err(|e| {
+        syn::Error::new(
+            e.span(),
+            "expected `= expression;`: a model function is `fn name(a, b) = expression;`",
+        )
+    })?;
+    let body: Expr = input.parse()?;
+    input.parse::<Token![;]>()?;
+    Ok(FnDecl {
+        name,
+        params: params.into_iter().collect(),
+        body,
+    })
 }
 
 /// Where a `let` may stand, for errors at a `let` anywhere else.
