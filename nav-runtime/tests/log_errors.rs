@@ -361,35 +361,6 @@ fn meta_unknown_sections_are_warnings_and_new_keys_are_read() {
     assert!(log.warnings[0].to_string().starts_with("meta.toml:"));
 }
 
-/// A DVL row with some cells empty is not "no bottom lock": an error naming
-/// line and column, a skipped row (and a warning) with the lenient reader.
-#[test]
-fn partly_empty_dvl_row_is_refused() {
-    let dir = sample_dir("partial");
-    std::fs::write(
-        dir.path().join("dvl.csv"),
-        "t,vx,vy,vz\n0.1,1,2,3\n0.2,,,\n0.3,1,,3\n",
-    )
-    .unwrap();
-    let err = LogDir::read(dir.path(), Strictness::Strict).unwrap_err();
-    assert_eq!(
-        (err.file(), err.line(), err.column()),
-        (Some("dvl.csv"), Some(4), Some("vy"))
-    );
-    assert!(
-        matches!(err.csv_problem(), Some(CsvProblem::PartlyEmpty)),
-        "{err}"
-    );
-    let log = LogDir::read(dir.path(), Strictness::Lenient).unwrap();
-    assert_eq!(log.dvl.as_ref().unwrap().len(), 2);
-    assert!(log
-        .warnings
-        .iter()
-        .any(|w| w.kind == WarningKind::SkippedRow
-            && w.file.as_deref() == Some("dvl.csv")
-            && w.line == Some(4)));
-}
-
 /// A symbolic link whose target is gone is an error naming the link, not
 /// an absent sensor.
 #[cfg(unix)]

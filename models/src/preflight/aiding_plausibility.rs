@@ -11,6 +11,9 @@ use super::{line_of, rows_until, PreflightOptions, Report};
 /// Fastest plausible vehicle carrying a DVL, m/s (about 20 kn).
 pub(super) const MAX_DVL_SPEED: f64 = 10.0;
 
+/// A DVL speed beyond this is not a measurement of any vehicle, m/s.
+const MAX_PHYSICAL_SPEED: f64 = 1e4;
+
 /// A USBL fix this far from the predicted position is an error, m.
 const USBL_FAR: f64 = 10_000.0;
 
@@ -37,6 +40,23 @@ fn dvl_speed(log: &LogDir, dvl: &[DvlRow], t_end: f64, report: &mut Report) {
         r.velocity()
             .map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt())
     };
+    if let Some((i, s)) = dvl
+        .iter()
+        .enumerate()
+        .find_map(|(i, r)| speed(r).filter(|s| *s > MAX_PHYSICAL_SPEED).map(|s| (i, s)))
+    {
+        let mut w = Warning::about(
+            WarningKind::Suspicious,
+            DvlRow::FILE,
+            format!("speed {s:e} m/s: not a physical speed"),
+        )
+        .with_key("vx,vy,vz");
+        if let Some(line) = line_of::<DvlRow>(log, i) {
+            w = w.at_line(line);
+        }
+        report.error(w);
+        return;
+    }
     let mut early: Vec<f64> = rows_until(dvl, t_end).iter().filter_map(speed).collect();
     if !early.is_empty() {
         early.sort_by(f64::total_cmp);

@@ -12,7 +12,8 @@ pub(super) const MAX_DEPTH: f64 = 1e5;
 const FEET: f64 = 1.0 / 0.3048;
 
 /// `[initial] depth` beyond [`MAX_DEPTH`] is an error naming the key. The
-/// first depth sample (and the first USBL depth) is compared with it: equal
+/// first depth sample is compared with it (USBL depths are only bounded:
+/// a USBL's depth is often that of another reference): equal
 /// within a tolerance is fine; the negative of it is a sign error, 3.28 times
 /// it feet (both errors when `|initial depth| >= 2 m`); otherwise a warning.
 pub(super) fn check(log: &LogDir, report: &mut Report) {
@@ -28,6 +29,11 @@ pub(super) fn check(log: &LogDir, report: &mut Report) {
         );
         return;
     }
+    if bound::<DepthRow>(log, log.depth.as_deref(), |r| r.depth, report)
+        || bound::<UsblRow>(log, log.usbl.as_deref(), |r| r.depth, report)
+    {
+        return;
+    }
     let sigma = log
         .meta
         .initial_sigma
@@ -38,12 +44,35 @@ pub(super) fn check(log: &LogDir, report: &mut Report) {
             compare::<DepthRow>(log, r.depth, d0, sigma, "depth", report);
         }
     }
-    if let Some(rows) = &log.usbl {
-        if let Some(r) = rows.first() {
-            let usbl_sigma = log.meta.sensors.usbl.map_or(0.0, |n| n.noise_sigma);
-            compare::<UsblRow>(log, r.depth, d0, sigma + 3.0 * usbl_sigma, "depth", report);
-        }
+}
+
+/// An error naming the first row with `|depth|` beyond [`MAX_DEPTH`]; `true`
+/// if there is one.
+fn bound<R: Row>(
+    log: &LogDir,
+    rows: Option<&[R]>,
+    depth: impl Fn(&R) -> f64,
+    report: &mut Report,
+) -> bool {
+    let Some((i, d)) = rows.and_then(|rows| {
+        rows.iter()
+            .enumerate()
+            .map(|(i, r)| (i, depth(r)))
+            .find(|(_, d)| d.abs() > MAX_DEPTH)
+    }) else {
+        return false;
+    };
+    let mut w = Warning::about(
+        WarningKind::Suspicious,
+        R::FILE,
+        format!("{d} m is beyond any physical depth (|depth| <= {MAX_DEPTH} m)"),
+    )
+    .with_key("depth");
+    if let Some(line) = line_of::<R>(log, i) {
+        w = w.at_line(line);
     }
+    report.error(w);
+    true
 }
 
 fn compare<R: Row>(log: &LogDir, d: f64, d0: f64, sigma: f64, column: &str, report: &mut Report) {

@@ -33,12 +33,14 @@ fn resolution(rows: &[ImuRow]) -> f64 {
 /// A run of identical gyro triples that is both longer than
 /// [`StuckDetector::required_repeats`] samples (for the logged gyro noise and
 /// the observed resolution) and longer than `frozen_seconds` is an error
-/// naming its first and last lines (a warning with `--lenient`).
+/// naming its first and last lines (a warning with `--lenient`, and when
+/// `[sensors.imu]` is absent: a noise-free synthetic IMU repeats legitimately).
 pub(super) fn check(log: &LogDir, options: &PreflightOptions, report: &mut Report) {
     let rows = &log.imu;
     if rows.len() < 2 {
         return;
     }
+    let declared = log.meta.sensors.imu.is_some();
     let sigma = log
         .meta
         .sensors
@@ -81,7 +83,14 @@ pub(super) fn check(log: &LogDir, options: &PreflightOptions, report: &mut Repor
                 if let Some(line) = line_of::<ImuRow>(log, first) {
                     w = w.at_line(line);
                 }
-                report.error_unless(options.lenient, w);
+                if declared {
+                    report.error_unless(options.lenient, w);
+                } else {
+                    w.message.push_str(
+                        " (a warning: without [sensors.imu] the log does not say the gyro is noisy)",
+                    );
+                    report.warn(w);
+                }
             }
         }
         start = i;

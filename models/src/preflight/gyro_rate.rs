@@ -28,10 +28,14 @@ pub(super) fn check(log: &LogDir, _options: &super::PreflightOptions, report: &m
         let mut warning = Warning::about(
             WarningKind::Suspicious,
             <ImuRow as Row>::FILE,
-            format!(
-                "|omega| = {w:.1} rad/s, beyond {MAX_RATE} rad/s (2000 deg/s, the range of \
-                 common gyros): deg/s? the format is rad/s"
-            ),
+            if w > 1e4 {
+                format!("|omega| = {w:e} rad/s: not a physical rate")
+            } else {
+                format!(
+                    "|omega| = {w:.1} rad/s, beyond {MAX_RATE} rad/s (2000 deg/s, the range of \
+                     common gyros): deg/s? the format is rad/s"
+                )
+            },
         )
         .with_key("gx,gy,gz");
         if let Some(line) = line_of::<ImuRow>(log, i) {

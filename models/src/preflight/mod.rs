@@ -15,6 +15,8 @@ mod depth_consistency;
 mod finding;
 mod frozen_imu;
 mod gyro_rate;
+mod heading_units;
+mod partial_rows;
 mod sensor_sections;
 mod specific_force;
 mod time_gaps;
@@ -64,7 +66,11 @@ pub fn check(log: &LogDir, options: &PreflightOptions) -> Report {
     gyro_rate::check(log, options, &mut report);
     frozen_imu::check(log, options, &mut report);
     time_gaps::check(log, options, &mut report);
+    partial_rows::check(log, options, &mut report);
     angle_range::check(log, &mut report);
+    if !report.has_errors() {
+        heading_units::check(log, &mut report);
+    }
     depth_consistency::check(log, &mut report);
     aiding_plausibility::check(log, options, &mut report);
     truth_values::check(log, &mut report);

@@ -163,10 +163,47 @@ fn cases() -> Vec<Case> {
     ]
 }
 
+/// The options of an SDINS replay.
+fn sdins() -> PreflightOptions {
+    PreflightOptions {
+        model_files: Some(&[
+            "imu.csv",
+            "dvl.csv",
+            "depth.csv",
+            "heading.csv",
+            "usbl.csv",
+            "truth.csv",
+        ]),
+        ..PreflightOptions::default()
+    }
+}
+
 #[test]
 fn simulated_log_is_clean() {
-    let report = check(&log(), &PreflightOptions::default());
-    assert!(report.findings.is_empty(), "{:?}", report.findings);
+    // The simulator writes an echo sounder the SDINS models do not read.
+    let report = check(&log(), &sdins());
+    let unused: Vec<_> = report
+        .findings
+        .iter()
+        .map(|f| (f.severity, f.what.kind, f.what.file.as_deref()))
+        .collect();
+    assert_eq!(
+        unused,
+        [(
+            Severity::Warning,
+            WarningKind::UnusedFile,
+            Some("altitude.csv")
+        )]
+    );
+    // Without the model's file list the altitude file has no section.
+    let all = check(&log(), &PreflightOptions::default());
+    assert!(
+        all.findings
+            .iter()
+            .all(|f| f.what.kind == WarningKind::MissingSensorSection),
+        "{:?}",
+        all.findings
+    );
 }
 
 #[test]
@@ -175,7 +212,7 @@ fn each_check_fires_on_its_mistake() {
     for (name, edit, severity, kind, text) in cases() {
         let mut l = base.clone();
         edit(&mut l);
-        let report = check(&l, &PreflightOptions::default());
+        let report = check(&l, &sdins());
         let hit = report
             .findings
             .iter()
@@ -199,4 +236,39 @@ fn lenient_turns_gaps_and_frozen_imu_into_warnings() {
     let report = check(&l, &lenient);
     assert!(!report.has_errors(), "{:?}", report.findings);
     assert!(report.has(WarningKind::ImuGap));
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(48))]
+    /// Any finite values the reader can accept: the preflight never panics
+    /// and every finding names a file.
+    #[test]
+    fn never_panics_on_finite_values(
+        row in 0usize..3000,
+        column in 0usize..7,
+        exponent in -300i32..300,
+        sign in proptest::bool::ANY,
+        keep in 1usize..3000,
+    ) {
+        let mut l = log();
+        let v = if sign { 1.0 } else { -1.0 } * 10f64.powi(exponent);
+        if let Some(r) = l.imu.get_mut(row) {
+            match column {
+                0 => r.gx = v, 1 => r.gy = v, 2 => r.gz = v,
+                3 => r.ax = v, 4 => r.ay = v, 5 => r.az = v,
+                _ => {}
+            }
+        }
+        if let Some(d) = l.dvl.as_mut().and_then(|d| d.get_mut(row % 60)) {
+            d.vy = if column == 6 { None } else { Some(v) };
+        }
+        if let Some(h) = l.heading.as_mut().and_then(|h| h.get_mut(row % 60)) {
+            h.heading = v.clamp(-1e6, 1e6);
+        }
+        l.imu.truncate(keep);
+        let report = check(&l, &sdins());
+        for f in &report.findings {
+            proptest::prop_assert!(f.what.file.is_some() || f.what.key.is_some(), "{}", f.what);
+        }
+    }
 }

@@ -23,9 +23,6 @@ pub enum CsvProblem {
     },
     /// The cell is empty in a column that requires a value.
     EmptyCell,
-    /// Some value cells of the row are empty and others are not (a DVL row is
-    /// either complete or wholly empty for "no bottom lock").
-    PartlyEmpty,
     /// The cell text is not a number.
     NotANumber {
         /// The offending text (lossily decoded as UTF-8, truncated).
@@ -70,11 +67,6 @@ impl fmt::Display for CsvProblem {
                 write!(f, "expected {expected} columns, found {found}")
             }
             CsvProblem::EmptyCell => write!(f, "empty cell"),
-            CsvProblem::PartlyEmpty => write!(
-                f,
-                "empty cell in a row with values (all value cells empty = no bottom lock; \
-                 otherwise every cell needs a value)"
-            ),
             CsvProblem::NotANumber { text } => write!(f, "`{text}` is not a number"),
             CsvProblem::NonFinite { text } => write!(f, "non-finite value `{text}`"),
             CsvProblem::OutOfRange { value, allowed } => {

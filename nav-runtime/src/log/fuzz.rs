@@ -8,7 +8,7 @@
 //! increasing times, passes the range checks and reads back unchanged after
 //! being written with [`write_csv`]; the lenient reader accepts what the strict
 //! reader accepts, with the same rows; an accepted `meta.toml` reads back
-//! unchanged from [`Meta::to_toml`]. A failed assertion panics, which the
+//! unchanged from [`Meta::to_toml`], and each of its warnings names a key. A failed assertion panics, which the
 //! fuzzer reports as a crash.
 
 use super::{
@@ -110,9 +110,21 @@ pub fn meta_toml(data: &[u8]) {
     let Ok(text) = std::str::from_utf8(data) else {
         return;
     };
-    let Ok(meta) = Meta::parse(text) else {
+    let parsed = Meta::parse_with_warnings(text);
+    assert_eq!(
+        parsed.as_ref().ok().map(|(m, _)| m),
+        Meta::parse(text).ok().as_ref(),
+        "parse and parse_with_warnings disagree"
+    );
+    let Ok((meta, warnings)) = parsed else {
         return;
     };
+    for w in &warnings {
+        assert!(
+            w.key.as_deref().is_some_and(|k| !k.is_empty()) && !w.message.is_empty(),
+            "meta.toml warning without a key or message: {w:?}"
+        );
+    }
     let again = meta.to_toml();
     match Meta::parse(&again) {
         Ok(back) => assert_eq!(back, meta, "meta.toml round trip:\n{again}"),

@@ -192,7 +192,12 @@ impl Meta {
         let mut warnings = Vec::new();
         for name in table.keys() {
             if !TOP_LEVEL.contains(&name.as_str()) {
-                let line = cx.locate(name, "");
+                let line = cx.locate(name, "").or_else(|| {
+                    let prefix = format!("[{name}.");
+                    text.lines()
+                        .position(|l| l.trim_start().starts_with(&prefix))
+                        .map(|n| n as u64 + 1)
+                });
                 let mut message = format!(
                     "unknown section `{name}` ignored (sections read: {})",
                     TOP_LEVEL.join(", ")

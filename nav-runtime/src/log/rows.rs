@@ -211,15 +211,6 @@ impl DvlRow {
     }
 }
 
-/// The first empty cell of a row whose value cells (after `t`) are neither all
-/// present nor all empty (`None` for a complete or a wholly empty row): a DVL
-/// row with one velocity missing is not "no bottom lock".
-fn partially_empty(cells: &[Option<f64>]) -> Option<usize> {
-    let values = cells.get(1..)?;
-    let empty = values.iter().position(Option::is_none)?;
-    values.iter().any(Option::is_some).then_some(empty + 1)
-}
-
 pub(crate) const LAT_RANGE: &str = "|lat| <= pi/2";
 pub(crate) const LON_RANGE: &str = "|lon| <= 2 pi";
 
@@ -473,9 +464,6 @@ fn parse_row<R: Row>(
         };
     }
     let row = R::from_cells(cells).map_err(|i| (column_name::<R>(i), CsvProblem::EmptyCell))?;
-    if let Some(i) = partially_empty(cells) {
-        return Err((column_name::<R>(i), CsvProblem::PartlyEmpty));
-    }
     if let Err((i, value, allowed)) = row.check() {
         return Err((
             column_name::<R>(i),

@@ -1,0 +1,1204 @@
+//! The broken-log suite: realistic defects of a recorded log, each run through
+//! the `navsim` binary and classified. A case is one row of [`cases`]:
+//!
+//! - `Correct`: exit 0, a JSON result whose error figures are finite numbers;
+//! - `Error`: exit 1, nothing on stdout, exactly one `error:` line on stderr
+//!   containing every given text (the file and line, column or key, and the
+//!   likely cause);
+//! - `Warn`: exit 0 and a JSON `warnings` entry of the given kind whose text
+//!   (file, key and message) contains the given text.
+//!
+//! Each case starts from a fresh copy of one small simulated survey log.
+//! Cases marked `Needs::Pipeline` depend on the in-loop work of the replay
+//! pipeline (bounded time steps, physical bounds on the estimate); they are
+//! run by `pipeline_cases`, ignored until that work is merged.
+
+mod common;
+
+use std::path::Path;
+use std::sync::OnceLock;
+
+use common::{navsim, stderr, stdout, TempDir};
+use models::sdins25::simulation::{simulate, SimConfig};
+use serde_json::Value;
+
+/// What a case expects.
+#[derive(Debug, Clone, Copy)]
+enum Expect {
+    Correct,
+    Error(&'static [&'static str]),
+    Warn(&'static str, &'static str),
+}
+
+/// Whose work makes the case pass.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Needs {
+    /// Passes on this branch.
+    Here,
+    /// Needs the replay pipeline's in-loop checks.
+    Pipeline,
+}
+
+/// (name, class, edit of the log directory, extra arguments, expectation, needs)
+type Case = (
+    &'static str,
+    &'static str,
+    fn(&Path),
+    &'static [&'static str],
+    Expect,
+    Needs,
+);
+
+/// The base log: 60 s of the USBL survey (IMU 100 Hz, DVL, depth, compass,
+/// USBL fixes, truth), written once and copied per case.
+fn base() -> &'static Path {
+    static DIR: OnceLock<TempDir> = OnceLock::new();
+    DIR.get_or_init(|| {
+        let d = TempDir::new("broken-base");
+        let config = SimConfig {
+            duration: 60.0,
+            ..SimConfig::usbl()
+        };
+        simulate(&config, 4)
+            .log
+            .write(d.path().join("log"))
+            .unwrap();
+        d
+    })
+    .path()
+}
+
+fn copy_dir(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for e in std::fs::read_dir(from).unwrap() {
+        let e = e.unwrap();
+        std::fs::copy(e.path(), to.join(e.file_name())).unwrap();
+    }
+}
+
+// ---- edits ---------------------------------------------------------------
+
+/// Rewrites every data row of `file` (row index from 0, cells as text).
+fn rows(dir: &Path, file: &str, f: impl Fn(usize, &mut Vec<String>)) {
+    let path = dir.join(file);
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut lines = text.lines();
+    let mut out = format!("{}\n", lines.next().unwrap());
+    for (i, line) in lines.enumerate() {
+        let mut cells: Vec<String> = line.split(',').map(String::from).collect();
+        f(i, &mut cells);
+        if !cells.is_empty() {
+            out.push_str(&cells.join(","));
+            out.push('\n');
+        }
+    }
+    std::fs::write(path, out).unwrap();
+}
+
+/// Multiplies columns `cols` of every row by `k` (empty cells stay empty).
+fn scale(dir: &Path, file: &str, cols: &[usize], k: f64) {
+    rows(dir, file, |_, c| {
+        for &j in cols {
+            if let Ok(v) = c[j].parse::<f64>() {
+                c[j] = format!("{}", v * k);
+            }
+        }
+    });
+}
+
+/// Sets column `col` of data row `row` to `value`.
+fn cell(dir: &Path, file: &str, row: usize, col: usize, value: &str) {
+    rows(dir, file, |i, c| {
+        if i == row {
+            c[col] = value.to_string();
+        }
+    });
+}
+
+/// Drops data rows in `from..to`.
+fn drop_rows(dir: &Path, file: &str, from: usize, to: usize) {
+    rows(dir, file, |i, c| {
+        if (from..to).contains(&i) {
+            c.clear();
+        }
+    });
+}
+
+/// Adds `dt` to the time of data rows from `from` on.
+fn shift_from(dir: &Path, file: &str, from: usize, dt: f64) {
+    rows(dir, file, |i, c| {
+        if i >= from {
+            c[0] = format!("{}", c[0].parse::<f64>().unwrap() + dt);
+        }
+    });
+}
+
+/// Replaces the `key = ...` line of `[section]` of meta.toml by `line` (or
+/// appends it to the section when the key is absent).
+fn meta_key(dir: &Path, section: &str, key: &str, line: &str) {
+    let path = dir.join("meta.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut out: Vec<String> = Vec::new();
+    let mut current = String::new();
+    let mut done = false;
+    for l in text.lines() {
+        if l.starts_with('[') {
+            if current == section && !done {
+                out.push(line.to_string());
+                done = true;
+            }
+            current = l.trim_matches(|c| c == '[' || c == ']').to_string();
+        } else if current == section && l.split('=').next().map(str::trim) == Some(key) {
+            out.push(line.to_string());
+            done = true;
+            continue;
+        }
+        out.push(l.to_string());
+    }
+    if !done {
+        if current != section {
+            out.push(format!("[{section}]"));
+        }
+        out.push(line.to_string());
+    }
+    std::fs::write(path, out.join("\n") + "\n").unwrap();
+}
+
+/// Removes the `[section]` of meta.toml with its keys.
+fn meta_drop_section(dir: &Path, section: &str) {
+    let path = dir.join("meta.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut out = Vec::new();
+    let mut skip = false;
+    for l in text.lines() {
+        if l.starts_with('[') {
+            skip = l.trim_matches(|c| c == '[' || c == ']') == section;
+        }
+        if !skip {
+            out.push(l);
+        }
+    }
+    std::fs::write(path, out.join("\n") + "\n").unwrap();
+}
+
+fn append(dir: &Path, file: &str, text: &str) {
+    let path = dir.join(file);
+    let old = std::fs::read_to_string(&path).unwrap_or_default();
+    std::fs::write(path, old + text).unwrap();
+}
+
+fn last_time(dir: &Path, file: &str) -> f64 {
+    let text = std::fs::read_to_string(dir.join(file)).unwrap();
+    text.lines()
+        .last()
+        .unwrap()
+        .split(',')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap()
+}
+
+/// Freezes the gyro triple of IMU rows `from..to` at the value of row `from`.
+fn freeze(dir: &Path, from: usize, to: usize) {
+    let text = std::fs::read_to_string(dir.join("imu.csv")).unwrap();
+    let frozen: Vec<String> = text
+        .lines()
+        .nth(from + 1)
+        .unwrap()
+        .split(',')
+        .map(String::from)
+        .collect();
+    rows(dir, "imu.csv", |i, c| {
+        if (from..to).contains(&i) {
+            c[1..4].clone_from_slice(&frozen[1..4]);
+        }
+    });
+}
+
+const SDINS: &[&str] = &[];
+const LENIENT: &[&str] = &["--lenient"];
+
+fn cases() -> Vec<Case> {
+    use Expect::*;
+    use Needs::*;
+    vec![
+        // -- units, signs, frames
+        (
+            "accelerometer in g",
+            "units",
+            |d| scale(d, "imu.csv", &[4, 5, 6], 1.0 / 9.80665),
+            SDINS,
+            Error(&["imu.csv:2", "g units?"]),
+            Here,
+        ),
+        (
+            "accelerometer scaled x2",
+            "units",
+            |d| scale(d, "imu.csv", &[4, 5, 6], 2.0),
+            SDINS,
+            Error(&["imu.csv:2", "wrong unit or scale"]),
+            Here,
+        ),
+        (
+            "az sign flipped (FLU)",
+            "frames",
+            |d| scale(d, "imu.csv", &[6], -1.0),
+            SDINS,
+            Error(&["imu.csv:2", "`az`", "FLU"]),
+            Here,
+        ),
+        (
+            "y and z axes flipped (FLU)",
+            "frames",
+            |d| scale(d, "imu.csv", &[2, 3, 5, 6], -1.0),
+            SDINS,
+            Error(&["imu.csv:2", "FLU"]),
+            Here,
+        ),
+        (
+            "one gyro sample beyond 2000 deg/s",
+            "units",
+            |d| cell(d, "imu.csv", 300, 1, "40"),
+            SDINS,
+            Error(&["imu.csv:302", "deg/s?"]),
+            Here,
+        ),
+        (
+            "gyro cell 1e300",
+            "values",
+            |d| cell(d, "imu.csv", 120, 2, "1e300"),
+            SDINS,
+            Error(&["imu.csv:122", "not a physical rate"]),
+            Here,
+        ),
+        (
+            "heading in degrees",
+            "units",
+            |d| scale(d, "heading.csv", &[1], 180.0 / std::f64::consts::PI),
+            SDINS,
+            Error(&["heading.csv", "degrees?"]),
+            Here,
+        ),
+        (
+            "heading in degrees beyond 2 pi",
+            "units",
+            |d| {
+                rows(d, "heading.csv", |_, c| {
+                    c[1] = format!("{}", c[1].parse::<f64>().unwrap().to_degrees() + 170.0)
+                })
+            },
+            SDINS,
+            Error(&["heading.csv", "values reach", "degrees?"]),
+            Here,
+        ),
+        (
+            "heading in 0..2pi convention",
+            "correct",
+            |d| {
+                rows(d, "heading.csv", |_, c| {
+                    c[1] = format!(
+                        "{}",
+                        c[1].parse::<f64>()
+                            .unwrap()
+                            .rem_euclid(std::f64::consts::TAU)
+                    )
+                })
+            },
+            SDINS,
+            Correct,
+            Here,
+        ),
+        (
+            "truth yaw in degrees",
+            "units",
+            |d| {
+                rows(d, "truth.csv", |_, c| {
+                    c[9] = format!("{}", c[9].parse::<f64>().unwrap().to_degrees() + 90.0)
+                })
+            },
+            SDINS,
+            Error(&["truth.csv", "`yaw`", "degrees?"]),
+            Here,
+        ),
+        (
+            "depth sign flipped",
+            "signs",
+            |d| scale(d, "depth.csv", &[1], -1.0),
+            SDINS,
+            Error(&["depth.csv:2", "sign"]),
+            Here,
+        ),
+        (
+            "depth in feet",
+            "units",
+            |d| scale(d, "depth.csv", &[1], 1.0 / 0.3048),
+            SDINS,
+            Error(&["depth.csv:2", "feet?"]),
+            Here,
+        ),
+        (
+            "[initial] depth sign flipped",
+            "signs",
+            |d| {
+                let t = std::fs::read_to_string(d.join("meta.toml")).unwrap();
+                let v: f64 = t.lines().find(|l| l.starts_with("depth =")).unwrap()[8..]
+                    .trim()
+                    .parse()
+                    .unwrap();
+                meta_key(d, "initial", "depth", &format!("depth = {}", -v));
+            },
+            SDINS,
+            Error(&["depth.csv:2", "sign"]),
+            Here,
+        ),
+        (
+            "[initial] depth 1e300",
+            "values",
+            |d| meta_key(d, "initial", "depth", "depth = 1e300"),
+            SDINS,
+            Error(&["meta.toml", "initial.depth", "physical depth"]),
+            Here,
+        ),
+        (
+            "USBL depth cell 1e300",
+            "values",
+            |d| cell(d, "usbl.csv", 2, 3, "1e300"),
+            LENIENT,
+            Error(&["usbl.csv:4", "physical depth"]),
+            Here,
+        ),
+        (
+            "DVL in cm/s",
+            "units",
+            |d| scale(d, "dvl.csv", &[1, 2, 3], 100.0),
+            SDINS,
+            Error(&["dvl.csv", "cm/s?"]),
+            Here,
+        ),
+        (
+            "DVL in mm/s",
+            "units",
+            |d| scale(d, "dvl.csv", &[1, 2, 3], 1000.0),
+            SDINS,
+            Error(&["dvl.csv", "mm/s?"]),
+            Here,
+        ),
+        (
+            "DVL cell 1e300",
+            "values",
+            |d| cell(d, "dvl.csv", 5, 1, "1e300"),
+            SDINS,
+            Error(&["dvl.csv:7", "not a physical speed"]),
+            Here,
+        ),
+        (
+            "DVL 30 m/s for 5 s",
+            "outliers",
+            |d| {
+                rows(d, "dvl.csv", |i, c| {
+                    if (40..50).contains(&i) {
+                        c[1] = "30".into()
+                    }
+                })
+            },
+            SDINS,
+            Warn("suspicious", "dvl.csv:42"),
+            Here,
+        ),
+        (
+            "USBL lat and lon swapped",
+            "frames",
+            |d| rows(d, "usbl.csv", |_, c| c.swap(1, 2)),
+            SDINS,
+            Error(&["usbl.csv:2"]),
+            Here,
+        ),
+        (
+            "USBL lat in degrees",
+            "units",
+            |d| scale(d, "usbl.csv", &[1], 180.0 / std::f64::consts::PI),
+            SDINS,
+            Error(&["usbl.csv:2: column `lat`"]),
+            Here,
+        ),
+        (
+            "USBL fix 20 km off",
+            "values",
+            |d| {
+                rows(d, "usbl.csv", |i, c| {
+                    if i == 0 {
+                        c[1] = format!("{}", c[1].parse::<f64>().unwrap() + 0.003)
+                    }
+                })
+            },
+            SDINS,
+            Error(&["usbl.csv:2", "lat,lon"]),
+            Here,
+        ),
+        (
+            "USBL fix 200 m off",
+            "values",
+            |d| {
+                rows(d, "usbl.csv", |i, c| {
+                    if i == 0 {
+                        c[1] = format!("{}", c[1].parse::<f64>().unwrap() + 3e-5)
+                    }
+                })
+            },
+            SDINS,
+            Warn("suspicious", "usbl.csv:2"),
+            Here,
+        ),
+        (
+            "[initial] yaw in degrees",
+            "units",
+            |d| meta_key(d, "initial", "yaw", "yaw = 90.0"),
+            SDINS,
+            Error(&["meta.toml", "initial.yaw", "degrees?"]),
+            Here,
+        ),
+        (
+            "[initial] lat in degrees",
+            "units",
+            |d| meta_key(d, "initial", "lat", "lat = 36.4"),
+            SDINS,
+            Error(&["meta.toml", "initial.lat"]),
+            Here,
+        ),
+        // -- zero and bad sigmas
+        (
+            "DVL noise sigma 0",
+            "sigmas",
+            |d| meta_key(d, "sensors.dvl", "noise_sigma", "noise_sigma = 0"),
+            SDINS,
+            Error(&["meta.toml", "sensors.dvl.noise_sigma", "> 0"]),
+            Here,
+        ),
+        (
+            "depth noise sigma 0",
+            "sigmas",
+            |d| meta_key(d, "sensors.depth", "noise_sigma", "noise_sigma = 0.0"),
+            SDINS,
+            Error(&["sensors.depth.noise_sigma"]),
+            Here,
+        ),
+        (
+            "heading noise sigma 0",
+            "sigmas",
+            |d| meta_key(d, "sensors.heading", "noise_sigma", "noise_sigma = 0"),
+            SDINS,
+            Error(&["sensors.heading.noise_sigma"]),
+            Here,
+        ),
+        (
+            "USBL noise sigma 0",
+            "sigmas",
+            |d| meta_key(d, "sensors.usbl", "noise_sigma", "noise_sigma = 0"),
+            SDINS,
+            Error(&["sensors.usbl.noise_sigma"]),
+            Here,
+        ),
+        (
+            "gyro noise sigma 0",
+            "sigmas",
+            |d| meta_key(d, "sensors.imu", "gyro_noise_sigma", "gyro_noise_sigma = 0"),
+            SDINS,
+            Error(&["sensors.imu.gyro_noise_sigma"]),
+            Here,
+        ),
+        (
+            "accelerometer noise sigma 0",
+            "sigmas",
+            |d| {
+                meta_key(
+                    d,
+                    "sensors.imu",
+                    "accel_noise_sigma",
+                    "accel_noise_sigma = 0",
+                )
+            },
+            SDINS,
+            Error(&["sensors.imu.accel_noise_sigma"]),
+            Here,
+        ),
+        (
+            "negative noise sigma",
+            "sigmas",
+            |d| meta_key(d, "sensors.dvl", "noise_sigma", "noise_sigma = -0.1"),
+            SDINS,
+            Error(&["sensors.dvl.noise_sigma"]),
+            Here,
+        ),
+        (
+            "NaN noise sigma",
+            "sigmas",
+            |d| meta_key(d, "sensors.depth", "noise_sigma", "noise_sigma = nan"),
+            SDINS,
+            Error(&["sensors.depth.noise_sigma", "non-finite"]),
+            Here,
+        ),
+        (
+            "negative misalignment sigma",
+            "sigmas",
+            |d| {
+                meta_key(
+                    d,
+                    "sensors.usbl",
+                    "misalignment_sigma",
+                    "misalignment_sigma = -1",
+                )
+            },
+            SDINS,
+            Error(&["sensors.usbl.misalignment_sigma"]),
+            Here,
+        ),
+        // -- meta.toml
+        (
+            "recorder [vehicle] section",
+            "meta",
+            |d| append(d, "meta.toml", "\n[vehicle]\nname = \"auv-1\"\n"),
+            SDINS,
+            Warn("unknown_section", "vehicle"),
+            Here,
+        ),
+        (
+            "generator [generator] section",
+            "meta",
+            |d| append(d, "meta.toml", "\n[generator]\nseed = 4\nversion = \"x\"\n"),
+            SDINS,
+            Warn("unknown_section", "generator"),
+            Here,
+        ),
+        (
+            "typo in [initial] key",
+            "meta",
+            |d| meta_key(d, "initial_sigma", "position", "posiiton = 1.0"),
+            SDINS,
+            Error(&["meta.toml", "did you mean `position`"]),
+            Here,
+        ),
+        (
+            "typo in sensor name",
+            "meta",
+            |d| append(d, "meta.toml", "\n[sensors.dvll]\nnoise_sigma = 1\n"),
+            SDINS,
+            Error(&["sensors.dvll", "did you mean `dvl`"]),
+            Here,
+        ),
+        (
+            "typo in sensor key",
+            "meta",
+            |d| meta_key(d, "sensors.dvl", "noise_sigma", "noise_sgima = 0.1"),
+            SDINS,
+            Error(&["sensors.dvl.noise_sgima", "did you mean `noise_sigma`"]),
+            Here,
+        ),
+        (
+            "[initial] t given",
+            "correct",
+            |d| meta_key(d, "initial", "t", "t = 0.0"),
+            SDINS,
+            Correct,
+            Here,
+        ),
+        (
+            "[initial] t not a number",
+            "meta",
+            |d| meta_key(d, "initial", "t", "t = \"start\""),
+            SDINS,
+            Error(&["meta.toml", "initial.t"]),
+            Here,
+        ),
+        (
+            "USBL misalignment sigma given",
+            "correct",
+            |d| {
+                meta_key(
+                    d,
+                    "sensors.usbl",
+                    "misalignment_sigma",
+                    "misalignment_sigma = 0.001",
+                )
+            },
+            SDINS,
+            Correct,
+            Here,
+        ),
+        (
+            "no [sensors.dvl] section",
+            "meta",
+            |d| meta_drop_section(d, "sensors.dvl"),
+            SDINS,
+            Warn("missing_sensor_section", "sensors.dvl"),
+            Here,
+        ),
+        (
+            "no [sensors.imu] section",
+            "meta",
+            |d| meta_drop_section(d, "sensors.imu"),
+            SDINS,
+            Warn("missing_sensor_section", "sensors.imu"),
+            Here,
+        ),
+        // -- gaps and clocks
+        (
+            "30 s IMU hole",
+            "gaps",
+            |d| drop_rows(d, "imu.csv", 1000, 4000),
+            SDINS,
+            Error(&["imu.csv:1001", "lines 1001 and 1002", "gap of"]),
+            Here,
+        ),
+        (
+            "30 s IMU hole, lenient",
+            "gaps",
+            |d| drop_rows(d, "imu.csv", 1000, 4000),
+            LENIENT,
+            Warn("imu_gap", "imu.csv"),
+            Here,
+        ),
+        (
+            "1 s IMU hole, limit 200 periods",
+            "gaps",
+            |d| drop_rows(d, "imu.csv", 1000, 1100),
+            &["--max-gap-periods", "200"],
+            Correct,
+            Here,
+        ),
+        (
+            "clock jump of an hour",
+            "clocks",
+            |d| shift_from(d, "imu.csv", 2000, 3600.0),
+            SDINS,
+            Error(&["imu.csv:2001", "gap of"]),
+            Here,
+        ),
+        (
+            "far-future last IMU row, with truth",
+            "clocks",
+            |d| {
+                let n = std::fs::read_to_string(d.join("imu.csv"))
+                    .unwrap()
+                    .lines()
+                    .count()
+                    - 2;
+                cell(d, "imu.csv", n, 0, "1e9");
+            },
+            SDINS,
+            Error(&["imu.csv:", "gap of"]),
+            Here,
+        ),
+        (
+            "far-future last IMU row, no truth",
+            "clocks",
+            |d| {
+                std::fs::remove_file(d.join("truth.csv")).unwrap();
+                let n = std::fs::read_to_string(d.join("imu.csv"))
+                    .unwrap()
+                    .lines()
+                    .count()
+                    - 2;
+                cell(d, "imu.csv", n, 0, "1e9");
+            },
+            SDINS,
+            Error(&["imu.csv:", "gap of"]),
+            Here,
+        ),
+        (
+            "far-future DVL row",
+            "clocks",
+            |d| append(d, "dvl.csv", "1e9,1,0,0\n"),
+            SDINS,
+            Error(&["dvl.csv:", "clock jump"]),
+            Here,
+        ),
+        (
+            "far-future DVL row, lenient",
+            "clocks",
+            |d| append(d, "dvl.csv", "1e9,1,0,0\n"),
+            LENIENT,
+            Warn("outside_imu_span", "dvl.csv"),
+            Here,
+        ),
+        (
+            "depth rows after the IMU",
+            "clocks",
+            |d| {
+                let t = last_time(d, "depth.csv");
+                append(
+                    d,
+                    "depth.csv",
+                    &format!("{},10\n{},10\n", t + 10.0, t + 11.0),
+                );
+            },
+            SDINS,
+            Warn("outside_imu_span", "depth.csv"),
+            Here,
+        ),
+        (
+            "epoch time stamps",
+            "correct",
+            |d| {
+                for f in [
+                    "imu.csv",
+                    "dvl.csv",
+                    "depth.csv",
+                    "heading.csv",
+                    "usbl.csv",
+                    "altitude.csv",
+                    "truth.csv",
+                ] {
+                    shift_from(d, f, 0, 1.7e9)
+                }
+            },
+            SDINS,
+            Correct,
+            Here,
+        ),
+        (
+            "time backwards",
+            "clocks",
+            |d| cell(d, "imu.csv", 500, 0, "1.0"),
+            SDINS,
+            Error(&["imu.csv:502: column `t`"]),
+            Here,
+        ),
+        (
+            "duplicate time stamp",
+            "clocks",
+            |d| cell(d, "depth.csv", 10, 0, "5.0"),
+            SDINS,
+            Error(&["depth.csv:12: column `t`"]),
+            Here,
+        ),
+        // -- frozen IMU
+        (
+            "gyro frozen for 25 s",
+            "frozen",
+            |d| freeze(d, 1000, 3500),
+            SDINS,
+            Error(&["imu.csv:1002", "frozen IMU"]),
+            Here,
+        ),
+        (
+            "gyro frozen for 25 s, lenient",
+            "frozen",
+            |d| freeze(d, 1000, 3500),
+            LENIENT,
+            Warn("frozen_imu", "imu.csv:1002"),
+            Here,
+        ),
+        // -- scoring
+        (
+            "header-only truth",
+            "scoring",
+            |d| {
+                std::fs::write(
+                    d.join("truth.csv"),
+                    "t,lat,lon,depth,vn,ve,vd,roll,pitch,yaw\n",
+                )
+                .unwrap()
+            },
+            SDINS,
+            Error(&["truth.csv", "nothing to score"]),
+            Here,
+        ),
+        (
+            "truth depth cell 1e300",
+            "scoring",
+            |d| cell(d, "truth.csv", 30, 3, "1e300"),
+            SDINS,
+            Error(&["truth.csv:32", "`depth`"]),
+            Here,
+        ),
+        (
+            "truth never overlaps",
+            "scoring",
+            |d| shift_from(d, "truth.csv", 0, 1000.0),
+            SDINS,
+            Error(&["truth.csv", "overlap"]),
+            Here,
+        ),
+        (
+            "2 IMU rows against 60 s of truth",
+            "scoring",
+            |d| drop_rows(d, "imu.csv", 2, usize::MAX),
+            SDINS,
+            Error(&["truth.csv", "overlap"]),
+            Here,
+        ),
+        (
+            "1 IMU row",
+            "scoring",
+            |d| drop_rows(d, "imu.csv", 1, usize::MAX),
+            SDINS,
+            Error(&["imu.csv", "at least 2"]),
+            Here,
+        ),
+        (
+            "truth longer than the IMU",
+            "scoring",
+            |d| drop_rows(d, "imu.csv", 2000, usize::MAX),
+            SDINS,
+            Warn("partial_scoring", "truth.csv"),
+            Here,
+        ),
+        // -- output handling
+        (
+            "--out under a file",
+            "output",
+            |d| std::fs::write(d.join("blocker"), "x").unwrap(),
+            &["--out", "@/blocker/out"],
+            Error(&["--out", "blocker/out"]),
+            Here,
+        ),
+        (
+            "--out is a file",
+            "output",
+            |d| std::fs::write(d.join("taken"), "x").unwrap(),
+            &["--out", "@/taken"],
+            Error(&["taken", "not a directory"]),
+            Here,
+        ),
+        (
+            "--stationary on sdins25",
+            "output",
+            |_| {},
+            &["--stationary"],
+            Error(&["--stationary", "no stationary mode"]),
+            Here,
+        ),
+        // -- rows, files, links
+        (
+            "DVL row with one cell empty",
+            "rows",
+            |d| cell(d, "dvl.csv", 7, 2, ""),
+            SDINS,
+            Error(&["dvl.csv:9", "`vy`", "not used"]),
+            Here,
+        ),
+        (
+            "DVL row with one cell empty, lenient",
+            "rows",
+            |d| cell(d, "dvl.csv", 7, 2, ""),
+            LENIENT,
+            Warn("skipped_row", "dvl.csv:9"),
+            Here,
+        ),
+        (
+            "DVL without bottom lock",
+            "correct",
+            |d| {
+                rows(d, "dvl.csv", |i, c| {
+                    if (10..20).contains(&i) {
+                        c[1].clear();
+                        c[2].clear();
+                        c[3].clear();
+                    }
+                })
+            },
+            SDINS,
+            Correct,
+            Here,
+        ),
+        (
+            "dangling dvl.csv symlink",
+            "files",
+            |d| {
+                std::fs::remove_file(d.join("dvl.csv")).unwrap();
+                symlink(&d.join("moved.csv"), &d.join("dvl.csv"));
+            },
+            SDINS,
+            Error(&["dvl.csv", "does not exist"]),
+            Here,
+        ),
+        (
+            "dangling symlink, lenient",
+            "files",
+            |d| {
+                std::fs::remove_file(d.join("depth.csv")).unwrap();
+                symlink(&d.join("gone.csv"), &d.join("depth.csv"));
+            },
+            LENIENT,
+            Error(&["depth.csv", "does not exist"]),
+            Here,
+        ),
+        (
+            "speed.csv for sdins25",
+            "files",
+            |d| std::fs::write(d.join("speed.csv"), "t,speed\n1,1.5\n2,1.5\n").unwrap(),
+            SDINS,
+            Warn("unused_file", "speed.csv"),
+            Here,
+        ),
+        (
+            "unknown file, lenient",
+            "files",
+            |d| std::fs::write(d.join("sonar.csv"), "t,range\n1,3\n").unwrap(),
+            LENIENT,
+            Warn("unknown_file", "sonar.csv"),
+            Here,
+        ),
+        (
+            "CRLF line ends",
+            "correct",
+            |d| {
+                for f in ["imu.csv", "dvl.csv", "meta.toml"] {
+                    let t = std::fs::read_to_string(d.join(f)).unwrap();
+                    std::fs::write(d.join(f), t.replace('\n', "\r\n")).unwrap();
+                }
+            },
+            SDINS,
+            Correct,
+            Here,
+        ),
+        (
+            "NaN gyro cell",
+            "values",
+            |d| cell(d, "imu.csv", 10, 1, "NaN"),
+            SDINS,
+            Error(&["imu.csv:12: column `gx`"]),
+            Here,
+        ),
+        ("unchanged log", "correct", |_| {}, SDINS, Correct, Here),
+        // -- in-loop cases (the replay pipeline's work)
+        (
+            "far-future last IMU row, no truth, lenient",
+            "clocks",
+            |d| {
+                std::fs::remove_file(d.join("truth.csv")).unwrap();
+                let n = std::fs::read_to_string(d.join("imu.csv"))
+                    .unwrap()
+                    .lines()
+                    .count()
+                    - 2;
+                cell(d, "imu.csv", n, 0, "1e9");
+            },
+            LENIENT,
+            Warn("imu_gap", "imu.csv"),
+            Pipeline,
+        ),
+        (
+            "clock jump of an hour, lenient",
+            "clocks",
+            |d| shift_from(d, "imu.csv", 2000, 3600.0),
+            LENIENT,
+            Warn("imu_gap", "imu.csv:2001"),
+            Pipeline,
+        ),
+    ]
+}
+
+#[cfg(unix)]
+fn symlink(target: &Path, link: &Path) {
+    std::os::unix::fs::symlink(target, link).unwrap();
+}
+
+#[cfg(not(unix))]
+fn symlink(_: &Path, link: &Path) {
+    let _ = std::fs::remove_file(link);
+}
+
+/// Runs one case; `Err` says how it failed its class.
+fn run(case: &Case) -> Result<(), String> {
+    let (name, _, edit, extra, expect, _) = case;
+    let tmp = TempDir::new("broken");
+    let dir = tmp.path().join("log");
+    copy_dir(&base().join("log"), &dir);
+    edit(&dir);
+    let extra: Vec<String> = extra
+        .iter()
+        .map(|a| a.replace('@', &dir.display().to_string()))
+        .collect();
+    let mut args = vec![
+        "replay",
+        dir.to_str().unwrap(),
+        "--model",
+        "sdins25",
+        "--json",
+    ];
+    args.extend(extra.iter().map(String::as_str));
+    let o = navsim(&args);
+    let (out, err) = (stdout(&o), stderr(&o));
+    let code = o.status.code();
+    match expect {
+        Expect::Error(needles) => {
+            if code != Some(1) {
+                return Err(format!("{name}: exit {code:?}, expected 1; stderr {err}"));
+            }
+            if !out.is_empty() {
+                return Err(format!("{name}: stdout not empty: {out}"));
+            }
+            let lines: Vec<&str> = err.lines().filter(|l| l.starts_with("error:")).collect();
+            if lines.len() != 1 {
+                return Err(format!("{name}: {} error lines: {err}", lines.len()));
+            }
+            for n in *needles {
+                if !lines[0].contains(n) {
+                    return Err(format!("{name}: `{n}` not in {}", lines[0]));
+                }
+            }
+        }
+        Expect::Correct | Expect::Warn(..) => {
+            if code != Some(0) {
+                return Err(format!("{name}: exit {code:?}; stderr {err}"));
+            }
+            let v: Value = serde_json::from_str(out.trim())
+                .map_err(|e| format!("{name}: stdout is not JSON ({e}): {out}"))?;
+            for key in [
+                "horizontal_error_rms_m",
+                "depth_error_rms_m",
+                "scored_seconds",
+            ] {
+                if v.get("horizontal_error_rms_m").is_some()
+                    && !v[key].as_f64().is_some_and(f64::is_finite)
+                {
+                    return Err(format!("{name}: `{key}` = {}", v[key]));
+                }
+            }
+            let warnings = v["warnings"]
+                .as_array()
+                .ok_or_else(|| format!("{name}: no warnings array"))?;
+            let text = |w: &Value| {
+                let loc = match (w["file"].as_str(), w["line"].as_u64()) {
+                    (Some(f), Some(l)) => format!("{f}:{l}"),
+                    (Some(f), None) => f.to_string(),
+                    _ => String::new(),
+                };
+                format!(
+                    "{loc} {} {}",
+                    w["key"].as_str().unwrap_or(""),
+                    w["message"].as_str().unwrap_or("")
+                )
+            };
+            if let Expect::Warn(kind, needle) = expect {
+                let hit = warnings
+                    .iter()
+                    .any(|w| w["kind"] == *kind && text(w).contains(needle));
+                if !hit {
+                    return Err(format!(
+                        "{name}: no `{kind}` warning with `{needle}` in {warnings:?}"
+                    ));
+                }
+            } else if let Some(w) = warnings.iter().find(|w| w["kind"] != "unused_file") {
+                return Err(format!("{name}: correct case with a warning: {}", text(w)));
+            }
+        }
+    }
+    Ok(())
+}
+
+#[test]
+fn broken_logs_are_correct_clean_errors_or_warnings() {
+    let all = cases();
+    let mut names = std::collections::BTreeSet::new();
+    for c in &all {
+        assert!(names.insert(c.0), "duplicate case name {}", c.0);
+    }
+    let failures: Vec<String> = all
+        .iter()
+        .filter(|c| c.5 == Needs::Here)
+        .filter_map(|c| run(c).err())
+        .collect();
+    assert!(
+        failures.is_empty(),
+        "{} failing cases:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
+}
+
+/// The cases that need the replay pipeline's in-loop work (bounded time
+/// steps, physical bounds on the estimate). Ignored until it is merged: the
+/// first one allocates memory sized by the far-future time stamp without it.
+#[test]
+#[ignore = "needs the replay pipeline's bounded-step propagation"]
+fn pipeline_cases() {
+    let failures: Vec<String> = cases()
+        .iter()
+        .filter(|c| c.5 == Needs::Pipeline)
+        .filter_map(|c| run(c).err())
+        .collect();
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// Prints the number of cases per class and expectation (for the docs).
+#[test]
+fn case_counts() {
+    let mut counts = std::collections::BTreeMap::new();
+    for (_, class, _, _, expect, needs) in cases() {
+        let kind = match expect {
+            Expect::Correct => "correct",
+            Expect::Error(_) => "error",
+            Expect::Warn(..) => "warning",
+        };
+        *counts
+            .entry((class, kind, needs == Needs::Pipeline))
+            .or_insert(0) += 1;
+    }
+    for ((class, kind, pipeline), n) in &counts {
+        eprintln!(
+            "{class:10} {kind:8} {n:3}{}",
+            if *pipeline { " (pipeline)" } else { "" }
+        );
+    }
+    assert!(cases().len() >= 60);
+}
+
+/// SIGINT while `--out` is being written removes the staging directory:
+/// the signal is sent as soon as the `.partial-*` directory appears. An
+/// attempt whose run finished before the signal is repeated (at least one
+/// must be interrupted for the test to pass).
+#[cfg(unix)]
+#[test]
+fn sigint_while_writing_leaves_no_staging_dir() {
+    let mut interrupted = 0;
+    for attempt in 0..10 {
+        let tmp = TempDir::new("sigint");
+        let out = tmp.path().join("out");
+        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_navsim"))
+            .args([
+                "replay",
+                base().join("log").to_str().unwrap(),
+                "--model",
+                "sdins25",
+            ])
+            .arg("--out")
+            .arg(&out)
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        let partial = |p: &Path| {
+            std::fs::read_dir(p)
+                .unwrap()
+                .filter_map(Result::ok)
+                .any(|e| e.file_name().to_string_lossy().contains(".partial-"))
+        };
+        let mut sent = false;
+        while child.try_wait().unwrap().is_none() {
+            if partial(tmp.path()) {
+                let _ = std::process::Command::new("kill")
+                    .args(["-INT", &child.id().to_string()])
+                    .status();
+                sent = true;
+                break;
+            }
+        }
+        let status = child.wait().unwrap();
+        assert!(
+            !partial(tmp.path()),
+            "attempt {attempt}: a staging directory is left"
+        );
+        if sent && !status.success() {
+            assert_eq!(status.code(), Some(130), "attempt {attempt}");
+            assert!(!out.exists(), "attempt {attempt}: a partial output");
+            interrupted += 1;
+            if interrupted >= 2 {
+                break;
+            }
+        }
+    }
+    assert!(interrupted > 0, "no run was interrupted while writing");
+}
