@@ -7,5 +7,6 @@ pub mod montecarlo;
 pub mod plot;
 pub mod report;
 pub mod sdins25;
+pub mod ulog;
 pub mod vehicles;
 pub mod vkf;
