@@ -1,6 +1,8 @@
 //! The estimators of the source papers (MODELS.md), declared with `nav_runtime::model!`.
 
+pub mod ahrs;
 pub mod cli;
+pub mod gnss_ins;
 pub mod leveling;
 pub mod marker;
 pub mod montecarlo;

@@ -37,6 +37,16 @@ pub enum ImportError {
         /// What was expected.
         reason: String,
     },
+    /// A row of a CSV file written by the import (read back for scoring) is bad.
+    #[error("{file}: line {line}: {reason}")]
+    Csv {
+        /// The file.
+        file: String,
+        /// 1-based line.
+        line: usize,
+        /// What is wrong, naming the column.
+        reason: String,
+    },
     /// The file is well formed but lacks what a log directory needs.
     #[error("{file}: {reason}")]
     Unusable {

@@ -16,6 +16,7 @@ mod decode;
 mod error;
 pub mod fuzz;
 pub mod guard;
+pub mod reference;
 mod topics;
 
 #[cfg(test)]
