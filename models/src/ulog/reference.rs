@@ -258,16 +258,16 @@ mod tests {
     fn bad_rows_name_line_and_column() {
         let cases = [
             (
-                "t,roll\n1.0,x\n",
+                "t,roll,pitch,yaw\n1.0,x,0,0\n",
                 "reference.csv: line 2: column `roll`: `x` is not a finite number",
             ),
             (
-                "t,roll\n1.0,0\n1.0,0\n",
+                "t,roll,pitch,yaw\n1.0,0,0,0\n1.0,0,0,0\n",
                 "reference.csv: line 3: column `t`: time not increasing",
             ),
             ("roll\n0\n", "reference.csv: line 1: column `t` missing"),
             (
-                "t,roll\n1.0\n",
+                "t,roll,pitch,yaw\n1.0\n",
                 "reference.csv: line 2: column `roll`: `` is not",
             ),
         ];
