@@ -205,7 +205,10 @@ pub fn read_unguarded(file: &str, bytes: &[u8]) -> Result<ImportedLog, ImportErr
         };
         let mut on_parameter = |p: &ParameterMessage| {
             let (name, value, stage) = match p {
-                ParameterMessage::Float(n, v, s) => (*n, f64::from(*v), s),
+                // The f32's shortest decimal (0.015, not 0.014999999664723873).
+                ParameterMessage::Float(n, v, s) => {
+                    (*n, v.to_string().parse().unwrap_or(f64::NAN), s)
+                }
                 ParameterMessage::Int32(n, v, s) => (*n, f64::from(*v), s),
             };
             // The initial parameters; changes in flight are not used.
