@@ -370,7 +370,7 @@ impl<'a> Cx<'a> {
         header.extend(optional.iter().map(|(n, _)| *n));
         let mut no_fix = 0usize;
         let f = series(t, self.origin_us, "gnss.csv", &header, |r| {
-            if fix.is_some_and(|c| !(t.at(r, c) >= MIN_FIX_TYPE)) {
+            if fix.is_some_and(|c| t.at(r, c) < MIN_FIX_TYPE || t.at(r, c).is_nan()) {
                 no_fix += 1;
                 return None;
             }
