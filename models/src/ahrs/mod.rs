@@ -1,8 +1,10 @@
 //! `ahrs`: attitude and gyro bias from gyro, accelerometer and magnetometer
 //! (`docs/ulog.md`, "The `ahrs` model"). The declaration is in [`model`].
 
+pub mod heading;
 pub mod model;
 
+pub use heading::{declination_from, magnetic_heading};
 pub use model::{Ahrs, AhrsGravity, AhrsHeading};
 
 #[cfg(test)]

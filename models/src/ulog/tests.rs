@@ -531,3 +531,25 @@ fn the_command_line_writes_the_log_directory() {
     );
     assert!(!std::path::Path::new("/tmp/never-written").exists());
 }
+
+/// The written directory is read by the project's log reader: `imu.csv`,
+/// `truth.csv` and `meta.toml` in its format, the other files listed as
+/// files it does not use.
+#[test]
+fn the_log_reader_reads_the_written_directory() {
+    let log = import(&flight(Layout::New, 1).bytes());
+    let dir = std::env::temp_dir().join(format!("ulog-logdir-{}", std::process::id()));
+    log.write(&dir).expect("written");
+    let read = nav_runtime::log::LogDir::read(&dir, nav_runtime::log::Strictness::Lenient);
+    let _ = std::fs::remove_dir_all(&dir);
+    let read = read.expect("read by LogDir");
+    assert_eq!(read.imu.len(), TICKS as usize);
+    assert_eq!(read.total_skipped_rows(), 0);
+    for name in ["mag.csv", "baro.csv", "gnss.csv", "reference.csv"] {
+        assert!(
+            read.unknown_files.iter().any(|f| f == name),
+            "{:?}",
+            read.unknown_files
+        );
+    }
+}
