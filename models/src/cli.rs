@@ -115,6 +115,46 @@ pub enum Command {
     /// Check a log directory for unit, sign, frame and clock mistakes without
     /// running a model.
     Check(CheckArgs),
+    /// Convert another tool's log into a log directory (`import ulog FILE --out DIR`).
+    Import(ImportArgs),
+}
+
+/// `navsim import`.
+#[derive(Debug, Args)]
+pub struct ImportArgs {
+    /// Format of the file: `ulog` (a PX4 flight log).
+    pub format: ImportFormat,
+    /// The file to import.
+    pub file: PathBuf,
+    /// Log directory to write.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Print one JSON object on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// The formats `navsim import` reads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum ImportFormat {
+    /// PX4 ULog (`.ulg`).
+    Ulog,
+}
+
+/// `navsim import`: writes the log directory; the topics used are in the warnings.
+pub fn cmd_import(args: &ImportArgs) -> Result<(), RunError> {
+    let ImportFormat::Ulog = args.format;
+    let log =
+        crate::ulog::import(&args.file, &args.out).map_err(|e| RunError::Invalid(e.to_string()))?;
+    for w in &log.warnings {
+        eprintln!("warning: {w}");
+    }
+    let mut value = log.summary();
+    value["command"] = Value::from("import");
+    value["format"] = Value::from("ulog");
+    value["out"] = Value::from(args.out.display().to_string());
+    emit(&value, args.json);
+    Ok(())
 }
 
 /// `navsim check`.
@@ -627,6 +667,7 @@ pub fn run(cli: &Cli) -> Result<(), RunError> {
         Some(Command::Merge(a)) => cmd_merge(a),
         Some(Command::List(a)) => cmd_list(a),
         Some(Command::Check(a)) => cmd_check(a),
+        Some(Command::Import(a)) => cmd_import(a),
         None => cmd_scenario(&ScenarioArgs {
             name: default_scenario().to_string(),
             seed: DEFAULT_SEED,

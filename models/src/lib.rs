@@ -1,7 +1,9 @@
 //! The estimators of the source papers (docs/models/), declared with `nav_runtime::model!`.
 #![warn(missing_docs)]
 
+pub mod ahrs;
 pub mod cli;
+pub mod gnss_ins;
 pub mod interrupt;
 pub mod leveling;
 pub mod marker;
@@ -11,5 +13,6 @@ pub mod preflight;
 pub mod report;
 pub mod scenario_text;
 pub mod sdins25;
+pub mod ulog;
 pub mod vehicles;
 pub mod vkf;

@@ -1,0 +1,735 @@
+//! From the topic tables to the files of a log directory: which topic feeds
+//! which file (see [`super::topics`]), unit conversions, time order, and the
+//! initial estimate and sensor noise of `meta.toml`.
+
+use std::collections::HashMap;
+use std::fmt::Write as _;
+
+use super::decode::Table;
+use super::error::ImportError;
+use super::topics::PARAMETERS;
+use super::{CsvFile, ImportedLog};
+
+/// `int32` value PX4 writes in a `*_timestamp_relative` field with no sample.
+const RELATIVE_TIMESTAMP_INVALID: f64 = 2_147_483_647.0;
+/// GNSS fixes below this `fix_type` (3 = 3D fix) are not written.
+const MIN_FIX_TYPE: f64 = 3.0;
+/// PX4 EKF2's switch-on uncertainty of the gyro bias, rad/s.
+const GYRO_BIAS_SIGMA_DEFAULT: f64 = 0.1;
+/// PX4 EKF2's switch-on uncertainty of the accelerometer bias, m/s^2.
+const ACCEL_BIAS_SIGMA_DEFAULT: f64 = 0.2;
+
+/// Builds the log directory's content.
+pub fn assemble(
+    file: &str,
+    origin_us: f64,
+    tables: &[Table],
+    parameters: &HashMap<String, f64>,
+    mut warnings: Vec<String>,
+) -> Result<ImportedLog, ImportError> {
+    let mut cx = Cx {
+        file,
+        origin_us,
+        tables,
+        warnings: &mut warnings,
+    };
+    let mut files = Vec::new();
+    let (mut imu, imu_topic) = cx.imu()?;
+    let reference = cx.estimate("", "reference.csv", "height")?;
+    let truth = cx.estimate("_groundtruth", "truth.csv", "depth")?;
+
+    // The initial estimate: PX4's first estimate at or after the first IMU sample.
+    let mut initial = None;
+    if let Some(r) = &reference {
+        if let Some(first) = r.row_at_or_after(imu.first_t().unwrap_or(f64::NEG_INFINITY)) {
+            let t0 = r.values[first * r.header.len()];
+            let dropped = imu.drop_before(t0);
+            if dropped > 0 {
+                cx.warn(format!(
+                    "imu.csv: {dropped} samples before PX4's first estimate (t = {t0:.6} s) were not written"
+                ));
+            }
+            initial = Some(r.row(first));
+        }
+    }
+    if imu.rows() == 0 {
+        return Err(ImportError::Unusable {
+            file: file.to_string(),
+            reason: format!("no IMU sample ({imu_topic}) at or after PX4's first estimate"),
+        });
+    }
+    files.push(imu);
+    for f in [cx.magnetometer()?, cx.barometer()?, cx.gnss()?]
+        .into_iter()
+        .flatten()
+    {
+        files.push(f);
+    }
+    let mut meta = meta_toml(
+        &mut cx,
+        initial.as_deref(),
+        reference.as_ref(),
+        files.iter().find(|f| f.name == "gnss.csv"),
+    )?;
+    let (imu_section, noise) = noise_toml(&mut cx, parameters);
+    meta.push_str(&imu_section);
+    files.extend(reference);
+    files.extend(truth);
+    Ok(ImportedLog {
+        files,
+        meta,
+        noise,
+        warnings,
+    })
+}
+
+struct Cx<'a> {
+    file: &'a str,
+    /// The log's start (header timestamp), us: file times are seconds after it.
+    origin_us: f64,
+    tables: &'a [Table],
+    warnings: &'a mut Vec<String>,
+}
+
+impl<'a> Cx<'a> {
+    fn warn(&mut self, w: String) {
+        self.warnings.push(w);
+    }
+
+    /// The instance of `topic` used: the lowest `multi_id` with rows; says so
+    /// when there are several.
+    fn pick(&mut self, topic: &str) -> Option<&'a Table> {
+        let tables = self.tables;
+        let mut found: Vec<&Table> = tables
+            .iter()
+            .filter(|t| t.topic == topic && t.rows() > 0)
+            .collect();
+        found.sort_by_key(|t| (t.instance, std::cmp::Reverse(t.rows())));
+        let first = *found.first()?;
+        if found.len() > 1 {
+            let ids: Vec<String> = found.iter().map(|t| t.instance.to_string()).collect();
+            self.warn(format!(
+                "{topic}: {} instances (multi_id {}); multi_id {} used",
+                found.len(),
+                ids.join(", "),
+                first.instance
+            ));
+        }
+        Some(first)
+    }
+
+    fn layout(&self, topic: &str, field: &str, reason: &str) -> ImportError {
+        ImportError::Layout {
+            file: self.file.to_string(),
+            topic: topic.to_string(),
+            field: field.to_string(),
+            reason: reason.to_string(),
+        }
+    }
+
+    /// Index of every one of `fields` in `t`, or a layout error naming the first missing one.
+    fn require(&self, t: &Table, fields: &[&str]) -> Result<Vec<usize>, ImportError> {
+        fields
+            .iter()
+            .map(|f| {
+                t.column(f)
+                    .ok_or_else(|| self.layout(&t.topic, f, "missing (unknown topic layout)"))
+            })
+            .collect()
+    }
+
+    fn imu(&mut self) -> Result<(CsvFile, &'static str), ImportError> {
+        if let Some(t) = self.pick("sensor_combined") {
+            let cols = self.require(
+                t,
+                &[
+                    "timestamp",
+                    "gyro_rad[0]",
+                    "gyro_rad[1]",
+                    "gyro_rad[2]",
+                    "accelerometer_m_s2[0]",
+                    "accelerometer_m_s2[1]",
+                    "accelerometer_m_s2[2]",
+                ],
+            )?;
+            let what = format!(
+                "imu.csv: sensor_combined multi_id {} (gyro_rad, accelerometer_m_s2)",
+                t.instance
+            );
+            let f = series(
+                t,
+                self.origin_us,
+                "imu.csv",
+                &["t", "gx", "gy", "gz", "ax", "ay", "az"],
+                |r| Some(cols.iter().map(|&c| t.at(r, c)).collect()),
+            );
+            self.used(what, &f);
+            return Ok((f, "sensor_combined"));
+        }
+        if let Some(t) = self.pick("vehicle_imu") {
+            let time =
+                time_column(t).ok_or_else(|| self.layout("vehicle_imu", "timestamp", "missing"))?;
+            let cols = self.require(
+                t,
+                &[
+                    "delta_angle[0]",
+                    "delta_angle[1]",
+                    "delta_angle[2]",
+                    "delta_velocity[0]",
+                    "delta_velocity[1]",
+                    "delta_velocity[2]",
+                ],
+            )?;
+            let what = format!(
+                "imu.csv: vehicle_imu multi_id {} (increments delta_angle, delta_velocity)",
+                t.instance
+            );
+            let f = series(
+                t,
+                self.origin_us,
+                "imu.csv",
+                &[
+                    "t", "dtheta_x", "dtheta_y", "dtheta_z", "dv_x", "dv_y", "dv_z",
+                ],
+                |r| {
+                    let mut v = vec![time.at(t, r)];
+                    v.extend(cols.iter().map(|&c| t.at(r, c)));
+                    Some(v)
+                },
+            );
+            self.used(what, &f);
+            return Ok((f, "vehicle_imu"));
+        }
+        Err(ImportError::Unusable {
+            file: self.file.to_string(),
+            reason: "no IMU data: neither `sensor_combined` nor `vehicle_imu` has samples".into(),
+        })
+    }
+
+    /// Records which topic fed a file, and rows dropped for time order or non-finite values.
+    fn used(&mut self, what: String, f: &CsvFile) {
+        self.warn(format!("{what}: {} rows", f.rows()));
+        if f.dropped > 0 {
+            self.warn(format!(
+                "{}: {} rows dropped (time not increasing or value not finite)",
+                f.name, f.dropped
+            ));
+        }
+    }
+
+    fn magnetometer(&mut self) -> Result<Option<CsvFile>, ImportError> {
+        const MAG: [&str; 3] = [
+            "magnetometer_ga[0]",
+            "magnetometer_ga[1]",
+            "magnetometer_ga[2]",
+        ];
+        let header = &["t", "mx", "my", "mz"];
+        if let Some(t) = self.pick("vehicle_magnetometer") {
+            let time =
+                time_column(t).ok_or_else(|| self.layout(&t.topic, "timestamp", "missing"))?;
+            let cols = self.require(t, &MAG)?;
+            let what = format!("mag.csv: vehicle_magnetometer multi_id {}", t.instance);
+            let f = series(t, self.origin_us, "mag.csv", header, |r| {
+                let mut v = vec![time.at(t, r)];
+                v.extend(cols.iter().map(|&c| t.at(r, c)));
+                Some(v)
+            });
+            self.used(what, &f);
+            return Ok(Some(f));
+        }
+        if let Some(t) = self.pick("sensor_combined") {
+            if t.has_all(&MAG) {
+                let cols = self.require(
+                    t,
+                    &[
+                        "timestamp",
+                        "magnetometer_timestamp_relative",
+                        MAG[0],
+                        MAG[1],
+                        MAG[2],
+                    ],
+                )?;
+                let what = format!(
+                    "mag.csv: sensor_combined multi_id {} (magnetometer_ga, older layout)",
+                    t.instance
+                );
+                let f = series(t, self.origin_us, "mag.csv", header, |r| {
+                    relative_row(t, r, &cols)
+                });
+                self.used(what, &f);
+                return Ok(Some(f));
+            }
+        }
+        self.warn(
+            "mag.csv: not written (no vehicle_magnetometer, no magnetometer in sensor_combined)"
+                .into(),
+        );
+        Ok(None)
+    }
+
+    fn barometer(&mut self) -> Result<Option<CsvFile>, ImportError> {
+        let header = &["t", "altitude"];
+        if let Some(t) = self.pick("vehicle_air_data") {
+            let time =
+                time_column(t).ok_or_else(|| self.layout(&t.topic, "timestamp", "missing"))?;
+            let alt = self.require(t, &["baro_alt_meter"])?[0];
+            let what = format!(
+                "baro.csv: vehicle_air_data multi_id {} (baro_alt_meter)",
+                t.instance
+            );
+            let f = series(t, self.origin_us, "baro.csv", header, |r| {
+                Some(vec![time.at(t, r), t.at(r, alt)])
+            });
+            self.used(what, &f);
+            return Ok(Some(f));
+        }
+        if let Some(t) = self.pick("sensor_baro") {
+            let time =
+                time_column(t).ok_or_else(|| self.layout(&t.topic, "timestamp", "missing"))?;
+            let p = self.require(t, &["pressure"])?[0];
+            let what = format!(
+                "baro.csv: sensor_baro multi_id {} (pressure, converted with the standard atmosphere)",
+                t.instance
+            );
+            let f = series(t, self.origin_us, "baro.csv", header, |r| {
+                Some(vec![time.at(t, r), pressure_altitude(t.at(r, p))])
+            });
+            self.used(what, &f);
+            return Ok(Some(f));
+        }
+        if let Some(t) = self.pick("sensor_combined") {
+            if t.has_all(&["baro_alt_meter"]) {
+                let cols = self.require(
+                    t,
+                    &["timestamp", "baro_timestamp_relative", "baro_alt_meter"],
+                )?;
+                let what = format!(
+                    "baro.csv: sensor_combined multi_id {} (baro_alt_meter, older layout)",
+                    t.instance
+                );
+                let f = series(t, self.origin_us, "baro.csv", header, |r| {
+                    relative_row(t, r, &cols)
+                });
+                self.used(what, &f);
+                return Ok(Some(f));
+            }
+        }
+        self.warn("baro.csv: not written (no vehicle_air_data, sensor_baro or barometer in sensor_combined)".into());
+        Ok(None)
+    }
+
+    fn gnss(&mut self) -> Result<Option<CsvFile>, ImportError> {
+        let has = |name: &str| self.tables.iter().any(|t| t.topic == name && t.rows() > 0);
+        let topic = if has("vehicle_gps_position") {
+            "vehicle_gps_position"
+        } else {
+            "sensor_gps"
+        };
+        let Some(t) = self.pick(topic) else {
+            self.warn("gnss.csv: not written (no vehicle_gps_position or sensor_gps)".into());
+            return Ok(None);
+        };
+        let time = time_column(t).ok_or_else(|| self.layout(topic, "timestamp", "missing"))?;
+        // (column, scale to degrees or metres)
+        let one =
+            |names: &[(&str, f64)]| names.iter().find_map(|(n, s)| t.column(n).map(|c| (c, *s)));
+        let lat = one(&[("latitude_deg", 1.0), ("lat", 1e-7)])
+            .ok_or_else(|| self.layout(topic, "latitude_deg", "missing (nor the older `lat`)"))?;
+        let lon = one(&[("longitude_deg", 1.0), ("lon", 1e-7)])
+            .ok_or_else(|| self.layout(topic, "longitude_deg", "missing (nor the older `lon`)"))?;
+        let ellipsoid = one(&[("altitude_ellipsoid_m", 1.0), ("alt_ellipsoid", 1e-3)]);
+        let height = match ellipsoid {
+            Some(h) => h,
+            None => {
+                let h = one(&[("altitude_msl_m", 1.0), ("alt", 1e-3)]).ok_or_else(|| {
+                    self.layout(
+                        topic,
+                        "altitude_ellipsoid_m",
+                        "missing (nor altitude_msl_m, alt_ellipsoid, alt)",
+                    )
+                })?;
+                self.warn(format!(
+                    "gnss.csv: {topic} has no ellipsoidal height; height is above mean sea level"
+                ));
+                h
+            }
+        };
+        let fix = t.column("fix_type");
+        let optional: Vec<(&'static str, usize)> = [
+            ("eph", "eph"),
+            ("epv", "epv"),
+            ("vn", "vel_n_m_s"),
+            ("ve", "vel_e_m_s"),
+            ("vd", "vel_d_m_s"),
+            ("speed_accuracy", "s_variance_m_s"),
+        ]
+        .into_iter()
+        .filter_map(|(name, field)| t.column(field).map(|c| (name, c)))
+        .collect();
+        let mut header = vec!["t", "lat", "lon", "height"];
+        header.extend(optional.iter().map(|(n, _)| *n));
+        let mut no_fix = 0usize;
+        let f = series(t, self.origin_us, "gnss.csv", &header, |r| {
+            if fix.is_some_and(|c| t.at(r, c) < MIN_FIX_TYPE || t.at(r, c).is_nan()) {
+                no_fix += 1;
+                return None;
+            }
+            let mut v = vec![
+                time.at(t, r),
+                (t.at(r, lat.0) * lat.1).to_radians(),
+                (t.at(r, lon.0) * lon.1).to_radians(),
+                t.at(r, height.0) * height.1,
+            ];
+            v.extend(optional.iter().map(|(_, c)| t.at(r, *c)));
+            Some(v)
+        });
+        let what = format!("gnss.csv: {topic} multi_id {}", t.instance);
+        self.used(what, &f);
+        if no_fix > 0 {
+            self.warn(format!(
+                "gnss.csv: {no_fix} rows without a 3D fix (fix_type < 3) not written"
+            ));
+        }
+        Ok(Some(f))
+    }
+
+    /// PX4's estimate (`suffix` "") or the simulator's truth (`suffix`
+    /// "_groundtruth"): attitude, global position, local velocity, on the
+    /// attitude's timestamps (position and velocity interpolated linearly).
+    fn estimate(
+        &mut self,
+        suffix: &str,
+        name: &'static str,
+        vertical: &'static str,
+    ) -> Result<Option<CsvFile>, ImportError> {
+        let att_topic = format!("vehicle_attitude{suffix}");
+        let pos_topic = format!("vehicle_global_position{suffix}");
+        let vel_topic = format!("vehicle_local_position{suffix}");
+        let att = self.pick(&att_topic);
+        let pos = self.pick(&pos_topic);
+        let vel = self.pick(&vel_topic);
+        let truth = !suffix.is_empty();
+        if truth && (att.is_none() || pos.is_none() || vel.is_none()) {
+            if att.is_some() || pos.is_some() || vel.is_some() {
+                self.warn(format!(
+                    "{name}: not written (needs {att_topic}, {pos_topic} and {vel_topic})"
+                ));
+            }
+            return Ok(None);
+        }
+        let Some(base) = att.or(pos) else {
+            if vel.is_some() {
+                self.warn(format!("{name}: not written ({vel_topic} alone)"));
+            }
+            return Ok(None);
+        };
+        let q = match att {
+            Some(a) => Some(self.require(a, &["q[0]", "q[1]", "q[2]", "q[3]"])?),
+            None => None,
+        };
+        let p = match pos {
+            Some(g) => {
+                let mut c = self.require(g, &["lat", "lon"])?;
+                let h = g
+                    .column("alt_ellipsoid")
+                    .or_else(|| g.column("alt"))
+                    .ok_or_else(|| self.layout(&g.topic, "alt_ellipsoid", "missing (nor alt)"))?;
+                c.push(h);
+                Some((
+                    g,
+                    time_column(g).ok_or_else(|| self.layout(&g.topic, "timestamp", "missing"))?,
+                    c,
+                ))
+            }
+            None => None,
+        };
+        let v = match vel {
+            Some(l) => Some((
+                l,
+                time_column(l).ok_or_else(|| self.layout(&l.topic, "timestamp", "missing"))?,
+                self.require(l, &["vx", "vy", "vz"])?,
+            )),
+            None => None,
+        };
+        let base_time =
+            time_column(base).ok_or_else(|| self.layout(&base.topic, "timestamp", "missing"))?;
+        let mut header = vec!["t"];
+        if p.is_some() {
+            header.extend(["lat", "lon", vertical]);
+        }
+        if v.is_some() {
+            header.extend(["vn", "ve", "vd"]);
+        }
+        if q.is_some() {
+            header.extend(["roll", "pitch", "yaw"]);
+        }
+        let f = series(base, self.origin_us, name, &header, |r| {
+            let t = base_time.at(base, r);
+            let mut row = vec![t];
+            if let Some((g, gt, c)) = &p {
+                let w = interpolate(g, *gt, c, t)?;
+                let height = w[2];
+                row.extend([
+                    w[0].to_radians(),
+                    w[1].to_radians(),
+                    if truth { -height } else { height },
+                ]);
+            }
+            if let Some((l, lt, c)) = &v {
+                row.extend(interpolate(l, *lt, c, t)?);
+            }
+            if let Some(c) = &q {
+                let quat = [
+                    base.at(r, c[0]),
+                    base.at(r, c[1]),
+                    base.at(r, c[2]),
+                    base.at(r, c[3]),
+                ];
+                row.extend(euler(quat)?);
+            }
+            Some(row)
+        });
+        let mut parts = Vec::new();
+        if let Some(a) = att {
+            parts.push(format!("{} multi_id {}", a.topic, a.instance));
+        }
+        if let Some((g, _, _)) = &p {
+            parts.push(format!("{} multi_id {}", g.topic, g.instance));
+        }
+        if let Some((l, _, _)) = &v {
+            parts.push(format!("{} multi_id {}", l.topic, l.instance));
+        }
+        self.used(format!("{name}: {}", parts.join(", ")), &f);
+        Ok(Some(f))
+    }
+}
+
+/// Where a table's time is: `timestamp_sample` (the sample time) where
+/// present and set, else `timestamp` (PX4 leaves `timestamp_sample` at 0 in
+/// some topics, e.g. a simulated GNSS receiver).
+#[derive(Debug, Clone, Copy)]
+struct Time {
+    sample: Option<usize>,
+    stamp: Option<usize>,
+}
+
+impl Time {
+    /// Microseconds.
+    fn at(self, t: &Table, r: usize) -> f64 {
+        match (self.sample.map(|c| t.at(r, c)), self.stamp) {
+            (Some(s), _) if s > 0.0 => s,
+            (_, Some(c)) => t.at(r, c),
+            (Some(s), None) => s,
+            (None, None) => f64::NAN,
+        }
+    }
+}
+
+fn time_column(t: &Table) -> Option<Time> {
+    let time = Time {
+        sample: t.column("timestamp_sample"),
+        stamp: t.column("timestamp"),
+    };
+    (time.sample.is_some() || time.stamp.is_some()).then_some(time)
+}
+
+/// A row `[t, values..]` of an older `sensor_combined` field whose sample time
+/// is `timestamp + *_timestamp_relative`; `cols` = [timestamp, relative, values..].
+fn relative_row(t: &Table, r: usize, cols: &[usize]) -> Option<Vec<f64>> {
+    let relative = t.at(r, cols[1]);
+    if relative == RELATIVE_TIMESTAMP_INVALID {
+        return None;
+    }
+    let mut v = vec![t.at(r, cols[0]) + relative];
+    v.extend(cols[2..].iter().map(|&c| t.at(r, c)));
+    Some(v)
+}
+
+/// Pressure altitude of the standard atmosphere (sea level 101325 Pa,
+/// 288.15 K, lapse 0.0065 K/m), m.
+fn pressure_altitude(pa: f64) -> f64 {
+    44_330.769_2 * (1.0 - (pa / 101_325.0).powf(0.190_263_2))
+}
+
+/// Roll, pitch, yaw (rad, z-y-x) of a Hamilton quaternion `[w, x, y, z]`
+/// rotating body to NED; `None` for a zero or non-finite quaternion.
+pub fn euler(q: [f64; 4]) -> Option<[f64; 3]> {
+    let n = q.iter().map(|v| v * v).sum::<f64>().sqrt();
+    if !(n.is_finite() && n > 1e-6) {
+        return None;
+    }
+    let [w, x, y, z] = q.map(|v| v / n);
+    let roll = (2.0 * (w * x + y * z)).atan2(1.0 - 2.0 * (x * x + y * y));
+    let pitch = (2.0 * (w * y - z * x)).clamp(-1.0, 1.0).asin();
+    let yaw = (2.0 * (w * z + x * y)).atan2(1.0 - 2.0 * (y * y + z * z));
+    Some([roll, pitch, yaw])
+}
+
+/// Columns `cols` of `t` linearly interpolated at time `at` (same unit as the
+/// time column `time`); `None` outside the table's time span.
+fn interpolate(t: &Table, time: Time, cols: &[usize], at: f64) -> Option<Vec<f64>> {
+    let n = t.rows();
+    if n == 0 {
+        return None;
+    }
+    // First row with time >= at (rows are in file order, which PX4 writes in time order).
+    let (mut lo, mut hi) = (0usize, n);
+    while lo < hi {
+        let mid = (lo + hi) / 2;
+        if time.at(t, mid) < at {
+            lo = mid + 1;
+        } else {
+            hi = mid;
+        }
+    }
+    if lo == n {
+        return None;
+    }
+    let t1 = time.at(t, lo);
+    if t1 == at {
+        return Some(cols.iter().map(|&c| t.at(lo, c)).collect());
+    }
+    if lo == 0 {
+        return None;
+    }
+    let t0 = time.at(t, lo - 1);
+    let s = (at - t0) / (t1 - t0);
+    if !(0.0..=1.0).contains(&s) {
+        return None;
+    }
+    Some(
+        cols.iter()
+            .map(|&c| t.at(lo - 1, c) + s * (t.at(lo, c) - t.at(lo - 1, c)))
+            .collect(),
+    )
+}
+
+/// The rows of a file from a table: `row` gives each row (or `None` to skip
+/// it); rows with a non-finite value or a time not after the previous row's
+/// are dropped and counted.
+fn series(
+    t: &Table,
+    origin_us: f64,
+    name: &'static str,
+    header: &[&'static str],
+    mut row: impl FnMut(usize) -> Option<Vec<f64>>,
+) -> CsvFile {
+    let mut f = CsvFile {
+        name,
+        header: header.to_vec(),
+        values: Vec::new(),
+        dropped: 0,
+    };
+    let mut last = f64::NEG_INFINITY;
+    for r in 0..t.rows() {
+        let Some(mut v) = row(r) else { continue };
+        if let Some(t) = v.first_mut() {
+            *t = (*t - origin_us) * 1e-6;
+        }
+        if v.len() != header.len() || !v.iter().all(|x| x.is_finite()) || v[0] <= last {
+            f.dropped += 1;
+            continue;
+        }
+        last = v[0];
+        f.values.extend(v);
+    }
+    f
+}
+
+fn meta_toml(
+    cx: &mut Cx,
+    initial: Option<&[f64]>,
+    reference: Option<&CsvFile>,
+    gnss: Option<&CsvFile>,
+) -> Result<String, ImportError> {
+    let mut out = String::from("# Written by `navsim import ulog`.\n[initial]\n");
+    let mut keys: Vec<(&str, f64)> = Vec::new();
+    if let (Some(row), Some(r)) = (initial, reference) {
+        for (name, value) in r.header.iter().zip(row) {
+            match *name {
+                "t" => {}
+                "height" => keys.push(("depth", -value)),
+                n => keys.push((n, *value)),
+            }
+        }
+        cx.warn(format!(
+            "meta.toml: [initial] is PX4's estimate at t = {:.6} s",
+            row[0]
+        ));
+    }
+    if !keys.iter().any(|(k, _)| *k == "lat") {
+        // No PX4 position estimate: the first GNSS fix.
+        let Some(g) = gnss.filter(|g| g.rows() > 0) else {
+            return Err(ImportError::Unusable {
+                file: cx.file.to_string(),
+                reason: "no initial position: neither vehicle_global_position nor a GNSS fix"
+                    .into(),
+            });
+        };
+        keys.retain(|(k, _)| !matches!(*k, "lat" | "lon" | "depth"));
+        keys.extend([
+            ("lat", g.values[1]),
+            ("lon", g.values[2]),
+            ("depth", -g.values[3]),
+        ]);
+        cx.warn("meta.toml: [initial] position from the first GNSS fix".into());
+    }
+    if !keys.iter().any(|(k, _)| *k == "yaw") {
+        cx.warn("meta.toml: [initial] has no attitude (no vehicle_attitude)".into());
+    }
+    for (k, v) in keys {
+        let _ = writeln!(out, "{k} = {v:e}");
+    }
+    Ok(out)
+}
+
+fn parameter(cx: &mut Cx, parameters: &HashMap<String, f64>, name: &str) -> f64 {
+    let (_, default, unit) = PARAMETERS
+        .iter()
+        .find(|(n, _, _)| *n == name)
+        .copied()
+        .unwrap_or((name, f64::NAN, ""));
+    match parameters.get(name) {
+        Some(v) if v.is_finite() && *v >= 0.0 => *v,
+        _ => {
+            cx.warn(format!(
+                "parameter {name} not in the log; PX4's default {default} {unit} used"
+            ));
+            default
+        }
+    }
+}
+
+/// `[sensors.imu]` goes into `meta.toml`; the aiding sensors' noise, which
+/// `meta.toml` has no section for, into `noise.toml`.
+fn noise_toml(cx: &mut Cx, parameters: &HashMap<String, f64>) -> (String, String) {
+    let gyro = parameter(cx, parameters, "EKF2_GYR_NOISE");
+    let accel = parameter(cx, parameters, "EKF2_ACC_NOISE");
+    let mag = parameter(cx, parameters, "EKF2_MAG_NOISE");
+    let baro = parameter(cx, parameters, "EKF2_BARO_NOISE");
+    let gps_p = parameter(cx, parameters, "EKF2_GPS_P_NOISE");
+    let gps_v = parameter(cx, parameters, "EKF2_GPS_V_NOISE");
+    cx.warn(format!(
+        "meta.toml: bias sigmas are PX4 EKF2's switch-on values (gyro {GYRO_BIAS_SIGMA_DEFAULT} rad/s, accelerometer {ACCEL_BIAS_SIGMA_DEFAULT} m/s^2)"
+    ));
+    let mut imu = String::new();
+    let _ = writeln!(
+        imu,
+        "\n[sensors.imu]\ngyro_noise_sigma = {gyro:e}\naccel_noise_sigma = {accel:e}"
+    );
+    let _ = writeln!(
+        imu,
+        "gyro_bias_sigma = {GYRO_BIAS_SIGMA_DEFAULT:e}\naccel_bias_sigma = {ACCEL_BIAS_SIGMA_DEFAULT:e}"
+    );
+    let mut noise =
+        String::from("# Aiding-sensor noise, per sample (written by `navsim import ulog`).\n");
+    let _ = writeln!(
+        noise,
+        "[mag]\nnoise_sigma = {mag:e}\n\n[baro]\nnoise_sigma = {baro:e}"
+    );
+    let _ = writeln!(
+        noise,
+        "\n[gnss]\nnoise_sigma = {gps_p:e}\nvelocity_noise_sigma = {gps_v:e}"
+    );
+    (imu, noise)
+}

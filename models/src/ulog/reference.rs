@@ -1,0 +1,281 @@
+//! Scoring a replay of an imported PX4 log against PX4's own estimate
+//! (`reference.csv`): `attitude_difference_rms_deg` (`{"roll","pitch","yaw"}`)
+//! and `horizontal_difference_rms_m`, over the reference rows inside the
+//! estimate's time span (`scored_seconds`). These are differences to another
+//! filter, not errors: PX4's EKF2 is not the truth.
+
+use std::path::Path;
+
+use nav_runtime::earth::{meridian_radius, transverse_radius};
+
+use super::error::ImportError;
+
+/// `reference.csv` as read back: times and the columns the file has.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Reference {
+    /// Time, s.
+    pub t: Vec<f64>,
+    /// Latitude, longitude (rad) and height (m), when the file has them.
+    pub position: Option<Vec<[f64; 3]>>,
+    /// Roll, pitch, yaw (rad), when the file has them.
+    pub attitude: Option<Vec<[f64; 3]>>,
+}
+
+/// One estimate sample of a replay.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EstimatePoint {
+    /// Time, s.
+    pub t: f64,
+    /// Roll, pitch, yaw, rad.
+    pub attitude: [f64; 3],
+    /// Latitude, longitude (rad), height (m), for models that estimate them.
+    pub position: Option<[f64; 3]>,
+}
+
+/// RMS differences of a replay to the reference.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ReferenceDifference {
+    /// Roll, pitch, yaw RMS difference, degrees (angles wrapped to +-180).
+    pub attitude_rms_deg: Option<[f64; 3]>,
+    /// Horizontal position RMS difference, m.
+    pub horizontal_rms_m: Option<f64>,
+    /// Reference rows compared.
+    pub samples: usize,
+    /// Time between the first and the last row compared, s.
+    pub scored_seconds: f64,
+}
+
+impl ReferenceDifference {
+    /// The JSON keys `attitude_difference_rms_deg`, `horizontal_difference_rms_m`
+    /// (when known), `reference_samples` and `reference_scored_seconds`.
+    pub fn json(&self) -> serde_json::Value {
+        let mut v = serde_json::json!({
+            "reference_samples": self.samples,
+            "reference_scored_seconds": self.scored_seconds,
+        });
+        if let Some([r, p, y]) = self.attitude_rms_deg {
+            v["attitude_difference_rms_deg"] = serde_json::json!({"roll": r, "pitch": p, "yaw": y});
+        }
+        if let Some(h) = self.horizontal_rms_m {
+            v["horizontal_difference_rms_m"] = serde_json::json!(h);
+        }
+        v
+    }
+}
+
+impl Reference {
+    /// Reads `reference.csv`; `Ok(None)` when the file does not exist.
+    ///
+    /// # Errors
+    /// [`ImportError::Io`], or [`ImportError::Csv`] naming the line and column.
+    pub fn read(path: &Path) -> Result<Option<Reference>, ImportError> {
+        let text = match std::fs::read_to_string(path) {
+            Ok(t) => t,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+            Err(source) => {
+                return Err(ImportError::Io {
+                    path: path.to_path_buf(),
+                    source,
+                })
+            }
+        };
+        Reference::parse(&path.display().to_string(), &text).map(Some)
+    }
+
+    /// Parses the text of a `reference.csv` named `file`.
+    ///
+    /// # Errors
+    /// [`ImportError::Csv`] naming the line and column.
+    pub fn parse(file: &str, text: &str) -> Result<Reference, ImportError> {
+        let bad = |line: usize, reason: String| ImportError::Csv {
+            file: file.to_string(),
+            line,
+            reason,
+        };
+        let mut lines = text.lines().enumerate();
+        let Some((_, header)) = lines.next() else {
+            return Err(bad(1, "no header".into()));
+        };
+        let names: Vec<&str> = header.split(',').map(str::trim).collect();
+        let col = |n: &str| names.iter().position(|c| *c == n);
+        let t_col = col("t").ok_or_else(|| bad(1, "column `t` missing".into()))?;
+        let pos_cols = [col("lat"), col("lon"), col("height")];
+        let att_cols = [col("roll"), col("pitch"), col("yaw")];
+        let all = |c: &[Option<usize>; 3]| match c {
+            [Some(a), Some(b), Some(d)] => Some([*a, *b, *d]),
+            _ => None,
+        };
+        let (pos_cols, att_cols) = (all(&pos_cols), all(&att_cols));
+        let mut r = Reference {
+            position: pos_cols.map(|_| Vec::new()),
+            attitude: att_cols.map(|_| Vec::new()),
+            ..Reference::default()
+        };
+        for (i, line) in lines {
+            let line_no = i + 1;
+            if line.trim().is_empty() {
+                continue;
+            }
+            let cells: Vec<&str> = line.split(',').collect();
+            let value = |c: usize| -> Result<f64, ImportError> {
+                let cell = cells.get(c).map(|s| s.trim()).unwrap_or("");
+                cell.parse::<f64>()
+                    .ok()
+                    .filter(|v| v.is_finite())
+                    .ok_or_else(|| {
+                        bad(
+                            line_no,
+                            format!("column `{}`: `{cell}` is not a finite number", names[c]),
+                        )
+                    })
+            };
+            let t = value(t_col)?;
+            if r.t.last().is_some_and(|&last| t <= last) {
+                return Err(bad(line_no, "column `t`: time not increasing".into()));
+            }
+            r.t.push(t);
+            if let (Some(c), Some(v)) = (pos_cols, r.position.as_mut()) {
+                v.push([value(c[0])?, value(c[1])?, value(c[2])?]);
+            }
+            if let (Some(c), Some(v)) = (att_cols, r.attitude.as_mut()) {
+                v.push([value(c[0])?, value(c[1])?, value(c[2])?]);
+            }
+        }
+        Ok(r)
+    }
+
+    /// RMS differences of `estimate` (in time order) to the reference rows
+    /// inside its span; the estimate is interpolated linearly to each
+    /// reference time (angles along the shorter arc).
+    pub fn difference(&self, estimate: &[EstimatePoint]) -> ReferenceDifference {
+        let mut att = [0.0f64; 3];
+        let mut horizontal = 0.0;
+        let mut n_att = 0usize;
+        let mut n_pos = 0usize;
+        let mut first = None;
+        let mut last = 0.0;
+        let mut j = 0usize;
+        for (i, &t) in self.t.iter().enumerate() {
+            while j + 1 < estimate.len() && estimate[j + 1].t < t {
+                j += 1;
+            }
+            let (Some(a), Some(b)) = (estimate.get(j), estimate.get(j + 1)) else {
+                continue;
+            };
+            if t < a.t || t > b.t {
+                continue;
+            }
+            let s = if b.t > a.t {
+                (t - a.t) / (b.t - a.t)
+            } else {
+                0.0
+            };
+            first.get_or_insert(t);
+            last = t;
+            if let Some(reference) = &self.attitude {
+                for k in 0..3 {
+                    let e = a.attitude[k] + s * wrap(b.attitude[k] - a.attitude[k]);
+                    att[k] += wrap(e - reference[i][k]).powi(2);
+                }
+                n_att += 1;
+            }
+            if let (Some(reference), Some(pa), Some(pb)) = (&self.position, a.position, b.position)
+            {
+                let lat = pa[0] + s * (pb[0] - pa[0]);
+                let lon = pa[1] + s * (pb[1] - pa[1]);
+                let [rlat, rlon, rh] = reference[i];
+                let north = (lat - rlat) * (meridian_radius(rlat) + rh);
+                let east = (lon - rlon) * (transverse_radius(rlat) + rh) * rlat.cos();
+                horizontal += north * north + east * east;
+                n_pos += 1;
+            }
+        }
+        let rms = |sum: f64, n: usize| (sum / n as f64).sqrt();
+        ReferenceDifference {
+            attitude_rms_deg: (n_att > 0).then(|| att.map(|s| rms(s, n_att).to_degrees())),
+            horizontal_rms_m: (n_pos > 0).then(|| rms(horizontal, n_pos)),
+            samples: n_att.max(n_pos),
+            scored_seconds: first.map_or(0.0, |f| last - f),
+        }
+    }
+}
+
+/// `a` wrapped to (-pi, pi].
+fn wrap(a: f64) -> f64 {
+    let w = a.rem_euclid(std::f64::consts::TAU);
+    if w > std::f64::consts::PI {
+        w - std::f64::consts::TAU
+    } else {
+        w
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const CSV: &str = "t,lat,lon,height,roll,pitch,yaw\n\
+        1.0,0.0,0.0,0.0,0.0,0.0,3.1241393610698497\n\
+        2.0,0.0,0.0,0.0,0.0,0.0,3.1241393610698497\n\
+        3.0,0.0,0.0,0.0,0.0,0.0,3.1241393610698497\n";
+
+    fn point(t: f64, roll_deg: f64, yaw_deg: f64, lat: f64) -> EstimatePoint {
+        EstimatePoint {
+            t,
+            attitude: [roll_deg.to_radians(), 0.0, yaw_deg.to_radians()],
+            position: Some([lat, 0.0, 0.0]),
+        }
+    }
+
+    /// Reference yaw 179 deg, estimate -179 deg: 2 deg apart across the wrap;
+    /// roll 1 deg off; latitude 1e-6 rad off at the equator = 1e-6 a (1 - e^2).
+    #[test]
+    fn differences_by_hand() {
+        let r = Reference::parse("reference.csv", CSV).expect("parses");
+        let estimate = [point(0.5, 1.0, -179.0, 1e-6), point(3.5, 1.0, -179.0, 1e-6)];
+        let d = r.difference(&estimate);
+        let [roll, pitch, yaw] = d.attitude_rms_deg.expect("attitude");
+        assert!((roll - 1.0).abs() < 1e-9, "{roll}");
+        assert!(pitch.abs() < 1e-12);
+        assert!((yaw - 2.0).abs() < 1e-9, "{yaw}");
+        let expected = 1e-6 * 6_378_137.0 * (1.0 - 0.006_694_379_990_141_3);
+        let h = d.horizontal_rms_m.expect("horizontal");
+        assert!((h - expected).abs() < 1e-6, "{h} vs {expected}");
+        assert_eq!(d.samples, 3);
+        assert!((d.scored_seconds - 2.0).abs() < 1e-12);
+    }
+
+    /// Reference rows outside the estimate's span are not scored.
+    #[test]
+    fn only_the_overlap_is_scored() {
+        let r = Reference::parse("reference.csv", CSV).expect("parses");
+        let d = r.difference(&[point(1.5, 0.0, 179.0, 0.0), point(2.5, 0.0, 179.0, 0.0)]);
+        assert_eq!(d.samples, 1);
+        assert_eq!(d.scored_seconds, 0.0);
+    }
+
+    #[test]
+    fn bad_rows_name_line_and_column() {
+        let cases = [
+            (
+                "t,roll,pitch,yaw\n1.0,x,0,0\n",
+                "reference.csv: line 2: column `roll`: `x` is not a finite number",
+            ),
+            (
+                "t,roll,pitch,yaw\n1.0,0,0,0\n1.0,0,0,0\n",
+                "reference.csv: line 3: column `t`: time not increasing",
+            ),
+            ("roll\n0\n", "reference.csv: line 1: column `t` missing"),
+            (
+                "t,roll,pitch,yaw\n1.0\n",
+                "reference.csv: line 2: column `roll`: `` is not",
+            ),
+        ];
+        for (text, expected) in cases {
+            let e = Reference::parse("reference.csv", text)
+                .expect_err(text)
+                .to_string();
+            assert!(e.contains(expected), "{e}");
+        }
+    }
+}
