@@ -1,4 +1,4 @@
-//! LEVELING-6 scenarios (MODELS.md section 2) against the paper and against the
+//! LEVELING-6 scenarios (docs/results/leveling6.md) against the paper and against the
 //! analytic accelerometer-bias floor.
 
 use models::leveling::filter::{self, LevelingOptions, Tuning};
@@ -143,7 +143,9 @@ fn summary(name: &str, n: u64) -> serde_json::Map<String, serde_json::Value> {
 }
 
 fn number(m: &serde_json::Map<String, serde_json::Value>, key: &str) -> f64 {
-    m[key].as_f64().unwrap_or_else(|| panic!("{key}: {:?}", m.get(key)))
+    m[key]
+        .as_f64()
+        .unwrap_or_else(|| panic!("{key}: {:?}", m.get(key)))
 }
 
 /// S-type, seeds 1-10, the same +1 mg on every axis in every run. The paper's

@@ -1,4 +1,4 @@
-//! The VKF scenario (MODELS.md section 3) on a few seeds: pure INS, conventional
+//! The VKF scenario (docs/results/vkf.md) on a few seeds: pure INS, conventional
 //! INS-DVL and VKF-aided navigation on the same data, realistic DVL bias.
 //!
 //! Physical margins:

@@ -1,4 +1,4 @@
-//! LEVELING-6: roll/pitch alignment EKF (MODELS.md section 2; Hong, Park, Han,
+//! LEVELING-6: roll/pitch alignment EKF (docs/results/leveling6.md; Hong, Park, Han,
 //! Lee 2000). Total-state, continuous-time; states `x = [V_x, V_y, V_z, a1, a2, a3]`
 //! with `a = C_n^b [0, 0, 1]` (eq. 5), so `theta = asin(-a1)`, `phi = atan2(a2, a3)`
 //! (eq. 28).

@@ -1,4 +1,4 @@
-//! Synthetic logs for the leveling scenarios (MODELS.md section 2, leveling paper
+//! Synthetic logs for the leveling scenarios (docs/results/leveling6.md; leveling paper
 //! section IV): 30 s, IMU at 100 Hz, speed log at 10 Hz, truth at 10 Hz.
 
 use nav_runtime::earth::Geodetic;

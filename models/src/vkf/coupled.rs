@@ -74,7 +74,11 @@ pub struct CoupledNav {
 impl CoupledNav {
     /// Starts at `state` with the 9-state part tuned as the other navigators
     /// (`nav`) and the map states from `map`.
-    pub fn new(state: NavState, nav: &super::filter::Tuning, map: &MapTuning) -> Result<Self, FilterError> {
+    pub fn new(
+        state: NavState,
+        nav: &super::filter::Tuning,
+        map: &MapTuning,
+    ) -> Result<Self, FilterError> {
         let mut x0 = SVector::<f64, 12>::zeros();
         x0.fixed_rows_mut::<3>(3).copy_from(&state.v_n);
         x0[NavSpeedMap::SPEED_OFFSET] = map.design_map.1;
@@ -158,7 +162,10 @@ impl CoupledNav {
             return false;
         }
         let r = Matrix3::identity() * sigma * sigma;
-        let r = self.ekf.update::<NavSpeedMapDvl, 3>(v_n, &r, &()).map(|r| r.accepted);
+        let r = self
+            .ekf
+            .update::<NavSpeedMapDvl, 3>(v_n, &r, &())
+            .map(|r| r.accepted);
         self.accepted(r)
     }
 
@@ -176,7 +183,10 @@ impl CoupledNav {
             self.refused += 1;
             return false;
         }
-        let r = self.ekf.update::<NavSpeedMapRpm, 3>(&z, &self.r_rpm, &aux).map(|r| r.accepted);
+        let r = self
+            .ekf
+            .update::<NavSpeedMapRpm, 3>(&z, &self.r_rpm, &aux)
+            .map(|r| r.accepted);
         self.accepted(r)
     }
 

@@ -1,6 +1,7 @@
-//! VKF (MODELS.md section 3): the velocity Kalman filter, the switching box and
+//! VKF (docs/results/vkf.md): the velocity Kalman filter, the switching box and
 //! the 9-state integrated filter, their simulation, and the `vkf` scenario of
-//! `navsim`, which runs pure INS, conventional INS-DVL and VKF-aided navigation
+//! `navsim`, which runs pure INS, conventional INS-DVL, VKF-aided navigation and
+//! the VKF with the speed map inside the integrated filter ([`coupled`])
 //! on the same data, with a realistic DVL bias (+-0.005 m/s, the top-level
 //! keys) and with the paper's +-0.5 m/s (the `paper_dvl_bias` object).
 
@@ -492,7 +493,7 @@ impl Scenario for VkfScenario {
     }
 }
 
-/// The JSON of one DVL-bias variant: `pure_ins`, `ins_dvl`, `vkf` (CONTRACT.md)
+/// The JSON of one DVL-bias variant: `pure_ins`, `ins_dvl`, `vkf`
 /// plus the ratios the targets are stated in.
 fn variant_summary(runs: &[RunResult], bias: DvlBias) -> Map<String, Value> {
     let v = variant_prefix(bias);

@@ -1,4 +1,4 @@
-//! VKF (MODELS.md section 3; velocity-filter paper, eqs. 6-18): the 3-state
+//! VKF (docs/results/vkf.md; velocity-filter paper, eqs. 6-18): the 3-state
 //! velocity Kalman filter that learns the propeller-RPM-to-speed map from the
 //! DVL, and the 9-state integrated navigation filter driven by the nav-frame
 //! acceleration and aided by the switching box's 3-axis velocity.

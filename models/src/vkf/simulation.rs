@@ -1,4 +1,4 @@
-//! Synthetic logs of the VKF run (MODELS.md section 3, paper section 3): 27 min
+//! Synthetic logs of the VKF run (docs/results/vkf.md; paper section 3): 27 min
 //! at 10 kn, IMU at 100 Hz (0.1 deg/h class), DVL, RPM and echo sounder at 5 Hz,
 //! truth at 5 Hz, over a sea floor that takes the DVL out of range twice.
 //!
