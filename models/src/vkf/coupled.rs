@@ -130,10 +130,10 @@ impl CoupledNav {
         self.attitude.c_bn()
     }
 
-    /// Horizontal position 1-sigma (m): square root of the trace of the N-E block.
-    pub fn horizontal_sigma(&self) -> f64 {
+    /// Horizontal position covariance `[P_NN, P_NE, P_EE]` (m^2).
+    pub fn horizontal_covariance(&self) -> [f64; 3] {
         let p = self.ekf.covariance();
-        (p[(0, 0)] + p[(1, 1)]).max(0.0).sqrt()
+        [p[(0, 0)], p[(0, 1)], p[(1, 1)]]
     }
 
     /// The map's speed at `rpm` (m/s, without the disturbance).
