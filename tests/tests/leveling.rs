@@ -132,3 +132,61 @@ fn upright_constraint_resolves_the_mirror_solution() {
     assert!(final_roll(true).abs() < 0.5, "{}", final_roll(true));
     assert!(final_roll(false).abs() > 90.0, "{}", final_roll(false));
 }
+
+fn summary(name: &str, n: u64) -> serde_json::Map<String, serde_json::Value> {
+    let s = scenarios()
+        .into_iter()
+        .find(|s| s.name() == name)
+        .expect("scenario");
+    let r = runs(name, n, &RunOptions::default());
+    s.summarize(&r, &RunOptions::default()).expect("summary")
+}
+
+fn number(m: &serde_json::Map<String, serde_json::Value>, key: &str) -> f64 {
+    m[key]
+        .as_f64()
+        .unwrap_or_else(|| panic!("{key}: {:?}", m.get(key)))
+}
+
+/// S-type, seeds 1-10, the same +1 mg on every axis in every run. The paper's
+/// filter only shares the bias tilt differently between roll and pitch: the
+/// magnitude of its mean tilt is the two-axis floor (measured 0.074 here,
+/// 0.078 over 100 seeds, floor 0.081). With the bias states the weave
+/// separates part of the bias (the y bias first, the x bias hardly: see the
+/// observability test): measured 0.0645 here (0.0654 over 100 seeds), with a
+/// tilt NEES of 1.61 (2 dof) and the y-bias estimate 0.33 mg of the true 1 mg.
+#[test]
+fn moving_bias_states_go_below_the_two_axis_floor() {
+    let m = summary("leveling-moving", 10);
+    let floor = number(&m, "two_axis_floor_deg");
+    assert!((floor - 0.0811).abs() < 5e-4, "{floor}");
+    let paper = number(&m, "mean_tilt_magnitude_deg");
+    assert!((paper - floor).abs() < 0.01, "{paper} vs {floor}");
+    let b = m["accel_bias_states"].as_object().expect("object");
+    let tilt = number(b, "mean_tilt_magnitude_deg");
+    assert!(tilt < 0.07, "{tilt}");
+    assert!(tilt < paper - 0.005, "{tilt} vs {paper}");
+    let nees = number(b, "tilt_nees_mean");
+    assert!((1.0..3.0).contains(&nees), "tilt NEES {nees}");
+    assert!(number(b, "accel_bias_y_mean_mg") > 0.2, "{b:?}");
+    assert!(number(b, "accel_bias_x_sigma_mg") > 0.9, "{b:?}");
+}
+
+/// At rest the bias states cannot be separated from the tilt (observability
+/// test), so the filter must not claim they are: its tilt sigma is the bias
+/// floor `b/g` per axis (measured 0.0575 / 0.0574 against 0.0573) and the
+/// tilt NEES is 2 (measured 2.004), where the six-state filter's sigma is
+/// 0.003 deg against a 0.057 deg error.
+#[test]
+fn stationary_bias_states_make_the_sigma_honest() {
+    let m = summary("leveling-stationary", 5);
+    let per_axis = number(&m, "two_axis_floor_deg") / std::f64::consts::SQRT_2;
+    let b = m["accel_bias_states"].as_object().expect("object");
+    for key in ["roll_sigma_filter_deg", "pitch_sigma_filter_deg"] {
+        let s = number(b, key);
+        assert!((s / per_axis - 1.0).abs() < 0.02, "{key} {s} vs {per_axis}");
+    }
+    let nees = number(b, "tilt_nees_mean");
+    assert!((nees - 2.0).abs() < 0.1, "{nees}");
+    assert!(number(&m, "roll_sigma_filter_deg") < 0.1 * per_axis);
+}

@@ -127,7 +127,11 @@ pub fn gravity_direction(roll: f64, pitch: f64) -> Vector3<f64> {
     )
 }
 
-fn estimate<const N: usize>(t: f64, x: &SVector<f64, N>, p: &SMatrix<f64, N, N>) -> AttitudeEstimate {
+fn estimate<const N: usize>(
+    t: f64,
+    x: &SVector<f64, N>,
+    p: &SMatrix<f64, N, N>,
+) -> AttitudeEstimate {
     let a = Vector3::new(x[3], x[4], x[5]);
     let (roll, pitch) = roll_pitch(&a);
     let n2 = a.y * a.y + a.z * a.z;
@@ -152,24 +156,27 @@ pub trait LevelingModel<const N: usize>: Model<N> {
     /// Zero velocity and unit norm.
     type Stationary: Sensor<N, 4, Model = Self, Aux = ()>;
     /// The input of one IMU sample.
-    fn input(gyro: Vector3<f64>, specific_force: Vector3<f64>, earth_rate_body: Vector3<f64>)
-        -> Self::Input;
+    fn input(
+        gyro: Vector3<f64>,
+        specific_force: Vector3<f64>,
+        earth_rate_body: Vector3<f64>,
+    ) -> Self::Input;
     /// Parameters at local gravity `gravity` (m/s^2).
     fn params(gravity: f64) -> Self::Params;
     /// Noise intensities of `t`.
     fn noise(t: &Tuning) -> Self::Noise;
     /// Initial state and covariance from the forward speed (m/s) and `a`.
-    fn initial(
-        speed: f64,
-        a: &Vector3<f64>,
-        t: &Tuning,
-    ) -> (SVector<f64, N>, SMatrix<f64, N, N>);
+    fn initial(speed: f64, a: &Vector3<f64>, t: &Tuning) -> (SVector<f64, N>, SMatrix<f64, N, N>);
 }
 
 impl LevelingModel<6> for Leveling6 {
     type Moving = Leveling6Moving;
     type Stationary = Leveling6Stationary;
-    fn input(gyro: Vector3<f64>, specific_force: Vector3<f64>, earth_rate_body: Vector3<f64>) -> Leveling6Input {
+    fn input(
+        gyro: Vector3<f64>,
+        specific_force: Vector3<f64>,
+        earth_rate_body: Vector3<f64>,
+    ) -> Leveling6Input {
         Leveling6Input {
             gyro,
             specific_force,
@@ -196,7 +203,11 @@ impl LevelingModel<6> for Leveling6 {
 impl LevelingModel<8> for Leveling8 {
     type Moving = Leveling8Moving;
     type Stationary = Leveling8Stationary;
-    fn input(gyro: Vector3<f64>, specific_force: Vector3<f64>, earth_rate_body: Vector3<f64>) -> Leveling8Input {
+    fn input(
+        gyro: Vector3<f64>,
+        specific_force: Vector3<f64>,
+        earth_rate_body: Vector3<f64>,
+    ) -> Leveling8Input {
         Leveling8Input {
             gyro,
             specific_force,
@@ -314,10 +325,7 @@ fn run_model<M: LevelingModel<N>, const N: usize>(
                     );
                 } else {
                     let z = Vector2::new(row.speed, 1.0);
-                    count(
-                        &mut out,
-                        ekf.update::<M::Moving, 2>(&z, &r_moving, &()),
-                    );
+                    count(&mut out, ekf.update::<M::Moving, 2>(&z, &r_moving, &()));
                 }
                 if t.upright {
                     keep_upright(&mut ekf)?;
@@ -332,7 +340,12 @@ fn run_model<M: LevelingModel<N>, const N: usize>(
     out.repairs = ekf.counters().covariance_repairs;
     out.accel_bias_final = if N >= 8 {
         let (x, p) = (ekf.state(), ekf.covariance());
-        [x[6], x[7], p[(6, 6)].max(0.0).sqrt(), p[(7, 7)].max(0.0).sqrt()]
+        [
+            x[6],
+            x[7],
+            p[(6, 6)].max(0.0).sqrt(),
+            p[(7, 7)].max(0.0).sqrt(),
+        ]
     } else {
         [f64::NAN; 4]
     };

@@ -115,7 +115,10 @@ const BIAS_STATES: &str = "accel_bias_states";
 
 /// Final tilt magnitude (deg) and the tilt NEES (2 dof) of the last estimate,
 /// plus the roll and pitch errors and sigmas (deg).
-fn final_metrics(run: &filter::LevelingRun, log: &LogDir) -> Result<Vec<(&'static str, f64)>, RunError> {
+fn final_metrics(
+    run: &filter::LevelingRun,
+    log: &LogDir,
+) -> Result<Vec<(&'static str, f64)>, RunError> {
     let &(_, roll, pitch) = errors_at_truth(run, log)
         .last()
         .ok_or_else(|| RunError::Invalid("no estimate at a truth time".into()))?;
@@ -262,7 +265,10 @@ impl Scenario for LevelingScenario {
             "mean_tilt_magnitude_deg".into(),
             Value::from(stats::mean(&roll).hypot(stats::mean(&pitch))),
         );
-        m.insert("two_axis_floor_deg".into(), Value::from(two_axis_floor_deg()));
+        m.insert(
+            "two_axis_floor_deg".into(),
+            Value::from(two_axis_floor_deg()),
+        );
         m.insert(BIAS_STATES.into(), Value::Object(bias_states_summary(runs)));
         m.insert("health".into(), serde_json::json!({"speed": {"gated": gated, "rejected": rejected}, "covariance_repairs": repairs}));
         Ok(m)
@@ -299,7 +305,10 @@ fn bias_states_summary(runs: &[RunResult]) -> Map<String, Value> {
         ("pitch_error_mean_deg", stats::mean(&pitch)),
         ("roll_error_std_deg", stats::std_dev(&roll)),
         ("pitch_error_std_deg", stats::std_dev(&pitch)),
-        ("tilt_error_mean_deg", stats::mean(&col("tilt_error_final_deg"))),
+        (
+            "tilt_error_mean_deg",
+            stats::mean(&col("tilt_error_final_deg")),
+        ),
         (
             "tilt_error_rms_deg",
             stats::rms(&col("tilt_error_final_deg")),
@@ -308,11 +317,23 @@ fn bias_states_summary(runs: &[RunResult]) -> Map<String, Value> {
             "mean_tilt_magnitude_deg",
             stats::mean(&roll).hypot(stats::mean(&pitch)),
         ),
-        ("roll_sigma_filter_deg", stats::mean(&col("roll_sigma_final_deg"))),
-        ("pitch_sigma_filter_deg", stats::mean(&col("pitch_sigma_final_deg"))),
+        (
+            "roll_sigma_filter_deg",
+            stats::mean(&col("roll_sigma_final_deg")),
+        ),
+        (
+            "pitch_sigma_filter_deg",
+            stats::mean(&col("pitch_sigma_final_deg")),
+        ),
         ("tilt_nees_mean", stats::mean(&nees)),
-        ("accel_bias_x_mean_mg", stats::mean(&col("accel_bias_x_final_mg"))),
-        ("accel_bias_y_mean_mg", stats::mean(&col("accel_bias_y_final_mg"))),
+        (
+            "accel_bias_x_mean_mg",
+            stats::mean(&col("accel_bias_x_final_mg")),
+        ),
+        (
+            "accel_bias_y_mean_mg",
+            stats::mean(&col("accel_bias_y_final_mg")),
+        ),
         (
             "accel_bias_x_sigma_mg",
             stats::mean(&col("accel_bias_x_sigma_final_mg")),

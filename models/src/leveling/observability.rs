@@ -9,7 +9,9 @@
 //! cannot determine, and its right singular vector says which one.
 
 use super::filter::Tuning;
-use super::model::{Leveling8, Leveling8Input, Leveling8Moving, Leveling8Params, Leveling8Stationary};
+use super::model::{
+    Leveling8, Leveling8Input, Leveling8Moving, Leveling8Params, Leveling8Stationary,
+};
 use super::simulation::{self, Motion, DURATION, IMU_RATE, SPEED_RATE};
 use nav_runtime::attitude::Euler;
 use nav_runtime::earth;
@@ -73,28 +75,22 @@ pub fn analyse(motion: Motion, seconds: f64) -> Observability {
             earth_rate_body: e.c_nb() * w_ie_n,
         };
         if k > 0 && k % every == 0 {
-            let mut push = |h: &[f64], sigma: f64, width: usize| {
-                for i in 0..width {
-                    let mut row = SVector::<f64, 8>::zeros();
-                    for j in 0..8 {
-                        row[j] = h[i + width * j];
-                    }
-                    let row = (row.transpose() * phi * d) / sigma;
-                    rows.extend(row.iter());
-                    n_rows += 1;
-                }
+            // One row `H_i Phi D / sigma_i` per measured component.
+            let mut push = |h: [f64; 8], sigma: f64| {
+                let row = (SVector::<f64, 8>::from(h).transpose() * phi * d) / sigma;
+                rows.extend(row.iter());
+                n_rows += 1;
             };
             if motion.is_stationary() {
                 let h = Leveling8Stationary::jacobian(&x, &u, &params, &());
-                let sig = [tuning.zero_velocity_sigma; 3];
-                for (i, sg) in sig.iter().enumerate() {
-                    push(&row_of(&h, i), *sg, 1);
+                for i in 0..3 {
+                    push(row_of(&h, i), tuning.zero_velocity_sigma);
                 }
-                push(&row_of(&h, 3), tuning.norm_sigma, 1);
+                push(row_of(&h, 3), tuning.norm_sigma);
             } else {
                 let h = Leveling8Moving::jacobian(&x, &u, &params, &());
-                push(&row_of(&h, 0), tuning.speed_sigma, 1);
-                push(&row_of(&h, 1), tuning.norm_sigma, 1);
+                push(row_of(&h, 0), tuning.speed_sigma);
+                push(row_of(&h, 1), tuning.norm_sigma);
             }
         }
         let f = Leveling8::jacobian(&x, &u, &params, dt);
@@ -107,7 +103,12 @@ pub fn analyse(motion: Motion, seconds: f64) -> Observability {
         .singular_values
         .iter()
         .enumerate()
-        .map(|(i, &s)| (s, SVector::<f64, 8>::from_iterator(v_t.row(i).iter().copied())))
+        .map(|(i, &s)| {
+            (
+                s,
+                SVector::<f64, 8>::from_iterator(v_t.row(i).iter().copied()),
+            )
+        })
         .collect();
     pairs.sort_by(|a, b| b.0.total_cmp(&a.0));
     Observability {
@@ -116,7 +117,7 @@ pub fn analyse(motion: Motion, seconds: f64) -> Observability {
     }
 }
 
-/// Row `i` of a Jacobian as a column-major slice of width 1.
+/// Row `i` of a Jacobian.
 fn row_of<const M: usize>(h: &SMatrix<f64, M, 8>, i: usize) -> [f64; 8] {
     std::array::from_fn(|j| h[(i, j)])
 }
@@ -143,6 +144,9 @@ mod tests {
     const VZ: usize = 2;
     const BX: usize = 6;
     const BY: usize = 7;
+
+    /// Two scaled-state indices.
+    type Pair = (usize, usize);
 
     /// Singular value (relative to the largest) of the direction that weighs
     /// states `i` and `j` most together, i.e. the best-aligned right singular vector.
@@ -174,7 +178,7 @@ mod tests {
     fn which_tilt_and_bias_combinations_are_observable() {
         // (motion, rank at 1e-6, separations that must be absent (< 1e-8),
         //  separations that must be present (> 1e-3)).
-        let cases: [(Motion, usize, &[(usize, usize)], &[(usize, usize)]); 3] = [
+        let cases: [(Motion, usize, &[Pair], &[Pair]); 3] = [
             (Motion::Stationary, 6, &[(A1, BX), (A2, BY)], &[]),
             (Motion::Straight, 4, &[(A1, BX)], &[]),
             (Motion::SType, 7, &[], &[(A1, BX), (A2, BY)]),

@@ -74,7 +74,11 @@ pub struct CoupledNav {
 impl CoupledNav {
     /// Starts at `state` with the 9-state part tuned as the other navigators
     /// (`nav`) and the map states from `map`.
-    pub fn new(state: NavState, nav: &super::filter::Tuning, map: &MapTuning) -> Result<Self, FilterError> {
+    pub fn new(
+        state: NavState,
+        nav: &super::filter::Tuning,
+        map: &MapTuning,
+    ) -> Result<Self, FilterError> {
         let mut x0 = SVector::<f64, 12>::zeros();
         x0.fixed_rows_mut::<3>(3).copy_from(&state.v_n);
         x0[NavSpeedMap::SPEED_OFFSET] = map.design_map.1;
@@ -126,10 +130,10 @@ impl CoupledNav {
         self.attitude.c_bn()
     }
 
-    /// Horizontal position 1-sigma (m): square root of the trace of the N-E block.
-    pub fn horizontal_sigma(&self) -> f64 {
+    /// Horizontal position covariance `[P_NN, P_NE, P_EE]` (m^2).
+    pub fn horizontal_covariance(&self) -> [f64; 3] {
         let p = self.ekf.covariance();
-        (p[(0, 0)] + p[(1, 1)]).max(0.0).sqrt()
+        [p[(0, 0)], p[(0, 1)], p[(1, 1)]]
     }
 
     /// The map's speed at `rpm` (m/s, without the disturbance).
@@ -158,7 +162,10 @@ impl CoupledNav {
             return false;
         }
         let r = Matrix3::identity() * sigma * sigma;
-        let r = self.ekf.update::<NavSpeedMapDvl, 3>(v_n, &r, &()).map(|r| r.accepted);
+        let r = self
+            .ekf
+            .update::<NavSpeedMapDvl, 3>(v_n, &r, &())
+            .map(|r| r.accepted);
         self.accepted(r)
     }
 
@@ -176,7 +183,10 @@ impl CoupledNav {
             self.refused += 1;
             return false;
         }
-        let r = self.ekf.update::<NavSpeedMapRpm, 3>(&z, &self.r_rpm, &aux).map(|r| r.accepted);
+        let r = self
+            .ekf
+            .update::<NavSpeedMapRpm, 3>(&z, &self.r_rpm, &aux)
+            .map(|r| r.accepted);
         self.accepted(r)
     }
 

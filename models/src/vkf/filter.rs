@@ -316,6 +316,8 @@ pub struct Record {
     pub vkf_coupled: Vector3<f64>,
     /// Its map's forward speed at this epoch's RPM (m/s).
     pub coupled_map_speed: f64,
+    /// Its horizontal position covariance `[P_NN, P_NE, P_EE]` (m^2).
+    pub coupled_covariance: [f64; 3],
     /// Switch decision.
     pub source: Source,
     /// Measured altitude (m).
@@ -476,6 +478,7 @@ pub fn run(log: &LogDir, settings: &RunSettings) -> Result<VkfRun, FilterError> 
             vkf: vkf.position(),
             vkf_coupled: coupled.position(),
             coupled_map_speed: coupled.map_speed(rpm),
+            coupled_covariance: coupled.horizontal_covariance(),
             source,
             altitude,
             rpm,

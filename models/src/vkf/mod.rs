@@ -1,6 +1,7 @@
 //! VKF (docs/models/vkf.md): the velocity Kalman filter, the switching box and
 //! the 9-state integrated filter, their simulation, and the `vkf` scenario of
-//! `navsim`, which runs pure INS, conventional INS-DVL and VKF-aided navigation
+//! `navsim`, which runs pure INS, conventional INS-DVL, VKF-aided navigation and
+//! the VKF with the speed map inside the integrated filter ([`coupled`])
 //! on the same data, with a realistic DVL bias (+-0.005 m/s, the top-level
 //! keys) and with the paper's +-0.5 m/s (the `paper_dvl_bias` object).
 
@@ -90,6 +91,9 @@ pub struct RunScores {
     /// rotated to n) integrated over the epochs it is in use (m): the position
     /// error any DVL-aided solution inherits.
     pub dvl_error_integral_m: f64,
+    /// Horizontal position NEES (2 dof) of the map-state VKF at the last epoch:
+    /// its error against its own covariance.
+    pub coupled_nees_final: f64,
     /// Time, truth north/east and the horizontal error vectors (N, E) of the
     /// navigators, per epoch.
     pub series: Vec<[f64; W]>,
@@ -202,9 +206,20 @@ pub fn score(run: &VkfRun, log: &LogDir) -> Result<RunScores, RunError> {
             outage_rms_m: stats::rms(&hin),
         }
     });
+    let coupled_nees_final = run.records.last().map_or(f64::NAN, |r| {
+        let [nn, ne, ee] = r.coupled_covariance;
+        let (n, e) = (last[3 + 2 * 3], last[4 + 2 * 3]);
+        let det = nn * ee - ne * ne;
+        if det > 0.0 {
+            (ee * n * n - 2.0 * ne * n * e + nn * e * e) / det
+        } else {
+            f64::NAN
+        }
+    });
     Ok(RunScores {
         scores,
         distance_m,
+        coupled_nees_final,
         rpm_speed_error_rms_m_s: stats::rms(&rpm_errors),
         dvl_error_integral_m: dvl_integral.xy().norm(),
         outages: outage_scores.iter().map(|o| o.span).collect(),
@@ -279,6 +294,7 @@ fn put_scores(mut r: RunResult, bias: DvlBias, s: &RunScores) -> RunResult {
     r.with_metric(&format!("{v}.distance_m"), s.distance_m)
         .with_metric(&format!("{v}.outages"), s.outage_scores.len() as f64)
         .with_metric(&format!("{v}.dvl_error_integral_m"), s.dvl_error_integral_m)
+        .with_metric(&format!("{v}.vkf_coupled_nees_final"), s.coupled_nees_final)
 }
 
 const TABLE: &str = "vkf";
@@ -570,6 +586,10 @@ fn variant_summary(runs: &[RunResult], bias: DvlBias) -> Map<String, Value> {
     m.insert(
         "vkf_to_ins_dvl_outage_rms".into(),
         Value::from(stats::median(&outage_rms[2]) / stats::median(&outage_rms[1])),
+    );
+    m.insert(
+        "vkf_coupled_position_nees_final_median".into(),
+        Value::from(med_present(&format!("{v}.vkf_coupled_nees_final"))),
     );
     m.insert(
         "dvl_error_integral_m".into(),
