@@ -45,12 +45,17 @@ use crate::gate::chi_square_quantile;
 use crate::model::{Model, Sensor};
 
 /// Largest measurement dimension whose refusals are examined; refusals of
-/// larger measurements are never released.
-pub const MAX_LOCKOUT_DIM: usize = 6;
+/// larger measurements are never released. (The storage is part of the
+/// filter, which the scheduler copies at every checkpoint, so it is kept
+/// small: position, velocity, depth and heading sensors have 1 to 3.)
+pub const MAX_LOCKOUT_DIM: usize = 3;
 
-/// Number of sensors per filter whose refusals are examined, and number of
-/// sensors that can have a plausibility bound.
-pub const MAX_LOCKOUT_SENSORS: usize = 8;
+/// Number of sensors per filter whose runs of refusals are examined;
+/// refusals of further sensors are never released.
+pub const MAX_LOCKOUT_SENSORS: usize = 4;
+
+/// Number of sensors that can have a plausibility bound.
+pub const MAX_LOCKOUT_BOUNDS: usize = 6;
 
 /// Largest run length a [`LockoutRelease`] accepts.
 pub const MAX_LOCKOUT_REFUSALS: u32 = 64;
@@ -199,7 +204,7 @@ impl Evidence {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Lockout {
     rule: Option<LockoutRelease>,
-    bounds: [Option<(&'static str, f64)>; MAX_LOCKOUT_SENSORS],
+    bounds: [Option<(&'static str, f64)>; MAX_LOCKOUT_BOUNDS],
     runs: [Option<(TypeId, Evidence)>; MAX_LOCKOUT_SENSORS],
 }
 
@@ -208,7 +213,7 @@ impl Lockout {
     pub(crate) const fn new() -> Self {
         Self {
             rule: None,
-            bounds: [None; MAX_LOCKOUT_SENSORS],
+            bounds: [None; MAX_LOCKOUT_BOUNDS],
             runs: [None; MAX_LOCKOUT_SENSORS],
         }
     }
@@ -223,7 +228,7 @@ impl Lockout {
     }
 
     fn set_bound(&mut self, name: &'static str, bound: f64) -> Result<(), FilterError> {
-        if !(bound > 0.0) {
+        if bound.is_nan() || bound <= 0.0 {
             return Err(FilterError::InvalidSetup {
                 reason: "lock-out plausibility bound must be positive",
             });
@@ -238,7 +243,7 @@ impl Lockout {
                 Ok(())
             }
             None => Err(FilterError::InvalidSetup {
-                reason: "too many lock-out plausibility bounds (capacity 8)",
+                reason: "too many lock-out plausibility bounds (capacity 6)",
             }),
         }
     }
@@ -290,7 +295,8 @@ impl Lockout {
             return (Verdict::NotExamined, zero);
         };
         let bound = self.bound(name);
-        if nu.iter().any(|v| !(v.abs() <= bound)) {
+        // NaN is never plausible (the filter refuses it before this anyway).
+        if nu.iter().any(|v| v.is_nan() || v.abs() > bound) {
             return (Verdict::Implausible, zero);
         }
         let Some(w) = Cholesky::new(*s).map(|c| c.inverse()) else {
@@ -418,7 +424,7 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
     ///
     /// # Errors
     /// [`FilterError::InvalidSetup`] if `bound` is not positive (NaN
-    /// included) or [`MAX_LOCKOUT_SENSORS`] other sensors have a bound.
+    /// included) or [`MAX_LOCKOUT_BOUNDS`] other sensors have a bound.
     pub fn set_lockout_bound(
         &mut self,
         sensor: &'static str,
@@ -624,10 +630,11 @@ mod tests {
         for bad in [0.0, -1.0, f64::NAN] {
             assert!(l.set_bound("s", bad).is_err());
         }
-        for name in ["a", "b", "c", "d", "e", "f", "g", "h"] {
+        let names = ["a", "b", "c", "d", "e", "f", "g"];
+        for name in &names[..MAX_LOCKOUT_BOUNDS] {
             l.set_bound(name, 1.0).unwrap();
         }
-        assert!(l.set_bound("i", 1.0).is_err());
+        assert!(l.set_bound(names[MAX_LOCKOUT_BOUNDS], 1.0).is_err());
         l.set_bound("a", 2.0).unwrap();
         assert_eq!(l.bound("a"), 2.0);
         assert_eq!(l.bound("z"), f64::INFINITY);
