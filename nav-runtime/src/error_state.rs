@@ -62,6 +62,8 @@ pub struct ErrorStateFilter<Mo: Model<N>, Nom, const N: usize> {
     ekf: Ekf<Mo, N>,
     nominal: Nom,
     resets: u64,
+    /// Sum of the error estimates injected since [`ErrorStateFilter::take_fed_back`].
+    fed_back: SVector<f64, N>,
 }
 
 impl<Mo: Model<N>, Nom: NominalState<N>, const N: usize> ErrorStateFilter<Mo, Nom, N> {
@@ -72,6 +74,7 @@ impl<Mo: Model<N>, Nom: NominalState<N>, const N: usize> ErrorStateFilter<Mo, No
             ekf,
             nominal,
             resets: 0,
+            fed_back: SVector::zeros(),
         };
         if filter.ekf.state().iter().any(|v| *v != 0.0) {
             filter.feedback();
@@ -107,6 +110,14 @@ impl<Mo: Model<N>, Nom: NominalState<N>, const N: usize> ErrorStateFilter<Mo, No
     /// Number of feedbacks (injections followed by a reset).
     pub fn resets(&self) -> u64 {
         self.resets
+    }
+
+    /// The sum of the error estimates fed back into the nominal solution since
+    /// the last call (INS minus true, error-state order), and restarts the
+    /// sum: what a smoother records as the correction of an epoch
+    /// ([`crate::smoother::Recorder::updated`]).
+    pub fn take_fed_back(&mut self) -> SVector<f64, N> {
+        core::mem::replace(&mut self.fed_back, SVector::zeros())
     }
 
     /// Splits the filter into its parts.
@@ -172,6 +183,7 @@ impl<Mo: Model<N>, Nom: NominalState<N>, const N: usize> ErrorStateFilter<Mo, No
         self.nominal.inject(&error);
         self.ekf.reset_state();
         self.resets += 1;
+        self.fed_back += error;
     }
 }
 
@@ -181,6 +193,7 @@ impl<Mo: Model<N>, Nom: Clone, const N: usize> Clone for ErrorStateFilter<Mo, No
             ekf: self.ekf.clone(),
             nominal: self.nominal.clone(),
             resets: self.resets,
+            fed_back: self.fed_back,
         }
     }
 }

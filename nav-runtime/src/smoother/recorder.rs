@@ -1,0 +1,146 @@
+//! The forward-pass side of the smoother: epochs into the epoch file.
+
+use std::cell::RefCell;
+use std::rc::Rc;
+
+use nalgebra::{SMatrix, SVector};
+
+use super::epoch::Epoch;
+use super::store::{EpochFile, SmootherError};
+use crate::model::Model;
+
+/// Records a forward run for [`super::smooth`].
+///
+/// Drive it beside the filter: [`Recorder::propagated`] for every prediction
+/// step (with the step's Jacobian), [`Recorder::updating`] before the first
+/// update at a time and [`Recorder::updated`] after each update,
+/// [`Recorder::mark`] at a time an output is wanted without an update, and
+/// [`Recorder::finish`] at the end. An epoch is written when the first
+/// prediction after it starts (or at `finish`), so every update of one time
+/// lands in one epoch.
+///
+/// A clone shares the file but keeps its own history: cloned with a filter
+/// checkpoint and resumed after a rollback, it truncates the file to the
+/// epochs of its own history before writing, so the re-propagated span
+/// replaces the old one.
+#[derive(Clone, Debug)]
+pub struct Recorder<const N: usize, const S: usize> {
+    store: Rc<RefCell<EpochFile<N, S>>>,
+    /// Epochs of this history already in the file.
+    written: usize,
+    /// `Phi` from the last epoch to now.
+    transition: SMatrix<f64, N, N>,
+    /// The epoch reached and not yet written.
+    open: Option<Epoch<N, S>>,
+}
+
+impl<const N: usize, const S: usize> Recorder<N, S> {
+    /// Starts a recording at the filter's initial `time` (s), `covariance` and
+    /// `snapshot`: the first epoch.
+    pub fn new(
+        store: EpochFile<N, S>,
+        time: f64,
+        covariance: &SMatrix<f64, N, N>,
+        snapshot: SVector<f64, S>,
+    ) -> Self {
+        Self {
+            store: Rc::new(RefCell::new(store)),
+            written: 0,
+            transition: SMatrix::identity(),
+            open: Some(Epoch::at(time, SMatrix::identity(), *covariance, snapshot)),
+        }
+    }
+
+    /// The epoch file (shared by every clone).
+    pub fn store(&self) -> Rc<RefCell<EpochFile<N, S>>> {
+        Rc::clone(&self.store)
+    }
+
+    fn close(&mut self) -> Result<(), SmootherError> {
+        if let Some(epoch) = self.open.take() {
+            let mut store = self.store.borrow_mut();
+            store.truncate(self.written)?;
+            store.push(&epoch)?;
+            self.written += 1;
+        }
+        Ok(())
+    }
+
+    /// One prediction step of model `Mo` over `dt` seconds with the step's
+    /// `jacobian` (`F` of a continuous model, so `Phi = I + F dt` as the
+    /// filter's first-order step; `Phi` itself for a discrete model).
+    /// Structural zeros of `Mo::JACOBIAN_SPARSITY` cost nothing.
+    ///
+    /// # Errors
+    /// [`SmootherError::Io`] if writing the epoch that this step closes fails.
+    pub fn propagated<Mo: Model<N>>(
+        &mut self,
+        jacobian: &SMatrix<f64, N, N>,
+        dt: f64,
+    ) -> Result<(), SmootherError> {
+        self.close()?;
+        // Phi_step * T, with Phi_step = I + F dt (continuous) or F (discrete):
+        // row i of the product is sum_j Phi_step[i][j] row_j(T).
+        let old = self.transition;
+        let scale = if Mo::DISCRETE { 1.0 } else { dt };
+        if Mo::DISCRETE {
+            self.transition = SMatrix::zeros();
+        }
+        for (i, row) in Mo::JACOBIAN_SPARSITY.iter().enumerate() {
+            for (j, _) in row.iter().enumerate().filter(|(_, &nonzero)| nonzero) {
+                let a = jacobian[(i, j)] * scale;
+                for c in 0..N {
+                    self.transition[(i, c)] += a * old[(j, c)];
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Opens the epoch at `time` before its first update, with the filter's
+    /// covariance before the update; further calls at the same epoch change
+    /// nothing.
+    pub fn updating(
+        &mut self,
+        time: f64,
+        covariance: &SMatrix<f64, N, N>,
+        snapshot: SVector<f64, S>,
+    ) {
+        if self.open.is_none() {
+            self.open = Some(Epoch::at(time, self.transition, *covariance, snapshot));
+            self.transition = SMatrix::identity();
+        }
+    }
+
+    /// After an update of the open epoch: the `correction` it made (forward
+    /// solution before minus after, in error-state coordinates: for an
+    /// error-state filter the error estimate it fed back), the covariance
+    /// after it and the snapshot of the corrected estimate.
+    pub fn updated(
+        &mut self,
+        correction: &SVector<f64, N>,
+        covariance: &SMatrix<f64, N, N>,
+        snapshot: SVector<f64, S>,
+    ) {
+        if let Some(epoch) = self.open.as_mut() {
+            epoch.correction += correction;
+            epoch.filtered = *covariance;
+            epoch.snapshot = snapshot;
+        }
+    }
+
+    /// An epoch without update at `time` (an output time).
+    pub fn mark(&mut self, time: f64, covariance: &SMatrix<f64, N, N>, snapshot: SVector<f64, S>) {
+        self.updating(time, covariance, snapshot);
+    }
+
+    /// Writes the open epoch; call at the end of the run (after a final
+    /// [`Recorder::mark`] if the last prediction steps should be smoothed).
+    ///
+    /// # Errors
+    /// [`SmootherError::Io`] if the write fails.
+    pub fn finish(&mut self) -> Result<(), SmootherError> {
+        self.close()?;
+        self.store.borrow_mut().truncate(self.written)
+    }
+}
