@@ -17,7 +17,12 @@ use crate::model::Model;
 /// [`Recorder::mark`] at a time an output is wanted without an update, and
 /// [`Recorder::finish`] at the end. An epoch is written when the first
 /// prediction after it starts (or at `finish`), so every update of one time
-/// lands in one epoch.
+/// lands in one epoch. The recorder keeps the time itself (the start plus
+/// every step) and [`Recorder::mark`] re-synchronizes it.
+///
+/// Recording never fails in the forward pass (so a filter's predict and
+/// update keep their error contract): the first failure is kept and returned
+/// by [`Recorder::finish`].
 ///
 /// A clone shares the file but keeps its own history: cloned with a filter
 /// checkpoint and resumed after a rollback, it truncates the file to the
@@ -28,10 +33,14 @@ pub struct Recorder<const N: usize, const S: usize> {
     store: Rc<RefCell<EpochFile<N, S>>>,
     /// Epochs of this history already in the file.
     written: usize,
+    /// Time now, s.
+    time: f64,
     /// `Phi` from the last epoch to now.
     transition: SMatrix<f64, N, N>,
     /// The epoch reached and not yet written.
     open: Option<Epoch<N, S>>,
+    /// The first failure.
+    failure: Option<Rc<str>>,
 }
 
 impl<const N: usize, const S: usize> Recorder<N, S> {
@@ -46,8 +55,10 @@ impl<const N: usize, const S: usize> Recorder<N, S> {
         Self {
             store: Rc::new(RefCell::new(store)),
             written: 0,
+            time,
             transition: SMatrix::identity(),
             open: Some(Epoch::at(time, SMatrix::identity(), *covariance, snapshot)),
+            failure: None,
         }
     }
 
@@ -56,36 +67,50 @@ impl<const N: usize, const S: usize> Recorder<N, S> {
         Rc::clone(&self.store)
     }
 
-    fn close(&mut self) -> Result<(), SmootherError> {
-        if let Some(epoch) = self.open.take() {
-            let mut store = self.store.borrow_mut();
-            store.truncate(self.written)?;
-            store.push(&epoch)?;
-            self.written += 1;
+    /// Time of the recording now (s).
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    fn fail(&mut self, reason: String) {
+        if self.failure.is_none() {
+            self.failure = Some(Rc::from(reason));
         }
-        Ok(())
+    }
+
+    fn close(&mut self) {
+        let Some(epoch) = self.open.take() else {
+            return;
+        };
+        let result = match self.store.try_borrow_mut() {
+            Ok(mut store) => store
+                .truncate(self.written)
+                .and_then(|()| store.push(&epoch))
+                .map_err(|e| e.to_string()),
+            Err(_) => Err("the epoch file was borrowed while recording".to_string()),
+        };
+        match result {
+            Ok(()) => self.written += 1,
+            Err(reason) => self.fail(reason),
+        }
     }
 
     /// One prediction step of model `Mo` over `dt` seconds with the step's
     /// `jacobian` (`F` of a continuous model, so `Phi = I + F dt` as the
     /// filter's first-order step; `Phi` itself for a discrete model).
     /// Structural zeros of `Mo::JACOBIAN_SPARSITY` cost nothing.
-    ///
-    /// # Errors
-    /// [`SmootherError::Io`] if writing the epoch that this step closes fails.
-    pub fn propagated<Mo: Model<N>>(
-        &mut self,
-        jacobian: &SMatrix<f64, N, N>,
-        dt: f64,
-    ) -> Result<(), SmootherError> {
-        self.close()?;
+    pub fn propagated<Mo: Model<N>>(&mut self, jacobian: &SMatrix<f64, N, N>, dt: f64) {
+        self.close();
+        self.time += dt;
         // Phi_step * T, with Phi_step = I + F dt (continuous) or F (discrete):
         // row i of the product is sum_j Phi_step[i][j] row_j(T).
         let old = self.transition;
-        let scale = if Mo::DISCRETE { 1.0 } else { dt };
-        if Mo::DISCRETE {
+        let scale = if Mo::DISCRETE {
             self.transition = SMatrix::zeros();
-        }
+            1.0
+        } else {
+            dt
+        };
         for (i, row) in Mo::JACOBIAN_SPARSITY.iter().enumerate() {
             for (j, _) in row.iter().enumerate().filter(|(_, &nonzero)| nonzero) {
                 let a = jacobian[(i, j)] * scale;
@@ -94,20 +119,14 @@ impl<const N: usize, const S: usize> Recorder<N, S> {
                 }
             }
         }
-        Ok(())
     }
 
-    /// Opens the epoch at `time` before its first update, with the filter's
-    /// covariance before the update; further calls at the same epoch change
-    /// nothing.
-    pub fn updating(
-        &mut self,
-        time: f64,
-        covariance: &SMatrix<f64, N, N>,
-        snapshot: SVector<f64, S>,
-    ) {
+    /// Opens the epoch at the current time before its first update, with the
+    /// filter's covariance before the update; further calls at the same
+    /// epoch change nothing.
+    pub fn updating(&mut self, covariance: &SMatrix<f64, N, N>, snapshot: SVector<f64, S>) {
         if self.open.is_none() {
-            self.open = Some(Epoch::at(time, self.transition, *covariance, snapshot));
+            self.open = Some(Epoch::at(self.time, self.transition, *covariance, snapshot));
             self.transition = SMatrix::identity();
         }
     }
@@ -129,18 +148,33 @@ impl<const N: usize, const S: usize> Recorder<N, S> {
         }
     }
 
-    /// An epoch without update at `time` (an output time).
+    /// An epoch at `time` (s; an output time, re-synchronizing the
+    /// recorder's clock), without update unless one follows.
     pub fn mark(&mut self, time: f64, covariance: &SMatrix<f64, N, N>, snapshot: SVector<f64, S>) {
-        self.updating(time, covariance, snapshot);
+        match self.open.as_mut() {
+            Some(epoch) => epoch.time = time,
+            None => {
+                self.time = time;
+                self.updating(covariance, snapshot);
+            }
+        }
+        self.time = time;
     }
 
-    /// Writes the open epoch; call at the end of the run (after a final
-    /// [`Recorder::mark`] if the last prediction steps should be smoothed).
+    /// Writes the open epoch and drops epochs of superseded histories; call
+    /// at the end of the run (after a final [`Recorder::mark`] if the last
+    /// prediction steps should be smoothed).
     ///
     /// # Errors
-    /// [`SmootherError::Io`] if the write fails.
+    /// [`SmootherError::Recording`] with the first failure of the run, or
+    /// [`SmootherError::Io`] if the final write fails.
     pub fn finish(&mut self) -> Result<(), SmootherError> {
-        self.close()?;
+        self.close();
+        if let Some(reason) = &self.failure {
+            return Err(SmootherError::Recording {
+                reason: reason.to_string(),
+            });
+        }
         self.store.borrow_mut().truncate(self.written)
     }
 }

@@ -27,6 +27,13 @@ pub enum SmootherError {
         /// Time of the epoch, s.
         time: f64,
     },
+    /// Recording the forward run failed (the first failure, kept until
+    /// [`super::Recorder::finish`]).
+    #[error("recording for the smoother failed: {reason}")]
+    Recording {
+        /// What failed.
+        reason: String,
+    },
     /// A smoothed value is not finite.
     #[error("smoothed estimate at t = {time} s is not finite")]
     NonFinite {

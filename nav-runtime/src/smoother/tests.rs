@@ -89,11 +89,11 @@ fn forward(
     for i in from..to {
         let u = input(i);
         let f = Cvb::jacobian(ekf.state(), &u, &(), DT);
-        rec.propagated::<Cvb>(&f, DT).unwrap();
+        rec.propagated::<Cvb>(&f, DT);
         ekf.predict(DT, &u).unwrap();
         let t = (i + 1) as f64 * DT;
         if let Some(z) = run.fixes[i + 1] {
-            rec.updating(t, ekf.covariance(), *ekf.state());
+            rec.updating(ekf.covariance(), *ekf.state());
             let before = *ekf.state();
             ekf.update::<Pos, 1>(
                 &Vector1::new(z),
@@ -245,25 +245,16 @@ fn error_state_smoother_equals_the_plain_one() {
             b: m[2],
         },
     );
-    let snap = |f: &ErrorStateFilter<Cvb, Toy, 3>| {
-        let n = f.nominal();
-        Vector3::new(n.p, n.v, n.b)
-    };
-    let mut rec = Recorder::new(
-        EpochFile::create(None).unwrap(),
-        0.0,
-        filter.covariance(),
-        snap(&filter),
-    );
+    // The filter records itself; snapshots are taken beside it, per epoch.
+    filter
+        .start_recording(EpochFile::create(None).unwrap(), 0.0)
+        .unwrap();
+    let mut snapshots = vec![Vector3::new(m[0], m[1], m[2])];
     let steps = run.truth.len() - 1;
     for i in 0..steps {
-        let zero = SVector::zeros();
-        let f = Cvb::jacobian(&zero, &CvbInput { a: 0.0 }, &(), DT);
-        rec.propagated::<Cvb>(&f, DT).unwrap();
         filter.propagate(DT, &input(i)).unwrap();
         let t = (i + 1) as f64 * DT;
         if let Some(z) = run.fixes[i + 1] {
-            rec.updating(t, filter.covariance(), snap(&filter));
             // Residual: INS value minus sensor value.
             let residual = filter.nominal().p + OFFSET - z;
             filter
@@ -273,19 +264,29 @@ fn error_state_smoother_equals_the_plain_one() {
                     &Offset { offset: 0.0 },
                 )
                 .unwrap();
-            let fed_back = filter.take_fed_back();
-            rec.updated(&fed_back, filter.covariance(), snap(&filter));
         } else if i + 1 == steps {
-            rec.mark(t, filter.covariance(), snap(&filter));
+            filter.mark_epoch(t);
+        } else {
+            continue;
         }
+        let n = filter.nominal();
+        snapshots.push(Vector3::new(n.p, n.v, n.b));
     }
-    let error_state = backward(&mut rec);
+    let store = filter.finish_recording().unwrap().unwrap();
+    let mut error_state = Vec::new();
+    smooth(&mut store.borrow_mut(), |e| {
+        error_state.push((e.time, e.error, e.covariance));
+        Ok(())
+    })
+    .unwrap();
+    error_state.reverse();
     assert_eq!(error_state.len(), plain.len());
-    for (a, b) in error_state.iter().zip(&plain) {
-        assert_eq!(a.time, b.time);
-        let (xa, xb) = (estimate(a), estimate(b));
-        assert!((xa - xb).norm() <= 1e-9, "t {}: {xa} vs {xb}", a.time);
-        assert!((a.covariance - b.covariance).norm() <= 1e-9 * b.covariance.norm());
+    assert_eq!(snapshots.len(), plain.len());
+    for (((t, error, cov), snapshot), b) in error_state.iter().zip(&snapshots).zip(&plain) {
+        assert!((t - b.time).abs() < 1e-9);
+        let (xa, xb) = (snapshot - error, estimate(b));
+        assert!((xa - xb).norm() <= 1e-9, "t {t}: {xa} vs {xb}");
+        assert!((cov - b.covariance).norm() <= 1e-9 * b.covariance.norm());
     }
 }
 
