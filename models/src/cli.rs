@@ -137,6 +137,9 @@ pub struct ScenarioArgs {
     /// Draw sensor biases per run.
     #[arg(long)]
     pub draw_biases: bool,
+    /// Also smooth every run (fixed-interval smoother) and report both.
+    #[arg(long)]
+    pub smooth: bool,
 }
 
 /// `navsim replay`.
@@ -159,6 +162,9 @@ pub struct ReplayArgs {
     /// Use the model's stationary measurement model.
     #[arg(long)]
     pub stationary: bool,
+    /// Also smooth the run (fixed-interval smoother) and report both.
+    #[arg(long)]
+    pub smooth: bool,
 }
 
 /// `navsim simulate`.
@@ -221,7 +227,14 @@ fn run_options(
     scenario: &dyn Scenario,
     faults: &[String],
     draw_biases: bool,
+    smooth: bool,
 ) -> Result<RunOptions, RunError> {
+    if smooth && !scenario.can_smooth() {
+        return Err(RunError::Invalid(format!(
+            "scenario {} cannot be smoothed (--smooth is supported by the lawnmower-* scenarios)",
+            scenario.name()
+        )));
+    }
     let mut list: Vec<String> = Vec::new();
     for f in faults.iter().map(|f| f.trim()).filter(|f| !f.is_empty()) {
         if !scenario.faults().contains(&f) {
@@ -243,6 +256,7 @@ fn run_options(
         faults: list,
         draw_biases,
         keep_series: false,
+        smooth,
     })
 }
 
@@ -253,7 +267,12 @@ pub fn cmd_scenario(args: &ScenarioArgs) -> Result<(), RunError> {
     if runs == 0 {
         return Err(RunError::Invalid("--runs must be at least 1".into()));
     }
-    let mut options = run_options(scenario.as_ref(), &args.faults, args.draw_biases)?;
+    let mut options = run_options(
+        scenario.as_ref(),
+        &args.faults,
+        args.draw_biases,
+        args.smooth,
+    )?;
     if args.shard.is_some() && args.out.is_none() {
         return Err(RunError::Invalid(
             "--shard needs --out DIR for the shard's results".into(),
@@ -310,6 +329,12 @@ pub fn cmd_scenario(args: &ScenarioArgs) -> Result<(), RunError> {
 /// `navsim replay`.
 pub fn cmd_replay(args: &ReplayArgs) -> Result<(), RunError> {
     let model = find_replay_model(&args.model)?;
+    if args.smooth && !model.can_smooth() {
+        return Err(RunError::Invalid(format!(
+            "model {} cannot be smoothed",
+            model.name()
+        )));
+    }
     let strictness = if args.lenient {
         Strictness::Lenient
     } else {
@@ -325,6 +350,7 @@ pub fn cmd_replay(args: &ReplayArgs) -> Result<(), RunError> {
     let options = ReplayOptions {
         stationary: args.stationary,
         keep_series: args.out.is_some(),
+        smooth: args.smooth,
     };
     let output = model.replay(&log, &options)?;
     for w in &output.warnings {
@@ -349,7 +375,7 @@ pub fn cmd_replay(args: &ReplayArgs) -> Result<(), RunError> {
 /// `navsim simulate`.
 pub fn cmd_simulate(args: &SimulateArgs) -> Result<(), RunError> {
     let scenario = find_scenario(&args.name)?;
-    let options = run_options(scenario.as_ref(), &args.faults, args.draw_biases)?;
+    let options = run_options(scenario.as_ref(), &args.faults, args.draw_biases, false)?;
     let log = scenario.simulate_log(args.seed, &options).ok_or_else(|| {
         RunError::Invalid(format!(
             "scenario {} cannot write a sensor log",
@@ -433,6 +459,7 @@ pub fn run(cli: &Cli) -> Result<(), RunError> {
             shard: None,
             faults: Vec::new(),
             draw_biases: false,
+            smooth: false,
         }),
     }
 }
