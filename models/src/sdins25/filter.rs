@@ -1036,11 +1036,9 @@ pub fn run_vehicle<V: InsVehicle<N>, const N: usize>(
         }
     }
     let mut final_filter = sched.filter().clone();
-    let smoothed_errors = final_filter
+    let recording = final_filter
         .finish_recording()
-        .map_err(|e| RunError::Invalid(e.to_string()))?
-        .map(|store| smoothed_errors(&mut store.borrow_mut()))
-        .transpose()?;
+        .map_err(|e| RunError::Invalid(e.to_string()))?;
     let repairs = final_filter.ekf().counters().covariance_repairs;
     let replays = sched.stats().replays;
     drop(sched);
@@ -1048,7 +1046,9 @@ pub fn run_vehicle<V: InsVehicle<N>, const N: usize>(
         .map(RefCell::into_inner)
         .unwrap_or_else(|rc| rc.borrow().clone());
     let layout = *final_filter.nominal().layout();
-    let smoothed = smoothed_errors.map(|errors| apply_smoothed(&estimates, &errors, &layout));
+    let smoothed = recording
+        .map(|store| smoothed_estimates(&mut store.borrow_mut(), &estimates, &layout))
+        .transpose()?;
     Ok(InsRun {
         estimates,
         samples: samples + 1,
@@ -1067,42 +1067,44 @@ pub fn run_vehicle<V: InsVehicle<N>, const N: usize>(
     })
 }
 
-/// Smoothed error and covariance of every epoch of a recorded run, in time
-/// order.
-type SmoothedErrors<const N: usize> = Vec<(f64, SVector<f64, N>, SMatrix<f64, N, N>)>;
-
-fn smoothed_errors<const N: usize>(
+/// The smoothed counterpart of each estimate, from the recorded epochs of
+/// `file` (every output time is an epoch of the recording): the backward pass
+/// meets the epochs latest first and the estimates are matched from the end,
+/// so nothing but the smoothed estimates is kept.
+fn smoothed_estimates<const N: usize>(
     file: &mut EpochFile<N, 0>,
-) -> Result<SmoothedErrors<N>, RunError> {
-    let mut out = Vec::with_capacity(file.len());
-    smooth(file, |e| {
-        out.push((e.time, e.error, e.covariance));
+    estimates: &[Option<Estimate>],
+    layout: &Layout,
+) -> Result<Vec<Option<Estimate>>, RunError> {
+    let mut out = vec![None; estimates.len()];
+    let mut k = estimates.len();
+    smooth(file, |epoch| {
+        while k > 0 {
+            match &estimates[k - 1] {
+                Some(e) if e.t > epoch.time + 1e-9 => k -= 1,
+                None => k -= 1,
+                Some(e) => {
+                    if (e.t - epoch.time).abs() <= 1e-9 {
+                        out[k - 1] = Some(e.smoothed(&epoch.error, &epoch.covariance, layout));
+                        k -= 1;
+                        // Several requested times may snap to one epoch.
+                        while let Some(Some(same)) = estimates.get(k.wrapping_sub(1)) {
+                            if (same.t - epoch.time).abs() > 1e-9 {
+                                break;
+                            }
+                            out[k - 1] =
+                                Some(same.smoothed(&epoch.error, &epoch.covariance, layout));
+                            k -= 1;
+                        }
+                    }
+                    break;
+                }
+            }
+        }
         Ok(())
     })
     .map_err(|e| RunError::Invalid(e.to_string()))?;
-    out.reverse();
     Ok(out)
-}
-
-/// The smoothed counterpart of each estimate: the epoch at its time (every
-/// output time is an epoch of the recording).
-fn apply_smoothed<const N: usize>(
-    estimates: &[Option<Estimate>],
-    errors: &SmoothedErrors<N>,
-    layout: &Layout,
-) -> Vec<Option<Estimate>> {
-    let mut k = 0;
-    estimates
-        .iter()
-        .map(|est| {
-            let e = est.as_ref()?;
-            while k < errors.len() && errors[k].0 < e.t - 1e-9 {
-                k += 1;
-            }
-            let (t, error, p) = errors.get(k)?;
-            ((t - e.t).abs() <= 1e-9).then(|| e.smoothed(error, p, layout))
-        })
-        .collect()
 }
 
 /// Output resolution of a sensor in a log: the smallest non-zero change

@@ -43,12 +43,12 @@ pub fn smooth<const N: usize, const S: usize>(
                     .cholesky()
                     .ok_or(SmootherError::NotPositiveDefinite { time: next.time })?;
                 // C^T = (P_{k+1}-)^-1 Phi_k P_k+   (P_{k+1}- symmetric)
-                let gain = chol.solve(&(next.transition * epoch.filtered)).transpose();
+                let gain = chol
+                    .solve(&phi_times(&next.transition, &epoch.filtered))
+                    .transpose();
                 let error = gain * (next_error + next.correction);
-                let mut cov =
-                    epoch.filtered + gain * (next_cov - next.predicted) * gain.transpose();
-                cov = (cov + cov.transpose()) * 0.5;
-                (error, cov)
+                let d = next_cov - next.predicted;
+                (error, rts_covariance(&epoch.filtered, &gain, &d))
             }
         };
         if error
@@ -68,4 +68,49 @@ pub fn smooth<const N: usize, const S: usize>(
         later = Some((*epoch, error, covariance));
         Ok(())
     })
+}
+
+/// `Phi P`, copying the rows of `P` where `Phi` has a unit row (states
+/// without dynamics, e.g. random-constant biases, keep `e_i` rows in every
+/// product of their transition matrices) and skipping zeros elsewhere.
+fn phi_times<const N: usize>(
+    phi: &SMatrix<f64, N, N>,
+    p: &SMatrix<f64, N, N>,
+) -> SMatrix<f64, N, N> {
+    let mut out = SMatrix::<f64, N, N>::zeros();
+    for i in 0..N {
+        let unit = (0..N).all(|j| phi[(i, j)] == if i == j { 1.0 } else { 0.0 });
+        if unit {
+            out.set_row(i, &p.row(i));
+            continue;
+        }
+        for j in (0..N).filter(|&j| phi[(i, j)] != 0.0) {
+            let a = phi[(i, j)];
+            for c in 0..N {
+                out[(i, c)] += a * p[(j, c)];
+            }
+        }
+    }
+    out
+}
+
+/// `P+ + C D C^T` for symmetric `D`, on the upper triangle and mirrored, so
+/// the result is exactly symmetric (eq. S3).
+fn rts_covariance<const N: usize>(
+    filtered: &SMatrix<f64, N, N>,
+    gain: &SMatrix<f64, N, N>,
+    d: &SMatrix<f64, N, N>,
+) -> SMatrix<f64, N, N> {
+    let cd_t = (gain * d).transpose();
+    let gain_t = gain.transpose();
+    let mut out = *filtered;
+    for c in 0..N {
+        for r in 0..=c {
+            // (C D C^T)[r][c] = row r of C D . row c of C: columns of the transposes.
+            let v = cd_t.column(r).dot(&gain_t.column(c));
+            out[(r, c)] += v;
+            out[(c, r)] = out[(r, c)];
+        }
+    }
+    out
 }

@@ -102,21 +102,31 @@ impl<const N: usize, const S: usize> Recorder<N, S> {
     pub fn propagated<Mo: Model<N>>(&mut self, jacobian: &SMatrix<f64, N, N>, dt: f64) {
         self.close();
         self.time += dt;
-        // Phi_step * T, with Phi_step = I + F dt (continuous) or F (discrete):
-        // row i of the product is sum_j Phi_step[i][j] row_j(T).
-        let old = self.transition;
-        let scale = if Mo::DISCRETE {
-            self.transition = SMatrix::zeros();
-            1.0
-        } else {
-            dt
-        };
+        if Mo::DISCRETE {
+            self.transition = jacobian * self.transition;
+            return;
+        }
+        // T <- T + dt F T over the structural nonzeros of F (rows of F that
+        // are zero leave their rows of T as they are). T is column-major:
+        // entry (i, c) at c N + i.
+        let t = self.transition.as_slice();
+        let mut delta = [[0.0f64; N]; N]; // delta[c][i]
         for (i, row) in Mo::JACOBIAN_SPARSITY.iter().enumerate() {
             for (j, _) in row.iter().enumerate().filter(|(_, &nonzero)| nonzero) {
-                let a = jacobian[(i, j)] * scale;
-                for c in 0..N {
-                    self.transition[(i, c)] += a * old[(j, c)];
+                let a = dt * jacobian[(i, j)];
+                for (c, d) in delta.iter_mut().enumerate() {
+                    d[i] += a * t[c * N + j];
                 }
+            }
+        }
+        for (column, d) in self
+            .transition
+            .as_mut_slice()
+            .chunks_exact_mut(N)
+            .zip(&delta)
+        {
+            for (x, dx) in column.iter_mut().zip(d) {
+                *x += dx;
             }
         }
     }
