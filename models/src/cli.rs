@@ -199,6 +199,9 @@ pub struct ScenarioArgs {
     /// Draw sensor biases per run.
     #[arg(long)]
     pub draw_biases: bool,
+    /// Also smooth every run (fixed-interval smoother) and report both.
+    #[arg(long)]
+    pub smooth: bool,
 }
 
 /// `navsim replay`.
@@ -225,6 +228,9 @@ pub struct ReplayArgs {
     /// a warning with --lenient).
     #[arg(long, default_value_t = 10.0, value_name = "N")]
     pub max_gap_periods: f64,
+    /// Also smooth the run (fixed-interval smoother) and report both.
+    #[arg(long)]
+    pub smooth: bool,
 }
 
 /// `navsim simulate`.
@@ -287,7 +293,14 @@ fn run_options(
     scenario: &dyn Scenario,
     faults: &[String],
     draw_biases: bool,
+    smooth: bool,
 ) -> Result<RunOptions, RunError> {
+    if smooth && !scenario.can_smooth() {
+        return Err(RunError::Invalid(format!(
+            "scenario {} cannot be smoothed (--smooth is supported by the lawnmower-* scenarios)",
+            scenario.name()
+        )));
+    }
     let mut list: Vec<String> = Vec::new();
     for f in faults.iter().map(|f| f.trim()).filter(|f| !f.is_empty()) {
         if !scenario.faults().contains(&f) {
@@ -309,6 +322,7 @@ fn run_options(
         faults: list,
         draw_biases,
         keep_series: false,
+        smooth,
     })
 }
 
@@ -319,7 +333,12 @@ pub fn cmd_scenario(args: &ScenarioArgs) -> Result<(), RunError> {
     if runs == 0 {
         return Err(RunError::Invalid("--runs must be at least 1".into()));
     }
-    let mut options = run_options(scenario.as_ref(), &args.faults, args.draw_biases)?;
+    let mut options = run_options(
+        scenario.as_ref(),
+        &args.faults,
+        args.draw_biases,
+        args.smooth,
+    )?;
     if args.shard.is_some() && args.out.is_none() {
         return Err(RunError::Invalid(
             "--shard needs --out DIR for the shard's results".into(),
@@ -388,6 +407,12 @@ fn emit_scenario(value: &Value, json: bool, plots: Plots<'_>) {
 /// `navsim replay`.
 pub fn cmd_replay(args: &ReplayArgs) -> Result<(), RunError> {
     let model = find_replay_model(&args.model)?;
+    if args.smooth && !model.can_smooth() {
+        return Err(RunError::Invalid(format!(
+            "model {} cannot be smoothed",
+            model.name()
+        )));
+    }
     if args.stationary && !model.has_stationary_mode() {
         return Err(RunError::Invalid(format!(
             "--stationary: model {} has no stationary mode",
@@ -412,6 +437,7 @@ pub fn cmd_replay(args: &ReplayArgs) -> Result<(), RunError> {
     let options = ReplayOptions {
         stationary: args.stationary,
         keep_series: args.out.is_some(),
+        smooth: args.smooth,
     };
     for reason in &log.skip_reasons {
         eprintln!("warning: skipped {reason}");
@@ -591,7 +617,7 @@ pub fn cmd_check(args: &CheckArgs) -> Result<(), RunError> {
 /// `navsim simulate`.
 pub fn cmd_simulate(args: &SimulateArgs) -> Result<(), RunError> {
     let scenario = find_scenario(&args.name)?;
-    let options = run_options(scenario.as_ref(), &args.faults, args.draw_biases)?;
+    let options = run_options(scenario.as_ref(), &args.faults, args.draw_biases, false)?;
     let log = scenario.simulate_log(args.seed, &options).ok_or_else(|| {
         RunError::Invalid(format!(
             "scenario {} cannot write a sensor log",
@@ -677,6 +703,7 @@ pub fn run(cli: &Cli) -> Result<(), RunError> {
             shard: None,
             faults: Vec::new(),
             draw_biases: false,
+            smooth: false,
         }),
     }
 }

@@ -45,6 +45,10 @@ pub struct RunOptions {
     /// Keep per-run time series ([`RunResult::tables`]); set when `--out` is given.
     #[serde(skip)]
     pub keep_series: bool,
+    /// `--smooth`: also smooth each run (fixed-interval smoother) and report
+    /// the smoothed errors beside the forward ones.
+    #[serde(default)]
+    pub smooth: bool,
 }
 
 impl RunOptions {
@@ -262,6 +266,10 @@ pub trait Scenario: Send + Sync {
     }
     /// Number of Monte Carlo runs without `--runs`.
     fn default_runs(&self) -> usize;
+    /// Whether `--smooth` is supported (the run can be recorded and smoothed).
+    fn can_smooth(&self) -> bool {
+        false
+    }
     /// Fault names accepted by `--faults` (default: none).
     fn faults(&self) -> &'static [&'static str] {
         &[]
@@ -306,6 +314,8 @@ pub struct ReplayOptions {
     pub stationary: bool,
     /// Keep time series (`--out` given).
     pub keep_series: bool,
+    /// `--smooth`: also smooth the run and report the smoothed errors.
+    pub smooth: bool,
 }
 
 /// What a replay model returns.
@@ -345,6 +355,10 @@ pub trait ReplayModel: Send + Sync {
     }
     /// Runs the model over the log. Time only the filter into `runtime_s`.
     fn replay(&self, log: &LogDir, options: &ReplayOptions) -> Result<ReplayOutput, RunError>;
+    /// Whether `--smooth` is supported.
+    fn can_smooth(&self) -> bool {
+        false
+    }
     /// Writes time series and plots into `dir` (which exists). Default: each table
     /// as `<table>.csv`.
     fn write_outputs(&self, output: &ReplayOutput, dir: &Path) -> Result<(), RunError> {

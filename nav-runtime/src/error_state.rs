@@ -28,6 +28,8 @@ use nalgebra::{SMatrix, SVector};
 
 use crate::ekf::{first_non_finite, name_of, Ekf, Estimator, FilterError, Propagate, UpdateReport};
 use crate::model::{Model, Record, Sensor};
+#[cfg(feature = "std")]
+use crate::smoother::Recorder;
 
 /// The nominal solution that an error-state filter corrects.
 pub trait NominalState<const N: usize> {
@@ -62,6 +64,12 @@ pub struct ErrorStateFilter<Mo: Model<N>, Nom, const N: usize> {
     ekf: Ekf<Mo, N>,
     nominal: Nom,
     resets: u64,
+    /// Sum of the error estimates injected since [`ErrorStateFilter::take_fed_back`].
+    fed_back: SVector<f64, N>,
+    /// The run being recorded for the smoother, if any (boxed: a filter that
+    /// records nothing stays small to copy).
+    #[cfg(feature = "std")]
+    recording: Option<Box<Recorder<N, 0>>>,
 }
 
 impl<Mo: Model<N>, Nom: NominalState<N>, const N: usize> ErrorStateFilter<Mo, Nom, N> {
@@ -72,6 +80,9 @@ impl<Mo: Model<N>, Nom: NominalState<N>, const N: usize> ErrorStateFilter<Mo, No
             ekf,
             nominal,
             resets: 0,
+            fed_back: SVector::zeros(),
+            #[cfg(feature = "std")]
+            recording: None,
         };
         if filter.ekf.state().iter().any(|v| *v != 0.0) {
             filter.feedback();
@@ -109,6 +120,14 @@ impl<Mo: Model<N>, Nom: NominalState<N>, const N: usize> ErrorStateFilter<Mo, No
         self.resets
     }
 
+    /// The sum of the error estimates fed back into the nominal solution since
+    /// the last call (INS minus true, error-state order), and restarts the
+    /// sum: what a smoother records as the correction of an epoch
+    /// ([`crate::smoother::Recorder::updated`]).
+    pub fn take_fed_back(&mut self) -> SVector<f64, N> {
+        core::mem::replace(&mut self.fed_back, SVector::zeros())
+    }
+
     /// Splits the filter into its parts.
     pub fn into_parts(self) -> (Ekf<Mo, N>, Nom) {
         (self.ekf, self.nominal)
@@ -120,7 +139,12 @@ impl<Mo: Model<N>, Nom: NominalState<N>, const N: usize> ErrorStateFilter<Mo, No
     /// # Errors
     /// As [`Ekf::predict`]; nothing changes on error.
     pub fn predict(&mut self, dt: f64, input: &Mo::Input) -> Result<(), FilterError> {
-        self.ekf.predict(dt, input)
+        #[cfg(feature = "std")]
+        let jacobian = self.step_jacobian(dt, input);
+        self.ekf.predict(dt, input)?;
+        #[cfg(feature = "std")]
+        self.record_step(jacobian.as_ref(), dt);
+        Ok(())
     }
 
     /// Fuses the residual `z` (INS value minus sensor value) of sensor `S`, as
@@ -138,9 +162,16 @@ impl<Mo: Model<N>, Nom: NominalState<N>, const N: usize> ErrorStateFilter<Mo, No
     where
         S: Sensor<N, M, Model = Mo>,
     {
+        #[cfg(feature = "std")]
+        let before = self.recording.is_some().then(|| *self.ekf.covariance());
         let report = self.ekf.update::<S, M>(z, r, aux)?;
         if report.accepted {
-            self.feedback();
+            let _error = self.feedback();
+            #[cfg(feature = "std")]
+            if let (Some(rec), Some(before)) = (self.recording.as_mut(), before) {
+                rec.updating(&before, SVector::zeros());
+                rec.updated(&_error, self.ekf.covariance(), SVector::zeros());
+            }
         }
         Ok(report)
     }
@@ -159,19 +190,107 @@ impl<Mo: Model<N>, Nom: NominalState<N>, const N: usize> ErrorStateFilter<Mo, No
     where
         S: Sensor<N, M, Model = Mo>,
     {
+        #[cfg(feature = "std")]
+        let before = self.recording.is_some().then(|| *self.ekf.covariance());
         let report = self.ekf.update_sequential::<S, M>(z, r_diag, aux)?;
         if report.accepted {
-            self.feedback();
+            let _error = self.feedback();
+            #[cfg(feature = "std")]
+            if let (Some(rec), Some(before)) = (self.recording.as_mut(), before) {
+                rec.updating(&before, SVector::zeros());
+                rec.updated(&_error, self.ekf.covariance(), SVector::zeros());
+            }
         }
         Ok(report)
     }
 
     /// Injects the current error estimate into the nominal state and resets it.
-    fn feedback(&mut self) {
+    fn feedback(&mut self) -> SVector<f64, N> {
         let error = *self.ekf.state();
         self.nominal.inject(&error);
         self.ekf.reset_state();
         self.resets += 1;
+        self.fed_back += error;
+        error
+    }
+}
+
+/// Recording for the fixed-interval smoother ([`crate::smoother`]).
+#[cfg(feature = "std")]
+impl<Mo: Model<N>, Nom: NominalState<N>, const N: usize> ErrorStateFilter<Mo, Nom, N> {
+    /// Starts recording this filter's run into `file` for
+    /// [`crate::smoother::smooth`], `time` (s) being the filter's time now:
+    /// from now on every prediction step and every accepted update (with the
+    /// error estimate it fed back) is recorded; [`ErrorStateFilter::mark_epoch`]
+    /// adds output times. Checkpoint clones carry the recording, so a
+    /// scheduler's re-propagation replaces what it supersedes.
+    ///
+    /// # Errors
+    /// [`FilterError::InvalidSetup`] for a continuous model with a
+    /// discretization other than first order (the recorder's transition
+    /// matrices are `I + F dt`, which would not match the filter's).
+    pub fn start_recording(
+        &mut self,
+        file: crate::smoother::EpochFile<N, 0>,
+        time: f64,
+    ) -> Result<(), FilterError> {
+        if !Mo::DISCRETE && self.ekf.discretization() != crate::ekf::Discretization::FirstOrder {
+            return Err(FilterError::InvalidSetup {
+                reason: "smoothing needs the first-order discretization",
+            });
+        }
+        self.recording = Some(Box::new(Recorder::new(
+            file,
+            time,
+            self.ekf.covariance(),
+            SVector::zeros(),
+        )));
+        Ok(())
+    }
+
+    /// An output epoch at `time` (s): the smoother reports the smoothed error
+    /// here even if no measurement was fused. Does nothing when not recording.
+    pub fn mark_epoch(&mut self, time: f64) {
+        if let Some(rec) = self.recording.as_mut() {
+            rec.mark(time, self.ekf.covariance(), SVector::zeros());
+        }
+    }
+
+    /// `true` while recording.
+    pub fn is_recording(&self) -> bool {
+        self.recording.is_some()
+    }
+
+    /// Ends the recording and returns its epoch file, ready for
+    /// [`crate::smoother::smooth`]; `None` when not recording.
+    ///
+    /// # Errors
+    /// The first failure of the recording ([`crate::smoother::Recorder::finish`]).
+    #[allow(clippy::type_complexity)]
+    pub fn finish_recording(
+        &mut self,
+    ) -> Result<
+        Option<std::rc::Rc<core::cell::RefCell<crate::smoother::EpochFile<N, 0>>>>,
+        crate::smoother::SmootherError,
+    > {
+        let Some(mut rec) = self.recording.take() else {
+            return Ok(None);
+        };
+        rec.finish()?;
+        Ok(Some(rec.store()))
+    }
+
+    /// The Jacobian of the coming step, when recording.
+    fn step_jacobian(&self, dt: f64, input: &Mo::Input) -> Option<SMatrix<f64, N, N>> {
+        self.recording
+            .as_ref()
+            .map(|_| Mo::jacobian(self.ekf.state(), input, self.ekf.params(), dt))
+    }
+
+    fn record_step(&mut self, jacobian: Option<&SMatrix<f64, N, N>>, dt: f64) {
+        if let (Some(rec), Some(jacobian)) = (self.recording.as_mut(), jacobian) {
+            rec.propagated::<Mo>(jacobian, dt);
+        }
     }
 }
 
@@ -181,6 +300,9 @@ impl<Mo: Model<N>, Nom: Clone, const N: usize> Clone for ErrorStateFilter<Mo, No
             ekf: self.ekf.clone(),
             nominal: self.nominal.clone(),
             resets: self.resets,
+            fed_back: self.fed_back,
+            #[cfg(feature = "std")]
+            recording: self.recording.clone(),
         }
     }
 }
@@ -252,8 +374,12 @@ impl<Mo: Model<N>, Nom: Mechanization<Mo, N>, const N: usize> Propagate
         Self::check_input(imu)?;
         let mut nominal = self.nominal.clone();
         let input = nominal.mechanize(dt, imu);
+        #[cfg(feature = "std")]
+        let jacobian = self.step_jacobian(dt, &input);
         self.ekf.predict(dt, &input)?;
         self.nominal = nominal;
+        #[cfg(feature = "std")]
+        self.record_step(jacobian.as_ref(), dt);
         Ok(())
     }
 }

@@ -32,6 +32,8 @@ pub mod scheduler;
 #[cfg(feature = "std")]
 pub mod sensors;
 #[cfg(feature = "std")]
+pub mod smoother;
+#[cfg(feature = "std")]
 pub mod stats;
 pub mod strapdown;
 pub mod stuck;

@@ -27,6 +27,7 @@ use nav_runtime::model::Record;
 use nav_runtime::nalgebra::{Matrix3, SMatrix, SVector, Vector2, Vector3};
 use nav_runtime::scheduler::{FnMeasurement, Measurement, MeasurementOutcome, Scheduler, SensorId};
 use nav_runtime::sensors::ErrorSpec;
+use nav_runtime::smoother::{smooth, EpochFile};
 use nav_runtime::strapdown::{NavError, NavState, Strapdown};
 use nav_runtime::stuck::StuckDetector;
 
@@ -93,6 +94,10 @@ pub struct FilterOptions {
     /// every aiding sensor ([`nav_runtime::stuck`], [`stuck_detector`]);
     /// `None` disables it.
     pub stuck_false_alarm: Option<f64>,
+    /// Record the run and smooth it afterwards (fixed-interval
+    /// Rauch-Tung-Striebel smoother, [`nav_runtime::smoother`]): the run then
+    /// also has [`InsRun::smoothed`].
+    pub smooth: bool,
 }
 
 /// Late delivery of the 2 Hz aiding measurements (DVL, depth, compass): each
@@ -152,6 +157,7 @@ impl Default for FilterOptions {
             use_usbl: true,
             delivery: Delivery::default(),
             stuck_false_alarm: Some(StuckDetector::DEFAULT_FALSE_ALARM),
+            smooth: false,
         }
     }
 }
@@ -367,9 +373,47 @@ impl Estimate {
     /// The estimate of filter `f` at time `t`. A bias the vehicle does not
     /// estimate is reported as zero with a NaN sigma.
     pub fn of<V: InsVehicle<N>, const N: usize>(t: f64, f: &InsFilter<V, N>) -> Self {
-        let nav = f.nominal().ins.state;
-        let p = f.covariance();
-        let layout = f.nominal().layout();
+        let n = f.nominal();
+        Self::from_parts(
+            t,
+            n.ins.state,
+            f.covariance(),
+            n.layout(),
+            n.compass_bias,
+            n.usbl_bias[0],
+        )
+    }
+
+    /// This (forward) estimate with the smoothed error `error` of its error
+    /// state removed, and the smoothed error covariance `p` (the injection of
+    /// [`InsNominal::inject`], applied to the estimate's parts).
+    pub fn smoothed<const N: usize>(
+        &self,
+        error: &SVector<f64, N>,
+        p: &SMatrix<f64, N, N>,
+        layout: &Layout,
+    ) -> Self {
+        let nav = layout.navigation().map(|i| error[i]);
+        let compass = layout.compass_bias.map_or(0.0, |i| error[i]);
+        let usbl_n = layout.usbl_bias.map_or(0.0, |i| error[i]);
+        Self::from_parts(
+            self.t,
+            self.nav.corrected(&NavError::from_slice(&nav)),
+            p,
+            layout,
+            self.compass_bias.0 + compass,
+            self.usbl_bias_n.0 + usbl_n,
+        )
+    }
+
+    fn from_parts<const N: usize>(
+        t: f64,
+        nav: NavState,
+        p: &SMatrix<f64, N, N>,
+        layout: &Layout,
+        compass_bias: f64,
+        usbl_bias_n: f64,
+    ) -> Self {
         let idx = layout.navigation();
         let (rm, rn) = (
             meridian_radius(nav.lat) + nav.h,
@@ -385,8 +429,8 @@ impl Estimate {
             t,
             nav,
             cov,
-            compass_bias: (f.nominal().compass_bias, sigma(layout.compass_bias)),
-            usbl_bias_n: (f.nominal().usbl_bias[0], sigma(layout.usbl_bias)),
+            compass_bias: (compass_bias, sigma(layout.compass_bias)),
+            usbl_bias_n: (usbl_bias_n, sigma(layout.usbl_bias)),
         }
     }
 }
@@ -429,6 +473,9 @@ pub struct InsRun<V: InsVehicle<N>, const N: usize> {
     /// Log sensors with rows that the vehicle has no sensor for (their rows
     /// are counted as skipped).
     pub ignored: Vec<&'static str>,
+    /// With [`FilterOptions::smooth`]: the smoothed estimates at the same
+    /// times as [`InsRun::estimates`].
+    pub smoothed: Option<Vec<Option<Estimate>>>,
 }
 
 /// The result of an SDINS-25 run over a log.
@@ -687,7 +734,14 @@ pub fn run_vehicle<V: InsVehicle<N>, const N: usize>(
     options: &FilterOptions,
     record_times: &[f64],
 ) -> Result<InsRun<V, N>, RunError> {
-    let filter = initial_vehicle_filter::<V, N>(log, options)?;
+    let mut filter = initial_vehicle_filter::<V, N>(log, options)?;
+    if options.smooth {
+        let file = EpochFile::create(None).map_err(|e| RunError::Invalid(e.to_string()))?;
+        let t0 = filter.nominal().ins.time;
+        filter
+            .start_recording(file, t0)
+            .map_err(|e| filter_error("smoother", e))?;
+    }
     let has = Present::of::<V, N>();
     let has_heading = match options.compass {
         CompassForm::Exact => has.compass,
@@ -917,6 +971,7 @@ pub fn run_vehicle<V: InsVehicle<N>, const N: usize>(
                 let t = ev.time;
                 let m = FnMeasurement::new(&[], move |f: &mut InsFilter<V, N>| {
                     let e = Estimate::of(t, f);
+                    f.mark_epoch(t);
                     let mut v = rec.borrow_mut();
                     for &s in list.iter() {
                         v[s] = Some(e);
@@ -977,13 +1032,20 @@ pub fn run_vehicle<V: InsVehicle<N>, const N: usize>(
             h.stuck = s.stuck;
         }
     }
-    let final_filter = sched.filter().clone();
+    let mut final_filter = sched.filter().clone();
+    let recording = final_filter
+        .finish_recording()
+        .map_err(|e| RunError::Invalid(e.to_string()))?;
     let repairs = final_filter.ekf().counters().covariance_repairs;
     let replays = sched.stats().replays;
     drop(sched);
     let estimates = Rc::try_unwrap(recorded)
         .map(RefCell::into_inner)
         .unwrap_or_else(|rc| rc.borrow().clone());
+    let layout = *final_filter.nominal().layout();
+    let smoothed = recording
+        .map(|store| smoothed_estimates(&mut store.borrow_mut(), &estimates, &layout))
+        .transpose()?;
     Ok(InsRun {
         estimates,
         samples: samples + 1,
@@ -998,7 +1060,48 @@ pub fn run_vehicle<V: InsVehicle<N>, const N: usize>(
         replays,
         final_filter,
         ignored,
+        smoothed,
     })
+}
+
+/// The smoothed counterpart of each estimate, from the recorded epochs of
+/// `file` (every output time is an epoch of the recording): the backward pass
+/// meets the epochs latest first and the estimates are matched from the end,
+/// so nothing but the smoothed estimates is kept.
+fn smoothed_estimates<const N: usize>(
+    file: &mut EpochFile<N, 0>,
+    estimates: &[Option<Estimate>],
+    layout: &Layout,
+) -> Result<Vec<Option<Estimate>>, RunError> {
+    let mut out = vec![None; estimates.len()];
+    let mut k = estimates.len();
+    smooth(file, |epoch| {
+        while k > 0 {
+            match &estimates[k - 1] {
+                Some(e) if e.t > epoch.time + 1e-9 => k -= 1,
+                None => k -= 1,
+                Some(e) => {
+                    if (e.t - epoch.time).abs() <= 1e-9 {
+                        out[k - 1] = Some(e.smoothed(&epoch.error, &epoch.covariance, layout));
+                        k -= 1;
+                        // Several requested times may snap to one epoch.
+                        while let Some(Some(same)) = estimates.get(k.wrapping_sub(1)) {
+                            if (same.t - epoch.time).abs() > 1e-9 {
+                                break;
+                            }
+                            out[k - 1] =
+                                Some(same.smoothed(&epoch.error, &epoch.covariance, layout));
+                            k -= 1;
+                        }
+                    }
+                    break;
+                }
+            }
+        }
+        Ok(())
+    })
+    .map_err(|e| RunError::Invalid(e.to_string()))?;
+    Ok(out)
 }
 
 /// Output resolution of a sensor in a log: the smallest non-zero change

@@ -73,6 +73,11 @@ pub fn scenarios() -> Vec<LawnMower> {
                 "SDINS-25 survey at 6000 m, Posidonia 6000 USBL (0.3 % range, late fixes) + DVL",
             config: SimConfig::usbl_deep(),
         },
+        LawnMower {
+            name: "lawnmower-usbl-10s",
+            description: "SDINS-25 shallow survey, calibrated USBL (0.5 m) every 10 s + DVL",
+            config: SimConfig::usbl_10s(),
+        },
     ]
 }
 
@@ -133,6 +138,44 @@ pub fn run_and_score_vehicle<V: InsVehicle<N>, const N: usize>(
         .transpose()
         .map_err(|e| RunError::Invalid(e.to_string()))?;
     Ok((run, scored))
+}
+
+/// The smoothed estimates of `run` (recorded with [`FilterOptions::smooth`])
+/// scored against the truth of `log`, as [`run_and_score_vehicle`] scores the
+/// forward ones.
+pub fn score_smoothed<V: InsVehicle<N>, const N: usize>(
+    run: &InsRun<V, N>,
+    log: &LogDir,
+    compass_bias: Option<f64>,
+) -> Result<Option<Scored>, RunError> {
+    let (Some(truth), Some(smoothed)) = (log.truth.as_ref(), run.smoothed.as_ref()) else {
+        return Ok(None);
+    };
+    let mut s = score::score(smoothed, truth, compass_bias, log.imu_time_span())
+        .map_err(|e| RunError::Invalid(format!("smoothed run: {e}")))?;
+    s.table.name = SMOOTHED_TABLE.to_string();
+    Ok(Some(s))
+}
+
+/// Name of the smoothed error table (same columns as [`score::TABLE`]).
+pub const SMOOTHED_TABLE: &str = "smoothed_errors";
+
+/// The error keys of a scored run, reported forward and (under `smoothed`)
+/// smoothed.
+const ERROR_KEYS: [&str; 4] = [
+    "horizontal_error_final_m",
+    "horizontal_error_rms_m",
+    "depth_error_rms_m",
+    "nees_mean",
+];
+
+fn error_values(s: &Scored) -> [f64; 4] {
+    [
+        s.horizontal_error_final_m,
+        s.horizontal_error_rms_m,
+        s.depth_error_rms_m,
+        s.nees_mean,
+    ]
 }
 
 /// The metrics of a run (scored when truth exists).
@@ -208,6 +251,7 @@ pub fn run_one_with(
     let bias = config.compass.then_some(sim.errors.compass_bias);
     let filter_options = FilterOptions {
         delivery: faults::delivery(&options.faults, seed),
+        smooth: options.smooth,
         ..FilterOptions::default()
     };
     let (run, scored) =
@@ -219,14 +263,54 @@ pub fn run_one_with(
     for (k, v) in metrics(&run, scored.as_ref()) {
         r = r.with_metric(&k, v);
     }
+    let smoothed = score_smoothed(&run, &sim.log, bias).map_err(|e| RunError::Failed {
+        seed,
+        message: e.to_string(),
+    })?;
+    if let Some(s) = &smoothed {
+        for (k, v) in ERROR_KEYS.iter().zip(error_values(s)) {
+            r = r.with_metric(&format!("smoothed_{k}"), v);
+        }
+    }
     for (name, n) in injected {
         r = r.with_metric(&format!("fault_{name}_injected"), n as f64);
     }
     let keep_series = options.keep_series;
     if let (true, Some(s)) = (keep_series, scored) {
         r.tables.push(s.table);
+        if let Some(sm) = smoothed {
+            r.tables.push(sm.table);
+        }
     }
     Ok(r)
+}
+
+/// The `smoothed` object of a Monte Carlo summary: the forward error keys of
+/// the smoothed estimates, the NEES band, and the per-run ratio of smoothed to
+/// forward horizontal RMS.
+fn smoothed_summary(runs: &[RunResult]) -> Value {
+    let mut m = Map::new();
+    for key in &ERROR_KEYS[..3] {
+        m.insert((*key).into(), summary_of(runs, &format!("smoothed_{key}")));
+    }
+    let nees_mean = stats::mean(&metric_values(runs, "smoothed_nees_mean"));
+    let (lo, hi) = nees_band_95(NEES_DOF, runs.len());
+    m.insert("nees_mean".into(), Value::from(nees_mean));
+    m.insert("nees_band_95".into(), json!([lo, hi]));
+    m.insert(
+        "nees_consistent".into(),
+        Value::from(nees_mean >= lo && nees_mean <= hi),
+    );
+    let ratio: Vec<f64> = metric_values(runs, "smoothed_horizontal_error_rms_m")
+        .iter()
+        .zip(metric_values(runs, "horizontal_error_rms_m"))
+        .map(|(s, f)| s / f)
+        .collect();
+    m.insert(
+        "horizontal_rms_ratio".into(),
+        crate::report::summary_value(&ratio),
+    );
+    Value::Object(m)
 }
 
 /// The `health` object: per-sensor totals over runs and covariance repairs.
@@ -263,6 +347,9 @@ impl Scenario for LawnMower {
     }
     fn default_runs(&self) -> usize {
         100
+    }
+    fn can_smooth(&self) -> bool {
+        true
     }
     fn faults(&self) -> &'static [&'static str] {
         let c = &self.config;
@@ -312,6 +399,9 @@ impl Scenario for LawnMower {
         }
         m.insert("runtime_s".into(), summary_of(runs, "runtime_s"));
         m.insert("health".into(), health(runs));
+        if options.smooth {
+            m.insert("smoothed".into(), smoothed_summary(runs));
+        }
         if !options.faults.is_empty() {
             let mut inj = Map::new();
             for f in &options.faults {
@@ -331,12 +421,57 @@ impl Scenario for LawnMower {
             if let Some(t) = run.tables.iter().find(|t| t.name == score::TABLE) {
                 write_plots(self.name, &format!("run-{}", run.seed), t, dir)?;
             }
+            write_smoothed_plot(self.name, &format!("run-{}", run.seed), &run.tables, dir)?;
         }
         write_ensemble_nees(self.name, runs, dir)
     }
     fn simulate_log(&self, seed: u64, options: &RunOptions) -> Option<Result<LogDir, RunError>> {
         Some(simulate_with_faults(&self.config, seed, &options.faults).map(|(sim, _)| sim.log))
     }
+}
+
+/// Horizontal error of the forward and the smoothed estimates with their
+/// 1-sigma bands (`<prefix>-smoothed-horizontal.svg`), when `tables` holds
+/// both error tables; nothing otherwise.
+pub fn write_smoothed_plot(
+    name: &str,
+    prefix: &str,
+    tables: &[RunTable],
+    dir: &Path,
+) -> Result<(), RunError> {
+    let find = |n: &str| tables.iter().find(|t| t.name == n);
+    let (Some(forward), Some(smoothed)) = (find(score::TABLE), find(SMOOTHED_TABLE)) else {
+        return Ok(());
+    };
+    let horizontal = |t: &RunTable, a: &str, b: &str| -> Vec<f64> {
+        t.column(a)
+            .iter()
+            .zip(t.column(b))
+            .map(|(x, y)| x.hypot(y))
+            .collect()
+    };
+    let time = forward.column("t");
+    let (fe, fs) = (
+        horizontal(forward, "err_n", "err_e"),
+        horizontal(forward, "sig_n", "sig_e"),
+    );
+    let (se, ss) = (
+        horizontal(smoothed, "err_n", "err_e"),
+        horizontal(smoothed, "sig_n", "sig_e"),
+    );
+    let line = |label, y| Line { label, x: &time, y };
+    plot::lines(
+        &dir.join(format!("{prefix}-smoothed-horizontal.svg")),
+        &format!("{name}: horizontal error, forward and smoothed, with 1-sigma"),
+        "t [s]",
+        "horizontal error [m]",
+        &[
+            line("forward error", &fe),
+            line("forward 1-sigma", &fs),
+            line("smoothed error", &se),
+            line("smoothed 1-sigma", &ss),
+        ],
+    )
 }
 
 /// Runs whose plots `--out` draws (every run's CSV is written).
@@ -519,7 +654,12 @@ impl<V: InsVehicle<N>, const N: usize> ReplayModel for InsReplay<V, N> {
     }
     fn replay(&self, log: &LogDir, options: &ReplayOptions) -> Result<ReplayOutput, RunError> {
         Layout::of::<V, N>()?;
-        let (run, scored) = run_and_score_vehicle::<V, N>(log, &FilterOptions::default(), None)?;
+        let filter_options = FilterOptions {
+            smooth: options.smooth,
+            ..FilterOptions::default()
+        };
+        let (run, scored) = run_and_score_vehicle::<V, N>(log, &filter_options, None)?;
+        let smoothed = score_smoothed(&run, log, None)?;
         let mut out = ReplayOutput {
             samples: run.samples,
             runtime_s: run.runtime_s,
@@ -548,6 +688,17 @@ impl<V: InsVehicle<N>, const N: usize> ReplayModel for InsReplay<V, N> {
             }
             out.warnings.extend(s.partial.clone());
         }
+        if let Some(s) = &smoothed {
+            let errors: Map<String, Value> = ERROR_KEYS
+                .iter()
+                .zip(error_values(s))
+                .map(|(k, v)| ((*k).to_string(), Value::from(v)))
+                .collect();
+            out.metrics.insert("smoothed".into(), Value::Object(errors));
+        } else if options.smooth {
+            out.warnings
+                .push("the log has no truth.csv: the smoothed run is not scored".into());
+        }
         let single = RunResult {
             metrics: metrics(&run, scored.as_ref()).into_iter().collect(),
             ..RunResult::new(0)
@@ -566,8 +717,14 @@ impl<V: InsVehicle<N>, const N: usize> ReplayModel for InsReplay<V, N> {
         );
         if let (true, Some(s)) = (options.keep_series, scored) {
             out.tables.push(s.table);
+            if let Some(sm) = smoothed {
+                out.tables.push(sm.table);
+            }
         }
         Ok(out)
+    }
+    fn can_smooth(&self) -> bool {
+        true
     }
     fn write_outputs(&self, output: &ReplayOutput, dir: &Path) -> Result<(), RunError> {
         for t in &output.tables {
@@ -576,6 +733,6 @@ impl<V: InsVehicle<N>, const N: usize> ReplayModel for InsReplay<V, N> {
                 write_plots(V::REPLAY_NAME, "replay", t, dir)?;
             }
         }
-        Ok(())
+        write_smoothed_plot(V::REPLAY_NAME, "replay", &output.tables, dir)
     }
 }

@@ -79,7 +79,13 @@ pub enum Usbl {
     TrackpointII,
     /// Posidonia 6000: 0.3 % of the slant range (1-sigma), calibrated (no bias).
     Posidonia,
+    /// A calibrated short-range USBL: [`CALIBRATED_USBL_SIGMA`] per axis, no
+    /// bias, no misalignment.
+    Calibrated,
 }
+
+/// Noise sigma per axis of [`Usbl::Calibrated`] (m).
+pub const CALIBRATED_USBL_SIGMA: f64 = 0.5;
 
 /// What to simulate.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -94,6 +100,8 @@ pub struct SimConfig {
     pub compass: bool,
     /// USBL type.
     pub usbl: Usbl,
+    /// Interval between USBL fixes (s).
+    pub usbl_period: f64,
     /// Start depth (m).
     pub start_depth: f64,
     /// Duration (s).
@@ -109,6 +117,7 @@ impl SimConfig {
             depth: false,
             compass: false,
             usbl: Usbl::None,
+            usbl_period: USBL_PERIOD,
             start_depth: SHALLOW_DEPTH,
             duration: DURATION,
         }
@@ -134,6 +143,16 @@ impl SimConfig {
         Self {
             usbl: Usbl::Posidonia,
             start_depth: DEEP_DEPTH,
+            ..Self::dvl()
+        }
+    }
+    /// Plus a calibrated short-range USBL (0.5 m per axis) with a fix every
+    /// 10 s on the shallow survey (`lawnmower-usbl-10s`): the case where a
+    /// smoother has later information worth carrying back.
+    pub fn usbl_10s() -> Self {
+        Self {
+            usbl: Usbl::Calibrated,
+            usbl_period: 10.0,
             ..Self::dvl()
         }
     }
@@ -410,6 +429,14 @@ fn simulate_usbl(
                 noise_sigma: 18.0,
             },
         ),
+        Usbl::Calibrated => (
+            0.0,
+            0.0,
+            SensorNoise {
+                bias_sigma: 0.0,
+                noise_sigma: CALIBRATED_USBL_SIGMA,
+            },
+        ),
         _ => (
             0.0,
             0.0,
@@ -430,13 +457,14 @@ fn simulate_usbl(
     );
     errors.usbl_bias = bias;
     errors.usbl_misalignment = theta;
-    let n = (config.duration / USBL_PERIOD + 1e-9).floor() as usize;
+    let n = (config.duration / config.usbl_period + 1e-9).floor() as usize;
     let rows = (1..=n)
         .map(|k| {
-            let t = k as f64 * USBL_PERIOD;
+            let t = k as f64 * config.usbl_period;
             let r = frame.geodetic_to_ned(&truth.truth(t).position());
             let sigma = match config.usbl {
                 Usbl::TrackpointII => 18.0,
+                Usbl::Calibrated => CALIBRATED_USBL_SIGMA,
                 _ => POSIDONIA_RANGE_FRACTION * r.norm(),
             };
             let v = Vector3::new(
