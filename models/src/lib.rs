@@ -4,6 +4,7 @@ pub mod cli;
 pub mod leveling;
 pub mod marker;
 pub mod montecarlo;
+pub mod navigator;
 pub mod plot;
 pub mod report;
 pub mod sdins25;

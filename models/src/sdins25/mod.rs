@@ -12,7 +12,7 @@ pub mod model;
 pub mod score;
 pub mod simulation;
 pub mod soak;
-pub mod vehicle;
+pub use crate::navigator::vehicle;
 
 #[cfg(test)]
 mod model_tests;
