@@ -261,22 +261,26 @@ impl<V: InsVehicle<N>, const N: usize> Navigator<V, N> {
     fn check_bounds(&self) -> Result<(), NavigatorError> {
         let s = &self.scheduler.filter().nominal().ins.state;
         let b = &self.options.bounds;
-        let speed = s.v_n.norm();
-        let what = if !(s.lat.is_finite()
-            && s.lon.is_finite()
-            && s.h.is_finite()
-            && speed.is_finite()
-            && s.c_bn.iter().all(|x| x.is_finite()))
+        let speed2 = s.v_n.norm_squared();
+        // One sum carries any NaN or infinity of the solution (a sum of
+        // finite values this large overflows only outside the bounds anyway).
+        let all = s.lat + s.lon + s.h + speed2 + s.c_bn.sum();
+        if all.is_finite()
+            && s.lat.abs() <= core::f64::consts::FRAC_PI_2
+            && speed2 <= b.max_speed_mps * b.max_speed_mps
+            && s.h.abs() <= b.max_height_m
         {
+            return Ok(());
+        }
+        let speed = speed2.sqrt();
+        let what = if !all.is_finite() {
             "the navigation solution is not finite".to_string()
         } else if s.lat.abs() > core::f64::consts::FRAC_PI_2 {
-            format!("|latitude| {} rad exceeds pi/2", s.lat.abs())
+            format!("|latitude| {:e} rad exceeds pi/2", s.lat.abs())
         } else if speed > b.max_speed_mps {
-            format!("speed {speed} m/s exceeds {} m/s", b.max_speed_mps)
-        } else if s.h.abs() > b.max_height_m {
-            format!("|height| {} m exceeds {} m", s.h.abs(), b.max_height_m)
+            format!("speed {speed:e} m/s exceeds {} m/s", b.max_speed_mps)
         } else {
-            return Ok(());
+            format!("|height| {:e} m exceeds {} m", s.h.abs(), b.max_height_m)
         };
         Err(NavigatorError::OutOfBounds {
             t: self.scheduler.now(),
@@ -460,5 +464,125 @@ fn snapshot_interval(window: f64, dt: f64) -> usize {
         (steps.ceil() as usize).clamp(1, 1000)
     } else {
         1
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::navigator::prelude::*;
+    use crate::sdins25::Sdins25;
+    use crate::vehicles::sdins::Sdins20;
+    use nav_runtime::earth::normal_gravity;
+
+    fn initial() -> InitialState {
+        InitialState {
+            t: 0.0,
+            position: Geodetic::new(0.7, 2.2, -50.0),
+            velocity: Vector3::zeros(),
+            attitude: Euler {
+                roll: 0.0,
+                pitch: 0.0,
+                yaw: 0.3,
+            },
+            sigma: InitialSigma::default(),
+        }
+    }
+
+    fn imu() -> ImuSettings {
+        ImuSettings {
+            period_s: 0.01,
+            gyro_bias_sigma: 1e-6,
+            gyro_noise_sigma: 1e-6,
+            accel_bias_sigma: 1e-3,
+            accel_noise_sigma: 1e-3,
+        }
+    }
+
+    fn at_rest() -> ImuSample {
+        ImuSample {
+            gyro: Vector3::zeros(),
+            accel: Vector3::new(0.0, 0.0, -normal_gravity(0.7, -50.0)),
+        }
+    }
+
+    #[test]
+    fn readings_are_applied_and_reported_per_sensor() {
+        let mut b = Navigator::<Sdins25, 25>::builder(initial(), imu());
+        let depth = b.sensor::<DepthReading>(SensorSettings::new(0.05)).unwrap();
+        let heading = b
+            .sensor::<HeadingReading>(SensorSettings::new(0.01))
+            .unwrap();
+        let mut nav = b.build(at_rest()).unwrap();
+        // A reading at the start is counted as skipped.
+        nav.push(depth, 0.0, DepthReading(50.0));
+        let ticket = nav.request_estimate(5.0);
+        for k in 1..=1000 {
+            let t = k as f64 * 0.01;
+            if k % 50 == 0 {
+                // Varying readings (identical ones would be frozen values).
+                let wiggle = (k as f64).sin();
+                nav.push(depth, t, DepthReading(50.0 + 0.02 * wiggle));
+                nav.push(heading, t, HeadingReading(0.3 + 0.005 * wiggle));
+            }
+            nav.push_imu(t, at_rest()).unwrap();
+        }
+        let d = nav.report(depth);
+        assert_eq!(d.health.accepted, 20);
+        assert_eq!(d.health.skipped, 1);
+        assert_eq!(nav.report(heading).health.accepted, 20);
+        assert!(d.last_nis.is_some_and(|x| x.is_finite() && x >= 0.0));
+        let e = nav.estimate();
+        assert!((e.nav.depth() - 50.0).abs() < 0.2, "{}", e.nav.depth());
+        let mut got = Vec::new();
+        nav.flush_estimates(|t, e| got.push((t, e)));
+        assert_eq!(got.len(), 1);
+        assert_eq!(got[0].0, ticket);
+        assert!(got[0].1.is_some_and(|e| (e.t - 5.0).abs() < 1e-9));
+    }
+
+    #[test]
+    fn a_sensor_the_vehicle_lacks_is_a_setup_error() {
+        let mut b = Navigator::<Sdins20, 20>::builder(initial(), imu());
+        let e = b.sensor::<UsblFix>(SensorSettings::new(1.0)).unwrap_err();
+        assert!(e.to_string().contains("sdins20 has no usbl sensor"), "{e}");
+    }
+
+    #[test]
+    fn an_estimate_out_of_bounds_stops_the_navigator() {
+        let cases: [(ImuSample, &str); 3] = [
+            (
+                ImuSample {
+                    accel: Vector3::new(1e6, 0.0, -9.8),
+                    ..at_rest()
+                },
+                "speed",
+            ),
+            (
+                ImuSample {
+                    gyro: Vector3::new(1e300, 0.0, 0.0),
+                    ..at_rest()
+                },
+                "not finite",
+            ),
+            (
+                ImuSample {
+                    accel: Vector3::new(0.0, 0.0, 1e5),
+                    ..at_rest()
+                },
+                "exceeds",
+            ),
+        ];
+        for (sample, expected) in cases {
+            let mut nav = Navigator::<Sdins25, 25>::builder(initial(), imu())
+                .build(at_rest())
+                .unwrap();
+            nav.push_imu(0.01, at_rest()).unwrap();
+            let e = nav.push_imu(0.02, sample).unwrap_err();
+            assert!(
+                matches!(e, NavigatorError::OutOfBounds { .. }) && e.to_string().contains(expected),
+                "{e}"
+            );
+        }
     }
 }

@@ -487,8 +487,9 @@ impl Sources {
     }
 
     /// USBL: delivered after the acoustic travel time from the transducer.
-    /// A fix whose travel time is not finite (a non-finite or absurd cell) is
-    /// skipped with a warning naming its line.
+    /// A fix with a NaN cell is refused by the navigator (counted as
+    /// rejected); one whose travel time is infinite (an absurd cell such as
+    /// 1e300) is rejected here, with a warning naming its line.
     fn usbl(&mut self, log: &LogDir, options: &FilterOptions, transducer: Geodetic) {
         let rows = log.usbl.as_deref().unwrap_or_default();
         let frame = LocalNed::new(transducer);
@@ -502,10 +503,10 @@ impl Sources {
                         / SOUND_SPEED
                 }
             };
-            if !delay.is_finite() {
-                self.health[3].skipped += 1;
+            if delay.is_infinite() {
+                self.health[3].rejected += 1;
                 self.warnings.push(format!(
-                    "{}: the fix (lat {}, lon {}, depth {}) gives no finite acoustic travel time; not used",
+                    "{}: the fix (lat {}, lon {}, depth {}) gives an infinite acoustic travel time; not used",
                     place(log, "usbl.csv", i),
                     r.lat,
                     r.lon,
@@ -513,6 +514,7 @@ impl Sources {
                 ));
                 continue;
             }
+            // `max` ignores a NaN delay: that fix goes last and is refused.
             self.usbl_latency = self.usbl_latency.max(delay);
             self.events.push(Event {
                 delivery: r.t + delay,
@@ -728,7 +730,7 @@ pub fn run_vehicle<V: InsVehicle<N>, const N: usize>(
         let r = nav.report_of(i).health;
         h.accepted = r.accepted;
         h.gated = r.gated;
-        h.rejected = r.rejected;
+        h.rejected += r.rejected;
         h.skipped += r.skipped;
         h.stuck = r.stuck;
     }

@@ -105,25 +105,18 @@ pub fn run_and_score(
 }
 
 /// Runs the filter of vehicle `V` over `log` with estimates at the truth
-/// times (or every 0.1 s without truth) and scores it. `compass_bias`: the
-/// true compass bias, when known, for the bias-estimation columns.
+/// times and scores it (without truth no estimates are kept: nothing is
+/// sized by the log's time span). `compass_bias`: the true compass bias,
+/// when known, for the bias-estimation columns.
 pub fn run_and_score_vehicle<V: InsVehicle<N>, const N: usize>(
     log: &LogDir,
     options: &FilterOptions,
     compass_bias: Option<f64>,
 ) -> Result<(InsRun<V, N>, Option<Scored>), RunError> {
-    let times: Vec<f64> = match &log.truth {
-        Some(t) => t.iter().map(|r| r.t).collect(),
-        None => {
-            let (t0, t1) = (
-                log.imu.first().map_or(0.0, |r| r.t),
-                log.imu.last().map_or(0.0, |r| r.t),
-            );
-            (0..=((t1 - t0) * 10.0).floor() as usize)
-                .map(|k| t0 + k as f64 / 10.0)
-                .collect()
-        }
-    };
+    let times: Vec<f64> = log
+        .truth
+        .as_ref()
+        .map_or_else(Vec::new, |t| t.iter().map(|r| r.t).collect());
     let run = filter::run_vehicle::<V, N>(log, options, &times)?;
     let scored = log
         .truth
@@ -521,6 +514,7 @@ impl<V: InsVehicle<N>, const N: usize> ReplayModel for InsReplay<V, N> {
                 V::REPLAY_NAME
             ));
         }
+        out.warnings.extend(run.warnings.iter().cloned());
         if let Some(s) = &scored {
             for (k, v) in [
                 ("horizontal_error_final_m", s.horizontal_error_final_m),
