@@ -6,6 +6,7 @@ pub mod marker;
 pub mod montecarlo;
 pub mod navigator;
 pub mod plot;
+pub mod replay;
 pub mod report;
 pub mod sdins25;
 pub mod vehicles;
