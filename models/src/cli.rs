@@ -330,6 +330,7 @@ pub fn replay_with(model: &dyn ReplayModel, args: &ReplayArgs) -> Result<(), Run
     let options = ReplayOptions {
         stationary: args.stationary,
         keep_series: args.out.is_some(),
+        lenient: args.lenient,
     };
     let output = model.replay(&log, &options)?;
     for w in &output.warnings {

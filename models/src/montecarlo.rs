@@ -306,6 +306,9 @@ pub struct ReplayOptions {
     pub stationary: bool,
     /// Keep time series (`--out` given).
     pub keep_series: bool,
+    /// `--lenient`: a long IMU gap is propagated in bounded steps (with a
+    /// warning) instead of in one step.
+    pub lenient: bool,
 }
 
 /// What a replay model returns.

@@ -360,16 +360,29 @@ fn a_users_replay_program_gives_the_navsim_replay() {
     assert_eq!(bad, std::process::ExitCode::FAILURE);
 }
 
-/// A cell of a 30-s USBL survey log changed: `(file, data row, column, value)`,
-/// and what the replay must say (exit code, text in stderr).
-const BROKEN_CELLS: &[(&str, usize, usize, &str, i32, &str)] = &[
+/// A cell of a 30-s USBL survey log changed: `(file, data row, column,
+/// value, --lenient)`, and what the replay must say (exit code, text in stderr).
+type BrokenCell = (
+    &'static str,
+    usize,
+    usize,
+    &'static str,
+    bool,
+    i32,
+    &'static str,
+);
+const BROKEN_CELLS: &[BrokenCell] = &[
     // Corrupt far-future IMU time on the last row: stopped by the bounds,
     // naming the line (no allocation sized by the time).
-    ("imu.csv", usize::MAX, 0, "1e9", 1, "imu.csv line 3002 (t = 1000000000 s): estimate out of physical bounds"),
+    ("imu.csv", usize::MAX, 0, "1e9", false, 1, "imu.csv line 3002 (t = 1000000000 s): estimate out of physical bounds"),
+    // The same with --lenient: a gap too long to propagate in bounded steps.
+    ("imu.csv", usize::MAX, 0, "1e9", true, 1, "imu.csv gap of 999999970.01 s between imu.csv line 3001 to imu.csv line 3002 is too long to propagate"),
+    // A 2-s clock jump with --lenient: propagated in steps, with a warning.
+    ("imu.csv", usize::MAX, 0, "32", true, 0, "warning: imu.csv gap of 2.0100000000000016 s between imu.csv line 3001 to imu.csv line 3002: propagated in 21 steps"),
     // 1e300 in one gyro cell: the solution goes non-finite at that line.
-    ("imu.csv", 1000, 1, "1e300", 1, "imu.csv line 1002 (t = 10 s): estimate out of physical bounds at t = 10 s: the navigation solution is not finite"),
+    ("imu.csv", 1000, 1, "1e300", false, 1, "imu.csv line 1002 (t = 10 s): estimate out of physical bounds at t = 10 s: the navigation solution is not finite"),
     // 1e300 in one USBL depth cell: that fix is not used, with a warning.
-    ("usbl.csv", 1, 3, "1e300", 0, "warning: usbl.csv line 3: the fix"),
+    ("usbl.csv", 1, 3, "1e300", false, 0, "warning: usbl.csv line 3: the fix"),
 ];
 
 #[test]
@@ -380,7 +393,7 @@ fn broken_cells_are_errors_or_warnings_naming_file_and_line() {
         ..SimConfig::usbl()
     };
     let clean = simulate(&config, 4).log;
-    for (k, &(file, row, col, value, code, expected)) in BROKEN_CELLS.iter().enumerate() {
+    for (k, &(file, row, col, value, lenient, code, expected)) in BROKEN_CELLS.iter().enumerate() {
         let dir = tmp.path().join(format!("case{k}"));
         clean.write(&dir).unwrap();
         let path = dir.join(file);
@@ -395,18 +408,30 @@ fn broken_cells_are_errors_or_warnings_naming_file_and_line() {
         cells[col] = value.to_string();
         lines[i] = cells.join(",");
         std::fs::write(&path, lines.join("\n") + "\n").unwrap();
-        let o = navsim(&[
+        let mut args = vec![
             "replay",
             dir.to_str().unwrap(),
             "--model",
             "sdins25",
             "--json",
-        ]);
+        ];
+        if lenient {
+            args.push("--lenient");
+        }
+        let o = navsim(&args);
         let err = stderr(&o);
         assert_eq!(o.status.code(), Some(code), "case {k}: {err}");
         assert!(err.contains(expected), "case {k}: {err}");
         if code == 0 {
-            assert_eq!(json(&o)["health"]["usbl"]["rejected"], 1.0, "case {k}");
+            // The warning also stands in the JSON.
+            let v = json(&o);
+            let warning = expected.strip_prefix("warning: ").unwrap();
+            assert!(
+                v["warnings"]
+                    .as_array()
+                    .is_some_and(|w| w.iter().any(|x| x.as_str().unwrap().contains(warning))),
+                "case {k}: {v}"
+            );
         }
     }
 }

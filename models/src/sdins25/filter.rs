@@ -80,7 +80,18 @@ pub struct FilterOptions {
     /// Physical bounds of the estimate: outside them the run stops with an
     /// error naming the input.
     pub bounds: Bounds,
+    /// With `Some(k)`, an IMU interval longer than `k` IMU periods is
+    /// propagated in equal steps of at most `k` periods, holding the sample
+    /// before the gap, with a warning naming the two lines (`--lenient`);
+    /// `None`: one step whatever its length.
+    pub max_imu_step: Option<f64>,
 }
+
+/// [`FilterOptions::max_imu_step`] of `--lenient` replays (IMU periods).
+pub const LENIENT_IMU_STEP_PERIODS: f64 = 10.0;
+
+/// Most steps a gap is propagated in; a longer gap is an error.
+pub const MAX_GAP_STEPS: f64 = 1.0e6;
 
 /// Late delivery of the 2 Hz aiding measurements (DVL, depth, compass): each
 /// reaches the filter `delay_s + jitter_s u` after its measurement time, with
@@ -140,6 +151,7 @@ impl Default for FilterOptions {
             delivery: Delivery::default(),
             stuck_false_alarm: Some(StuckDetector::DEFAULT_FALSE_ALARM),
             bounds: Bounds::default(),
+            max_imu_step: None,
         }
     }
 }
@@ -684,7 +696,45 @@ pub fn run_vehicle<V: InsVehicle<N>, const N: usize>(
     let mut next = 0;
     let mut samples = 0;
     let mut last_input: Option<&Event> = None;
+    let mut warnings = sources.warnings;
     for (j, row) in log.imu.iter().enumerate().skip(1) {
+        let previous = &log.imu[j - 1];
+        if let Some(k) = options.max_imu_step {
+            let step = k * plan.imu.period_s;
+            let gap = row.t - previous.t;
+            if gap > step {
+                let steps = (gap / step).ceil();
+                let lines = format!(
+                    "{} to {}",
+                    place(log, "imu.csv", j - 1),
+                    place(log, "imu.csv", j)
+                );
+                if steps > MAX_GAP_STEPS {
+                    return Err(RunError::Invalid(format!(
+                        "imu.csv gap of {gap} s between {lines} is too long to propagate (more than {MAX_GAP_STEPS} steps of {step} s)"
+                    )));
+                }
+                warnings.push(format!(
+                    "imu.csv gap of {gap} s between {lines}: propagated in {steps} steps holding the sample before it"
+                ));
+                let held = ImuSample {
+                    gyro: Vector3::new(previous.gx, previous.gy, previous.gz),
+                    accel: Vector3::new(previous.ax, previous.ay, previous.az),
+                };
+                for m in 1..steps as usize {
+                    let t = previous.t + gap * (m as f64 / steps);
+                    while let Some(ev) = events.get(next).filter(|e| e.delivery <= t) {
+                        push_reading(&mut nav, &handles, log, ev);
+                        last_input = Some(ev);
+                        next += 1;
+                    }
+                    nav.push_imu(t, held).map_err(|e| {
+                        RunError::Invalid(format!("imu.csv gap between {lines} at t = {t} s: {e}"))
+                    })?;
+                    nav.final_estimates(|_, e| deliver(slot_of_ticket.pop_front(), e, &slots));
+                }
+            }
+        }
         while let Some(ev) = events.get(next).filter(|e| e.delivery <= row.t) {
             push_reading(&mut nav, &handles, log, ev);
             last_input = Some(ev);
@@ -746,7 +796,7 @@ pub fn run_vehicle<V: InsVehicle<N>, const N: usize>(
         replays,
         final_filter,
         ignored: sources.ignored,
-        warnings: sources.warnings,
+        warnings,
     })
 }
 

@@ -497,7 +497,11 @@ impl<V: InsVehicle<N>, const N: usize> ReplayModel for InsReplay<V, N> {
     }
     fn replay(&self, log: &LogDir, options: &ReplayOptions) -> Result<ReplayOutput, RunError> {
         Layout::of::<V, N>()?;
-        let (run, scored) = run_and_score_vehicle::<V, N>(log, &FilterOptions::default(), None)?;
+        let filter_options = FilterOptions {
+            max_imu_step: options.lenient.then_some(filter::LENIENT_IMU_STEP_PERIODS),
+            ..FilterOptions::default()
+        };
+        let (run, scored) = run_and_score_vehicle::<V, N>(log, &filter_options, None)?;
         let mut out = ReplayOutput {
             samples: run.samples,
             runtime_s: run.runtime_s,
@@ -543,6 +547,14 @@ impl<V: InsVehicle<N>, const N: usize> ReplayModel for InsReplay<V, N> {
         );
         if let (true, Some(s)) = (options.keep_series, scored) {
             out.tables.push(s.table);
+        }
+        if !out.warnings.is_empty() {
+            let list = out
+                .warnings
+                .iter()
+                .map(|w| Value::from(w.as_str()))
+                .collect();
+            out.metrics.insert("warnings".into(), Value::Array(list));
         }
         Ok(out)
     }
