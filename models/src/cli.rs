@@ -407,6 +407,11 @@ fn emit_scenario(value: &Value, json: bool, plots: Plots<'_>) {
 /// `navsim replay`.
 pub fn cmd_replay(args: &ReplayArgs) -> Result<(), RunError> {
     let model = find_replay_model(&args.model)?;
+    replay_with(model.as_ref(), args)
+}
+
+/// `navsim replay` with `model` (`args.model` is not looked up).
+pub fn replay_with(model: &dyn ReplayModel, args: &ReplayArgs) -> Result<(), RunError> {
     if args.smooth && !model.can_smooth() {
         return Err(RunError::Invalid(format!(
             "model {} cannot be smoothed",
@@ -438,6 +443,7 @@ pub fn cmd_replay(args: &ReplayArgs) -> Result<(), RunError> {
         stationary: args.stationary,
         keep_series: args.out.is_some(),
         smooth: args.smooth,
+        lenient: args.lenient,
     };
     for reason in &log.skip_reasons {
         eprintln!("warning: skipped {reason}");
@@ -709,7 +715,7 @@ pub fn run(cli: &Cli) -> Result<(), RunError> {
 }
 
 /// Collapses a message to one line.
-fn one_line(text: &str) -> String {
+pub(crate) fn one_line(text: &str) -> String {
     text.split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
@@ -726,29 +732,7 @@ where
 {
     let cli = match Cli::try_parse_from(args) {
         Ok(cli) => cli,
-        Err(e) => {
-            use clap::error::ErrorKind;
-            if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) {
-                let _ = e.print();
-                return ExitCode::SUCCESS;
-            }
-            if e.kind() == ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
-                let _ = e.print();
-                return ExitCode::from(2);
-            }
-            let rendered = e.render().to_string();
-            let body = rendered
-                .split("\n\nUsage:")
-                .next()
-                .unwrap_or("")
-                .split("\n\nFor more information")
-                .next()
-                .unwrap_or("");
-            let body = one_line(body);
-            let body = body.strip_prefix("error:").unwrap_or(&body).trim();
-            eprintln!("error: {body}");
-            return ExitCode::from(2);
-        }
+        Err(e) => return parse_failure(e),
     };
     match run(&cli) {
         Ok(()) => ExitCode::SUCCESS,
@@ -757,4 +741,30 @@ where
             ExitCode::FAILURE
         }
     }
+}
+
+/// Help and version on stdout (success); a usage error as one `error:` line
+/// on stderr (exit code 2).
+pub(crate) fn parse_failure(e: clap::Error) -> ExitCode {
+    use clap::error::ErrorKind;
+    if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) {
+        let _ = e.print();
+        return ExitCode::SUCCESS;
+    }
+    if e.kind() == ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
+        let _ = e.print();
+        return ExitCode::from(2);
+    }
+    let rendered = e.render().to_string();
+    let body = rendered
+        .split("\n\nUsage:")
+        .next()
+        .unwrap_or("")
+        .split("\n\nFor more information")
+        .next()
+        .unwrap_or("");
+    let body = one_line(body);
+    let body = body.strip_prefix("error:").unwrap_or(&body).trim();
+    eprintln!("error: {body}");
+    ExitCode::from(2)
 }

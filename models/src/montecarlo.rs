@@ -316,6 +316,9 @@ pub struct ReplayOptions {
     pub keep_series: bool,
     /// `--smooth`: also smooth the run and report the smoothed errors.
     pub smooth: bool,
+    /// `--lenient`: a long IMU gap is propagated in bounded steps (with a
+    /// warning) instead of in one step.
+    pub lenient: bool,
 }
 
 /// What a replay model returns.

@@ -300,3 +300,138 @@ fn bad_input_is_one_error_line_for_sdins20() {
     let v = json(&o);
     assert_eq!(v["skipped_rows"], 1);
 }
+
+/// `summary.json` of an `--out` directory without its wall times.
+fn summary_without_runtime(dir: &Path) -> Value {
+    let text = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+    let mut v: Value = serde_json::from_str(&text).unwrap();
+    v.as_object_mut().unwrap().remove("runtime_s");
+    v
+}
+
+#[test]
+fn a_users_replay_program_gives_the_navsim_replay() {
+    use models::replay::replay_main_with;
+    let tmp = TempDir::new("replay-main");
+    let log = tmp.path().join("log");
+    let config = SimConfig {
+        duration: 60.0,
+        ..SimConfig::dvl()
+    };
+    simulate(&config, 5).log.write(&log).unwrap();
+    let (mine, theirs) = (tmp.path().join("mine"), tmp.path().join("navsim"));
+    let code = replay_main_with::<Sdins20, 20, _, _>([
+        "my-vehicle",
+        "replay",
+        log.to_str().unwrap(),
+        "--out",
+        mine.to_str().unwrap(),
+        "--json",
+    ]);
+    assert_eq!(code, std::process::ExitCode::SUCCESS);
+    let o = navsim(&[
+        "replay",
+        log.to_str().unwrap(),
+        "--model",
+        "sdins20",
+        "--out",
+        theirs.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        summary_without_runtime(&mine),
+        summary_without_runtime(&theirs)
+    );
+    for file in ["errors.csv", "replay-track.svg", "replay-nees.svg"] {
+        assert!(mine.join(file).exists(), "{file}");
+    }
+    // `check` reads the log; a missing directory is an error.
+    let ok = replay_main_with::<Sdins20, 20, _, _>([
+        "my-vehicle",
+        "check",
+        log.to_str().unwrap(),
+        "--json",
+    ]);
+    assert_eq!(ok, std::process::ExitCode::SUCCESS);
+    let missing = tmp.path().join("nothing");
+    let bad =
+        replay_main_with::<Sdins20, 20, _, _>(["my-vehicle", "check", missing.to_str().unwrap()]);
+    assert_eq!(bad, std::process::ExitCode::FAILURE);
+}
+
+/// A cell of a 30-s USBL survey log changed: `(file, data row, column,
+/// value, --lenient)`, and what the replay must say (exit code, text in stderr).
+type BrokenCell = (
+    &'static str,
+    usize,
+    usize,
+    &'static str,
+    bool,
+    i32,
+    &'static str,
+);
+const BROKEN_CELLS: &[BrokenCell] = &[
+    // Corrupt far-future IMU time on the last row: stopped by the bounds,
+    // naming the line (no allocation sized by the time).
+    ("imu.csv", usize::MAX, 0, "1e9", false, 1, "imu.csv line 3002 (t = 1000000000 s): estimate out of physical bounds"),
+    // The same with --lenient: a gap too long to propagate in bounded steps.
+    ("imu.csv", usize::MAX, 0, "1e9", true, 1, "imu.csv gap of 999999970.01 s between imu.csv line 3001 to imu.csv line 3002 is too long to propagate"),
+    // A 2-s clock jump with --lenient: propagated in steps, with a warning.
+    ("imu.csv", usize::MAX, 0, "32", true, 0, "warning: imu.csv gap of 2.0100000000000016 s between imu.csv line 3001 to imu.csv line 3002: propagated in 21 steps"),
+    // 1e300 in one gyro cell: the solution goes non-finite at that line.
+    ("imu.csv", 1000, 1, "1e300", false, 1, "imu.csv line 1002 (t = 10 s): estimate out of physical bounds at t = 10 s: the navigation solution is not finite"),
+    // 1e300 in one USBL depth cell: that fix is not used, with a warning.
+    ("usbl.csv", 1, 3, "1e300", false, 0, "warning: usbl.csv line 3: the fix"),
+];
+
+#[test]
+fn broken_cells_are_errors_or_warnings_naming_file_and_line() {
+    let tmp = TempDir::new("replay-broken-cells");
+    let config = SimConfig {
+        duration: 30.0,
+        ..SimConfig::usbl()
+    };
+    let clean = simulate(&config, 4).log;
+    for (k, &(file, row, col, value, lenient, code, expected)) in BROKEN_CELLS.iter().enumerate() {
+        let dir = tmp.path().join(format!("case{k}"));
+        clean.write(&dir).unwrap();
+        let path = dir.join(file);
+        let text = std::fs::read_to_string(&path).unwrap();
+        let mut lines: Vec<String> = text.lines().map(String::from).collect();
+        let i = if row == usize::MAX {
+            lines.len() - 1
+        } else {
+            row + 1
+        };
+        let mut cells: Vec<String> = lines[i].split(',').map(String::from).collect();
+        cells[col] = value.to_string();
+        lines[i] = cells.join(",");
+        std::fs::write(&path, lines.join("\n") + "\n").unwrap();
+        let mut args = vec![
+            "replay",
+            dir.to_str().unwrap(),
+            "--model",
+            "sdins25",
+            "--json",
+        ];
+        if lenient {
+            args.push("--lenient");
+        }
+        let o = navsim(&args);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(code), "case {k}: {err}");
+        assert!(err.contains(expected), "case {k}: {err}");
+        if code == 0 {
+            // The warning also stands in the JSON.
+            let v = json(&o);
+            let warning = expected.strip_prefix("warning: ").unwrap();
+            assert!(
+                v["warnings"]
+                    .as_array()
+                    .is_some_and(|w| w.iter().any(|x| x.as_str().unwrap().contains(warning))),
+                "case {k}: {v}"
+            );
+        }
+    }
+}

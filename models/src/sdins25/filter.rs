@@ -1,60 +1,46 @@
-//! The SDINS-25 filter run over a log directory: a strapdown INS (the nominal
-//! solution) corrected by the 25-state error-state EKF of [`super::model`],
-//! driven by the multi-rate scheduler (IMU samples, aiding measurements at
-//! their own times, late USBL fixes applied at their measurement time through
-//! the scheduler's history).
+//! The SDINS filters run over a log directory: the log's `meta.toml` and
+//! files become a [`Navigator`] of the vehicle (initial state, IMU and one
+//! settings entry per sensor), and the log's rows are pushed into it in
+//! delivery order (late USBL fixes by their acoustic travel time, applied at
+//! their measurement time through the navigator's history).
 //!
 //! **Sensor-error states.** The model writes each sensor error as the residual
 //! error left in the corrected sensor output: `f~ - nabla^ = f + nabla + w`,
 //! `h_meas - b^ = h + b_depth + v`, ... (error state = true bias minus the
 //! running correction). Feedback therefore *adds* the estimated sensor errors
 //! to the running corrections, and subtracts the navigation errors (INS minus
-//! true) from the strapdown solution ([`Nominal::inject`]).
+//! true) from the strapdown solution ([`InsNominal`]'s `inject`).
 
-use std::cell::RefCell;
-use std::marker::PhantomData;
-use std::rc::Rc;
-
-use nav_runtime::attitude::euler_from_c_bn;
-use nav_runtime::earth::{meridian_radius, transverse_radius, Geodetic, LocalNed};
-use nav_runtime::ekf::{Ekf, FilterError};
-use nav_runtime::error_state::{ErrorStateFilter, Mechanization, NominalState};
+use nav_runtime::earth::{meridian_radius, Geodetic, LocalNed};
 use nav_runtime::gate::Gate;
 use nav_runtime::imu::ImuSpec;
 use nav_runtime::log::{LogDir, SensorNoise};
-use nav_runtime::math::wrap_angle;
-use nav_runtime::model::Record;
-use nav_runtime::nalgebra::{Matrix3, SMatrix, SVector, Vector2, Vector3};
-use nav_runtime::scheduler::{FnMeasurement, Measurement, MeasurementOutcome, Scheduler, SensorId};
+use nav_runtime::nalgebra::{Matrix3, Vector3};
 use nav_runtime::sensors::ErrorSpec;
 use nav_runtime::smoother::{smooth, EpochFile};
-use nav_runtime::strapdown::{NavError, NavState, Strapdown};
 use nav_runtime::stuck::StuckDetector;
 
 use super::lockout::LockoutOptions;
+use crate::navigator::vehicle::Layout;
+
 use super::model::Sdins25;
 use super::simulation::{DVL_MAX_ALTITUDE, SOUND_SPEED, TRACKPOINT_MISALIGNMENT_SIGMA};
-use super::vehicle::{InsVehicle, Layout, Present, Slot};
 use crate::montecarlo::RunError;
+pub use crate::navigator::{
+    depth_measurement, dvl_measurement, heading_measurement, usbl_measurement, CompassForm,
+    Estimate, ImuSample, InsFilter, InsNominal, SensorHealth,
+};
+use crate::navigator::{
+    Bounds, Builder, DepthReading, DvlReading, HeadingReading, ImuSettings, InitialSigma,
+    InitialState, InsVehicle, Navigator, NavigatorError, NavigatorOptions, SensorSettings, UsblFix,
+    SENSOR_NAMES,
+};
 
 /// Number of error states of SDINS-25.
 pub const N: usize = 25;
 
-/// The error-state filter of vehicle `V` (`N` states).
-pub type InsFilter<V, const N: usize> = ErrorStateFilter<V, InsNominal<V, N>, N>;
-
 /// The error-state filter of SDINS-25.
 pub type Filter = InsFilter<Sdins25, N>;
-
-/// Which compass residual the filter uses.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum CompassForm {
-    /// Exact yaw of the perturbed attitude (`Sdins25Compass`).
-    #[default]
-    Exact,
-    /// The paper's small-angle `-phi_D - b_psi` (`Sdins25CompassSmallAngle`).
-    SmallAngle,
-}
 
 /// When a USBL fix reaches the filter.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -94,11 +80,25 @@ pub struct FilterOptions {
     /// every aiding sensor ([`nav_runtime::stuck`], [`stuck_detector`]);
     /// `None` disables it.
     pub stuck_false_alarm: Option<f64>,
+    /// Physical bounds of the estimate: outside them the run stops with an
+    /// error naming the input.
+    pub bounds: Bounds,
+    /// With `Some(k)`, an IMU interval longer than `k` IMU periods is
+    /// propagated in equal steps of at most `k` periods, holding the sample
+    /// before the gap, with a warning naming the two lines (`--lenient`);
+    /// `None`: one step whatever its length.
+    pub max_imu_step: Option<f64>,
     /// Record the run and smooth it afterwards (fixed-interval
     /// Rauch-Tung-Striebel smoother, [`nav_runtime::smoother`]): the run then
     /// also has [`InsRun::smoothed`].
     pub smooth: bool,
 }
+
+/// [`FilterOptions::max_imu_step`] of `--lenient` replays (IMU periods).
+pub const LENIENT_IMU_STEP_PERIODS: f64 = 10.0;
+
+/// Most steps a gap is propagated in; a longer gap is an error.
+pub const MAX_GAP_STEPS: f64 = 1.0e6;
 
 /// Late delivery of the 2 Hz aiding measurements (DVL, depth, compass): each
 /// reaches the filter `delay_s + jitter_s u` after its measurement time, with
@@ -157,6 +157,8 @@ impl Default for FilterOptions {
             use_usbl: true,
             delivery: Delivery::default(),
             stuck_false_alarm: Some(StuckDetector::DEFAULT_FALSE_ALARM),
+            bounds: Bounds::default(),
+            max_imu_step: None,
             smooth: false,
         }
     }
@@ -170,288 +172,8 @@ pub const DEFAULT_INITIAL_SIGMA: [f64; 4] = [
     8.726_646_259_971_648e-3,
 ];
 
-/// Smallest prior sigma of any state (in the state's units): a zero variance
-/// would be "repaired" by the filter after every step.
-const SIGMA_FLOOR: f64 = 1e-9;
-
-/// One IMU sample as the scheduler holds it: body rate (rad/s) and specific
-/// force (m/s^2), before the bias corrections.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct ImuSample {
-    /// Gyro output.
-    pub gyro: Vector3<f64>,
-    /// Accelerometer output.
-    pub accel: Vector3<f64>,
-}
-
-impl Record for ImuSample {
-    const LEN: usize = 6;
-    const NAMES: &'static [&'static str] = &["gx", "gy", "gz", "ax", "ay", "az"];
-    fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
-        Self {
-            gyro: Vector3::new(f(0), f(1), f(2)),
-            accel: Vector3::new(f(3), f(4), f(5)),
-        }
-    }
-    fn get(&self, i: usize) -> f64 {
-        match i {
-            0..=2 => self.gyro[i],
-            3..=5 => self.accel[i - 3],
-            _ => f64::NAN,
-        }
-    }
-}
-
-/// The nominal solution of vehicle `V`: strapdown INS plus the running
-/// sensor corrections (those of sensors `V` lacks stay zero).
-pub struct InsNominal<V, const N: usize> {
-    /// The strapdown INS.
-    pub ins: Strapdown,
-    /// Accelerometer bias correction, subtracted from the samples (m/s^2).
-    pub accel_bias: Vector3<f64>,
-    /// Gyro bias correction, subtracted from the samples (rad/s).
-    pub gyro_bias: Vector3<f64>,
-    /// USBL horizontal bias correction (m, N/E).
-    pub usbl_bias: Vector2<f64>,
-    /// Depth-meter bias correction (m, height convention: `h_meas = h + b`).
-    pub depth_bias: f64,
-    /// DVL bias correction (m/s, body).
-    pub dvl_bias: Vector3<f64>,
-    /// Compass bias correction (rad).
-    pub compass_bias: f64,
-    /// USBL misalignment correction (rad).
-    pub usbl_misalignment: Vector3<f64>,
-    /// Where `V` keeps each error state.
-    layout: Layout,
-    vehicle: PhantomData<fn() -> V>,
-}
-
 /// The nominal solution of SDINS-25.
 pub type Nominal = InsNominal<Sdins25, N>;
-
-impl<V, const N: usize> Clone for InsNominal<V, N> {
-    fn clone(&self) -> Self {
-        Self {
-            ins: self.ins.clone(),
-            layout: self.layout,
-            vehicle: PhantomData,
-            ..*self
-        }
-    }
-}
-
-impl<V, const N: usize> core::fmt::Debug for InsNominal<V, N> {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        f.debug_struct("InsNominal")
-            .field("ins", &self.ins)
-            .field("accel_bias", &self.accel_bias)
-            .field("gyro_bias", &self.gyro_bias)
-            .field("usbl_bias", &self.usbl_bias)
-            .field("depth_bias", &self.depth_bias)
-            .field("dvl_bias", &self.dvl_bias)
-            .field("compass_bias", &self.compass_bias)
-            .field("usbl_misalignment", &self.usbl_misalignment)
-            .field("layout", &self.layout)
-            .finish()
-    }
-}
-
-impl<V: InsVehicle<N>, const N: usize> InsNominal<V, N> {
-    /// A nominal solution at `state` with zero corrections.
-    ///
-    /// # Panics
-    /// If `V` does not fit the replay loop ([`Layout::of`] fails); use
-    /// [`InsNominal::try_new`] to get the error.
-    pub fn new(ins: Strapdown) -> Self {
-        match Self::try_new(ins) {
-            Ok(n) => n,
-            Err(e) => panic!("{e}"),
-        }
-    }
-
-    /// A nominal solution at `state` with zero corrections.
-    ///
-    /// # Errors
-    /// As [`Layout::of`].
-    pub fn try_new(ins: Strapdown) -> Result<Self, RunError> {
-        Ok(Self {
-            ins,
-            accel_bias: Vector3::zeros(),
-            gyro_bias: Vector3::zeros(),
-            usbl_bias: Vector2::zeros(),
-            depth_bias: 0.0,
-            dvl_bias: Vector3::zeros(),
-            compass_bias: 0.0,
-            usbl_misalignment: Vector3::zeros(),
-            layout: Layout::of::<V, N>()?,
-            vehicle: PhantomData,
-        })
-    }
-
-    /// Where `V` keeps each error state.
-    pub fn layout(&self) -> &Layout {
-        &self.layout
-    }
-}
-
-impl<V: InsVehicle<N>, const N: usize> NominalState<N> for InsNominal<V, N> {
-    fn inject(&mut self, e: &SVector<f64, N>) {
-        let l = &self.layout;
-        let nav = l.navigation().map(|i| e[i]);
-        self.ins.inject(&NavError::from_slice(&nav));
-        let v3 = |i: usize| Vector3::new(e[i], e[i + 1], e[i + 2]);
-        self.accel_bias += v3(l.accel_bias);
-        self.gyro_bias += v3(l.gyro_bias);
-        if let Some(i) = l.usbl_bias {
-            self.usbl_bias += Vector2::new(e[i], e[i + 1]);
-        }
-        if let Some(i) = l.depth_bias {
-            self.depth_bias += e[i];
-        }
-        if let Some(i) = l.dvl_bias {
-            self.dvl_bias += v3(i);
-        }
-        if let Some(i) = l.compass_bias {
-            self.compass_bias += e[i];
-        }
-        if let Some(i) = l.usbl_misalignment {
-            self.usbl_misalignment += v3(i);
-        }
-    }
-}
-
-impl<V: InsVehicle<N>, const N: usize> Mechanization<V, N> for InsNominal<V, N> {
-    type Imu = ImuSample;
-    fn mechanize(&mut self, dt: f64, imu: &ImuSample) -> V::Input {
-        let w = imu.gyro - self.gyro_bias;
-        let f = imu.accel - self.accel_bias;
-        let s = &self.ins.state;
-        let c = &s.c_bn;
-        // The INS core's inputs in record order (checked by `Layout::of`).
-        let values: [f64; 17] = [
-            s.lat,
-            s.h,
-            s.v_n.x,
-            s.v_n.y,
-            s.v_n.z,
-            c[(0, 0)],
-            c[(0, 1)],
-            c[(0, 2)],
-            c[(1, 0)],
-            c[(1, 1)],
-            c[(1, 2)],
-            c[(2, 0)],
-            c[(2, 1)],
-            c[(2, 2)],
-            f.x,
-            f.y,
-            f.z,
-        ];
-        let input = <V::Input as Record>::from_fn(|i| values[i]);
-        self.ins.update_rates(&w, &f, dt);
-        input
-    }
-}
-
-/// The filter's estimate at one time.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Estimate {
-    /// Time (s).
-    pub t: f64,
-    /// Corrected navigation solution.
-    pub nav: NavState,
-    /// Covariance of the 9 navigation errors with position in metres (N, E, D),
-    /// velocity (m/s) and attitude (rad).
-    pub cov: SMatrix<f64, 9, 9>,
-    /// Compass bias estimate (rad) and its sigma.
-    pub compass_bias: (f64, f64),
-    /// USBL bias estimate (m, N) and its sigma.
-    pub usbl_bias_n: (f64, f64),
-}
-
-impl Estimate {
-    /// The estimate of filter `f` at time `t`. A bias the vehicle does not
-    /// estimate is reported as zero with a NaN sigma.
-    pub fn of<V: InsVehicle<N>, const N: usize>(t: f64, f: &InsFilter<V, N>) -> Self {
-        let n = f.nominal();
-        Self::from_parts(
-            t,
-            n.ins.state,
-            f.covariance(),
-            n.layout(),
-            n.compass_bias,
-            n.usbl_bias[0],
-        )
-    }
-
-    /// This (forward) estimate with the smoothed error `error` of its error
-    /// state removed, and the smoothed error covariance `p` (the injection of
-    /// [`InsNominal::inject`], applied to the estimate's parts).
-    pub fn smoothed<const N: usize>(
-        &self,
-        error: &SVector<f64, N>,
-        p: &SMatrix<f64, N, N>,
-        layout: &Layout,
-    ) -> Self {
-        let nav = layout.navigation().map(|i| error[i]);
-        let compass = layout.compass_bias.map_or(0.0, |i| error[i]);
-        let usbl_n = layout.usbl_bias.map_or(0.0, |i| error[i]);
-        Self::from_parts(
-            self.t,
-            self.nav.corrected(&NavError::from_slice(&nav)),
-            p,
-            layout,
-            self.compass_bias.0 + compass,
-            self.usbl_bias_n.0 + usbl_n,
-        )
-    }
-
-    fn from_parts<const N: usize>(
-        t: f64,
-        nav: NavState,
-        p: &SMatrix<f64, N, N>,
-        layout: &Layout,
-        compass_bias: f64,
-        usbl_bias_n: f64,
-    ) -> Self {
-        let idx = layout.navigation();
-        let (rm, rn) = (
-            meridian_radius(nav.lat) + nav.h,
-            transverse_radius(nav.lat) + nav.h,
-        );
-        let mut scale = [1.0; 9];
-        scale[0] = rm;
-        scale[1] = rn * nav.lat.cos();
-        scale[2] = -1.0;
-        let cov = SMatrix::<f64, 9, 9>::from_fn(|i, j| scale[i] * p[(idx[i], idx[j])] * scale[j]);
-        let sigma = |i: Option<usize>| i.map_or(f64::NAN, |i| p[(i, i)].sqrt());
-        Self {
-            t,
-            nav,
-            cov,
-            compass_bias: (compass_bias, sigma(layout.compass_bias)),
-            usbl_bias_n: (usbl_bias_n, sigma(layout.usbl_bias)),
-        }
-    }
-}
-
-/// Counts of one aiding sensor.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct SensorHealth {
-    /// Rows in the log.
-    pub rows: u64,
-    /// Applied.
-    pub accepted: u64,
-    /// Refused by the innovation gate.
-    pub gated: u64,
-    /// Refused by the filter or the scheduler (error, too old, duplicate, invalid).
-    pub rejected: u64,
-    /// Not used: no bottom lock, above the DVL range, or before the start.
-    pub skipped: u64,
-    /// Refused as frozen values (the sensor repeated one value more often than
-    /// its noise and resolution explain; [`stuck_detector`]).
-    pub stuck: u64,
-}
 
 /// The result of a run of vehicle `V` over a log.
 #[derive(Clone, Debug)]
@@ -473,6 +195,8 @@ pub struct InsRun<V: InsVehicle<N>, const N: usize> {
     /// Log sensors with rows that the vehicle has no sensor for (their rows
     /// are counted as skipped).
     pub ignored: Vec<&'static str>,
+    /// Rows not used for a reason the output must show (file and line).
+    pub warnings: Vec<String>,
     /// With [`FilterOptions::smooth`]: the smoothed estimates at the same
     /// times as [`InsRun::estimates`].
     pub smoothed: Option<Vec<Option<Estimate>>>,
@@ -480,13 +204,6 @@ pub struct InsRun<V: InsVehicle<N>, const N: usize> {
 
 /// The result of an SDINS-25 run over a log.
 pub type Sdins25Run = InsRun<Sdins25, N>;
-
-/// Sensor registration order (also the order of measurements at equal times).
-const SENSORS: [&str; 4] = ["depth", "dvl", "heading", "usbl"];
-
-fn filter_error(name: &str, e: FilterError) -> RunError {
-    RunError::Invalid(format!("{name} filter: {e}"))
-}
 
 fn noise_or(n: Option<SensorNoise>, spec: ErrorSpec) -> SensorNoise {
     n.unwrap_or(SensorNoise {
@@ -510,93 +227,9 @@ pub fn initial_vehicle_filter<V: InsVehicle<N>, const N: usize>(
     log: &LogDir,
     options: &FilterOptions,
 ) -> Result<InsFilter<V, N>, RunError> {
-    let layout = Layout::of::<V, N>()?;
-    let meta = &log.meta;
-    let [roll, pitch, yaw] = meta.initial.attitude()?;
-    let first = log
-        .imu
-        .first()
-        .ok_or_else(|| RunError::Invalid("imu.csv has no rows".into()))?;
-    let att = nav_runtime::attitude::Euler { roll, pitch, yaw };
-    let state = NavState::new(
-        Geodetic::new(meta.initial.lat, meta.initial.lon, -meta.initial.depth),
-        Vector3::new(meta.initial.vn, meta.initial.ve, meta.initial.vd),
-        &att,
-    );
-    let mut ins = Strapdown::with_time(state, first.t);
-    // The first sample is the rate at the initial time: it starts the rate model.
-    ins.set_previous_rates(
-        &Vector3::new(first.gx, first.gy, first.gz),
-        &Vector3::new(first.ax, first.ay, first.az),
-    );
-
-    let spec = ImuSpec::sdins25();
-    let imu = meta.sensors.imu.unwrap_or(nav_runtime::log::ImuNoise {
-        gyro_bias_sigma: spec.gyro_bias,
-        gyro_noise_sigma: spec.gyro_noise,
-        accel_bias_sigma: spec.accel_bias,
-        accel_noise_sigma: spec.accel_noise,
-    });
-    let sig = meta.initial_sigma.unwrap_or_default();
-    let [dp, dv, dl, dh] = DEFAULT_INITIAL_SIGMA;
-    let (sp, sv) = (sig.position.unwrap_or(dp), sig.velocity.unwrap_or(dv));
-    let (sl, sh) = (sig.level.unwrap_or(dl), sig.heading.unwrap_or(dh));
-    let usbl = noise_or(meta.sensors.usbl, ErrorSpec::sdins25_usbl());
-    let depth = noise_or(meta.sensors.depth, ErrorSpec::sdins25_depth());
-    let dvl = noise_or(meta.sensors.dvl, ErrorSpec::sdins25_dvl());
-    let heading = noise_or(meta.sensors.heading, ErrorSpec::sdins25_compass());
-    // meta.toml has no key for the array misalignment: an array with a bias is
-    // taken as uncalibrated (Trackpoint II, 0.5 deg), one without as calibrated.
-    let misalignment = if usbl.bias_sigma > 0.0 {
-        TRACKPOINT_MISALIGNMENT_SIGMA
-    } else {
-        0.0
-    };
-    let lat = state.lat;
-    let mut sigma = [0.0; N];
-    let (p, v, a) = (layout.position, layout.velocity, layout.attitude);
-    sigma[p] = sp / (meridian_radius(lat) + state.h);
-    sigma[p + 1] = sp / ((transverse_radius(lat) + state.h) * lat.cos());
-    sigma[p + 2] = sp;
-    sigma[v..v + 3].fill(sv);
-    sigma[a..a + 2].fill(sl);
-    sigma[a + 2] = sh;
-    sigma[layout.accel_bias..layout.accel_bias + 3].fill(imu.accel_bias_sigma);
-    sigma[layout.gyro_bias..layout.gyro_bias + 3].fill(imu.gyro_bias_sigma);
-    for (at, len, s) in [
-        (layout.usbl_bias, 2, usbl.bias_sigma),
-        (layout.depth_bias, 1, depth.bias_sigma),
-        (layout.dvl_bias, 3, dvl.bias_sigma),
-        (layout.compass_bias, 1, heading.bias_sigma),
-        (layout.usbl_misalignment, 3, misalignment),
-    ] {
-        if let Some(i) = at {
-            sigma[i..i + len].fill(s);
-        }
-    }
-    let p0 = SMatrix::<f64, N, N>::from_diagonal(&SVector::<f64, N>::from_fn(|i, _| {
-        sigma[i].max(SIGMA_FLOOR).powi(2)
-    }));
-
-    // Noise densities from per-sample sigmas: q = sigma^2 dt.
-    let dt = imu_period(log);
-    // The INS core's noise in record order (checked by `Layout::of`).
-    let (qa, qg) = (
-        imu.accel_noise_sigma.powi(2) * dt,
-        imu.gyro_noise_sigma.powi(2) * dt,
-    );
-    let noise = <V::Noise as Record>::from_fn(|i| if i < 3 { qa } else { qg });
-    let name = V::REPLAY_NAME;
-    let gate = match options.gate_probability {
-        Some(p) => Some(Gate::new(p).map_err(|e| filter_error(name, e))?),
-        None => None,
-    };
-    let ekf = Ekf::<V, N>::new(SVector::zeros(), p0, V::Params::default(), noise)
-        .map_err(|e| filter_error(name, e))?
-        .with_default_gate(gate);
-    let ekf = super::lockout::configure(ekf, options.lockout_release)
-        .map_err(|e| filter_error(name, e))?;
-    Ok(ErrorStateFilter::new(ekf, InsNominal::try_new(ins)?))
+    let plan = LogPlan::new(log, options, [0.0; 4])?;
+    let (builder, _) = plan.builder::<V, N>(options);
+    builder.initial_filter(&plan.first).map_err(setup_error)
 }
 
 /// Median IMU sampling interval (s).
@@ -609,110 +242,379 @@ pub fn imu_period(log: &LogDir) -> f64 {
     d[d.len() / 2]
 }
 
-#[derive(Clone, Copy, Debug)]
-enum Kind {
-    Depth(usize),
-    Dvl(usize),
-    Heading(usize),
-    Usbl(usize),
-    Record(usize),
+fn setup_error(e: NavigatorError) -> RunError {
+    RunError::Invalid(e.to_string())
 }
 
+/// What the log's `meta.toml` and rows say about the navigator.
+struct LogPlan {
+    first: ImuSample,
+    initial: InitialState,
+    imu: ImuSettings,
+    /// Settings of depth, DVL, compass and USBL.
+    sensors: [SensorSettings; 4],
+    transducer: Geodetic,
+}
+
+impl LogPlan {
+    /// `latencies`: of depth, DVL, compass and USBL (s).
+    fn new(log: &LogDir, options: &FilterOptions, latencies: [f64; 4]) -> Result<Self, RunError> {
+        let meta = &log.meta;
+        let [roll, pitch, yaw] = meta.initial.attitude()?;
+        let first = log
+            .imu
+            .first()
+            .ok_or_else(|| RunError::Invalid("imu.csv has no rows".into()))?;
+        let spec = ImuSpec::sdins25();
+        let imu = meta.sensors.imu.unwrap_or(nav_runtime::log::ImuNoise {
+            gyro_bias_sigma: spec.gyro_bias,
+            gyro_noise_sigma: spec.gyro_noise,
+            accel_bias_sigma: spec.accel_bias,
+            accel_noise_sigma: spec.accel_noise,
+        });
+        let sig = meta.initial_sigma.unwrap_or_default();
+        let d = InitialSigma::default();
+        let initial = InitialState {
+            t: first.t,
+            position: Geodetic::new(meta.initial.lat, meta.initial.lon, -meta.initial.depth),
+            velocity: Vector3::new(meta.initial.vn, meta.initial.ve, meta.initial.vd),
+            attitude: nav_runtime::attitude::Euler { roll, pitch, yaw },
+            sigma: InitialSigma {
+                position: sig.position.unwrap_or(d.position),
+                velocity: sig.velocity.unwrap_or(d.velocity),
+                level: sig.level.unwrap_or(d.level),
+                heading: sig.heading.unwrap_or(d.heading),
+            },
+        };
+        let noise = [
+            noise_or(meta.sensors.depth, ErrorSpec::sdins25_depth()),
+            noise_or(meta.sensors.dvl, ErrorSpec::sdins25_dvl()),
+            noise_or(meta.sensors.heading, ErrorSpec::sdins25_compass()),
+            noise_or(meta.sensors.usbl, ErrorSpec::sdins25_usbl()),
+        ];
+        let resolution = if options.stuck_false_alarm.is_some() {
+            log_resolutions(log)
+        } else {
+            [0.0; 4]
+        };
+        let mut sensors: [SensorSettings; 4] = std::array::from_fn(|i| SensorSettings {
+            resolution: resolution[i],
+            latency_s: latencies[i],
+            ..SensorSettings::new(noise[i].noise_sigma).bias(noise[i].bias_sigma)
+        });
+        // meta.toml has no key for the array misalignment: an array with a
+        // bias is taken as uncalibrated (Trackpoint II, 0.5 deg), one without
+        // as calibrated.
+        sensors[3].misalignment_sigma = if noise[3].bias_sigma > 0.0 {
+            TRACKPOINT_MISALIGNMENT_SIGMA
+        } else {
+            0.0
+        };
+        let transducer = meta.usbl.map_or(
+            Geodetic::new(meta.initial.lat, meta.initial.lon, 0.0),
+            |u| Geodetic::new(u.lat, u.lon, -u.depth),
+        );
+        Ok(Self {
+            first: ImuSample {
+                gyro: Vector3::new(first.gx, first.gy, first.gz),
+                accel: Vector3::new(first.ax, first.ay, first.az),
+            },
+            initial,
+            imu: ImuSettings {
+                period_s: imu_period(log),
+                gyro_bias_sigma: imu.gyro_bias_sigma,
+                gyro_noise_sigma: imu.gyro_noise_sigma,
+                accel_bias_sigma: imu.accel_bias_sigma,
+                accel_noise_sigma: imu.accel_noise_sigma,
+            },
+            sensors,
+            transducer,
+        })
+    }
+
+    /// The builder with every sensor `V` has, and their handles.
+    fn builder<V: InsVehicle<N>, const N: usize>(
+        &self,
+        options: &FilterOptions,
+    ) -> (Builder<V, N>, Handles) {
+        let mut b = Navigator::<V, N>::builder(self.initial, self.imu)
+            .options(NavigatorOptions {
+                compass: options.compass,
+                gate_probability: options.gate_probability,
+                lockout_release: options.lockout_release,
+                stuck_false_alarm: options.stuck_false_alarm,
+                bounds: options.bounds,
+                smooth: options.smooth,
+            })
+            .usbl_transducer(self.transducer);
+        // A sensor the vehicle lacks is not added (its handle is `None`).
+        let handles = Handles {
+            depth: b.sensor::<DepthReading>(self.sensors[0]).ok(),
+            dvl: b.sensor::<DvlReading>(self.sensors[1]).ok(),
+            heading: b.sensor::<HeadingReading>(self.sensors[2]).ok(),
+            usbl: b.sensor::<UsblFix>(self.sensors[3]).ok(),
+        };
+        (b, handles)
+    }
+}
+
+/// Resolution of each sensor in this log; USBL angles converted to metres.
+fn log_resolutions(log: &LogDir) -> [f64; 4] {
+    let radius = meridian_radius(log.meta.initial.lat);
+    [
+        log.depth.as_ref().map_or(0.0, |r| {
+            log_resolution(r.iter().map(|x| std::slice::from_ref(&x.depth)))
+        }),
+        log.dvl.as_ref().map_or(0.0, |r| {
+            let v: Vec<[f64; 3]> = r.iter().filter_map(|x| x.velocity()).collect();
+            log_resolution(v.iter().map(|x| x.as_slice()))
+        }),
+        log.heading.as_ref().map_or(0.0, |r| {
+            log_resolution(r.iter().map(|x| std::slice::from_ref(&x.heading)))
+        }),
+        log.usbl.as_ref().map_or(0.0, |r| {
+            let v: Vec<[f64; 2]> = r.iter().map(|x| [x.lat, x.lon]).collect();
+            radius * log_resolution(v.iter().map(|x| x.as_slice()))
+        }),
+    ]
+}
+
+/// One log row of an aiding sensor: sensor index (in [`SENSOR_NAMES`]
+/// order) and row index.
 #[derive(Clone, Copy, Debug)]
 struct Event {
     delivery: f64,
     time: f64,
-    kind: Kind,
+    sensor: usize,
+    row: usize,
 }
 
-type Recorder = Rc<RefCell<Vec<Option<Estimate>>>>;
-
-fn outcome<const M: usize>(
-    r: Result<nav_runtime::ekf::UpdateReport<M>, FilterError>,
-) -> Result<MeasurementOutcome, FilterError> {
-    r.map(|rep| MeasurementOutcome::from(&rep))
+/// Where row `row` (0-based, after the header) of `file` is, for messages:
+/// its line when the reader skipped none of the file's rows.
+fn place(log: &LogDir, file: &str, row: usize) -> String {
+    if log.skipped_rows.get(file).copied().unwrap_or(0) == 0 {
+        format!("{file} line {}", row + 2)
+    } else {
+        format!("{file} data row {}", row + 1)
+    }
 }
 
-/// A depth-meter measurement (`depth`: m, positive down) with noise sigma (m),
-/// for the `Depth` sensor of vehicle `V`.
-pub fn depth_measurement<V: InsVehicle<N>, const N: usize>(
-    depth: f64,
-    sigma: f64,
-) -> Box<dyn Measurement<InsFilter<V, N>>> {
-    let h_meas = -depth;
-    let r = SVector::<f64, 1>::new(sigma.powi(2));
-    Box::new(FnMeasurement::new(
-        &[h_meas],
-        move |f: &mut InsFilter<V, N>| {
-            let nom = f.nominal();
-            let z = SVector::<f64, 1>::new(nom.ins.state.h - (h_meas - nom.depth_bias));
-            outcome(V::Depth::update(f, &z, &r, &[]))
-        },
-    ))
+/// The rows of each aiding sensor the run uses, with their delivery times,
+/// and the health counts of the rows not used.
+struct Sources {
+    events: Vec<Event>,
+    health: [SensorHealth; 4],
+    ignored: Vec<&'static str>,
+    warnings: Vec<String>,
+    /// Largest USBL travel time (s).
+    usbl_latency: f64,
 }
 
-/// A DVL measurement (body velocity, m/s) with noise sigma per axis (m/s),
-/// for the `Dvl` sensor of vehicle `V`.
-pub fn dvl_measurement<V: InsVehicle<N>, const N: usize>(
-    v: Vector3<f64>,
-    sigma: f64,
-) -> Box<dyn Measurement<InsFilter<V, N>>> {
-    let r = SVector::<f64, 3>::repeat(sigma.powi(2));
-    Box::new(FnMeasurement::new(
-        v.as_slice(),
-        move |f: &mut InsFilter<V, N>| {
-            let nom = f.nominal();
-            let s = &nom.ins.state;
-            let z = s.v_n - s.c_bn * (v - nom.dvl_bias);
-            outcome(V::Dvl::update(f, &z, &r, &[]))
-        },
-    ))
-}
-
-/// A compass measurement (heading `psi`, rad) with noise sigma (rad), for the
-/// `Compass` or `CompassSmallAngle` sensor of vehicle `V`.
-pub fn heading_measurement<V: InsVehicle<N>, const N: usize>(
-    psi: f64,
-    sigma: f64,
-    form: CompassForm,
-) -> Box<dyn Measurement<InsFilter<V, N>>> {
-    let r = SVector::<f64, 1>::new(sigma.powi(2));
-    Box::new(FnMeasurement::new(
-        &[psi],
-        move |f: &mut InsFilter<V, N>| {
-            let nom = f.nominal();
-            let yaw = euler_from_c_bn(&nom.ins.state.c_bn).yaw;
-            let z = SVector::<f64, 1>::new(wrap_angle(yaw - (psi - nom.compass_bias)));
-            match form {
-                CompassForm::Exact => outcome(V::Compass::update(f, &z, &r, &[])),
-                CompassForm::SmallAngle => outcome(V::CompassSmallAngle::update(f, &z, &r, &[])),
+impl Sources {
+    fn new<V: InsVehicle<N>, const N: usize>(
+        log: &LogDir,
+        options: &FilterOptions,
+        transducer: Geodetic,
+    ) -> Self {
+        let mut s = Sources {
+            events: Vec::new(),
+            health: [SensorHealth::default(); 4],
+            ignored: Vec::new(),
+            warnings: Vec::new(),
+            usbl_latency: 0.0,
+        };
+        let has = crate::navigator::vehicle::Present::of::<V, N>();
+        let has_heading = match options.compass {
+            CompassForm::Exact => has.compass,
+            CompassForm::SmallAngle => has.compass_small_angle,
+        };
+        let rows = [
+            log.depth.as_ref().map(Vec::len),
+            log.dvl.as_ref().map(Vec::len),
+            log.heading.as_ref().map(Vec::len),
+            log.usbl.as_ref().map(Vec::len),
+        ];
+        let present = [has.depth, has.dvl, has_heading, has.usbl];
+        let used = [
+            options.use_depth,
+            options.use_dvl,
+            options.use_compass,
+            options.use_usbl,
+        ];
+        for i in 0..4 {
+            match rows[i] {
+                // A log sensor the vehicle lacks: its rows are counted and skipped.
+                Some(n) if !present[i] => {
+                    s.health[i].rows = n as u64;
+                    s.health[i].skipped = n as u64;
+                    s.ignored.push(SENSOR_NAMES[i]);
+                }
+                Some(n) if used[i] => {
+                    s.health[i].rows = n as u64;
+                    match i {
+                        0 => s.depth(log, options),
+                        1 => s.dvl(log, options),
+                        2 => s.heading(log, options),
+                        _ => s.usbl(log, options, transducer),
+                    }
+                }
+                _ => {}
             }
-        },
-    ))
+        }
+        s.events.sort_by(|a, b| a.delivery.total_cmp(&b.delivery));
+        s
+    }
+
+    /// Depth meter (height convention).
+    fn depth(&mut self, log: &LogDir, options: &FilterOptions) {
+        let rows = log.depth.as_deref().unwrap_or_default();
+        self.events
+            .extend(rows.iter().enumerate().map(|(i, r)| Event {
+                delivery: r.t + options.delivery.delay(0, i),
+                time: r.t,
+                sensor: 0,
+                row: i,
+            }));
+    }
+
+    /// DVL: valid only with bottom lock and below its range.
+    fn dvl(&mut self, log: &LogDir, options: &FilterOptions) {
+        let rows = log.dvl.as_deref().unwrap_or_default();
+        for (i, r) in rows.iter().enumerate() {
+            let in_range = altitude_at(log, r.t).is_none_or(|a| a <= DVL_MAX_ALTITUDE);
+            if r.velocity().is_some() && in_range {
+                self.events.push(Event {
+                    delivery: r.t + options.delivery.delay(1, i),
+                    time: r.t,
+                    sensor: 1,
+                    row: i,
+                });
+            } else {
+                self.health[1].skipped += 1;
+            }
+        }
+    }
+
+    fn heading(&mut self, log: &LogDir, options: &FilterOptions) {
+        let rows = log.heading.as_deref().unwrap_or_default();
+        self.events
+            .extend(rows.iter().enumerate().map(|(i, r)| Event {
+                delivery: r.t + options.delivery.delay(2, i),
+                time: r.t,
+                sensor: 2,
+                row: i,
+            }));
+    }
+
+    /// USBL: delivered after the acoustic travel time from the transducer.
+    /// A fix with a NaN cell is refused by the navigator (counted as
+    /// rejected); one whose travel time is infinite (an absurd cell such as
+    /// 1e300) is rejected here, with a warning naming its line.
+    fn usbl(&mut self, log: &LogDir, options: &FilterOptions, transducer: Geodetic) {
+        let rows = log.usbl.as_deref().unwrap_or_default();
+        let frame = LocalNed::new(transducer);
+        for (i, r) in rows.iter().enumerate() {
+            let delay = match options.usbl_delivery {
+                UsblDelivery::OnTime => 0.0,
+                UsblDelivery::Acoustic => {
+                    frame
+                        .geodetic_to_ned(&Geodetic::new(r.lat, r.lon, -r.depth))
+                        .norm()
+                        / SOUND_SPEED
+                }
+            };
+            if delay.is_infinite() {
+                self.health[3].rejected += 1;
+                self.warnings.push(format!(
+                    "{}: the fix (lat {}, lon {}, depth {}) gives an infinite acoustic travel time; not used",
+                    place(log, "usbl.csv", i),
+                    r.lat,
+                    r.lon,
+                    r.depth
+                ));
+                continue;
+            }
+            // `max` ignores a NaN delay: that fix goes last and is refused.
+            self.usbl_latency = self.usbl_latency.max(delay);
+            self.events.push(Event {
+                delivery: r.t + delay,
+                time: r.t,
+                sensor: 3,
+                row: i,
+            });
+        }
+    }
+
+    /// Latencies of depth, DVL, compass and USBL: the history spans the
+    /// largest. USBL fixes travel (plus a margin) only if there are any; the
+    /// 2 Hz aiding is late only with delivery faults.
+    fn latencies(&self, options: &FilterOptions) -> [f64; 4] {
+        let has_usbl = self.events.iter().any(|e| e.sensor == 3);
+        std::array::from_fn(|i| {
+            if i == 3 {
+                if has_usbl {
+                    self.usbl_latency + 1.0
+                } else {
+                    0.0
+                }
+            } else if options.delivery.is_late() {
+                options.delivery.max_delay() + 0.1
+            } else {
+                0.0
+            }
+        })
+    }
 }
 
-/// A USBL fix (`lat`, `lon`: rad) with noise sigma per axis (m) from the
-/// transducer at the origin of `frame`, for the `Usbl` sensor of vehicle `V`.
-pub fn usbl_measurement<V: InsVehicle<N>, const N: usize>(
-    lat: f64,
-    lon: f64,
-    sigma: f64,
-    frame: LocalNed,
-) -> Box<dyn Measurement<InsFilter<V, N>>> {
-    let r = SVector::<f64, 2>::repeat(sigma.powi(2));
-    Box::new(FnMeasurement::new(
-        &[lat, lon],
-        move |f: &mut InsFilter<V, N>| {
-            let nom = f.nominal();
-            let s = &nom.ins.state;
-            let rel = frame.geodetic_to_ned(&s.position());
-            let dn = (meridian_radius(s.lat) + s.h) * (s.lat - lat);
-            let de = (transverse_radius(s.lat) + s.h) * s.lat.cos() * wrap_angle(s.lon - lon);
-            let tilt = nom.usbl_misalignment.cross(&rel);
-            let z = Vector2::new(dn, de) + nom.usbl_bias + Vector2::new(tilt.x, tilt.y);
-            outcome(V::Usbl::update(f, &z, &r, rel.as_slice()))
-        },
-    ))
+/// Pushes the reading of `ev` into `nav`.
+fn push_reading<V: InsVehicle<N>, const N: usize>(
+    nav: &mut Navigator<V, N>,
+    handles: &Handles,
+    log: &LogDir,
+    ev: &Event,
+) {
+    let t = ev.time;
+    match ev.sensor {
+        0 => {
+            let depth = log.depth.as_ref().map_or(f64::NAN, |r| r[ev.row].depth);
+            if let Some(h) = handles.depth {
+                nav.push(h, t, DepthReading(depth));
+            }
+        }
+        1 => {
+            let v = log
+                .dvl
+                .as_ref()
+                .and_then(|r| r[ev.row].velocity())
+                .map_or(Vector3::repeat(f64::NAN), Vector3::from);
+            if let Some(h) = handles.dvl {
+                nav.push(h, t, DvlReading(v));
+            }
+        }
+        2 => {
+            let psi = log.heading.as_ref().map_or(f64::NAN, |r| r[ev.row].heading);
+            if let Some(h) = handles.heading {
+                nav.push(h, t, HeadingReading(psi));
+            }
+        }
+        _ => {
+            let (lat, lon) = log
+                .usbl
+                .as_ref()
+                .map_or((f64::NAN, f64::NAN), |r| (r[ev.row].lat, r[ev.row].lon));
+            if let Some(h) = handles.usbl {
+                nav.push(h, t, UsblFix { lat, lon });
+            }
+        }
+    }
+}
+
+/// The handles of the sensors a vehicle has.
+struct Handles {
+    depth: Option<crate::navigator::Handle<DepthReading>>,
+    dvl: Option<crate::navigator::Handle<DvlReading>>,
+    heading: Option<crate::navigator::Handle<HeadingReading>>,
+    usbl: Option<crate::navigator::Handle<UsblFix>>,
 }
 
 /// Runs the SDINS-25 filter over `log`: [`run_vehicle`] of [`Sdins25`].
@@ -724,118 +626,9 @@ pub fn run(
     run_vehicle::<Sdins25, N>(log, options, record_times)
 }
 
-/// Runs the filter of vehicle `V` over `log`, recording estimates at
-/// `record_times` (s; each snapped to the nearest IMU sample time within half
-/// a period). The rows of a log sensor `V` has no sensor for are not used:
-/// they are counted in that sensor's health as rows and skipped, and the
-/// sensor is listed in [`InsRun::ignored`].
-pub fn run_vehicle<V: InsVehicle<N>, const N: usize>(
-    log: &LogDir,
-    options: &FilterOptions,
-    record_times: &[f64],
-) -> Result<InsRun<V, N>, RunError> {
-    let mut filter = initial_vehicle_filter::<V, N>(log, options)?;
-    if options.smooth {
-        let file = EpochFile::create(None).map_err(|e| RunError::Invalid(e.to_string()))?;
-        let t0 = filter.nominal().ins.time;
-        filter
-            .start_recording(file, t0)
-            .map_err(|e| filter_error("smoother", e))?;
-    }
-    let has = Present::of::<V, N>();
-    let has_heading = match options.compass {
-        CompassForm::Exact => has.compass,
-        CompassForm::SmallAngle => has.compass_small_angle,
-    };
-    let t0 = filter.nominal().ins.time;
-    let dt_imu = imu_period(log);
-    let imu_t: Vec<f64> = log.imu.iter().map(|r| r.t).collect();
-    let mut health = [SensorHealth::default(); 4];
-    let mut ignored = Vec::new();
-    let mut events: Vec<Event> = Vec::new();
-    // A log sensor the vehicle lacks: its rows are counted and skipped.
-    let mut lacking = |i: usize, present: bool, rows: Option<usize>| -> bool {
-        match rows {
-            Some(n) if !present => {
-                health[i].rows = n as u64;
-                health[i].skipped = n as u64;
-                ignored.push(SENSORS[i]);
-                true
-            }
-            _ => !present,
-        }
-    };
-    let skip_depth = lacking(0, has.depth, log.depth.as_ref().map(Vec::len));
-    let skip_dvl = lacking(1, has.dvl, log.dvl.as_ref().map(Vec::len));
-    let skip_heading = lacking(2, has_heading, log.heading.as_ref().map(Vec::len));
-    let skip_usbl = lacking(3, has.usbl, log.usbl.as_ref().map(Vec::len));
-
-    // Depth meter (height convention).
-    let depth_noise = noise_or(log.meta.sensors.depth, ErrorSpec::sdins25_depth());
-    if let (true, false, Some(rows)) = (options.use_depth, skip_depth, &log.depth) {
-        health[0].rows = rows.len() as u64;
-        events.extend(rows.iter().enumerate().map(|(i, r)| Event {
-            delivery: r.t + options.delivery.delay(0, i),
-            time: r.t,
-            kind: Kind::Depth(i),
-        }));
-    }
-    // DVL: valid only with bottom lock and below its range.
-    let dvl_noise = noise_or(log.meta.sensors.dvl, ErrorSpec::sdins25_dvl());
-    if let (true, false, Some(rows)) = (options.use_dvl, skip_dvl, &log.dvl) {
-        health[1].rows = rows.len() as u64;
-        for (i, r) in rows.iter().enumerate() {
-            let in_range = altitude_at(log, r.t).is_none_or(|a| a <= DVL_MAX_ALTITUDE);
-            if r.velocity().is_some() && in_range {
-                events.push(Event {
-                    delivery: r.t + options.delivery.delay(1, i),
-                    time: r.t,
-                    kind: Kind::Dvl(i),
-                });
-            } else {
-                health[1].skipped += 1;
-            }
-        }
-    }
-    let heading_noise = noise_or(log.meta.sensors.heading, ErrorSpec::sdins25_compass());
-    if let (true, false, Some(rows)) = (options.use_compass, skip_heading, &log.heading) {
-        health[2].rows = rows.len() as u64;
-        events.extend(rows.iter().enumerate().map(|(i, r)| Event {
-            delivery: r.t + options.delivery.delay(2, i),
-            time: r.t,
-            kind: Kind::Heading(i),
-        }));
-    }
-    // USBL: transducer from [usbl], else at the surface above the start.
-    let usbl_noise = noise_or(log.meta.sensors.usbl, ErrorSpec::sdins25_usbl());
-    let transducer = log.meta.usbl.map_or(
-        Geodetic::new(log.meta.initial.lat, log.meta.initial.lon, 0.0),
-        |u| Geodetic::new(u.lat, u.lon, -u.depth),
-    );
-    let frame = LocalNed::new(transducer);
-    let mut usbl_latency: f64 = 0.0;
-    if let (true, false, Some(rows)) = (options.use_usbl, skip_usbl, &log.usbl) {
-        health[3].rows = rows.len() as u64;
-        for (i, r) in rows.iter().enumerate() {
-            let delay = match options.usbl_delivery {
-                UsblDelivery::OnTime => 0.0,
-                UsblDelivery::Acoustic => {
-                    frame
-                        .geodetic_to_ned(&Geodetic::new(r.lat, r.lon, -r.depth))
-                        .norm()
-                        / SOUND_SPEED
-                }
-            };
-            usbl_latency = usbl_latency.max(delay);
-            events.push(Event {
-                delivery: r.t + delay,
-                time: r.t,
-                kind: Kind::Usbl(i),
-            });
-        }
-    }
-
-    // Recorders: one per IMU sample time that some requested time snaps to.
+/// For each IMU row that some of `record_times` (sorted or not) snaps to, the
+/// indices of those times: `(imu row, [record slots])`, by IMU row.
+fn record_slots(imu_t: &[f64], record_times: &[f64], dt_imu: f64) -> Vec<(usize, Vec<usize>)> {
     let mut slots: Vec<(usize, Vec<usize>)> = Vec::new();
     for (slot, &t) in record_times.iter().enumerate() {
         let k = imu_t.partition_point(|&x| x < t);
@@ -850,217 +643,176 @@ pub fn run_vehicle<V: InsVehicle<N>, const N: usize>(
             }
         }
     }
-    let recorded: Recorder = Rc::new(RefCell::new(vec![None; record_times.len()]));
-    let mut slot_lists = Vec::new();
-    for (j, list) in slots {
-        if j == 0 {
-            let e = Estimate::of(imu_t[0], &filter);
-            for &s in &list {
-                recorded.borrow_mut()[s] = Some(e);
-            }
-        } else {
-            events.push(Event {
-                delivery: imu_t[j],
-                time: imu_t[j],
-                kind: Kind::Record(slot_lists.len()),
-            });
-            slot_lists.push(Rc::<[usize]>::from(list));
-        }
-    }
-    events.sort_by(|a, b| a.delivery.total_cmp(&b.delivery));
+    slots
+}
 
-    // Latencies: the history spans the largest. USBL fixes travel (plus a
-    // margin) only if there are any; the 2 Hz aiding is late only with
-    // delivery faults.
-    let has_usbl = events.iter().any(|e| matches!(e.kind, Kind::Usbl(_)));
-    let latencies: [f64; 4] = std::array::from_fn(|i| {
-        if i == 3 {
-            if has_usbl {
-                usbl_latency + 1.0
-            } else {
-                0.0
+/// Runs the filter of vehicle `V` over `log`, recording estimates at
+/// `record_times` (s; each snapped to the nearest IMU sample time within half
+/// a period). The rows of a log sensor `V` has no sensor for are not used:
+/// they are counted in that sensor's health as rows and skipped, and the
+/// sensor is listed in [`InsRun::ignored`].
+///
+/// # Errors
+/// A setup problem, an IMU sample the filter refuses, or an estimate out of
+/// its physical bounds ([`FilterOptions::bounds`]), each naming the input
+/// file and line that led to it.
+pub fn run_vehicle<V: InsVehicle<N>, const N: usize>(
+    log: &LogDir,
+    options: &FilterOptions,
+    record_times: &[f64],
+) -> Result<InsRun<V, N>, RunError> {
+    crate::navigator::vehicle::Layout::of::<V, N>()?;
+    let plan0 = LogPlan::new(log, options, [0.0; 4])?;
+    let sources = Sources::new::<V, N>(log, options, plan0.transducer);
+    let plan = LogPlan {
+        sensors: {
+            let lat = sources.latencies(options);
+            let mut s = plan0.sensors;
+            for (s, l) in s.iter_mut().zip(lat) {
+                s.latency_s = l;
             }
-        } else if options.delivery.is_late() {
-            options.delivery.max_delay() + 0.1
-        } else {
-            0.0
-        }
-    });
-    let mut sched = Scheduler::new(filter, t0)
-        .map_err(|e| RunError::Invalid(e.to_string()))?
-        .with_snapshot_every(snapshot_interval(
-            latencies.iter().fold(0.0, |a, &b| a.max(b)),
-            dt_imu,
-        ));
-    let mut ids: Vec<SensorId> = Vec::new();
-    for (i, name) in SENSORS.iter().enumerate() {
-        let latency = latencies[i];
-        ids.push(
-            sched
-                .add_sensor(*name, 2.0, latency)
-                .map_err(|e| RunError::Invalid(e.to_string()))?,
-        );
-    }
-    if let Some(alpha) = options.stuck_false_alarm {
-        // Resolution of each sensor in this log; USBL angles converted to metres.
-        let radius = meridian_radius(log.meta.initial.lat);
-        let q = [
-            log.depth.as_ref().map_or(0.0, |r| {
-                log_resolution(r.iter().map(|x| std::slice::from_ref(&x.depth)))
-            }),
-            log.dvl.as_ref().map_or(0.0, |r| {
-                let v: Vec<[f64; 3]> = r.iter().filter_map(|x| x.velocity()).collect();
-                log_resolution(v.iter().map(|x| x.as_slice()))
-            }),
-            log.heading.as_ref().map_or(0.0, |r| {
-                log_resolution(r.iter().map(|x| std::slice::from_ref(&x.heading)))
-            }),
-            log.usbl.as_ref().map_or(0.0, |r| {
-                let v: Vec<[f64; 2]> = r.iter().map(|x| [x.lat, x.lon]).collect();
-                radius * log_resolution(v.iter().map(|x| x.as_slice()))
-            }),
-        ];
-        let sigma = [
-            depth_noise.noise_sigma,
-            dvl_noise.noise_sigma,
-            heading_noise.noise_sigma,
-            usbl_noise.noise_sigma,
-        ];
-        for i in 0..4 {
-            sched
-                .set_stuck_detector(ids[i], stuck_detector(sigma[i], q[i], alpha))
-                .map_err(|e| RunError::Invalid(e.to_string()))?;
-        }
-    }
-    let rec_id = sched
-        .add_sensor("record", 10.0, 0.0)
-        .map_err(|e| RunError::Invalid(e.to_string()))?;
-
-    let make = |ev: &Event| -> (SensorId, Box<dyn Measurement<InsFilter<V, N>>>) {
-        match ev.kind {
-            Kind::Depth(i) => {
-                let depth = log.depth.as_ref().map_or(f64::NAN, |r| r[i].depth);
-                (ids[0], depth_measurement(depth, depth_noise.noise_sigma))
-            }
-            Kind::Dvl(i) => {
-                let v = log
-                    .dvl
-                    .as_ref()
-                    .and_then(|r| r[i].velocity())
-                    .map_or(Vector3::repeat(f64::NAN), Vector3::from);
-                (ids[1], dvl_measurement(v, dvl_noise.noise_sigma))
-            }
-            Kind::Heading(i) => {
-                let psi = log.heading.as_ref().map_or(f64::NAN, |r| r[i].heading);
-                (
-                    ids[2],
-                    heading_measurement(psi, heading_noise.noise_sigma, options.compass),
-                )
-            }
-            Kind::Usbl(i) => {
-                let row = log.usbl.as_ref().map(|r| r[i]);
-                let (lat, lon) = row.map_or((f64::NAN, f64::NAN), |r| (r.lat, r.lon));
-                (
-                    ids[3],
-                    usbl_measurement(lat, lon, usbl_noise.noise_sigma, frame),
-                )
-            }
-            Kind::Record(k) => {
-                let rec = Rc::clone(&recorded);
-                let list = Rc::clone(&slot_lists[k]);
-                let t = ev.time;
-                let m = FnMeasurement::new(&[], move |f: &mut InsFilter<V, N>| {
-                    let e = Estimate::of(t, f);
-                    f.mark_epoch(t);
-                    let mut v = rec.borrow_mut();
-                    for &s in list.iter() {
-                        v[s] = Some(e);
-                    }
-                    Ok(MeasurementOutcome {
-                        accepted: true,
-                        nis: 0.0,
-                        threshold: None,
-                        dof: 0,
-                    })
-                });
-                (rec_id, Box::new(m))
-            }
-        }
+            s
+        },
+        ..plan0
     };
+    let (builder, handles) = plan.builder::<V, N>(options);
+    let mut nav = builder.build(plan.first).map_err(setup_error)?;
+
+    // Requested estimates: one request per IMU sample time that some
+    // requested time snaps to.
+    let imu_t: Vec<f64> = log.imu.iter().map(|r| r.t).collect();
+    let slots = record_slots(&imu_t, record_times, plan.imu.period_s);
+    let mut estimates: Vec<Option<Estimate>> = vec![None; record_times.len()];
+    let mut slot_of_ticket: std::collections::VecDeque<usize> = Default::default();
+    let mut next_slot = 0;
+    let mut deliver =
+        |ticket_slot: Option<usize>, e: Option<Estimate>, slots: &[(usize, Vec<usize>)]| {
+            if let Some(k) = ticket_slot {
+                for &s in &slots[k].1 {
+                    estimates[s] = e;
+                }
+            }
+        };
+    if let Some((0, _)) = slots.first() {
+        nav.request_estimate(imu_t[0]);
+        slot_of_ticket.push_back(0);
+        next_slot = 1;
+    }
 
     let start = std::time::Instant::now();
+    let events = &sources.events;
     let mut next = 0;
     let mut samples = 0;
-    let mut skipped_early = [0u64; 4];
-    let mut push = |sched: &mut Scheduler<InsFilter<V, N>>, ev: &Event| {
-        let (id, m) = make(ev);
-        if ev.time <= t0 {
-            if id.index() < 4 {
-                skipped_early[id.index()] += 1;
+    let mut last_input: Option<&Event> = None;
+    let mut warnings = sources.warnings;
+    for (j, row) in log.imu.iter().enumerate().skip(1) {
+        let previous = &log.imu[j - 1];
+        if let Some(k) = options.max_imu_step {
+            let step = k * plan.imu.period_s;
+            let gap = row.t - previous.t;
+            if gap > step {
+                let steps = (gap / step).ceil();
+                let lines = format!(
+                    "{} to {}",
+                    place(log, "imu.csv", j - 1),
+                    place(log, "imu.csv", j)
+                );
+                if steps > MAX_GAP_STEPS {
+                    return Err(RunError::Invalid(format!(
+                        "imu.csv gap of {gap} s between {lines} is too long to propagate (more than {MAX_GAP_STEPS} steps of {step} s)"
+                    )));
+                }
+                warnings.push(format!(
+                    "imu.csv gap of {gap} s between {lines}: propagated in {steps} steps holding the sample before it"
+                ));
+                let held = ImuSample {
+                    gyro: Vector3::new(previous.gx, previous.gy, previous.gz),
+                    accel: Vector3::new(previous.ax, previous.ay, previous.az),
+                };
+                for m in 1..steps as usize {
+                    let t = previous.t + gap * (m as f64 / steps);
+                    while let Some(ev) = events.get(next).filter(|e| e.delivery <= t) {
+                        push_reading(&mut nav, &handles, log, ev);
+                        last_input = Some(ev);
+                        next += 1;
+                    }
+                    nav.push_imu(t, held).map_err(|e| {
+                        RunError::Invalid(format!("imu.csv gap between {lines} at t = {t} s: {e}"))
+                    })?;
+                    nav.final_estimates(|_, e| deliver(slot_of_ticket.pop_front(), e, &slots));
+                }
             }
-            return;
         }
-        // Refusals are counted by the scheduler per sensor.
-        let _ = sched.push_measurement(id, ev.time, m);
-    };
-    for row in log.imu.iter().skip(1) {
         while let Some(ev) = events.get(next).filter(|e| e.delivery <= row.t) {
-            push(&mut sched, ev);
+            push_reading(&mut nav, &handles, log, ev);
+            last_input = Some(ev);
             next += 1;
+        }
+        if let Some((k, _)) = slots.get(next_slot).filter(|(k, _)| *k == j) {
+            nav.request_estimate(imu_t[*k]);
+            slot_of_ticket.push_back(next_slot);
+            next_slot += 1;
         }
         let imu = ImuSample {
             gyro: Vector3::new(row.gx, row.gy, row.gz),
             accel: Vector3::new(row.ax, row.ay, row.az),
         };
-        sched
-            .push_imu(row.t, imu)
-            .map_err(|e| RunError::Invalid(format!("imu.csv at t = {} s: {e}", row.t)))?;
+        nav.push_imu(row.t, imu).map_err(|e| match e {
+            NavigatorError::Imu(e) => RunError::Invalid(format!(
+                "imu.csv at t = {} s ({}): {e}",
+                row.t,
+                place(log, "imu.csv", j)
+            )),
+            e => RunError::Invalid(format!(
+                "{} (t = {} s): {e}{}",
+                place(log, "imu.csv", j),
+                row.t,
+                last_input.map_or(String::new(), |ev| format!(
+                    "; latest aiding input: {}",
+                    place(log, &format!("{}.csv", SENSOR_NAMES[ev.sensor]), ev.row)
+                ))
+            )),
+        })?;
         samples += 1;
+        nav.final_estimates(|_, e| deliver(slot_of_ticket.pop_front(), e, &slots));
     }
     // Fixes still travelling when the IMU data ends (measured before its end).
     for ev in &events[next..] {
-        push(&mut sched, ev);
+        push_reading(&mut nav, &handles, log, ev);
     }
+    nav.flush_estimates(|_, e| deliver(slot_of_ticket.pop_front(), e, &slots));
     let runtime_s = start.elapsed().as_secs_f64();
 
+    let mut health = sources.health;
     for (i, h) in health.iter_mut().enumerate() {
-        if let Some(s) = sched.sensor_stats(ids[i]) {
-            h.accepted = s.accepted;
-            h.gated = s.gated;
-            h.rejected = s.failed + s.too_old + s.duplicate + s.invalid + s.queue_full;
-            h.skipped += skipped_early[i];
-            h.stuck = s.stuck;
-        }
+        let r = nav.report_of(i).health;
+        h.accepted = r.accepted;
+        h.gated = r.gated;
+        h.rejected += r.rejected;
+        h.skipped += r.skipped;
+        h.stuck = r.stuck;
     }
-    let mut final_filter = sched.filter().clone();
+    let mut final_filter = nav.filter().clone();
     let recording = final_filter
         .finish_recording()
         .map_err(|e| RunError::Invalid(e.to_string()))?;
-    let repairs = final_filter.ekf().counters().covariance_repairs;
-    let replays = sched.stats().replays;
-    drop(sched);
-    let estimates = Rc::try_unwrap(recorded)
-        .map(RefCell::into_inner)
-        .unwrap_or_else(|rc| rc.borrow().clone());
     let layout = *final_filter.nominal().layout();
     let smoothed = recording
         .map(|store| smoothed_estimates(&mut store.borrow_mut(), &estimates, &layout))
         .transpose()?;
+    let repairs = final_filter.ekf().counters().covariance_repairs;
+    let replays = nav.replays();
     Ok(InsRun {
         estimates,
         samples: samples + 1,
-        health: [
-            (SENSORS[0], health[0]),
-            (SENSORS[1], health[1]),
-            (SENSORS[2], health[2]),
-            (SENSORS[3], health[3]),
-        ],
+        health: std::array::from_fn(|i| (SENSOR_NAMES[i], health[i])),
         repairs,
         runtime_s,
         replays,
         final_filter,
-        ignored,
+        ignored: sources.ignored,
         smoothed,
+        warnings,
     })
 }
 
@@ -1145,16 +897,6 @@ pub fn stuck_detector(noise_sigma: f64, resolution: f64, false_alarm: f64) -> St
 /// 0) a replay can only be for a measurement at the current IMU time, which
 /// the replay loop always delivers before that sample: one checkpoint a
 /// second. Results do not depend on the spacing (the replay recomputes the
-/// same steps); see [`Scheduler::with_snapshot_every`].
-fn snapshot_interval(window: f64, dt: f64) -> usize {
-    let steps = if window > 0.0 { window / 10.0 } else { 1.0 } / dt;
-    if steps.is_finite() {
-        (steps.ceil() as usize).clamp(1, 1000)
-    } else {
-        1
-    }
-}
-
 /// Echo-sounder altitude at `t`: the latest row at or before `t` (m).
 fn altitude_at(log: &LogDir, t: f64) -> Option<f64> {
     let rows = log.altitude.as_ref()?;

@@ -13,7 +13,7 @@ pub mod model;
 pub mod score;
 pub mod simulation;
 pub mod soak;
-pub mod vehicle;
+pub use crate::navigator::vehicle;
 
 #[cfg(test)]
 mod model_tests;
@@ -111,25 +111,18 @@ pub fn run_and_score(
 }
 
 /// Runs the filter of vehicle `V` over `log` with estimates at the truth
-/// times (or every 0.1 s without truth) and scores it. `compass_bias`: the
-/// true compass bias, when known, for the bias-estimation columns.
+/// times and scores it (without truth no estimates are kept: nothing is
+/// sized by the log's time span). `compass_bias`: the true compass bias,
+/// when known, for the bias-estimation columns.
 pub fn run_and_score_vehicle<V: InsVehicle<N>, const N: usize>(
     log: &LogDir,
     options: &FilterOptions,
     compass_bias: Option<f64>,
 ) -> Result<(InsRun<V, N>, Option<Scored>), RunError> {
-    let times: Vec<f64> = match &log.truth {
-        Some(t) => t.iter().map(|r| r.t).collect(),
-        None => {
-            let (t0, t1) = (
-                log.imu.first().map_or(0.0, |r| r.t),
-                log.imu.last().map_or(0.0, |r| r.t),
-            );
-            (0..=((t1 - t0) * 10.0).floor() as usize)
-                .map(|k| t0 + k as f64 / 10.0)
-                .collect()
-        }
-    };
+    let times: Vec<f64> = log
+        .truth
+        .as_ref()
+        .map_or_else(Vec::new, |t| t.iter().map(|r| r.t).collect());
     let run = filter::run_vehicle::<V, N>(log, options, &times)?;
     let scored = log
         .truth
@@ -656,6 +649,7 @@ impl<V: InsVehicle<N>, const N: usize> ReplayModel for InsReplay<V, N> {
         Layout::of::<V, N>()?;
         let filter_options = FilterOptions {
             smooth: options.smooth,
+            max_imu_step: options.lenient.then_some(filter::LENIENT_IMU_STEP_PERIODS),
             ..FilterOptions::default()
         };
         let (run, scored) = run_and_score_vehicle::<V, N>(log, &filter_options, None)?;
@@ -676,6 +670,7 @@ impl<V: InsVehicle<N>, const N: usize> ReplayModel for InsReplay<V, N> {
                 V::REPLAY_NAME
             ));
         }
+        out.warnings.extend(run.warnings.iter().cloned());
         if let Some(s) = &scored {
             for (k, v) in [
                 ("horizontal_error_final_m", s.horizontal_error_final_m),
@@ -720,6 +715,14 @@ impl<V: InsVehicle<N>, const N: usize> ReplayModel for InsReplay<V, N> {
             if let Some(sm) = smoothed {
                 out.tables.push(sm.table);
             }
+        }
+        if !out.warnings.is_empty() {
+            let list = out
+                .warnings
+                .iter()
+                .map(|w| Value::from(w.as_str()))
+                .collect();
+            out.metrics.insert("warnings".into(), Value::Array(list));
         }
         Ok(out)
     }

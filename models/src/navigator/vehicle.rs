@@ -1,4 +1,4 @@
-//! Which vehicles the SDINS replay loop ([`super::filter::run_vehicle`]) can
+//! Which vehicles the navigator and the log replay ([`crate::sdins25::filter::run_vehicle`]) can
 //! run: the INS error-state core plus any subset of the log-backed sensor
 //! blocks (depth meter, DVL, compass, USBL), declared either in one piece
 //! (`crate::sdins25::model::Sdins25`) or composed from

@@ -1,0 +1,112 @@
+//! The aiding measurements of an INS vehicle's log sensors (depth meter,
+//! DVL, compass, USBL) as scheduler measurements: each computes its residual
+//! from the nominal solution at the time it is applied (so a late measurement
+//! replayed at its own time sees the nominal of that time).
+
+use nav_runtime::attitude::euler_from_c_bn;
+use nav_runtime::earth::{meridian_radius, transverse_radius, LocalNed};
+use nav_runtime::ekf::FilterError;
+use nav_runtime::math::wrap_angle;
+use nav_runtime::nalgebra::{SVector, Vector2, Vector3};
+use nav_runtime::scheduler::{FnMeasurement, Measurement, MeasurementOutcome};
+
+use super::nominal::InsFilter;
+use super::vehicle::{InsVehicle, Slot};
+
+/// Which compass residual the filter uses.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum CompassForm {
+    /// Exact yaw of the perturbed attitude (`Sdins25Compass`).
+    #[default]
+    Exact,
+    /// The paper's small-angle `-phi_D - b_psi` (`Sdins25CompassSmallAngle`).
+    SmallAngle,
+}
+
+fn outcome<const M: usize>(
+    r: Result<nav_runtime::ekf::UpdateReport<M>, FilterError>,
+) -> Result<MeasurementOutcome, FilterError> {
+    r.map(|rep| MeasurementOutcome::from(&rep))
+}
+
+/// A depth-meter measurement (`depth`: m, positive down) with noise sigma (m),
+/// for the `Depth` sensor of vehicle `V`.
+pub fn depth_measurement<V: InsVehicle<N>, const N: usize>(
+    depth: f64,
+    sigma: f64,
+) -> Box<dyn Measurement<InsFilter<V, N>>> {
+    let h_meas = -depth;
+    let r = SVector::<f64, 1>::new(sigma.powi(2));
+    Box::new(FnMeasurement::new(
+        &[h_meas],
+        move |f: &mut InsFilter<V, N>| {
+            let nom = f.nominal();
+            let z = SVector::<f64, 1>::new(nom.ins.state.h - (h_meas - nom.depth_bias));
+            outcome(V::Depth::update(f, &z, &r, &[]))
+        },
+    ))
+}
+
+/// A DVL measurement (body velocity, m/s) with noise sigma per axis (m/s),
+/// for the `Dvl` sensor of vehicle `V`.
+pub fn dvl_measurement<V: InsVehicle<N>, const N: usize>(
+    v: Vector3<f64>,
+    sigma: f64,
+) -> Box<dyn Measurement<InsFilter<V, N>>> {
+    let r = SVector::<f64, 3>::repeat(sigma.powi(2));
+    Box::new(FnMeasurement::new(
+        v.as_slice(),
+        move |f: &mut InsFilter<V, N>| {
+            let nom = f.nominal();
+            let s = &nom.ins.state;
+            let z = s.v_n - s.c_bn * (v - nom.dvl_bias);
+            outcome(V::Dvl::update(f, &z, &r, &[]))
+        },
+    ))
+}
+
+/// A compass measurement (heading `psi`, rad) with noise sigma (rad), for the
+/// `Compass` or `CompassSmallAngle` sensor of vehicle `V`.
+pub fn heading_measurement<V: InsVehicle<N>, const N: usize>(
+    psi: f64,
+    sigma: f64,
+    form: CompassForm,
+) -> Box<dyn Measurement<InsFilter<V, N>>> {
+    let r = SVector::<f64, 1>::new(sigma.powi(2));
+    Box::new(FnMeasurement::new(
+        &[psi],
+        move |f: &mut InsFilter<V, N>| {
+            let nom = f.nominal();
+            let yaw = euler_from_c_bn(&nom.ins.state.c_bn).yaw;
+            let z = SVector::<f64, 1>::new(wrap_angle(yaw - (psi - nom.compass_bias)));
+            match form {
+                CompassForm::Exact => outcome(V::Compass::update(f, &z, &r, &[])),
+                CompassForm::SmallAngle => outcome(V::CompassSmallAngle::update(f, &z, &r, &[])),
+            }
+        },
+    ))
+}
+
+/// A USBL fix (`lat`, `lon`: rad) with noise sigma per axis (m) from the
+/// transducer at the origin of `frame`, for the `Usbl` sensor of vehicle `V`.
+pub fn usbl_measurement<V: InsVehicle<N>, const N: usize>(
+    lat: f64,
+    lon: f64,
+    sigma: f64,
+    frame: LocalNed,
+) -> Box<dyn Measurement<InsFilter<V, N>>> {
+    let r = SVector::<f64, 2>::repeat(sigma.powi(2));
+    Box::new(FnMeasurement::new(
+        &[lat, lon],
+        move |f: &mut InsFilter<V, N>| {
+            let nom = f.nominal();
+            let s = &nom.ins.state;
+            let rel = frame.geodetic_to_ned(&s.position());
+            let dn = (meridian_radius(s.lat) + s.h) * (s.lat - lat);
+            let de = (transverse_radius(s.lat) + s.h) * s.lat.cos() * wrap_angle(s.lon - lon);
+            let tilt = nom.usbl_misalignment.cross(&rel);
+            let z = Vector2::new(dn, de) + nom.usbl_bias + Vector2::new(tilt.x, tilt.y);
+            outcome(V::Usbl::update(f, &z, &r, rel.as_slice()))
+        },
+    ))
+}

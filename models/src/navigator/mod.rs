@@ -1,0 +1,36 @@
+//! The navigator: an INS vehicle declared with `nav_runtime::model!` (the INS
+//! core plus any of the depth, DVL, compass and USBL blocks), navigating from
+//! pushed IMU samples and typed sensor readings. See `docs/pipeline.md` for
+//! the user program and the list of concepts.
+//!
+//! - [`Navigator`], built with [`Navigator::builder`] from an
+//!   [`InitialState`], [`ImuSettings`] and one [`SensorSettings`] per sensor;
+//! - typed [`Handle`]s, one per reading type ([`DepthReading`],
+//!   [`DvlReading`], [`HeadingReading`], [`UsblFix`]);
+//! - [`Estimate`] and [`SensorReport`] to read;
+//! - [`InsVehicle`] to register a vehicle.
+//!
+//! `use models::navigator::prelude::*;` brings all of it.
+
+mod health;
+mod measurement;
+#[allow(clippy::module_inception)]
+mod navigator;
+mod nominal;
+mod sensor;
+mod settings;
+pub mod vehicle;
+
+pub mod prelude;
+
+pub use health::SensorHealth;
+pub use measurement::{
+    depth_measurement, dvl_measurement, heading_measurement, usbl_measurement, CompassForm,
+};
+pub use navigator::{Builder, Navigator, NavigatorError, SensorReport, Ticket, SENSOR_NAMES};
+pub use nominal::{Estimate, ImuSample, InsFilter, InsNominal};
+pub use sensor::{DepthReading, DvlReading, Handle, HeadingReading, Reading, UsblFix};
+pub use settings::{
+    Bounds, ImuSettings, InitialSigma, InitialState, NavigatorOptions, SensorSettings,
+};
+pub use vehicle::{Absent, InsVehicle};

@@ -1,0 +1,164 @@
+//! Typed sensor handles: each log sensor of an INS vehicle has its own reading
+//! type, and a [`Handle`] of that type is the only way to push a reading, so a
+//! DVL reading pushed under the depth meter's handle does not compile.
+
+use std::marker::PhantomData;
+
+use nav_runtime::earth::LocalNed;
+use nav_runtime::nalgebra::{Matrix3, Vector3};
+use nav_runtime::scheduler::Measurement;
+
+use super::measurement::{
+    depth_measurement, dvl_measurement, heading_measurement, usbl_measurement, CompassForm,
+};
+use super::nominal::InsFilter;
+use super::vehicle::{InsVehicle, Present};
+
+/// A depth-meter reading: depth (m, positive down).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DepthReading(pub f64);
+
+/// A DVL reading: velocity over the bottom in the sensor frame (m/s), which
+/// the sensor's mounting turns into body axes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DvlReading(pub Vector3<f64>);
+
+/// A compass reading: heading (rad, clockwise from north).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HeadingReading(pub f64);
+
+/// A USBL fix: the vehicle's latitude and longitude (rad) as the surface array
+/// measured them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct UsblFix {
+    /// Latitude (rad).
+    pub lat: f64,
+    /// Longitude (rad).
+    pub lon: f64,
+}
+
+/// What a reading needs from the navigator to become a measurement.
+#[derive(Clone, Copy, Debug)]
+pub struct Context {
+    /// Noise sigma of one reading (in the reading's units).
+    pub noise_sigma: f64,
+    /// Sensor-to-body rotation (`None`: the identity).
+    pub mounting: Option<Matrix3<f64>>,
+    /// Compass residual form.
+    pub compass: CompassForm,
+    /// Local frame at the USBL transducer.
+    pub usbl_frame: LocalNed,
+}
+
+/// A reading of one of the log sensors (implemented by the four reading types).
+pub trait Reading: Copy + sealed::Sealed {
+    /// Index of the sensor in the navigator (depth, DVL, compass, USBL).
+    #[doc(hidden)]
+    const SLOT: usize;
+    /// Sensor name (`depth`, `dvl`, `heading`, `usbl`).
+    const NAME: &'static str;
+    /// Whether vehicle `V` has this sensor.
+    #[doc(hidden)]
+    fn present(p: &Present, compass: CompassForm) -> bool;
+    /// The reading as a measurement of `V`'s filter.
+    #[doc(hidden)]
+    fn measurement<V: InsVehicle<N>, const N: usize>(
+        &self,
+        ctx: &Context,
+    ) -> Box<dyn Measurement<InsFilter<V, N>>>;
+}
+
+mod sealed {
+    pub trait Sealed {}
+    impl Sealed for super::DepthReading {}
+    impl Sealed for super::DvlReading {}
+    impl Sealed for super::HeadingReading {}
+    impl Sealed for super::UsblFix {}
+}
+
+impl Reading for DepthReading {
+    const SLOT: usize = 0;
+    const NAME: &'static str = "depth";
+    fn present(p: &Present, _: CompassForm) -> bool {
+        p.depth
+    }
+    fn measurement<V: InsVehicle<N>, const N: usize>(
+        &self,
+        ctx: &Context,
+    ) -> Box<dyn Measurement<InsFilter<V, N>>> {
+        depth_measurement::<V, N>(self.0, ctx.noise_sigma)
+    }
+}
+
+impl Reading for DvlReading {
+    const SLOT: usize = 1;
+    const NAME: &'static str = "dvl";
+    fn present(p: &Present, _: CompassForm) -> bool {
+        p.dvl
+    }
+    fn measurement<V: InsVehicle<N>, const N: usize>(
+        &self,
+        ctx: &Context,
+    ) -> Box<dyn Measurement<InsFilter<V, N>>> {
+        let v = ctx.mounting.map_or(self.0, |m| m * self.0);
+        dvl_measurement::<V, N>(v, ctx.noise_sigma)
+    }
+}
+
+impl Reading for HeadingReading {
+    const SLOT: usize = 2;
+    const NAME: &'static str = "heading";
+    fn present(p: &Present, compass: CompassForm) -> bool {
+        match compass {
+            CompassForm::Exact => p.compass,
+            CompassForm::SmallAngle => p.compass_small_angle,
+        }
+    }
+    fn measurement<V: InsVehicle<N>, const N: usize>(
+        &self,
+        ctx: &Context,
+    ) -> Box<dyn Measurement<InsFilter<V, N>>> {
+        heading_measurement::<V, N>(self.0, ctx.noise_sigma, ctx.compass)
+    }
+}
+
+impl Reading for UsblFix {
+    const SLOT: usize = 3;
+    const NAME: &'static str = "usbl";
+    fn present(p: &Present, _: CompassForm) -> bool {
+        p.usbl
+    }
+    fn measurement<V: InsVehicle<N>, const N: usize>(
+        &self,
+        ctx: &Context,
+    ) -> Box<dyn Measurement<InsFilter<V, N>>> {
+        usbl_measurement::<V, N>(self.lat, self.lon, ctx.noise_sigma, ctx.usbl_frame)
+    }
+}
+
+/// The handle of a sensor added to a navigator: readings of type `R` only.
+pub struct Handle<R> {
+    reading: PhantomData<fn(R)>,
+}
+
+impl<R> Handle<R> {
+    pub(crate) fn new() -> Self {
+        Self {
+            reading: PhantomData,
+        }
+    }
+}
+
+impl<R> Clone for Handle<R> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<R> Copy for Handle<R> {}
+
+impl<R: Reading> std::fmt::Debug for Handle<R> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Handle<{}>", R::NAME)
+    }
+}
