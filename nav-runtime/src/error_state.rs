@@ -26,8 +26,8 @@
 
 use nalgebra::{SMatrix, SVector};
 
-use crate::ekf::{first_non_finite, name_of, Ekf, Estimator, FilterError, Propagate, UpdateReport};
-use crate::model::{Model, Record, Sensor};
+use crate::ekf::{Ekf, Estimator, FilterError, Propagate, UpdateReport};
+use crate::model::{first_non_finite, name_of, Model, Record, Sensor};
 
 /// The nominal solution that an error-state filter corrects.
 pub trait NominalState<const N: usize> {

@@ -29,6 +29,7 @@ pub mod propagation;
 pub mod scheduler;
 #[cfg(feature = "std")]
 pub mod sensors;
+pub mod setup_error;
 #[cfg(feature = "std")]
 pub mod stats;
 pub mod strapdown;

@@ -253,7 +253,7 @@ fn keep_upright(ekf: &mut Ekf<Leveling6, 6>) -> Result<(), FilterError> {
         }
     }
     ekf.set_state(x)?;
-    ekf.set_covariance(p)
+    Ok(ekf.set_covariance(p)?)
 }
 
 fn count<const M: usize>(

@@ -545,11 +545,11 @@ pub fn initial_vehicle_filter<V: InsVehicle<N>, const N: usize>(
     let noise = <V::Noise as Record>::from_fn(|i| if i < 3 { qa } else { qg });
     let name = V::REPLAY_NAME;
     let gate = match options.gate_probability {
-        Some(p) => Some(Gate::new(p).map_err(|e| filter_error(name, e))?),
+        Some(p) => Some(Gate::new(p).map_err(|e| filter_error(name, e.into()))?),
         None => None,
     };
     let ekf = Ekf::<V, N>::new(SVector::zeros(), p0, V::Params::default(), noise)
-        .map_err(|e| filter_error(name, e))?
+        .map_err(|e| filter_error(name, e.into()))?
         .with_default_gate(gate)
         .with_lockout_release(options.lockout_release);
     Ok(ErrorStateFilter::new(ekf, InsNominal::try_new(ins)?))
