@@ -183,6 +183,13 @@ impl<Mo: Model<N>, Nom: Clone, const N: usize> Clone for ErrorStateFilter<Mo, No
             resets: self.resets,
         }
     }
+
+    /// Part by part into `self` (see `Ekf`'s `clone_from`): no temporary copy.
+    fn clone_from(&mut self, source: &Self) {
+        self.ekf.clone_from(&source.ekf);
+        self.nominal.clone_from(&source.nominal);
+        self.resets = source.resets;
+    }
 }
 
 impl<Mo: Model<N>, Nom: core::fmt::Debug, const N: usize> core::fmt::Debug

@@ -180,6 +180,22 @@ impl<Mo: Model<N>, const N: usize> Clone for Ekf<Mo, N> {
             _model: PhantomData,
         }
     }
+
+    /// Field by field into `self`: one copy of the covariance, no temporary.
+    fn clone_from(&mut self, source: &Self) {
+        self.x = source.x;
+        self.p = source.p;
+        self.params = source.params;
+        self.noise = source.noise;
+        self.input = source.input;
+        self.discretization = source.discretization;
+        self.default_gate = source.default_gate;
+        self.gates = source.gates;
+        self.lockout_release = source.lockout_release;
+        self.refusals = source.refusals;
+        self.variance_floor = source.variance_floor;
+        self.counters = source.counters;
+    }
 }
 
 impl<Mo: Model<N>, const N: usize> core::fmt::Debug for Ekf<Mo, N> {

@@ -65,7 +65,12 @@ use stats::tally;
 
 /// The multi-rate scheduler (see the module docs).
 pub struct Scheduler<F: Propagate + Clone> {
-    filter: F,
+    /// Boxed so that committing a step or a replay is a pointer swap with
+    /// [`Scheduler::scratch`], not a copy of the filter.
+    filter: Box<F>,
+    /// The buffer a step with measurements (or a replay) runs on before it
+    /// is committed; reused, so a running scheduler does not allocate for it.
+    scratch: Option<Box<F>>,
     now: f64,
     start: f64,
     /// IMU steps, oldest first; `steps[0]` always holds a checkpoint.
@@ -104,7 +109,8 @@ impl<F: Propagate + Clone> Scheduler<F> {
             snapshot: Some(Box::new(filter.clone())),
         });
         Ok(Self {
-            filter,
+            filter: Box::new(filter),
+            scratch: None,
             now: time,
             start: time,
             steps,
@@ -342,11 +348,18 @@ impl<F: Propagate + Clone> Scheduler<F> {
                 .map_err(SchedulerError::Propagation)?;
             Vec::new()
         } else {
-            // Several propagations and updates: on a copy, committed only if
-            // every propagation succeeds.
-            let mut next = self.filter.clone();
+            // Several propagations and updates: on a copy (the reused
+            // scratch buffer), committed only if every propagation succeeds.
+            let mut next = self.copy_of_filter();
             let start = range.start;
-            let outcomes = run_interval(&mut next, self.now, time, &input, &self.queue, range)?;
+            let outcomes =
+                match run_interval(&mut *next, self.now, time, &input, &self.queue, range) {
+                    Ok(outcomes) => outcomes,
+                    Err(e) => {
+                        self.scratch = Some(next);
+                        return Err(e);
+                    }
+                };
             let mut reports = Vec::with_capacity(outcomes.len());
             for (offset, outcome) in outcomes.into_iter().enumerate() {
                 if let Some(q) = self.queue.get_mut(start + offset) {
@@ -359,7 +372,7 @@ impl<F: Propagate + Clone> Scheduler<F> {
                     });
                 }
             }
-            self.filter = next;
+            self.commit_filter(next);
             reports
         };
         self.since_snapshot += 1;
@@ -370,7 +383,7 @@ impl<F: Propagate + Clone> Scheduler<F> {
                     buffer.as_mut().clone_from(&self.filter);
                     buffer
                 }
-                None => Box::new(self.filter.clone()),
+                None => self.filter.clone(),
             })
         } else {
             None
@@ -467,12 +480,15 @@ impl<F: Propagate + Clone> Scheduler<F> {
             .iter()
             .rposition(|s| s.time < time && s.snapshot.is_some())
             .ok_or(lost)?;
-        let Some(mut filter) = self
-            .steps
-            .get(base)
-            .and_then(|s| s.snapshot.as_deref().cloned())
-        else {
+        let Some(checkpoint) = self.steps.get(base).and_then(|s| s.snapshot.as_deref()) else {
             return Err(lost);
+        };
+        let mut filter = match self.scratch.take() {
+            Some(mut buffer) => {
+                buffer.as_mut().clone_from(checkpoint);
+                buffer
+            }
+            None => Box::new(checkpoint.clone()),
         };
         let mut snapshots = Vec::new();
         let mut outcomes = Vec::new();
@@ -485,10 +501,23 @@ impl<F: Propagate + Clone> Scheduler<F> {
             };
             let range = self.interval(prev.time, step.time);
             let start = range.start;
-            let got = run_interval(&mut filter, prev.time, step.time, input, &self.queue, range)?;
+            let got = match run_interval(
+                &mut *filter,
+                prev.time,
+                step.time,
+                input,
+                &self.queue,
+                range,
+            ) {
+                Ok(got) => got,
+                Err(e) => {
+                    self.scratch = Some(filter);
+                    return Err(e);
+                }
+            };
             outcomes.extend(got.into_iter().enumerate().map(|(k, o)| (start + k, o)));
             if step.snapshot.is_some() {
-                snapshots.push((i, filter.clone()));
+                snapshots.push((i, (*filter).clone()));
             }
         }
         // Commit.
@@ -513,8 +542,25 @@ impl<F: Propagate + Clone> Scheduler<F> {
                 }
             }
         }
-        self.filter = filter;
+        self.commit_filter(filter);
         Ok(reports)
+    }
+
+    /// A copy of the filter in the scratch buffer (allocated only once).
+    fn copy_of_filter(&mut self) -> Box<F> {
+        match self.scratch.take() {
+            Some(mut buffer) => {
+                buffer.as_mut().clone_from(&self.filter);
+                buffer
+            }
+            None => self.filter.clone(),
+        }
+    }
+
+    /// Makes `next` the filter; the previous one becomes the scratch buffer.
+    fn commit_filter(&mut self, next: Box<F>) {
+        let previous = core::mem::replace(&mut self.filter, next);
+        self.scratch = Some(previous);
     }
 
     /// Indices of queued measurements with time in `(t0, t1]`.
