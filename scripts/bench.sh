@@ -12,7 +12,7 @@
 #   scripts/bench.sh --callgrind --update-baseline   # rewrite that file
 #   scripts/bench.sh --expansion     # compile time of the model declarations
 #
-# Benches: propagation, update, filter_step, scenario (crate models) and
+# Benches: propagation, update, filter_step, replay_step, scenario (crate models) and
 # strapdown (crate nav-runtime). Needs python3 to read criterion's JSON.
 # See the README section "Performance" for what each ratio means and the targets.
 set -euo pipefail
@@ -35,7 +35,7 @@ for arg in "$@"; do
             sed -n '2,18p' "$0"
             exit 0
             ;;
-        propagation | update | filter_step | scenario | strapdown) benches+=("$arg") ;;
+        propagation | update | filter_step | replay_step | scenario | strapdown) benches+=("$arg") ;;
         *)
             echo "unknown argument: $arg (see --help)" >&2
             exit 2
@@ -43,7 +43,7 @@ for arg in "$@"; do
     esac
 done
 if [ ${#benches[@]} -eq 0 ]; then
-    benches=(propagation update filter_step strapdown scenario)
+    benches=(propagation update filter_step replay_step strapdown scenario)
 fi
 
 target_dir=$(cargo metadata --no-deps --format-version 1 |
@@ -93,6 +93,19 @@ for line in sys.stdin:
         printf "%-20s %12s %12s %14.3f\n" "$s" "$g" "$d" "$(echo "$g / $d" | bc -l)"
         echo "update.$s = $g" >>"$measured"
     done
+    # The SDINS-25 log replay per IMU sample (scheduler, strapdown,
+    # error-state filter, aiding updates), against one generated propagation.
+    replay_bin=$(executable replay_step)
+    replay_out=$(REPLAY_ONLY=1 valgrind --tool=callgrind --callgrind-out-file=/dev/null \
+        --toggle-collect='*run_vehicle*' "$replay_bin" 2>&1)
+    replay_instr=$(echo "$replay_out" | awk '/Collected/ { print $4 }')
+    replay_samples=$(echo "$replay_out" | awk '/^samples/ { print $2 }')
+    replay=$((replay_instr / replay_samples))
+    propagate=$(awk -F' = ' '/^propagate.sdins25/ { print $2 }' "$measured")
+    printf "\n%-20s %12s %12s %14s\n" "replay (SDINS-25)" per-sample propagation ratio
+    printf "%-20s %12s %12s %14.2f\n" "$replay_samples samples" "$replay" "$propagate" \
+        "$(echo "$replay / $propagate" | bc -l)"
+    echo "replay.sdins25 = $replay" >>"$measured"
     # Regression check against the checked-in instruction counts: more than
     # 10 % above the baseline fails (exit 1). `--update-baseline` rewrites it.
     baseline=models/perf/instructions.toml
@@ -273,6 +286,9 @@ if f"{g}/full_step_x50" in med:
 for fn in ("update_rates", "update_increments", "mechanization_rates"):
     if f"strapdown/{fn}" in med:
         print(f"  strapdown::{fn:<40} {t(med[f'strapdown/{fn}'])}")
+
+print("SDINS-25 log replay per IMU sample (60 s of lawnmower-dvl)")
+ratio("replay per sample / one generated propagation", "replay/sdins25/replay_per_sample", "replay/sdins25/propagate_covariance", 1.5)
 
 print("Scenario runs (lawnmower-dvl, 500 s of data)")
 g = "scenario/lawnmower-dvl"

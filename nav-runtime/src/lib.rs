@@ -1,45 +1,47 @@
 //! `nav-runtime`: the engine that runs models declared with [`model!`].
 //!
 //! Data flows one way: sensor events -> [`scheduler`] -> [`ekf`] -> estimates.
-//! The model traits ([`model`](mod@model)) are the only contract between generated code and
+//! The model traits ([`model`]) are the only contract between generated code and
 //! this crate; the EKF core and the generated code build without `std` (libm).
+//!
+//! The crate has five domains, each in its folder behind a cargo feature (all
+//! on by default) and re-exported flat at the root:
+//!
+//! | domain | folder | feature | modules |
+//! |---|---|---|---|
+//! | filter core | [`filter`] | always (`no_std`; the scheduler needs `std`) | `ekf`, `gate`, `lockout`, `error_state`, `propagation`, `stuck`, `math`, `setup_error`, `scheduler`, `smoother` |
+//! | inertial navigation | `inertial` | `inertial` (`no_std`) | `earth`, `attitude`, `strapdown` |
+//! | simulation | `simulation` | `simulation` | `trajectory`, `imu`, `sensors`, `vehicle`, `camera`, `stats` |
+//! | guidance | `guidance` | `guidance` | `guidance` (heading QP, RRT, line of sight) |
+//! | log I/O | `log` | `log` | `log` |
+//!
+//! A filter-only build (`default-features = false`, optionally with `std`)
+//! compiles neither clarabel nor csv nor toml.
 #![cfg_attr(not(feature = "std"), no_std)]
-#![warn(missing_docs)]
 
 pub use nalgebra;
 pub use nav_macros::model;
 
-pub mod attitude;
-#[cfg(feature = "std")]
-pub mod camera;
-mod dispatch;
-pub mod earth;
-pub mod ekf;
-pub mod error_state;
-pub mod gate;
-#[cfg(feature = "std")]
+pub mod filter;
+#[cfg(feature = "guidance")]
 pub mod guidance;
-#[cfg(feature = "std")]
-pub mod imu;
-pub mod lockout;
-#[cfg(feature = "std")]
+#[cfg(feature = "inertial")]
+pub mod inertial;
+#[cfg(feature = "log")]
 pub mod log;
-pub mod math;
 pub mod model;
-pub mod propagation;
-#[cfg(feature = "std")]
-pub mod scheduler;
-#[cfg(feature = "std")]
-pub mod sensors;
-#[cfg(feature = "std")]
-pub mod smoother;
-#[cfg(feature = "std")]
-pub mod stats;
-pub mod strapdown;
-pub mod stuck;
+#[cfg(feature = "simulation")]
+pub mod simulation;
 #[cfg(all(test, feature = "std"))]
 mod testmodels;
+
+use filter::dispatch;
 #[cfg(feature = "std")]
-pub mod trajectory;
-#[cfg(feature = "std")]
-pub mod vehicle;
+pub use filter::{scheduler, smoother};
+pub use filter::{ekf, error_state, gate, lockout, math, propagation, setup_error, stuck};
+#[cfg(feature = "inertial")]
+pub use inertial::{attitude, earth, strapdown};
+#[cfg(all(feature = "simulation", feature = "guidance"))]
+pub use simulation::camera;
+#[cfg(feature = "simulation")]
+pub use simulation::{imu, sensors, stats, trajectory, vehicle};

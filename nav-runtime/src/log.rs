@@ -34,6 +34,7 @@
 //! every file is complete, so an error never leaves a partial log behind.
 
 mod error;
+#[cfg(feature = "fuzzing")]
 pub mod fuzz;
 mod meta;
 mod rows;

@@ -166,3 +166,13 @@ pub trait Sensor<const N: usize, const M: usize>: 'static {
         aux: &Self::Aux,
     ) -> (SVector<f64, M>, SMatrix<f64, N, M>, SMatrix<f64, M, M>);
 }
+
+/// Index of the first non-finite scalar of a record.
+pub(crate) fn first_non_finite<R: Record>(r: &R) -> Option<usize> {
+    (0..R::LEN).find(|&i| !r.get(i).is_finite())
+}
+
+/// Declared name of scalar `index` of a record.
+pub(crate) fn name_of<R: Record>(index: usize) -> &'static str {
+    R::NAMES.get(index).copied().unwrap_or("?")
+}

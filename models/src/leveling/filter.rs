@@ -367,7 +367,7 @@ fn keep_upright<M: Model<N>, const N: usize>(ekf: &mut Ekf<M, N>) -> Result<(), 
         }
     }
     ekf.set_state(x)?;
-    ekf.set_covariance(p)
+    Ok(ekf.set_covariance(p)?)
 }
 
 fn count<const M: usize>(

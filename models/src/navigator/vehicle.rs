@@ -114,9 +114,9 @@ impl<Mo: Model<N>, const N: usize, const M: usize> Slot<Mo, N, M> for Absent {
         _: &SVector<f64, M>,
         _: &[f64],
     ) -> Result<UpdateReport<M>, FilterError> {
-        Err(FilterError::InvalidSetup {
+        Err(FilterError::Setup(nav_runtime::ekf::SetupError::Invalid {
             reason: "the vehicle has no such sensor",
-        })
+        }))
     }
 }
 

@@ -10,7 +10,7 @@
 //! stop (a 100 m depth step, a 180 deg compass flip, a DVL reading 30 m/s, a
 //! USBL fix 10 km off).
 
-use nav_runtime::ekf::{Ekf, FilterError};
+use nav_runtime::ekf::{Ekf, SetupError};
 use nav_runtime::lockout::LockoutRelease;
 
 use super::vehicle::{InsVehicle, Slot};
@@ -50,11 +50,11 @@ impl Default for LockoutOptions {
 /// vehicle `V` has (`None`: no release, a refused sensor stays refused).
 ///
 /// # Errors
-/// [`FilterError::InvalidSetup`] for a bound that is not positive.
+/// [`SetupError::Invalid`] for a bound that is not positive.
 pub fn configure<V: InsVehicle<N>, const N: usize>(
     ekf: Ekf<V, N>,
     options: Option<LockoutOptions>,
-) -> Result<Ekf<V, N>, FilterError> {
+) -> Result<Ekf<V, N>, SetupError> {
     let Some(o) = options else {
         return Ok(ekf.with_lockout_release(None));
     };

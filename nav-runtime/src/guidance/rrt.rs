@@ -54,6 +54,7 @@ pub struct Plan {
 
 /// Why planning failed.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum PlanError {
     /// A waypoint is not in free space.
     #[error("waypoint {index} at {point:?} is not in free space")]

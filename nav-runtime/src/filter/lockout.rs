@@ -40,7 +40,8 @@ use core::any::TypeId;
 
 use nalgebra::{Cholesky, SMatrix, SVector};
 
-use crate::ekf::{Ekf, FilterError, UpdateReport};
+use crate::ekf::{Ekf, UpdateReport};
+use crate::setup_error::SetupError;
 use crate::gate::chi_square_quantile;
 use crate::model::{Model, Sensor};
 
@@ -85,15 +86,15 @@ impl LockoutRelease {
     /// [`MAX_LOCKOUT_REFUSALS`]) with agreement probability `probability`.
     ///
     /// # Errors
-    /// [`FilterError::InvalidSetup`] for a run length out of range,
-    /// [`FilterError::InvalidProbability`] for a probability outside (0, 1).
-    pub fn new(refusals: u32, probability: f64) -> Result<Self, FilterError> {
+    /// [`SetupError::Invalid`] for a run length out of range,
+    /// [`SetupError::InvalidProbability`] for a probability outside (0, 1).
+    pub fn new(refusals: u32, probability: f64) -> Result<Self, SetupError> {
         if !(2..=MAX_LOCKOUT_REFUSALS).contains(&refusals) {
-            return Err(FilterError::InvalidSetup {
+            return Err(SetupError::Invalid {
                 reason: "lock-out release needs 2 to 64 consecutive refusals",
             });
         }
-        let invalid = FilterError::InvalidProbability { probability };
+        let invalid = SetupError::InvalidProbability { probability };
         let mut thresholds = [0.0; MAX_LOCKOUT_DIM];
         for (m, t) in thresholds.iter_mut().enumerate() {
             let dof = (refusals as usize - 1) * (m + 1);
@@ -227,9 +228,9 @@ impl Lockout {
             .map_or(f64::INFINITY, |(_, b)| *b)
     }
 
-    fn set_bound(&mut self, name: &'static str, bound: f64) -> Result<(), FilterError> {
+    fn set_bound(&mut self, name: &'static str, bound: f64) -> Result<(), SetupError> {
         if bound.is_nan() || bound <= 0.0 {
-            return Err(FilterError::InvalidSetup {
+            return Err(SetupError::Invalid {
                 reason: "lock-out plausibility bound must be positive",
             });
         }
@@ -242,7 +243,7 @@ impl Lockout {
                 *slot = Some((name, bound));
                 Ok(())
             }
-            None => Err(FilterError::InvalidSetup {
+            None => Err(SetupError::Invalid {
                 reason: "too many lock-out plausibility bounds (capacity 6)",
             }),
         }
@@ -423,13 +424,13 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
     /// release. Without a bound every size is plausible.
     ///
     /// # Errors
-    /// [`FilterError::InvalidSetup`] if `bound` is not positive (NaN
+    /// [`SetupError::Invalid`] if `bound` is not positive (NaN
     /// included) or [`MAX_LOCKOUT_BOUNDS`] other sensors have a bound.
     pub fn set_lockout_bound(
         &mut self,
         sensor: &'static str,
         bound: f64,
-    ) -> Result<(), FilterError> {
+    ) -> Result<(), SetupError> {
         self.lockout.set_bound(sensor, bound)
     }
 

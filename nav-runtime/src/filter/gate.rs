@@ -15,7 +15,7 @@
 //! 3rd ed., sec. 6.2, eqs. 6.2.5 and 6.2.7) and the quantile is found by bisection,
 //! so there is no dependency on a statistics crate.
 
-use crate::ekf::FilterError;
+use crate::setup_error::SetupError;
 
 /// Degrees of freedom for which a [`Gate`] caches its threshold; larger
 /// measurement vectors are evaluated on demand (no allocation either way).
@@ -42,15 +42,15 @@ impl Gate {
     /// A gate accepting a consistent measurement with probability `probability`.
     ///
     /// # Errors
-    /// [`FilterError::InvalidProbability`] unless `0 < probability < 1`.
-    pub fn new(probability: f64) -> Result<Self, FilterError> {
+    /// [`SetupError::InvalidProbability`] unless `0 < probability < 1`.
+    pub fn new(probability: f64) -> Result<Self, SetupError> {
         if !(probability > 0.0 && probability < 1.0) {
-            return Err(FilterError::InvalidProbability { probability });
+            return Err(SetupError::InvalidProbability { probability });
         }
         let mut thresholds = [0.0; CACHED_DOF];
         for (i, t) in thresholds.iter_mut().enumerate() {
             *t = chi_square_quantile(probability, i + 1)
-                .ok_or(FilterError::InvalidProbability { probability })?;
+                .ok_or(SetupError::InvalidProbability { probability })?;
         }
         Ok(Self {
             probability,

@@ -26,8 +26,8 @@
 
 use nalgebra::{SMatrix, SVector};
 
-use crate::ekf::{first_non_finite, name_of, Ekf, Estimator, FilterError, Propagate, UpdateReport};
-use crate::model::{Model, Record, Sensor};
+use crate::ekf::{Ekf, Estimator, FilterError, Propagate, UpdateReport};
+use crate::model::{first_non_finite, name_of, Model, Record, Sensor};
 #[cfg(feature = "std")]
 use crate::smoother::Recorder;
 
@@ -226,16 +226,16 @@ impl<Mo: Model<N>, Nom: NominalState<N>, const N: usize> ErrorStateFilter<Mo, No
     /// scheduler's re-propagation replaces what it supersedes.
     ///
     /// # Errors
-    /// [`FilterError::InvalidSetup`] for a continuous model with a
+    /// [`crate::setup_error::SetupError::Invalid`] for a continuous model with a
     /// discretization other than first order (the recorder's transition
     /// matrices are `I + F dt`, which would not match the filter's).
     pub fn start_recording(
         &mut self,
         file: crate::smoother::EpochFile<N, 0>,
         time: f64,
-    ) -> Result<(), FilterError> {
+    ) -> Result<(), crate::setup_error::SetupError> {
         if !Mo::DISCRETE && self.ekf.discretization() != crate::ekf::Discretization::FirstOrder {
-            return Err(FilterError::InvalidSetup {
+            return Err(crate::setup_error::SetupError::Invalid {
                 reason: "smoothing needs the first-order discretization",
             });
         }
@@ -304,6 +304,16 @@ impl<Mo: Model<N>, Nom: Clone, const N: usize> Clone for ErrorStateFilter<Mo, No
             #[cfg(feature = "std")]
             recording: self.recording.clone(),
         }
+    }
+
+    /// Part by part into `self` (see `Ekf`'s `clone_from`): no temporary copy.
+    fn clone_from(&mut self, source: &Self) {
+        self.ekf.clone_from(&source.ekf);
+        self.nominal.clone_from(&source.nominal);
+        self.resets = source.resets;
+        self.fed_back = source.fed_back;
+        #[cfg(feature = "std")]
+        self.recording.clone_from(&source.recording);
     }
 }
 

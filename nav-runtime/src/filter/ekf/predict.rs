@@ -1,0 +1,176 @@
+//! Prediction (eq. P1) and the [`Propagate`] interface the scheduler drives.
+
+use nalgebra::SVector;
+
+use super::covariance::{covariance_is_clean, mirror_upper, off_diagonal_finite, repair_diagonal};
+use super::discretization::{second_order, van_loan, Discretization};
+use super::validation::all_finite;
+use super::{Ekf, FilterError};
+use crate::model::{first_non_finite, name_of, Model};
+
+/// A filter that can be propagated with an input sample: the interface the
+/// multi-rate scheduler drives. Implemented by [`Ekf`] (input = the model input)
+/// and by [`crate::error_state::ErrorStateFilter`] (input = an IMU sample that
+/// also advances the nominal solution).
+pub trait Propagate {
+    /// One input sample, held constant over a propagation interval.
+    type Input: Copy + core::fmt::Debug;
+    /// Refuses a sample that could never be propagated (non-finite scalars).
+    ///
+    /// # Errors
+    /// [`FilterError::NonFiniteInput`].
+    fn check_input(input: &Self::Input) -> Result<(), FilterError>;
+    /// Propagates over `dt` seconds with `input` held constant.
+    ///
+    /// # Errors
+    /// As [`Ekf::predict`]; the filter is unchanged on error.
+    fn propagate(&mut self, dt: f64, input: &Self::Input) -> Result<(), FilterError>;
+}
+
+impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
+    /// Propagates state and covariance over `dt` seconds with `input` held
+    /// constant (eq. P1), using [`Model::transition`] and, by default, the
+    /// generated sparse [`Model::propagate_covariance`]; see [`Discretization`].
+    /// The Jacobian is taken at the state before the step.
+    ///
+    /// # Errors
+    /// [`FilterError::InvalidTimeStep`] if `dt` is not finite and positive,
+    /// [`FilterError::NonFiniteInput`] for a NaN/infinite input scalar,
+    /// [`FilterError::NonFiniteResult`] if the model produced NaN/infinity.
+    /// The filter is unchanged in every case.
+    pub fn predict(&mut self, dt: f64, input: &Mo::Input) -> Result<(), FilterError> {
+        match self.predict_in_place(dt, input) {
+            Ok(repairs) => {
+                Mo::normalize_state(&mut self.x);
+                self.input = *input;
+                self.counters.predictions += 1;
+                self.counters.covariance_repairs += u64::from(repairs);
+                Ok(())
+            }
+            Err(e) => {
+                self.counters.predictions_rejected += 1;
+                Err(e)
+            }
+        }
+    }
+
+    /// Propagates `x` and `P` in place (eq. P1); on error both are unchanged.
+    /// Returns the number of repaired variances.
+    ///
+    /// The state is propagated into a temporary and checked first; `P` is
+    /// propagated in place with one backup copy, which is restored if the
+    /// result has a non-finite covariance.
+    pub(super) fn predict_in_place(&mut self, dt: f64, u: &Mo::Input) -> Result<u32, FilterError> {
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(FilterError::InvalidTimeStep { dt });
+        }
+        if let Some(index) = first_non_finite(u) {
+            return Err(FilterError::NonFiniteInput {
+                index,
+                name: name_of::<Mo::Input>(index),
+            });
+        }
+        let not_finite = FilterError::NonFiniteResult {
+            stage: "prediction",
+        };
+        let (par, q) = (&self.params, &self.noise);
+        let method = if Mo::DISCRETE {
+            Discretization::FirstOrder
+        } else {
+            self.discretization
+        };
+        let prev = self.p;
+        let x_new = match method {
+            Discretization::FirstOrder => {
+                let x_new = Mo::transition(&self.x, u, par, dt);
+                if !all_finite(x_new.as_slice()) {
+                    return Err(not_finite);
+                }
+                // The generated propagation writes an exactly symmetric `P`
+                // (it computes the upper triangle and mirrors it), so there
+                // is nothing to mirror here.
+                Mo::propagate_covariance(&mut self.p, &self.x, u, par, q, dt);
+                x_new
+            }
+            Discretization::SecondOrder => {
+                let f = Mo::jacobian(&self.x, u, par, dt);
+                let qc = Mo::process_noise(&self.x, u, par, q, dt) / dt;
+                let (phi, qd) = second_order(&f, &qc, dt);
+                let x_new = heun::<Mo, N>(&self.x, u, par, dt);
+                if !all_finite(x_new.as_slice()) {
+                    return Err(not_finite);
+                }
+                self.p = phi * prev * phi.transpose() + qd;
+                mirror_upper(&mut self.p);
+                x_new
+            }
+            Discretization::VanLoan => {
+                let f = Mo::jacobian(&self.x, u, par, dt);
+                let qc = Mo::process_noise(&self.x, u, par, q, dt) / dt;
+                let (phi, qd) = van_loan(&f, &qc, dt);
+                let x_new = runge_kutta4::<Mo, N>(&self.x, u, par, dt);
+                if !all_finite(x_new.as_slice()) {
+                    return Err(not_finite);
+                }
+                self.p = phi * prev * phi.transpose() + qd;
+                mirror_upper(&mut self.p);
+                x_new
+            }
+        };
+        let mut repairs = 0;
+        if !covariance_is_clean(&self.p) {
+            if !off_diagonal_finite(&self.p) {
+                self.p = prev;
+                return Err(not_finite);
+            }
+            repairs = repair_diagonal(&mut self.p, &prev.diagonal(), self.variance_floor);
+        }
+        self.x = x_new;
+        Ok(repairs)
+    }
+}
+
+impl<Mo: Model<N>, const N: usize> Propagate for Ekf<Mo, N> {
+    type Input = Mo::Input;
+
+    fn check_input(input: &Mo::Input) -> Result<(), FilterError> {
+        match first_non_finite(input) {
+            Some(index) => Err(FilterError::NonFiniteInput {
+                index,
+                name: name_of::<Mo::Input>(index),
+            }),
+            None => Ok(()),
+        }
+    }
+
+    fn propagate(&mut self, dt: f64, input: &Mo::Input) -> Result<(), FilterError> {
+        self.predict(dt, input)
+    }
+}
+
+/// Heun's method from model transitions: with `x1 = T(x)` (Euler),
+/// `x + dt (f(x) + f(x1)) / 2 = (x + T(x1)) / 2`.
+pub(super) fn heun<Mo: Model<N>, const N: usize>(
+    x: &SVector<f64, N>,
+    u: &Mo::Input,
+    p: &Mo::Params,
+    dt: f64,
+) -> SVector<f64, N> {
+    let x1 = Mo::transition(x, u, p, dt);
+    (x + Mo::transition(&x1, u, p, dt)) * 0.5
+}
+
+/// Classical Runge-Kutta 4 from model transitions: `f(y) dt = T(y) - y`.
+pub(super) fn runge_kutta4<Mo: Model<N>, const N: usize>(
+    x: &SVector<f64, N>,
+    u: &Mo::Input,
+    p: &Mo::Params,
+    dt: f64,
+) -> SVector<f64, N> {
+    let step = |y: &SVector<f64, N>| Mo::transition(y, u, p, dt) - y;
+    let d1 = step(x);
+    let d2 = step(&(x + d1 * 0.5));
+    let d3 = step(&(x + d2 * 0.5));
+    let d4 = step(&(x + d3));
+    x + (d1 + (d2 + d3) * 2.0 + d4) / 6.0
+}

@@ -1,0 +1,47 @@
+//! What the filter reports: one update's outcome and the running totals.
+
+use nalgebra::{SMatrix, SVector};
+
+/// Totals kept by the filter. Per-sensor statistics are the caller's, from the
+/// [`UpdateReport`]s.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct FilterCounters {
+    /// Predictions performed.
+    pub predictions: u64,
+    /// Predictions refused with an error.
+    pub predictions_rejected: u64,
+    /// Updates applied (passed the gate).
+    pub updates_accepted: u64,
+    /// Updates refused by the innovation gate (state unchanged, no error).
+    pub updates_gated: u64,
+    /// Updates refused with an error.
+    pub updates_rejected: u64,
+    /// Covariance diagonal entries repaired (non-positive or non-finite after a
+    /// prediction or an update); each repaired entry counts once.
+    pub covariance_repairs: u64,
+    /// Gate lock-out releases: runs of refused measurements of one sensor
+    /// that agreed within their noise, after which the covariance of the
+    /// states they observe was inflated (see [`crate::lockout`]; no
+    /// measurement is applied by a release).
+    pub updates_released: u64,
+}
+
+/// The outcome of one measurement update.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct UpdateReport<const M: usize> {
+    /// The sensor's declared name.
+    pub sensor: &'static str,
+    /// `true` if the update passed the gate and was applied.
+    pub accepted: bool,
+    /// Normalized innovation squared `nu^T S^-1 nu` (eq. U3), chi-square with M
+    /// degrees of freedom for a consistent filter.
+    pub nis: f64,
+    /// The gate threshold that was applied, `None` if gating is disabled.
+    pub threshold: Option<f64>,
+    /// `nu = z - h(x)` with angle components wrapped to (-pi, pi] (eq. U1).
+    pub innovation: SVector<f64, M>,
+    /// `S = H P H^T + R` (eq. U2).
+    pub innovation_covariance: SMatrix<f64, M, M>,
+    /// Covariance diagonal entries repaired by this update.
+    pub repairs: u32,
+}

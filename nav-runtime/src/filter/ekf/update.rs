@@ -1,0 +1,351 @@
+//! Measurement updates (eqs. U1-U6), batch and sequential, and the
+//! [`Estimator`] interface.
+
+
+use nalgebra::{Cholesky, SMatrix, SVector};
+
+use super::covariance::{
+    covariance_is_clean, mirror_lower, mirror_upper, off_diagonal_finite, repair_diagonal,
+};
+use super::gating::passes;
+use super::joseph::{joseph_in_place, joseph_lower};
+use super::validation::{all_finite, check_measurement, checked_noise};
+use super::{Ekf, FilterError, UpdateReport};
+use crate::math::wrap_angle;
+use crate::model::{Model, Sensor};
+
+/// A filter that can fuse measurements of the sensors of its model.
+pub trait Estimator<const N: usize> {
+    /// The process model.
+    type Model: Model<N>;
+    /// Batch update, as [`Ekf::update`].
+    ///
+    /// # Errors
+    /// As [`Ekf::update`]; the filter is unchanged on error.
+    fn update<S, const M: usize>(
+        &mut self,
+        z: &SVector<f64, M>,
+        r: &SMatrix<f64, M, M>,
+        aux: &S::Aux,
+    ) -> Result<UpdateReport<M>, FilterError>
+    where
+        S: Sensor<N, M, Model = Self::Model>;
+    /// Sequential scalar update for diagonal `R`, as [`Ekf::update_sequential`].
+    ///
+    /// # Errors
+    /// As [`Ekf::update_sequential`]; the filter is unchanged on error.
+    fn update_sequential<S, const M: usize>(
+        &mut self,
+        z: &SVector<f64, M>,
+        r_diag: &SVector<f64, M>,
+        aux: &S::Aux,
+    ) -> Result<UpdateReport<M>, FilterError>
+    where
+        S: Sensor<N, M, Model = Self::Model>;
+}
+
+impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
+    /// Fuses measurement `z` of sensor `S` with noise covariance `r`.
+    ///
+    /// Computes the innovation (eq. U1, angle components wrapped per
+    /// `S::ANGLES`), `(h, U = P H^T, H P H^T)` from the generated sparse
+    /// [`Sensor::innovation_terms`], `S = H P H^T + R` and its Cholesky factor
+    /// (never an explicit inverse), the NIS (eq. U3) and gates it against the
+    /// chi-square threshold of the sensor's gate. If accepted, `K = U S^-1` by
+    /// two triangular solves, `x += K nu` and the Joseph update (eq. U6) on the
+    /// upper triangle, mirrored; then any covariance diagonal that is not
+    /// positive and finite is repaired (see [`FilterCounters::covariance_repairs`]):
+    /// reset to its value before the update (a valid upper bound, since an
+    /// update can only reduce variance) or to the variance floor, with its row
+    /// and column decorrelated so `P` stays positive semidefinite.
+    ///
+    /// A gated measurement is not an error: the report says `accepted: false`
+    /// and the state is unchanged.
+    ///
+    /// # Errors
+    /// Non-finite `z` or aux, invalid `r` (non-finite, asymmetric beyond 1e-9
+    /// relative, negative variance), `S` not positive definite, or non-finite
+    /// model output. The filter state is unchanged in every case.
+    pub fn update<S, const M: usize>(
+        &mut self,
+        z: &SVector<f64, M>,
+        r: &SMatrix<f64, M, M>,
+        aux: &S::Aux,
+    ) -> Result<UpdateReport<M>, FilterError>
+    where
+        S: Sensor<N, M, Model = Mo>,
+    {
+        match self.batch_update::<S, M>(z, r, aux) {
+            Ok(report) => {
+                self.count_gate_outcome(&report);
+                if report.accepted {
+                    Mo::normalize_state(&mut self.x);
+                    self.counters.covariance_repairs += u64::from(report.repairs);
+                }
+                self.after_gate::<S, M>(&report, aux);
+                Ok(report)
+            }
+            Err(e) => {
+                self.counters.updates_rejected += 1;
+                Err(e)
+            }
+        }
+    }
+
+    /// Fuses measurement `z` of sensor `S` as `M` scalar updates, one per row of
+    /// `H` (from the dense [`Sensor::jacobian`] at the prior state), with no
+    /// matrix inverse or factorization: each step divides by the scalar
+    /// `s_i = h_i P h_i^T + r_i` (the scalar fusion of PX4's EKF2).
+    ///
+    /// **Valid only for diagonal `R`**, which is why the noise is given as its
+    /// diagonal `r_diag`: with correlated noise the scalar updates would ignore
+    /// the correlation. Each scalar innovation is corrected for the state change
+    /// of the earlier rows, `e_i = nu_i - h_i (x_i - x_0)`, with `h` and `H`
+    /// evaluated once at the prior as in the batch update, so the result equals
+    /// [`Ekf::update`] to rounding (tested to 1e-12, linear and nonlinear `h`), and
+    /// `sum_i e_i^2 / s_i` equals the batch NIS (the scalar innovations are the
+    /// decorrelated batch innovation), which is what the gate tests. The
+    /// gate decision is made on the whole vector before anything is stored.
+    ///
+    /// # Errors
+    /// As [`Ekf::update`]; a non-positive `s_i` gives
+    /// [`FilterError::InnovationCovarianceNotPositiveDefinite`].
+    pub fn update_sequential<S, const M: usize>(
+        &mut self,
+        z: &SVector<f64, M>,
+        r_diag: &SVector<f64, M>,
+        aux: &S::Aux,
+    ) -> Result<UpdateReport<M>, FilterError>
+    where
+        S: Sensor<N, M, Model = Mo>,
+    {
+        let result = self.sequential_update::<S, M>(z, r_diag, aux);
+        let report = self.commit(result)?;
+        self.after_gate::<S, M>(&report, aux);
+        Ok(report)
+    }
+
+    /// Stores an update's result and keeps the totals.
+    pub(super) fn commit<const M: usize>(
+        &mut self,
+        result: Result<Proposal<N, M>, FilterError>,
+    ) -> Result<UpdateReport<M>, FilterError> {
+        match result {
+            Ok(Proposal { report, posterior }) => {
+                if let Some((x, p)) = posterior {
+                    self.x = x;
+                    Mo::normalize_state(&mut self.x);
+                    self.p = p;
+                    self.counters.covariance_repairs += u64::from(report.repairs);
+                }
+                self.count_gate_outcome(&report);
+                Ok(report)
+            }
+            Err(e) => {
+                self.counters.updates_rejected += 1;
+                Err(e)
+            }
+        }
+    }
+
+    /// Eqs. U1-U6 with the generated sparse innovation terms.
+    ///
+    /// Stores the posterior in place if the update is accepted and succeeds;
+    /// on error `x` and `P` are unchanged.
+    pub(super) fn batch_update<S, const M: usize>(
+        &mut self,
+        z: &SVector<f64, M>,
+        r: &SMatrix<f64, M, M>,
+        aux: &S::Aux,
+    ) -> Result<UpdateReport<M>, FilterError>
+    where
+        S: Sensor<N, M, Model = Mo>,
+    {
+        check_measurement::<S, N, M>(z, aux)?;
+        let r = checked_noise(r)?;
+        let (h, u, hph) = S::innovation_terms(&self.p, &self.x, &self.input, &self.params, aux);
+        if !(all_finite(h.as_slice()) && all_finite(u.as_slice()) && all_finite(hph.as_slice())) {
+            return Err(FilterError::NonFiniteResult {
+                stage: "measurement model",
+            });
+        }
+        let nu = innovation::<S, N, M>(z, &h);
+        let mut s = hph + r;
+        mirror_upper(&mut s);
+        let not_pd = FilterError::InnovationCovarianceNotPositiveDefinite { sensor: S::NAME };
+        // S^-1 once (M x M, from the Cholesky factor): the NIS and the gain
+        // are then products, cheaper than M + N triangular solve pairs.
+        let s_inverse = Cholesky::new(s).ok_or(not_pd)?.inverse();
+        let nis = nu.dot(&(s_inverse * nu));
+        if !nis.is_finite() {
+            return Err(not_pd);
+        }
+        let threshold = self.sensor_gate::<S, M>().map(|g| g.threshold(M));
+        let mut report = UpdateReport {
+            sensor: S::NAME,
+            accepted: passes(nis, threshold),
+            nis,
+            threshold,
+            innovation: nu,
+            innovation_covariance: s,
+            repairs: 0,
+        };
+        if !report.accepted {
+            return Ok(report);
+        }
+        // K = U S^-1, eq. U4.
+        let k = u * s_inverse;
+        let x_new = self.x + k * nu;
+        if !all_finite(x_new.as_slice()) {
+            return Err(FilterError::NonFiniteResult { stage: "update" });
+        }
+        report.repairs = joseph_in_place(&mut self.p, &k, &u, &s, self.variance_floor)?;
+        self.x = x_new;
+        Ok(report)
+    }
+
+    /// Scalar sequential fusion for diagonal `R` (see [`Ekf::update_sequential`]).
+    pub(super) fn sequential_update<S, const M: usize>(
+        &self,
+        z: &SVector<f64, M>,
+        r_diag: &SVector<f64, M>,
+        aux: &S::Aux,
+    ) -> Result<Proposal<N, M>, FilterError>
+    where
+        S: Sensor<N, M, Model = Mo>,
+    {
+        check_measurement::<S, N, M>(z, aux)?;
+        if !all_finite(r_diag.as_slice()) {
+            return Err(FilterError::InvalidMeasurementNoise {
+                reason: "not finite",
+            });
+        }
+        if r_diag.iter().any(|v| *v < 0.0) {
+            return Err(FilterError::InvalidMeasurementNoise {
+                reason: "negative variance",
+            });
+        }
+        let h = S::predict(&self.x, &self.input, &self.params, aux);
+        let hm = S::jacobian(&self.x, &self.input, &self.params, aux);
+        if !(all_finite(h.as_slice()) && all_finite(hm.as_slice())) {
+            return Err(FilterError::NonFiniteResult {
+                stage: "measurement model",
+            });
+        }
+        let nu = innovation::<S, N, M>(z, &h);
+        let not_pd = FilterError::InnovationCovarianceNotPositiveDefinite { sensor: S::NAME };
+
+        // The batch S = H P H^T + R, for the report only.
+        let mut s_full = hm * (self.p * hm.transpose());
+        for i in 0..M {
+            s_full[(i, i)] += r_diag[i];
+        }
+        mirror_upper(&mut s_full);
+
+        let mut dx = SVector::<f64, N>::zeros();
+        let mut p = self.p;
+        let mut nis = 0.0;
+        for i in 0..M {
+            let hi = hm.row(i).transpose();
+            let ui = p * hi;
+            let si = hi.dot(&ui) + r_diag[i];
+            if !(si.is_finite() && si > 0.0) {
+                return Err(not_pd);
+            }
+            let mut ei = nu[i] - hi.dot(&dx);
+            if S::ANGLES[i] {
+                ei = wrap_angle(ei);
+            }
+            nis += ei * ei / si;
+            let ki = ui / si;
+            dx += ki * ei;
+            // Scalar Joseph form: P - k u^T - u k^T + k s k^T (eq. U6, M = 1).
+            let _ = joseph_lower(&mut p, &ki, &ui, &SMatrix::<f64, 1, 1>::new(si));
+            mirror_lower(&mut p);
+        }
+        if !nis.is_finite() {
+            return Err(not_pd);
+        }
+        let threshold = self.sensor_gate::<S, M>().map(|g| g.threshold(M));
+        let mut report = UpdateReport {
+            sensor: S::NAME,
+            accepted: passes(nis, threshold),
+            nis,
+            threshold,
+            innovation: nu,
+            innovation_covariance: s_full,
+            repairs: 0,
+        };
+        if !report.accepted {
+            return Ok(Proposal {
+                report,
+                posterior: None,
+            });
+        }
+        let x_new = self.x + dx;
+        if !all_finite(x_new.as_slice()) {
+            return Err(FilterError::NonFiniteResult { stage: "update" });
+        }
+        if !covariance_is_clean(&p) {
+            if !off_diagonal_finite(&p) {
+                return Err(FilterError::NonFiniteResult { stage: "update" });
+            }
+            report.repairs = repair_diagonal(&mut p, &self.p.diagonal(), self.variance_floor);
+        }
+        Ok(Proposal {
+            report,
+            posterior: Some((x_new, p)),
+        })
+    }
+}
+
+impl<Mo: Model<N>, const N: usize> Estimator<N> for Ekf<Mo, N> {
+    type Model = Mo;
+
+    fn update<S, const M: usize>(
+        &mut self,
+        z: &SVector<f64, M>,
+        r: &SMatrix<f64, M, M>,
+        aux: &S::Aux,
+    ) -> Result<UpdateReport<M>, FilterError>
+    where
+        S: Sensor<N, M, Model = Mo>,
+    {
+        Ekf::update::<S, M>(self, z, r, aux)
+    }
+
+    fn update_sequential<S, const M: usize>(
+        &mut self,
+        z: &SVector<f64, M>,
+        r_diag: &SVector<f64, M>,
+        aux: &S::Aux,
+    ) -> Result<UpdateReport<M>, FilterError>
+    where
+        S: Sensor<N, M, Model = Mo>,
+    {
+        Ekf::update_sequential::<S, M>(self, z, r_diag, aux)
+    }
+}
+
+/// A computed update not yet stored: the report and, if accepted, `(x, P)`.
+pub(super) struct Proposal<const N: usize, const M: usize> {
+    report: UpdateReport<M>,
+    posterior: Option<(SVector<f64, N>, SMatrix<f64, N, N>)>,
+}
+
+/// `nu = z - h`, angle components wrapped to (-pi, pi] (eq. U1).
+pub(super) fn innovation<S, const N: usize, const M: usize>(
+    z: &SVector<f64, M>,
+    h: &SVector<f64, M>,
+) -> SVector<f64, M>
+where
+    S: Sensor<N, M>,
+{
+    let mut nu = z - h;
+    for (v, angle) in nu.iter_mut().zip(S::ANGLES.iter()) {
+        if *angle {
+            *v = wrap_angle(*v);
+        }
+    }
+    nu
+}
