@@ -561,8 +561,12 @@ fn write_out(
         }
         other => other,
     };
-    let staged = StagedDir::new(out).map_err(at_out)?;
-    let pending = Pending::new(staged.path());
+    // Created and registered under the interrupt registry's lock, so an
+    // interruption never leaves the staging directory behind.
+    let (staged, pending) = Pending::create(
+        || StagedDir::new(out).map_err(at_out),
+        |s| s.path().to_path_buf(),
+    )?;
     fill(staged.path()).map_err(|e| match e {
         RunError::Io { source, path } => RunError::Invalid(format!(
             "--out {}: writing {}: {source}",

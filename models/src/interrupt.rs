@@ -3,7 +3,7 @@
 //! interrupted run leaves neither a partial output nor a `.partial-*`
 //! directory behind.
 //!
-//! [`Pending::new`] registers a directory and installs the signal handler
+//! [`Pending::create`] makes and registers a directory and installs the signal handler
 //! once (a thread waiting for the signal: removing files is not allowed in a
 //! signal handler itself); dropping the [`Pending`] unregisters it. On a
 //! signal every registered directory is removed and the process exits with
@@ -22,15 +22,23 @@ pub struct Pending {
 }
 
 impl Pending {
-    /// Registers `path` (a staging directory being written).
-    pub fn new(path: &Path) -> Pending {
+    /// Creates a staging directory with `make` and registers it (its path
+    /// from `path`) with the handler installed first and the registry held
+    /// meanwhile: a signal at any moment finds the directory either not yet
+    /// created or registered, never created and unregistered.
+    ///
+    /// # Errors
+    /// The error of `make` (nothing is registered).
+    pub fn create<T, E>(
+        make: impl FnOnce() -> Result<T, E>,
+        path: impl FnOnce(&T) -> PathBuf,
+    ) -> Result<(T, Pending), E> {
         install();
-        if let Ok(mut list) = PENDING.lock() {
-            list.push(path.to_path_buf());
-        }
-        Pending {
-            path: path.to_path_buf(),
-        }
+        let mut list = PENDING.lock().unwrap_or_else(|e| e.into_inner());
+        let value = make()?;
+        let path = path(&value);
+        list.push(path.clone());
+        Ok((value, Pending { path }))
     }
 }
 
