@@ -9,7 +9,7 @@
 //! signal every registered directory is removed and the process exits with
 //! status 130 (SIGINT) or 143 (SIGTERM).
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::{Mutex, Once};
 
 static PENDING: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
