@@ -36,9 +36,9 @@ pub mod simulation;
 mod testmodels;
 
 use filter::dispatch;
+pub use filter::{ekf, error_state, gate, lockout, math, propagation, setup_error, stuck};
 #[cfg(feature = "std")]
 pub use filter::{scheduler, smoother};
-pub use filter::{ekf, error_state, gate, lockout, math, propagation, setup_error, stuck};
 #[cfg(feature = "inertial")]
 pub use inertial::{attitude, earth, strapdown};
 #[cfg(all(feature = "simulation", feature = "guidance"))]

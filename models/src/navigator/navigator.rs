@@ -19,8 +19,8 @@ use nav_runtime::nalgebra::{SMatrix, SVector};
 use nav_runtime::scheduler::{
     FnMeasurement, MeasurementOutcome, Report, Scheduler, SchedulerError, SensorId,
 };
-use nav_runtime::strapdown::{NavState, Strapdown};
 use nav_runtime::smoother::EpochFile;
+use nav_runtime::strapdown::{NavState, Strapdown};
 use nav_runtime::stuck::StuckDetector;
 
 use super::health::SensorHealth;

@@ -41,9 +41,9 @@ use core::any::TypeId;
 use nalgebra::{Cholesky, SMatrix, SVector};
 
 use crate::ekf::{Ekf, UpdateReport};
-use crate::setup_error::SetupError;
 use crate::gate::chi_square_quantile;
 use crate::model::{Model, Sensor};
+use crate::setup_error::SetupError;
 
 /// Largest measurement dimension whose refusals are examined; refusals of
 /// larger measurements are never released. (The storage is part of the

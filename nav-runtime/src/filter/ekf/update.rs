@@ -1,7 +1,6 @@
 //! Measurement updates (eqs. U1-U6), batch and sequential, and the
 //! [`Estimator`] interface.
 
-
 use nalgebra::{Cholesky, SMatrix, SVector};
 
 use super::covariance::{
