@@ -1,7 +1,7 @@
 //! `nav-runtime`: the engine that runs models declared with [`model!`].
 //!
 //! Data flows one way: sensor events -> [`scheduler`] -> [`ekf`] -> estimates.
-//! The model traits ([`model`]) are the only contract between generated code and
+//! The model traits ([`model`](mod@model)) are the only contract between generated code and
 //! this crate; the EKF core and the generated code build without `std` (libm).
 //!
 //! The crate has five domains, each in its folder behind a cargo feature (all

@@ -14,6 +14,6 @@ pub struct SensorHealth {
     /// Not used: no bottom lock, above the DVL range, or before the start.
     pub skipped: u64,
     /// Refused as frozen values (the sensor repeated one value more often than
-    /// its noise and resolution explain; [`stuck_detector`]).
+    /// its noise and resolution explain; [`stuck_detector`](crate::sdins25::filter::stuck_detector)).
     pub stuck: u64,
 }

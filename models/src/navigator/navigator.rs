@@ -142,7 +142,7 @@ impl<V: InsVehicle<N>, const N: usize> Navigator<V, N> {
     /// Asks for the estimate at `t` (s), after the readings of `t` (including
     /// late ones that arrive while `t` is in the history). At or before the
     /// current time, the current estimate is taken. Collect it with
-    /// [`Navigator::final_estimates`] or [`Navigator::finish`].
+    /// [`Navigator::final_estimates`] or [`Navigator::flush_estimates`].
     pub fn request_estimate(&mut self, t: f64) -> Ticket {
         let ticket = {
             let mut r = self.requests.borrow_mut();

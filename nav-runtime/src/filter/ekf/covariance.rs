@@ -7,7 +7,7 @@ use nalgebra::{SMatrix, SVector};
 use super::validation::all_finite;
 
 /// The default lower bound a repaired variance is reset to when no positive
-/// previous value exists (see [`Ekf::with_variance_floor`]).
+/// previous value exists (see [`Ekf::with_variance_floor`](crate::ekf::Ekf::with_variance_floor)).
 pub const DEFAULT_VARIANCE_FLOOR: f64 = 1e-12;
 
 crate::dispatch::avx_dispatch! {

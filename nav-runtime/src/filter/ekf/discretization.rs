@@ -15,7 +15,7 @@ use super::covariance::mirror_upper;
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Discretization {
     /// `Phi = I + F dt`, `Qd = Qc dt`, through the generated sparse
-    /// [`Model::propagate_covariance`] (structural zeros cost nothing). The
+    /// [`Model::propagate_covariance`](crate::model::Model::propagate_covariance) (structural zeros cost nothing). The
     /// truncation error is O((||F|| dt)^2) per step; right when `||F dt|| << 1`,
     /// e.g. an INS error model at 100 Hz (the Schuler frequency 1.24e-3 rad/s and
     /// Earth rate give `||F dt||` around 1e-5). The state uses the model's Euler

@@ -1,5 +1,5 @@
 //! The extended Kalman filter core: prediction, batch and sequential updates,
-//! innovation gating and covariance repair for any [`Model`] and its [`Sensor`]s.
+//! innovation gating and covariance repair for any [`Model`] and its [`Sensor`](crate::model::Sensor)s.
 //!
 //! Everything in this module is `core` only (no `std`, no heap): matrices are
 //! `SMatrix` on the stack, factorizations are nalgebra's static Cholesky, and no

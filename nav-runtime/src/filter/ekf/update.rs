@@ -53,7 +53,7 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
     /// chi-square threshold of the sensor's gate. If accepted, `K = U S^-1` by
     /// two triangular solves, `x += K nu` and the Joseph update (eq. U6) on the
     /// upper triangle, mirrored; then any covariance diagonal that is not
-    /// positive and finite is repaired (see [`FilterCounters::covariance_repairs`]):
+    /// positive and finite is repaired (see [`FilterCounters::covariance_repairs`](crate::ekf::FilterCounters::covariance_repairs)):
     /// reset to its value before the update (a valid upper bound, since an
     /// update can only reduce variance) or to the variance floor, with its row
     /// and column decorrelated so `P` stays positive semidefinite.

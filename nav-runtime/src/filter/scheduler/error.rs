@@ -58,7 +58,7 @@ pub enum SchedulerError {
     /// An IMU sample with non-finite values.
     #[error("invalid IMU sample: {0}")]
     InvalidImu(FilterError),
-    /// A sensor id not returned by [`Scheduler::add_sensor`].
+    /// A sensor id not returned by [`Scheduler::add_sensor`](crate::scheduler::Scheduler::add_sensor).
     #[error("unknown sensor {0:?}")]
     UnknownSensor(SensorId),
     /// Too many measurements waiting for the IMU to reach them.
@@ -71,7 +71,7 @@ pub enum SchedulerError {
     #[error("invalid scheduler configuration: {0}")]
     InvalidConfig(&'static str),
     /// The sensor repeated one value more often than noise and resolution
-    /// explain ([`Scheduler::set_stuck_detector`]).
+    /// explain ([`Scheduler::set_stuck_detector`](crate::scheduler::Scheduler::set_stuck_detector)).
     #[error("sensor {sensor:?} is stuck: the same value {run} times in a row")]
     Stuck {
         /// The sensor.

@@ -3,7 +3,7 @@
 use super::SensorStats;
 use crate::stuck::StuckDetector;
 
-/// Identifies a sensor registered with [`Scheduler::add_sensor`].
+/// Identifies a sensor registered with [`Scheduler::add_sensor`](crate::scheduler::Scheduler::add_sensor).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct SensorId(pub(super) usize);
 
@@ -19,7 +19,7 @@ impl SensorId {
 pub struct SensorConfig {
     /// Display name.
     pub name: String,
-    /// Nominal rate, Hz (for staleness checks: [`Scheduler::is_stale`]).
+    /// Nominal rate, Hz (for staleness checks: [`Scheduler::is_stale`](crate::scheduler::Scheduler::is_stale)).
     pub rate_hz: f64,
     /// Largest delay, seconds, between a measurement's time and its arrival
     /// (relative to the IMU time); older measurements are refused.

@@ -25,7 +25,7 @@ pub struct SensorStats {
     pub invalid: u64,
     /// Refused because the pending queue was full.
     pub queue_full: u64,
-    /// Refused as frozen values of a stuck sensor ([`Scheduler::set_stuck_detector`]).
+    /// Refused as frozen values of a stuck sensor ([`Scheduler::set_stuck_detector`](crate::scheduler::Scheduler::set_stuck_detector)).
     pub stuck: u64,
     /// Times the sensor was declared stuck (runs of identical values that
     /// reached the detector's limit).

@@ -48,7 +48,7 @@ const CHUNK: usize = 64;
 /// Epochs of one forward run in a temporary file (deleted when dropped).
 ///
 /// Records have a fixed size, so truncating to `n` epochs and reading epoch
-/// `i` are plain offsets; writes are buffered [`CHUNK`] epochs at a time and
+/// `i` are plain offsets; writes are buffered `CHUNK` (64) epochs at a time and
 /// [`EpochFile::read_back`] reads the same amount, so memory stays bounded
 /// whatever the length of the run.
 #[derive(Debug)]
@@ -181,7 +181,7 @@ impl<const N: usize, const S: usize> EpochFile<N, S> {
         Ok(())
     }
 
-    /// Calls `visit` with every epoch, latest first, reading [`CHUNK`] epochs
+    /// Calls `visit` with every epoch, latest first, reading `CHUNK` (64) epochs
     /// at a time.
     ///
     /// # Errors
