@@ -976,7 +976,13 @@ fn cases() -> Vec<Case> {
                 cell(d, "imu.csv", n, 0, "1e9");
             },
             LENIENT,
-            Warn("imu_gap", "imu.csv"),
+            // Bounded steps of a 1e9-s gap would be more than a million:
+            // refused, naming the two lines.
+            Error(&[
+                "imu.csv line 6001",
+                "imu.csv line 6002",
+                "too long to propagate",
+            ]),
             Pipeline,
         ),
         (
@@ -984,7 +990,13 @@ fn cases() -> Vec<Case> {
             "clocks",
             |d| shift_from(d, "imu.csv", 2000, 3600.0),
             LENIENT,
-            Warn("imu_gap", "imu.csv:2001"),
+            // An hour without IMU data, propagated in bounded steps, leaves
+            // the estimate's physical bounds: an error naming the gap's lines.
+            Error(&[
+                "imu.csv line 2001",
+                "imu.csv line 2002",
+                "out of physical bounds",
+            ]),
             Pipeline,
         ),
     ]
@@ -1109,11 +1121,9 @@ fn broken_logs_are_correct_clean_errors_or_warnings() {
     );
 }
 
-/// The cases that need the replay pipeline's in-loop work (bounded time
-/// steps, physical bounds on the estimate). Ignored until it is merged: the
-/// first one allocates memory sized by the far-future time stamp without it.
+/// The cases that exercise the replay pipeline's in-loop work (bounded time
+/// steps, physical bounds on the estimate).
 #[test]
-#[ignore = "needs the replay pipeline's bounded-step propagation"]
 fn pipeline_cases() {
     let failures: Vec<String> = cases()
         .iter()

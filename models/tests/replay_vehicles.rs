@@ -379,10 +379,11 @@ const BROKEN_CELLS: &[BrokenCell] = &[
     ("imu.csv", usize::MAX, 0, "1e9", true, 1, "imu.csv gap of 999999970.01 s between imu.csv line 3001 to imu.csv line 3002 is too long to propagate"),
     // A 2-s clock jump with --lenient: propagated in steps, with a warning.
     ("imu.csv", usize::MAX, 0, "32", true, 0, "warning: imu.csv gap of 2.0100000000000016 s between imu.csv line 3001 to imu.csv line 3002: propagated in 21 steps"),
-    // 1e300 in one gyro cell: the solution goes non-finite at that line.
-    ("imu.csv", 1000, 1, "1e300", false, 1, "imu.csv line 1002 (t = 10 s): estimate out of physical bounds at t = 10 s: the navigation solution is not finite"),
-    // 1e300 in one USBL depth cell: that fix is not used, with a warning.
-    ("usbl.csv", 1, 3, "1e300", false, 0, "warning: usbl.csv line 3: the fix"),
+    // 1e300 in one gyro cell: refused by the preflight, naming the line.
+    ("imu.csv", 1000, 1, "1e300", false, 1, "imu.csv:1002: `gx,gy,gz`: |omega| = inf rad/s: not a physical rate"),
+    // 1e300 in one USBL depth cell: refused by the preflight, naming the
+    // line and column.
+    ("usbl.csv", 1, 3, "1e300", false, 1, "usbl.csv:3: `depth`:"),
 ];
 
 #[test]
