@@ -38,6 +38,7 @@ mod error;
 pub mod fuzz;
 mod meta;
 mod rows;
+mod stream;
 mod warning;
 
 use std::collections::BTreeMap;
@@ -51,7 +52,10 @@ pub use meta::{
 };
 pub use rows::{
     format_f64, parse_csv, write_csv, AltitudeRow, Cell, DepthRow, DvlRow, HeadingRow, ImuRow, Row,
-    RpmRow, SpeedRow, Table, TruthRow, UsblRow, MAX_SKIP_REASONS,
+    RowReader, RpmRow, SpeedRow, Table, TruthRow, UsblRow, MAX_SKIP_REASONS,
+};
+pub use stream::{
+    skipped_row_warnings, EventStream, FileRows, Located, LogFiles, RowSource, SliceRows,
 };
 pub use warning::{Warning, WarningKind};
 
@@ -142,34 +146,29 @@ pub fn unknown_csv_files(dir: &Path) -> Result<Vec<String>, LogError> {
 }
 
 fn read_table<R: Row>(
-    dir: &Path,
-    strictness: Strictness,
+    files: &LogFiles,
     required: bool,
     skipped: &mut BTreeMap<String, usize>,
     reasons: &mut Vec<SkippedRow>,
 ) -> Result<Option<Vec<R>>, LogError> {
-    let path = dir.join(R::FILE);
-    let file = match fs::File::open(&path) {
-        Ok(f) => f,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            dangling_link(&path)?;
-            if required {
-                return Err(LogError::MissingFile {
-                    file: R::FILE.to_string(),
-                    dir: dir.to_path_buf(),
-                });
-            }
-            return Ok(None);
-        }
-        Err(e) => return Err(LogError::io(path, e)),
+    let reader = if required {
+        Some(files.imu_like::<R>()?)
+    } else {
+        files.rows::<R>()?
     };
-    let table = parse_csv::<R>(std::io::BufReader::new(file), strictness)?;
-    if table.skipped > 0 {
-        skipped.insert(R::FILE.to_string(), table.skipped);
-        let room = MAX_SKIP_REASONS.saturating_sub(reasons.len());
-        reasons.extend(table.skip_reasons.into_iter().take(room));
+    let Some(mut reader) = reader else {
+        return Ok(None);
+    };
+    let mut rows = Vec::new();
+    while let Some((_, row)) = reader.next_row()? {
+        rows.push(row);
     }
-    Ok(Some(table.rows))
+    if reader.skipped() > 0 {
+        skipped.insert(R::FILE.to_string(), reader.skipped());
+        let room = MAX_SKIP_REASONS.saturating_sub(reasons.len());
+        reasons.extend(reader.skip_reasons().iter().take(room).cloned());
+    }
+    Ok(Some(rows))
 }
 
 impl LogDir {
@@ -193,91 +192,31 @@ impl LogDir {
         }
     }
 
-    /// Reads and validates a log directory.
+    /// Reads and validates a log directory (every file read whole: for a
+    /// log of any length, read it as a stream with [`LogFiles`]).
     pub fn read(path: impl AsRef<Path>, strictness: Strictness) -> Result<LogDir, LogError> {
-        let dir = path.as_ref();
-        match fs::metadata(dir) {
-            Ok(m) if m.is_dir() => {}
-            Ok(_) => return Err(LogError::io(dir, std::io::Error::other("not a directory"))),
-            Err(e) => return Err(LogError::io(dir, e)),
-        }
-        let meta_path = dir.join(META_FILE);
-        let meta_text = match fs::read(&meta_path) {
-            Ok(bytes) => String::from_utf8(bytes).map_err(|e| LogError::Meta {
-                key: String::new(),
-                line: None,
-                problem: format!("not valid UTF-8 ({e})"),
-            })?,
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-                dangling_link(&meta_path)?;
-                return Err(LogError::MissingFile {
-                    file: META_FILE.to_string(),
-                    dir: dir.to_path_buf(),
-                });
-            }
-            Err(e) => return Err(LogError::io(meta_path, e)),
-        };
-        let (meta, mut warnings) = Meta::parse_with_warnings(&meta_text)?;
-        let unknown_files = unknown_csv_files(dir)?;
-        if let (Strictness::Strict, Some(file)) = (strictness, unknown_files.first()) {
-            return Err(LogError::UnknownFile {
-                file: file.clone(),
-                dir: dir.to_path_buf(),
-            });
-        }
+        let files = LogFiles::open(path, strictness)?;
         let mut sk = BTreeMap::new();
         let mut rs = Vec::new();
-        let s = strictness;
-        let imu = read_table::<ImuRow>(dir, s, true, &mut sk, &mut rs)?.unwrap_or_default();
+        let imu = read_table::<ImuRow>(&files, true, &mut sk, &mut rs)?.unwrap_or_default();
         let mut log = LogDir {
-            meta,
+            meta: files.meta().clone(),
             imu,
-            dvl: read_table(dir, s, false, &mut sk, &mut rs)?,
-            depth: read_table(dir, s, false, &mut sk, &mut rs)?,
-            heading: read_table(dir, s, false, &mut sk, &mut rs)?,
-            usbl: read_table(dir, s, false, &mut sk, &mut rs)?,
-            speed: read_table(dir, s, false, &mut sk, &mut rs)?,
-            rpm: read_table(dir, s, false, &mut sk, &mut rs)?,
-            altitude: read_table(dir, s, false, &mut sk, &mut rs)?,
-            truth: read_table(dir, s, false, &mut sk, &mut rs)?,
+            dvl: read_table(&files, false, &mut sk, &mut rs)?,
+            depth: read_table(&files, false, &mut sk, &mut rs)?,
+            heading: read_table(&files, false, &mut sk, &mut rs)?,
+            usbl: read_table(&files, false, &mut sk, &mut rs)?,
+            speed: read_table(&files, false, &mut sk, &mut rs)?,
+            rpm: read_table(&files, false, &mut sk, &mut rs)?,
+            altitude: read_table(&files, false, &mut sk, &mut rs)?,
+            truth: read_table(&files, false, &mut sk, &mut rs)?,
             skipped_rows: sk,
             skip_reasons: rs,
-            unknown_files,
-            warnings: Vec::new(),
+            unknown_files: files.unknown_files().to_vec(),
+            warnings: files.warnings().to_vec(),
         };
-        for file in &log.unknown_files {
-            warnings.push(Warning::about(
-                WarningKind::UnknownFile,
-                file,
-                "not a log file: ignored",
-            ));
-        }
-        for r in &log.skip_reasons {
-            warnings.push(
-                Warning::about(
-                    WarningKind::SkippedRow,
-                    &r.file,
-                    format!("row skipped: {}", r.problem),
-                )
-                .at_line(r.line)
-                .with_key(&r.column),
-            );
-        }
-        let listed = log.skip_reasons.len();
-        let total = log.total_skipped_rows();
-        if total > listed {
-            warnings.push(Warning {
-                kind: WarningKind::SkippedRow,
-                file: None,
-                line: None,
-                key: None,
-                message: format!(
-                    "{} more rows skipped (first {listed} listed)",
-                    total - listed
-                ),
-            });
-        }
-        log.warnings = warnings;
+        log.warnings
+            .extend(skipped_row_warnings(&log.skipped_rows, &log.skip_reasons));
         Ok(log)
     }
 

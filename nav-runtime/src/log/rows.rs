@@ -331,7 +331,8 @@ fn split_cells(line: &[u8]) -> impl Iterator<Item = &[u8]> {
     line.split(|&b| b == b',').map(|c| c.trim_ascii())
 }
 
-/// Parses one CSV file of row type `R` from a reader.
+/// Parses one CSV file of row type `R` from a reader: [`RowReader`] read to
+/// the end, every accepted row kept.
 ///
 /// The format is plain comma-separated text without quoting. The header must match
 /// [`Row::COLUMNS`] exactly (spaces around names and a UTF-8 byte order mark are
@@ -340,84 +341,186 @@ fn split_cells(line: &[u8]) -> impl Iterator<Item = &[u8]> {
 /// [`Strictness::Lenient`] bad rows are skipped and counted. An empty file or a bad
 /// header is an error in both modes.
 pub fn parse_csv<R: Row>(reader: impl Read, strictness: Strictness) -> Result<Table<R>, LogError> {
-    let file = R::FILE;
-    let mut lines = Lines {
-        reader: BufReader::new(reader),
-        line: 0,
-        buf: Vec::new(),
-    };
-    let io_err = |e: std::io::Error| LogError::io(file, e);
+    let mut rows = RowReader::<R, _>::new(reader, strictness)?;
+    let mut kept = Vec::new();
+    while let Some((_, row)) = rows.next_row()? {
+        kept.push(row);
+    }
+    Ok(Table {
+        rows: kept,
+        skipped: rows.skipped,
+        skip_reasons: rows.skip_reasons,
+    })
+}
 
-    // Header.
-    let expected_header = R::COLUMNS.join(",");
-    let Some(header_line) = lines.next_line().map_err(io_err)? else {
-        return Err(LogError::EmptyFile {
-            file: file.to_string(),
-            expected: expected_header,
-        });
-    };
-    let header = lines
-        .buf
-        .strip_prefix(b"\xEF\xBB\xBF")
-        .unwrap_or(&lines.buf);
-    let found: Vec<&[u8]> = split_cells(header).collect();
-    let ncols = R::COLUMNS.len();
-    for i in 0..ncols.max(found.len()) {
-        let cell = found.get(i).map(|c| cell_text(c));
-        let ok = matches!((R::COLUMNS.get(i), &cell), (Some(exp), Some(f)) if f == exp);
-        if !ok {
-            return Err(LogError::Csv {
+/// One CSV file of row type `R` read a row at a time (the streaming form of
+/// [`parse_csv`], with the same checks and the same errors): memory does not
+/// grow with the file.
+pub struct RowReader<R: Row, I: Read> {
+    lines: Lines<BufReader<I>>,
+    strictness: Strictness,
+    cells: Vec<Option<f64>>,
+    previous_t: Option<f64>,
+    previous: Option<R>,
+    skipped: usize,
+    skip_reasons: Vec<SkippedRow>,
+    accepted: usize,
+    min_step: Vec<f64>,
+    last_value: Vec<Option<f64>>,
+}
+
+impl<R: Row, I: Read> std::fmt::Debug for RowReader<R, I> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("RowReader")
+            .field("file", &R::FILE)
+            .field("line", &self.lines.line)
+            .field("accepted", &self.accepted)
+            .field("skipped", &self.skipped)
+            .finish()
+    }
+}
+
+impl<R: Row, I: Read> RowReader<R, I> {
+    /// Reads and checks the header.
+    ///
+    /// # Errors
+    /// An empty file or a header other than [`Row::COLUMNS`].
+    pub fn new(reader: I, strictness: Strictness) -> Result<Self, LogError> {
+        let file = R::FILE;
+        let mut lines = Lines {
+            reader: BufReader::new(reader),
+            line: 0,
+            buf: Vec::new(),
+        };
+        let expected_header = R::COLUMNS.join(",");
+        let Some(header_line) = lines.next_line().map_err(|e| LogError::io(file, e))? else {
+            return Err(LogError::EmptyFile {
                 file: file.to_string(),
-                line: header_line,
-                column: column_name::<R>(i),
-                problem: CsvProblem::WrongHeader {
-                    expected: expected_header,
-                    found: cell.unwrap_or_default(),
-                },
+                expected: expected_header,
             });
+        };
+        let header = lines
+            .buf
+            .strip_prefix(b"\xEF\xBB\xBF")
+            .unwrap_or(&lines.buf);
+        let found: Vec<&[u8]> = split_cells(header).collect();
+        let ncols = R::COLUMNS.len();
+        for i in 0..ncols.max(found.len()) {
+            let cell = found.get(i).map(|c| cell_text(c));
+            let ok = matches!((R::COLUMNS.get(i), &cell), (Some(exp), Some(f)) if f == exp);
+            if !ok {
+                return Err(LogError::Csv {
+                    file: file.to_string(),
+                    line: header_line,
+                    column: column_name::<R>(i),
+                    problem: CsvProblem::WrongHeader {
+                        expected: expected_header,
+                        found: cell.unwrap_or_default(),
+                    },
+                });
+            }
         }
+        Ok(RowReader {
+            lines,
+            strictness,
+            cells: vec![None; ncols],
+            previous_t: None,
+            previous: None,
+            skipped: 0,
+            skip_reasons: Vec::new(),
+            accepted: 0,
+            min_step: vec![f64::INFINITY; ncols],
+            last_value: vec![None; ncols],
+        })
     }
 
-    let mut table = Table {
-        rows: Vec::new(),
-        skipped: 0,
-        skip_reasons: Vec::new(),
-    };
-    let mut cells: Vec<Option<f64>> = vec![None; ncols];
-    let mut previous_t: Option<f64> = None;
-    while let Some(line) = lines.next_line().map_err(io_err)? {
-        match parse_row::<R>(&lines.buf, &mut cells, previous_t) {
-            Ok(row) => {
-                previous_t = Some(row.t());
-                table.rows.push(row);
-            }
-            Err((column, problem)) => {
-                let skipped = SkippedRow {
-                    file: file.to_string(),
-                    line,
-                    column,
-                    problem,
-                };
-                match strictness {
-                    Strictness::Strict => {
-                        return Err(LogError::Csv {
-                            file: skipped.file,
-                            line: skipped.line,
-                            column: skipped.column,
-                            problem: skipped.problem,
-                        })
+    /// The next accepted row with its 1-based line number; `None` at the end
+    /// of the file. Lenient reading skips (and counts) bad rows.
+    ///
+    /// # Errors
+    /// A read error, or (strict) the first bad row, naming file, line and column.
+    pub fn next_row(&mut self) -> Result<Option<(u64, R)>, LogError> {
+        while let Some(line) = self
+            .lines
+            .next_line()
+            .map_err(|e| LogError::io(R::FILE, e))?
+        {
+            match parse_row::<R>(&self.lines.buf, &mut self.cells, self.previous_t) {
+                Ok(row) => {
+                    self.previous_t = Some(row.t());
+                    self.previous = Some(row);
+                    self.accepted += 1;
+                    for (i, cell) in self.cells.iter().enumerate().skip(1) {
+                        let Some(v) = *cell else { continue };
+                        if let Some(last) = self.last_value[i] {
+                            let d = (v - last).abs();
+                            if d > 0.0 && d.is_finite() && d < self.min_step[i] {
+                                self.min_step[i] = d;
+                            }
+                        }
+                        self.last_value[i] = Some(v);
                     }
-                    Strictness::Lenient => {
-                        table.skipped += 1;
-                        if table.skip_reasons.len() < MAX_SKIP_REASONS {
-                            table.skip_reasons.push(skipped);
+                    return Ok(Some((line, row)));
+                }
+                Err((column, problem)) => {
+                    let skipped = SkippedRow {
+                        file: R::FILE.to_string(),
+                        line,
+                        column,
+                        problem,
+                    };
+                    match self.strictness {
+                        Strictness::Strict => {
+                            return Err(LogError::Csv {
+                                file: skipped.file,
+                                line: skipped.line,
+                                column: skipped.column,
+                                problem: skipped.problem,
+                            })
+                        }
+                        Strictness::Lenient => {
+                            self.skipped += 1;
+                            if self.skip_reasons.len() < MAX_SKIP_REASONS {
+                                self.skip_reasons.push(skipped);
+                            }
                         }
                     }
                 }
             }
         }
+        Ok(None)
     }
-    Ok(table)
+
+    /// Rows accepted so far.
+    pub fn accepted(&self) -> usize {
+        self.accepted
+    }
+
+    /// Rows skipped so far (lenient reading).
+    pub fn skipped(&self) -> usize {
+        self.skipped
+    }
+
+    /// The first few reasons rows were skipped (at most [`MAX_SKIP_REASONS`]).
+    pub fn skip_reasons(&self) -> &[SkippedRow] {
+        &self.skip_reasons
+    }
+
+    /// The last accepted row.
+    pub fn last(&self) -> Option<&R> {
+        self.previous.as_ref()
+    }
+
+    /// The smallest non-zero change between consecutive values of column
+    /// `column` (index in [`Row::COLUMNS`]) over the rows read so far (an
+    /// empty cell is passed over); 0 when no value changed. A multiple of the
+    /// column's quantization step, so never finer than it.
+    pub fn resolution(&self, column: usize) -> f64 {
+        match self.min_step.get(column) {
+            Some(q) if q.is_finite() => *q,
+            _ => 0.0,
+        }
+    }
 }
 
 fn parse_row<R: Row>(

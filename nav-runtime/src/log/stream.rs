@@ -1,0 +1,367 @@
+//! Reading a log directory as a stream: [`LogFiles`] opens the directory
+//! (`meta.toml` and the list of files, checked as [`LogDir::read`] checks
+//! them) and each file row by row ([`RowReader`]); [`EventStream`] merges the
+//! sensor files in time order. Memory does not grow with the log, so a
+//! 24-hour log replays in the memory of a 1-hour one.
+//!
+//! The same merge runs over a log in memory ([`EventStream::of`]), so a
+//! replay from files and a replay of the same rows in memory see the same
+//! events in the same order.
+
+use std::collections::BTreeMap;
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use super::rows::RowReader;
+use super::{
+    dangling_link, unknown_csv_files, AltitudeRow, DepthRow, DvlRow, Event, HeadingRow, ImuRow,
+    LogDir, LogError, Meta, Row, RpmRow, SkippedRow, SpeedRow, Strictness, UsblRow, Warning,
+    WarningKind, META_FILE,
+};
+
+/// A log directory opened for reading file by file: its `meta.toml`, what
+/// the reader noticed about it, and a [`RowReader`] for any of its files.
+#[derive(Debug, Clone)]
+pub struct LogFiles {
+    dir: PathBuf,
+    meta: Meta,
+    strictness: Strictness,
+    unknown_files: Vec<String>,
+    warnings: Vec<Warning>,
+}
+
+/// One file of a log opened for reading.
+pub type FileRows<R> = RowReader<R, fs::File>;
+
+impl LogFiles {
+    /// Opens the log at `dir`: reads and validates `meta.toml` and lists the
+    /// directory (an unknown `.csv` file is an error when strict). No CSV
+    /// file is read yet.
+    ///
+    /// # Errors
+    /// As [`LogDir::read`] for the directory and `meta.toml`.
+    pub fn open(dir: impl AsRef<Path>, strictness: Strictness) -> Result<LogFiles, LogError> {
+        let dir = dir.as_ref();
+        match fs::metadata(dir) {
+            Ok(m) if m.is_dir() => {}
+            Ok(_) => return Err(LogError::io(dir, std::io::Error::other("not a directory"))),
+            Err(e) => return Err(LogError::io(dir, e)),
+        }
+        let meta_path = dir.join(META_FILE);
+        let meta_text = match fs::read(&meta_path) {
+            Ok(bytes) => String::from_utf8(bytes).map_err(|e| LogError::Meta {
+                key: String::new(),
+                line: None,
+                problem: format!("not valid UTF-8 ({e})"),
+            })?,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                dangling_link(&meta_path)?;
+                return Err(LogError::MissingFile {
+                    file: META_FILE.to_string(),
+                    dir: dir.to_path_buf(),
+                });
+            }
+            Err(e) => return Err(LogError::io(meta_path, e)),
+        };
+        let (meta, mut warnings) = Meta::parse_with_warnings(&meta_text)?;
+        let unknown_files = unknown_csv_files(dir)?;
+        if let (Strictness::Strict, Some(file)) = (strictness, unknown_files.first()) {
+            return Err(LogError::UnknownFile {
+                file: file.clone(),
+                dir: dir.to_path_buf(),
+            });
+        }
+        for file in &unknown_files {
+            warnings.push(Warning::about(
+                WarningKind::UnknownFile,
+                file,
+                "not a log file: ignored",
+            ));
+        }
+        Ok(LogFiles {
+            dir: dir.to_path_buf(),
+            meta,
+            strictness,
+            unknown_files,
+            warnings,
+        })
+    }
+
+    /// The directory.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// `meta.toml`.
+    pub fn meta(&self) -> &Meta {
+        &self.meta
+    }
+
+    /// How bad rows are treated.
+    pub fn strictness(&self) -> Strictness {
+        self.strictness
+    }
+
+    /// `.csv` files that are not log files (lenient reading only; sorted).
+    pub fn unknown_files(&self) -> &[String] {
+        &self.unknown_files
+    }
+
+    /// What opening noticed: unknown `meta.toml` sections and unknown files.
+    pub fn warnings(&self) -> &[Warning] {
+        &self.warnings
+    }
+
+    /// Opens `R`'s file, its header checked; `None` when the file is absent
+    /// (the sensor is absent).
+    ///
+    /// # Errors
+    /// A dangling symbolic link, an unreadable file, an empty file or a bad
+    /// header.
+    pub fn rows<R: Row>(&self) -> Result<Option<FileRows<R>>, LogError> {
+        let path = self.dir.join(R::FILE);
+        match fs::File::open(&path) {
+            Ok(f) => RowReader::new(f, self.strictness).map(Some),
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                dangling_link(&path)?;
+                Ok(None)
+            }
+            Err(e) => Err(LogError::io(path, e)),
+        }
+    }
+
+    /// Opens `imu.csv`, which every log has.
+    ///
+    /// # Errors
+    /// As [`LogFiles::rows`], and a missing file.
+    pub fn imu(&self) -> Result<FileRows<ImuRow>, LogError> {
+        self.imu_like::<ImuRow>()
+    }
+
+    /// Opens `R`'s file, which must exist.
+    pub(super) fn imu_like<R: Row>(&self) -> Result<FileRows<R>, LogError> {
+        self.rows::<R>()?.ok_or_else(|| LogError::MissingFile {
+            file: R::FILE.to_string(),
+            dir: self.dir.clone(),
+        })
+    }
+}
+
+/// The warnings of the rows a lenient reader skipped: the first reasons,
+/// each naming file, line and column, and the count of the rest.
+pub fn skipped_row_warnings(
+    skipped: &BTreeMap<String, usize>,
+    reasons: &[SkippedRow],
+) -> Vec<Warning> {
+    let mut warnings: Vec<Warning> = reasons
+        .iter()
+        .map(|r| {
+            Warning::about(
+                WarningKind::SkippedRow,
+                &r.file,
+                format!("row skipped: {}", r.problem),
+            )
+            .at_line(r.line)
+            .with_key(&r.column)
+        })
+        .collect();
+    let listed = reasons.len();
+    let total: usize = skipped.values().sum();
+    if total > listed {
+        warnings.push(Warning {
+            kind: WarningKind::SkippedRow,
+            file: None,
+            line: None,
+            key: None,
+            message: format!(
+                "{} more rows skipped (first {listed} listed)",
+                total - listed
+            ),
+        });
+    }
+    warnings
+}
+
+/// Rows of one file, one at a time, each with its 1-based line when known.
+pub trait RowSource<R: Row> {
+    /// The next row; `None` at the end.
+    ///
+    /// # Errors
+    /// A read error or (strict reading) a bad row.
+    fn next_row(&mut self) -> Result<Option<(Option<u64>, R)>, LogError>;
+}
+
+impl<R: Row, I: std::io::Read> RowSource<R> for RowReader<R, I> {
+    fn next_row(&mut self) -> Result<Option<(Option<u64>, R)>, LogError> {
+        Ok(RowReader::next_row(self)?.map(|(line, r)| (Some(line), r)))
+    }
+}
+
+/// The rows of a file in memory; lines are known when the reader skipped
+/// none of the file's rows (row `i` is then on line `i + 2`).
+#[derive(Debug, Clone)]
+pub struct SliceRows<'a, R> {
+    rows: &'a [R],
+    next: usize,
+    lines_known: bool,
+}
+
+impl<'a, R: Row> SliceRows<'a, R> {
+    /// The rows of `R`'s file of `log` (none when the file is absent).
+    pub fn of(log: &LogDir, rows: Option<&'a [R]>) -> Self {
+        SliceRows {
+            rows: rows.unwrap_or_default(),
+            next: 0,
+            lines_known: !log.skipped_rows.contains_key(R::FILE),
+        }
+    }
+}
+
+impl<R: Row> RowSource<R> for SliceRows<'_, R> {
+    fn next_row(&mut self) -> Result<Option<(Option<u64>, R)>, LogError> {
+        let Some(r) = self.rows.get(self.next) else {
+            return Ok(None);
+        };
+        let line = self.lines_known.then_some(self.next as u64 + 2);
+        self.next += 1;
+        Ok(Some((line, *r)))
+    }
+}
+
+/// An event of [`EventStream`] with the line of its row when known.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Located {
+    /// The sample.
+    pub event: Event,
+    /// 1-based line in the event's file (`None` when not known).
+    pub line: Option<u64>,
+}
+
+type Pull<'a> = Box<dyn FnMut() -> Result<Option<Located>, LogError> + 'a>;
+
+/// Order of the sources of [`EventStream`]: at equal times the IMU comes
+/// first (a filter propagates to `t` before it applies a measurement stamped
+/// `t`), then the echo sounder (so a DVL sample sees the altitude of its own
+/// time), then the aiding sensors.
+const ORDER: usize = 8;
+
+/// The samples of a log's sensor files (not truth) merged in time order, from
+/// files or from memory. Holds one row of each file.
+pub struct EventStream<'a> {
+    pulls: Vec<Pull<'a>>,
+    heads: [Option<Located>; ORDER],
+    started: bool,
+}
+
+impl std::fmt::Debug for EventStream<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("EventStream")
+            .field("heads", &self.heads)
+            .finish()
+    }
+}
+
+fn pull<'a, R: Row + 'a>(mut source: impl RowSource<R> + 'a, wrap: fn(R) -> Event) -> Pull<'a> {
+    Box::new(move || {
+        Ok(source.next_row()?.map(|(line, r)| Located {
+            event: wrap(r),
+            line,
+        }))
+    })
+}
+
+fn none<'a>() -> Pull<'a> {
+    Box::new(|| Ok(None))
+}
+
+impl<'a> EventStream<'a> {
+    /// The events of a log in memory.
+    pub fn of(log: &'a LogDir) -> EventStream<'a> {
+        let l = log;
+        EventStream::new(vec![
+            pull(SliceRows::of(l, Some(&l.imu[..])), Event::Imu),
+            pull(SliceRows::of(l, l.altitude.as_deref()), Event::Altitude),
+            pull(SliceRows::of(l, l.dvl.as_deref()), Event::Dvl),
+            pull(SliceRows::of(l, l.depth.as_deref()), Event::Depth),
+            pull(SliceRows::of(l, l.heading.as_deref()), Event::Heading),
+            pull(SliceRows::of(l, l.usbl.as_deref()), Event::Usbl),
+            pull(SliceRows::of(l, l.speed.as_deref()), Event::Speed),
+            pull(SliceRows::of(l, l.rpm.as_deref()), Event::Rpm),
+        ])
+    }
+
+    /// The events of a log on disk, each file read as the stream goes.
+    ///
+    /// # Errors
+    /// As [`LogFiles::rows`] for any sensor file.
+    pub fn open(files: &LogFiles) -> Result<EventStream<'static>, LogError> {
+        fn opt<R: Row + 'static>(
+            files: &LogFiles,
+            wrap: fn(R) -> Event,
+        ) -> Result<Pull<'static>, LogError> {
+            Ok(match files.rows::<R>()? {
+                Some(r) => pull(r, wrap),
+                None => none(),
+            })
+        }
+        Ok(EventStream::new(vec![
+            pull(files.imu()?, Event::Imu),
+            opt::<AltitudeRow>(files, Event::Altitude)?,
+            opt::<DvlRow>(files, Event::Dvl)?,
+            opt::<DepthRow>(files, Event::Depth)?,
+            opt::<HeadingRow>(files, Event::Heading)?,
+            opt::<UsblRow>(files, Event::Usbl)?,
+            opt::<SpeedRow>(files, Event::Speed)?,
+            opt::<RpmRow>(files, Event::Rpm)?,
+        ]))
+    }
+
+    fn new(pulls: Vec<Pull<'a>>) -> Self {
+        EventStream {
+            pulls,
+            heads: [None; ORDER],
+            started: false,
+        }
+    }
+
+    fn fill(&mut self) -> Result<(), LogError> {
+        if !self.started {
+            for k in 0..ORDER {
+                self.heads[k] = (self.pulls[k])()?;
+            }
+            self.started = true;
+        }
+        Ok(())
+    }
+
+    /// The next event in time order (ties in the order of [`ORDER`]).
+    ///
+    /// # Errors
+    /// A read error or (strict reading) a bad row of any file.
+    pub fn next_event(&mut self) -> Result<Option<Located>, LogError> {
+        self.fill()?;
+        let mut best: Option<usize> = None;
+        for k in 0..ORDER {
+            if let Some(e) = &self.heads[k] {
+                if best
+                    .is_none_or(|b| e.event.t() < self.heads[b].map_or(f64::NAN, |h| h.event.t()))
+                {
+                    best = Some(k);
+                }
+            }
+        }
+        let Some(k) = best else { return Ok(None) };
+        let out = self.heads[k];
+        self.heads[k] = (self.pulls[k])()?;
+        Ok(out)
+    }
+
+    /// The time of the next IMU sample, if any.
+    ///
+    /// # Errors
+    /// As [`EventStream::next_event`].
+    pub fn next_imu_t(&mut self) -> Result<Option<f64>, LogError> {
+        self.fill()?;
+        Ok(self.heads[0].map(|h| h.event.t()))
+    }
+}
