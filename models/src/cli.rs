@@ -9,7 +9,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
-use nav_runtime::log::{LogDir, Strictness, Warning, WarningKind};
+use nav_runtime::log::{LogDir, LogFiles, Strictness, Warning, WarningKind};
 use serde_json::Value;
 
 use crate::interrupt::Pending;
@@ -451,21 +451,45 @@ pub fn replay_with(model: &dyn ReplayModel, args: &ReplayArgs) -> Result<(), Run
     for file in &log.unknown_files {
         eprintln!("warning: ignored unknown file {file}");
     }
-    let output = model.replay(&log, &options)?;
-    for w in &output.warnings {
-        eprintln!("warning: {w}");
-    }
-    // The other warnings are in the result (JSON `warnings`, or the text).
-    let mut warnings: Vec<Warning> = log.warnings.clone();
-    warnings.extend(report.warnings().cloned());
-    warnings.extend(output.warnings.iter().map(|w| model_warning(w)));
-    let mut value = report::replay_json(model.name(), &output, args.lenient, &log);
-    if let Value::Object(m) = &mut value {
-        m.insert("warnings".into(), warnings_json(&warnings));
-    }
+    let read = ReadNotes {
+        skipped_rows: log.skipped_rows.clone(),
+        unknown_files: log.unknown_files.clone(),
+        warnings: log.warnings.clone(),
+    };
+    drop(log);
+    let files = LogFiles::open(
+        &args.dir,
+        if args.lenient {
+            Strictness::Lenient
+        } else {
+            Strictness::Strict
+        },
+    )?;
+    // The result (JSON `warnings`, or the text) of a run's output.
+    let result = |output: &crate::montecarlo::ReplayOutput| {
+        for w in &output.warnings {
+            eprintln!("warning: {w}");
+        }
+        let mut warnings: Vec<Warning> = read.warnings.clone();
+        warnings.extend(report.warnings().cloned());
+        warnings.extend(output.warnings.iter().map(|w| model_warning(w)));
+        let mut value = report::replay_json(
+            model.name(),
+            output,
+            args.lenient,
+            &read.skipped_rows,
+            &read.unknown_files,
+        );
+        if let Value::Object(m) = &mut value {
+            m.insert("warnings".into(), warnings_json(&warnings));
+        }
+        value
+    };
     if let Some(out) = &args.out {
+        let mut value = Value::Null;
         let dir = write_out(out, |dir| {
-            model.write_outputs(&output, dir)?;
+            let output = model.replay_files(&files, &options, Some(dir))?;
+            value = result(&output);
             let path = dir.join("summary.json");
             std::fs::write(&path, report::json_line(&value) + "\n")
                 .map_err(|e| RunError::io(&path, e))
@@ -473,9 +497,17 @@ pub fn replay_with(model: &dyn ReplayModel, args: &ReplayArgs) -> Result<(), Run
         emit(&value, args.json);
         note(args.json, &format!("outputs written to {}", dir.display()));
     } else {
-        emit(&value, args.json);
+        let output = model.replay_files(&files, &options, None)?;
+        emit(&result(&output), args.json);
     }
     Ok(())
+}
+
+/// What reading the log noticed, for the replay's result.
+struct ReadNotes {
+    skipped_rows: std::collections::BTreeMap<String, usize>,
+    unknown_files: Vec<String>,
+    warnings: Vec<Warning>,
 }
 
 /// Reads the log and runs the preflight (bad rows skipped and IMU gaps or a

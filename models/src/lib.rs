@@ -15,6 +15,7 @@ pub mod replay;
 pub mod report;
 pub mod scenario_text;
 pub mod sdins25;
+pub mod series;
 pub mod ulog;
 pub mod vehicles;
 pub mod vkf;

@@ -358,6 +358,24 @@ pub trait ReplayModel: Send + Sync {
     }
     /// Runs the model over the log. Time only the filter into `runtime_s`.
     fn replay(&self, log: &LogDir, options: &ReplayOptions) -> Result<ReplayOutput, RunError>;
+    /// Runs the model over the log directory of `files`; with `out`, writes
+    /// its time series and plots there. Default: the whole log read into
+    /// memory, [`ReplayModel::replay`], then [`ReplayModel::write_outputs`];
+    /// a model that streams the log (memory independent of its length)
+    /// overrides it.
+    fn replay_files(
+        &self,
+        files: &nav_runtime::log::LogFiles,
+        options: &ReplayOptions,
+        out: Option<&Path>,
+    ) -> Result<ReplayOutput, RunError> {
+        let log = LogDir::read(files.dir(), files.strictness())?;
+        let output = self.replay(&log, options)?;
+        if let Some(dir) = out {
+            self.write_outputs(&output, dir)?;
+        }
+        Ok(output)
+    }
     /// Whether `--smooth` is supported.
     fn can_smooth(&self) -> bool {
         false

@@ -28,9 +28,9 @@ pub fn replay_json(
     model: &str,
     output: &ReplayOutput,
     lenient: bool,
-    log: &nav_runtime::log::LogDir,
+    skipped: &std::collections::BTreeMap<String, usize>,
+    unknown_files: &[String],
 ) -> Value {
-    let skipped = &log.skipped_rows;
     let mut m = output.metrics.clone();
     m.insert("model".into(), Value::from(model));
     m.insert("samples".into(), Value::from(output.samples));
@@ -45,8 +45,7 @@ pub fn replay_json(
             .map(|(k, v)| (k.clone(), Value::from(*v)))
             .collect();
         m.insert("skipped_rows_by_file".into(), Value::Object(by_file));
-        let unknown: Vec<Value> = log
-            .unknown_files
+        let unknown: Vec<Value> = unknown_files
             .iter()
             .map(|f| Value::from(f.as_str()))
             .collect();

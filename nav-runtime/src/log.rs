@@ -55,7 +55,8 @@ pub use rows::{
     RowReader, RpmRow, SpeedRow, Table, TruthRow, UsblRow, MAX_SKIP_REASONS,
 };
 pub use stream::{
-    skipped_row_warnings, EventStream, FileRows, Located, LogFiles, RowSource, SliceRows,
+    skipped_row_warnings, EventStream, FileRows, Located, LogFiles, LogSource, LogTable, RowSource,
+    SliceRows,
 };
 pub use warning::{Warning, WarningKind};
 

@@ -75,11 +75,19 @@ pub struct Navigator<V: InsVehicle<N>, const N: usize> {
     record: SensorId,
     contexts: [Context; 4],
     start: f64,
+    /// IMU period (s): readings up to one period before the start are
+    /// applied at the start.
+    period_s: f64,
     options: NavigatorOptions,
     requests: Rc<RefCell<Requests>>,
     skipped: [u64; 4],
     last_nis: [Option<f64>; 4],
 }
+
+/// How long after the start a reading of the start's IMU period is applied
+/// (s): the scheduler applies readings after the time they carry, and the
+/// start itself is the initial estimate.
+pub const AT_START_S: f64 = 1e-9;
 
 /// Builds a [`Navigator`] (see [`Navigator::builder`]).
 pub struct Builder<V: InsVehicle<N>, const N: usize> {
@@ -125,14 +133,21 @@ impl<V: InsVehicle<N>, const N: usize> Navigator<V, N> {
     }
 
     /// Pushes a reading of the sensor of `handle` measured at `t` (s). A
-    /// reading at or before the start is counted as skipped; one older than
-    /// the sensor's latency, a duplicate, a frozen value or a non-finite value
-    /// is refused and counted in its report.
+    /// reading within one IMU period before the start (or at it) is applied
+    /// at the start ([`AT_START_S`] after it: the initial estimate is of the
+    /// start, before any reading); an earlier one is counted as skipped; one
+    /// older than the sensor's latency, a duplicate, a frozen value or a
+    /// non-finite value is refused and counted in its report.
     pub fn push<R: Reading>(&mut self, _handle: Handle<R>, t: f64, reading: R) {
-        if t <= self.start {
-            self.skipped[R::SLOT] += 1;
-            return;
-        }
+        let t = if t <= self.start {
+            if !(t >= self.start - self.period_s) {
+                self.skipped[R::SLOT] += 1;
+                return;
+            }
+            self.start + AT_START_S
+        } else {
+            t
+        };
         let m = reading.measurement::<V, N>(&self.contexts[R::SLOT]);
         if let Ok(reports) = self.scheduler.push_measurement(self.ids[R::SLOT], t, m) {
             self.note(&reports);
@@ -382,6 +397,7 @@ impl<V: InsVehicle<N>, const N: usize> Builder<V, N> {
             record,
             contexts,
             start: self.initial.t,
+            period_s: self.imu.period_s,
             options: self.options,
             requests: Rc::new(RefCell::new(Requests::default())),
             skipped: [0; 4],
@@ -523,8 +539,10 @@ mod tests {
             .sensor::<HeadingReading>(SensorSettings::new(0.01))
             .unwrap();
         let mut nav = b.build(at_rest()).unwrap();
-        // A reading at the start is counted as skipped.
-        nav.push(depth, 0.0, DepthReading(50.0));
+        // A reading more than one IMU period before the start is skipped;
+        // one within it is applied at the start.
+        nav.push(depth, -0.02, DepthReading(50.0));
+        nav.push(heading, -0.005, HeadingReading(0.3));
         let ticket = nav.request_estimate(5.0);
         for k in 1..=1000 {
             let t = k as f64 * 0.01;
@@ -539,7 +557,8 @@ mod tests {
         let d = nav.report(depth);
         assert_eq!(d.health.accepted, 20);
         assert_eq!(d.health.skipped, 1);
-        assert_eq!(nav.report(heading).health.accepted, 20);
+        assert_eq!(nav.report(heading).health.accepted, 21);
+        assert_eq!(nav.report(heading).health.skipped, 0);
         assert!(d.last_nis.is_some_and(|x| x.is_finite() && x >= 0.0));
         let e = nav.estimate();
         assert!((e.nav.depth() - 50.0).abs() < 0.2, "{}", e.nav.depth());

@@ -11,20 +11,22 @@
 //! to the running corrections, and subtracts the navigation errors (INS minus
 //! true) from the strapdown solution ([`InsNominal`]'s `inject`).
 
-use nav_runtime::earth::{meridian_radius, Geodetic, LocalNed};
+use nav_runtime::earth::{meridian_radius, Geodetic};
 use nav_runtime::gate::Gate;
 use nav_runtime::imu::ImuSpec;
-use nav_runtime::log::{LogDir, SensorNoise};
+use nav_runtime::log::{
+    DepthRow, DvlRow, HeadingRow, ImuRow, LogDir, LogSource, LogTable, Meta, SensorNoise, UsblRow,
+};
 use nav_runtime::nalgebra::{Matrix3, Vector3};
 use nav_runtime::sensors::ErrorSpec;
-use nav_runtime::smoother::{smooth, EpochFile};
 use nav_runtime::stuck::StuckDetector;
 
 use super::lockout::LockoutOptions;
-use crate::navigator::vehicle::Layout;
 
+use super::aiding::Handles;
 use super::model::Sdins25;
-use super::simulation::{DVL_MAX_ALTITUDE, SOUND_SPEED, TRACKPOINT_MISALIGNMENT_SIGMA};
+pub use super::replay_loop::{replay_vehicle, run_vehicle};
+use super::simulation::TRACKPOINT_MISALIGNMENT_SIGMA;
 use crate::montecarlo::RunError;
 pub use crate::navigator::{
     depth_measurement, dvl_measurement, heading_measurement, usbl_measurement, CompassForm,
@@ -33,7 +35,6 @@ pub use crate::navigator::{
 use crate::navigator::{
     Bounds, Builder, DepthReading, DvlReading, HeadingReading, ImuSettings, InitialSigma,
     InitialState, InsVehicle, Navigator, NavigatorError, NavigatorOptions, SensorSettings, UsblFix,
-    SENSOR_NAMES,
 };
 
 /// Number of error states of SDINS-25.
@@ -182,6 +183,8 @@ pub struct InsRun<V: InsVehicle<N>, const N: usize> {
     pub estimates: Vec<Option<Estimate>>,
     /// IMU samples processed.
     pub samples: usize,
+    /// Time of the first and the last IMU sample used (s).
+    pub imu_span: (f64, f64),
     /// Per-sensor health: depth, dvl, heading, usbl.
     pub health: [(&'static str, SensorHealth); 4],
     /// Covariance diagonal repairs.
@@ -227,14 +230,29 @@ pub fn initial_vehicle_filter<V: InsVehicle<N>, const N: usize>(
     log: &LogDir,
     options: &FilterOptions,
 ) -> Result<InsFilter<V, N>, RunError> {
-    let plan = LogPlan::new(log, options, [0.0; 4])?;
+    let facts = LogFacts::of(&LogSource::Memory(log), options)?;
+    let plan = LogPlan::new(&log.meta, &facts, [0.0; 4])?;
     let (builder, _) = plan.builder::<V, N>(options);
     builder.initial_filter(&plan.first).map_err(setup_error)
 }
 
-/// Median IMU sampling interval (s).
+/// Median IMU sampling interval (s) over the first [`PERIOD_INTERVALS`]
+/// intervals (0.01 s with fewer than two rows).
 pub fn imu_period(log: &LogDir) -> f64 {
-    let mut d: Vec<f64> = log.imu.windows(2).map(|w| w[1].t - w[0].t).collect();
+    median_period(log.imu.iter().map(|r| r.t))
+}
+
+/// `[initial] t` may come at most this many IMU periods before the first
+/// IMU row (the initial state is carried to it with the first row's rates).
+pub const MAX_EPOCH_LEAD_PERIODS: f64 = 10.0;
+
+/// IMU intervals the median period is taken over: the start of any log, so
+/// the period is known before the log is read further.
+pub const PERIOD_INTERVALS: usize = 10_000;
+
+fn median_period(t: impl Iterator<Item = f64>) -> f64 {
+    let t: Vec<f64> = t.take(PERIOD_INTERVALS + 1).collect();
+    let mut d: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).collect();
     if d.is_empty() {
         return 0.01;
     }
@@ -242,29 +260,136 @@ pub fn imu_period(log: &LogDir) -> f64 {
     d[d.len() / 2]
 }
 
-fn setup_error(e: NavigatorError) -> RunError {
+/// What a run needs to know of its log before it starts, read without
+/// holding the log: the first IMU row, the IMU period and each aiding
+/// sensor's output resolution.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct LogFacts {
+    /// Epoch of the initial estimate (s): `[initial] t`, or the start of the
+    /// first IMU interval (the first IMU time minus the period).
+    pub(super) epoch: f64,
+    /// The first IMU row at or after the epoch: its rates start the
+    /// strapdown's rate model.
+    pub(super) first: ImuRow,
+    /// IMU rows before the epoch (not used).
+    pub(super) before_epoch: usize,
+    pub(super) period_s: f64,
+    /// Depth, DVL, compass and USBL (USBL angles as metres), 0 when unknown.
+    pub(super) resolutions: [f64; 4],
+}
+
+impl LogFacts {
+    /// Reads the first [`PERIOD_INTERVALS`] IMU rows and (for the stuck
+    /// detector) the aiding files.
+    pub(super) fn of(source: &LogSource<'_>, options: &FilterOptions) -> Result<Self, RunError> {
+        let mut imu = source
+            .rows::<ImuRow>()?
+            .ok_or_else(|| RunError::Invalid("imu.csv has no rows".into()))?;
+        let mut head = Vec::new();
+        while head.len() <= PERIOD_INTERVALS {
+            match imu.next_row()? {
+                Some((_, r)) => head.push(r),
+                None => break,
+            }
+        }
+        let t0 = head
+            .first()
+            .ok_or_else(|| RunError::Invalid("imu.csv has no rows".into()))?
+            .t;
+        let period_s = median_period(head.iter().map(|r| r.t));
+        let epoch = source.meta().initial.t.unwrap_or(t0 - period_s);
+        if t0 - epoch > MAX_EPOCH_LEAD_PERIODS * period_s {
+            return Err(RunError::Invalid(format!(
+                "meta.toml: initial.t = {epoch} s is {} s before the first IMU row (imu.csv line 2, t = {t0} s): \
+                 the initial state would be carried over {} IMU periods without data (at most {MAX_EPOCH_LEAD_PERIODS})",
+                t0 - epoch,
+                (t0 - epoch) / period_s
+            )));
+        }
+        // Rows before the epoch are not used: the first at or after it starts
+        // the rate model.
+        let mut before_epoch = head.iter().take_while(|r| r.t < epoch).count();
+        let mut first = head.get(before_epoch).copied();
+        while first.is_none() {
+            match imu.next_row()? {
+                Some((_, r)) if r.t < epoch => before_epoch += 1,
+                Some((_, r)) => first = Some(r),
+                None => return Err(RunError::Invalid(format!(
+                    "meta.toml: initial.t = {epoch} s is after the last IMU row: nothing to replay"
+                ))),
+            }
+        }
+        let first = first.unwrap_or(head[0]);
+        let resolutions = if options.stuck_false_alarm.is_some() {
+            let radius = meridian_radius(source.meta().initial.lat);
+            [
+                resolution::<DepthRow>(source, &[1])?,
+                resolution::<DvlRow>(source, &[1, 2, 3])?,
+                resolution::<HeadingRow>(source, &[1])?,
+                radius * resolution::<UsblRow>(source, &[1, 2])?,
+            ]
+        } else {
+            [0.0; 4]
+        };
+        Ok(LogFacts {
+            epoch,
+            first,
+            before_epoch,
+            period_s,
+            resolutions,
+        })
+    }
+}
+
+/// Output resolution of `columns` of `R`'s file: the smallest non-zero
+/// change between consecutive values of any of them (an empty cell passed
+/// over; see [`log_resolution`]); 0 if no value changes or there is no file.
+fn resolution<R: LogTable>(source: &LogSource<'_>, columns: &[usize]) -> Result<f64, RunError> {
+    let Some(mut rows) = source.rows::<R>()? else {
+        return Ok(0.0);
+    };
+    let mut last: Vec<Option<f64>> = vec![None; R::COLUMNS.len()];
+    let mut q = f64::INFINITY;
+    while let Some((_, r)) = rows.next_row()? {
+        for (i, cell) in r.to_cells().into_iter().enumerate() {
+            let Some(v) = cell.filter(|_| columns.contains(&i)) else {
+                continue;
+            };
+            if let Some(p) = last[i] {
+                let d = (v - p).abs();
+                if d > 0.0 && d.is_finite() {
+                    q = q.min(d);
+                }
+            }
+            last[i] = Some(v);
+        }
+    }
+    Ok(if q.is_finite() { q } else { 0.0 })
+}
+
+pub(super) fn setup_error(e: NavigatorError) -> RunError {
     RunError::Invalid(e.to_string())
 }
 
 /// What the log's `meta.toml` and rows say about the navigator.
-struct LogPlan {
-    first: ImuSample,
-    initial: InitialState,
-    imu: ImuSettings,
+pub(super) struct LogPlan {
+    pub(super) first: ImuSample,
+    pub(super) initial: InitialState,
+    pub(super) imu: ImuSettings,
     /// Settings of depth, DVL, compass and USBL.
-    sensors: [SensorSettings; 4],
-    transducer: Geodetic,
+    pub(super) sensors: [SensorSettings; 4],
+    pub(super) transducer: Geodetic,
 }
 
 impl LogPlan {
     /// `latencies`: of depth, DVL, compass and USBL (s).
-    fn new(log: &LogDir, options: &FilterOptions, latencies: [f64; 4]) -> Result<Self, RunError> {
-        let meta = &log.meta;
+    pub(super) fn new(
+        meta: &Meta,
+        facts: &LogFacts,
+        latencies: [f64; 4],
+    ) -> Result<Self, RunError> {
         let [roll, pitch, yaw] = meta.initial.attitude()?;
-        let first = log
-            .imu
-            .first()
-            .ok_or_else(|| RunError::Invalid("imu.csv has no rows".into()))?;
+        let first = &facts.first;
         let spec = ImuSpec::sdins25();
         let imu = meta.sensors.imu.unwrap_or(nav_runtime::log::ImuNoise {
             gyro_bias_sigma: spec.gyro_bias,
@@ -275,7 +400,7 @@ impl LogPlan {
         let sig = meta.initial_sigma.unwrap_or_default();
         let d = InitialSigma::default();
         let initial = InitialState {
-            t: first.t,
+            t: facts.epoch,
             position: Geodetic::new(meta.initial.lat, meta.initial.lon, -meta.initial.depth),
             velocity: Vector3::new(meta.initial.vn, meta.initial.ve, meta.initial.vd),
             attitude: nav_runtime::attitude::Euler { roll, pitch, yaw },
@@ -292,11 +417,7 @@ impl LogPlan {
             noise_or(meta.sensors.heading, ErrorSpec::sdins25_compass()),
             noise_or(meta.sensors.usbl, ErrorSpec::sdins25_usbl()),
         ];
-        let resolution = if options.stuck_false_alarm.is_some() {
-            log_resolutions(log)
-        } else {
-            [0.0; 4]
-        };
+        let resolution = facts.resolutions;
         let mut sensors: [SensorSettings; 4] = std::array::from_fn(|i| SensorSettings {
             resolution: resolution[i],
             latency_s: latencies[i],
@@ -321,7 +442,7 @@ impl LogPlan {
             },
             initial,
             imu: ImuSettings {
-                period_s: imu_period(log),
+                period_s: facts.period_s,
                 gyro_bias_sigma: imu.gyro_bias_sigma,
                 gyro_noise_sigma: imu.gyro_noise_sigma,
                 accel_bias_sigma: imu.accel_bias_sigma,
@@ -333,7 +454,7 @@ impl LogPlan {
     }
 
     /// The builder with every sensor `V` has, and their handles.
-    fn builder<V: InsVehicle<N>, const N: usize>(
+    pub(super) fn builder<V: InsVehicle<N>, const N: usize>(
         &self,
         options: &FilterOptions,
     ) -> (Builder<V, N>, Handles) {
@@ -358,502 +479,16 @@ impl LogPlan {
     }
 }
 
-/// Resolution of each sensor in this log; USBL angles converted to metres.
-fn log_resolutions(log: &LogDir) -> [f64; 4] {
-    let radius = meridian_radius(log.meta.initial.lat);
-    [
-        log.depth.as_ref().map_or(0.0, |r| {
-            log_resolution(r.iter().map(|x| std::slice::from_ref(&x.depth)))
-        }),
-        log.dvl.as_ref().map_or(0.0, |r| {
-            let v: Vec<[f64; 3]> = r.iter().filter_map(|x| x.velocity()).collect();
-            log_resolution(v.iter().map(|x| x.as_slice()))
-        }),
-        log.heading.as_ref().map_or(0.0, |r| {
-            log_resolution(r.iter().map(|x| std::slice::from_ref(&x.heading)))
-        }),
-        log.usbl.as_ref().map_or(0.0, |r| {
-            let v: Vec<[f64; 2]> = r.iter().map(|x| [x.lat, x.lon]).collect();
-            radius * log_resolution(v.iter().map(|x| x.as_slice()))
-        }),
-    ]
-}
-
-/// One log row of an aiding sensor: sensor index (in [`SENSOR_NAMES`]
-/// order) and row index.
-#[derive(Clone, Copy, Debug)]
-struct Event {
-    delivery: f64,
-    time: f64,
-    sensor: usize,
-    row: usize,
-}
-
-/// Where row `row` (0-based, after the header) of `file` is, for messages:
-/// its line when the reader skipped none of the file's rows.
-fn place(log: &LogDir, file: &str, row: usize) -> String {
-    if log.skipped_rows.get(file).copied().unwrap_or(0) == 0 {
-        format!("{file} line {}", row + 2)
-    } else {
-        format!("{file} data row {}", row + 1)
-    }
-}
-
-/// The rows of each aiding sensor the run uses, with their delivery times,
-/// and the health counts of the rows not used.
-struct Sources {
-    events: Vec<Event>,
-    health: [SensorHealth; 4],
-    ignored: Vec<&'static str>,
-    warnings: Vec<String>,
-    /// Largest USBL travel time (s).
-    usbl_latency: f64,
-}
-
-impl Sources {
-    fn new<V: InsVehicle<N>, const N: usize>(
-        log: &LogDir,
-        options: &FilterOptions,
-        transducer: Geodetic,
-    ) -> Self {
-        let mut s = Sources {
-            events: Vec::new(),
-            health: [SensorHealth::default(); 4],
-            ignored: Vec::new(),
-            warnings: Vec::new(),
-            usbl_latency: 0.0,
-        };
-        let has = crate::navigator::vehicle::Present::of::<V, N>();
-        let has_heading = match options.compass {
-            CompassForm::Exact => has.compass,
-            CompassForm::SmallAngle => has.compass_small_angle,
-        };
-        let rows = [
-            log.depth.as_ref().map(Vec::len),
-            log.dvl.as_ref().map(Vec::len),
-            log.heading.as_ref().map(Vec::len),
-            log.usbl.as_ref().map(Vec::len),
-        ];
-        let present = [has.depth, has.dvl, has_heading, has.usbl];
-        let used = [
-            options.use_depth,
-            options.use_dvl,
-            options.use_compass,
-            options.use_usbl,
-        ];
-        for i in 0..4 {
-            match rows[i] {
-                // A log sensor the vehicle lacks: its rows are counted and skipped.
-                Some(n) if !present[i] => {
-                    s.health[i].rows = n as u64;
-                    s.health[i].skipped = n as u64;
-                    s.ignored.push(SENSOR_NAMES[i]);
-                }
-                Some(n) if used[i] => {
-                    s.health[i].rows = n as u64;
-                    match i {
-                        0 => s.depth(log, options),
-                        1 => s.dvl(log, options),
-                        2 => s.heading(log, options),
-                        _ => s.usbl(log, options, transducer),
-                    }
-                }
-                _ => {}
-            }
-        }
-        s.events.sort_by(|a, b| a.delivery.total_cmp(&b.delivery));
-        s
-    }
-
-    /// Depth meter (height convention).
-    fn depth(&mut self, log: &LogDir, options: &FilterOptions) {
-        let rows = log.depth.as_deref().unwrap_or_default();
-        self.events
-            .extend(rows.iter().enumerate().map(|(i, r)| Event {
-                delivery: r.t + options.delivery.delay(0, i),
-                time: r.t,
-                sensor: 0,
-                row: i,
-            }));
-    }
-
-    /// DVL: valid only with bottom lock and below its range.
-    fn dvl(&mut self, log: &LogDir, options: &FilterOptions) {
-        let rows = log.dvl.as_deref().unwrap_or_default();
-        for (i, r) in rows.iter().enumerate() {
-            let in_range = altitude_at(log, r.t).is_none_or(|a| a <= DVL_MAX_ALTITUDE);
-            if r.velocity().is_some() && in_range {
-                self.events.push(Event {
-                    delivery: r.t + options.delivery.delay(1, i),
-                    time: r.t,
-                    sensor: 1,
-                    row: i,
-                });
-            } else {
-                self.health[1].skipped += 1;
-            }
-        }
-    }
-
-    fn heading(&mut self, log: &LogDir, options: &FilterOptions) {
-        let rows = log.heading.as_deref().unwrap_or_default();
-        self.events
-            .extend(rows.iter().enumerate().map(|(i, r)| Event {
-                delivery: r.t + options.delivery.delay(2, i),
-                time: r.t,
-                sensor: 2,
-                row: i,
-            }));
-    }
-
-    /// USBL: delivered after the acoustic travel time from the transducer.
-    /// A fix with a NaN cell is refused by the navigator (counted as
-    /// rejected); one whose travel time is infinite (an absurd cell such as
-    /// 1e300) is rejected here, with a warning naming its line.
-    fn usbl(&mut self, log: &LogDir, options: &FilterOptions, transducer: Geodetic) {
-        let rows = log.usbl.as_deref().unwrap_or_default();
-        let frame = LocalNed::new(transducer);
-        for (i, r) in rows.iter().enumerate() {
-            let delay = match options.usbl_delivery {
-                UsblDelivery::OnTime => 0.0,
-                UsblDelivery::Acoustic => {
-                    frame
-                        .geodetic_to_ned(&Geodetic::new(r.lat, r.lon, -r.depth))
-                        .norm()
-                        / SOUND_SPEED
-                }
-            };
-            if delay.is_infinite() {
-                self.health[3].rejected += 1;
-                self.warnings.push(format!(
-                    "{}: the fix (lat {}, lon {}, depth {}) gives an infinite acoustic travel time; not used",
-                    place(log, "usbl.csv", i),
-                    r.lat,
-                    r.lon,
-                    r.depth
-                ));
-                continue;
-            }
-            // `max` ignores a NaN delay: that fix goes last and is refused.
-            self.usbl_latency = self.usbl_latency.max(delay);
-            self.events.push(Event {
-                delivery: r.t + delay,
-                time: r.t,
-                sensor: 3,
-                row: i,
-            });
-        }
-    }
-
-    /// Latencies of depth, DVL, compass and USBL: the history spans the
-    /// largest. USBL fixes travel (plus a margin) only if there are any; the
-    /// 2 Hz aiding is late only with delivery faults.
-    fn latencies(&self, options: &FilterOptions) -> [f64; 4] {
-        let has_usbl = self.events.iter().any(|e| e.sensor == 3);
-        std::array::from_fn(|i| {
-            if i == 3 {
-                if has_usbl {
-                    self.usbl_latency + 1.0
-                } else {
-                    0.0
-                }
-            } else if options.delivery.is_late() {
-                options.delivery.max_delay() + 0.1
-            } else {
-                0.0
-            }
-        })
-    }
-}
-
-/// Pushes the reading of `ev` into `nav`.
-fn push_reading<V: InsVehicle<N>, const N: usize>(
-    nav: &mut Navigator<V, N>,
-    handles: &Handles,
-    log: &LogDir,
-    ev: &Event,
-) {
-    let t = ev.time;
-    match ev.sensor {
-        0 => {
-            let depth = log.depth.as_ref().map_or(f64::NAN, |r| r[ev.row].depth);
-            if let Some(h) = handles.depth {
-                nav.push(h, t, DepthReading(depth));
-            }
-        }
-        1 => {
-            let v = log
-                .dvl
-                .as_ref()
-                .and_then(|r| r[ev.row].velocity())
-                .map_or(Vector3::repeat(f64::NAN), Vector3::from);
-            if let Some(h) = handles.dvl {
-                nav.push(h, t, DvlReading(v));
-            }
-        }
-        2 => {
-            let psi = log.heading.as_ref().map_or(f64::NAN, |r| r[ev.row].heading);
-            if let Some(h) = handles.heading {
-                nav.push(h, t, HeadingReading(psi));
-            }
-        }
-        _ => {
-            let (lat, lon) = log
-                .usbl
-                .as_ref()
-                .map_or((f64::NAN, f64::NAN), |r| (r[ev.row].lat, r[ev.row].lon));
-            if let Some(h) = handles.usbl {
-                nav.push(h, t, UsblFix { lat, lon });
-            }
-        }
-    }
-}
-
-/// The handles of the sensors a vehicle has.
-struct Handles {
-    depth: Option<crate::navigator::Handle<DepthReading>>,
-    dvl: Option<crate::navigator::Handle<DvlReading>>,
-    heading: Option<crate::navigator::Handle<HeadingReading>>,
-    usbl: Option<crate::navigator::Handle<UsblFix>>,
-}
-
 /// Runs the SDINS-25 filter over `log`: [`run_vehicle`] of [`Sdins25`].
+///
+/// # Errors
+/// As [`run_vehicle`].
 pub fn run(
     log: &LogDir,
     options: &FilterOptions,
     record_times: &[f64],
 ) -> Result<Sdins25Run, RunError> {
     run_vehicle::<Sdins25, N>(log, options, record_times)
-}
-
-/// For each IMU row that some of `record_times` (sorted or not) snaps to, the
-/// indices of those times: `(imu row, [record slots])`, by IMU row.
-fn record_slots(imu_t: &[f64], record_times: &[f64], dt_imu: f64) -> Vec<(usize, Vec<usize>)> {
-    let mut slots: Vec<(usize, Vec<usize>)> = Vec::new();
-    for (slot, &t) in record_times.iter().enumerate() {
-        let k = imu_t.partition_point(|&x| x < t);
-        let best = [k.wrapping_sub(1), k]
-            .into_iter()
-            .filter(|&j| j < imu_t.len())
-            .min_by(|&a, &b| (imu_t[a] - t).abs().total_cmp(&(imu_t[b] - t).abs()));
-        if let Some(j) = best.filter(|&j| (imu_t[j] - t).abs() <= 0.5 * dt_imu + 1e-9) {
-            match slots.last_mut() {
-                Some((last, v)) if *last == j => v.push(slot),
-                _ => slots.push((j, vec![slot])),
-            }
-        }
-    }
-    slots
-}
-
-/// Runs the filter of vehicle `V` over `log`, recording estimates at
-/// `record_times` (s; each snapped to the nearest IMU sample time within half
-/// a period). The rows of a log sensor `V` has no sensor for are not used:
-/// they are counted in that sensor's health as rows and skipped, and the
-/// sensor is listed in [`InsRun::ignored`].
-///
-/// # Errors
-/// A setup problem, an IMU sample the filter refuses, or an estimate out of
-/// its physical bounds ([`FilterOptions::bounds`]), each naming the input
-/// file and line that led to it.
-pub fn run_vehicle<V: InsVehicle<N>, const N: usize>(
-    log: &LogDir,
-    options: &FilterOptions,
-    record_times: &[f64],
-) -> Result<InsRun<V, N>, RunError> {
-    crate::navigator::vehicle::Layout::of::<V, N>()?;
-    let plan0 = LogPlan::new(log, options, [0.0; 4])?;
-    let sources = Sources::new::<V, N>(log, options, plan0.transducer);
-    let plan = LogPlan {
-        sensors: {
-            let lat = sources.latencies(options);
-            let mut s = plan0.sensors;
-            for (s, l) in s.iter_mut().zip(lat) {
-                s.latency_s = l;
-            }
-            s
-        },
-        ..plan0
-    };
-    let (builder, handles) = plan.builder::<V, N>(options);
-    let mut nav = builder.build(plan.first).map_err(setup_error)?;
-
-    // Requested estimates: one request per IMU sample time that some
-    // requested time snaps to.
-    let imu_t: Vec<f64> = log.imu.iter().map(|r| r.t).collect();
-    let slots = record_slots(&imu_t, record_times, plan.imu.period_s);
-    let mut estimates: Vec<Option<Estimate>> = vec![None; record_times.len()];
-    let mut slot_of_ticket: std::collections::VecDeque<usize> = Default::default();
-    let mut next_slot = 0;
-    let mut deliver =
-        |ticket_slot: Option<usize>, e: Option<Estimate>, slots: &[(usize, Vec<usize>)]| {
-            if let Some(k) = ticket_slot {
-                for &s in &slots[k].1 {
-                    estimates[s] = e;
-                }
-            }
-        };
-    if let Some((0, _)) = slots.first() {
-        nav.request_estimate(imu_t[0]);
-        slot_of_ticket.push_back(0);
-        next_slot = 1;
-    }
-
-    let start = std::time::Instant::now();
-    let events = &sources.events;
-    let mut next = 0;
-    let mut samples = 0;
-    let mut last_input: Option<&Event> = None;
-    let mut warnings = sources.warnings;
-    for (j, row) in log.imu.iter().enumerate().skip(1) {
-        let previous = &log.imu[j - 1];
-        if let Some(k) = options.max_imu_step {
-            let step = k * plan.imu.period_s;
-            let gap = row.t - previous.t;
-            if gap > step {
-                let steps = (gap / step).ceil();
-                let lines = format!(
-                    "{} to {}",
-                    place(log, "imu.csv", j - 1),
-                    place(log, "imu.csv", j)
-                );
-                if steps > MAX_GAP_STEPS {
-                    return Err(RunError::Invalid(format!(
-                        "imu.csv gap of {gap} s between {lines} is too long to propagate (more than {MAX_GAP_STEPS} steps of {step} s)"
-                    )));
-                }
-                warnings.push(format!(
-                    "imu.csv gap of {gap} s between {lines}: propagated in {steps} steps holding the sample before it"
-                ));
-                let held = ImuSample {
-                    gyro: Vector3::new(previous.gx, previous.gy, previous.gz),
-                    accel: Vector3::new(previous.ax, previous.ay, previous.az),
-                };
-                for m in 1..steps as usize {
-                    let t = previous.t + gap * (m as f64 / steps);
-                    while let Some(ev) = events.get(next).filter(|e| e.delivery <= t) {
-                        push_reading(&mut nav, &handles, log, ev);
-                        last_input = Some(ev);
-                        next += 1;
-                    }
-                    nav.push_imu(t, held).map_err(|e| {
-                        RunError::Invalid(format!("imu.csv gap between {lines} at t = {t} s: {e}"))
-                    })?;
-                    nav.final_estimates(|_, e| deliver(slot_of_ticket.pop_front(), e, &slots));
-                }
-            }
-        }
-        while let Some(ev) = events.get(next).filter(|e| e.delivery <= row.t) {
-            push_reading(&mut nav, &handles, log, ev);
-            last_input = Some(ev);
-            next += 1;
-        }
-        if let Some((k, _)) = slots.get(next_slot).filter(|(k, _)| *k == j) {
-            nav.request_estimate(imu_t[*k]);
-            slot_of_ticket.push_back(next_slot);
-            next_slot += 1;
-        }
-        let imu = ImuSample {
-            gyro: Vector3::new(row.gx, row.gy, row.gz),
-            accel: Vector3::new(row.ax, row.ay, row.az),
-        };
-        nav.push_imu(row.t, imu).map_err(|e| match e {
-            NavigatorError::Imu(e) => RunError::Invalid(format!(
-                "imu.csv at t = {} s ({}): {e}",
-                row.t,
-                place(log, "imu.csv", j)
-            )),
-            e => RunError::Invalid(format!(
-                "{} (t = {} s): {e}{}",
-                place(log, "imu.csv", j),
-                row.t,
-                last_input.map_or(String::new(), |ev| format!(
-                    "; latest aiding input: {}",
-                    place(log, &format!("{}.csv", SENSOR_NAMES[ev.sensor]), ev.row)
-                ))
-            )),
-        })?;
-        samples += 1;
-        nav.final_estimates(|_, e| deliver(slot_of_ticket.pop_front(), e, &slots));
-    }
-    // Fixes still travelling when the IMU data ends (measured before its end).
-    for ev in &events[next..] {
-        push_reading(&mut nav, &handles, log, ev);
-    }
-    nav.flush_estimates(|_, e| deliver(slot_of_ticket.pop_front(), e, &slots));
-    let runtime_s = start.elapsed().as_secs_f64();
-
-    let mut health = sources.health;
-    for (i, h) in health.iter_mut().enumerate() {
-        let r = nav.report_of(i).health;
-        h.accepted = r.accepted;
-        h.gated = r.gated;
-        h.rejected += r.rejected;
-        h.skipped += r.skipped;
-        h.stuck = r.stuck;
-    }
-    let mut final_filter = nav.filter().clone();
-    let recording = final_filter
-        .finish_recording()
-        .map_err(|e| RunError::Invalid(e.to_string()))?;
-    let layout = *final_filter.nominal().layout();
-    let smoothed = recording
-        .map(|store| smoothed_estimates(&mut store.borrow_mut(), &estimates, &layout))
-        .transpose()?;
-    let repairs = final_filter.ekf().counters().covariance_repairs;
-    let replays = nav.replays();
-    Ok(InsRun {
-        estimates,
-        samples: samples + 1,
-        health: std::array::from_fn(|i| (SENSOR_NAMES[i], health[i])),
-        repairs,
-        runtime_s,
-        replays,
-        final_filter,
-        ignored: sources.ignored,
-        smoothed,
-        warnings,
-    })
-}
-
-/// The smoothed counterpart of each estimate, from the recorded epochs of
-/// `file` (every output time is an epoch of the recording): the backward pass
-/// meets the epochs latest first and the estimates are matched from the end,
-/// so nothing but the smoothed estimates is kept.
-fn smoothed_estimates<const N: usize>(
-    file: &mut EpochFile<N, 0>,
-    estimates: &[Option<Estimate>],
-    layout: &Layout,
-) -> Result<Vec<Option<Estimate>>, RunError> {
-    let mut out = vec![None; estimates.len()];
-    let mut k = estimates.len();
-    smooth(file, |epoch| {
-        while k > 0 {
-            match &estimates[k - 1] {
-                Some(e) if e.t > epoch.time + 1e-9 => k -= 1,
-                None => k -= 1,
-                Some(e) => {
-                    if (e.t - epoch.time).abs() <= 1e-9 {
-                        out[k - 1] = Some(e.smoothed(&epoch.error, &epoch.covariance, layout));
-                        k -= 1;
-                        // Several requested times may snap to one epoch.
-                        while let Some(Some(same)) = estimates.get(k.wrapping_sub(1)) {
-                            if (same.t - epoch.time).abs() > 1e-9 {
-                                break;
-                            }
-                            out[k - 1] =
-                                Some(same.smoothed(&epoch.error, &epoch.covariance, layout));
-                            k -= 1;
-                        }
-                    }
-                    break;
-                }
-            }
-        }
-        Ok(())
-    })
-    .map_err(|e| RunError::Invalid(e.to_string()))?;
-    Ok(out)
 }
 
 /// Output resolution of a sensor in a log: the smallest non-zero change
@@ -886,22 +521,6 @@ pub fn log_resolution<'a>(values: impl Iterator<Item = &'a [f64]>) -> f64 {
 /// (simulation) this is [`StuckDetector::MIN_REPEATS`] identical samples.
 pub fn stuck_detector(noise_sigma: f64, resolution: f64, false_alarm: f64) -> StuckDetector {
     StuckDetector::for_sensor(noise_sigma, resolution, false_alarm)
-}
-
-/// IMU steps between the scheduler's checkpoints for a history of `window`
-/// seconds at IMU period `dt` (s). A checkpoint (a copy of the whole filter)
-/// every step costs more than the steps themselves save: a late measurement
-/// re-propagates from the newest checkpoint before it, so spacing them by a
-/// tenth of the window adds at most a tenth of the window to a replay, while
-/// copying the filter ten times less often. Without late sensors (`window`
-/// 0) a replay can only be for a measurement at the current IMU time, which
-/// the replay loop always delivers before that sample: one checkpoint a
-/// second. Results do not depend on the spacing (the replay recomputes the
-/// Echo-sounder altitude at `t`: the latest row at or before `t` (m).
-fn altitude_at(log: &LogDir, t: f64) -> Option<f64> {
-    let rows = log.altitude.as_ref()?;
-    let k = rows.partition_point(|r| r.t <= t + 1e-9);
-    rows.get(k.checked_sub(1)?).map(|r| r.altitude)
 }
 
 /// `C_b^n` from Euler angles (rad).

@@ -6,10 +6,13 @@
 //! score against truth.csv, so `navsim simulate` followed by `navsim replay
 //! --model sdins25` reproduces `navsim scenario` exactly.
 
+mod aiding;
 pub mod faults;
 pub mod filter;
 pub mod lockout;
 pub mod model;
+mod replay_loop;
+pub mod replay_output;
 pub mod score;
 pub mod simulation;
 pub mod soak;
@@ -21,7 +24,7 @@ mod model_tests;
 use std::marker::PhantomData;
 use std::path::Path;
 
-use nav_runtime::log::LogDir;
+use nav_runtime::log::{LogDir, LogFiles, LogSource};
 use nav_runtime::stats;
 use serde_json::{json, Map, Value};
 
@@ -34,7 +37,7 @@ use crate::report::summary_of;
 use filter::{FilterOptions, InsRun, Sdins25Run};
 use score::{nees_band_95, Scored, NEES_DOF};
 use simulation::SimConfig;
-use vehicle::{InsVehicle, Layout};
+use vehicle::InsVehicle;
 
 pub use model::{
     Sdins25, Sdins25Compass, Sdins25CompassSmallAngle, Sdins25Depth, Sdins25Dvl, Sdins25Usbl,
@@ -155,14 +158,14 @@ pub const SMOOTHED_TABLE: &str = "smoothed_errors";
 
 /// The error keys of a scored run, reported forward and (under `smoothed`)
 /// smoothed.
-const ERROR_KEYS: [&str; 4] = [
+pub(crate) const ERROR_KEYS: [&str; 4] = [
     "horizontal_error_final_m",
     "horizontal_error_rms_m",
     "depth_error_rms_m",
     "nees_mean",
 ];
 
-fn error_values(s: &Scored) -> [f64; 4] {
+pub(crate) fn error_values(s: &Scored) -> [f64; 4] {
     [
         s.horizontal_error_final_m,
         s.horizontal_error_rms_m,
@@ -172,7 +175,7 @@ fn error_values(s: &Scored) -> [f64; 4] {
 }
 
 /// The metrics of a run (scored when truth exists).
-fn metrics<V: InsVehicle<N>, const N: usize>(
+pub(crate) fn metrics<V: InsVehicle<N>, const N: usize>(
     run: &InsRun<V, N>,
     scored: Option<&Scored>,
 ) -> Vec<(String, f64)> {
@@ -307,7 +310,7 @@ fn smoothed_summary(runs: &[RunResult]) -> Value {
 }
 
 /// The `health` object: per-sensor totals over runs and covariance repairs.
-fn health(runs: &[RunResult]) -> Value {
+pub(crate) fn health(runs: &[RunResult]) -> Value {
     let sum = |k: &str| metric_values(runs, k).iter().sum::<f64>();
     let mut h = Map::new();
     for name in SENSOR_NAMES {
@@ -646,85 +649,15 @@ impl<V: InsVehicle<N>, const N: usize> ReplayModel for InsReplay<V, N> {
         ])
     }
     fn replay(&self, log: &LogDir, options: &ReplayOptions) -> Result<ReplayOutput, RunError> {
-        Layout::of::<V, N>()?;
-        let filter_options = FilterOptions {
-            smooth: options.smooth,
-            max_imu_step: options.lenient.then_some(filter::LENIENT_IMU_STEP_PERIODS),
-            ..FilterOptions::default()
-        };
-        let (run, scored) = run_and_score_vehicle::<V, N>(log, &filter_options, None)?;
-        let smoothed = score_smoothed(&run, log, None)?;
-        let mut out = ReplayOutput {
-            samples: run.samples,
-            runtime_s: run.runtime_s,
-            ..Default::default()
-        };
-        for name in &run.ignored {
-            let rows = run
-                .health
-                .iter()
-                .find(|(n, _)| n == name)
-                .map_or(0, |(_, h)| h.rows);
-            out.warnings.push(format!(
-                "model {} has no {name} sensor: the {rows} rows of {name}.csv are not used",
-                V::REPLAY_NAME
-            ));
-        }
-        out.warnings.extend(run.warnings.iter().cloned());
-        if let Some(s) = &scored {
-            for (k, v) in [
-                ("horizontal_error_final_m", s.horizontal_error_final_m),
-                ("horizontal_error_rms_m", s.horizontal_error_rms_m),
-                ("depth_error_rms_m", s.depth_error_rms_m),
-                ("nees_mean", s.nees_mean),
-                ("scored_seconds", s.scored_seconds),
-            ] {
-                out.metrics.insert(k.into(), Value::from(v));
-            }
-            out.warnings.extend(s.partial.clone());
-        }
-        if let Some(s) = &smoothed {
-            let errors: Map<String, Value> = ERROR_KEYS
-                .iter()
-                .zip(error_values(s))
-                .map(|(k, v)| ((*k).to_string(), Value::from(v)))
-                .collect();
-            out.metrics.insert("smoothed".into(), Value::Object(errors));
-        } else if options.smooth {
-            out.warnings
-                .push("the log has no truth.csv: the smoothed run is not scored".into());
-        }
-        let single = RunResult {
-            metrics: metrics(&run, scored.as_ref()).into_iter().collect(),
-            ..RunResult::new(0)
-        };
-        out.metrics
-            .insert("health".into(), health(std::slice::from_ref(&single)));
-        let last = run.final_filter.nominal().ins.state;
-        let e = last.euler();
-        out.metrics.insert(
-            "final".into(),
-            json!({
-                "lat": last.lat, "lon": last.lon, "depth": last.depth(),
-                "vn": last.v_n.x, "ve": last.v_n.y, "vd": last.v_n.z,
-                "roll": e.roll.to_degrees(), "pitch": e.pitch.to_degrees(), "yaw": e.yaw.to_degrees(),
-            }),
-        );
-        if let (true, Some(s)) = (options.keep_series, scored) {
-            out.tables.push(s.table);
-            if let Some(sm) = smoothed {
-                out.tables.push(sm.table);
-            }
-        }
-        if !out.warnings.is_empty() {
-            let list = out
-                .warnings
-                .iter()
-                .map(|w| Value::from(w.as_str()))
-                .collect();
-            out.metrics.insert("warnings".into(), Value::Array(list));
-        }
-        Ok(out)
+        replay_output::replay_source::<V, N>(&LogSource::Memory(log), options, None)
+    }
+    fn replay_files(
+        &self,
+        files: &LogFiles,
+        options: &ReplayOptions,
+        out: Option<&Path>,
+    ) -> Result<ReplayOutput, RunError> {
+        replay_output::replay_source::<V, N>(&LogSource::Files(files), options, out)
     }
     fn can_smooth(&self) -> bool {
         true

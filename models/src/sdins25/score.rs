@@ -9,6 +9,7 @@ use nav_runtime::strapdown::NavState;
 
 use super::filter::{c_bn, Estimate};
 use crate::montecarlo::RunTable;
+use crate::series::{BoundedTable, TableWriter, PLOT_ROWS};
 
 /// Navigation states of the NEES.
 pub const NEES_DOF: usize = 9;
@@ -106,6 +107,12 @@ pub enum ScoreError {
         /// 1-based line of the truth row.
         line: u64,
     },
+    /// The error table could not be written.
+    #[error("writing the error table: {reason}")]
+    Write {
+        /// Why.
+        reason: String,
+    },
 }
 
 /// The truth row as a navigation state.
@@ -123,7 +130,7 @@ pub fn truth_state(r: &TruthRow) -> NavState {
 /// only where both exist (truth rows outside the estimate's span are not
 /// scored; `scored_seconds` says how much is). `compass_bias` is the true
 /// compass bias (rad) when known; `imu_span` the IMU's first and last time, for
-/// the messages.
+/// the messages. The whole table is kept ([`Scorer`] scores a run as it goes).
 ///
 /// # Errors
 /// No truth rows, fewer than two scored rows, or a non-finite error.
@@ -133,16 +140,93 @@ pub fn score(
     compass_bias: Option<f64>,
     imu_span: Option<(f64, f64)>,
 ) -> Result<Scored, ScoreError> {
-    let mut table = RunTable::new(TABLE, &COLUMNS);
-    let Some(first) = truth.first() else {
-        return Err(ScoreError::NoTruth);
-    };
-    let (mut t_first, mut t_last) = (f64::NAN, f64::NAN);
-    let frame = LocalNed::new(Geodetic::new(first.lat, first.lon, -first.depth));
-    let (mut h2, mut d2, mut nees_sum, mut n) = (0.0, 0.0, 0.0, 0usize);
-    let mut out = Scored::default();
+    let mut scorer = Scorer::new(compass_bias, Keep::All);
     for (i, (est, row)) in estimates.iter().zip(truth).enumerate() {
-        let Some(e) = est else { continue };
+        scorer.push(Some(i as u64 + 2), row, est.as_ref())?;
+    }
+    // Truth rows beyond the estimates are counted, not scored.
+    for (i, row) in truth.iter().enumerate().skip(estimates.len()) {
+        scorer.push(Some(i as u64 + 2), row, None)?;
+    }
+    scorer.finish(imu_span)
+}
+
+/// Which rows of the error table a [`Scorer`] keeps in [`Scored::table`].
+#[derive(Debug)]
+pub enum Keep {
+    /// Every row.
+    All,
+    /// A bounded, evenly thinned copy (for plots), every row also written to
+    /// the file of the writer when there is one.
+    Bounded(Option<TableWriter>),
+    /// None.
+    Nothing,
+}
+
+/// Scores a run against truth as the estimates come, one truth row at a
+/// time, in memory that does not grow with the log (with [`Keep::Bounded`]
+/// or [`Keep::Nothing`]).
+#[derive(Debug)]
+pub struct Scorer {
+    compass_bias: Option<f64>,
+    keep: Keep,
+    kept: Option<BoundedTable>,
+    table: RunTable,
+    frame: Option<LocalNed>,
+    truth_first: Option<f64>,
+    truth_last: f64,
+    truth_rows: usize,
+    t_first: f64,
+    t_last: f64,
+    h2: f64,
+    d2: f64,
+    nees_sum: f64,
+    n: usize,
+    out: Scored,
+}
+
+impl Scorer {
+    /// A scorer; `compass_bias` is the true compass bias (rad) when known.
+    pub fn new(compass_bias: Option<f64>, keep: Keep) -> Self {
+        let kept =
+            matches!(keep, Keep::Bounded(_)).then(|| BoundedTable::new(TABLE, &COLUMNS, PLOT_ROWS));
+        Scorer {
+            compass_bias,
+            keep,
+            kept,
+            table: RunTable::new(TABLE, &COLUMNS),
+            frame: None,
+            truth_first: None,
+            truth_last: f64::NAN,
+            truth_rows: 0,
+            t_first: f64::NAN,
+            t_last: f64::NAN,
+            h2: 0.0,
+            d2: 0.0,
+            nees_sum: 0.0,
+            n: 0,
+            out: Scored::default(),
+        }
+    }
+
+    /// Scores the estimate at truth row `row` (line `line` of `truth.csv`);
+    /// `None`: no estimate there (the row is counted, not scored).
+    ///
+    /// # Errors
+    /// A non-finite error against the row; the table file cannot be written.
+    pub fn push(
+        &mut self,
+        line: Option<u64>,
+        row: &TruthRow,
+        estimate: Option<&Estimate>,
+    ) -> Result<(), ScoreError> {
+        self.truth_rows += 1;
+        self.truth_first.get_or_insert(row.t);
+        self.truth_last = row.t;
+        let frame = *self
+            .frame
+            .get_or_insert_with(|| LocalNed::new(Geodetic::new(row.lat, row.lon, -row.depth)));
+        let Some(e) = estimate else { return Ok(()) };
         let tr = truth_state(row);
         let err = e.nav.error_from(&tr);
         let p = err.position_ned(tr.lat, tr.h);
@@ -152,28 +236,31 @@ pub fn score(
         let nees = Cholesky::new(e.cov).map_or(f64::NAN, |c| x.dot(&c.solve(&x)));
         let horizontal = p.x.hypot(p.y);
         if !(horizontal.is_finite() && p.z.is_finite()) {
-            return Err(ScoreError::NotFinite { line: i as u64 + 2 });
+            return Err(ScoreError::NotFinite {
+                line: line.unwrap_or(self.truth_rows as u64 + 1),
+            });
         }
-        if n == 0 {
-            t_first = row.t;
+        if self.n == 0 {
+            self.t_first = row.t;
         }
-        t_last = row.t;
-        h2 += horizontal * horizontal;
-        d2 += p.z * p.z;
-        nees_sum += nees;
-        n += 1;
-        out.horizontal_error_final_m = horizontal;
-        let sig: Vec<f64> = (0..9).map(|i| e.cov[(i, i)].sqrt()).collect();
+        self.t_last = row.t;
+        self.h2 += horizontal * horizontal;
+        self.d2 += p.z * p.z;
+        self.nees_sum += nees;
+        self.n += 1;
+        self.out.horizontal_error_final_m = horizontal;
+        let sig: [f64; 9] = std::array::from_fn(|i| e.cov[(i, i)].sqrt());
         let tn = frame.geodetic_to_ned(&tr.position());
         let en = frame.geodetic_to_ned(&e.nav.position());
         let (cb_err, cb_sig) = (
-            compass_bias.map_or(f64::NAN, |b| (e.compass_bias.0 - b).to_degrees()),
+            self.compass_bias
+                .map_or(f64::NAN, |b| (e.compass_bias.0 - b).to_degrees()),
             e.compass_bias.1.to_degrees(),
         );
-        out.compass_bias_error_final_deg = cb_err;
-        out.compass_bias_sigma_final_deg = cb_sig;
+        self.out.compass_bias_error_final_deg = cb_err;
+        self.out.compass_bias_sigma_final_deg = cb_sig;
         let deg = f64::to_degrees;
-        table.push(&[
+        let values = [
             row.t,
             x[0],
             x[1],
@@ -200,36 +287,70 @@ pub fn score(
             en.y,
             cb_err,
             cb_sig,
-        ]);
+        ];
+        match &mut self.keep {
+            Keep::All => self.table.push(&values),
+            Keep::Bounded(writer) => {
+                if let Some(w) = writer {
+                    w.push(&values).map_err(|e| ScoreError::Write {
+                        reason: e.to_string(),
+                    })?;
+                }
+                if let Some(k) = &mut self.kept {
+                    k.push(&values);
+                }
+            }
+            Keep::Nothing => {}
+        }
+        Ok(())
     }
-    if n < 2 {
-        let (imu_start, imu_end) = imu_span.unwrap_or((f64::NAN, f64::NAN));
-        return Err(ScoreError::NoOverlap {
-            truth_start: first.t,
-            truth_end: truth.last().map_or(first.t, |r| r.t),
-            imu_start,
-            imu_end,
-            rows: n,
-        });
+
+    /// The scores; `imu_span` is the IMU's first and last time, for the
+    /// messages.
+    ///
+    /// # Errors
+    /// No truth rows, or fewer than two scored rows.
+    pub fn finish(mut self, imu_span: Option<(f64, f64)>) -> Result<Scored, ScoreError> {
+        let Some(truth_first) = self.truth_first else {
+            return Err(ScoreError::NoTruth);
+        };
+        let n = self.n;
+        if n < 2 {
+            let (imu_start, imu_end) = imu_span.unwrap_or((f64::NAN, f64::NAN));
+            return Err(ScoreError::NoOverlap {
+                truth_start: truth_first,
+                truth_end: self.truth_last,
+                imu_start,
+                imu_end,
+                rows: n,
+            });
+        }
+        if let Keep::Bounded(Some(w)) = std::mem::replace(&mut self.keep, Keep::Nothing) {
+            w.finish().map_err(|e| ScoreError::Write {
+                reason: e.to_string(),
+            })?;
+        }
+        let mut out = self.out;
+        let k = n as f64;
+        out.horizontal_error_rms_m = (self.h2 / k).sqrt();
+        out.depth_error_rms_m = (self.d2 / k).sqrt();
+        out.nees_mean = self.nees_sum / k;
+        out.scored_seconds = self.t_last - self.t_first;
+        out.scored_rows = n;
+        let truth_span = self.truth_last - truth_first;
+        if out.scored_seconds < 0.5 * truth_span {
+            out.partial = Some(format!(
+                "truth.csv: only {:.1} s of its {:.1} s (t = {}..{} s, {n} of {} rows) \
+                 overlap the estimate and are scored",
+                out.scored_seconds, truth_span, self.t_first, self.t_last, self.truth_rows
+            ));
+        }
+        out.table = match self.kept {
+            Some(k) => k.into_table(),
+            None => self.table,
+        };
+        Ok(out)
     }
-    let k = n as f64;
-    out.horizontal_error_rms_m = (h2 / k).sqrt();
-    out.depth_error_rms_m = (d2 / k).sqrt();
-    out.nees_mean = nees_sum / k;
-    out.scored_seconds = t_last - t_first;
-    out.scored_rows = n;
-    let truth_span = truth.last().map_or(0.0, |r| r.t) - first.t;
-    if out.scored_seconds < 0.5 * truth_span {
-        out.partial = Some(format!(
-            "truth.csv: only {:.1} s of its {:.1} s (t = {t_first}..{t_last} s, {n} of {} rows) \
-             overlap the estimate and are scored",
-            out.scored_seconds,
-            truth_span,
-            truth.len()
-        ));
-    }
-    out.table = table;
-    Ok(out)
 }
 
 /// Two-sided 95 % band of the NEES of `dof` states averaged over `runs`

@@ -381,6 +381,8 @@ pub(crate) fn initial_meta(s0: &nav_runtime::trajectory::TruthState, seed: u64) 
     };
     let p = LocalNed::new(s0.position()).ned_to_geodetic(&dp);
     let mut meta = Meta::at(p.lat, p.lon, -p.h);
+    // The initial estimate is of the truth at its time, the first IMU sample.
+    meta.initial.t = Some(s0.t);
     meta.initial.vn = s0.v_n.x + dv.x;
     meta.initial.ve = s0.v_n.y + dv.y;
     meta.initial.vd = s0.v_n.z + dv.z;

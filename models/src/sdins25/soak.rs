@@ -391,3 +391,103 @@ pub fn run(
 pub fn start() -> Geodetic {
     scenarios::sdins25_start(SHALLOW_DEPTH)
 }
+
+/// Writes the soak survey of `config` as a log directory at `dir` (which
+/// must not exist), one row at a time: IMU at 100 Hz, DVL, depth and compass
+/// at 2 Hz, truth at 1 Hz. A log of any length is written in the memory of a
+/// short one (the long-log replay measurements of `docs/trust.md` use it).
+///
+/// # Errors
+/// The directory or a file cannot be written.
+pub fn write_log(config: &SoakConfig, dir: &std::path::Path) -> Result<(), RunError> {
+    use nav_runtime::log::{DepthRow, DvlRow, HeadingRow, Row, TruthRow};
+    use std::io::Write;
+
+    struct Out {
+        path: std::path::PathBuf,
+        w: std::io::BufWriter<std::fs::File>,
+    }
+    impl Out {
+        fn create<R: Row>(dir: &std::path::Path) -> Result<Self, RunError> {
+            let path = dir.join(R::FILE);
+            let f = std::fs::File::create(&path).map_err(|e| RunError::io(&path, e))?;
+            let mut o = Out {
+                path,
+                w: std::io::BufWriter::new(f),
+            };
+            writeln!(o.w, "{}", R::COLUMNS.join(",")).map_err(|e| RunError::io(&o.path, e))?;
+            Ok(o)
+        }
+        fn row<R: Row>(&mut self, r: &R) -> Result<(), RunError> {
+            let cells: Vec<String> = r
+                .to_cells()
+                .into_iter()
+                .map(|c| c.map_or(String::new(), nav_runtime::log::format_f64))
+                .collect();
+            writeln!(self.w, "{}", cells.join(",")).map_err(|e| RunError::io(&self.path, e))
+        }
+        fn finish(mut self) -> Result<(), RunError> {
+            self.w.flush().map_err(|e| RunError::io(&self.path, e))
+        }
+    }
+
+    let seed = config.seed;
+    let truth = PeriodicTruth::new(SHALLOW_DEPTH, config.duration);
+    let s0 = truth.truth(0.0);
+    let spec = ImuSpec::sdins25();
+    let mut imu_model = ImuModel::new(spec, derive_seed(seed, "sdins25-imu"));
+    let (dvl_spec, depth_spec, compass_spec) = (
+        ErrorSpec::sdins25_dvl(),
+        ErrorSpec::sdins25_depth(),
+        ErrorSpec::sdins25_compass(),
+    );
+    let mut dvl = SensorErrorModel::<3>::new(dvl_spec, derive_seed(seed, "sdins25-dvl"));
+    let mut depth = SensorErrorModel::<1>::new(depth_spec, derive_seed(seed, "sdins25-depth"));
+    let mut compass =
+        SensorErrorModel::<1>::new(compass_spec, derive_seed(seed, "sdins25-compass"));
+    let mut meta = simulation::initial_meta(&s0, seed);
+    meta.sensors.imu = Some(ImuNoise {
+        gyro_bias_sigma: spec.gyro_bias,
+        gyro_noise_sigma: spec.gyro_noise,
+        accel_bias_sigma: spec.accel_bias,
+        accel_noise_sigma: spec.accel_noise,
+    });
+    meta.sensors.dvl = Some(simulation::sensor_noise(&dvl_spec));
+    meta.sensors.depth = Some(simulation::sensor_noise(&depth_spec));
+    meta.sensors.heading = Some(simulation::sensor_noise(&compass_spec));
+    std::fs::create_dir(dir).map_err(|e| RunError::io(dir, e))?;
+    let meta_path = dir.join("meta.toml");
+    std::fs::write(&meta_path, meta.to_toml()).map_err(|e| RunError::io(&meta_path, e))?;
+    let mut imu = Out::create::<ImuRow>(dir)?;
+    let mut dvl_out = Out::create::<DvlRow>(dir)?;
+    let mut depth_out = Out::create::<DepthRow>(dir)?;
+    let mut heading_out = Out::create::<HeadingRow>(dir)?;
+    let mut truth_out = Out::create::<TruthRow>(dir)?;
+    let steps = (config.duration * IMU_RATE + 1e-9).floor() as u64;
+    let aiding_every = (IMU_RATE / AIDING_RATE).round() as u64;
+    for k in 0..=steps {
+        let t = k as f64 / IMU_RATE;
+        let s = truth.truth(t);
+        let m = imu_model.corrupt_rate(&ImuRate {
+            t,
+            w_ib_b: s.w_ib_b,
+            f_b: s.f_b,
+        });
+        imu.row(&ImuRow::new(
+            t, m.w_ib_b.x, m.w_ib_b.y, m.w_ib_b.z, m.f_b.x, m.f_b.y, m.f_b.z,
+        ))?;
+        if k > 0 && k % aiding_every == 0 {
+            let v = dvl.measure(&s.v_body());
+            dvl_out.row(&DvlRow::new(t, Some(v.x), Some(v.y), Some(v.z)))?;
+            depth_out.row(&DepthRow::new(t, depth.measure_scalar(s.depth())))?;
+            heading_out.row(&HeadingRow::new(t, compass.measure_angle(s.euler.yaw)))?;
+        }
+        if k % (IMU_RATE as u64) == 0 {
+            truth_out.row(&TruthRow::from(&s))?;
+        }
+    }
+    for o in [imu, dvl_out, depth_out, heading_out, truth_out] {
+        o.finish()?;
+    }
+    Ok(())
+}

@@ -239,11 +239,14 @@ pub struct Located {
 
 type Pull<'a> = Box<dyn FnMut() -> Result<Option<Located>, LogError> + 'a>;
 
-/// Order of the sources of [`EventStream`]: at equal times the IMU comes
-/// first (a filter propagates to `t` before it applies a measurement stamped
-/// `t`), then the echo sounder (so a DVL sample sees the altitude of its own
-/// time), then the aiding sensors.
+/// Number of sources of [`EventStream`]. At equal times the echo sounder
+/// comes first (so a DVL sample sees the altitude of its own time), then the
+/// DVL, depth, compass, USBL, speed and rpm, and the IMU last: a replay that
+/// has an IMU sample in hand has every measurement stamped up to its time.
 const ORDER: usize = 8;
+
+/// Index of the IMU among the sources of [`EventStream`].
+const IMU: usize = ORDER - 1;
 
 /// The samples of a log's sensor files (not truth) merged in time order, from
 /// files or from memory. Holds one row of each file.
@@ -279,7 +282,6 @@ impl<'a> EventStream<'a> {
     pub fn of(log: &'a LogDir) -> EventStream<'a> {
         let l = log;
         EventStream::new(vec![
-            pull(SliceRows::of(l, Some(&l.imu[..])), Event::Imu),
             pull(SliceRows::of(l, l.altitude.as_deref()), Event::Altitude),
             pull(SliceRows::of(l, l.dvl.as_deref()), Event::Dvl),
             pull(SliceRows::of(l, l.depth.as_deref()), Event::Depth),
@@ -287,6 +289,7 @@ impl<'a> EventStream<'a> {
             pull(SliceRows::of(l, l.usbl.as_deref()), Event::Usbl),
             pull(SliceRows::of(l, l.speed.as_deref()), Event::Speed),
             pull(SliceRows::of(l, l.rpm.as_deref()), Event::Rpm),
+            pull(SliceRows::of(l, Some(&l.imu[..])), Event::Imu),
         ])
     }
 
@@ -305,7 +308,6 @@ impl<'a> EventStream<'a> {
             })
         }
         Ok(EventStream::new(vec![
-            pull(files.imu()?, Event::Imu),
             opt::<AltitudeRow>(files, Event::Altitude)?,
             opt::<DvlRow>(files, Event::Dvl)?,
             opt::<DepthRow>(files, Event::Depth)?,
@@ -313,6 +315,7 @@ impl<'a> EventStream<'a> {
             opt::<UsblRow>(files, Event::Usbl)?,
             opt::<SpeedRow>(files, Event::Speed)?,
             opt::<RpmRow>(files, Event::Rpm)?,
+            pull(files.imu()?, Event::Imu),
         ]))
     }
 
@@ -334,7 +337,8 @@ impl<'a> EventStream<'a> {
         Ok(())
     }
 
-    /// The next event in time order (ties in the order of [`ORDER`]).
+    /// The next event in time order (ties in the order of [`ORDER`]: the IMU
+    /// last).
     ///
     /// # Errors
     /// A read error or (strict reading) a bad row of any file.
@@ -362,6 +366,95 @@ impl<'a> EventStream<'a> {
     /// As [`EventStream::next_event`].
     pub fn next_imu_t(&mut self) -> Result<Option<f64>, LogError> {
         self.fill()?;
-        Ok(self.heads[0].map(|h| h.event.t()))
+        Ok(self.heads[IMU].map(|h| h.event.t()))
+    }
+}
+
+/// A row type with its table in a [`LogDir`].
+pub trait LogTable: Row + 'static {
+    /// The rows of this file in `log` (`None` when the file is absent).
+    fn table(log: &LogDir) -> Option<&[Self]>;
+}
+
+macro_rules! log_tables {
+    ($($row:ty => $field:ident),* $(,)?) => {$(
+        impl LogTable for $row {
+            fn table(log: &LogDir) -> Option<&[Self]> {
+                log.$field.as_deref()
+            }
+        }
+    )*};
+}
+
+log_tables! {
+    DvlRow => dvl,
+    DepthRow => depth,
+    HeadingRow => heading,
+    UsblRow => usbl,
+    SpeedRow => speed,
+    RpmRow => rpm,
+    AltitudeRow => altitude,
+    super::TruthRow => truth,
+}
+
+impl LogTable for ImuRow {
+    fn table(log: &LogDir) -> Option<&[Self]> {
+        Some(&log.imu)
+    }
+}
+
+/// A log to replay: in memory (a simulated log, a test) or on disk (read
+/// as the replay goes). Both give the same rows in the same order.
+#[derive(Debug, Clone, Copy)]
+pub enum LogSource<'a> {
+    /// A log in memory.
+    Memory(&'a LogDir),
+    /// A log directory read file by file.
+    Files(&'a LogFiles),
+}
+
+impl<'a> LogSource<'a> {
+    /// `meta.toml`.
+    pub fn meta(&self) -> &'a Meta {
+        match self {
+            LogSource::Memory(log) => &log.meta,
+            LogSource::Files(files) => files.meta(),
+        }
+    }
+
+    /// The rows of `R`'s file from the start; `None` when the file is absent.
+    ///
+    /// # Errors
+    /// As [`LogFiles::rows`].
+    pub fn rows<R: LogTable>(&self) -> Result<Option<Box<dyn RowSource<R> + 'a>>, LogError> {
+        Ok(match self {
+            LogSource::Memory(log) => {
+                let log: &'a LogDir = log;
+                R::table(log).map(|rows| Box::new(SliceRows::of(log, Some(rows))) as Box<_>)
+            }
+            LogSource::Files(files) => files.rows::<R>()?.map(|r| Box::new(r) as Box<_>),
+        })
+    }
+
+    /// Whether the log has `R`'s file.
+    ///
+    /// # Errors
+    /// As [`LogFiles::rows`].
+    pub fn has<R: LogTable>(&self) -> Result<bool, LogError> {
+        Ok(match self {
+            LogSource::Memory(log) => R::table(log).is_some(),
+            LogSource::Files(files) => files.rows::<R>()?.is_some(),
+        })
+    }
+
+    /// The merged sensor events from the start.
+    ///
+    /// # Errors
+    /// As [`EventStream::open`].
+    pub fn events(&self) -> Result<EventStream<'a>, LogError> {
+        match self {
+            LogSource::Memory(log) => Ok(EventStream::of(log)),
+            LogSource::Files(files) => EventStream::open(files),
+        }
     }
 }

@@ -1,0 +1,524 @@
+//! The replay loop: a log's events, read as a stream ([`LogSource`]), pushed
+//! into the vehicle's [`Navigator`] in delivery order, and the estimates at
+//! the requested output times handed on as they become final. Nothing in it
+//! grows with the log: the aiding rows still travelling, the navigator's
+//! history and the requests not yet final are bounded by the latency window.
+//! The same loop runs a log in memory (Monte Carlo, tests) and a log on disk
+//! (`navsim replay`).
+
+use std::collections::VecDeque;
+use std::iter::Peekable;
+
+use nav_runtime::log::{
+    DepthRow, DvlRow, Event as LogEvent, HeadingRow, ImuRow, LogDir, LogSource, UsblRow,
+};
+use nav_runtime::nalgebra::Vector3;
+use nav_runtime::smoother::{smooth, EpochFile};
+
+use super::aiding::{place, Aiding, Travelling};
+use super::filter::{setup_error, FilterOptions, InsRun, LogFacts, LogPlan, MAX_GAP_STEPS};
+use crate::montecarlo::RunError;
+use crate::navigator::vehicle::Layout;
+use crate::navigator::{Estimate, ImuSample, InsVehicle, NavigatorError, SENSOR_NAMES};
+
+/// Runs the filter of vehicle `V` over `log`, recording estimates at
+/// `record_times` (s; each snapped to the nearest IMU sample time within half
+/// a period, `None` where no IMU sample is that near). The rows of a log
+/// sensor `V` has no sensor for are not used: they are counted in that
+/// sensor's health as rows and skipped, and the sensor is listed in
+/// [`InsRun::ignored`].
+///
+/// # Errors
+/// A setup problem, an IMU sample the filter refuses, or an estimate out of
+/// its physical bounds ([`FilterOptions::bounds`]), each naming the input
+/// file and line that led to it.
+pub fn run_vehicle<V: InsVehicle<N>, const N: usize>(
+    log: &LogDir,
+    options: &FilterOptions,
+    record_times: &[f64],
+) -> Result<InsRun<V, N>, RunError> {
+    let mut order: Vec<usize> = (0..record_times.len()).collect();
+    order.sort_by(|&a, &b| record_times[a].total_cmp(&record_times[b]));
+    let requests = Listed::new(order.iter().map(|&k| Ok((record_times[k], k))));
+    let mut estimates: Vec<Option<Estimate>> = vec![None; record_times.len()];
+    let mut delivered: Vec<usize> = Vec::new();
+    let mut run =
+        replay_vehicle::<V, N, _, _>(&LogSource::Memory(log), options, requests, |k, e| {
+            estimates[k] = e.copied();
+            if options.smooth {
+                delivered.push(k);
+            }
+            Ok(())
+        })?;
+    run.estimates = estimates;
+    if let Some(smoothed) = run.smoothed.take() {
+        let mut by_slot = vec![None; record_times.len()];
+        for (k, e) in delivered.into_iter().zip(smoothed) {
+            by_slot[k] = e;
+        }
+        run.smoothed = Some(by_slot);
+    }
+    Ok(run)
+}
+
+/// Runs the filter of vehicle `V` over the log of `source` and hands each
+/// requested estimate to `sink` once it is final: `requests` says at which
+/// IMU samples an estimate is wanted and what `sink` gets back with it
+/// ([`Listed`] output times, [`Every`] period). [`InsRun::estimates`] stays empty;
+/// [`InsRun::smoothed`] (with [`FilterOptions::smooth`]) has one entry per
+/// request, in request order.
+///
+/// # Errors
+/// As [`run_vehicle`], a read error of the log, and the first error `sink`
+/// returns.
+pub fn replay_vehicle<V, const N: usize, P, Q>(
+    source: &LogSource<'_>,
+    options: &FilterOptions,
+    requests: Q,
+    mut sink: impl FnMut(P, Option<&Estimate>) -> Result<(), RunError>,
+) -> Result<InsRun<V, N>, RunError>
+where
+    V: InsVehicle<N>,
+    Q: Requests<P>,
+{
+    Layout::of::<V, N>()?;
+    let facts = LogFacts::of(source, options)?;
+    let plan0 = LogPlan::new(source.meta(), &facts, [0.0; 4])?;
+    let mut aiding = Aiding::new::<V, N>(options, plan0.transducer);
+    let (usbl_latency, has_usbl) = aiding.usbl_latency(source)?;
+    let latencies: [f64; 4] = std::array::from_fn(|i| {
+        if i == 3 {
+            if has_usbl {
+                usbl_latency + 1.0
+            } else {
+                0.0
+            }
+        } else if options.delivery.is_late() {
+            options.delivery.max_delay() + 0.1
+        } else {
+            0.0
+        }
+    });
+    let plan = LogPlan::new(source.meta(), &facts, latencies)?;
+    let (builder, handles) = plan.builder::<V, N>(options);
+    let mut nav = builder.build(plan.first).map_err(setup_error)?;
+    let has_file = [
+        source.has::<DepthRow>()?,
+        source.has::<DvlRow>()?,
+        source.has::<HeadingRow>()?,
+        source.has::<UsblRow>()?,
+    ];
+    let ignored = aiding.ignored(has_file);
+
+    let mut requests = requests;
+    let tolerance = 0.5 * plan.imu.period_s + 1e-9;
+    let mut waiting = Waiting::default();
+    let mut smoothing: Vec<Option<Estimate>> = Vec::new();
+    let keep = options.smooth;
+    let mut out = |p: P, e: Option<&Estimate>| -> Result<(), RunError> {
+        if keep {
+            smoothing.push(e.copied());
+        }
+        sink(p, e)
+    };
+
+    let mut stream = source.events()?;
+    let epoch = plan.initial.t;
+    // IMU rows before the epoch are not used; aiding rows before the first
+    // IMU row used wait in the queue.
+    let mut imu_row = 0usize;
+    let (first_line, first) = loop {
+        let Some(ev) = stream.next_event()? else {
+            return Err(RunError::Invalid("imu.csv has no rows".into()));
+        };
+        match ev.event {
+            LogEvent::Imu(r) if r.t < epoch => imu_row += 1,
+            LogEvent::Imu(r) => break (ev.line, r),
+            _ => aiding.take(&ev),
+        }
+    };
+    let mut warnings: Vec<String> = Vec::new();
+    if imu_row > 0 {
+        warnings.push(format!(
+            "imu.csv: {imu_row} row(s) before the initial epoch t = {epoch} s (meta.toml initial.t) are not used"
+        ));
+    }
+    // The first row at the epoch starts the navigator; one after it is
+    // propagated to like any other.
+    let mut first_to_push = (first.t > epoch).then_some((first_line, first));
+    if first_to_push.is_none() {
+        let next_t = stream.next_imu_t()?;
+        if requests.take(first.t, next_t, tolerance, &mut waiting)? {
+            nav.request_estimate(first.t);
+        }
+        waiting.hand_unmatched(&mut out)?;
+    }
+
+    let start = std::time::Instant::now();
+    let mut samples = 1usize;
+    let mut previous = ImuRow { t: epoch, ..first };
+    let mut previous_line: Option<u64> = first_line;
+    let mut last_input: Option<Travelling> = None;
+    loop {
+        // The next IMU sample; every aiding row up to its time is queued.
+        let mut next: Option<(Option<u64>, ImuRow)> = first_to_push.take();
+        if next.is_none() {
+            while let Some(ev) = stream.next_event()? {
+                match ev.event {
+                    LogEvent::Imu(r) => {
+                        imu_row += 1;
+                        next = Some((ev.line, r));
+                        break;
+                    }
+                    _ => aiding.take(&ev),
+                }
+            }
+        }
+        let Some((line, row)) = next else { break };
+        let here = place("imu.csv", line, imu_row);
+        if let Some(k) = options.max_imu_step {
+            let step = k * plan.imu.period_s;
+            let gap = row.t - previous.t;
+            if gap > step {
+                let steps = (gap / step).ceil();
+                let lines = format!("{} to {here}", place("imu.csv", previous_line, imu_row - 1));
+                if steps > MAX_GAP_STEPS {
+                    return Err(RunError::Invalid(format!(
+                        "imu.csv gap of {gap} s between {lines} is too long to propagate (more than {MAX_GAP_STEPS} steps of {step} s)"
+                    )));
+                }
+                warnings.push(format!(
+                    "imu.csv gap of {gap} s between {lines}: propagated in {steps} steps holding the sample before it"
+                ));
+                let held = sample(&previous);
+                for m in 1..steps as usize {
+                    let t = previous.t + gap * (m as f64 / steps);
+                    while let Some(ev) = aiding.due(t) {
+                        ev.push(&mut nav, &handles);
+                        last_input = Some(ev);
+                    }
+                    nav.push_imu(t, held).map_err(|e| {
+                        RunError::Invalid(format!("imu.csv gap between {lines} at t = {t} s: {e}"))
+                    })?;
+                    let mut result = Ok(());
+                    nav.final_estimates(|_, e| {
+                        if result.is_ok() {
+                            result = waiting.hand(e, &mut out);
+                        }
+                    });
+                    result?;
+                }
+            }
+        }
+        while let Some(ev) = aiding.due(row.t) {
+            ev.push(&mut nav, &handles);
+            last_input = Some(ev);
+        }
+        let next_t = stream.next_imu_t()?;
+        if requests.take(row.t, next_t, tolerance, &mut waiting)? {
+            nav.request_estimate(row.t);
+        }
+        waiting.hand_unmatched(&mut out)?;
+        nav.push_imu(row.t, sample(&row)).map_err(|e| match e {
+            NavigatorError::Imu(e) => {
+                RunError::Invalid(format!("imu.csv at t = {} s ({here}): {e}", row.t))
+            }
+            e => RunError::Invalid(format!(
+                "{here} (t = {} s): {e}{}",
+                row.t,
+                last_input.map_or(String::new(), |ev| format!(
+                    "; latest aiding input: {}",
+                    ev.place()
+                ))
+            )),
+        })?;
+        if row.t > first.t {
+            samples += 1;
+        }
+        let mut result = Ok(());
+        nav.final_estimates(|_, e| {
+            if result.is_ok() {
+                result = waiting.hand(e, &mut out);
+            }
+        });
+        result?;
+        previous = row;
+        previous_line = line;
+    }
+    // Rows after the last IMU sample, and fixes still travelling when the
+    // IMU data ends (measured before its end).
+    while let Some(ev) = stream.next_event()? {
+        aiding.take(&ev);
+    }
+    while let Some(ev) = aiding.next() {
+        ev.push(&mut nav, &handles);
+    }
+    let mut result = Ok(());
+    nav.flush_estimates(|_, e| {
+        if result.is_ok() {
+            result = waiting.hand(e, &mut out);
+        }
+    });
+    result?;
+    waiting.hand_unmatched(&mut out)?;
+    drop(out);
+    let runtime_s = start.elapsed().as_secs_f64();
+
+    let mut health = aiding.health;
+    for (i, h) in health.iter_mut().enumerate() {
+        let r = nav.report_of(i).health;
+        h.accepted = r.accepted;
+        h.gated = r.gated;
+        h.rejected += r.rejected;
+        h.skipped += r.skipped;
+        h.stuck = r.stuck;
+    }
+    let mut final_filter = nav.filter().clone();
+    let recording = final_filter
+        .finish_recording()
+        .map_err(|e| RunError::Invalid(e.to_string()))?;
+    let layout = *final_filter.nominal().layout();
+    let smoothed = recording
+        .map(|store| smoothed_estimates(&mut store.borrow_mut(), &smoothing, &layout))
+        .transpose()?;
+    let repairs = final_filter.ekf().counters().covariance_repairs;
+    let replays = nav.replays();
+    let mut all_warnings = aiding.warnings;
+    all_warnings.extend(warnings);
+    Ok(InsRun {
+        estimates: Vec::new(),
+        imu_span: (first.t, previous.t),
+        samples,
+        health: std::array::from_fn(|i| (SENSOR_NAMES[i], health[i])),
+        repairs,
+        runtime_s,
+        replays,
+        final_filter,
+        ignored,
+        smoothed,
+        warnings: all_warnings,
+    })
+}
+
+fn sample(r: &ImuRow) -> ImuSample {
+    ImuSample {
+        gyro: Vector3::new(r.gx, r.gy, r.gz),
+        accel: Vector3::new(r.ax, r.ay, r.az),
+    }
+}
+
+/// Requests taken from the request stream and not yet handed on, in request
+/// order: groups of requests snapped to one IMU sample (`true`: one
+/// navigator ticket) and requests no sample is near (`false`: handed on with
+/// `None` in turn).
+pub struct Waiting<P> {
+    groups: VecDeque<(bool, Vec<P>)>,
+}
+
+impl<P> Default for Waiting<P> {
+    fn default() -> Self {
+        Waiting {
+            groups: VecDeque::new(),
+        }
+    }
+}
+
+/// Where a replay wants estimates: at each IMU sample (at `t`, the next one
+/// at `next`), the requests it answers, queued in request order as groups in
+/// `waiting`; true when the caller must ask the navigator for the estimate
+/// at `t`. The work per sample is bounded by the requests taken, never by
+/// the time a sample covers.
+pub trait Requests<P> {
+    /// Takes the requests of the sample at `t`.
+    ///
+    /// # Errors
+    /// A request that cannot be read (e.g. a bad truth row).
+    fn take(
+        &mut self,
+        t: f64,
+        next: Option<f64>,
+        tolerance: f64,
+        waiting: &mut Waiting<P>,
+    ) -> Result<bool, RunError>;
+}
+
+/// Output times listed in ascending order with their payloads: each goes to
+/// its nearest IMU sample (at equal distance the earlier), with `None` for
+/// the estimate when that sample is further than the tolerance.
+pub struct Listed<Q: Iterator>(Peekable<Q>);
+
+impl<Q: Iterator> Listed<Q> {
+    /// The requests of `times`.
+    pub fn new(times: Q) -> Self {
+        Listed(times.peekable())
+    }
+}
+
+impl<P, Q> Requests<P> for Listed<Q>
+where
+    Q: Iterator<Item = Result<(f64, P), RunError>>,
+{
+    fn take(
+        &mut self,
+        t: f64,
+        next: Option<f64>,
+        tolerance: f64,
+        waiting: &mut Waiting<P>,
+    ) -> Result<bool, RunError> {
+        let requests = &mut self.0;
+        let mut snapped = Vec::new();
+        let mut ticket = false;
+        loop {
+            let rt = match requests.peek() {
+                None => break,
+                Some(Ok((rt, _))) => *rt,
+                Some(Err(_)) => match requests.next() {
+                    Some(Err(e)) => return Err(e),
+                    _ => break,
+                },
+            };
+            // Requests nearer the sample before were taken there.
+            let mine =
+                next.is_none_or(|tn| rt <= t || (rt <= tn && (rt - t).abs() <= (tn - rt).abs()));
+            if !mine {
+                break;
+            }
+            let Some(Ok((rt, p))) = requests.next() else {
+                break;
+            };
+            if (rt - t).abs() <= tolerance {
+                snapped.push(p);
+            } else {
+                // Requests stay in order: the snapped ones before this one
+                // form their group first.
+                if !snapped.is_empty() {
+                    waiting
+                        .groups
+                        .push_back((true, std::mem::take(&mut snapped)));
+                    ticket = true;
+                }
+                waiting.groups.push_back((false, vec![p]));
+            }
+        }
+        if !snapped.is_empty() {
+            waiting.groups.push_back((true, snapped));
+            ticket = true;
+        }
+        Ok(ticket)
+    }
+}
+
+/// An estimate every `period_s` (s): at the first IMU sample at or after
+/// each multiple of the period from the first sample; the payload is the
+/// sample's time and `None`. A gap in the IMU data gives one estimate after
+/// it, not one per period it covers.
+#[derive(Clone, Copy, Debug)]
+pub struct Every {
+    origin: Option<f64>,
+    period_s: f64,
+    due: f64,
+}
+
+impl Every {
+    /// Every `period_s` (s) from the first IMU sample.
+    pub fn new(period_s: f64) -> Self {
+        Every {
+            origin: None,
+            period_s,
+            due: f64::NEG_INFINITY,
+        }
+    }
+}
+
+impl<T> Requests<(f64, Option<T>)> for Every {
+    fn take(
+        &mut self,
+        t: f64,
+        _next: Option<f64>,
+        tolerance: f64,
+        waiting: &mut Waiting<(f64, Option<T>)>,
+    ) -> Result<bool, RunError> {
+        let origin = *self.origin.get_or_insert(t);
+        // A sample a hair before a multiple of the period counts as on it.
+        if t + 1e-6 * tolerance < self.due {
+            return Ok(false);
+        }
+        let k = ((t - origin) / self.period_s + 1e-9).floor() + 1.0;
+        self.due = origin + k * self.period_s;
+        waiting.groups.push_back((true, vec![(t, None)]));
+        Ok(true)
+    }
+}
+
+impl<P> Waiting<P> {
+    /// Hands on the groups at the front that wait for no estimate.
+    fn hand_unmatched(
+        &mut self,
+        out: &mut impl FnMut(P, Option<&Estimate>) -> Result<(), RunError>,
+    ) -> Result<(), RunError> {
+        while self.groups.front().is_some_and(|(ticket, _)| !ticket) {
+            if let Some((_, ps)) = self.groups.pop_front() {
+                for p in ps {
+                    out(p, None)?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Hands on the estimate of the oldest ticket (and the unmatched groups
+    /// before and after it).
+    fn hand(
+        &mut self,
+        e: Option<Estimate>,
+        out: &mut impl FnMut(P, Option<&Estimate>) -> Result<(), RunError>,
+    ) -> Result<(), RunError> {
+        self.hand_unmatched(out)?;
+        if let Some((_, ps)) = self.groups.pop_front() {
+            for p in ps {
+                out(p, e.as_ref())?;
+            }
+        }
+        self.hand_unmatched(out)
+    }
+}
+
+/// The smoothed counterpart of each estimate, from the recorded epochs of
+/// `file` (every output time is an epoch of the recording): the backward pass
+/// meets the epochs latest first and the estimates are matched from the end,
+/// so nothing but the smoothed estimates is kept.
+fn smoothed_estimates<const N: usize>(
+    file: &mut EpochFile<N, 0>,
+    estimates: &[Option<Estimate>],
+    layout: &Layout,
+) -> Result<Vec<Option<Estimate>>, RunError> {
+    let mut out = vec![None; estimates.len()];
+    let mut k = estimates.len();
+    smooth(file, |epoch| {
+        while k > 0 {
+            match &estimates[k - 1] {
+                Some(e) if e.t > epoch.time + 1e-9 => k -= 1,
+                None => k -= 1,
+                Some(e) => {
+                    if (e.t - epoch.time).abs() <= 1e-9 {
+                        out[k - 1] = Some(e.smoothed(&epoch.error, &epoch.covariance, layout));
+                        k -= 1;
+                        // Several requested times may snap to one epoch.
+                        while let Some(Some(same)) = estimates.get(k.wrapping_sub(1)) {
+                            if (same.t - epoch.time).abs() > 1e-9 {
+                                break;
+                            }
+                            out[k - 1] =
+                                Some(same.smoothed(&epoch.error, &epoch.covariance, layout));
+                            k -= 1;
+                        }
+                    }
+                    break;
+                }
+            }
+        }
+        Ok(())
+    })
+    .map_err(|e| RunError::Invalid(e.to_string()))?;
+    Ok(out)
+}

@@ -1,0 +1,289 @@
+//! `navsim replay` of an INS vehicle as a stream: the log is read as the
+//! filter goes ([`replay_vehicle`]), each estimate is scored against its
+//! truth row and written out as it becomes final, and only bounded copies
+//! of the time series are kept for the plots. Peak memory is that of the
+//! latency window, whatever the log's length (with `--smooth`, the
+//! smoother's inputs are kept: one estimate per output time).
+//!
+//! Output times: the truth rows when the log has `truth.csv`, otherwise
+//! every [`OUTPUT_PERIOD_S`] from the first IMU sample.
+
+use std::path::Path;
+
+use nav_runtime::log::{LogSource, RowSource, TruthRow};
+use serde_json::{json, Map, Value};
+
+use super::filter::{replay_vehicle, FilterOptions, InsRun, LENIENT_IMU_STEP_PERIODS};
+use super::replay_loop::{Every, Listed};
+use super::score::{Keep, Scored, Scorer, COLUMNS, TABLE};
+use super::vehicle::{InsVehicle, Layout};
+use super::{
+    error_values, health, metrics, write_plots, write_smoothed_plot, ERROR_KEYS, SMOOTHED_TABLE,
+};
+use crate::montecarlo::{ReplayOptions, ReplayOutput, RunError, RunResult};
+use crate::navigator::Estimate;
+use crate::series::TableWriter;
+
+/// Spacing of the output times of a log without truth, s.
+pub const OUTPUT_PERIOD_S: f64 = 0.1;
+
+/// Name of the trajectory table (`estimates.csv` under `--out`).
+pub const TRAJECTORY_TABLE: &str = "estimates";
+
+/// Columns of the trajectory table: time, position, velocity, attitude and
+/// their standard deviations (m, m/s, deg).
+pub const TRAJECTORY_COLUMNS: [&str; 19] = [
+    "t",
+    "lat",
+    "lon",
+    "depth",
+    "vn",
+    "ve",
+    "vd",
+    "roll_deg",
+    "pitch_deg",
+    "yaw_deg",
+    "sig_n",
+    "sig_e",
+    "sig_d",
+    "sig_vn",
+    "sig_ve",
+    "sig_vd",
+    "sig_roll_deg",
+    "sig_pitch_deg",
+    "sig_yaw_deg",
+];
+
+/// One output time and the truth row there, if the log has truth.
+type OutputTime = (f64, Option<(Option<u64>, TruthRow)>);
+
+/// The output times of a log with truth: its truth rows.
+fn truth_times<'a>(
+    mut rows: Box<dyn RowSource<TruthRow> + 'a>,
+) -> Listed<impl Iterator<Item = Result<(f64, OutputTime), RunError>> + 'a> {
+    Listed::new(std::iter::from_fn(move || {
+        rows.next_row()
+            .map_err(RunError::from)
+            .transpose()
+            .map(|r| r.map(|(line, row)| (row.t, (row.t, Some((line, row))))))
+    }))
+}
+
+/// The trajectory row of an estimate.
+fn trajectory_row(e: &Estimate) -> [f64; 19] {
+    let s = &e.nav;
+    let euler = s.euler();
+    let sig = |i: usize| e.cov[(i, i)].sqrt();
+    let deg = f64::to_degrees;
+    [
+        e.t,
+        s.lat,
+        s.lon,
+        s.depth(),
+        s.v_n.x,
+        s.v_n.y,
+        s.v_n.z,
+        deg(euler.roll),
+        deg(euler.pitch),
+        deg(euler.yaw),
+        sig(0),
+        sig(1),
+        sig(2),
+        sig(3),
+        sig(4),
+        sig(5),
+        deg(sig(6)),
+        deg(sig(7)),
+        deg(sig(8)),
+    ]
+}
+
+fn score_error(e: super::score::ScoreError) -> RunError {
+    RunError::Invalid(e.to_string())
+}
+
+/// Replays vehicle `V` over `source`; with `out`, the time series
+/// (`errors.csv`, `estimates.csv`, with `--smooth` `smoothed_errors.csv`) and
+/// plots are written there as the run goes; without, the error tables are
+/// kept in the output when `options.keep_series`.
+pub(super) fn replay_source<V: InsVehicle<N>, const N: usize>(
+    source: &LogSource<'_>,
+    options: &ReplayOptions,
+    out: Option<&Path>,
+) -> Result<ReplayOutput, RunError> {
+    Layout::of::<V, N>()?;
+    let filter_options = FilterOptions {
+        smooth: options.smooth,
+        max_imu_step: options.lenient.then_some(LENIENT_IMU_STEP_PERIODS),
+        ..FilterOptions::default()
+    };
+    let truth = source.rows::<TruthRow>()?;
+    let has_truth = truth.is_some();
+
+    let keep = |name: &str| -> Result<Keep, RunError> {
+        Ok(match out {
+            Some(dir) => Keep::Bounded(Some(TableWriter::create(
+                &dir.join(format!("{name}.csv")),
+                &COLUMNS,
+            )?)),
+            None if options.keep_series => Keep::All,
+            None => Keep::Nothing,
+        })
+    };
+    let mut scorer = has_truth
+        .then(|| keep(TABLE))
+        .transpose()?
+        .map(|k| Scorer::new(None, k));
+    let mut trajectory = out
+        .map(|dir| {
+            TableWriter::create(
+                &dir.join(format!("{TRAJECTORY_TABLE}.csv")),
+                &TRAJECTORY_COLUMNS,
+            )
+        })
+        .transpose()?;
+    let mut kept_truth: Vec<Option<(Option<u64>, TruthRow)>> = Vec::new();
+    let sink = |(_, truth): OutputTime, e: Option<&Estimate>| {
+        if let (Some(w), Some(e)) = (&mut trajectory, e) {
+            w.push(&trajectory_row(e))?;
+        }
+        if let (Some(s), Some((line, row))) = (&mut scorer, &truth) {
+            s.push(*line, row, e).map_err(score_error)?;
+        }
+        if options.smooth {
+            kept_truth.push(truth);
+        }
+        Ok(())
+    };
+    let run: InsRun<V, N> = match truth {
+        Some(rows) => {
+            replay_vehicle::<V, N, _, _>(source, &filter_options, truth_times(rows), sink)?
+        }
+        None => replay_vehicle::<V, N, _, _>(
+            source,
+            &filter_options,
+            Every::new(OUTPUT_PERIOD_S),
+            sink,
+        )?,
+    };
+    if let Some(w) = trajectory {
+        w.finish()?;
+    }
+    let span = Some(run.imu_span);
+    let scored: Option<Scored> = scorer
+        .map(|s| s.finish(span))
+        .transpose()
+        .map_err(score_error)?;
+    let smoothed = match (&run.smoothed, has_truth) {
+        (Some(smoothed), true) => {
+            let mut s = Scorer::new(None, keep(SMOOTHED_TABLE)?);
+            for (truth, e) in kept_truth.iter().zip(smoothed) {
+                if let Some((line, row)) = truth {
+                    s.push(*line, row, e.as_ref()).map_err(score_error)?;
+                }
+            }
+            let mut s = s
+                .finish(span)
+                .map_err(|e| RunError::Invalid(format!("smoothed run: {e}")))?;
+            s.table.name = SMOOTHED_TABLE.to_string();
+            Some(s)
+        }
+        _ => None,
+    };
+    if let Some(dir) = out {
+        if let Some(s) = &scored {
+            write_plots(V::REPLAY_NAME, "replay", &s.table, dir)?;
+            if let Some(sm) = &smoothed {
+                write_smoothed_plot(
+                    V::REPLAY_NAME,
+                    "replay",
+                    &[s.table.clone(), sm.table.clone()],
+                    dir,
+                )?;
+            }
+        }
+    }
+    output_of::<V, N>(&run, scored, smoothed, options, out.is_none())
+}
+
+/// The replay output of a run: metrics, warnings and (with `tables`) the
+/// error tables.
+pub(super) fn output_of<V: InsVehicle<N>, const N: usize>(
+    run: &InsRun<V, N>,
+    scored: Option<Scored>,
+    smoothed: Option<Scored>,
+    options: &ReplayOptions,
+    tables: bool,
+) -> Result<ReplayOutput, RunError> {
+    let mut out = ReplayOutput {
+        samples: run.samples,
+        runtime_s: run.runtime_s,
+        ..Default::default()
+    };
+    for name in &run.ignored {
+        let rows = run
+            .health
+            .iter()
+            .find(|(n, _)| n == name)
+            .map_or(0, |(_, h)| h.rows);
+        out.warnings.push(format!(
+            "model {} has no {name} sensor: the {rows} rows of {name}.csv are not used",
+            V::REPLAY_NAME
+        ));
+    }
+    out.warnings.extend(run.warnings.iter().cloned());
+    if let Some(s) = &scored {
+        for (k, v) in [
+            ("horizontal_error_final_m", s.horizontal_error_final_m),
+            ("horizontal_error_rms_m", s.horizontal_error_rms_m),
+            ("depth_error_rms_m", s.depth_error_rms_m),
+            ("nees_mean", s.nees_mean),
+            ("scored_seconds", s.scored_seconds),
+        ] {
+            out.metrics.insert(k.into(), Value::from(v));
+        }
+        out.warnings.extend(s.partial.clone());
+    }
+    if let Some(s) = &smoothed {
+        let errors: Map<String, Value> = ERROR_KEYS
+            .iter()
+            .zip(error_values(s))
+            .map(|(k, v)| ((*k).to_string(), Value::from(v)))
+            .collect();
+        out.metrics.insert("smoothed".into(), Value::Object(errors));
+    } else if options.smooth {
+        out.warnings
+            .push("the log has no truth.csv: the smoothed run is not scored".into());
+    }
+    let single = RunResult {
+        metrics: metrics(run, scored.as_ref()).into_iter().collect(),
+        ..RunResult::new(0)
+    };
+    out.metrics
+        .insert("health".into(), health(std::slice::from_ref(&single)));
+    let last = run.final_filter.nominal().ins.state;
+    let e = last.euler();
+    out.metrics.insert(
+        "final".into(),
+        json!({
+            "lat": last.lat, "lon": last.lon, "depth": last.depth(),
+            "vn": last.v_n.x, "ve": last.v_n.y, "vd": last.v_n.z,
+            "roll": e.roll.to_degrees(), "pitch": e.pitch.to_degrees(), "yaw": e.yaw.to_degrees(),
+        }),
+    );
+    if let (true, true, Some(s)) = (tables, options.keep_series, scored) {
+        out.tables.push(s.table);
+        if let Some(sm) = smoothed {
+            out.tables.push(sm.table);
+        }
+    }
+    if !out.warnings.is_empty() {
+        let list = out
+            .warnings
+            .iter()
+            .map(|w| Value::from(w.as_str()))
+            .collect();
+        out.metrics.insert("warnings".into(), Value::Array(list));
+    }
+    Ok(out)
+}

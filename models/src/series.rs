@@ -1,0 +1,149 @@
+//! Time series of a replay that does not hold the log: rows written to a CSV
+//! file as they come ([`TableWriter`], the same format as
+//! [`RunTable::write_csv`]), and a bounded copy for plots ([`BoundedTable`]:
+//! every k-th row, k doubling whenever the copy fills, so a 24-hour log keeps
+//! as many points as a 1-hour one).
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use crate::montecarlo::{RunError, RunTable};
+
+/// Rows written to a CSV file as they come.
+#[derive(Debug)]
+pub struct TableWriter {
+    path: PathBuf,
+    out: std::io::BufWriter<std::fs::File>,
+    line: String,
+}
+
+impl TableWriter {
+    /// Creates `path` and writes the header.
+    ///
+    /// # Errors
+    /// The file cannot be created or written.
+    pub fn create(path: &Path, columns: &[&str]) -> Result<Self, RunError> {
+        let file = std::fs::File::create(path).map_err(|e| RunError::io(path, e))?;
+        let mut w = TableWriter {
+            path: path.to_path_buf(),
+            out: std::io::BufWriter::new(file),
+            line: String::new(),
+        };
+        writeln!(w.out, "{}", columns.join(",")).map_err(|e| RunError::io(path, e))?;
+        Ok(w)
+    }
+
+    /// Appends one row.
+    ///
+    /// # Errors
+    /// The file cannot be written.
+    pub fn push(&mut self, row: &[f64]) -> Result<(), RunError> {
+        self.line.clear();
+        for (i, v) in row.iter().enumerate() {
+            if i > 0 {
+                self.line.push(',');
+            }
+            self.line.push_str(&nav_runtime::log::format_f64(*v));
+        }
+        self.line.push('\n');
+        self.out
+            .write_all(self.line.as_bytes())
+            .map_err(|e| RunError::io(&self.path, e))
+    }
+
+    /// Flushes the file.
+    ///
+    /// # Errors
+    /// The file cannot be written.
+    pub fn finish(mut self) -> Result<(), RunError> {
+        self.out.flush().map_err(|e| RunError::io(&self.path, e))
+    }
+}
+
+/// A copy of a table of bounded size: at most `capacity` rows, evenly spaced
+/// in row count over the whole series (the last row is always kept apart).
+#[derive(Debug, Clone)]
+pub struct BoundedTable {
+    table: RunTable,
+    capacity: usize,
+    stride: usize,
+    seen: usize,
+    last: Option<Vec<f64>>,
+}
+
+/// Rows a plot series keeps.
+pub const PLOT_ROWS: usize = 20_000;
+
+impl BoundedTable {
+    /// An empty table keeping at most `capacity` (at least 2) rows.
+    pub fn new(name: &str, columns: &[&str], capacity: usize) -> Self {
+        BoundedTable {
+            table: RunTable::new(name, columns),
+            capacity: capacity.max(2),
+            stride: 1,
+            seen: 0,
+            last: None,
+        }
+    }
+
+    /// Offers one row.
+    pub fn push(&mut self, row: &[f64]) {
+        if self.seen.is_multiple_of(self.stride) {
+            if self.table.rows.len() == self.capacity {
+                let kept: Vec<Vec<f64>> = self.table.rows.drain(..).step_by(2).collect();
+                self.table.rows = kept;
+                self.stride *= 2;
+            }
+            if self.seen.is_multiple_of(self.stride) {
+                self.table.push(row);
+            }
+        }
+        self.seen += 1;
+        self.last = Some(row.to_vec());
+    }
+
+    /// Rows offered.
+    pub fn seen(&self) -> usize {
+        self.seen
+    }
+
+    /// The kept rows (and the last row offered, if it was not kept).
+    pub fn into_table(mut self) -> RunTable {
+        if let Some(last) = self.last {
+            if self.table.rows.last() != Some(&last) {
+                self.table.rows.push(last);
+            }
+        }
+        self.table
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_bounded_table_keeps_evenly_spaced_rows_and_the_last() {
+        for (n, capacity) in [(10usize, 100usize), (1000, 100), (12_345, 64)] {
+            let mut b = BoundedTable::new("x", &["t"], capacity);
+            for i in 0..n {
+                b.push(&[i as f64]);
+            }
+            let t = b.into_table();
+            assert!(t.rows.len() <= capacity + 1, "{n}: {}", t.rows.len());
+            assert!(
+                n <= capacity || t.rows.len() > capacity / 2,
+                "{n}: {}",
+                t.rows.len()
+            );
+            assert_eq!(t.rows[0][0], 0.0);
+            assert_eq!(t.rows.last().unwrap()[0], (n - 1) as f64);
+            let steps: Vec<f64> = t.rows.windows(2).map(|w| w[1][0] - w[0][0]).collect();
+            let first = steps[0];
+            assert!(
+                steps[..steps.len() - 1].iter().all(|s| *s == first),
+                "{n}: {steps:?}"
+            );
+        }
+    }
+}
