@@ -421,25 +421,47 @@ fn streaming_gives_the_findings_of_the_log_in_memory() {
 
 #[test]
 fn streaming_finds_the_gyro_resolution_of_the_whole_file() {
-    // A frozen run early, when the gyro's steps seen so far are coarse (the
-    // run is not long enough for them), and a much finer step late in the
+    // A 27-s frozen run early, while the gyro's steps seen so far are coarse
+    // (the run is too short for them), and a much finer step late in the
     // file that makes the run frozen: the choice is made with the final
     // resolution, as over the whole file.
-    let mut l = log();
-    for (i, r) in l.imu.iter_mut().enumerate() {
-        let q = 1e-3;
-        r.gx = (r.gx / q).round() * q + if i == 2990 { 1e-9 } else { 0.0 };
-        r.gy = (r.gy / q).round() * q;
-        r.gz = (r.gz / q).round() * q;
+    use nav_runtime::stuck::StuckDetector;
+    let base = log();
+    let sigma = base.meta.sensors.imu.unwrap().gyro_noise_sigma;
+    let required = |q: f64| StuckDetector::required_repeats(sigma, q, 1e-9) as usize;
+    let q = (0..60)
+        .map(|k| sigma * 1.25f64.powi(k))
+        .find(|&q| (3100..1_000_000).contains(&required(q)))
+        .expect("a coarse resolution");
+    let fine = sigma / 100.0;
+    assert!(required(fine) < 2600, "{}", required(fine));
+    let quantized = |step: bool| {
+        let mut l = base.clone();
+        for (i, r) in l.imu.iter_mut().enumerate() {
+            r.gx = (r.gx / q).round() * q + if step && i == 2990 { fine } else { 0.0 };
+            // Steps of the coarse resolution before and after the run.
+            let offset = match i {
+                0..100 => 2.0 * q,
+                2800.. => q,
+                _ => 0.0,
+            };
+            r.gy = (r.gy / q).round() * q + offset;
+            r.gz = (r.gz / q).round() * q;
+        }
+        freeze(&mut l, 100..2800);
+        l
+    };
+    for (step, frozen) in [(true, true), (false, false)] {
+        let l = quantized(step);
+        let (streamed, _, _) = stream(&l, Strictness::Strict, &sdins(), "resolution");
+        assert_eq!(streamed, check(&l, &sdins()));
+        assert_eq!(
+            streamed.has(WarningKind::FrozenImu),
+            frozen,
+            "step {step}: {:?}",
+            streamed.findings
+        );
     }
-    freeze(&mut l, 100..2700);
-    let sigma = l.meta.sensors.imu.unwrap().gyro_noise_sigma;
-    let coarse = nav_runtime::stuck::StuckDetector::required_repeats(sigma, 1e-3, 1e-9);
-    let fine = nav_runtime::stuck::StuckDetector::required_repeats(sigma, 1e-9, 1e-9);
-    assert!(fine <= 2600 && coarse >= fine, "{fine} {coarse}");
-    let (streamed, _, _) = stream(&l, Strictness::Strict, &sdins(), "resolution");
-    assert_eq!(streamed, check(&l, &sdins()));
-    assert!(streamed.has(WarningKind::FrozenImu), "{:?}", streamed.findings);
 }
 
 #[test]
@@ -448,8 +470,9 @@ fn lenient_streaming_names_the_lines() {
     // stream names the file's lines; the log in memory cannot (it no longer
     // knows which line a row came from).
     let mut l = log();
-    l.imu.drain(500..1500);
-    freeze(&mut l, 1600..l.imu.len());
+    l.imu.drain(500..520);
+    let n = l.imu.len();
+    freeze(&mut l, 700..n);
     let dir = Scratch::new("lines");
     l.write(&dir.0).unwrap();
     let path = dir.0.join(<ImuRow as nav_runtime::log::Row>::FILE);
@@ -482,10 +505,10 @@ fn lenient_streaming_names_the_lines() {
         .iter()
         .find(|f| f.what.kind == WarningKind::FrozenImu)
         .expect("a frozen IMU");
-    assert_eq!(frozen.what.line, Some(1602), "{}", frozen.what);
+    assert_eq!(frozen.what.line, Some(702), "{}", frozen.what);
     let last = l.imu.len() + 1;
     assert!(
-        frozen.what.message.contains(&format!("lines 1602-{last}")),
+        frozen.what.message.contains(&format!("lines 702-{last}")),
         "{}",
         frozen.what
     );
