@@ -610,8 +610,7 @@ fn stream_and_check(
 /// `navsim check`: runs the preflight over the log as a stream (the log is
 /// not loaded) and prints every finding; fails when there is an error.
 pub fn cmd_check(args: &CheckArgs) -> Result<(), RunError> {
-    let (summary, report) =
-        stream_and_check(&args.dir, args.lenient, args.max_gap_periods, None)?;
+    let (summary, report) = stream_and_check(&args.dir, args.lenient, args.max_gap_periods, None)?;
     let errors: Vec<Warning> = report.errors().cloned().collect();
     let mut warnings = summary.warnings.clone();
     warnings.extend(report.warnings().cloned());

@@ -69,10 +69,7 @@ impl Fold {
     ) {
         if has_dvl {
             let early = head.dvl.as_deref().unwrap_or_default();
-            self.dvl_speed(
-                rows_until(early, t_start + options.aiding_seconds),
-                report,
-            );
+            self.dvl_speed(rows_until(early, t_start + options.aiding_seconds), report);
         }
         if let Some((line, fix)) = self.fix {
             usbl_position(&head.meta, line, &fix, t_start, report);
@@ -135,13 +132,7 @@ impl Fold {
     }
 }
 
-fn usbl_position(
-    meta: &Meta,
-    line: Option<u64>,
-    fix: &UsblRow,
-    t_start: f64,
-    report: &mut Report,
-) {
+fn usbl_position(meta: &Meta, line: Option<u64>, fix: &UsblRow, t_start: f64, report: &mut Report) {
     let init = &meta.initial;
     let frame = LocalNed::new(Geodetic::new(init.lat, init.lon, -init.depth));
     let dt = fix.t - init.t.unwrap_or(t_start);

@@ -59,10 +59,7 @@ impl Fold {
         {
             return;
         }
-        let sigma = meta
-            .initial_sigma
-            .and_then(|s| s.position)
-            .unwrap_or(0.0);
+        let sigma = meta.initial_sigma.and_then(|s| s.position).unwrap_or(0.0);
         if let Some((line, d)) = self.first_depth {
             compare(DepthRow::FILE, line, d, d0, sigma, "depth", report);
         }

@@ -109,7 +109,7 @@ pub fn check(log: &LogDir, options: &PreflightOptions) -> Report {
         scan.file(slice(l, l.altitude.as_deref()).as_mut())?;
         scan.file(slice(l, l.truth.as_deref()).as_mut())
     })();
-    // Rows in memory are read without error.
+    // Rows in memory are read without error (`SliceRows` never fails).
     debug_assert!(read.is_ok());
     scan.finish()
 }
@@ -164,7 +164,7 @@ fn rows_until<R: Row>(rows: &[R], t_end: f64) -> &[R] {
     &rows[..n]
 }
 
-/// `"lines a-b"` or `"rows"` when a line is not known.
+/// `lines a<sep>b`; `None` when a line is not known.
 fn lines_text(a: Option<u64>, b: Option<u64>, sep: &str) -> Option<String> {
     Some(format!("lines {}{sep}{}", a?, b?))
 }
@@ -217,7 +217,8 @@ impl Scanned for ImuRow {
             scan.head_end = r.t + scan.options.head_seconds;
         }
         scan.imu_last_t = Some(r.t);
-        scan.specific_force.imu(scan.options.settle_seconds, line, r);
+        scan.specific_force
+            .imu(scan.options.settle_seconds, line, r);
         scan.gyro_rate.imu(line, r);
         scan.frozen_imu.imu(line, r);
         scan.time_gaps.imu(line, r);
@@ -271,7 +272,7 @@ impl<'m> Scan<'m> {
         Scan {
             meta,
             options: *options,
-            head: LogDir::new(meta.clone()),
+            head: LogDir::new(*meta),
             head_end: options.head_seconds,
             present: [false; 9],
             rows: [0; 9],
@@ -351,8 +352,10 @@ impl<'m> Scan<'m> {
             &o,
             &mut report,
         );
-        self.truth
-            .finish(self.present[TruthRow::INDEX] && self.rows[TruthRow::INDEX] == 0, &mut report);
+        self.truth.finish(
+            self.present[TruthRow::INDEX] && self.rows[TruthRow::INDEX] == 0,
+            &mut report,
+        );
         let mut has_rows = [false; 8];
         for (has, rows) in has_rows.iter_mut().zip(self.rows) {
             *has = rows > 0;

@@ -413,7 +413,11 @@ fn streaming_gives_the_findings_of_the_log_in_memory() {
         assert_eq!(summary.warnings, read.warnings, "{name}");
         assert_eq!(summary.imu_rows(), l.imu.len(), "{name}");
         assert_eq!(summary.imu_time_span(), l.imu_time_span(), "{name}");
-        assert_eq!(summary.imu.map(|i| i.first), l.imu.first().copied(), "{name}");
+        assert_eq!(
+            summary.imu.map(|i| i.first),
+            l.imu.first().copied(),
+            "{name}"
+        );
         let dvl = summary.file("dvl.csv");
         assert_eq!(dvl.map(|f| f.rows), l.dvl.as_ref().map(Vec::len), "{name}");
     }

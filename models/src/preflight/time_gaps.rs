@@ -226,4 +226,3 @@ fn outside(o: &Outside, t0: f64, t1: f64, options: &PreflightOptions, report: &m
         ));
     }
 }
-
