@@ -5,7 +5,8 @@
 use std::collections::BTreeMap;
 
 use nav_runtime::log::{
-    skipped_row_warnings, FileRows, ImuRow, LogFiles, Row, SkippedRow, Warning, MAX_SKIP_REASONS,
+    skipped_row_warnings, FileRows, ImuRow, LogDir, LogFiles, Row, SkippedRow, Warning,
+    MAX_SKIP_REASONS,
 };
 
 /// One CSV file of a log as read by [`super::check_files`].
@@ -73,7 +74,89 @@ pub struct LogSummary {
     pub warnings: Vec<Warning>,
 }
 
+/// The smallest non-zero step between consecutive values of each column of
+/// `rows` (empty cells passed over), 0 when no value changed: what
+/// `RowReader::resolution` gives for the same rows.
+fn resolutions<R: Row>(rows: &[R]) -> Vec<f64> {
+    let n = R::COLUMNS.len();
+    let mut step = vec![f64::INFINITY; n];
+    let mut last: Vec<Option<f64>> = vec![None; n];
+    for r in rows {
+        for (i, cell) in r.to_cells().into_iter().enumerate().skip(1) {
+            let Some(v) = cell else { continue };
+            if let Some(l) = last[i] {
+                let d = (v - l).abs();
+                if d > 0.0 && d.is_finite() && d < step[i] {
+                    step[i] = d;
+                }
+            }
+            last[i] = Some(v);
+        }
+    }
+    step.into_iter()
+        .map(|q| if q.is_finite() { q } else { 0.0 })
+        .collect()
+}
+
 impl LogSummary {
+    /// The summary of a log in memory: what [`super::check_files`] gives
+    /// for the same log on disk (skip reasons per file are those among
+    /// `log.skip_reasons`).
+    pub fn of(log: &LogDir) -> Self {
+        fn file<R: Row>(log: &LogDir, rows: Option<&[R]>, out: &mut Vec<FileSummary>) {
+            let Some(rows) = rows else { return };
+            out.push(FileSummary {
+                file: R::FILE,
+                rows: rows.len(),
+                skipped: log.skipped_rows.get(R::FILE).copied().unwrap_or(0),
+                skip_reasons: log
+                    .skip_reasons
+                    .iter()
+                    .filter(|r| r.file == R::FILE)
+                    .cloned()
+                    .collect(),
+                first_t: rows.first().map(Row::t),
+                last_t: rows.last().map(Row::t),
+                resolution: resolutions(rows),
+            });
+        }
+        let l = log;
+        let mut files = Vec::new();
+        file(l, Some(&l.imu[..]), &mut files);
+        file(l, l.dvl.as_deref(), &mut files);
+        file(l, l.depth.as_deref(), &mut files);
+        file(l, l.heading.as_deref(), &mut files);
+        file(l, l.usbl.as_deref(), &mut files);
+        file(l, l.speed.as_deref(), &mut files);
+        file(l, l.rpm.as_deref(), &mut files);
+        file(l, l.altitude.as_deref(), &mut files);
+        file(l, l.truth.as_deref(), &mut files);
+        let imu = l
+            .imu
+            .first()
+            .zip(l.imu.last())
+            .map(|(first, last)| ImuSummary {
+                first: *first,
+                last_t: last.t,
+                rows: l.imu.len(),
+                median_period: super::time_gaps::median(
+                    l.imu
+                        .windows(2)
+                        .take(super::time_gaps::PERIOD_INTERVALS)
+                        .map(|w| w[1].t - w[0].t)
+                        .collect(),
+                ),
+            });
+        LogSummary {
+            files,
+            imu,
+            skipped_rows: l.skipped_rows.clone(),
+            skip_reasons: l.skip_reasons.clone(),
+            unknown_files: l.unknown_files.clone(),
+            warnings: l.warnings.clone(),
+        }
+    }
+
     pub(super) fn new(files: &LogFiles) -> Self {
         LogSummary {
             files: Vec::new(),

@@ -420,6 +420,7 @@ fn streaming_gives_the_findings_of_the_log_in_memory() {
         );
         let dvl = summary.file("dvl.csv");
         assert_eq!(dvl.map(|f| f.rows), l.dvl.as_ref().map(Vec::len), "{name}");
+        assert_eq!(summary, super::LogSummary::of(&read), "{name}");
     }
 }
 
@@ -519,6 +520,7 @@ fn lenient_streaming_names_the_lines() {
     // The same rows in memory: the same findings without the lines.
     let read = LogDir::read(&dir.0, Strictness::Lenient).unwrap();
     assert_eq!(summary.warnings, read.warnings);
+    assert_eq!(summary, super::LogSummary::of(&read));
     let in_memory = check(&read, &options);
     let strip = |r: &super::Report| -> Vec<_> {
         r.findings

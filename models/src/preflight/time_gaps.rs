@@ -15,10 +15,10 @@ const MARGIN: f64 = 1.0;
 const LISTED: usize = 3;
 
 /// IMU intervals the period is the median of.
-const PERIOD_INTERVALS: usize = 10_000;
+pub(super) const PERIOD_INTERVALS: usize = 10_000;
 
 /// The median of `dt`.
-fn median(mut dt: Vec<f64>) -> Option<f64> {
+pub(super) fn median(mut dt: Vec<f64>) -> Option<f64> {
     if dt.is_empty() {
         return None;
     }
