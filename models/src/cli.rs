@@ -518,23 +518,8 @@ fn read_and_check(
     max_gap_periods: f64,
     model_files: Option<&'static [&'static str]>,
 ) -> Result<(LogDir, preflight::Report), RunError> {
-    if !(max_gap_periods.is_finite() && max_gap_periods >= 1.0) {
-        return Err(RunError::Invalid(format!(
-            "--max-gap-periods {max_gap_periods}: expected a number >= 1"
-        )));
-    }
-    let strictness = if lenient {
-        Strictness::Lenient
-    } else {
-        Strictness::Strict
-    };
+    let (options, strictness) = preflight_options(lenient, max_gap_periods, model_files)?;
     let log = LogDir::read(dir, strictness)?;
-    let options = PreflightOptions {
-        lenient,
-        max_gap_periods,
-        model_files,
-        ..PreflightOptions::default()
-    };
     let report = preflight::check(&log, &options);
     Ok((log, report))
 }
@@ -612,18 +597,61 @@ fn write_out(
     pending.finish(|| staged.commit()).map_err(at_out)
 }
 
-/// `navsim check`: reads the log, runs the preflight and prints every
-/// finding; fails when there is an error.
+/// The preflight options of a run (after checking `--max-gap-periods`) and
+/// the reader's strictness.
+fn preflight_options(
+    lenient: bool,
+    max_gap_periods: f64,
+    model_files: Option<&'static [&'static str]>,
+) -> Result<(PreflightOptions, Strictness), RunError> {
+    if !(max_gap_periods.is_finite() && max_gap_periods >= 1.0) {
+        return Err(RunError::Invalid(format!(
+            "--max-gap-periods {max_gap_periods}: expected a number >= 1"
+        )));
+    }
+    let strictness = if lenient {
+        Strictness::Lenient
+    } else {
+        Strictness::Strict
+    };
+    let options = PreflightOptions {
+        lenient,
+        max_gap_periods,
+        model_files,
+        ..PreflightOptions::default()
+    };
+    Ok((options, strictness))
+}
+
+/// Runs the preflight over the log on disk as a stream (each file read
+/// once, memory independent of the log's length): the findings and the
+/// [`preflight::LogSummary`] a replay plans from. Errors as
+/// [`read_and_check`].
+fn stream_and_check(
+    dir: &std::path::Path,
+    lenient: bool,
+    max_gap_periods: f64,
+    model_files: Option<&'static [&'static str]>,
+) -> Result<(preflight::LogSummary, preflight::Report), RunError> {
+    let (options, strictness) = preflight_options(lenient, max_gap_periods, model_files)?;
+    let files = nav_runtime::log::LogFiles::open(dir, strictness)?;
+    let (report, summary) = preflight::check_files(&files, &options)?;
+    Ok((summary, report))
+}
+
+/// `navsim check`: runs the preflight over the log as a stream (the log is
+/// not loaded) and prints every finding; fails when there is an error.
 pub fn cmd_check(args: &CheckArgs) -> Result<(), RunError> {
-    let (log, report) = read_and_check(&args.dir, args.lenient, args.max_gap_periods, None)?;
+    let (summary, report) = stream_and_check(&args.dir, args.lenient, args.max_gap_periods, None)?;
     let errors: Vec<Warning> = report.errors().cloned().collect();
-    let mut warnings = log.warnings.clone();
+    let mut warnings = summary.warnings.clone();
     warnings.extend(report.warnings().cloned());
-    let span = log.imu_time_span();
+    let span = summary.imu_time_span();
+    let imu_rows = summary.imu_rows();
     let value = serde_json::json!({
         "dir": args.dir.display().to_string(),
         "ok": errors.is_empty(),
-        "imu_rows": log.imu.len(),
+        "imu_rows": imu_rows,
         "imu_span_s": span.map(|(a, b)| b - a),
         "errors": warnings_json(&errors),
         "warnings": warnings_json(&warnings),
@@ -634,7 +662,7 @@ pub fn cmd_check(args: &CheckArgs) -> Result<(), RunError> {
         println!(
             "{}: {} IMU rows over {:.3} s",
             args.dir.display(),
-            log.imu.len(),
+            imu_rows,
             span.map_or(0.0, |(a, b)| b - a)
         );
         for e in &errors {

@@ -3,10 +3,10 @@
 //! first USBL fix against the initial position moved by the initial velocity.
 
 use nav_runtime::earth::{Geodetic, LocalNed};
-use nav_runtime::log::{DvlRow, LogDir, Row, UsblRow, Warning, WarningKind};
+use nav_runtime::log::{DvlRow, LogDir, Meta, Row, UsblRow, Warning, WarningKind};
 use nav_runtime::nalgebra::Vector3;
 
-use super::{line_of, rows_until, PreflightOptions, Report};
+use super::{rows_until, PreflightOptions, Report};
 
 /// Fastest plausible vehicle carrying a DVL, m/s (about 20 kn).
 pub(super) const MAX_DVL_SPEED: f64 = 10.0;
@@ -20,114 +20,130 @@ const USBL_FAR: f64 = 10_000.0;
 /// Position uncertainty assumed without `[initial_sigma] position`, m.
 const DEFAULT_POSITION_SIGMA: f64 = 10.0;
 
-/// Error if the median DVL speed over the first `aiding_seconds` exceeds
-/// [`MAX_DVL_SPEED`] (cm/s or mm/s?); a warning naming the first row faster
-/// than twice that anywhere in the file. The first USBL fix within
-/// `aiding_seconds`: an error beyond [`USBL_FAR`] from the initial position
-/// advanced by the initial velocity, a warning beyond a 5-sigma band.
-pub(super) fn check(log: &LogDir, options: &PreflightOptions, report: &mut Report) {
-    let t_start = log.imu.first().map_or(0.0, |r| r.t);
-    if let Some(dvl) = &log.dvl {
-        dvl_speed(log, dvl, t_start + options.aiding_seconds, report);
-    }
-    if let Some(usbl) = &log.usbl {
-        usbl_position(log, usbl, t_start, options, report);
-    }
+fn speed(r: &DvlRow) -> Option<f64> {
+    r.velocity()
+        .map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt())
 }
 
-fn dvl_speed(log: &LogDir, dvl: &[DvlRow], t_end: f64, report: &mut Report) {
-    let speed = |r: &DvlRow| {
-        r.velocity()
-            .map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt())
-    };
-    if let Some((i, s)) = dvl
-        .iter()
-        .enumerate()
-        .find_map(|(i, r)| speed(r).filter(|s| *s > MAX_PHYSICAL_SPEED).map(|s| (i, s)))
-    {
-        let mut w = Warning::about(
-            WarningKind::Suspicious,
-            DvlRow::FILE,
-            format!("speed {s:e} m/s: not a physical speed"),
-        )
-        .with_key("vx,vy,vz");
-        if let Some(line) = line_of::<DvlRow>(log, i) {
-            w = w.at_line(line);
+/// The first DVL rows faster than [`MAX_PHYSICAL_SPEED`] and than twice
+/// [`MAX_DVL_SPEED`], and the first USBL fix within `aiding_seconds` of the
+/// first IMU time.
+#[derive(Debug, Default)]
+pub(super) struct Fold {
+    unphysical: Option<(Option<u64>, f64)>,
+    fast: Option<(Option<u64>, f64)>,
+    fix: Option<(Option<u64>, UsblRow)>,
+}
+
+impl Fold {
+    pub(super) fn dvl(&mut self, line: Option<u64>, r: &DvlRow) {
+        let Some(s) = speed(r) else { return };
+        if self.unphysical.is_none() && s > MAX_PHYSICAL_SPEED {
+            self.unphysical = Some((line, s));
         }
-        report.error(w);
-        return;
+        if self.fast.is_none() && s > 2.0 * MAX_DVL_SPEED {
+            self.fast = Some((line, s));
+        }
     }
-    let mut early: Vec<f64> = rows_until(dvl, t_end).iter().filter_map(speed).collect();
-    if !early.is_empty() {
-        early.sort_by(f64::total_cmp);
-        let median = early[early.len() / 2];
-        if median > MAX_DVL_SPEED {
-            let cause = if median > 1000.0 {
-                "mm/s? the format is m/s"
-            } else if median > 100.0 {
-                "cm/s? the format is m/s"
-            } else {
-                "wrong unit or scale? the format is m/s"
-            };
-            report.error(
-                Warning::about(
-                    WarningKind::Suspicious,
-                    DvlRow::FILE,
-                    format!(
-                        "median speed {median:.1} m/s over the first {} rows with bottom lock, \
-                         beyond a plausible vehicle speed ({MAX_DVL_SPEED} m/s): {cause}",
-                        early.len()
-                    ),
-                )
-                .with_key("vx,vy,vz"),
-            );
+
+    pub(super) fn usbl(&mut self, line: Option<u64>, r: &UsblRow, t_start: f64, seconds: f64) {
+        if self.fix.is_none() && r.t >= t_start && r.t <= t_start + seconds {
+            self.fix = Some((line, *r));
+        }
+    }
+
+    /// Error if a DVL speed exceeds [`MAX_PHYSICAL_SPEED`], or if the median
+    /// DVL speed over the first `aiding_seconds` (of the head) exceeds
+    /// [`MAX_DVL_SPEED`] (cm/s or mm/s?); a warning naming the first row
+    /// faster than twice that anywhere in the file. The first USBL fix within
+    /// `aiding_seconds`: an error beyond [`USBL_FAR`] from the initial
+    /// position advanced by the initial velocity, a warning beyond a 5-sigma
+    /// band.
+    pub(super) fn finish(
+        &self,
+        head: &LogDir,
+        t_start: f64,
+        has_dvl: bool,
+        options: &PreflightOptions,
+        report: &mut Report,
+    ) {
+        if has_dvl {
+            let early = head.dvl.as_deref().unwrap_or_default();
+            self.dvl_speed(rows_until(early, t_start + options.aiding_seconds), report);
+        }
+        if let Some((line, fix)) = self.fix {
+            usbl_position(&head.meta, line, &fix, t_start, report);
+        }
+    }
+
+    fn dvl_speed(&self, early: &[DvlRow], report: &mut Report) {
+        if let Some((line, s)) = self.unphysical {
+            let mut w = Warning::about(
+                WarningKind::Suspicious,
+                DvlRow::FILE,
+                format!("speed {s:e} m/s: not a physical speed"),
+            )
+            .with_key("vx,vy,vz");
+            if let Some(line) = line {
+                w = w.at_line(line);
+            }
+            report.error(w);
             return;
         }
-    }
-    if let Some((i, s)) = dvl.iter().enumerate().find_map(|(i, r)| {
-        speed(r)
-            .filter(|s| *s > 2.0 * MAX_DVL_SPEED)
-            .map(|s| (i, s))
-    }) {
-        let mut w = Warning::about(
-            WarningKind::Suspicious,
-            DvlRow::FILE,
-            format!("speed {s:.1} m/s beyond a plausible vehicle speed ({MAX_DVL_SPEED} m/s)"),
-        )
-        .with_key("vx,vy,vz");
-        if let Some(line) = line_of::<DvlRow>(log, i) {
-            w = w.at_line(line);
+        let mut early: Vec<f64> = early.iter().filter_map(speed).collect();
+        if !early.is_empty() {
+            early.sort_by(f64::total_cmp);
+            let median = early[early.len() / 2];
+            if median > MAX_DVL_SPEED {
+                let cause = if median > 1000.0 {
+                    "mm/s? the format is m/s"
+                } else if median > 100.0 {
+                    "cm/s? the format is m/s"
+                } else {
+                    "wrong unit or scale? the format is m/s"
+                };
+                report.error(
+                    Warning::about(
+                        WarningKind::Suspicious,
+                        DvlRow::FILE,
+                        format!(
+                            "median speed {median:.1} m/s over the first {} rows with bottom \
+                             lock, beyond a plausible vehicle speed ({MAX_DVL_SPEED} m/s): {cause}",
+                            early.len()
+                        ),
+                    )
+                    .with_key("vx,vy,vz"),
+                );
+                return;
+            }
         }
-        report.warn(w);
+        if let Some((line, s)) = self.fast {
+            let mut w = Warning::about(
+                WarningKind::Suspicious,
+                DvlRow::FILE,
+                format!("speed {s:.1} m/s beyond a plausible vehicle speed ({MAX_DVL_SPEED} m/s)"),
+            )
+            .with_key("vx,vy,vz");
+            if let Some(line) = line {
+                w = w.at_line(line);
+            }
+            report.warn(w);
+        }
     }
 }
 
-fn usbl_position(
-    log: &LogDir,
-    usbl: &[UsblRow],
-    t_start: f64,
-    options: &PreflightOptions,
-    report: &mut Report,
-) {
-    let Some((i, fix)) = usbl
-        .iter()
-        .enumerate()
-        .find(|(_, r)| r.t >= t_start && r.t <= t_start + options.aiding_seconds)
-    else {
-        return;
-    };
-    let init = &log.meta.initial;
+fn usbl_position(meta: &Meta, line: Option<u64>, fix: &UsblRow, t_start: f64, report: &mut Report) {
+    let init = &meta.initial;
     let frame = LocalNed::new(Geodetic::new(init.lat, init.lon, -init.depth));
     let dt = fix.t - init.t.unwrap_or(t_start);
     let predicted = Vector3::new(init.vn, init.ve, init.vd) * dt;
     let measured = frame.geodetic_to_ned(&Geodetic::new(fix.lat, fix.lon, -fix.depth));
     let d = (measured - predicted).xy().norm();
-    let sigma0 = log
-        .meta
+    let sigma0 = meta
         .initial_sigma
         .and_then(|s| s.position)
         .unwrap_or(DEFAULT_POSITION_SIGMA);
-    let usbl_sigma = log.meta.sensors.usbl.map_or(0.0, |n| n.noise_sigma);
+    let usbl_sigma = meta.sensors.usbl.map_or(0.0, |n| n.noise_sigma);
     // 5 sigma of the initial position and the fix, plus 1 m/s of unmodelled
     // motion over the elapsed time.
     let band = 5.0 * (sigma0 * sigma0 + usbl_sigma * usbl_sigma).sqrt() + dt.abs();
@@ -149,7 +165,7 @@ fn usbl_position(
         ),
     )
     .with_key("lat,lon");
-    if let Some(line) = line_of::<UsblRow>(log, i) {
+    if let Some(line) = line {
         w = w.at_line(line);
     }
     if d > USBL_FAR {

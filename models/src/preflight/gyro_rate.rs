@@ -3,7 +3,7 @@
 
 use nav_runtime::log::{ImuRow, LogDir, Row, Warning, WarningKind};
 
-use super::{line_of, Report};
+use super::Report;
 
 /// Largest rate a common gyro measures (2000 deg/s), rad/s.
 pub(super) const MAX_RATE: f64 = 35.0;
@@ -11,49 +11,72 @@ pub(super) const MAX_RATE: f64 = 35.0;
 /// Smallest heading change (rad) over which the gyro is compared with it.
 const MIN_TURN: f64 = 0.5;
 
-/// A rate above [`MAX_RATE`] is an error (deg/s?). When `heading.csv` (or
-/// the truth yaw) turns by at least [`MIN_TURN`], the integrated `gz` over the
-/// same interval must agree with it: a ratio near 57.3 is a deg/s file, a
-/// negative ratio a z axis pointing up (both errors); other ratios off by more
-/// than 50 % are warnings.
-pub(super) fn check(log: &LogDir, _options: &super::PreflightOptions, report: &mut Report) {
-    let mut worst: Option<(usize, f64)> = None;
-    for (i, r) in log.imu.iter().enumerate() {
+/// The largest gyro rate beyond [`MAX_RATE`] and its line.
+#[derive(Debug, Default)]
+pub(super) struct Fold {
+    worst: Option<(Option<u64>, f64)>,
+}
+
+impl Fold {
+    pub(super) fn imu(&mut self, line: Option<u64>, r: &ImuRow) {
         let w = (r.gx * r.gx + r.gy * r.gy + r.gz * r.gz).sqrt();
-        if w > MAX_RATE && worst.is_none_or(|(_, m)| w > m) {
-            worst = Some((i, w));
+        if w > MAX_RATE && self.worst.is_none_or(|(_, m)| w > m) {
+            self.worst = Some((line, w));
         }
     }
-    if let Some((i, w)) = worst {
-        let mut warning = Warning::about(
-            WarningKind::Suspicious,
-            <ImuRow as Row>::FILE,
-            if w > 1e4 {
-                format!("|omega| = {w:e} rad/s: not a physical rate")
-            } else {
-                format!(
-                    "|omega| = {w:.1} rad/s, beyond {MAX_RATE} rad/s (2000 deg/s, the range of \
-                     common gyros): deg/s? the format is rad/s"
-                )
-            },
-        )
-        .with_key("gx,gy,gz");
-        if let Some(line) = line_of::<ImuRow>(log, i) {
-            warning = warning.at_line(line);
+
+    /// A rate above [`MAX_RATE`] anywhere is an error (deg/s?). Otherwise,
+    /// over the head of the log: when `heading.csv` (or the truth yaw) turns
+    /// by at least [`MIN_TURN`], the integrated `gz` over the same interval
+    /// must agree with it: a ratio near 57.3 is a deg/s file, a negative
+    /// ratio a z axis pointing up (both errors); other ratios off by more
+    /// than 50 % are warnings. `beyond` tells, for the heading and the truth
+    /// yaw, whether the whole file has values beyond 2 pi (then the
+    /// comparison is not made: the angle range check reports them).
+    pub(super) fn finish(&self, head: &LogDir, beyond: (bool, bool), report: &mut Report) {
+        if let Some((line, w)) = self.worst {
+            let mut warning = Warning::about(
+                WarningKind::Suspicious,
+                <ImuRow as Row>::FILE,
+                if w > 1e4 {
+                    format!("|omega| = {w:e} rad/s: not a physical rate")
+                } else {
+                    format!(
+                        "|omega| = {w:.1} rad/s, beyond {MAX_RATE} rad/s (2000 deg/s, the range \
+                         of common gyros): deg/s? the format is rad/s"
+                    )
+                },
+            )
+            .with_key("gx,gy,gz");
+            if let Some(line) = line {
+                warning = warning.at_line(line);
+            }
+            report.error(warning);
+            return;
         }
-        report.error(warning);
-        return;
+        turn(head, beyond, report);
     }
-    let (reference, file): (Vec<(f64, f64)>, &str) = match (&log.heading, &log.truth) {
-        (Some(h), _) if h.len() >= 2 => {
-            (h.iter().map(|r| (r.t, r.heading)).collect(), "heading.csv")
-        }
-        (_, Some(t)) if t.len() >= 2 => (t.iter().map(|r| (r.t, r.yaw)).collect(), "truth.csv"),
+}
+
+fn turn(log: &LogDir, beyond: (bool, bool), report: &mut Report) {
+    let (reference, file, beyond): (Vec<(f64, f64)>, &str, bool) = match (&log.heading, &log.truth)
+    {
+        (Some(h), _) if h.len() >= 2 => (
+            h.iter().map(|r| (r.t, r.heading)).collect(),
+            "heading.csv",
+            beyond.0,
+        ),
+        (_, Some(t)) if t.len() >= 2 => (
+            t.iter().map(|r| (r.t, r.yaw)).collect(),
+            "truth.csv",
+            beyond.1,
+        ),
         _ => return,
     };
-    if reference
-        .iter()
-        .any(|(_, h)| h.abs() > 2.0 * core::f64::consts::PI)
+    if beyond
+        || reference
+            .iter()
+            .any(|(_, h)| h.abs() > 2.0 * core::f64::consts::PI)
     {
         return; // angle_range reports it.
     }

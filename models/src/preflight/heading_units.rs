@@ -15,6 +15,7 @@ const FACTOR: f64 = 15.0;
 /// `sigma` gives (median of the absolute difference of two normal draws):
 /// beyond [`FACTOR`] times and consistent with degrees (within a factor 5 once
 /// converted) an error, otherwise beyond [`FACTOR`] a warning.
+/// Runs on the head of the log (see [`super::PreflightOptions::head_seconds`]).
 pub(super) fn check(log: &LogDir, report: &mut Report) {
     let (Some(rows), Some(noise)) = (&log.heading, log.meta.sensors.heading) else {
         return;

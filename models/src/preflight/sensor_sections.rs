@@ -1,53 +1,36 @@
 //! Sensor files without their `[sensors.*]` section: the model's built-in
 //! noise is used, which the user should know.
 
-use nav_runtime::log::{LogDir, Warning, WarningKind};
+use nav_runtime::log::{Meta, Warning, WarningKind};
 
 use super::Report;
 
 /// One warning per sensor file with rows and no `[sensors.<name>]` section
 /// (among `model_files`, when given); with `model_files`, one per present file
 /// the model does not read.
-pub(super) fn check(log: &LogDir, model_files: Option<&[&str]>, report: &mut Report) {
-    let s = &log.meta.sensors;
-    let present = [
-        ("imu", !log.imu.is_empty(), s.imu.is_some()),
-        (
-            "dvl",
-            log.dvl.as_ref().is_some_and(|r| !r.is_empty()),
-            s.dvl.is_some(),
-        ),
-        (
-            "depth",
-            log.depth.as_ref().is_some_and(|r| !r.is_empty()),
-            s.depth.is_some(),
-        ),
-        (
-            "heading",
-            log.heading.as_ref().is_some_and(|r| !r.is_empty()),
-            s.heading.is_some(),
-        ),
-        (
-            "usbl",
-            log.usbl.as_ref().is_some_and(|r| !r.is_empty()),
-            s.usbl.is_some(),
-        ),
-        (
-            "speed",
-            log.speed.as_ref().is_some_and(|r| !r.is_empty()),
-            s.speed.is_some(),
-        ),
-        (
-            "rpm",
-            log.rpm.as_ref().is_some_and(|r| !r.is_empty()),
-            s.rpm.is_some(),
-        ),
-        (
-            "altitude",
-            log.altitude.as_ref().is_some_and(|r| !r.is_empty()),
-            s.altitude.is_some(),
-        ),
+/// `has_rows`: whether each sensor file has rows, in the order imu, dvl,
+/// depth, heading, usbl, speed, rpm, altitude.
+pub(super) fn check(
+    meta: &Meta,
+    has_rows: [bool; 8],
+    model_files: Option<&[&str]>,
+    report: &mut Report,
+) {
+    let s = &meta.sensors;
+    let sections = [
+        s.imu.is_some(),
+        s.dvl.is_some(),
+        s.depth.is_some(),
+        s.heading.is_some(),
+        s.usbl.is_some(),
+        s.speed.is_some(),
+        s.rpm.is_some(),
+        s.altitude.is_some(),
     ];
+    let names = [
+        "imu", "dvl", "depth", "heading", "usbl", "speed", "rpm", "altitude",
+    ];
+    let present = (0..8).map(|i| (names[i], has_rows[i], sections[i]));
     for (name, has_rows, has_section) in present {
         let file = format!("{name}.csv");
         let used = model_files.is_none_or(|m| m.contains(&file.as_str()));

@@ -2,32 +2,68 @@
 //! (`|f|` near 1), a scale error, and the sign of `az` (FLU instead of FRD).
 
 use nav_runtime::earth::normal_gravity;
-use nav_runtime::log::{ImuRow, LogDir, Row, Warning, WarningKind};
+use nav_runtime::log::{ImuRow, Meta, Row, Warning, WarningKind};
 
-use super::{rows_until, PreflightOptions, Report};
+use super::Report;
 
 /// Columns named by these findings.
 const KEY: &str = "ax,ay,az";
 
-/// Mean specific force over the first `settle_seconds` compared with normal
-/// gravity at the initial position: `|f|` in 0.7..1.3 m/s^2 is a g-unit file,
-/// outside 0.5..1.5 g an error, outside 0.9..1.1 g a warning; a mean `az` of
-/// the sign opposite to the one FRD axes give at the initial roll and pitch is
-/// an error (z up).
-pub(super) fn check(log: &LogDir, options: &PreflightOptions, report: &mut Report) {
-    let Some(first) = log.imu.first() else { return };
-    let rows = rows_until(&log.imu, first.t + options.settle_seconds);
-    let rows = if rows.is_empty() { &log.imu[..1] } else { rows };
-    let n = rows.len() as f64;
-    let mean = |f: fn(&ImuRow) -> f64| rows.iter().map(f).sum::<f64>() / n;
-    let f = [mean(|r| r.ax), mean(|r| r.ay), mean(|r| r.az)];
+/// The sums of `ax, ay, az` over the IMU rows of the first `settle_seconds`
+/// (the first row alone when no row is that early).
+#[derive(Debug, Default)]
+pub(super) struct Fold {
+    first: Option<ImuRow>,
+    sum: [f64; 3],
+    n: usize,
+    last_t: f64,
+    /// The line of the first row, when known.
+    line: Option<u64>,
+}
+
+impl Fold {
+    pub(super) fn imu(&mut self, settle_seconds: f64, line: Option<u64>, r: &ImuRow) {
+        if self.first.is_none() {
+            self.first = Some(*r);
+            self.line = line;
+        }
+        let Some(first) = self.first else { return };
+        // Times increase, so the window is a prefix of the rows.
+        if r.t < first.t + settle_seconds {
+            self.sum[0] += r.ax;
+            self.sum[1] += r.ay;
+            self.sum[2] += r.az;
+            self.n += 1;
+            self.last_t = r.t;
+        }
+    }
+
+    /// Mean specific force over the first `settle_seconds` compared with
+    /// normal gravity at the initial position: `|f|` in 0.7..1.3 m/s^2 is a
+    /// g-unit file, outside 0.5..1.5 g an error, outside 0.9..1.1 g a
+    /// warning; a mean `az` of the sign opposite to the one FRD axes give at
+    /// the initial roll and pitch is an error (z up).
+    pub(super) fn finish(&self, meta: &Meta, report: &mut Report) {
+        let Some(first) = self.first else { return };
+        let (sum, rows, last_t) = if self.n == 0 {
+            ([first.ax, first.ay, first.az], 1, first.t)
+        } else {
+            (self.sum, self.n, self.last_t)
+        };
+        let span = last_t - first.t;
+        check(meta, sum, rows, span, self.line.unwrap_or(2), report);
+    }
+}
+
+fn check(meta: &Meta, sum: [f64; 3], rows: usize, span: f64, line: u64, report: &mut Report) {
+    let n = rows as f64;
+    let f = [sum[0] / n, sum[1] / n, sum[2] / n];
     let norm = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
-    let init = &log.meta.initial;
+    let init = &meta.initial;
     let g = normal_gravity(init.lat, -init.depth.clamp(-1e5, 1e5));
-    let span = rows.last().map_or(0.0, |r| r.t) - first.t;
     let at = |msg: String| {
         Warning::about(WarningKind::Suspicious, <ImuRow as Row>::FILE, msg)
-            .at_line(2)
+            .at_line(line)
             .with_key(KEY)
     };
     let ratio = norm / g;
@@ -67,7 +103,7 @@ pub(super) fn check(log: &LogDir, options: &PreflightOptions, report: &mut Repor
                     f[2]
                 ),
             )
-            .at_line(2)
+            .at_line(line)
             .with_key("az"),
         );
     }

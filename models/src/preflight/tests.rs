@@ -1,9 +1,9 @@
 //! The preflight on a small simulated log: clean as simulated, and each
 //! check firing on the mistake it is for (cases as data).
 
-use nav_runtime::log::{LogDir, WarningKind};
+use nav_runtime::log::{ImuRow, LogDir, LogFiles, Strictness, WarningKind};
 
-use super::{check, PreflightOptions, Severity};
+use super::{check, check_files, PreflightOptions, Severity};
 use crate::sdins25::simulation::{simulate, SimConfig};
 
 fn log() -> LogDir {
@@ -271,4 +271,284 @@ proptest::proptest! {
             proptest::prop_assert!(f.what.file.is_some() || f.what.key.is_some(), "{}", f.what);
         }
     }
+}
+
+/// A directory under the system's temporary directory, removed on drop.
+struct Scratch(std::path::PathBuf);
+
+impl Scratch {
+    fn new(name: &str) -> Self {
+        let d = std::env::temp_dir().join(format!(
+            "preflight-{name}-{}-{:?}",
+            std::process::id(),
+            std::thread::current().id()
+        ));
+        let _ = std::fs::remove_dir_all(&d);
+        Scratch(d)
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// Writes `log`, checks it as a stream and returns the findings and summary.
+fn stream(
+    log: &LogDir,
+    strictness: Strictness,
+    options: &PreflightOptions,
+    name: &str,
+) -> (super::Report, super::LogSummary, LogDir) {
+    let dir = Scratch::new(name);
+    log.write(&dir.0).unwrap();
+    let files = LogFiles::open(&dir.0, strictness).unwrap();
+    let (report, summary) = check_files(&files, options).unwrap();
+    let read = LogDir::read(&dir.0, strictness).unwrap();
+    (report, summary, read)
+}
+
+/// Freezes the gyro triple over `rows`.
+fn freeze(l: &mut LogDir, rows: std::ops::Range<usize>) {
+    let f = l.imu[rows.start];
+    for r in &mut l.imu[rows] {
+        (r.gx, r.gy, r.gz) = (f.gx, f.gy, f.gz);
+    }
+}
+
+#[test]
+fn streaming_gives_the_findings_of_the_log_in_memory() {
+    // (name, edit, options): every case of `cases`, then variants that
+    // exercise the folds' bookkeeping (several gaps, several frozen runs,
+    // rows outside the IMU span, a short head).
+    let short_head = PreflightOptions {
+        head_seconds: 12.0,
+        ..sdins()
+    };
+    let lenient = PreflightOptions {
+        lenient: true,
+        ..sdins()
+    };
+    type Variant = (&'static str, fn(&mut LogDir), PreflightOptions);
+    let mut variants: Vec<Variant> = cases()
+        .into_iter()
+        .map(|(name, edit, ..)| (name, edit, sdins()))
+        .collect();
+    variants.extend::<[Variant; 9]>([
+        ("unchanged", |_| {}, sdins()),
+        ("unchanged, short head", |_| {}, short_head),
+        (
+            "five gaps",
+            |l| {
+                for k in 0..5 {
+                    l.imu.drain(200 + 300 * k..300 + 300 * k);
+                }
+            },
+            sdins(),
+        ),
+        (
+            "frozen runs, lenient",
+            |l| {
+                freeze(l, 10..2100);
+                freeze(l, 2100..2600);
+                freeze(l, 2600..2999);
+            },
+            lenient,
+        ),
+        (
+            "DVL rows partly empty",
+            |l| {
+                for r in l.dvl.as_mut().unwrap().iter_mut().take(6) {
+                    r.vy = None;
+                }
+            },
+            sdins(),
+        ),
+        (
+            "aiding rows outside the IMU span",
+            |l| {
+                let t1 = l.imu.last().unwrap().t;
+                let d = l.depth.as_mut().unwrap();
+                let last = *d.last().unwrap();
+                d.push(nav_runtime::log::DepthRow::new(t1 + 5.0, last.depth));
+                d.push(nav_runtime::log::DepthRow::new(t1 + 7200.0, last.depth));
+            },
+            sdins(),
+        ),
+        (
+            "heading in degrees, short head",
+            |l| {
+                l.heading
+                    .as_mut()
+                    .unwrap()
+                    .iter_mut()
+                    .for_each(|r| r.heading = r.heading.to_degrees())
+            },
+            short_head,
+        ),
+        (
+            "gyro z up",
+            |l| l.imu.iter_mut().for_each(|r| r.gz = -r.gz),
+            sdins(),
+        ),
+        (
+            "no aiding files",
+            |l| {
+                (l.dvl, l.depth, l.heading, l.usbl) = (None, None, None, None);
+                l.truth = Some(Vec::new());
+            },
+            PreflightOptions::default(),
+        ),
+    ]);
+    let base = log();
+    for (name, edit, options) in variants {
+        let mut l = base.clone();
+        edit(&mut l);
+        let (streamed, summary, read) = stream(&l, Strictness::Strict, &options, "same");
+        assert_eq!(read, l, "{name}: the log does not round-trip");
+        let in_memory = check(&l, &options);
+        assert_eq!(streamed, in_memory, "{name}");
+        // The summary agrees with the log read whole.
+        assert_eq!(summary.warnings, read.warnings, "{name}");
+        assert_eq!(summary.imu_rows(), l.imu.len(), "{name}");
+        assert_eq!(summary.imu_time_span(), l.imu_time_span(), "{name}");
+        assert_eq!(
+            summary.imu.map(|i| i.first),
+            l.imu.first().copied(),
+            "{name}"
+        );
+        let dvl = summary.file("dvl.csv");
+        assert_eq!(dvl.map(|f| f.rows), l.dvl.as_ref().map(Vec::len), "{name}");
+        assert_eq!(summary, super::LogSummary::of(&read), "{name}");
+    }
+}
+
+#[test]
+fn streaming_finds_the_gyro_resolution_of_the_whole_file() {
+    // A 27-s frozen run early, while the gyro's steps seen so far are coarse
+    // (the run is too short for them), and a much finer step late in the
+    // file that makes the run frozen: the choice is made with the final
+    // resolution, as over the whole file.
+    use nav_runtime::stuck::StuckDetector;
+    let base = log();
+    let sigma = base.meta.sensors.imu.unwrap().gyro_noise_sigma;
+    let required = |q: f64| StuckDetector::required_repeats(sigma, q, 1e-9) as usize;
+    let q = (0..60)
+        .map(|k| sigma * 1.25f64.powi(k))
+        .find(|&q| (3100..1_000_000).contains(&required(q)))
+        .expect("a coarse resolution");
+    let fine = sigma / 100.0;
+    assert!(required(fine) < 2600, "{}", required(fine));
+    let quantized = |step: bool| {
+        let mut l = base.clone();
+        for (i, r) in l.imu.iter_mut().enumerate() {
+            r.gx = (r.gx / q).round() * q + if step && i == 2990 { fine } else { 0.0 };
+            // Steps of the coarse resolution before and after the run.
+            let offset = match i {
+                0..100 => 2.0 * q,
+                2800.. => q,
+                _ => 0.0,
+            };
+            r.gy = (r.gy / q).round() * q + offset;
+            r.gz = (r.gz / q).round() * q;
+        }
+        freeze(&mut l, 100..2800);
+        l
+    };
+    for (step, frozen) in [(true, true), (false, false)] {
+        let l = quantized(step);
+        let (streamed, _, _) = stream(&l, Strictness::Strict, &sdins(), "resolution");
+        assert_eq!(streamed, check(&l, &sdins()));
+        assert_eq!(
+            streamed.has(WarningKind::FrozenImu),
+            frozen,
+            "step {step}: {:?}",
+            streamed.findings
+        );
+    }
+}
+
+#[test]
+fn lenient_streaming_names_the_lines() {
+    // A gap and a frozen run after a row the lenient reader skips: the
+    // stream names the file's lines; the log in memory cannot (it no longer
+    // knows which line a row came from).
+    let mut l = log();
+    l.imu.drain(500..520);
+    let n = l.imu.len();
+    freeze(&mut l, 700..n);
+    let dir = Scratch::new("lines");
+    l.write(&dir.0).unwrap();
+    let path = dir.0.join(<ImuRow as nav_runtime::log::Row>::FILE);
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut lines: Vec<&str> = text.lines().collect();
+    lines[10] = "not,a,row"; // line 11
+    std::fs::write(&path, lines.join("\n") + "\n").unwrap();
+    let options = PreflightOptions {
+        lenient: true,
+        ..sdins()
+    };
+    let files = LogFiles::open(&dir.0, Strictness::Lenient).unwrap();
+    let (report, summary) = check_files(&files, &options).unwrap();
+    assert_eq!(summary.total_skipped_rows(), 1);
+    assert_eq!(summary.file("imu.csv").unwrap().skip_reasons[0].line, 11);
+    // Row 499 of `l` is on line 501, the row after the gap on line 502.
+    let gap = report
+        .findings
+        .iter()
+        .find(|f| f.what.kind == WarningKind::ImuGap)
+        .expect("a gap");
+    assert_eq!(gap.what.line, Some(501), "{}", gap.what);
+    assert!(
+        gap.what.message.contains("lines 501 and 502"),
+        "{}",
+        gap.what
+    );
+    let frozen = report
+        .findings
+        .iter()
+        .find(|f| f.what.kind == WarningKind::FrozenImu)
+        .expect("a frozen IMU");
+    assert_eq!(frozen.what.line, Some(702), "{}", frozen.what);
+    let last = l.imu.len() + 1;
+    assert!(
+        frozen.what.message.contains(&format!("lines 702-{last}")),
+        "{}",
+        frozen.what
+    );
+    // The same rows in memory: the same findings without the lines.
+    let read = LogDir::read(&dir.0, Strictness::Lenient).unwrap();
+    assert_eq!(summary.warnings, read.warnings);
+    assert_eq!(summary, super::LogSummary::of(&read));
+    let in_memory = check(&read, &options);
+    let strip = |r: &super::Report| -> Vec<_> {
+        r.findings
+            .iter()
+            .map(|f| (f.severity, f.what.kind, f.what.file.clone()))
+            .collect()
+    };
+    assert_eq!(strip(&report), strip(&in_memory));
+    assert!(in_memory
+        .findings
+        .iter()
+        .any(|f| f.what.message.contains("between two rows")));
+}
+
+#[test]
+fn streaming_reports_the_read_error_of_the_whole_log() {
+    // A bad row in depth.csv and one in truth.csv: the first in read order
+    // is the error, as `LogDir::read` gives it.
+    let dir = Scratch::new("error");
+    log().write(&dir.0).unwrap();
+    for file in ["depth.csv", "truth.csv"] {
+        let path = dir.0.join(file);
+        let text = std::fs::read_to_string(&path).unwrap();
+        std::fs::write(&path, text + "1e9,x\n").unwrap();
+    }
+    let files = LogFiles::open(&dir.0, Strictness::Strict).unwrap();
+    let streamed = check_files(&files, &sdins()).unwrap_err();
+    let whole = LogDir::read(&dir.0, Strictness::Strict).unwrap_err();
+    assert_eq!(streamed.to_string(), whole.to_string());
+    assert!(streamed.to_string().contains("depth.csv"), "{streamed}");
 }

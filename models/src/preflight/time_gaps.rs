@@ -1,9 +1,9 @@
 //! Time stamps: IMU gaps beyond a multiple of the IMU period (a hole or a
 //! clock jump), too few IMU rows, and aiding rows far outside the IMU's span.
 
-use nav_runtime::log::{LogDir, Row, Warning, WarningKind};
+use nav_runtime::log::{ImuRow, Row, Warning, WarningKind};
 
-use super::{line_of, PreflightOptions, Report};
+use super::{lines_text, PreflightOptions, Report};
 
 /// Aiding rows further than this outside the IMU span are a clock error, s.
 const CLOCK_JUMP: f64 = 3600.0;
@@ -14,9 +14,11 @@ const MARGIN: f64 = 1.0;
 /// Findings listed per check before the rest are only counted.
 const LISTED: usize = 3;
 
-/// The median IMU interval over the first 10 000 intervals, s.
-fn median_period(t: &[f64]) -> Option<f64> {
-    let mut dt: Vec<f64> = t.windows(2).take(10_000).map(|w| w[1] - w[0]).collect();
+/// IMU intervals the period is the median of.
+pub(super) const PERIOD_INTERVALS: usize = 10_000;
+
+/// The median of `dt`.
+pub(super) fn median(mut dt: Vec<f64>) -> Option<f64> {
     if dt.is_empty() {
         return None;
     }
@@ -24,117 +26,200 @@ fn median_period(t: &[f64]) -> Option<f64> {
     Some(dt[dt.len() / 2])
 }
 
-pub(super) fn check(log: &LogDir, options: &PreflightOptions, report: &mut Report) {
-    use nav_runtime::log::ImuRow;
-    if log.imu.len() < 2 {
-        report.error(Warning::about(
-            WarningKind::ImuGap,
-            ImuRow::FILE,
-            format!(
-                "{} IMU row(s): at least 2 are needed to propagate the state",
-                log.imu.len()
-            ),
-        ));
-        return;
-    }
-    let t: Vec<f64> = log.imu.iter().map(|r| r.t).collect();
-    let Some(period) = median_period(&t) else {
-        return;
-    };
-    let limit = options.max_gap_periods * period;
-    let mut gaps = 0usize;
-    for i in 1..t.len() {
-        let dt = t[i] - t[i - 1];
-        if dt <= limit {
-            continue;
-        }
-        gaps += 1;
-        if gaps > LISTED {
-            continue;
-        }
-        let (a, b) = (line_of::<ImuRow>(log, i - 1), line_of::<ImuRow>(log, i));
-        let between = match (a, b) {
-            (Some(a), Some(b)) => format!("lines {a} and {b}"),
-            _ => "two rows".to_string(),
-        };
-        let mut w = Warning::about(
-            WarningKind::ImuGap,
-            ImuRow::FILE,
-            format!(
-                "gap of {dt:.6} s between {between} (t = {} and t = {}; IMU period {period:.6} s, \
-                 limit {} periods): missing data or a clock jump",
-                t[i - 1],
-                t[i],
-                options.max_gap_periods
-            ),
-        )
-        .with_key("t");
-        if let Some(a) = a {
-            w = w.at_line(a);
-        }
-        report.error_unless(options.lenient, w);
-    }
-    if gaps > LISTED {
-        report.error_unless(
-            options.lenient,
-            Warning::about(
-                WarningKind::ImuGap,
-                ImuRow::FILE,
-                format!("{} more IMU gaps", gaps - LISTED),
-            ),
-        );
-    }
-    let (t0, t1) = (t[0], t[t.len() - 1]);
-    outside::<nav_runtime::log::DvlRow>(log, log.dvl.as_deref(), t0, t1, options, report);
-    outside::<nav_runtime::log::DepthRow>(log, log.depth.as_deref(), t0, t1, options, report);
-    outside::<nav_runtime::log::HeadingRow>(log, log.heading.as_deref(), t0, t1, options, report);
-    outside::<nav_runtime::log::UsblRow>(log, log.usbl.as_deref(), t0, t1, options, report);
-    outside::<nav_runtime::log::SpeedRow>(log, log.speed.as_deref(), t0, t1, options, report);
-    outside::<nav_runtime::log::RpmRow>(log, log.rpm.as_deref(), t0, t1, options, report);
-    outside::<nav_runtime::log::AltitudeRow>(log, log.altitude.as_deref(), t0, t1, options, report);
-    outside::<nav_runtime::log::TruthRow>(log, log.truth.as_deref(), t0, t1, options, report);
+/// The rows of one file outside the IMU span.
+#[derive(Debug, Clone, Copy)]
+struct Outside {
+    file: &'static str,
+    first: (Option<u64>, f64),
+    last: (Option<u64>, f64),
+    before: usize,
+    after: usize,
 }
 
-/// Rows of `R` before the first or after the last IMU sample: a warning (they
-/// are not used), an error when more than [`CLOCK_JUMP`] away (a clock jump;
-/// a warning with `--lenient`).
-fn outside<R: Row>(
-    log: &LogDir,
-    rows: Option<&[R]>,
-    t0: f64,
-    t1: f64,
-    options: &PreflightOptions,
-    report: &mut Report,
-) {
-    let Some(rows) = rows.filter(|r| !r.is_empty()) else {
-        return;
-    };
-    let before = rows.partition_point(|r| r.t() < t0 - MARGIN);
-    let after = rows.len() - rows.partition_point(|r| r.t() <= t1 + MARGIN);
-    let far = |i: usize, d: f64| {
+/// The IMU time stamps as they go by: the first [`PERIOD_INTERVALS`]
+/// intervals are held until the median period is known, later ones are
+/// checked as they come; the first [`LISTED`] gaps are kept. For each other
+/// file: its first and last rows and the counts before and after the IMU
+/// span.
+#[derive(Debug)]
+pub(super) struct Fold {
+    max_gap_periods: f64,
+    /// The first IMU rows, until the period is known.
+    start: Vec<(Option<u64>, f64)>,
+    previous: Option<(Option<u64>, f64)>,
+    period: Option<f64>,
+    gaps: usize,
+    listed: Vec<Warning>,
+    outside: [Option<Outside>; 9],
+}
+
+impl Fold {
+    pub(super) fn new(options: &PreflightOptions) -> Self {
+        Fold {
+            max_gap_periods: options.max_gap_periods,
+            start: Vec::new(),
+            previous: None,
+            period: None,
+            gaps: 0,
+            listed: Vec::new(),
+            outside: [None; 9],
+        }
+    }
+
+    /// The median IMU interval over the first 10 000 intervals, s.
+    pub(super) fn period(&self) -> Option<f64> {
+        self.period.or_else(|| self.start_period())
+    }
+
+    fn start_period(&self) -> Option<f64> {
+        median(self.start.windows(2).map(|w| w[1].1 - w[0].1).collect())
+    }
+
+    pub(super) fn imu(&mut self, line: Option<u64>, r: &ImuRow) {
+        let row = (line, r.t);
+        if self.period.is_some() {
+            if let Some(p) = self.previous {
+                self.interval(p, row);
+            }
+        } else {
+            self.start.push(row);
+            if self.start.len() > PERIOD_INTERVALS {
+                self.settle();
+            }
+        }
+        self.previous = Some(row);
+    }
+
+    /// Fixes the period from the held rows and checks their intervals.
+    fn settle(&mut self) {
+        self.period = self.start_period();
+        let start = std::mem::take(&mut self.start);
+        if self.period.is_some() {
+            for w in start.windows(2) {
+                self.interval(w[0], w[1]);
+            }
+        }
+    }
+
+    fn interval(&mut self, (line_a, ta): (Option<u64>, f64), (line_b, tb): (Option<u64>, f64)) {
+        let Some(period) = self.period else { return };
+        let dt = tb - ta;
+        if dt <= self.max_gap_periods * period {
+            return;
+        }
+        self.gaps += 1;
+        if self.gaps > LISTED {
+            return;
+        }
+        let between = lines_text(line_a, line_b, " and ").unwrap_or_else(|| "two rows".into());
         let mut w = Warning::about(
-            WarningKind::OutsideImuSpan,
-            R::FILE,
+            WarningKind::ImuGap,
+            ImuRow::FILE,
             format!(
-                "t = {} is {d:.1} s outside the IMU span {t0}..{t1} s: a clock jump?",
-                rows[i].t()
+                "gap of {dt:.6} s between {between} (t = {ta} and t = {tb}; IMU period \
+                 {period:.6} s, limit {} periods): missing data or a clock jump",
+                self.max_gap_periods
             ),
         )
         .with_key("t");
-        if let Some(line) = line_of::<R>(log, i) {
+        if let Some(a) = line_a {
+            w = w.at_line(a);
+        }
+        self.listed.push(w);
+    }
+
+    /// A row of file `index` (not the IMU) at `t`; `span` is the IMU span.
+    pub(super) fn outside(
+        &mut self,
+        index: usize,
+        file: &'static str,
+        line: Option<u64>,
+        t: f64,
+        span: Option<(f64, f64)>,
+    ) {
+        let Some((t0, t1)) = span else { return };
+        let o = self.outside[index].get_or_insert(Outside {
+            file,
+            first: (line, t),
+            last: (line, t),
+            before: 0,
+            after: 0,
+        });
+        o.last = (line, t);
+        if t < t0 - MARGIN {
+            o.before += 1;
+        }
+        if t > t1 + MARGIN {
+            o.after += 1;
+        }
+    }
+
+    /// IMU gaps longer than `max_gap_periods` median periods are errors
+    /// naming both lines (warnings with `--lenient`); fewer than 2 IMU rows
+    /// is an error; then the rows of each file outside the IMU span.
+    pub(super) fn finish(
+        mut self,
+        imu_rows: usize,
+        span: Option<(f64, f64)>,
+        options: &PreflightOptions,
+        report: &mut Report,
+    ) {
+        if imu_rows < 2 {
+            report.error(Warning::about(
+                WarningKind::ImuGap,
+                ImuRow::FILE,
+                format!("{imu_rows} IMU row(s): at least 2 are needed to propagate the state"),
+            ));
+            return;
+        }
+        if self.period.is_none() {
+            self.settle();
+        }
+        for w in std::mem::take(&mut self.listed) {
+            report.error_unless(options.lenient, w);
+        }
+        if self.gaps > LISTED {
+            report.error_unless(
+                options.lenient,
+                Warning::about(
+                    WarningKind::ImuGap,
+                    ImuRow::FILE,
+                    format!("{} more IMU gaps", self.gaps - LISTED),
+                ),
+            );
+        }
+        let Some((t0, t1)) = span else { return };
+        for o in self.outside.iter().flatten() {
+            outside(o, t0, t1, options, report);
+        }
+    }
+}
+
+/// Rows of a file before the first or after the last IMU sample: a warning
+/// (they are not used), an error when more than [`CLOCK_JUMP`] away (a clock
+/// jump; a warning with `--lenient`).
+fn outside(o: &Outside, t0: f64, t1: f64, options: &PreflightOptions, report: &mut Report) {
+    let far = |(line, t): (Option<u64>, f64), d: f64| {
+        let mut w = Warning::about(
+            WarningKind::OutsideImuSpan,
+            o.file,
+            format!("t = {t} is {d:.1} s outside the IMU span {t0}..{t1} s: a clock jump?"),
+        )
+        .with_key("t");
+        if let Some(line) = line {
             w = w.at_line(line);
         }
         w
     };
-    if before > 0 && t0 - rows[0].t() > CLOCK_JUMP {
-        report.error_unless(options.lenient, far(0, t0 - rows[0].t()));
-    } else if after > 0 && rows[rows.len() - 1].t() - t1 > CLOCK_JUMP {
-        let last = rows.len() - 1;
-        report.error_unless(options.lenient, far(last, rows[last].t() - t1));
-    } else if before + after > 0 && R::FILE != "truth.csv" {
+    let (before, after) = (o.before, o.after);
+    if before > 0 && t0 - o.first.1 > CLOCK_JUMP {
+        report.error_unless(options.lenient, far(o.first, t0 - o.first.1));
+    } else if after > 0 && o.last.1 - t1 > CLOCK_JUMP {
+        report.error_unless(options.lenient, far(o.last, o.last.1 - t1));
+    } else if before + after > 0 && o.file != "truth.csv" {
         report.warn(Warning::about(
             WarningKind::OutsideImuSpan,
-            R::FILE,
+            o.file,
             format!(
                 "{before} row(s) before and {after} row(s) after the IMU span {t0}..{t1} s are not used"
             ),
