@@ -9,7 +9,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
-use nav_runtime::log::{LogDir, LogFiles, Strictness, Warning, WarningKind};
+use nav_runtime::log::{LogFiles, Strictness, Warning, WarningKind};
 use serde_json::Value;
 
 use crate::interrupt::Pending;
@@ -424,7 +424,7 @@ pub fn replay_with(model: &dyn ReplayModel, args: &ReplayArgs) -> Result<(), Run
             model.name()
         )));
     }
-    let (log, report) = read_and_check(
+    let (files, summary, report) = stream_and_check(
         &args.dir,
         args.lenient,
         args.max_gap_periods,
@@ -445,26 +445,13 @@ pub fn replay_with(model: &dyn ReplayModel, args: &ReplayArgs) -> Result<(), Run
         smooth: args.smooth,
         lenient: args.lenient,
     };
-    for reason in &log.skip_reasons {
+    for reason in &summary.skip_reasons {
         eprintln!("warning: skipped {reason}");
     }
-    for file in &log.unknown_files {
+    for file in &summary.unknown_files {
         eprintln!("warning: ignored unknown file {file}");
     }
-    let read = ReadNotes {
-        skipped_rows: log.skipped_rows.clone(),
-        unknown_files: log.unknown_files.clone(),
-        warnings: log.warnings.clone(),
-    };
-    drop(log);
-    let files = LogFiles::open(
-        &args.dir,
-        if args.lenient {
-            Strictness::Lenient
-        } else {
-            Strictness::Strict
-        },
-    )?;
+    let read = &summary;
     // The result (JSON `warnings`, or the text) of a run's output.
     let result = |output: &crate::montecarlo::ReplayOutput| {
         for w in &output.warnings {
@@ -501,27 +488,6 @@ pub fn replay_with(model: &dyn ReplayModel, args: &ReplayArgs) -> Result<(), Run
         emit(&result(&output), args.json);
     }
     Ok(())
-}
-
-/// What reading the log noticed, for the replay's result.
-struct ReadNotes {
-    skipped_rows: std::collections::BTreeMap<String, usize>,
-    unknown_files: Vec<String>,
-    warnings: Vec<Warning>,
-}
-
-/// Reads the log and runs the preflight (bad rows skipped and IMU gaps or a
-/// frozen IMU downgraded to warnings when `lenient`).
-fn read_and_check(
-    dir: &std::path::Path,
-    lenient: bool,
-    max_gap_periods: f64,
-    model_files: Option<&'static [&'static str]>,
-) -> Result<(LogDir, preflight::Report), RunError> {
-    let (options, strictness) = preflight_options(lenient, max_gap_periods, model_files)?;
-    let log = LogDir::read(dir, strictness)?;
-    let report = preflight::check(&log, &options);
-    Ok((log, report))
 }
 
 /// A replay model's note as a warning: a file the model does not use (or
@@ -625,24 +591,25 @@ fn preflight_options(
 
 /// Runs the preflight over the log on disk as a stream (each file read
 /// once, memory independent of the log's length): the findings and the
-/// [`preflight::LogSummary`] a replay plans from. Errors as
-/// [`read_and_check`].
+/// [`preflight::LogSummary`] of the opened log. Errors: a bad option, and
+/// the first read error of the log as `LogDir::read` gives it.
 fn stream_and_check(
     dir: &std::path::Path,
     lenient: bool,
     max_gap_periods: f64,
     model_files: Option<&'static [&'static str]>,
-) -> Result<(preflight::LogSummary, preflight::Report), RunError> {
+) -> Result<(LogFiles, preflight::LogSummary, preflight::Report), RunError> {
     let (options, strictness) = preflight_options(lenient, max_gap_periods, model_files)?;
-    let files = nav_runtime::log::LogFiles::open(dir, strictness)?;
+    let files = LogFiles::open(dir, strictness)?;
     let (report, summary) = preflight::check_files(&files, &options)?;
-    Ok((summary, report))
+    Ok((files, summary, report))
 }
 
 /// `navsim check`: runs the preflight over the log as a stream (the log is
 /// not loaded) and prints every finding; fails when there is an error.
 pub fn cmd_check(args: &CheckArgs) -> Result<(), RunError> {
-    let (summary, report) = stream_and_check(&args.dir, args.lenient, args.max_gap_periods, None)?;
+    let (_, summary, report) =
+        stream_and_check(&args.dir, args.lenient, args.max_gap_periods, None)?;
     let errors: Vec<Warning> = report.errors().cloned().collect();
     let mut warnings = summary.warnings.clone();
     warnings.extend(report.warnings().cloned());

@@ -17,11 +17,12 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
-use nav_runtime::log::{LogDir, Strictness};
+use nav_runtime::log::{LogFiles, Strictness};
 use serde_json::{json, Map, Value};
 
 use crate::cli::{one_line, parse_failure, replay_with, ReplayArgs};
 use crate::montecarlo::RunError;
+use crate::preflight::{LogSummary, PreflightOptions};
 use crate::navigator::vehicle::{Layout, Present};
 use crate::navigator::InsVehicle;
 use crate::sdins25::InsReplay;
@@ -127,8 +128,15 @@ fn check<V: InsVehicle<N>, const N: usize>(c: &CheckCommand) -> Result<(), RunEr
         Strictness::Strict
     };
     Layout::of::<V, N>()?;
-    let log = LogDir::read(&c.dir, strictness)?;
-    let value = check_report::<V, N>(&log);
+    let files = LogFiles::open(&c.dir, strictness)?;
+    let (_, summary) = crate::preflight::check_files(
+        &files,
+        &PreflightOptions {
+            lenient: c.lenient,
+            ..PreflightOptions::default()
+        },
+    )?;
+    let value = check_report::<V, N>(&summary);
     if c.json {
         println!("{}", crate::report::json_line(&value));
     } else {
@@ -137,18 +145,19 @@ fn check<V: InsVehicle<N>, const N: usize>(c: &CheckCommand) -> Result<(), RunEr
     Ok(())
 }
 
-/// The `check` object of `log` for vehicle `V`.
-pub fn check_report<V: InsVehicle<N>, const N: usize>(log: &LogDir) -> Value {
+/// The `check` object of a log (its streamed summary) for vehicle `V`.
+pub fn check_report<V: InsVehicle<N>, const N: usize>(log: &LogSummary) -> Value {
     let has = Present::of::<V, N>();
+    let rows = |file: &str| log.file(file).map(|f| f.rows);
     let files = [
-        ("depth", log.depth.as_ref().map(Vec::len), has.depth),
-        ("dvl", log.dvl.as_ref().map(Vec::len), has.dvl),
+        ("depth", rows("depth.csv"), has.depth),
+        ("dvl", rows("dvl.csv"), has.dvl),
         (
             "heading",
-            log.heading.as_ref().map(Vec::len),
+            rows("heading.csv"),
             has.compass || has.compass_small_angle,
         ),
-        ("usbl", log.usbl.as_ref().map(Vec::len), has.usbl),
+        ("usbl", rows("usbl.csv"), has.usbl),
     ];
     let mut sensors = Map::new();
     let mut warnings: Vec<String> = Vec::new();
@@ -171,10 +180,10 @@ pub fn check_report<V: InsVehicle<N>, const N: usize>(log: &LogDir) -> Value {
     let span = log.imu_time_span();
     json!({
         "model": V::REPLAY_NAME,
-        "imu_rows": log.imu.len(),
+        "imu_rows": log.imu_rows(),
         "imu_span_s": span.map(|(a, b)| json!([a, b])),
         "sensors": Value::Object(sensors),
-        "truth_rows": log.truth.as_ref().map(Vec::len),
+        "truth_rows": rows("truth.csv"),
         "warnings": warnings,
     })
 }
