@@ -438,7 +438,10 @@ fn parse_section(
                     ))
                 }
             };
-            let q = quantity(k)
+            let is_column = allowed.contains(&k.as_str());
+            let q = is_column
+                .then(|| quantity(k))
+                .flatten()
                 .or_else(|| quantities.iter().copied().find(|q| q.key() == k))
                 .unwrap_or(Quantity::Time);
             if q.factor(unit).is_none() {
@@ -446,7 +449,7 @@ fn parse_section(
                     &key,
                     format!(
                         "unknown unit `{unit}` for {} ({}); expected one of: {}",
-                        if quantity(k).is_some() {
+                        if is_column {
                             format!("column `{k}`")
                         } else {
                             format!("every `{k}` column")
@@ -456,7 +459,7 @@ fn parse_section(
                     ),
                 ));
             }
-            if quantity(k).is_some() {
+            if is_column {
                 m.units.push((k.clone(), unit.to_string()));
             } else {
                 by_quantity.push((q, unit.to_string()));
