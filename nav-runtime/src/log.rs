@@ -16,6 +16,13 @@
 //! | `altitude.csv` | `t,altitude` |
 //! | `truth.csv` | `t,lat,lon,depth,vn,ve,vd,roll,pitch,yaw` |
 //!
+//! Columns are found by header name, in any order. `imu.csv` may carry
+//! increments `t,dtheta_x,dtheta_y,dtheta_z,dv_x,dv_y,dv_z` instead of rates
+//! ([`ImuForm`]). A `[files.<sensor>]` section of `meta.toml` may read a
+//! sensor from another file, under other header names, in other units and
+//! frames ([`LogMapping`]); the rows are converted on reading, so the rest of
+//! the crate only sees the standard format.
+//!
 //! Reading validates everything: each error names the file, the 1-based line (the
 //! header is line 1) and the column (or the dotted `meta.toml` key). With
 //! [`Strictness::Lenient`] bad CSV rows are skipped and counted per file instead

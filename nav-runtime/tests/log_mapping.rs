@@ -122,8 +122,8 @@ fn conversions() -> Vec<Conversion> {
 fn conversions_match_hand_computed_values() {
     for (name, sections, file, text, sensor, want) in conversions() {
         let dir = log_dir(sections, &[(file, text)]);
-        let log = LogDir::read(dir.path(), Strictness::Strict)
-            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let log =
+            LogDir::read(dir.path(), Strictness::Strict).unwrap_or_else(|e| panic!("{name}: {e}"));
         let got = first_cells(&log, sensor);
         assert_eq!(got.len(), want.len(), "{name}: {got:?}");
         for (i, (g, w)) in got.iter().zip(&want).enumerate() {
@@ -134,9 +134,17 @@ fn conversions_match_hand_computed_values() {
             );
         }
         let increments = text.starts_with("t,dtheta") || sections.contains("dtheta");
-        let form = if increments { ImuForm::Increments } else { ImuForm::Rates };
+        let form = if increments {
+            ImuForm::Increments
+        } else {
+            ImuForm::Rates
+        };
         assert_eq!(log.imu_form, form, "{name}");
-        assert!(log.unknown_files.is_empty(), "{name}: {:?}", log.unknown_files);
+        assert!(
+            log.unknown_files.is_empty(),
+            "{name}: {:?}",
+            log.unknown_files
+        );
     }
 }
 
@@ -150,57 +158,147 @@ enum Expect {
     Missing(&'static str),
 }
 
-fn errors() -> Vec<(&'static str, &'static str, Vec<(&'static str, &'static str)>, Expect)> {
+fn errors() -> Vec<(
+    &'static str,
+    &'static str,
+    Vec<(&'static str, &'static str)>,
+    Expect,
+)> {
     use Expect::*;
     vec![
-        ("unknown unit", "[files.imu]\nunits = { rate = \"rpm\" }\n", vec![],
-            Meta("files.imu.units.rate", "unknown unit `rpm`")),
-        ("unit of another quantity", "[files.depth]\nunits = { depth = \"deg\" }\n", vec![],
-            Meta("files.depth.units.depth", "expected one of: m, ft")),
-        ("unknown unit key", "[files.depth]\nunits = { gx = \"deg/s\" }\n", vec![],
-            Meta("files.depth.units.gx", "unknown key")),
-        ("unknown body frame", "[files.imu]\nbody_frame = \"NWU\"\n", vec![],
-            Meta("files.imu.body_frame", "unknown body frame `NWU`")),
-        ("unknown navigation frame", "[files.truth]\nnav_frame = \"NWU\"\n", vec![],
-            Meta("files.truth.nav_frame", "expected one of: NED, ENU")),
-        ("frame on a sensor without vectors", "[files.depth]\nbody_frame = \"FLU\"\n", vec![],
-            Meta("files.depth.body_frame", "unknown key")),
-        ("unknown IMU form", "[files.imu]\nform = \"deltas\"\n", vec![],
-            Meta("files.imu.form", "rates, increments")),
-        ("rate and increment columns mixed",
-            "[files.imu]\ncolumns = { gx = \"a\", dtheta_y = \"b\" }\n", vec![],
-            Meta("files.imu.columns.gx", "cannot be mixed")),
-        ("unknown sensor", "[files.sonar]\nfile = \"sonar.csv\"\n", vec![],
-            Meta("files.sonar", "expected one of: imu")),
-        ("unknown standard column", "[files.dvl]\ncolumns = { vy = \"v1\", vq = \"v2\" }\n", vec![],
-            Meta("files.dvl.columns.vq", "unknown key")),
-        ("one header name for two columns", "[files.dvl]\ncolumns = { vx = \"v\", vy = \"v\" }\n", vec![],
-            Meta("files.dvl.columns.vy", "already names `vx`")),
-        ("parent directory", "[files.imu]\nfile = \"../imu.csv\"\n", vec![],
-            Meta("files.imu.file", "would leave the log directory")),
-        ("absolute path", "[files.imu]\nfile = \"/etc/imu.csv\"\n", vec![],
-            Meta("files.imu.file", "absolute path")),
-        ("two sensors, one file", "[files.depth]\nfile = \"x.csv\"\n[files.altitude]\nfile = \"x.csv\"\n", vec![],
-            Meta("files.altitude.file", "already read by `files.depth`")),
-        ("another sensor's standard file", "[files.depth]\nfile = \"dvl.csv\"\n", vec![],
-            Meta("files.depth.file", "standard file of `dvl`")),
-        ("mapped column missing from the header",
-            "[files.depth]\ncolumns = { depth = \"Depth_m\" }\n", vec![("depth.csv", "t,depth\n0.5,1\n")],
-            Csv("depth.csv", "Depth_m", "named by `files.depth.columns.depth`")),
-        ("unknown column of a mapped file",
-            "[files.depth]\nfile = \"ctd.csv\"\n", vec![("ctd.csv", "t,depth,temp,salinity\n0.5,1,4,35\n")],
-            Csv("ctd.csv", "temp", "unknown columns `temp`, `salinity`")),
-        ("unknown column of a standard file", "",
+        (
+            "unknown unit",
+            "[files.imu]\nunits = { rate = \"rpm\" }\n",
+            vec![],
+            Meta("files.imu.units.rate", "unknown unit `rpm`"),
+        ),
+        (
+            "unit of another quantity",
+            "[files.depth]\nunits = { depth = \"deg\" }\n",
+            vec![],
+            Meta("files.depth.units.depth", "expected one of: m, ft"),
+        ),
+        (
+            "unknown unit key",
+            "[files.depth]\nunits = { gx = \"deg/s\" }\n",
+            vec![],
+            Meta("files.depth.units.gx", "unknown key"),
+        ),
+        (
+            "unknown body frame",
+            "[files.imu]\nbody_frame = \"NWU\"\n",
+            vec![],
+            Meta("files.imu.body_frame", "unknown body frame `NWU`"),
+        ),
+        (
+            "unknown navigation frame",
+            "[files.truth]\nnav_frame = \"NWU\"\n",
+            vec![],
+            Meta("files.truth.nav_frame", "expected one of: NED, ENU"),
+        ),
+        (
+            "frame on a sensor without vectors",
+            "[files.depth]\nbody_frame = \"FLU\"\n",
+            vec![],
+            Meta("files.depth.body_frame", "unknown key"),
+        ),
+        (
+            "unknown IMU form",
+            "[files.imu]\nform = \"deltas\"\n",
+            vec![],
+            Meta("files.imu.form", "rates, increments"),
+        ),
+        (
+            "rate and increment columns mixed",
+            "[files.imu]\ncolumns = { gx = \"a\", dtheta_y = \"b\" }\n",
+            vec![],
+            Meta("files.imu.columns.gx", "cannot be mixed"),
+        ),
+        (
+            "unknown sensor",
+            "[files.sonar]\nfile = \"sonar.csv\"\n",
+            vec![],
+            Meta("files.sonar", "expected one of: imu"),
+        ),
+        (
+            "unknown standard column",
+            "[files.dvl]\ncolumns = { vy = \"v1\", vq = \"v2\" }\n",
+            vec![],
+            Meta("files.dvl.columns.vq", "unknown key"),
+        ),
+        (
+            "one header name for two columns",
+            "[files.dvl]\ncolumns = { vx = \"v\", vy = \"v\" }\n",
+            vec![],
+            Meta("files.dvl.columns.vy", "already names `vx`"),
+        ),
+        (
+            "parent directory",
+            "[files.imu]\nfile = \"../imu.csv\"\n",
+            vec![],
+            Meta("files.imu.file", "would leave the log directory"),
+        ),
+        (
+            "absolute path",
+            "[files.imu]\nfile = \"/etc/imu.csv\"\n",
+            vec![],
+            Meta("files.imu.file", "absolute path"),
+        ),
+        (
+            "two sensors, one file",
+            "[files.depth]\nfile = \"x.csv\"\n[files.altitude]\nfile = \"x.csv\"\n",
+            vec![],
+            Meta("files.altitude.file", "already read by `files.depth`"),
+        ),
+        (
+            "another sensor's standard file",
+            "[files.depth]\nfile = \"dvl.csv\"\n",
+            vec![],
+            Meta("files.depth.file", "standard file of `dvl`"),
+        ),
+        (
+            "mapped column missing from the header",
+            "[files.depth]\ncolumns = { depth = \"Depth_m\" }\n",
+            vec![("depth.csv", "t,depth\n0.5,1\n")],
+            Csv(
+                "depth.csv",
+                "Depth_m",
+                "named by `files.depth.columns.depth`",
+            ),
+        ),
+        (
+            "unknown column of a mapped file",
+            "[files.depth]\nfile = \"ctd.csv\"\n",
+            vec![("ctd.csv", "t,depth,temp,salinity\n0.5,1,4,35\n")],
+            Csv("ctd.csv", "temp", "unknown columns `temp`, `salinity`"),
+        ),
+        (
+            "unknown column of a standard file",
+            "",
             vec![("depth.csv", "t,quality,depth\n0.5,1,1\n")],
-            Csv("depth.csv", "<column 2>", "found `quality`")),
-        ("declared file missing", "[files.depth]\nfile = \"ctd.csv\"\n", vec![],
-            Missing("ctd.csv")),
-        ("a single increment row", "",
-            vec![("imu.csv", "t,dtheta_x,dtheta_y,dtheta_z,dv_x,dv_y,dv_z\n0.5,0,0,0,0,0,0\n")],
-            Csv("imu.csv", "t", "single increment row")),
-        ("increments declared, rates given", "[files.imu]\nform = \"increments\"\n",
+            Csv("depth.csv", "<column 2>", "found `quality`"),
+        ),
+        (
+            "declared file missing",
+            "[files.depth]\nfile = \"ctd.csv\"\n",
+            vec![],
+            Missing("ctd.csv"),
+        ),
+        (
+            "a single increment row",
+            "",
+            vec![(
+                "imu.csv",
+                "t,dtheta_x,dtheta_y,dtheta_z,dv_x,dv_y,dv_z\n0.5,0,0,0,0,0,0\n",
+            )],
+            Csv("imu.csv", "t", "single increment row"),
+        ),
+        (
+            "increments declared, rates given",
+            "[files.imu]\nform = \"increments\"\n",
             vec![("imu.csv", IMU)],
-            Csv("imu.csv", "dtheta_x", "expected header `t,dtheta_x")),
+            Csv("imu.csv", "dtheta_x", "expected header `t,dtheta_x"),
+        ),
     ]
 }
 
@@ -227,7 +325,10 @@ fn bad_mappings_name_file_and_key() {
                 assert!(msg.contains(text), "{name}: {msg}");
             }
             Expect::Missing(file) => {
-                assert!(matches!(err, LogError::MissingFile { .. }), "{name}: {err:?}");
+                assert!(
+                    matches!(err, LogError::MissingFile { .. }),
+                    "{name}: {err:?}"
+                );
                 assert_eq!(err.file(), Some(file), "{name}: {msg}");
             }
         }
@@ -244,9 +345,15 @@ fn a_symbolic_link_out_of_the_log_is_refused() {
         .unwrap();
     let err = LogDir::read(dir.path(), Strictness::Strict).unwrap_err();
     assert_eq!(err.column(), Some("files.depth.file"), "{err}");
-    assert!(err.to_string().contains("outside the log directory"), "{err}");
+    assert!(
+        err.to_string().contains("outside the log directory"),
+        "{err}"
+    );
     // A link that stays inside is fine.
-    let dir = log_dir("[files.depth]\nfile = \"ctd.csv\"\n", &[("data/d.csv", "t,depth\n0.5,1\n")]);
+    let dir = log_dir(
+        "[files.depth]\nfile = \"ctd.csv\"\n",
+        &[("data/d.csv", "t,depth\n0.5,1\n")],
+    );
     std::os::unix::fs::symlink(dir.path().join("data/d.csv"), dir.path().join("ctd.csv")).unwrap();
     let log = LogDir::read(dir.path(), Strictness::Strict).unwrap();
     assert_eq!(log.depth.unwrap().len(), 1);
@@ -256,19 +363,28 @@ fn a_symbolic_link_out_of_the_log_is_refused() {
 fn a_mapped_file_is_no_unknown_file_and_streams() {
     let dir = log_dir(
         "[files.depth]\nfile = \"ctd.csv\"\ncolumns = { depth = \"pressure_depth\" }\n",
-        &[("ctd.csv", "t,pressure_depth\n0.5,1\n0.7,2\n"), ("depth.csv", "t,depth\n0.5,9\n")],
+        &[
+            ("ctd.csv", "t,pressure_depth\n0.5,1\n0.7,2\n"),
+            ("depth.csv", "t,depth\n0.5,9\n"),
+        ],
     );
     let files = LogFiles::open(dir.path(), Strictness::Strict).unwrap();
     assert!(files.unknown_files().is_empty());
-    assert_eq!(unknown_csv_files(dir.path(), files.mapping()).unwrap(), Vec::<String>::new());
+    assert_eq!(
+        unknown_csv_files(dir.path(), files.mapping()).unwrap(),
+        Vec::<String>::new()
+    );
     assert_eq!(
         unknown_csv_files(dir.path(), &LogMapping::default()).unwrap(),
         vec!["ctd.csv".to_string()]
     );
     // The standard file the section replaces is not read, and said so.
     assert!(
-        files.warnings().iter().any(|w| w.file.as_deref() == Some("depth.csv")
-            && w.message.contains("files.depth.file")),
+        files
+            .warnings()
+            .iter()
+            .any(|w| w.file.as_deref() == Some("depth.csv")
+                && w.message.contains("files.depth.file")),
         "{:?}",
         files.warnings()
     );
@@ -297,7 +413,11 @@ fn increments_are_divided_by_their_interval() {
                 1.05,0.03,0,0,0.3,0,0\n";
     let rows = |strictness| parse_csv::<ImuRow>(text.as_bytes(), strictness);
     let err = rows(Strictness::Strict).unwrap_err();
-    assert_eq!((err.line(), err.column()), (Some(5), Some("dtheta_x")), "{err}");
+    assert_eq!(
+        (err.line(), err.column()),
+        (Some(5), Some("dtheta_x")),
+        "{err}"
+    );
     let table = rows(Strictness::Lenient).unwrap();
     let gx: Vec<f64> = table.rows.iter().map(|r| r.gx).collect();
     // 0.01/0.01, 0.01/0.01, 0.04/0.02, then 0.03 over the previous 0.02 s.
@@ -329,11 +449,31 @@ fn mountings_are_parsed_and_checked() {
     assert!(meta.sensors.mounting("depth").is_none());
     assert_eq!(Meta::parse(&meta.to_toml()).unwrap(), meta);
     for (text, key, problem) in [
-        ("[sensors.dvl]\nnoise_sigma = 1\nlever_arm = [1, 2]\n", "sensors.dvl.lever_arm", "3 numbers"),
-        ("[sensors.dvl]\nnoise_sigma = 1\nlever_arm = [1, 2, \"x\"]\n", "sensors.dvl.lever_arm", "numbers"),
-        ("[sensors.dvl]\nnoise_sigma = 1\nlever_arm = [1500, 0, 0]\n", "sensors.dvl.lever_arm", "metres"),
-        ("[sensors.usbl]\nnoise_sigma = 1\nmisalignment = [0, 0, 90]\n", "sensors.usbl.misalignment", "out of range"),
-        ("[sensors.rpm]\nnoise_sigma = 1\nlever_arm = [0, 0, 0]\n", "sensors.rpm.lever_arm", "unknown key"),
+        (
+            "[sensors.dvl]\nnoise_sigma = 1\nlever_arm = [1, 2]\n",
+            "sensors.dvl.lever_arm",
+            "3 numbers",
+        ),
+        (
+            "[sensors.dvl]\nnoise_sigma = 1\nlever_arm = [1, 2, \"x\"]\n",
+            "sensors.dvl.lever_arm",
+            "numbers",
+        ),
+        (
+            "[sensors.dvl]\nnoise_sigma = 1\nlever_arm = [1500, 0, 0]\n",
+            "sensors.dvl.lever_arm",
+            "metres",
+        ),
+        (
+            "[sensors.usbl]\nnoise_sigma = 1\nmisalignment = [0, 0, 90]\n",
+            "sensors.usbl.misalignment",
+            "out of range",
+        ),
+        (
+            "[sensors.rpm]\nnoise_sigma = 1\nlever_arm = [0, 0, 0]\n",
+            "sensors.rpm.lever_arm",
+            "unknown key",
+        ),
     ] {
         let err = Meta::parse(&format!("{INITIAL}{text}")).unwrap_err();
         assert_eq!(err.column(), Some(key), "{err}");

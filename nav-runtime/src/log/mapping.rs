@@ -292,7 +292,9 @@ impl LogMapping {
     /// Whether `name` (a file directly in the log directory) is read by some
     /// sensor through a section.
     pub fn reads(&self, name: &str) -> bool {
-        self.files.iter().any(|m| Path::new(&m.file) == Path::new(name))
+        self.files
+            .iter()
+            .any(|m| Path::new(&m.file) == Path::new(name))
     }
 
     /// Whether the standard file `name` is replaced by a section naming
@@ -399,7 +401,10 @@ fn parse_section(
                 other => {
                     return Err(cx.err(
                         &key,
-                        format!("expected a header name (string), found {}", other.type_str()),
+                        format!(
+                            "expected a header name (string), found {}",
+                            other.type_str()
+                        ),
                     ))
                 }
             };
@@ -407,10 +412,7 @@ fn parse_section(
                 return Err(cx.err(&key, "a header name is not empty and has no comma"));
             }
             if let Some((other, _)) = m.columns.iter().find(|(_, h)| h == header) {
-                return Err(cx.err(
-                    &key,
-                    format!("header `{header}` already names `{other}`"),
-                ));
+                return Err(cx.err(&key, format!("header `{header}` already names `{other}`")));
             }
             m.columns.push((column.clone(), header.to_string()));
         }
@@ -490,7 +492,10 @@ fn parse_section(
                 other => {
                     return Err(cx.err(
                         &key,
-                        format!("expected header names (strings), found {}", other.type_str()),
+                        format!(
+                            "expected header names (strings), found {}",
+                            other.type_str()
+                        ),
                     ))
                 }
             }

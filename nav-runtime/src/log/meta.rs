@@ -602,7 +602,12 @@ impl Cx<'_> {
         }
     }
 
-    pub(super) fn check_keys(&self, t: &toml::Table, section: &str, allowed: &[&str]) -> Result<(), LogError> {
+    pub(super) fn check_keys(
+        &self,
+        t: &toml::Table,
+        section: &str,
+        allowed: &[&str],
+    ) -> Result<(), LogError> {
         for k in t.keys() {
             if !allowed.contains(&k.as_str()) {
                 let what = if section == "sensors" {

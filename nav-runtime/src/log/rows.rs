@@ -328,9 +328,10 @@ fn split_cells(line: &[u8]) -> impl Iterator<Item = &[u8]> {
 /// Parses one CSV file of row type `R` from a reader: [`RowReader`] read to
 /// the end, every accepted row kept.
 ///
-/// The format is plain comma-separated text without quoting. The header must match
-/// [`Row::COLUMNS`] exactly (spaces around names and a UTF-8 byte order mark are
-/// ignored). Blank lines are ignored but counted, so line numbers are those of the
+/// The format is plain comma-separated text without quoting. The header names
+/// the columns of [`Row::COLUMNS`], in any order, and no others (spaces around
+/// names and a UTF-8 byte order mark are ignored); `imu.csv` may name the
+/// increment columns instead ([`RowReader`]). Blank lines are ignored but counted, so line numbers are those of the
 /// file. In [`Strictness::Strict`] the first bad row is an error; in
 /// [`Strictness::Lenient`] bad rows are skipped and counted. An empty file or a bad
 /// header is an error in both modes.
@@ -582,52 +583,72 @@ impl<R: Row, I: Read> RowReader<R, I> {
     /// The next row of the increment form, divided by its interval.
     fn next_increment_row(&mut self) -> Result<Option<(u64, R)>, LogError> {
         let mut cells = std::mem::take(&mut self.increments.spare);
-        let (line, dt) = if !self.increments.started {
-            self.increments.started = true;
-            let Some(first) = self.next_checked()? else {
-                return Ok(None);
-            };
-            cells.clone_from(&self.cells);
-            let Some(second) = self.next_checked()? else {
-                self.reject(first, self.names[0].clone(), CsvProblem::NoInterval)?;
-                return Ok(None);
-            };
-            // The first row's interval is taken as long as the second's.
-            let dt = self.cells[0].unwrap_or_default() - cells[0].unwrap_or_default();
-            self.increments.held = Some((second, self.cells.clone()));
-            (first, dt)
-        } else {
-            let line = match self.increments.held.take() {
-                Some((line, held)) => {
-                    cells = held;
-                    line
-                }
-                None => match self.next_checked()? {
-                    Some(line) => {
-                        cells.clone_from(&self.cells);
+        loop {
+            let (line, dt) = if !self.increments.started {
+                self.increments.started = true;
+                let Some(first) = self.next_checked()? else {
+                    return Ok(None);
+                };
+                cells.clone_from(&self.cells);
+                let Some(second) = self.next_checked()? else {
+                    self.reject(first, self.names[0].clone(), CsvProblem::NoInterval)?;
+                    return Ok(None);
+                };
+                // The first row's interval is taken as long as the second's.
+                let dt = self.cells[0].unwrap_or_default() - cells[0].unwrap_or_default();
+                self.increments.held = Some((second, self.cells.clone()));
+                self.increments.last_dt = dt;
+                (first, dt)
+            } else {
+                let line = match self.increments.held.take() {
+                    Some((line, held)) => {
+                        cells = held;
                         line
                     }
-                    None => return Ok(None),
-                },
+                    None => match self.next_checked()? {
+                        Some(line) => {
+                            cells.clone_from(&self.cells);
+                            line
+                        }
+                        None => return Ok(None),
+                    },
+                };
+                // After a skipped row this row's interval is not known: it is
+                // taken as long as the previous one (the rate is held over
+                // the gap).
+                let dt = if self.skipped > self.increments.skipped_then {
+                    self.increments.last_dt
+                } else {
+                    cells[0].unwrap_or_default() - self.increments.last_t
+                };
+                (line, dt)
             };
-            // After a skipped row this row's interval is not known: it is
-            // taken as long as the previous one (the rate is held over the gap).
-            let dt = if self.skipped > self.increments.skipped_then {
-                self.increments.last_dt
-            } else {
-                cells[0].unwrap_or_default() - self.increments.last_t
-            };
-            (line, dt)
-        };
-        for c in cells.iter_mut().skip(1) {
-            *c = c.map(|v| v / dt);
+            let t = cells[0].unwrap_or_default();
+            let too_large =
+                (1..cells.len()).find(|&i| cells[i].is_some_and(|v| !(v / dt).is_finite()));
+            if let Some(i) = too_large {
+                let value = cells[i].unwrap_or_default();
+                self.increments.last_t = t;
+                self.reject(
+                    line,
+                    self.names[i].clone(),
+                    CsvProblem::OutOfRange {
+                        value,
+                        allowed: "increment / interval finite",
+                    },
+                )?;
+                continue;
+            }
+            for c in cells.iter_mut().skip(1) {
+                *c = c.map(|v| v / dt);
+            }
+            self.increments.last_t = t;
+            self.increments.last_dt = dt;
+            self.increments.skipped_then = self.skipped;
+            let row = self.emit(line, &cells);
+            self.increments.spare = cells;
+            return Ok(Some(row));
         }
-        self.increments.last_t = cells[0].unwrap_or_default();
-        self.increments.last_dt = dt;
-        self.increments.skipped_then = self.skipped;
-        let row = self.emit(line, &cells);
-        self.increments.spare = cells;
-        Ok(Some(row))
     }
 
     /// Counts a returned row: resolution and last row.
