@@ -223,7 +223,7 @@ impl LogDir {
         let imu_form = files.imu_form()?;
         let imu = read_table::<ImuRow>(&files, true, &mut sk, &mut rs)?.unwrap_or_default();
         let mut log = LogDir {
-            meta: files.meta().clone(),
+            meta: *files.meta(),
             imu,
             dvl: read_table(&files, false, &mut sk, &mut rs)?,
             depth: read_table(&files, false, &mut sk, &mut rs)?,

@@ -158,12 +158,15 @@ enum Expect {
     Missing(&'static str),
 }
 
-fn errors() -> Vec<(
+/// (case, meta.toml sections, files, expectation).
+type ErrorCase = (
     &'static str,
     &'static str,
     Vec<(&'static str, &'static str)>,
     Expect,
-)> {
+);
+
+fn errors() -> Vec<ErrorCase> {
     use Expect::*;
     vec![
         (
