@@ -391,7 +391,8 @@ pub struct Strapdown {
     /// only the first-order rotation compensation remains (for comparisons).
     pub compensate: bool,
     /// What [`Strapdown::update_rates`] receives (default: instantaneous
-    /// samples).
+    /// samples). Set it before [`Strapdown::set_previous_rates`] or
+    /// [`Strapdown::prime_rates`], which keep the history of that form.
     pub samples: RateSamples,
     prev_increments: Option<(Vector3<f64>, Vector3<f64>)>,
     /// Interval-average rates of the interval ending at the initial state
