@@ -398,7 +398,7 @@ impl<'a> EventStream<'a> {
         Ok(())
     }
 
-    /// The next event in time order (ties in the order of [`ORDER`]).
+    /// The next event in time order (ties: IMU, altitude, then the aiding sensors).
     ///
     /// # Errors
     /// A read error or (strict reading) a bad row of any file.
