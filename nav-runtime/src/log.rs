@@ -16,6 +16,13 @@
 //! | `altitude.csv` | `t,altitude` |
 //! | `truth.csv` | `t,lat,lon,depth,vn,ve,vd,roll,pitch,yaw` |
 //!
+//! Columns are found by header name, in any order. `imu.csv` may carry
+//! increments `t,dtheta_x,dtheta_y,dtheta_z,dv_x,dv_y,dv_z` instead of rates
+//! ([`ImuForm`]). A `[files.<sensor>]` section of `meta.toml` may read a
+//! sensor from another file, under other header names, in other units and
+//! frames ([`LogMapping`]); the rows are converted on reading, so the rest of
+//! the crate only sees the standard format.
+//!
 //! Reading validates everything: each error names the file, the 1-based line (the
 //! header is line 1) and the column (or the dotted `meta.toml` key). With
 //! [`Strictness::Lenient`] bad CSV rows are skipped and counted per file instead
@@ -36,6 +43,7 @@
 mod error;
 #[cfg(feature = "fuzzing")]
 pub mod fuzz;
+mod mapping;
 mod meta;
 mod rows;
 mod stream;
@@ -47,8 +55,13 @@ use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 pub use error::{CsvProblem, LogError, SkippedRow};
+pub use mapping::{
+    quantity, BodyFrame, FileMapping, ImuForm, LogMapping, NavFrame, Quantity,
+    IMU_INCREMENT_COLUMNS, MAPPED_SENSORS, STANDARD_GRAVITY,
+};
 pub use meta::{
-    ImuNoise, Initial, InitialSigma, Meta, SensorNoise, Sensors, UsblTransducer, AIDING_SENSORS,
+    ImuNoise, Initial, InitialSigma, Meta, Mounting, SensorNoise, Sensors, UsblTransducer,
+    AIDING_SENSORS,
 };
 pub use rows::{
     format_f64, parse_csv, write_csv, AltitudeRow, Cell, DepthRow, DvlRow, HeadingRow, ImuRow, Row,
@@ -121,11 +134,17 @@ pub struct LogDir {
     /// What the reader noticed without refusing the log: unknown `meta.toml`
     /// sections, unknown files and skipped rows (lenient reading).
     pub warnings: Vec<Warning>,
+    /// The form `imu.csv` was read in: with [`ImuForm::Increments`] the
+    /// rows of [`LogDir::imu`] are interval averages (increment divided by
+    /// the interval ending at `t`), not instantaneous samples. Not written by
+    /// [`LogDir::write`], which writes the rate columns.
+    pub imu_form: ImuForm,
 }
 
 /// The `.csv` files of `dir` (extension compared without case) whose names are
-/// not in [`LOG_FILES`], sorted. Directories are not listed.
-pub fn unknown_csv_files(dir: &Path) -> Result<Vec<String>, LogError> {
+/// not in [`LOG_FILES`] and that `mapping` does not read, sorted. Directories
+/// are not listed.
+pub fn unknown_csv_files(dir: &Path, mapping: &LogMapping) -> Result<Vec<String>, LogError> {
     let mut unknown = Vec::new();
     for entry in fs::read_dir(dir).map_err(|e| LogError::io(dir, e))? {
         let entry = entry.map_err(|e| LogError::io(dir, e))?;
@@ -134,7 +153,7 @@ pub fn unknown_csv_files(dir: &Path) -> Result<Vec<String>, LogError> {
             && name
                 .get(name.len() - 4..)
                 .is_some_and(|ext| ext.eq_ignore_ascii_case(".csv"));
-        if !is_csv || LOG_FILES.contains(&name.as_str()) {
+        if !is_csv || LOG_FILES.contains(&name.as_str()) || mapping.reads(&name) {
             continue;
         }
         if entry.file_type().is_ok_and(|t| t.is_dir()) {
@@ -165,6 +184,8 @@ fn read_table<R: Row>(
         rows.push(row);
     }
     if reader.skipped() > 0 {
+        // Keyed by the sensor's standard file name, even when a mapping reads
+        // another file (the reasons name the file read).
         skipped.insert(R::FILE.to_string(), reader.skipped());
         let room = MAX_SKIP_REASONS.saturating_sub(reasons.len());
         reasons.extend(reader.skip_reasons().iter().take(room).cloned());
@@ -190,6 +211,7 @@ impl LogDir {
             skip_reasons: Vec::new(),
             unknown_files: Vec::new(),
             warnings: Vec::new(),
+            imu_form: ImuForm::Rates,
         }
     }
 
@@ -199,6 +221,7 @@ impl LogDir {
         let files = LogFiles::open(path, strictness)?;
         let mut sk = BTreeMap::new();
         let mut rs = Vec::new();
+        let imu_form = files.imu_form()?;
         let imu = read_table::<ImuRow>(&files, true, &mut sk, &mut rs)?.unwrap_or_default();
         let mut log = LogDir {
             meta: *files.meta(),
@@ -215,6 +238,7 @@ impl LogDir {
             skip_reasons: rs,
             unknown_files: files.unknown_files().to_vec(),
             warnings: files.warnings().to_vec(),
+            imu_form,
         };
         log.warnings
             .extend(skipped_row_warnings(&log.skipped_rows, &log.skip_reasons));

@@ -423,13 +423,13 @@ impl LogPlan {
             latency_s: latencies[i],
             ..SensorSettings::new(noise[i].noise_sigma).bias(noise[i].bias_sigma)
         });
-        // meta.toml has no key for the array misalignment: an array with a
-        // bias is taken as uncalibrated (Trackpoint II, 0.5 deg), one without
-        // as calibrated.
-        sensors[3].misalignment_sigma = if noise[3].bias_sigma > 0.0 {
-            TRACKPOINT_MISALIGNMENT_SIGMA
-        } else {
-            0.0
+        // `[sensors.usbl] misalignment_sigma` sets the array misalignment
+        // prior; without the key (older logs) an array with a bias is taken
+        // as uncalibrated (Trackpoint II, 0.5 deg), one without as calibrated.
+        sensors[3].misalignment_sigma = match meta.sensors.usbl_misalignment_sigma {
+            Some(sigma) => sigma,
+            None if noise[3].bias_sigma > 0.0 => TRACKPOINT_MISALIGNMENT_SIGMA,
+            None => 0.0,
         };
         let transducer = meta.usbl.map_or(
             Geodetic::new(meta.initial.lat, meta.initial.lon, 0.0),

@@ -362,6 +362,20 @@ impl core::ops::Index<usize> for RateHistory {
     }
 }
 
+/// What the rates given to [`Strapdown::update_rates`] are.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum RateSamples {
+    /// Instantaneous samples at the end of each interval (the `imu.csv` rate
+    /// form): integrated through a cubic rate model.
+    #[default]
+    Instantaneous,
+    /// Averages over the interval ending at the sample, i.e. increments
+    /// divided by the interval (the `imu.csv` increment form as the log reader
+    /// returns it): `w dt`, `f dt` are the increments and go through
+    /// [`Strapdown::update_increments`] with its coning and sculling terms.
+    IntervalAverage,
+}
+
 /// A strapdown navigator: the nominal state plus the IMU history the coning and
 /// sculling corrections need.
 ///
@@ -376,7 +390,14 @@ pub struct Strapdown {
     /// Apply the coning and sculling corrections (default `true`); with `false`
     /// only the first-order rotation compensation remains (for comparisons).
     pub compensate: bool,
+    /// What [`Strapdown::update_rates`] receives (default: instantaneous
+    /// samples). Set it before [`Strapdown::set_previous_rates`] or
+    /// [`Strapdown::prime_rates`], which keep the history of that form.
+    pub samples: RateSamples,
     prev_increments: Option<(Vector3<f64>, Vector3<f64>)>,
+    /// Interval-average rates of the interval ending at the initial state
+    /// ([`RateSamples::IntervalAverage`]), scaled by the first update's `dt`.
+    prev_average: Option<(Vector3<f64>, Vector3<f64>)>,
     rate_history: RateHistory,
     rate_dt: f64,
 }
@@ -388,7 +409,9 @@ impl Strapdown {
             state,
             time: 0.0,
             compensate: true,
+            samples: RateSamples::Instantaneous,
             prev_increments: None,
+            prev_average: None,
             rate_history: RateHistory::new(),
             rate_dt: 0.0,
         }
@@ -406,13 +429,23 @@ impl Strapdown {
     /// coning/sculling correction, or treats its rates as constant.
     pub fn reset_history(&mut self) {
         self.prev_increments = None;
+        self.prev_average = None;
         self.rate_history.clear();
     }
 
     /// Sets the rate sample preceding the next [`Strapdown::update_rates`] call
     /// (e.g. the first row of a log, at the time of the initial state), without
     /// propagating; earlier samples are forgotten.
+    ///
+    /// With [`RateSamples::IntervalAverage`] the sample is the average over the
+    /// interval ending at the initial state: times the first update's `dt`
+    /// (that interval's length is taken as the next one's), it is the
+    /// previous increment of the coning and sculling terms.
     pub fn set_previous_rates(&mut self, w_ib_b: &Vector3<f64>, f_b: &Vector3<f64>) {
+        if self.samples == RateSamples::IntervalAverage {
+            self.prev_increments = None;
+            self.prev_average = Some((*w_ib_b, *f_b));
+        }
         self.rate_history.clear();
         self.rate_history.push((*w_ib_b, *f_b));
     }
@@ -430,7 +463,13 @@ impl Strapdown {
     /// first interval otherwise uses a linear model, whose one-off attitude error
     /// `dt^3/12 wddot(0)` (2e-7 rad for a 5 deg, 0.5 Hz roll at 100 Hz) then
     /// biases the velocity for the rest of the run.
+    /// With [`RateSamples::IntervalAverage`] the last primed sample times `dt`
+    /// is the previous increment of the first update.
     pub fn prime_rates(&mut self, w_ib_b: &Vector3<f64>, f_b: &Vector3<f64>, dt: f64) {
+        if self.samples == RateSamples::IntervalAverage {
+            self.prev_increments = Some((w_ib_b * dt, f_b * dt));
+            self.prev_average = None;
+        }
         self.push_rate(w_ib_b, f_b, dt);
     }
 
@@ -479,7 +518,18 @@ impl Strapdown {
     /// millimetre level on the test tracks. Samples that are interval averages
     /// (delta/dt of an integrating IMU) should go through
     /// [`Strapdown::update_increments`] as `w dt`, `f dt` instead.
+    ///
+    /// With [`RateSamples::IntervalAverage`] the samples are interval
+    /// averages instead and the update is [`Strapdown::update_increments`] of
+    /// `w dt`, `f dt`.
     pub fn update_rates(&mut self, w_ib_b: &Vector3<f64>, f_b: &Vector3<f64>, dt: f64) {
+        if self.samples == RateSamples::IntervalAverage {
+            if let Some((w0, f0)) = self.prev_average.take() {
+                self.prev_increments = Some((w0 * dt, f0 * dt));
+            }
+            self.update_increments(&(w_ib_b * dt), &(f_b * dt), dt);
+            return;
+        }
         self.push_rate(w_ib_b, f_b, dt);
         let n = self.rate_history.len();
         let mut ws = [Vector3::zeros(); 4];

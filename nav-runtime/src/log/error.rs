@@ -52,6 +52,22 @@ pub enum CsvProblem {
         /// The repeated time.
         t: f64,
     },
+    /// A column named by a `[files.<sensor>] columns` key is not in the header.
+    MissingColumn {
+        /// The dotted `meta.toml` key that names it.
+        key: String,
+        /// The header expected (in any order).
+        expected: String,
+    },
+    /// Header columns a `[files.<sensor>]` section neither reads nor ignores.
+    UnknownColumns {
+        /// Their header names.
+        names: Vec<String>,
+        /// The `meta.toml` key that would ignore them.
+        key: String,
+    },
+    /// An increment file with a single row: its interval is not known.
+    NoInterval,
 }
 
 impl fmt::Display for CsvProblem {
@@ -76,6 +92,22 @@ impl fmt::Display for CsvProblem {
                 write!(f, "time goes backwards (t = {t} after t = {previous})")
             }
             CsvProblem::DuplicateTime { t } => write!(f, "duplicate timestamp t = {t}"),
+            CsvProblem::MissingColumn { key, expected } => write!(
+                f,
+                "missing column (named by `{key}` in meta.toml), expected header `{expected}` in any order"
+            ),
+            CsvProblem::UnknownColumns { names, key } => {
+                let names: Vec<String> = names.iter().map(|n| format!("`{n}`")).collect();
+                write!(
+                    f,
+                    "unknown columns {}: not read by this file's mapping (list them in `{key}` to skip them)",
+                    names.join(", ")
+                )
+            }
+            CsvProblem::NoInterval => write!(
+                f,
+                "a single increment row has no interval (the first row's interval is taken from the second row)"
+            ),
         }
     }
 }

@@ -3,6 +3,7 @@
 use std::fmt::Write as _;
 
 use super::error::LogError;
+use super::mapping::LogMapping;
 use super::warning::{Warning, WarningKind};
 
 /// `[initial]`: the initial estimate (not necessarily the truth). Angles in rad.
@@ -104,9 +105,37 @@ pub struct Sensors {
     pub altitude: Option<SensorNoise>,
     /// `[sensors.usbl] misalignment_sigma`: one-sigma prior of the USBL array
     /// misalignment about each axis, rad (optional; independent of the USBL
-    /// bias sigma; `0` = no misalignment state).
+    /// bias sigma; `0` = no misalignment state; when absent the filter keeps
+    /// its older rule: a prior only when the USBL has a bias sigma).
     pub usbl_misalignment_sigma: Option<f64>,
+    /// `[sensors.<name>] lever_arm` / `misalignment` of each aiding sensor, in
+    /// [`AIDING_SENSORS`] order (`None`: neither key given); see
+    /// [`Sensors::mounting`].
+    pub mountings: [Option<Mounting>; 7],
 }
+
+impl Sensors {
+    /// The mounting of aiding sensor `name` (`dvl`, `usbl`, ...), if
+    /// `meta.toml` gives one.
+    pub fn mounting(&self, name: &str) -> Option<&Mounting> {
+        let i = AIDING_SENSORS.iter().position(|s| *s == name)?;
+        self.mountings[i].as_ref()
+    }
+}
+
+/// Where an aiding sensor sits on the vehicle: `[sensors.<name>] lever_arm`
+/// and `misalignment` (each optional, zero when absent).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Mounting {
+    /// Position of the sensor relative to the IMU, body frame FRD, m.
+    pub lever_arm: [f64; 3],
+    /// Rotation of the sensor frame relative to the body frame as roll,
+    /// pitch, yaw (rad, the Euler convention of `[initial]`).
+    pub misalignment: [f64; 3],
+}
+
+/// Aiding sensors that may carry a mounting (not `rpm`).
+const MOUNTED: &[&str] = &["dvl", "depth", "heading", "usbl", "speed", "altitude"];
 
 /// Aiding sensor names accepted under `[sensors.<name>]` (besides `imu`).
 pub const AIDING_SENSORS: &[&str] = &[
@@ -174,6 +203,12 @@ impl Meta {
     /// degrees, the likely cause). An unknown top-level section (another tool's
     /// `[vehicle]` or `[generator]`) is accepted and returned as a warning.
     pub fn parse_with_warnings(text: &str) -> Result<(Meta, Vec<Warning>), LogError> {
+        Self::parse_log(text).map(|(meta, _, warnings)| (meta, warnings))
+    }
+
+    /// Parses and validates `meta.toml` text with its `[files.<sensor>]`
+    /// sections (how the log's files are read; see [`LogMapping`]).
+    pub fn parse_log(text: &str) -> Result<(Meta, LogMapping, Vec<Warning>), LogError> {
         let table: toml::Table = text.parse().map_err(|e: toml::de::Error| {
             let line = e.span().map(|s| {
                 text.as_bytes()[..s.start.min(text.len())]
@@ -285,16 +320,26 @@ impl Meta {
                 let Some(t) = cx.section(s, "sensors", name)? else {
                     continue;
                 };
+                let mut keys = vec!["bias_sigma", "noise_sigma"];
+                if MOUNTED.contains(name) {
+                    keys.extend(["lever_arm", "misalignment"]);
+                }
                 if *name == "usbl" {
-                    cx.check_keys(
-                        t,
-                        &sec,
-                        &["bias_sigma", "noise_sigma", "misalignment_sigma"],
-                    )?;
+                    keys.push("misalignment_sigma");
+                }
+                cx.check_keys(t, &sec, &keys)?;
+                if *name == "usbl" {
                     sensors.usbl_misalignment_sigma =
                         cx.opt(t, &sec, "misalignment_sigma", Range::Sigma)?;
-                } else {
-                    cx.check_keys(t, &sec, &["bias_sigma", "noise_sigma"])?;
+                }
+                let lever_arm = cx.vec3(t, &sec, "lever_arm", Range::LeverArm)?;
+                let misalignment = cx.vec3(t, &sec, "misalignment", Range::Roll)?;
+                if lever_arm.is_some() || misalignment.is_some() {
+                    let i = AIDING_SENSORS.iter().position(|s| s == name).unwrap_or(0);
+                    sensors.mountings[i] = Some(Mounting {
+                        lever_arm: lever_arm.unwrap_or_default(),
+                        misalignment: misalignment.unwrap_or_default(),
+                    });
                 }
                 let noise = SensorNoise {
                     bias_sigma: cx.opt(t, &sec, "bias_sigma", Range::Sigma)?.unwrap_or(0.0),
@@ -325,6 +370,11 @@ impl Meta {
             }
         };
 
+        let mapping = match cx.section(&table, "", "files")? {
+            None => LogMapping::default(),
+            Some(files) => LogMapping::parse(&cx, files)?,
+        };
+
         Ok((
             Meta {
                 initial,
@@ -332,6 +382,7 @@ impl Meta {
                 sensors,
                 usbl,
             },
+            mapping,
             warnings,
         ))
     }
@@ -398,6 +449,11 @@ impl Meta {
                 if let ("usbl", Some(m)) = (name, sn.usbl_misalignment_sigma) {
                     let _ = writeln!(s, "misalignment_sigma = {}", f(m));
                 }
+                if let Some(m) = sn.mounting(name) {
+                    let v = |a: [f64; 3]| format!("[{}, {}, {}]", f(a[0]), f(a[1]), f(a[2]));
+                    let _ = writeln!(s, "lever_arm = {}", v(m.lever_arm));
+                    let _ = writeln!(s, "misalignment = {}", v(m.misalignment));
+                }
             }
         }
         if let Some(u) = &self.usbl {
@@ -411,7 +467,7 @@ impl Meta {
 }
 
 /// The top-level sections `meta.toml` is read from.
-const TOP_LEVEL: &[&str] = &["initial", "initial_sigma", "sensors", "usbl"];
+const TOP_LEVEL: &[&str] = &["initial", "initial_sigma", "sensors", "usbl", "files"];
 
 /// The valid name closest to `name` (edit distance at most 2, or a
 /// case-insensitive match), if any.
@@ -449,6 +505,7 @@ enum Range {
     Yaw,
     Sigma,
     Noise,
+    LeverArm,
 }
 
 impl Range {
@@ -462,6 +519,7 @@ impl Range {
             Range::Yaw => v.abs() <= 2.0 * PI,
             Range::Sigma => v >= 0.0,
             Range::Noise => v > 0.0,
+            Range::LeverArm => v.abs() <= MAX_LEVER_ARM,
         };
         if ok {
             Ok(())
@@ -476,13 +534,17 @@ impl Range {
                 Range::Noise => {
                     "a noise sigma must be > 0: zero noise makes the filter trust the sensor exactly"
                 }
+                Range::LeverArm => "allowed: |value| <= 1000 m; millimetres? the format is metres",
             })
         }
     }
 }
 
+/// Largest lever-arm component accepted (m).
+const MAX_LEVER_ARM: f64 = 1000.0;
+
 /// Validation context: the source text, to find line numbers of keys.
-struct Cx<'a> {
+pub(super) struct Cx<'a> {
     text: &'a str,
 }
 
@@ -524,7 +586,7 @@ impl Cx<'_> {
         None
     }
 
-    fn err(&self, dotted: &str, problem: impl Into<String>) -> LogError {
+    pub(super) fn err(&self, dotted: &str, problem: impl Into<String>) -> LogError {
         let (section, key) = match dotted.rsplit_once('.') {
             Some((s, k)) => (s, k),
             None => ("", dotted),
@@ -540,7 +602,12 @@ impl Cx<'_> {
         }
     }
 
-    fn check_keys(&self, t: &toml::Table, section: &str, allowed: &[&str]) -> Result<(), LogError> {
+    pub(super) fn check_keys(
+        &self,
+        t: &toml::Table,
+        section: &str,
+        allowed: &[&str],
+    ) -> Result<(), LogError> {
         for k in t.keys() {
             if !allowed.contains(&k.as_str()) {
                 let what = if section == "sensors" {
@@ -560,7 +627,7 @@ impl Cx<'_> {
         Ok(())
     }
 
-    fn section<'t>(
+    pub(super) fn section<'t>(
         &self,
         t: &'t toml::Table,
         parent: &str,
@@ -602,6 +669,56 @@ impl Cx<'_> {
             .check(v)
             .map_err(|allowed| self.err(&dotted, format!("value {v} out of range ({allowed})")))?;
         Ok(Some(v))
+    }
+
+    /// An optional array of three numbers, each in `range`.
+    fn vec3(
+        &self,
+        t: &toml::Table,
+        section: &str,
+        key: &str,
+        range: Range,
+    ) -> Result<Option<[f64; 3]>, LogError> {
+        let dotted = join(section, key);
+        let Some(v) = t.get(key) else {
+            return Ok(None);
+        };
+        let items = match v {
+            toml::Value::Array(a) if a.len() == 3 => a,
+            other => {
+                return Err(self.err(
+                    &dotted,
+                    format!(
+                        "expected an array of 3 numbers [x, y, z], found {}",
+                        match other {
+                            toml::Value::Array(a) => format!("an array of {}", a.len()),
+                            o => o.type_str().to_string(),
+                        }
+                    ),
+                ))
+            }
+        };
+        let mut out = [0.0; 3];
+        for (i, item) in items.iter().enumerate() {
+            let x = match item {
+                toml::Value::Float(f) => *f,
+                toml::Value::Integer(i) => *i as f64,
+                other => {
+                    return Err(self.err(
+                        &dotted,
+                        format!("expected numbers, found {}", other.type_str()),
+                    ))
+                }
+            };
+            if !x.is_finite() {
+                return Err(self.err(&dotted, format!("non-finite value {x}")));
+            }
+            range.check(x).map_err(|allowed| {
+                self.err(&dotted, format!("value {x} out of range ({allowed})"))
+            })?;
+            out[i] = x;
+        }
+        Ok(Some(out))
     }
 
     fn req(

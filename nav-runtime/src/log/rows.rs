@@ -3,6 +3,7 @@
 use std::io::{BufRead, BufReader, Read, Write};
 
 use super::error::{CsvProblem, LogError, SkippedRow};
+use super::mapping::{FileMapping, ImuForm, IMU_INCREMENT_COLUMNS};
 use super::Strictness;
 
 /// A value of one CSV cell: `f64` (a value is required) or `Option<f64>` (an empty
@@ -293,13 +294,6 @@ fn cell_text(bytes: &[u8]) -> String {
     }
 }
 
-fn column_name<R: Row>(index: usize) -> String {
-    match R::COLUMNS.get(index) {
-        Some(name) => (*name).to_string(),
-        None => format!("<column {}>", index + 1),
-    }
-}
-
 /// Lines of a reader with their 1-based numbers; blank (whitespace-only) lines are
 /// skipped, a trailing `\r` is removed.
 struct Lines<R> {
@@ -334,9 +328,10 @@ fn split_cells(line: &[u8]) -> impl Iterator<Item = &[u8]> {
 /// Parses one CSV file of row type `R` from a reader: [`RowReader`] read to
 /// the end, every accepted row kept.
 ///
-/// The format is plain comma-separated text without quoting. The header must match
-/// [`Row::COLUMNS`] exactly (spaces around names and a UTF-8 byte order mark are
-/// ignored). Blank lines are ignored but counted, so line numbers are those of the
+/// The format is plain comma-separated text without quoting. The header names
+/// the columns of [`Row::COLUMNS`], in any order, and no others (spaces around
+/// names and a UTF-8 byte order mark are ignored); `imu.csv` may name the
+/// increment columns instead ([`RowReader`]). Blank lines are ignored but counted, so line numbers are those of the
 /// file. In [`Strictness::Strict`] the first bad row is an error; in
 /// [`Strictness::Lenient`] bad rows are skipped and counted. An empty file or a bad
 /// header is an error in both modes.
@@ -356,9 +351,27 @@ pub fn parse_csv<R: Row>(reader: impl Read, strictness: Strictness) -> Result<Ta
 /// One CSV file of row type `R` read a row at a time (the streaming form of
 /// [`parse_csv`], with the same checks and the same errors): memory does not
 /// grow with the file.
+///
+/// Columns are found by header name, in any order ([`RowReader::new`]: the
+/// standard names; [`RowReader::with_mapping`]: the names, units and frames
+/// of a `[files.<sensor>]` section). Rows come out in the standard units and
+/// frames. `imu.csv` may carry increments instead of rates (see
+/// [`ImuForm::Increments`]): each row then comes out as the average rates
+/// over its interval, the increments divided by the interval; the first
+/// row's interval is taken to be as long as the second row's.
 pub struct RowReader<R: Row, I: Read> {
     lines: Lines<BufReader<I>>,
     strictness: Strictness,
+    file: String,
+    /// Header text of each file column.
+    header: Vec<String>,
+    /// The standard column each file column is read into (`None`: ignored).
+    slot: Vec<Option<usize>>,
+    /// Header name of each standard column.
+    names: Vec<String>,
+    /// Factor to the standard unit and frame of each standard column.
+    scale: Vec<f64>,
+    form: ImuForm,
     cells: Vec<Option<f64>>,
     previous_t: Option<f64>,
     previous: Option<R>,
@@ -367,12 +380,31 @@ pub struct RowReader<R: Row, I: Read> {
     accepted: usize,
     min_step: Vec<f64>,
     last_value: Vec<Option<f64>>,
+    increments: Increments,
+}
+
+/// Where the increment form is in its file.
+#[derive(Debug, Default)]
+struct Increments {
+    /// The first row has been read.
+    started: bool,
+    /// A row read ahead (to know the first interval), with its line.
+    held: Option<(u64, Vec<Option<f64>>)>,
+    /// Time of the last row returned.
+    last_t: f64,
+    /// Interval of the last row returned.
+    last_dt: f64,
+    /// Rows skipped when the last row was returned.
+    skipped_then: usize,
+    /// A buffer of cells.
+    spare: Vec<Option<f64>>,
 }
 
 impl<R: Row, I: Read> std::fmt::Debug for RowReader<R, I> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("RowReader")
-            .field("file", &R::FILE)
+            .field("file", &self.file)
+            .field("form", &self.form)
             .field("line", &self.lines.line)
             .field("accepted", &self.accepted)
             .field("skipped", &self.skipped)
@@ -380,57 +412,151 @@ impl<R: Row, I: Read> std::fmt::Debug for RowReader<R, I> {
     }
 }
 
+/// The increment-form columns of `R`'s file, if it has that form.
+fn increment_columns<R: Row>() -> Option<&'static [&'static str]> {
+    (R::FILE == ImuRow::FILE).then_some(IMU_INCREMENT_COLUMNS)
+}
+
 impl<R: Row, I: Read> RowReader<R, I> {
-    /// Reads and checks the header.
+    /// Reads and checks the header of `R`'s file in the standard format
+    /// (standard names in any order, SI units, FRD and NED frames).
     ///
     /// # Errors
-    /// An empty file or a header other than [`Row::COLUMNS`].
+    /// An empty file, a missing column, a column that is not `R`'s.
     pub fn new(reader: I, strictness: Strictness) -> Result<Self, LogError> {
-        let file = R::FILE;
+        Self::with_mapping(reader, strictness, &FileMapping::standard::<R>())
+    }
+
+    /// Reads and checks the header of a file read as `mapping` says (its
+    /// header names, units, frames, ignored columns and IMU form); errors
+    /// name `mapping.file`.
+    ///
+    /// # Errors
+    /// An empty file, a missing column (naming the `meta.toml` key that named
+    /// it, if any), a column neither read nor ignored.
+    pub fn with_mapping(
+        reader: I,
+        strictness: Strictness,
+        mapping: &FileMapping,
+    ) -> Result<Self, LogError> {
+        let file = mapping.file.clone();
         let mut lines = Lines {
             reader: BufReader::new(reader),
             line: 0,
             buf: Vec::new(),
         };
-        let expected_header = R::COLUMNS.join(",");
-        let Some(header_line) = lines.next_line().map_err(|e| LogError::io(file, e))? else {
-            return Err(LogError::EmptyFile {
-                file: file.to_string(),
-                expected: expected_header,
-            });
+        let names_of = |columns: &[&str]| -> Vec<String> {
+            columns
+                .iter()
+                .map(|c| mapping.header_name(c).to_string())
+                .collect()
         };
-        let header = lines
+        let rate_names = names_of(R::COLUMNS);
+        let Some(header_line) = lines.next_line().map_err(|e| LogError::io(&file, e))? else {
+            let expected = match (mapping.form, increment_columns::<R>()) {
+                (Some(ImuForm::Increments), Some(c)) => names_of(c).join(","),
+                _ => rate_names.join(","),
+            };
+            return Err(LogError::EmptyFile { file, expected });
+        };
+        let header_bytes = lines
             .buf
             .strip_prefix(b"\xEF\xBB\xBF")
             .unwrap_or(&lines.buf);
-        let found: Vec<&[u8]> = split_cells(header).collect();
-        let ncols = R::COLUMNS.len();
-        for i in 0..ncols.max(found.len()) {
-            let cell = found.get(i).map(|c| cell_text(c));
-            let ok = matches!((R::COLUMNS.get(i), &cell), (Some(exp), Some(f)) if f == exp);
-            if !ok {
-                return Err(LogError::Csv {
-                    file: file.to_string(),
-                    line: header_line,
-                    column: column_name::<R>(i),
-                    problem: CsvProblem::WrongHeader {
-                        expected: expected_header,
-                        found: cell.unwrap_or_default(),
-                    },
-                });
+        let header: Vec<String> = split_cells(header_bytes)
+            .map(|c| String::from_utf8_lossy(c).into_owned())
+            .collect();
+        let has = |name: &String| header.contains(name);
+        let form = match (mapping.form, increment_columns::<R>()) {
+            (_, None) => ImuForm::Rates,
+            (Some(form), _) => form,
+            (None, Some(inc)) => {
+                let inc = names_of(inc);
+                if !rate_names[1..].iter().any(has) && inc[1..].iter().any(has) {
+                    ImuForm::Increments
+                } else {
+                    ImuForm::Rates
+                }
+            }
+        };
+        let standard: &[&str] = match (form, increment_columns::<R>()) {
+            (ImuForm::Increments, Some(c)) => c,
+            _ => R::COLUMNS,
+        };
+        let names = names_of(standard);
+        let expected = names.join(",");
+        let mut slot = vec![None; header.len()];
+        for (i, name) in names.iter().enumerate() {
+            match header.iter().position(|h| h == name) {
+                Some(j) => slot[j] = Some(i),
+                None => {
+                    let problem = if mapping.renamed(standard[i]) {
+                        CsvProblem::MissingColumn {
+                            key: mapping.key(&format!("columns.{}", standard[i])),
+                            expected,
+                        }
+                    } else {
+                        CsvProblem::WrongHeader {
+                            expected,
+                            found: header.get(i).map(|h| short(h)).unwrap_or_default(),
+                        }
+                    };
+                    return Err(LogError::Csv {
+                        file,
+                        line: header_line,
+                        column: name.clone(),
+                        problem,
+                    });
+                }
             }
         }
+        let unknown: Vec<usize> = (0..header.len())
+            .filter(|&j| slot[j].is_none() && !mapping.ignore.contains(&header[j]))
+            .collect();
+        if let Some(&j) = unknown.first() {
+            let (column, problem) = if mapping.declared {
+                (
+                    short(&header[j]),
+                    CsvProblem::UnknownColumns {
+                        names: unknown.iter().map(|&j| short(&header[j])).collect(),
+                        key: mapping.key("ignore"),
+                    },
+                )
+            } else {
+                (
+                    format!("<column {}>", j + 1),
+                    CsvProblem::WrongHeader {
+                        expected,
+                        found: short(&header[j]),
+                    },
+                )
+            };
+            return Err(LogError::Csv {
+                file,
+                line: header_line,
+                column,
+                problem,
+            });
+        }
+        let n = standard.len();
         Ok(RowReader {
             lines,
             strictness,
-            cells: vec![None; ncols],
+            file,
+            header,
+            slot,
+            names,
+            scale: standard.iter().map(|c| mapping.scale(c)).collect(),
+            form,
+            cells: vec![None; n],
             previous_t: None,
             previous: None,
             skipped: 0,
             skip_reasons: Vec::new(),
             accepted: 0,
-            min_step: vec![f64::INFINITY; ncols],
-            last_value: vec![None; ncols],
+            min_step: vec![f64::INFINITY; n],
+            last_value: vec![None; n],
+            increments: Increments::default(),
         })
     }
 
@@ -440,55 +566,234 @@ impl<R: Row, I: Read> RowReader<R, I> {
     /// # Errors
     /// A read error, or (strict) the first bad row, naming file, line and column.
     pub fn next_row(&mut self) -> Result<Option<(u64, R)>, LogError> {
+        if self.form == ImuForm::Increments {
+            return self.next_increment_row();
+        }
+        match self.next_checked()? {
+            Some(line) => {
+                let cells = std::mem::take(&mut self.cells);
+                let row = self.emit(line, &cells);
+                self.cells = cells;
+                Ok(Some(row))
+            }
+            None => Ok(None),
+        }
+    }
+
+    /// The next row of the increment form, divided by its interval.
+    fn next_increment_row(&mut self) -> Result<Option<(u64, R)>, LogError> {
+        let mut cells = std::mem::take(&mut self.increments.spare);
+        loop {
+            let (line, dt) = if !self.increments.started {
+                self.increments.started = true;
+                let Some(first) = self.next_checked()? else {
+                    return Ok(None);
+                };
+                cells.clone_from(&self.cells);
+                let Some(second) = self.next_checked()? else {
+                    self.reject(first, self.names[0].clone(), CsvProblem::NoInterval)?;
+                    return Ok(None);
+                };
+                // The first row's interval is taken as long as the second's.
+                let dt = self.cells[0].unwrap_or_default() - cells[0].unwrap_or_default();
+                self.increments.held = Some((second, self.cells.clone()));
+                self.increments.last_dt = dt;
+                (first, dt)
+            } else {
+                let line = match self.increments.held.take() {
+                    Some((line, held)) => {
+                        cells = held;
+                        line
+                    }
+                    None => match self.next_checked()? {
+                        Some(line) => {
+                            cells.clone_from(&self.cells);
+                            line
+                        }
+                        None => return Ok(None),
+                    },
+                };
+                // After a skipped row this row's interval is not known: it is
+                // taken as long as the previous one (the rate is held over
+                // the gap).
+                let dt = if self.skipped > self.increments.skipped_then {
+                    self.increments.last_dt
+                } else {
+                    cells[0].unwrap_or_default() - self.increments.last_t
+                };
+                (line, dt)
+            };
+            let t = cells[0].unwrap_or_default();
+            let too_large =
+                (1..cells.len()).find(|&i| cells[i].is_some_and(|v| !(v / dt).is_finite()));
+            if let Some(i) = too_large {
+                let value = cells[i].unwrap_or_default();
+                self.increments.last_t = t;
+                self.reject(
+                    line,
+                    self.names[i].clone(),
+                    CsvProblem::OutOfRange {
+                        value,
+                        allowed: "increment / interval finite",
+                    },
+                )?;
+                continue;
+            }
+            for c in cells.iter_mut().skip(1) {
+                *c = c.map(|v| v / dt);
+            }
+            self.increments.last_t = t;
+            self.increments.last_dt = dt;
+            self.increments.skipped_then = self.skipped;
+            let row = self.emit(line, &cells);
+            self.increments.spare = cells;
+            return Ok(Some(row));
+        }
+    }
+
+    /// Counts a returned row: resolution and last row.
+    fn emit(&mut self, line: u64, cells: &[Option<f64>]) -> (u64, R) {
+        // The cells were accepted by `parse_row`, so the row builds.
+        let row = match R::from_cells(cells) {
+            Ok(row) => row,
+            Err(_) => unreachable!("accepted cells build a row"),
+        };
+        self.accepted += 1;
+        self.previous = Some(row);
+        for (i, cell) in cells.iter().enumerate().skip(1) {
+            let Some(v) = *cell else { continue };
+            if let Some(last) = self.last_value[i] {
+                let d = (v - last).abs();
+                if d > 0.0 && d.is_finite() && d < self.min_step[i] {
+                    self.min_step[i] = d;
+                }
+            }
+            self.last_value[i] = Some(v);
+        }
+        (line, row)
+    }
+
+    /// Skips (lenient) or refuses (strict) a row.
+    fn reject(&mut self, line: u64, column: String, problem: CsvProblem) -> Result<(), LogError> {
+        let skipped = SkippedRow {
+            file: self.file.clone(),
+            line,
+            column,
+            problem,
+        };
+        match self.strictness {
+            Strictness::Strict => Err(LogError::Csv {
+                file: skipped.file,
+                line: skipped.line,
+                column: skipped.column,
+                problem: skipped.problem,
+            }),
+            Strictness::Lenient => {
+                self.skipped += 1;
+                if self.skip_reasons.len() < MAX_SKIP_REASONS {
+                    self.skip_reasons.push(skipped);
+                }
+                Ok(())
+            }
+        }
+    }
+
+    /// The line of the next row that passes every check, its cells (standard
+    /// units and frames) in `self.cells`.
+    fn next_checked(&mut self) -> Result<Option<u64>, LogError> {
+        if self.cells.len() != self.names.len() {
+            self.cells = vec![None; self.names.len()];
+        }
         while let Some(line) = self
             .lines
             .next_line()
-            .map_err(|e| LogError::io(R::FILE, e))?
+            .map_err(|e| LogError::io(&self.file, e))?
         {
-            match parse_row::<R>(&self.lines.buf, &mut self.cells, self.previous_t) {
-                Ok(row) => {
-                    self.previous_t = Some(row.t());
-                    self.previous = Some(row);
-                    self.accepted += 1;
-                    for (i, cell) in self.cells.iter().enumerate().skip(1) {
-                        let Some(v) = *cell else { continue };
-                        if let Some(last) = self.last_value[i] {
-                            let d = (v - last).abs();
-                            if d > 0.0 && d.is_finite() && d < self.min_step[i] {
-                                self.min_step[i] = d;
-                            }
-                        }
-                        self.last_value[i] = Some(v);
-                    }
-                    return Ok(Some((line, row)));
+            match self.parse_row() {
+                Ok(t) => {
+                    self.previous_t = Some(t);
+                    return Ok(Some(line));
                 }
-                Err((column, problem)) => {
-                    let skipped = SkippedRow {
-                        file: R::FILE.to_string(),
-                        line,
-                        column,
-                        problem,
-                    };
-                    match self.strictness {
-                        Strictness::Strict => {
-                            return Err(LogError::Csv {
-                                file: skipped.file,
-                                line: skipped.line,
-                                column: skipped.column,
-                                problem: skipped.problem,
-                            })
-                        }
-                        Strictness::Lenient => {
-                            self.skipped += 1;
-                            if self.skip_reasons.len() < MAX_SKIP_REASONS {
-                                self.skip_reasons.push(skipped);
-                            }
-                        }
-                    }
-                }
+                Err((column, problem)) => self.reject(line, column, problem)?,
             }
         }
         Ok(None)
+    }
+
+    /// The header name of file column `j` (`<column N>` beyond the header).
+    fn file_column(&self, j: usize) -> String {
+        match self.header.get(j) {
+            Some(h) => short(h),
+            None => format!("<column {}>", j + 1),
+        }
+    }
+
+    /// Parses the current line into `self.cells`; its time, or the offending
+    /// column and problem.
+    fn parse_row(&mut self) -> Result<f64, (String, CsvProblem)> {
+        let line = &self.lines.buf;
+        let ncols = self.header.len();
+        let count = split_cells(line).count();
+        if count != ncols {
+            // First missing column, or the first extra one.
+            return Err((
+                self.file_column(count.min(ncols)),
+                CsvProblem::ColumnCount {
+                    expected: ncols,
+                    found: count,
+                },
+            ));
+        }
+        for (j, raw) in split_cells(line).enumerate() {
+            let Some(i) = self.slot[j] else { continue };
+            self.cells[i] = if raw.is_empty() {
+                None
+            } else {
+                let text = std::str::from_utf8(raw).ok();
+                match text.and_then(|s| s.parse::<f64>().ok()) {
+                    Some(v) if v.is_finite() && (v * self.scale[i]).is_finite() => {
+                        Some(v * self.scale[i])
+                    }
+                    Some(_) => {
+                        return Err((
+                            self.names[i].clone(),
+                            CsvProblem::NonFinite {
+                                text: cell_text(raw),
+                            },
+                        ))
+                    }
+                    None => {
+                        return Err((
+                            self.names[i].clone(),
+                            CsvProblem::NotANumber {
+                                text: cell_text(raw),
+                            },
+                        ))
+                    }
+                }
+            };
+        }
+        let row = R::from_cells(&self.cells)
+            .map_err(|i| (self.names[i].clone(), CsvProblem::EmptyCell))?;
+        if let Err((i, value, allowed)) = row.check() {
+            return Err((
+                self.names[i].clone(),
+                CsvProblem::OutOfRange { value, allowed },
+            ));
+        }
+        let t = row.t();
+        if let Some(prev) = self.previous_t {
+            if t < prev {
+                return Err((
+                    self.names[0].clone(),
+                    CsvProblem::TimeBackwards { previous: prev, t },
+                ));
+            }
+            if t == prev {
+                return Err((self.names[0].clone(), CsvProblem::DuplicateTime { t }));
+            }
+        }
+        Ok(t)
     }
 
     /// Rows accepted so far.
@@ -511,6 +816,17 @@ impl<R: Row, I: Read> RowReader<R, I> {
         self.previous.as_ref()
     }
 
+    /// The file read (as named in messages).
+    pub fn file(&self) -> &str {
+        &self.file
+    }
+
+    /// What the file carries: [`ImuForm::Increments`] for an `imu.csv` of
+    /// increments (read as interval averages), otherwise [`ImuForm::Rates`].
+    pub fn form(&self) -> ImuForm {
+        self.form
+    }
+
     /// The smallest non-zero change between consecutive values of column
     /// `column` (index in [`Row::COLUMNS`]) over the rows read so far (an
     /// empty cell is passed over); 0 when no value changed. A multiple of the
@@ -523,69 +839,9 @@ impl<R: Row, I: Read> RowReader<R, I> {
     }
 }
 
-fn parse_row<R: Row>(
-    line: &[u8],
-    cells: &mut [Option<f64>],
-    previous_t: Option<f64>,
-) -> Result<R, (String, CsvProblem)> {
-    let ncols = R::COLUMNS.len();
-    let count = split_cells(line).count();
-    if count != ncols {
-        // First missing column, or the first extra one.
-        return Err((
-            column_name::<R>(count.min(ncols)),
-            CsvProblem::ColumnCount {
-                expected: ncols,
-                found: count,
-            },
-        ));
-    }
-    for (i, raw) in split_cells(line).enumerate() {
-        cells[i] = if raw.is_empty() {
-            None
-        } else {
-            let text = std::str::from_utf8(raw).ok();
-            match text.and_then(|s| s.parse::<f64>().ok()) {
-                Some(v) if v.is_finite() => Some(v),
-                Some(_) => {
-                    return Err((
-                        column_name::<R>(i),
-                        CsvProblem::NonFinite {
-                            text: cell_text(raw),
-                        },
-                    ))
-                }
-                None => {
-                    return Err((
-                        column_name::<R>(i),
-                        CsvProblem::NotANumber {
-                            text: cell_text(raw),
-                        },
-                    ))
-                }
-            }
-        };
-    }
-    let row = R::from_cells(cells).map_err(|i| (column_name::<R>(i), CsvProblem::EmptyCell))?;
-    if let Err((i, value, allowed)) = row.check() {
-        return Err((
-            column_name::<R>(i),
-            CsvProblem::OutOfRange { value, allowed },
-        ));
-    }
-    if let Some(prev) = previous_t {
-        let t = row.t();
-        if t < prev {
-            return Err((
-                "t".to_string(),
-                CsvProblem::TimeBackwards { previous: prev, t },
-            ));
-        }
-        if t == prev {
-            return Err(("t".to_string(), CsvProblem::DuplicateTime { t }));
-        }
-    }
-    Ok(row)
+/// A header cell for messages (truncated).
+fn short(text: &str) -> String {
+    cell_text(text.as_bytes())
 }
 
 /// Formats a float so that parsing it gives back the same bits (shortest round-trip

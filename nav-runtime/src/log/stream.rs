@@ -12,6 +12,7 @@ use std::collections::BTreeMap;
 use std::fs;
 use std::path::{Path, PathBuf};
 
+use super::mapping::{ImuForm, LogMapping};
 use super::rows::RowReader;
 use super::{
     dangling_link, unknown_csv_files, AltitudeRow, DepthRow, DvlRow, Event, HeadingRow, ImuRow,
@@ -25,6 +26,7 @@ use super::{
 pub struct LogFiles {
     dir: PathBuf,
     meta: Meta,
+    mapping: LogMapping,
     strictness: Strictness,
     unknown_files: Vec<String>,
     warnings: Vec<Warning>,
@@ -63,8 +65,8 @@ impl LogFiles {
             }
             Err(e) => return Err(LogError::io(meta_path, e)),
         };
-        let (meta, mut warnings) = Meta::parse_with_warnings(&meta_text)?;
-        let unknown_files = unknown_csv_files(dir)?;
+        let (meta, mapping, mut warnings) = Meta::parse_log(&meta_text)?;
+        let unknown_files = unknown_csv_files(dir, &mapping)?;
         if let (Strictness::Strict, Some(file)) = (strictness, unknown_files.first()) {
             return Err(LogError::UnknownFile {
                 file: file.clone(),
@@ -78,9 +80,24 @@ impl LogFiles {
                 "not a log file: ignored",
             ));
         }
+        for (_, standard) in super::mapping::MAPPED_SENSORS {
+            if let Some(m) = mapping.replaced(standard) {
+                if fs::symlink_metadata(dir.join(standard)).is_ok() {
+                    warnings.push(
+                        Warning::about(
+                            WarningKind::UnknownFile,
+                            standard,
+                            format!("not read: `files.{}.file` reads `{}`", m.sensor, m.file),
+                        )
+                        .with_key(&m.key("file")),
+                    );
+                }
+            }
+        }
         Ok(LogFiles {
             dir: dir.to_path_buf(),
             meta,
+            mapping,
             strictness,
             unknown_files,
             warnings,
@@ -95,6 +112,21 @@ impl LogFiles {
     /// `meta.toml`.
     pub fn meta(&self) -> &Meta {
         &self.meta
+    }
+
+    /// The `[files.<sensor>]` sections of `meta.toml` (empty: every file in
+    /// the standard format).
+    pub fn mapping(&self) -> &LogMapping {
+        &self.mapping
+    }
+
+    /// The form of `imu.csv` (read from its header, or declared by
+    /// `[files.imu] form`).
+    ///
+    /// # Errors
+    /// As [`LogFiles::imu`].
+    pub fn imu_form(&self) -> Result<ImuForm, LogError> {
+        Ok(self.imu()?.form())
     }
 
     /// How bad rows are treated.
@@ -112,21 +144,53 @@ impl LogFiles {
         &self.warnings
     }
 
-    /// Opens `R`'s file, its header checked; `None` when the file is absent
+    /// Opens `R`'s file (the one its `[files.<sensor>]` section names, or
+    /// the standard one), its header checked; `None` when the file is absent
     /// (the sensor is absent).
     ///
     /// # Errors
     /// A dangling symbolic link, an unreadable file, an empty file or a bad
-    /// header.
+    /// header; a file a section names that is missing or resolves outside the
+    /// log directory.
     pub fn rows<R: Row>(&self) -> Result<Option<FileRows<R>>, LogError> {
-        let path = self.dir.join(R::FILE);
+        let mapping = self.mapping.of::<R>();
+        let path = self.dir.join(&mapping.file);
         match fs::File::open(&path) {
-            Ok(f) => RowReader::new(f, self.strictness).map(Some),
+            Ok(f) => {
+                if mapping.declared_file {
+                    self.check_inside(&path, &mapping.key("file"), &mapping.file)?;
+                }
+                RowReader::with_mapping(f, self.strictness, &mapping).map(Some)
+            }
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
                 dangling_link(&path)?;
+                if mapping.declared_file {
+                    return Err(LogError::MissingFile {
+                        file: mapping.file,
+                        dir: self.dir.clone(),
+                    });
+                }
                 Ok(None)
             }
             Err(e) => Err(LogError::io(path, e)),
+        }
+    }
+
+    /// Refuses a declared file whose real path (symbolic links followed) is
+    /// not inside the log directory.
+    fn check_inside(&self, path: &Path, key: &str, file: &str) -> Result<(), LogError> {
+        let dir = fs::canonicalize(&self.dir).map_err(|e| LogError::io(&self.dir, e))?;
+        let real = fs::canonicalize(path).map_err(|e| LogError::io(path, e))?;
+        if real.starts_with(&dir) {
+            Ok(())
+        } else {
+            Err(LogError::meta(
+                key,
+                format!(
+                    "`{file}` resolves to {}, outside the log directory",
+                    real.display()
+                ),
+            ))
         }
     }
 
@@ -141,7 +205,7 @@ impl LogFiles {
     /// Opens `R`'s file, which must exist.
     pub(super) fn imu_like<R: Row>(&self) -> Result<FileRows<R>, LogError> {
         self.rows::<R>()?.ok_or_else(|| LogError::MissingFile {
-            file: R::FILE.to_string(),
+            file: self.mapping.of::<R>().file,
             dir: self.dir.clone(),
         })
     }
@@ -337,8 +401,8 @@ impl<'a> EventStream<'a> {
         Ok(())
     }
 
-    /// The next event in time order (ties in the order of [`ORDER`]: the IMU
-    /// last).
+    /// The next event in time order (ties: the echo sounder, the aiding
+    /// sensors, the IMU last).
     ///
     /// # Errors
     /// A read error or (strict reading) a bad row of any file.
