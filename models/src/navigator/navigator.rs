@@ -20,7 +20,7 @@ use nav_runtime::scheduler::{
     FnMeasurement, MeasurementOutcome, Report, Scheduler, SchedulerError, SensorId,
 };
 use nav_runtime::smoother::EpochFile;
-use nav_runtime::strapdown::{NavState, Strapdown};
+use nav_runtime::strapdown::{NavState, RateSamples, Strapdown};
 use nav_runtime::stuck::StuckDetector;
 
 use super::health::SensorHealth;
@@ -96,6 +96,7 @@ pub struct Builder<V: InsVehicle<N>, const N: usize> {
     sensors: [Option<SensorSettings>; 4],
     transducer: Option<Geodetic>,
     options: NavigatorOptions,
+    samples: RateSamples,
     layout: Result<Layout, String>,
     present: Present,
     vehicle: std::marker::PhantomData<fn() -> V>,
@@ -110,6 +111,7 @@ impl<V: InsVehicle<N>, const N: usize> Navigator<V, N> {
             sensors: [None; 4],
             transducer: None,
             options: NavigatorOptions::default(),
+            samples: RateSamples::default(),
             layout: Layout::of::<V, N>().map_err(|e| e.to_string()),
             present: Present::of::<V, N>(),
             vehicle: std::marker::PhantomData,
@@ -322,6 +324,15 @@ impl<V: InsVehicle<N>, const N: usize> Builder<V, N> {
         self
     }
 
+    /// What the IMU samples are (default: instantaneous rates; an IMU
+    /// that delivers increments gives interval averages, increments divided
+    /// by their interval, which the strapdown integrates as increments with
+    /// its coning and sculling terms).
+    pub fn rate_samples(mut self, samples: RateSamples) -> Self {
+        self.samples = samples;
+        self
+    }
+
     /// Position of the USBL transducer (default: at the surface above the
     /// initial position).
     pub fn usbl_transducer(mut self, at: Geodetic) -> Self {
@@ -413,6 +424,8 @@ impl<V: InsVehicle<N>, const N: usize> Builder<V, N> {
         let i = &self.initial;
         let state = NavState::new(i.position, i.velocity, &i.attitude);
         let mut ins = Strapdown::with_time(state, i.t);
+        // The form first: the rate history is kept in it.
+        ins.samples = self.samples;
         ins.set_previous_rates(&first.gyro, &first.accel);
         let imu = &self.imu;
         let bias = |k: usize| self.sensors[k].map_or(0.0, |s| s.bias_sigma);

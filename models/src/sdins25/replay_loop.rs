@@ -10,8 +10,9 @@ use std::collections::VecDeque;
 use std::iter::Peekable;
 
 use nav_runtime::log::{
-    DepthRow, DvlRow, Event as LogEvent, HeadingRow, ImuRow, LogDir, LogSource, UsblRow,
+    DepthRow, DvlRow, Event as LogEvent, HeadingRow, ImuForm, ImuRow, LogDir, LogSource, UsblRow,
 };
+use nav_runtime::strapdown::RateSamples;
 use nav_runtime::nalgebra::Vector3;
 use nav_runtime::smoother::{smooth, EpochFile};
 
@@ -101,7 +102,14 @@ where
     });
     let plan = LogPlan::new(source.meta(), &facts, latencies)?;
     let (builder, handles) = plan.builder::<V, N>(options);
-    let mut nav = builder.build(plan.first).map_err(setup_error)?;
+    let samples = match source.imu_form()? {
+        ImuForm::Rates => RateSamples::Instantaneous,
+        ImuForm::Increments => RateSamples::IntervalAverage,
+    };
+    let mut nav = builder
+        .rate_samples(samples)
+        .build(plan.first)
+        .map_err(setup_error)?;
     let has_file = [
         source.has::<DepthRow>()?,
         source.has::<DvlRow>()?,

@@ -511,6 +511,18 @@ impl<'a> LogSource<'a> {
         })
     }
 
+    /// The form of `imu.csv` (rates, or increments read as interval
+    /// averages).
+    ///
+    /// # Errors
+    /// As [`LogFiles::imu_form`].
+    pub fn imu_form(&self) -> Result<ImuForm, LogError> {
+        match self {
+            LogSource::Memory(log) => Ok(log.imu_form),
+            LogSource::Files(files) => files.imu_form(),
+        }
+    }
+
     /// The merged sensor events from the start.
     ///
     /// # Errors
