@@ -35,14 +35,29 @@ pub fn depth_measurement<V: InsVehicle<N>, const N: usize>(
     depth: f64,
     sigma: f64,
 ) -> Box<dyn Measurement<InsFilter<V, N>>> {
+    depth_measurement_at::<V, N>(depth, sigma, Vector3::zeros())
+}
+
+/// A depth reading of a sensor at lever arm `lever_arm` (body axes, m) from
+/// the IMU, for a depth slot whose block takes the lever arm as its
+/// auxiliary input (a pressure sensor): the INS height of the sensor is
+/// `h - (C_b^n r)_D`. A block without that input takes the reading at the
+/// IMU (the lever arm must then be zero: [`depth_measurement`]).
+pub fn depth_measurement_at<V: InsVehicle<N>, const N: usize>(
+    depth: f64,
+    sigma: f64,
+    lever_arm: Vector3<f64>,
+) -> Box<dyn Measurement<InsFilter<V, N>>> {
     let h_meas = -depth;
     let r = SVector::<f64, 1>::new(sigma.powi(2));
     Box::new(FnMeasurement::new(
         &[h_meas],
         move |f: &mut InsFilter<V, N>| {
             let nom = f.nominal();
-            let z = SVector::<f64, 1>::new(nom.ins.state.h - (h_meas - nom.depth_bias));
-            outcome(V::Depth::update(f, &z, &r, &[]))
+            let s = &nom.ins.state;
+            let sensor_h = s.h - (s.c_bn * lever_arm)[2];
+            let z = SVector::<f64, 1>::new(sensor_h - (h_meas - nom.depth_bias));
+            outcome(V::Depth::update(f, &z, &r, lever_arm.as_slice()))
         },
     ))
 }

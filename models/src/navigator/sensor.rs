@@ -9,7 +9,7 @@ use nav_runtime::nalgebra::{Matrix3, Vector3};
 use nav_runtime::scheduler::Measurement;
 
 use super::measurement::{
-    depth_measurement, dvl_measurement, heading_measurement, usbl_measurement, CompassForm,
+    depth_measurement_at, dvl_measurement, heading_measurement, usbl_measurement, CompassForm,
 };
 use super::nominal::InsFilter;
 use super::vehicle::{InsVehicle, Present};
@@ -44,6 +44,8 @@ pub struct Context {
     pub noise_sigma: f64,
     /// Sensor-to-body rotation (`None`: the identity).
     pub mounting: Option<Matrix3<f64>>,
+    /// Lever arm of the sensor from the IMU, body axes (m).
+    pub lever_arm: Vector3<f64>,
     /// Compass residual form.
     pub compass: CompassForm,
     /// Local frame at the USBL transducer.
@@ -86,7 +88,7 @@ impl Reading for DepthReading {
         &self,
         ctx: &Context,
     ) -> Box<dyn Measurement<InsFilter<V, N>>> {
-        depth_measurement::<V, N>(self.0, ctx.noise_sigma)
+        depth_measurement_at::<V, N>(self.0, ctx.noise_sigma, ctx.lever_arm)
     }
 }
 

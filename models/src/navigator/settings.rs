@@ -86,6 +86,9 @@ pub struct SensorSettings {
     /// Sigma of the mounting misalignment state of sensors whose block
     /// estimates one (the USBL array; rad per axis).
     pub misalignment_sigma: f64,
+    /// Position of the sensor relative to the IMU, body axes (m), for
+    /// sensors whose block takes a lever arm (a pressure depth sensor).
+    pub lever_arm: Vector3<f64>,
 }
 
 impl SensorSettings {
@@ -99,6 +102,7 @@ impl SensorSettings {
             resolution: 0.0,
             mounting: None,
             misalignment_sigma: 0.0,
+            lever_arm: Vector3::zeros(),
         }
     }
 
@@ -117,6 +121,12 @@ impl SensorSettings {
     /// Mounted with sensor-to-body rotation `c_bs`.
     pub fn mounting(mut self, c_bs: Matrix3<f64>) -> Self {
         self.mounting = Some(c_bs);
+        self
+    }
+
+    /// At lever arm `r` from the IMU (body axes, m).
+    pub fn lever_arm(mut self, r: Vector3<f64>) -> Self {
+        self.lever_arm = r;
         self
     }
 }

@@ -45,7 +45,14 @@ pub trait InsVehicle<const N: usize>: Model<N> {
     const REPLAY_NAME: &'static str;
     /// One line for `navsim list`.
     const DESCRIPTION: &'static str;
-    /// The `Depth` sensor (block `Depth`), fed by `depth.csv`.
+    /// Declared name of the sensor in the depth slot: the `Depth` block's,
+    /// or another depth block's with the same residual (a pressure sensor at
+    /// a lever arm, whose auxiliary input is `lever_arm: 3`).
+    const DEPTH_SENSOR: &'static str = "Depth";
+    /// The bias state of the depth slot's block.
+    const DEPTH_BIAS: &'static str = "depth_bias";
+    /// The depth sensor (block `Depth`, or the block of
+    /// [`InsVehicle::DEPTH_SENSOR`]), fed by `depth.csv`.
     type Depth: Slot<Self, N, 1>;
     /// The `Dvl` sensor (block `Dvl`), fed by `dvl.csv`.
     type Dvl: Slot<Self, N, 3>;
@@ -151,6 +158,9 @@ pub const NOISE_NAMES: [&str; 6] = [
     "gyro_noise[1]",
     "gyro_noise[2]",
 ];
+
+/// The auxiliary input of a depth sensor at a lever arm (body axes, m).
+pub const LEVER_ARM_AUX_NAMES: [&str; 3] = ["lever_arm[0]", "lever_arm[1]", "lever_arm[2]"];
 
 /// The auxiliary input of the USBL block's sensor.
 pub const USBL_AUX_NAMES: [&str; 3] = [
@@ -266,7 +276,7 @@ impl Layout {
             group(names, name, len)?
                 .ok_or_else(|| format!("no state `{name}` (the INS core block's)"))
         };
-        check_slot::<V, V::Depth, N, 1>("Depth")?;
+        check_slot::<V, V::Depth, N, 1>(V::DEPTH_SENSOR)?;
         check_slot::<V, V::Dvl, N, 3>("Dvl")?;
         check_slot::<V, V::Compass, N, 1>("Compass")?;
         check_slot::<V, V::CompassSmallAngle, N, 1>("CompassSmallAngle")?;
@@ -284,6 +294,12 @@ impl Layout {
             ));
         }
         let present = Present::of::<V, N>();
+        let depth_aux = <V::Depth as Slot<V, N, 1>>::AUX_NAMES;
+        if present.depth && !depth_aux.is_empty() && depth_aux != LEVER_ARM_AUX_NAMES {
+            return Err(format!(
+                "its depth sensor's auxiliary input {depth_aux:?} is not {LEVER_ARM_AUX_NAMES:?}"
+            ));
+        }
         if present.usbl && <V::Usbl as Slot<V, N, 2>>::AUX_NAMES != USBL_AUX_NAMES {
             return Err(format!(
                 "its USBL auxiliary input is not {USBL_AUX_NAMES:?}"
@@ -296,7 +312,7 @@ impl Layout {
             accel_bias: need("accel_bias", 3)?,
             gyro_bias: need("gyro_bias", 3)?,
             usbl_bias: group(names, "usbl_bias", 2)?,
-            depth_bias: group(names, "depth_bias", 1)?,
+            depth_bias: group(names, V::DEPTH_BIAS, 1)?,
             dvl_bias: group(names, "dvl_bias", 3)?,
             compass_bias: group(names, "compass_bias", 1)?,
             usbl_misalignment: group(names, "usbl_misalignment", 3)?,
@@ -307,7 +323,7 @@ impl Layout {
             }
             Ok(())
         };
-        block(present.depth, layout.depth_bias, "depth_bias")?;
+        block(present.depth, layout.depth_bias, V::DEPTH_BIAS)?;
         block(present.dvl, layout.dvl_bias, "dvl_bias")?;
         block(present.compass, layout.compass_bias, "compass_bias")?;
         block(

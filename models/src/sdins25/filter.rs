@@ -379,6 +379,8 @@ pub(super) struct LogPlan {
     /// Settings of depth, DVL, compass and USBL.
     pub(super) sensors: [SensorSettings; 4],
     pub(super) transducer: Geodetic,
+    /// Mounting keys of `meta.toml` the vehicle's models do not represent.
+    pub(super) warnings: Vec<String>,
 }
 
 impl LogPlan {
@@ -431,11 +433,41 @@ impl LogPlan {
             None if noise[3].bias_sigma > 0.0 => TRACKPOINT_MISALIGNMENT_SIGMA,
             None => 0.0,
         };
+        // Mountings: the DVL's misalignment turns its readings into body
+        // axes; what the models do not represent is said, not dropped.
+        let mut warnings = Vec::new();
+        for (i, name) in ["depth", "dvl", "heading", "usbl"].into_iter().enumerate() {
+            let Some(m) = meta.sensors.mounting(name) else {
+                continue;
+            };
+            if i == 0 {
+                // The depth slot's block may take it (checked per vehicle).
+                sensors[0].lever_arm = Vector3::from(m.lever_arm);
+            } else if m.lever_arm != [0.0; 3] {
+                warnings.push(format!(
+                    "meta.toml: sensors.{name}.lever_arm {:?} m is not modelled by this replay (the {name} reading is taken at the IMU): ignored",
+                    m.lever_arm
+                ));
+            }
+            if m.misalignment != [0.0; 3] {
+                if i == 1 {
+                    let [roll, pitch, yaw] = m.misalignment;
+                    sensors[1].mounting =
+                        Some(nav_runtime::attitude::Euler { roll, pitch, yaw }.c_bn());
+                } else {
+                    warnings.push(format!(
+                        "meta.toml: sensors.{name}.misalignment {:?} rad is not modelled by this replay: ignored",
+                        m.misalignment
+                    ));
+                }
+            }
+        }
         let transducer = meta.usbl.map_or(
             Geodetic::new(meta.initial.lat, meta.initial.lon, 0.0),
             |u| Geodetic::new(u.lat, u.lon, -u.depth),
         );
         Ok(Self {
+            warnings,
             first: ImuSample {
                 gyro: Vector3::new(first.gx, first.gy, first.gz),
                 accel: Vector3::new(first.ax, first.ay, first.az),

@@ -19,7 +19,7 @@ use nav_runtime::smoother::{smooth, EpochFile};
 use super::aiding::{place, Aiding, Travelling};
 use super::filter::{setup_error, FilterOptions, InsRun, LogFacts, LogPlan, MAX_GAP_STEPS};
 use crate::montecarlo::RunError;
-use crate::navigator::vehicle::Layout;
+use crate::navigator::vehicle::{Layout, Slot};
 use crate::navigator::{Estimate, ImuSample, InsVehicle, NavigatorError, SENSOR_NAMES};
 
 /// Runs the filter of vehicle `V` over `log`, recording estimates at
@@ -100,7 +100,17 @@ where
             0.0
         }
     });
-    let plan = LogPlan::new(source.meta(), &facts, latencies)?;
+    let mut plan = LogPlan::new(source.meta(), &facts, latencies)?;
+    // A depth lever arm is used only by a depth block that takes one.
+    let lever_arm = plan.sensors[0].lever_arm;
+    if lever_arm != Vector3::zeros() && <V::Depth as Slot<V, N, 1>>::AUX_NAMES.is_empty() {
+        plan.warnings.push(format!(
+            "meta.toml: sensors.depth.lever_arm {:?} m is not modelled by model {} (its depth block takes the reading at the IMU): ignored",
+            lever_arm.as_slice(),
+            V::REPLAY_NAME
+        ));
+        plan.sensors[0].lever_arm = Vector3::zeros();
+    }
     let (builder, handles) = plan.builder::<V, N>(options);
     let samples = match source.imu_form()? {
         ImuForm::Rates => RateSamples::Instantaneous,
@@ -145,7 +155,7 @@ where
             _ => aiding.take(&ev),
         }
     };
-    let mut warnings: Vec<String> = Vec::new();
+    let mut warnings: Vec<String> = plan.warnings.clone();
     if imu_row > 0 {
         warnings.push(format!(
             "imu.csv: {imu_row} row(s) before the initial epoch t = {epoch} s (meta.toml initial.t) are not used"

@@ -40,6 +40,23 @@ nav_runtime::model! {
     pub model PressureAuv = InsCore + PressureDepth + Dvl + Compass + GnssFix;
 }
 
+/// Step 4: the vehicle replays logs (`navsim replay DIR --model pressure-auv`,
+/// or its own program with [`crate::replay::replay_main`]): its sensors in the
+/// log's slots. `depth.csv` feeds the pressure sensor, whose lever arm comes
+/// from `[sensors.depth] lever_arm`; the GNSS fix has no log file and stays
+/// unused.
+impl crate::navigator::InsVehicle<20> for PressureAuv {
+    const REPLAY_NAME: &'static str = "pressure-auv";
+    const DESCRIPTION: &'static str = "the walk-through AUV: INS + pressure sensor at a lever arm ([sensors.depth] lever_arm) + DVL + compass";
+    const DEPTH_SENSOR: &'static str = "PressureDepth";
+    const DEPTH_BIAS: &'static str = "pressure_bias";
+    type Depth = PressureAuvPressureDepth;
+    type Dvl = PressureAuvDvl;
+    type Compass = PressureAuvCompass;
+    type CompassSmallAngle = PressureAuvCompassSmallAngle;
+    type Usbl = crate::navigator::Absent;
+}
+
 /// Number of states of [`PressureAuv`].
 pub const N: usize = PressureAuv::N;
 
