@@ -18,6 +18,7 @@ use super::{
     LogDir, LogError, Meta, Row, RpmRow, SkippedRow, SpeedRow, Strictness, UsblRow, Warning,
     WarningKind, META_FILE,
 };
+use super::{BaroRow, GnssRow, MagRow};
 
 /// A log directory opened for reading file by file: its `meta.toml`, what
 /// the reader noticed about it, and a [`RowReader`] for any of its files.
@@ -242,8 +243,9 @@ type Pull<'a> = Box<dyn FnMut() -> Result<Option<Located>, LogError> + 'a>;
 /// Order of the sources of [`EventStream`]: at equal times the IMU comes
 /// first (a filter propagates to `t` before it applies a measurement stamped
 /// `t`), then the echo sounder (so a DVL sample sees the altitude of its own
-/// time), then the aiding sensors.
-const ORDER: usize = 8;
+/// time), then the aiding sensors (the magnetometer, barometer and GNSS of
+/// an imported flight log last).
+const ORDER: usize = 11;
 
 /// The samples of a log's sensor files (not truth) merged in time order, from
 /// files or from memory. Holds one row of each file.
@@ -287,6 +289,9 @@ impl<'a> EventStream<'a> {
             pull(SliceRows::of(l, l.usbl.as_deref()), Event::Usbl),
             pull(SliceRows::of(l, l.speed.as_deref()), Event::Speed),
             pull(SliceRows::of(l, l.rpm.as_deref()), Event::Rpm),
+            pull(SliceRows::of(l, l.mag.as_deref()), Event::Mag),
+            pull(SliceRows::of(l, l.baro.as_deref()), Event::Baro),
+            pull(SliceRows::of(l, l.gnss.as_deref()), Event::Gnss),
         ])
     }
 
@@ -313,6 +318,9 @@ impl<'a> EventStream<'a> {
             opt::<UsblRow>(files, Event::Usbl)?,
             opt::<SpeedRow>(files, Event::Speed)?,
             opt::<RpmRow>(files, Event::Rpm)?,
+            opt::<MagRow>(files, Event::Mag)?,
+            opt::<BaroRow>(files, Event::Baro)?,
+            opt::<GnssRow>(files, Event::Gnss)?,
         ]))
     }
 
