@@ -55,6 +55,8 @@ pub const POSITION_SIGMA_DEFAULT: f64 = 1.0;
 pub const VELOCITY_SIGMA_DEFAULT: f64 = 0.5;
 /// Initial accelerometer bias sigma without `[sensors.imu] accel_bias_sigma`, m/s^2.
 pub const ACCEL_BIAS_SIGMA_DEFAULT: f64 = 0.1;
+/// A truth height this far from the initial height is on another datum, m.
+pub const TRUTH_DATUM_GAP_M: f64 = 100.0;
 /// Files read.
 pub const FILES: &[&str] = &[
     "imu.csv",
@@ -440,6 +442,14 @@ impl ReplayModel for GnssInsReplay {
         let m = &mut out.metrics;
         let diff = reference_metrics(log, &run.points, m, &mut out.warnings);
         if let Some(truth) = log.truth.as_deref() {
+            let h0 = -log.meta.initial.depth;
+            if let Some(r) = truth.first().filter(|r| (-r.depth - h0).abs() > TRUTH_DATUM_GAP_M) {
+                out.warnings.push(format!(
+                    "truth.csv: height {:.1} m at t = {} s, the initial height {h0:.1} m: the truth's \
+                     vertical datum differs (depth_error_rms_m and nees_mean are not meaningful)",
+                    -r.depth, r.t
+                ));
+            }
             match score::score(&run.at_truth, truth, None, log.imu_time_span()) {
                 Ok(s) => {
                     for (k, v) in [
