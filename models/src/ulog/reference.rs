@@ -138,7 +138,7 @@ impl Reference {
             // (the importer's fixed schema): it is not compared.
             let empty = |c: &[usize; 3]| {
                 c.iter()
-                    .all(|&i| cells.get(i).is_none_or(|s| s.trim().is_empty()))
+                    .all(|&i| cells.get(i).is_some_and(|s| s.trim().is_empty()))
             };
             match pos_cols {
                 Some(c) if empty(&c) => r.position = None,
