@@ -104,7 +104,10 @@ fn ahrs_replays_the_fixture_close_to_px4() {
         assert!(out.join(f).is_file(), "{f} written");
     }
     let text = std::fs::read_to_string(out.join("reference_difference.csv")).unwrap();
-    assert!(text.starts_with("t,roll_deg,pitch_deg,yaw_deg,"), "{text:.80}");
+    assert!(
+        text.starts_with("t,roll_deg,pitch_deg,yaw_deg,"),
+        "{text:.80}"
+    );
     assert_eq!(text.lines().count(), 429);
 }
 
@@ -121,7 +124,10 @@ fn gnss_ins_replays_the_fixture_close_to_px4() {
     assert_eq!(num(gnss, &["rows"]), 423.0);
     assert!(num(gnss, &["accepted"]) > 400.0, "{gnss}");
     assert!(num(&v, &["health", "baro", "accepted"]) > 400.0, "{v}");
-    assert!(v.get("horizontal_error_rms_m").is_none(), "no truth, no error");
+    assert!(
+        v.get("horizontal_error_rms_m").is_none(),
+        "no truth, no error"
+    );
     for f in [
         "estimates.csv",
         "reference_difference.csv",

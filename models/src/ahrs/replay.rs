@@ -318,11 +318,7 @@ fn point(t: f64, n: &AhrsNominal) -> EstimatePoint {
     }
 }
 
-fn push_estimate(
-    table: &mut RunTable,
-    t: f64,
-    f: &ErrorStateFilter<Ahrs, AhrsNominal, 6>,
-) {
+fn push_estimate(table: &mut RunTable, t: f64, f: &ErrorStateFilter<Ahrs, AhrsNominal, 6>) {
     let n = f.nominal();
     let p = f.covariance();
     let e = n.euler().map(f64::to_degrees);

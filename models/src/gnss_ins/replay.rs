@@ -25,8 +25,8 @@ use nav_runtime::strapdown::{NavError, NavState, Strapdown};
 use serde_json::{json, Value};
 
 use super::model::{
-    GnssIns, GnssInsBarometer, GnssInsGnssFix, GnssInsInput, GnssInsMagneticHeading,
-    GnssInsNoise, GnssInsParams,
+    GnssIns, GnssInsBarometer, GnssInsGnssFix, GnssInsInput, GnssInsMagneticHeading, GnssInsNoise,
+    GnssInsParams,
 };
 use crate::ahrs::magnetic_heading;
 use crate::ahrs::replay::{horizontal_field, imu_period, write_outputs, MAG_NOISE_DEFAULT};
@@ -317,9 +317,9 @@ pub fn run(log: &LogDir) -> Result<GnssInsRun, RunError> {
                     c_bn: s.c_bn,
                     specific_force: f,
                 };
-                filter
-                    .predict(dt, &input)
-                    .map_err(|e| RunError::Invalid(format!("{NAME}: imu.csv t = {}: {e}", row.t)))?;
+                filter.predict(dt, &input).map_err(|e| {
+                    RunError::Invalid(format!("{NAME}: imu.csv t = {}: {e}", row.t))
+                })?;
                 filter.nominal_mut().ins.update_rates(&w, &f, dt);
                 out.samples += 1;
                 let nav = filter.nominal().ins.state;
@@ -359,10 +359,7 @@ pub fn run(log: &LogDir) -> Result<GnssInsRun, RunError> {
                     continue;
                 }
                 let s = filter.nominal().ins.state;
-                let (rm, rn) = (
-                    meridian_radius(s.lat) + s.h,
-                    transverse_radius(s.lat) + s.h,
-                );
+                let (rm, rn) = (meridian_radius(s.lat) + s.h, transverse_radius(s.lat) + s.h);
                 let z = SVector::<f64, 3>::new(
                     rm * (s.lat - row.lat),
                     rn * s.lat.cos() * wrap(s.lon - row.lon),
@@ -443,7 +440,10 @@ impl ReplayModel for GnssInsReplay {
         let diff = reference_metrics(log, &run.points, m, &mut out.warnings);
         if let Some(truth) = log.truth.as_deref() {
             let h0 = -log.meta.initial.depth;
-            if let Some(r) = truth.first().filter(|r| (-r.depth - h0).abs() > TRUTH_DATUM_GAP_M) {
+            if let Some(r) = truth
+                .first()
+                .filter(|r| (-r.depth - h0).abs() > TRUTH_DATUM_GAP_M)
+            {
                 out.warnings.push(format!(
                     "truth.csv: height {:.1} m at t = {} s, the initial height {h0:.1} m: the truth's \
                      vertical datum differs (depth_error_rms_m and nees_mean are not meaningful)",

@@ -107,8 +107,8 @@ pub fn assemble(
         cx.barometer()?,
         cx.gnss()?.map(|f| widen(f, &GNSS_COLUMNS)),
     ]
-        .into_iter()
-        .flatten()
+    .into_iter()
+    .flatten()
     {
         files.push(f);
     }

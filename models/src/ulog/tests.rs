@@ -218,7 +218,11 @@ fn both_layouts_give_the_same_log() {
         close(fix[3], HEIGHT, 1e-6, "ellipsoidal height");
         // The fixed schema: the older layout has no velocity, an empty cell.
         assert_eq!(gnss.header.len(), 10);
-        assert_eq!(fix[6].is_nan(), layout == Layout::Old, "{layout:?}: {fix:?}");
+        assert_eq!(
+            fix[6].is_nan(),
+            layout == Layout::Old,
+            "{layout:?}: {fix:?}"
+        );
         let text = gnss.text();
         let line = text.lines().nth(1).unwrap_or_default();
         assert_eq!(line.ends_with(",,,,"), layout == Layout::Old, "{line}");
@@ -560,5 +564,8 @@ fn the_log_reader_reads_the_written_directory() {
     assert_eq!(reference.len(), 39);
     assert!(reference.iter().all(|r| r.attitude().is_some()));
     let s = &read.meta.sensors;
-    assert!(s.mag.is_some() && s.baro.is_some() && s.gnss.is_some(), "{s:?}");
+    assert!(
+        s.mag.is_some() && s.baro.is_some() && s.gnss.is_some(),
+        "{s:?}"
+    );
 }
