@@ -221,7 +221,7 @@ impl LogDir {
         let mut rs = Vec::new();
         let imu = read_table::<ImuRow>(&files, true, &mut sk, &mut rs)?.unwrap_or_default();
         let mut log = LogDir {
-            meta: files.meta().clone(),
+            meta: *files.meta(),
             imu,
             dvl: read_table(&files, false, &mut sk, &mut rs)?,
             depth: read_table(&files, false, &mut sk, &mut rs)?,

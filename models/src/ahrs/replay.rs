@@ -243,7 +243,7 @@ pub fn run(log: &LogDir) -> Result<AhrsRun, RunError> {
                     .map_err(|e| RunError::Invalid(format!("ahrs: imu.csv t = {}: {e}", row.t)))?;
                 let n = filter.nominal_mut();
                 let w = Vector3::new(row.gx, row.gy, row.gz) - n.gyro_bias;
-                n.c_bn = n.c_bn * rotation_from_rotvec(&(w * dt));
+                n.c_bn *= rotation_from_rotvec(&(w * dt));
                 out.samples += 1;
                 f_sum += Vector3::new(row.ax, row.ay, row.az);
                 f_n += 1;
