@@ -31,7 +31,10 @@ fn main() -> ExitCode {
             for w in &log.warnings {
                 println!("  warning: {w}");
             }
-            println!("replay: navsim replay {} --model <MODEL>", out.display());
+            println!(
+                "replay: navsim replay {} --model ahrs (or --model gnss-ins)",
+                out.display()
+            );
             ExitCode::SUCCESS
         }
         Err(e) => {

@@ -15,6 +15,10 @@
 //! | `rpm.csv` | `t,rpm` |
 //! | `altitude.csv` | `t,altitude` |
 //! | `truth.csv` | `t,lat,lon,depth,vn,ve,vd,roll,pitch,yaw` |
+//! | `mag.csv` | `t,mx,my,mz` |
+//! | `baro.csv` | `t,altitude` |
+//! | `gnss.csv` | `t,lat,lon,height,eph,epv,vn,ve,vd,speed_accuracy` (empty cells = not given) |
+//! | `reference.csv` | `t,lat,lon,height,vn,ve,vd,roll,pitch,yaw` (another estimator's solution; empty cells = not given) |
 //!
 //! Columns are found by header name, in any order. `imu.csv` may carry
 //! increments `t,dtheta_x,dtheta_y,dtheta_z,dv_x,dv_y,dv_z` instead of rates
@@ -67,6 +71,7 @@ pub use rows::{
     format_f64, parse_csv, write_csv, AltitudeRow, Cell, DepthRow, DvlRow, HeadingRow, ImuRow, Row,
     RowReader, RpmRow, SpeedRow, Table, TruthRow, UsblRow, MAX_SKIP_REASONS,
 };
+pub use rows::{BaroRow, GnssRow, MagRow, ReferenceRow};
 pub use stream::{
     skipped_row_warnings, EventStream, FileRows, Located, LogFiles, LogSource, LogTable, RowSource,
     SliceRows,
@@ -97,6 +102,10 @@ pub const LOG_FILES: &[&str] = &[
     "rpm.csv",
     "altitude.csv",
     "truth.csv",
+    "mag.csv",
+    "baro.csv",
+    "gnss.csv",
+    "reference.csv",
     META_FILE,
 ];
 
@@ -124,6 +133,14 @@ pub struct LogDir {
     pub altitude: Option<Vec<AltitudeRow>>,
     /// `truth.csv`.
     pub truth: Option<Vec<TruthRow>>,
+    /// `mag.csv`.
+    pub mag: Option<Vec<MagRow>>,
+    /// `baro.csv`.
+    pub baro: Option<Vec<BaroRow>>,
+    /// `gnss.csv`.
+    pub gnss: Option<Vec<GnssRow>>,
+    /// `reference.csv` (another estimator's solution; like truth, not a sensor).
+    pub reference: Option<Vec<ReferenceRow>>,
     /// Rows skipped by the lenient reader, per file name (files with none are absent).
     pub skipped_rows: BTreeMap<String, usize>,
     /// The first few reasons rows were skipped, over all files.
@@ -207,6 +224,10 @@ impl LogDir {
             rpm: None,
             altitude: None,
             truth: None,
+            mag: None,
+            baro: None,
+            gnss: None,
+            reference: None,
             skipped_rows: BTreeMap::new(),
             skip_reasons: Vec::new(),
             unknown_files: Vec::new(),
@@ -234,6 +255,10 @@ impl LogDir {
             rpm: read_table(&files, false, &mut sk, &mut rs)?,
             altitude: read_table(&files, false, &mut sk, &mut rs)?,
             truth: read_table(&files, false, &mut sk, &mut rs)?,
+            mag: read_table(&files, false, &mut sk, &mut rs)?,
+            baro: read_table(&files, false, &mut sk, &mut rs)?,
+            gnss: read_table(&files, false, &mut sk, &mut rs)?,
+            reference: read_table(&files, false, &mut sk, &mut rs)?,
             skipped_rows: sk,
             skip_reasons: rs,
             unknown_files: files.unknown_files().to_vec(),
@@ -304,18 +329,23 @@ impl LogDir {
         one(dir, self.rpm.as_deref(), written)?;
         one(dir, self.altitude.as_deref(), written)?;
         one(dir, self.truth.as_deref(), written)?;
+        one(dir, self.mag.as_deref(), written)?;
+        one(dir, self.baro.as_deref(), written)?;
+        one(dir, self.gnss.as_deref(), written)?;
+        one(dir, self.reference.as_deref(), written)?;
         Ok(())
     }
 
-    /// All aiding and IMU samples merged in time order (truth is not included).
+    /// All aiding and IMU samples merged in time order (truth and the
+    /// reference are not included).
     ///
     /// Samples with equal times come in the order IMU, DVL, depth, heading, USBL,
-    /// speed, rpm, altitude, so a filter propagates to `t` before it applies aiding
-    /// measurements stamped `t`.
+    /// speed, rpm, altitude, magnetometer, barometer, GNSS, so a filter
+    /// propagates to `t` before it applies aiding measurements stamped `t`.
     pub fn events(&self) -> Events<'_> {
         Events {
             log: self,
-            next: [0; 8],
+            next: [0; EVENT_SOURCES],
         }
     }
 
@@ -344,7 +374,16 @@ pub enum Event {
     Rpm(RpmRow),
     /// An echo-sounder sample.
     Altitude(AltitudeRow),
+    /// A magnetometer sample.
+    Mag(MagRow),
+    /// A barometer sample.
+    Baro(BaroRow),
+    /// A GNSS fix.
+    Gnss(GnssRow),
 }
+
+/// Number of sensor files merged by [`LogDir::events`].
+const EVENT_SOURCES: usize = 11;
 
 impl Event {
     /// Time of the event, s.
@@ -358,6 +397,9 @@ impl Event {
             Event::Speed(r) => r.t,
             Event::Rpm(r) => r.t,
             Event::Altitude(r) => r.t,
+            Event::Mag(r) => r.t,
+            Event::Baro(r) => r.t,
+            Event::Gnss(r) => r.t,
         }
     }
 }
@@ -366,7 +408,7 @@ impl Event {
 #[derive(Debug, Clone)]
 pub struct Events<'a> {
     log: &'a LogDir,
-    next: [usize; 8],
+    next: [usize; EVENT_SOURCES],
 }
 
 impl Events<'_> {
@@ -384,7 +426,10 @@ impl Events<'_> {
             4 => at(l.usbl.as_ref(), i).map(Event::Usbl),
             5 => at(l.speed.as_ref(), i).map(Event::Speed),
             6 => at(l.rpm.as_ref(), i).map(Event::Rpm),
-            _ => at(l.altitude.as_ref(), i).map(Event::Altitude),
+            7 => at(l.altitude.as_ref(), i).map(Event::Altitude),
+            8 => at(l.mag.as_ref(), i).map(Event::Mag),
+            9 => at(l.baro.as_ref(), i).map(Event::Baro),
+            _ => at(l.gnss.as_ref(), i).map(Event::Gnss),
         }
     }
 }
@@ -394,7 +439,7 @@ impl Iterator for Events<'_> {
 
     fn next(&mut self) -> Option<Event> {
         let mut best: Option<(usize, Event)> = None;
-        for k in 0..8 {
+        for k in 0..EVENT_SOURCES {
             if let Some(e) = self.head(k) {
                 let earlier = match &best {
                     None => true,

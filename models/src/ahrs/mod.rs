@@ -3,9 +3,11 @@
 
 pub mod heading;
 pub mod model;
+pub mod replay;
 
 pub use heading::{declination_from, magnetic_heading};
 pub use model::{Ahrs, AhrsGravity, AhrsHeading};
+pub use replay::AhrsReplay;
 
 #[cfg(test)]
 mod tests {

@@ -4,8 +4,10 @@
 
 pub mod blocks;
 pub mod model;
+pub mod replay;
 
 pub use model::{GnssIns, GnssInsBarometer, GnssInsGnssFix, GnssInsMagneticHeading};
+pub use replay::GnssInsReplay;
 
 #[cfg(test)]
 mod tests {

@@ -257,7 +257,7 @@ impl Aiding {
                     }),
                 )
             }
-            LogEvent::Imu(_) | LogEvent::Speed(_) | LogEvent::Rpm(_) => return,
+            _ => return,
         };
         let row = self.rows[sensor];
         self.rows[sensor] += 1;

@@ -19,6 +19,47 @@ const GYRO_BIAS_SIGMA_DEFAULT: f64 = 0.1;
 /// PX4 EKF2's switch-on uncertainty of the accelerometer bias, m/s^2.
 const ACCEL_BIAS_SIGMA_DEFAULT: f64 = 0.2;
 
+/// The columns of `gnss.csv`: always all of them, a cell the receiver does
+/// not give left empty (the log reader's fixed schema).
+pub const GNSS_COLUMNS: [&str; 10] = [
+    "t",
+    "lat",
+    "lon",
+    "height",
+    "eph",
+    "epv",
+    "vn",
+    "ve",
+    "vd",
+    "speed_accuracy",
+];
+
+/// The columns of `reference.csv`: always all of them, the groups PX4's
+/// log has no topic for left empty.
+pub const REFERENCE_COLUMNS: [&str; 10] = [
+    "t", "lat", "lon", "height", "vn", "ve", "vd", "roll", "pitch", "yaw",
+];
+
+/// `f` with the columns `full` (a superset of its header, in any order):
+/// the columns it lacks are empty cells (NaN).
+fn widen(f: CsvFile, full: &[&'static str]) -> CsvFile {
+    let n = f.header.len();
+    let map: Vec<Option<usize>> = full
+        .iter()
+        .map(|c| f.header.iter().position(|h| h == c))
+        .collect();
+    let mut values = Vec::with_capacity(f.rows() * full.len());
+    for row in f.values.chunks_exact(n) {
+        values.extend(map.iter().map(|m| m.map_or(f64::NAN, |i| row[i])));
+    }
+    CsvFile {
+        name: f.name,
+        header: full.to_vec(),
+        values,
+        dropped: f.dropped,
+    }
+}
+
 /// Builds the log directory's content.
 pub fn assemble(
     file: &str,
@@ -35,7 +76,9 @@ pub fn assemble(
     };
     let mut files = Vec::new();
     let (mut imu, imu_topic) = cx.imu()?;
-    let reference = cx.estimate("", "reference.csv", "height")?;
+    let reference = cx
+        .estimate("", "reference.csv", "height")?
+        .map(|f| widen(f, &REFERENCE_COLUMNS));
     let truth = cx.estimate("_groundtruth", "truth.csv", "depth")?;
 
     // The initial estimate: PX4's first estimate at or after the first IMU sample.
@@ -59,9 +102,13 @@ pub fn assemble(
         });
     }
     files.push(imu);
-    for f in [cx.magnetometer()?, cx.barometer()?, cx.gnss()?]
-        .into_iter()
-        .flatten()
+    for f in [
+        cx.magnetometer()?,
+        cx.barometer()?,
+        cx.gnss()?.map(|f| widen(f, &GNSS_COLUMNS)),
+    ]
+    .into_iter()
+    .flatten()
     {
         files.push(f);
     }
@@ -646,6 +693,9 @@ fn meta_toml(
     let mut keys: Vec<(&str, f64)> = Vec::new();
     if let (Some(row), Some(r)) = (initial, reference) {
         for (name, value) in r.header.iter().zip(row) {
+            if !value.is_finite() {
+                continue; // an empty cell: the log has no such estimate
+            }
             match *name {
                 "t" => {}
                 "height" => keys.push(("depth", -value)),
@@ -700,8 +750,10 @@ fn parameter(cx: &mut Cx, parameters: &HashMap<String, f64>, name: &str) -> f64 
     }
 }
 
-/// `[sensors.imu]` goes into `meta.toml`; the aiding sensors' noise, which
-/// `meta.toml` has no section for, into `noise.toml`.
+/// `[sensors.imu]`, `[sensors.mag]`, `[sensors.baro]` and `[sensors.gnss]`
+/// go into `meta.toml` (what the replay models read); `noise.toml` repeats
+/// the aiding sensors' noise with the GNSS velocity noise, which `meta.toml`
+/// has no key for.
 fn noise_toml(cx: &mut Cx, parameters: &HashMap<String, f64>) -> (String, String) {
     let gyro = parameter(cx, parameters, "EKF2_GYR_NOISE");
     let accel = parameter(cx, parameters, "EKF2_ACC_NOISE");
@@ -720,6 +772,10 @@ fn noise_toml(cx: &mut Cx, parameters: &HashMap<String, f64>) -> (String, String
     let _ = writeln!(
         imu,
         "gyro_bias_sigma = {GYRO_BIAS_SIGMA_DEFAULT:e}\naccel_bias_sigma = {ACCEL_BIAS_SIGMA_DEFAULT:e}"
+    );
+    let _ = writeln!(
+        imu,
+        "\n[sensors.mag]\nnoise_sigma = {mag:e}\n\n[sensors.baro]\nnoise_sigma = {baro:e}\n\n[sensors.gnss]\nnoise_sigma = {gps_p:e}"
     );
     let mut noise =
         String::from("# Aiding-sensor noise, per sample (written by `navsim import ulog`).\n");

@@ -17,6 +17,7 @@ mod error;
 pub mod fuzz;
 pub mod guard;
 pub mod reference;
+pub mod replay;
 mod topics;
 
 #[cfg(test)]
@@ -42,7 +43,8 @@ pub struct CsvFile {
     pub name: &'static str,
     /// Column names.
     pub header: Vec<&'static str>,
-    /// Row-major values, `header.len()` per row.
+    /// Row-major values, `header.len()` per row; NaN is an empty cell (a
+    /// column the log has no source for).
     pub values: Vec<f64>,
     /// Rows dropped (time not increasing, value not finite).
     pub dropped: usize,
@@ -91,7 +93,7 @@ impl CsvFile {
                 }
                 if i == 0 {
                     let _ = write!(out, "{v:.6}");
-                } else {
+                } else if v.is_finite() {
                     let _ = write!(out, "{v}");
                 }
             }

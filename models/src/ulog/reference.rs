@@ -134,11 +134,31 @@ impl Reference {
                 return Err(bad(line_no, "column `t`: time not increasing".into()));
             }
             r.t.push(t);
-            if let (Some(c), Some(v)) = (pos_cols, r.position.as_mut()) {
-                v.push([value(c[0])?, value(c[1])?, value(c[2])?]);
+            // A group whose cells are all empty is one the file does not have
+            // (the importer's fixed schema): it is not compared.
+            let empty = |c: &[usize; 3]| {
+                c.iter()
+                    .all(|&i| cells.get(i).is_some_and(|s| s.trim().is_empty()))
+            };
+            match pos_cols {
+                Some(c) if empty(&c) => r.position = None,
+                Some(c) => {
+                    let p = [value(c[0])?, value(c[1])?, value(c[2])?];
+                    if let Some(v) = r.position.as_mut() {
+                        v.push(p);
+                    }
+                }
+                None => {}
             }
-            if let (Some(c), Some(v)) = (att_cols, r.attitude.as_mut()) {
-                v.push([value(c[0])?, value(c[1])?, value(c[2])?]);
+            match att_cols {
+                Some(c) if empty(&c) => r.attitude = None,
+                Some(c) => {
+                    let a = [value(c[0])?, value(c[1])?, value(c[2])?];
+                    if let Some(v) = r.attitude.as_mut() {
+                        v.push(a);
+                    }
+                }
+                None => {}
             }
         }
         Ok(r)
@@ -252,6 +272,24 @@ mod tests {
         let d = r.difference(&[point(1.5, 0.0, 179.0, 0.0), point(2.5, 0.0, 179.0, 0.0)]);
         assert_eq!(d.samples, 1);
         assert_eq!(d.scored_seconds, 0.0);
+    }
+
+    /// The importer's fixed schema: a group left empty is not compared.
+    #[test]
+    fn empty_groups_are_absent() {
+        let text = "t,lat,lon,height,vn,ve,vd,roll,pitch,yaw\n\
+            1.0,,,,0,0,0,0.1,0.2,0.3\n\
+            2.0,,,,0,0,0,0.1,0.2,0.3\n";
+        let r = Reference::parse("reference.csv", text).expect("parses");
+        assert_eq!(r.position, None);
+        assert_eq!(r.attitude.as_deref(), Some(&[[0.1, 0.2, 0.3]; 2][..]));
+        let e = Reference::parse(
+            "reference.csv",
+            "t,lat,lon,height,roll,pitch,yaw\n1.0,0.1,,0,0,0,0\n",
+        )
+        .expect_err("half a position")
+        .to_string();
+        assert!(e.contains("line 2: column `lon`"), "{e}");
     }
 
     #[test]

@@ -216,6 +216,16 @@ fn both_layouts_give_the_same_log() {
         close(fix[1], LAT_DEG.to_radians(), 1e-9, "lat");
         close(fix[2], LON_DEG.to_radians(), 1e-9, "lon");
         close(fix[3], HEIGHT, 1e-6, "ellipsoidal height");
+        // The fixed schema: the older layout has no velocity, an empty cell.
+        assert_eq!(gnss.header.len(), 10);
+        assert_eq!(
+            fix[6].is_nan(),
+            layout == Layout::Old,
+            "{layout:?}: {fix:?}"
+        );
+        let text = gnss.text();
+        let line = text.lines().nth(1).unwrap_or_default();
+        assert_eq!(line.ends_with(",,,,"), layout == Layout::Old, "{line}");
         has_warning(&log, "fix_type < 3");
         let reference = log.file("reference.csv").expect("reference.csv");
         assert_eq!(
@@ -532,24 +542,30 @@ fn the_command_line_writes_the_log_directory() {
     assert!(!std::path::Path::new("/tmp/never-written").exists());
 }
 
-/// The written directory is read by the project's log reader: `imu.csv`,
-/// `truth.csv` and `meta.toml` in its format, the other files listed as
-/// files it does not use.
+/// The written directory is read strictly by the project's log reader:
+/// every file in its format (the fixed `gnss.csv` and `reference.csv`
+/// schemas), the aiding noise in `meta.toml`.
 #[test]
 fn the_log_reader_reads_the_written_directory() {
     let log = import(&flight(Layout::New, 1).bytes());
     let dir = std::env::temp_dir().join(format!("ulog-logdir-{}", std::process::id()));
     log.write(&dir).expect("written");
-    let read = nav_runtime::log::LogDir::read(&dir, nav_runtime::log::Strictness::Lenient);
+    let read = nav_runtime::log::LogDir::read(&dir, nav_runtime::log::Strictness::Strict);
     let _ = std::fs::remove_dir_all(&dir);
     let read = read.expect("read by LogDir");
     assert_eq!(read.imu.len(), TICKS as usize);
-    assert_eq!(read.total_skipped_rows(), 0);
-    for name in ["mag.csv", "baro.csv", "gnss.csv", "reference.csv"] {
-        assert!(
-            read.unknown_files.iter().any(|f| f == name),
-            "{:?}",
-            read.unknown_files
-        );
-    }
+    assert!(read.unknown_files.is_empty(), "{:?}", read.unknown_files);
+    assert_eq!(read.mag.as_ref().map(Vec::len), Some(40));
+    assert_eq!(read.baro.as_ref().map(Vec::len), Some(40));
+    let gnss = read.gnss.as_ref().expect("gnss.csv");
+    assert_eq!(gnss.len(), 9);
+    close(gnss[0].lat, LAT_DEG.to_radians(), 1e-9, "lat");
+    let reference = read.reference.as_ref().expect("reference.csv");
+    assert_eq!(reference.len(), 39);
+    assert!(reference.iter().all(|r| r.attitude().is_some()));
+    let s = &read.meta.sensors;
+    assert!(
+        s.mag.is_some() && s.baro.is_some() && s.gnss.is_some(),
+        "{s:?}"
+    );
 }

@@ -15,9 +15,10 @@ use super::{
     parse_csv, write_csv, AltitudeRow, DepthRow, DvlRow, HeadingRow, ImuRow, Meta, Row, RpmRow,
     SpeedRow, Strictness, TruthRow, UsblRow,
 };
+use super::{BaroRow, GnssRow, MagRow, ReferenceRow};
 
 /// Number of CSV row types [`csv_file`] chooses from.
-pub const CSV_KINDS: usize = 9;
+pub const CSV_KINDS: usize = 13;
 
 /// The file name [`csv_file`] parses `data` as: selected by the first byte.
 pub fn csv_kind_name(selector: u8) -> &'static str {
@@ -30,7 +31,11 @@ pub fn csv_kind_name(selector: u8) -> &'static str {
         5 => SpeedRow::FILE,
         6 => RpmRow::FILE,
         7 => AltitudeRow::FILE,
-        _ => TruthRow::FILE,
+        8 => TruthRow::FILE,
+        9 => MagRow::FILE,
+        10 => BaroRow::FILE,
+        11 => GnssRow::FILE,
+        _ => ReferenceRow::FILE,
     }
 }
 
@@ -52,7 +57,11 @@ pub fn csv_file(data: &[u8]) {
         5 => csv_as::<SpeedRow>(content),
         6 => csv_as::<RpmRow>(content),
         7 => csv_as::<AltitudeRow>(content),
-        _ => csv_as::<TruthRow>(content),
+        8 => csv_as::<TruthRow>(content),
+        9 => csv_as::<MagRow>(content),
+        10 => csv_as::<BaroRow>(content),
+        11 => csv_as::<GnssRow>(content),
+        _ => csv_as::<ReferenceRow>(content),
     }
 }
 

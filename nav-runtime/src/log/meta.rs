@@ -103,6 +103,12 @@ pub struct Sensors {
     pub rpm: Option<SensorNoise>,
     /// `[sensors.altitude]`.
     pub altitude: Option<SensorNoise>,
+    /// `[sensors.mag]` (gauss).
+    pub mag: Option<SensorNoise>,
+    /// `[sensors.baro]` (m).
+    pub baro: Option<SensorNoise>,
+    /// `[sensors.gnss]` (m, horizontal and vertical).
+    pub gnss: Option<SensorNoise>,
     /// `[sensors.usbl] misalignment_sigma`: one-sigma prior of the USBL array
     /// misalignment about each axis, rad (optional; independent of the USBL
     /// bias sigma; `0` = no misalignment state; when absent the filter keeps
@@ -139,7 +145,7 @@ const MOUNTED: &[&str] = &["dvl", "depth", "heading", "usbl", "speed", "altitude
 
 /// Aiding sensor names accepted under `[sensors.<name>]` (besides `imu`).
 pub const AIDING_SENSORS: &[&str] = &[
-    "dvl", "depth", "heading", "usbl", "speed", "rpm", "altitude",
+    "dvl", "depth", "heading", "usbl", "speed", "rpm", "altitude", "mag", "baro", "gnss",
 ];
 
 /// `[usbl]`: the USBL transducer position.
@@ -352,6 +358,9 @@ impl Meta {
                     "usbl" => &mut sensors.usbl,
                     "speed" => &mut sensors.speed,
                     "rpm" => &mut sensors.rpm,
+                    "mag" => &mut sensors.mag,
+                    "baro" => &mut sensors.baro,
+                    "gnss" => &mut sensors.gnss,
                     _ => &mut sensors.altitude,
                 };
                 *slot = Some(noise);
@@ -441,6 +450,9 @@ impl Meta {
             ("speed", sn.speed),
             ("rpm", sn.rpm),
             ("altitude", sn.altitude),
+            ("mag", sn.mag),
+            ("baro", sn.baro),
+            ("gnss", sn.gnss),
         ] {
             if let Some(n) = v {
                 let _ = writeln!(s, "\n[sensors.{name}]");

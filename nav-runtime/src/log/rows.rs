@@ -203,6 +203,72 @@ rows! {
         /// Yaw, rad.
         yaw: f64,
     }
+    /// `mag.csv`: magnetometer, gauss, body frame FRD.
+    MagRow, "mag.csv" {
+        /// Time, s.
+        t: f64,
+        /// Field along x (forward), gauss.
+        mx: f64,
+        /// Field along y (right), gauss.
+        my: f64,
+        /// Field along z (down), gauss.
+        mz: f64,
+    }
+    /// `baro.csv`: barometric altitude, m above mean sea level, positive up.
+    BaroRow, "baro.csv" {
+        /// Time, s.
+        t: f64,
+        /// Barometric altitude, m.
+        altitude: f64,
+    }
+    /// `gnss.csv`: GNSS receiver fix; the accuracy and velocity cells are
+    /// empty when the receiver does not give them.
+    GnssRow, "gnss.csv" {
+        /// Time, s.
+        t: f64,
+        /// Latitude, rad.
+        lat: f64,
+        /// Longitude, rad.
+        lon: f64,
+        /// Height, m, positive up.
+        height: f64,
+        /// Horizontal position accuracy (1 sigma), m.
+        eph: Option<f64>,
+        /// Vertical position accuracy (1 sigma), m.
+        epv: Option<f64>,
+        /// North velocity, m/s.
+        vn: Option<f64>,
+        /// East velocity, m/s.
+        ve: Option<f64>,
+        /// Down velocity, m/s.
+        vd: Option<f64>,
+        /// Speed accuracy (1 sigma), m/s.
+        speed_accuracy: Option<f64>,
+    }
+    /// `reference.csv`: another estimator's solution (e.g. PX4's own), for
+    /// comparison only; a group of columns it does not have is left empty.
+    ReferenceRow, "reference.csv" {
+        /// Time, s.
+        t: f64,
+        /// Latitude, rad.
+        lat: Option<f64>,
+        /// Longitude, rad.
+        lon: Option<f64>,
+        /// Height, m, positive up.
+        height: Option<f64>,
+        /// North velocity, m/s.
+        vn: Option<f64>,
+        /// East velocity, m/s.
+        ve: Option<f64>,
+        /// Down velocity, m/s.
+        vd: Option<f64>,
+        /// Roll, rad.
+        roll: Option<f64>,
+        /// Pitch, rad.
+        pitch: Option<f64>,
+        /// Yaw, rad.
+        yaw: Option<f64>,
+    }
 }
 
 impl DvlRow {
@@ -257,6 +323,38 @@ impl From<&crate::trajectory::TruthState> for TruthRow {
 impl RangeCheck for TruthRow {
     fn range_check(&self) -> Result<(), (usize, f64, &'static str)> {
         check_lat_lon(self.lat, self.lon)
+    }
+}
+impl RangeCheck for MagRow {}
+impl RangeCheck for BaroRow {}
+impl RangeCheck for GnssRow {
+    fn range_check(&self) -> Result<(), (usize, f64, &'static str)> {
+        check_lat_lon(self.lat, self.lon)?;
+        for (i, v) in [(4, self.eph), (5, self.epv), (9, self.speed_accuracy)] {
+            if let Some(v) = v.filter(|v| *v < 0.0) {
+                return Err((i, v, "accuracy >= 0"));
+            }
+        }
+        Ok(())
+    }
+}
+impl RangeCheck for ReferenceRow {
+    fn range_check(&self) -> Result<(), (usize, f64, &'static str)> {
+        check_lat_lon(self.lat.unwrap_or(0.0), self.lon.unwrap_or(0.0))
+    }
+}
+impl ReferenceRow {
+    /// Latitude, longitude (rad) and height (m), when all three are present.
+    pub fn position(&self) -> Option<[f64; 3]> {
+        Some([self.lat?, self.lon?, self.height?])
+    }
+    /// North, east, down velocity (m/s), when all three are present.
+    pub fn velocity(&self) -> Option<[f64; 3]> {
+        Some([self.vn?, self.ve?, self.vd?])
+    }
+    /// Roll, pitch, yaw (rad), when all three are present.
+    pub fn attitude(&self) -> Option<[f64; 3]> {
+        Some([self.roll?, self.pitch?, self.yaw?])
     }
 }
 impl RangeCheck for AltitudeRow {

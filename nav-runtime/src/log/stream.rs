@@ -19,6 +19,7 @@ use super::{
     LogDir, LogError, Meta, Row, RpmRow, SkippedRow, SpeedRow, Strictness, UsblRow, Warning,
     WarningKind, META_FILE,
 };
+use super::{BaroRow, GnssRow, MagRow};
 
 /// A log directory opened for reading file by file: its `meta.toml`, what
 /// the reader noticed about it, and a [`RowReader`] for any of its files.
@@ -305,9 +306,10 @@ type Pull<'a> = Box<dyn FnMut() -> Result<Option<Located>, LogError> + 'a>;
 
 /// Number of sources of [`EventStream`]. At equal times the echo sounder
 /// comes first (so a DVL sample sees the altitude of its own time), then the
-/// DVL, depth, compass, USBL, speed and rpm, and the IMU last: a replay that
-/// has an IMU sample in hand has every measurement stamped up to its time.
-const ORDER: usize = 8;
+/// DVL, depth, compass, USBL, speed, rpm, and the magnetometer, barometer and
+/// GNSS of an imported flight log, and the IMU last: a replay that has an
+/// IMU sample in hand has every measurement stamped up to its time.
+const ORDER: usize = 11;
 
 /// Index of the IMU among the sources of [`EventStream`].
 const IMU: usize = ORDER - 1;
@@ -353,6 +355,9 @@ impl<'a> EventStream<'a> {
             pull(SliceRows::of(l, l.usbl.as_deref()), Event::Usbl),
             pull(SliceRows::of(l, l.speed.as_deref()), Event::Speed),
             pull(SliceRows::of(l, l.rpm.as_deref()), Event::Rpm),
+            pull(SliceRows::of(l, l.mag.as_deref()), Event::Mag),
+            pull(SliceRows::of(l, l.baro.as_deref()), Event::Baro),
+            pull(SliceRows::of(l, l.gnss.as_deref()), Event::Gnss),
             pull(SliceRows::of(l, Some(&l.imu[..])), Event::Imu),
         ])
     }
@@ -379,6 +384,9 @@ impl<'a> EventStream<'a> {
             opt::<UsblRow>(files, Event::Usbl)?,
             opt::<SpeedRow>(files, Event::Speed)?,
             opt::<RpmRow>(files, Event::Rpm)?,
+            opt::<MagRow>(files, Event::Mag)?,
+            opt::<BaroRow>(files, Event::Baro)?,
+            opt::<GnssRow>(files, Event::Gnss)?,
             pull(files.imu()?, Event::Imu),
         ]))
     }
@@ -459,6 +467,10 @@ log_tables! {
     RpmRow => rpm,
     AltitudeRow => altitude,
     super::TruthRow => truth,
+    super::MagRow => mag,
+    super::BaroRow => baro,
+    super::GnssRow => gnss,
+    super::ReferenceRow => reference,
 }
 
 impl LogTable for ImuRow {

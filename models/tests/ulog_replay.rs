@@ -1,0 +1,188 @@
+//! The PX4 ULog fixture (`tests/data/ulog/sample_px4_events.ulg`) imported
+//! and replayed through the binary with the `ahrs` and `gnss-ins` models:
+//! the imported directory reads strictly, the JSON has the reference keys
+//! (and the truth keys once a truth file is added), the figures stay within
+//! the bounds measured on this log (docs/ulog.md, "Replay figures"), and
+//! `--out` writes the time series and plots.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+use common::{navsim, stderr, stdout, TempDir};
+use serde_json::Value;
+
+fn fixture() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/ulog/sample_px4_events.ulg")
+}
+
+fn import(tmp: &TempDir) -> PathBuf {
+    let dir = tmp.path().join("flight");
+    let o = navsim(&[
+        "import",
+        "ulog",
+        fixture().to_str().unwrap(),
+        "--out",
+        dir.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    dir
+}
+
+fn replay(dir: &Path, model: &str, extra: &[&str]) -> Value {
+    let mut args = vec!["replay", dir.to_str().unwrap(), "--model", model, "--json"];
+    args.extend_from_slice(extra);
+    let o = navsim(&args);
+    assert!(o.status.success(), "{model}: {}", stderr(&o));
+    serde_json::from_str(&stdout(&o)).expect("one JSON object")
+}
+
+fn num(v: &Value, path: &[&str]) -> f64 {
+    let mut x = v;
+    for k in path {
+        x = &x[*k];
+    }
+    x.as_f64()
+        .unwrap_or_else(|| panic!("{} missing in {v}", path.join(".")))
+}
+
+/// Measured on the fixture (docs/ulog.md): ahrs 0.06 / 0.07 / 0.33 deg,
+/// gnss-ins 0.05 / 0.07 / 0.38 deg and 0.011 m.
+const LEVEL_BOUND_DEG: f64 = 0.3;
+const YAW_BOUND_DEG: f64 = 1.5;
+const HORIZONTAL_BOUND_M: f64 = 0.25;
+
+fn check_attitude(v: &Value, model: &str) {
+    for axis in ["roll", "pitch"] {
+        let d = num(v, &["attitude_difference_rms_deg", axis]);
+        assert!(d > 0.0 && d < LEVEL_BOUND_DEG, "{model} {axis}: {d} deg");
+    }
+    let yaw = num(v, &["attitude_difference_rms_deg", "yaw"]);
+    assert!(yaw > 0.0 && yaw < YAW_BOUND_DEG, "{model} yaw: {yaw} deg");
+    assert_eq!(num(v, &["reference_samples"]), 428.0, "{model}");
+    assert!(num(v, &["reference_scored_seconds"]) > 21.0, "{model}");
+    let mag = &v["health"]["mag"];
+    assert_eq!(num(mag, &["rows"]), 459.0, "{model}");
+    assert!(num(mag, &["accepted"]) > 300.0, "{model}: {mag}");
+    assert_eq!(num(mag, &["rejected"]), 0.0, "{model}");
+}
+
+#[test]
+fn the_imported_fixture_reads_strictly() {
+    let tmp = TempDir::new("ulog-check");
+    let dir = import(&tmp);
+    let o = navsim(&["check", dir.to_str().unwrap(), "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: Value = serde_json::from_str(&stdout(&o)).expect("json");
+    assert!(
+        !v.to_string().contains("unknown_file"),
+        "imported files are log files: {v}"
+    );
+}
+
+#[test]
+fn ahrs_replays_the_fixture_close_to_px4() {
+    let tmp = TempDir::new("ulog-ahrs");
+    let dir = import(&tmp);
+    let out = tmp.path().join("out");
+    let v = replay(&dir, "ahrs", &["--out", out.to_str().unwrap()]);
+    check_attitude(&v, "ahrs");
+    assert!(v.get("horizontal_difference_rms_m").is_none(), "{v}");
+    let gravity = &v["health"]["gravity"];
+    assert!(num(gravity, &["accepted"]) > 150.0, "{gravity}");
+    // The take-off and landing accelerate: some intervals are skipped.
+    assert!(num(gravity, &["skipped"]) > 0.0, "{gravity}");
+    let decl = num(&v, &["magnetic_declination_deg"]);
+    assert!(decl.abs() < 10.0, "{decl}");
+    for f in [
+        "estimates.csv",
+        "reference_difference.csv",
+        "attitude_difference.svg",
+        "summary.json",
+    ] {
+        assert!(out.join(f).is_file(), "{f} written");
+    }
+    let text = std::fs::read_to_string(out.join("reference_difference.csv")).unwrap();
+    assert!(
+        text.starts_with("t,roll_deg,pitch_deg,yaw_deg,"),
+        "{text:.80}"
+    );
+    assert_eq!(text.lines().count(), 429);
+}
+
+#[test]
+fn gnss_ins_replays_the_fixture_close_to_px4() {
+    let tmp = TempDir::new("ulog-gnss-ins");
+    let dir = import(&tmp);
+    let out = tmp.path().join("out");
+    let v = replay(&dir, "gnss-ins", &["--out", out.to_str().unwrap()]);
+    check_attitude(&v, "gnss-ins");
+    let h = num(&v, &["horizontal_difference_rms_m"]);
+    assert!(h > 0.0 && h < HORIZONTAL_BOUND_M, "{h} m");
+    let gnss = &v["health"]["gnss"];
+    assert_eq!(num(gnss, &["rows"]), 423.0);
+    assert!(num(gnss, &["accepted"]) > 400.0, "{gnss}");
+    assert!(num(&v, &["health", "baro", "accepted"]) > 400.0, "{v}");
+    assert!(
+        v.get("horizontal_error_rms_m").is_none(),
+        "no truth, no error"
+    );
+    for f in [
+        "estimates.csv",
+        "reference_difference.csv",
+        "attitude_difference.svg",
+        "horizontal_difference.svg",
+    ] {
+        assert!(out.join(f).is_file(), "{f} written");
+    }
+}
+
+/// With PX4's estimate copied into `truth.csv`, the truth keys appear and
+/// agree with the reference differences (the same rows, scored twice).
+#[test]
+fn truth_gives_the_usual_error_keys() {
+    let tmp = TempDir::new("ulog-truth");
+    let dir = import(&tmp);
+    let reference = std::fs::read_to_string(dir.join("reference.csv")).unwrap();
+    let mut truth = String::from("t,lat,lon,depth,vn,ve,vd,roll,pitch,yaw\n");
+    for line in reference.lines().skip(1) {
+        let c: Vec<&str> = line.split(',').collect();
+        let depth = -c[3].parse::<f64>().unwrap();
+        truth.push_str(&format!(
+            "{},{},{},{depth},{}\n",
+            c[0],
+            c[1],
+            c[2],
+            c[4..].join(",")
+        ));
+    }
+    std::fs::write(dir.join("truth.csv"), truth).unwrap();
+    let v = replay(&dir, "gnss-ins", &[]);
+    let error = num(&v, &["horizontal_error_rms_m"]);
+    let difference = num(&v, &["horizontal_difference_rms_m"]);
+    assert!(
+        (error - difference).abs() < 0.01 + 0.2 * difference,
+        "{error} vs {difference}"
+    );
+    for k in [
+        "horizontal_error_final_m",
+        "depth_error_rms_m",
+        "nees_mean",
+        "scored_seconds",
+    ] {
+        assert!(num(&v, &[k]).is_finite(), "{k}");
+    }
+    for model in ["gnss-ins", "ahrs"] {
+        let v = if model == "ahrs" {
+            replay(&dir, model, &[])
+        } else {
+            v.clone()
+        };
+        for axis in ["roll", "pitch", "yaw"] {
+            let e = num(&v, &["attitude_error_rms_deg", axis]);
+            let d = num(&v, &["attitude_difference_rms_deg", axis]);
+            assert!((e - d).abs() < 0.02 + 0.1 * d, "{model} {axis}: {e} vs {d}");
+        }
+    }
+}
