@@ -751,9 +751,39 @@ fn cases() -> Vec<Case> {
                 ] {
                     shift_from(d, f, 0, 1.7e9)
                 }
+                // The epoch of the initial estimate moves with the data.
+                meta_key(d, "initial", "t", "t = 1700000000.0");
             },
             SDINS,
             Correct,
+            Here,
+        ),
+        (
+            "epoch time stamps, [initial] t left at 0",
+            "clocks",
+            |d| {
+                for f in [
+                    "imu.csv",
+                    "dvl.csv",
+                    "depth.csv",
+                    "heading.csv",
+                    "usbl.csv",
+                    "altitude.csv",
+                    "truth.csv",
+                ] {
+                    shift_from(d, f, 0, 1.7e9)
+                }
+            },
+            SDINS,
+            Error(&["meta.toml", "initial.t", "before the first IMU row"]),
+            Here,
+        ),
+        (
+            "[initial] t after the IMU data",
+            "clocks",
+            |d| meta_key(d, "initial", "t", "t = 1.0e6"),
+            SDINS,
+            Error(&["meta.toml", "initial.t", "after the last IMU row"]),
             Here,
         ),
         (

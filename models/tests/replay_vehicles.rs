@@ -481,18 +481,24 @@ fn the_pressure_sensor_auv_replays_with_its_lever_arm() {
     let ignored = InsReplay::<Sdins20, 20>::new()
         .replay(&moved, &opts)
         .unwrap();
-    let depth_rms = |o: &models::montecarlo::ReplayOutput| {
-        o.metrics["depth_error_rms_m"].as_f64().unwrap()
-    };
+    let depth_rms =
+        |o: &models::montecarlo::ReplayOutput| o.metrics["depth_error_rms_m"].as_f64().unwrap();
     println!(
         "depth error RMS: no lever arm {:.4} m; at 1.2 m aft, 0.3 m down: pressure-auv {:.4} m, sdins20 {:.4} m",
         depth_rms(&plain),
         depth_rms(&at_arm),
         depth_rms(&ignored)
     );
-    assert!(at_arm.warnings.iter().all(|w| !w.contains("lever_arm")), "{:?}", at_arm.warnings);
     assert!(
-        ignored.warnings.iter().any(|w| w.contains("sensors.depth.lever_arm")),
+        at_arm.warnings.iter().all(|w| !w.contains("lever_arm")),
+        "{:?}",
+        at_arm.warnings
+    );
+    assert!(
+        ignored
+            .warnings
+            .iter()
+            .any(|w| w.contains("sensors.depth.lever_arm")),
         "{:?}",
         ignored.warnings
     );

@@ -399,7 +399,8 @@ impl<V: InsVehicle<N>, const N: usize> Builder<V, N> {
         let contexts = std::array::from_fn(|k| Context {
             noise_sigma: self.sensors[k].map_or(f64::NAN, |s| s.noise_sigma),
             mounting: self.sensors[k].and_then(|s| s.mounting),
-            lever_arm: self.sensors[k].map_or(nav_runtime::nalgebra::Vector3::zeros(), |s| s.lever_arm),
+            lever_arm: self.sensors[k]
+                .map_or(nav_runtime::nalgebra::Vector3::zeros(), |s| s.lever_arm),
             compass: self.options.compass,
             usbl_frame: frame,
         });

@@ -333,6 +333,7 @@ impl<'m> Scan<'m> {
         let imu_rows = self.rows[0];
         let span = self.imu_span();
         let t_start = self.t_start();
+        let epoch_ok = initial_epoch(self.meta, span, self.time_gaps.period(), &mut report);
         self.specific_force.finish(self.meta, &mut report);
         let reference_beyond = self.angle_range.reference_beyond();
         self.gyro_rate
@@ -345,13 +346,16 @@ impl<'m> Scan<'m> {
             heading_units::check(&self.head, &mut report);
         }
         self.depth.finish(self.meta, &mut report);
-        self.aiding.finish(
-            &self.head,
-            t_start,
-            self.present[DvlRow::INDEX],
-            &o,
-            &mut report,
-        );
+        if epoch_ok {
+            // The aiding checks measure time from the epoch.
+            self.aiding.finish(
+                &self.head,
+                t_start,
+                self.present[DvlRow::INDEX],
+                &o,
+                &mut report,
+            );
+        }
         self.truth.finish(
             self.present[TruthRow::INDEX] && self.rows[TruthRow::INDEX] == 0,
             &mut report,
@@ -363,6 +367,38 @@ impl<'m> Scan<'m> {
         sensor_sections::check(self.meta, has_rows, o.model_files, &mut report);
         report
     }
+}
+
+/// `[initial] t` more IMU periods before the first IMU row than the replay
+/// carries the initial state over, or after the last row: an error naming
+/// the key (a log moved to epoch time stamps without its epoch, say). False
+/// when it is one.
+fn initial_epoch(
+    meta: &nav_runtime::log::Meta,
+    span: Option<(f64, f64)>,
+    period: Option<f64>,
+    report: &mut Report,
+) -> bool {
+    use crate::sdins25::filter::MAX_EPOCH_LEAD_PERIODS;
+    use nav_runtime::log::{Warning, WarningKind, META_FILE};
+    let (Some(t), Some((t0, t1))) = (meta.initial.t, span) else {
+        return true;
+    };
+    let period = period.unwrap_or(0.01);
+    let problem = if t0 - t > MAX_EPOCH_LEAD_PERIODS * period {
+        format!(
+            "initial.t = {t} s is {} s before the first IMU row (t = {t0} s), more than \
+             {MAX_EPOCH_LEAD_PERIODS} IMU periods: a clock offset? (time stamps moved without \
+             initial.t)",
+            t0 - t
+        )
+    } else if t > t1 {
+        format!("initial.t = {t} s is after the last IMU row (t = {t1} s): nothing to replay")
+    } else {
+        return true;
+    };
+    report.error(Warning::about(WarningKind::Suspicious, META_FILE, problem).with_key("initial.t"));
+    false
 }
 
 #[cfg(test)]

@@ -22,9 +22,9 @@ use serde_json::{json, Map, Value};
 
 use crate::cli::{one_line, parse_failure, replay_with, ReplayArgs};
 use crate::montecarlo::RunError;
-use crate::preflight::{LogSummary, PreflightOptions};
 use crate::navigator::vehicle::{Layout, Present};
 use crate::navigator::InsVehicle;
+use crate::preflight::{LogSummary, PreflightOptions};
 use crate::sdins25::InsReplay;
 
 /// The command line of a vehicle's replay program.

@@ -314,9 +314,11 @@ impl LogFacts {
             match imu.next_row()? {
                 Some((_, r)) if r.t < epoch => before_epoch += 1,
                 Some((_, r)) => first = Some(r),
-                None => return Err(RunError::Invalid(format!(
+                None => {
+                    return Err(RunError::Invalid(format!(
                     "meta.toml: initial.t = {epoch} s is after the last IMU row: nothing to replay"
-                ))),
+                )))
+                }
             }
         }
         let first = first.unwrap_or(head[0]);

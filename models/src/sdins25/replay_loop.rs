@@ -12,9 +12,9 @@ use std::iter::Peekable;
 use nav_runtime::log::{
     DepthRow, DvlRow, Event as LogEvent, HeadingRow, ImuForm, ImuRow, LogDir, LogSource, UsblRow,
 };
-use nav_runtime::strapdown::RateSamples;
 use nav_runtime::nalgebra::Vector3;
 use nav_runtime::smoother::{smooth, EpochFile};
+use nav_runtime::strapdown::RateSamples;
 
 use super::aiding::{place, Aiding, Travelling};
 use super::filter::{setup_error, FilterOptions, InsRun, LogFacts, LogPlan, MAX_GAP_STEPS};
@@ -193,13 +193,18 @@ where
             }
         }
         let Some((line, row)) = next else { break };
-        let here = place("imu.csv", line, imu_row);
+        // Only formatted for a message.
+        let here = || place("imu.csv", line, imu_row);
         if let Some(k) = options.max_imu_step {
             let step = k * plan.imu.period_s;
             let gap = row.t - previous.t;
             if gap > step {
                 let steps = (gap / step).ceil();
-                let lines = format!("{} to {here}", place("imu.csv", previous_line, imu_row - 1));
+                let lines = format!(
+                    "{} to {}",
+                    place("imu.csv", previous_line, imu_row - 1),
+                    here()
+                );
                 if steps > MAX_GAP_STEPS {
                     return Err(RunError::Invalid(format!(
                         "imu.csv gap of {gap} s between {lines} is too long to propagate (more than {MAX_GAP_STEPS} steps of {step} s)"
@@ -239,10 +244,11 @@ where
         waiting.hand_unmatched(&mut out)?;
         nav.push_imu(row.t, sample(&row)).map_err(|e| match e {
             NavigatorError::Imu(e) => {
-                RunError::Invalid(format!("imu.csv at t = {} s ({here}): {e}", row.t))
+                RunError::Invalid(format!("imu.csv at t = {} s ({}): {e}", row.t, here()))
             }
             e => RunError::Invalid(format!(
-                "{here} (t = {} s): {e}{}",
+                "{} (t = {} s): {e}{}",
+                here(),
                 row.t,
                 last_input.map_or(String::new(), |ev| format!(
                     "; latest aiding input: {}",

@@ -189,23 +189,16 @@ pub fn run(
     config: &SoakConfig,
     mut progress: impl FnMut(&SoakHour),
 ) -> Result<SoakReport, RunError> {
-    let seed = config.seed;
-    let truth = PeriodicTruth::new(SHALLOW_DEPTH, config.duration);
-    let s0 = truth.truth(0.0);
+    let Survey {
+        truth,
+        mut imu_model,
+        mut dvl,
+        mut depth,
+        mut compass,
+        meta,
+    } = Survey::new(config);
     let floor_depth = SHALLOW_DEPTH + simulation::FLOOR_BELOW_START;
     assert!(floor_depth - (SHALLOW_DEPTH + 5.0) < simulation::DVL_MAX_ALTITUDE);
-
-    let spec = ImuSpec::sdins25();
-    let mut imu_model = ImuModel::new(spec, derive_seed(seed, "sdins25-imu"));
-    let (dvl_spec, depth_spec, compass_spec) = (
-        ErrorSpec::sdins25_dvl(),
-        ErrorSpec::sdins25_depth(),
-        ErrorSpec::sdins25_compass(),
-    );
-    let mut dvl = SensorErrorModel::<3>::new(dvl_spec, derive_seed(seed, "sdins25-dvl"));
-    let mut depth = SensorErrorModel::<1>::new(depth_spec, derive_seed(seed, "sdins25-depth"));
-    let mut compass =
-        SensorErrorModel::<1>::new(compass_spec, derive_seed(seed, "sdins25-compass"));
 
     let sample = |m: &mut ImuModel, t: f64| {
         let s = truth.truth(t);
@@ -218,16 +211,6 @@ pub fn run(
     let dt = 1.0 / IMU_RATE;
     let first = sample(&mut imu_model, 0.0);
     // A log holding only the set-up: meta.toml and the first IMU samples.
-    let mut meta = simulation::initial_meta(&s0, seed);
-    meta.sensors.imu = Some(ImuNoise {
-        gyro_bias_sigma: spec.gyro_bias,
-        gyro_noise_sigma: spec.gyro_noise,
-        accel_bias_sigma: spec.accel_bias,
-        accel_noise_sigma: spec.accel_noise,
-    });
-    meta.sensors.dvl = Some(simulation::sensor_noise(&dvl_spec));
-    meta.sensors.depth = Some(simulation::sensor_noise(&depth_spec));
-    meta.sensors.heading = Some(simulation::sensor_noise(&compass_spec));
     let mut setup = LogDir::new(meta);
     let row = |r: &ImuRate| {
         ImuRow::new(
@@ -392,6 +375,48 @@ pub fn start() -> Geodetic {
     scenarios::sdins25_start(SHALLOW_DEPTH)
 }
 
+/// The soak survey's truth, sensor error models and `meta.toml`.
+struct Survey {
+    truth: PeriodicTruth,
+    imu_model: ImuModel,
+    dvl: SensorErrorModel<3>,
+    depth: SensorErrorModel<1>,
+    compass: SensorErrorModel<1>,
+    meta: nav_runtime::log::Meta,
+}
+
+impl Survey {
+    fn new(config: &SoakConfig) -> Self {
+        let seed = config.seed;
+        let truth = PeriodicTruth::new(SHALLOW_DEPTH, config.duration);
+        let s0 = truth.truth(0.0);
+        let spec = ImuSpec::sdins25();
+        let (dvl_spec, depth_spec, compass_spec) = (
+            ErrorSpec::sdins25_dvl(),
+            ErrorSpec::sdins25_depth(),
+            ErrorSpec::sdins25_compass(),
+        );
+        let mut meta = simulation::initial_meta(&s0, seed);
+        meta.sensors.imu = Some(ImuNoise {
+            gyro_bias_sigma: spec.gyro_bias,
+            gyro_noise_sigma: spec.gyro_noise,
+            accel_bias_sigma: spec.accel_bias,
+            accel_noise_sigma: spec.accel_noise,
+        });
+        meta.sensors.dvl = Some(simulation::sensor_noise(&dvl_spec));
+        meta.sensors.depth = Some(simulation::sensor_noise(&depth_spec));
+        meta.sensors.heading = Some(simulation::sensor_noise(&compass_spec));
+        Survey {
+            truth,
+            imu_model: ImuModel::new(spec, derive_seed(seed, "sdins25-imu")),
+            dvl: SensorErrorModel::new(dvl_spec, derive_seed(seed, "sdins25-dvl")),
+            depth: SensorErrorModel::new(depth_spec, derive_seed(seed, "sdins25-depth")),
+            compass: SensorErrorModel::new(compass_spec, derive_seed(seed, "sdins25-compass")),
+            meta,
+        }
+    }
+}
+
 /// Writes the soak survey of `config` as a log directory at `dir` (which
 /// must not exist), one row at a time: IMU at 100 Hz, DVL, depth and compass
 /// at 2 Hz, truth at 1 Hz. A log of any length is written in the memory of a
@@ -431,30 +456,14 @@ pub fn write_log(config: &SoakConfig, dir: &std::path::Path) -> Result<(), RunEr
         }
     }
 
-    let seed = config.seed;
-    let truth = PeriodicTruth::new(SHALLOW_DEPTH, config.duration);
-    let s0 = truth.truth(0.0);
-    let spec = ImuSpec::sdins25();
-    let mut imu_model = ImuModel::new(spec, derive_seed(seed, "sdins25-imu"));
-    let (dvl_spec, depth_spec, compass_spec) = (
-        ErrorSpec::sdins25_dvl(),
-        ErrorSpec::sdins25_depth(),
-        ErrorSpec::sdins25_compass(),
-    );
-    let mut dvl = SensorErrorModel::<3>::new(dvl_spec, derive_seed(seed, "sdins25-dvl"));
-    let mut depth = SensorErrorModel::<1>::new(depth_spec, derive_seed(seed, "sdins25-depth"));
-    let mut compass =
-        SensorErrorModel::<1>::new(compass_spec, derive_seed(seed, "sdins25-compass"));
-    let mut meta = simulation::initial_meta(&s0, seed);
-    meta.sensors.imu = Some(ImuNoise {
-        gyro_bias_sigma: spec.gyro_bias,
-        gyro_noise_sigma: spec.gyro_noise,
-        accel_bias_sigma: spec.accel_bias,
-        accel_noise_sigma: spec.accel_noise,
-    });
-    meta.sensors.dvl = Some(simulation::sensor_noise(&dvl_spec));
-    meta.sensors.depth = Some(simulation::sensor_noise(&depth_spec));
-    meta.sensors.heading = Some(simulation::sensor_noise(&compass_spec));
+    let Survey {
+        truth,
+        mut imu_model,
+        mut dvl,
+        mut depth,
+        mut compass,
+        meta,
+    } = Survey::new(config);
     std::fs::create_dir(dir).map_err(|e| RunError::io(dir, e))?;
     let meta_path = dir.join("meta.toml");
     std::fs::write(&meta_path, meta.to_toml()).map_err(|e| RunError::io(&meta_path, e))?;
