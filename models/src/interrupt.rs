@@ -76,7 +76,7 @@ fn install() {
                 let list = PENDING.lock();
                 if let Ok(list) = &list {
                     for dir in list.iter() {
-                        let _ = std::fs::remove_dir_all(dir);
+                        remove_while_written(dir);
                     }
                 }
                 eprintln!("error: interrupted; partial outputs removed");
@@ -84,4 +84,23 @@ fn install() {
             }
         });
     });
+}
+
+/// Removes `dir`, which the main thread may still be writing into: moved
+/// aside first (new files can then no longer be created in it by its path),
+/// then removed; tried again while something remains.
+fn remove_while_written(dir: &std::path::Path) {
+    let mut aside = dir.as_os_str().to_owned();
+    aside.push(".removing");
+    let aside = std::path::PathBuf::from(aside);
+    let target = if std::fs::rename(dir, &aside).is_ok() {
+        aside
+    } else {
+        dir.to_path_buf()
+    };
+    for _ in 0..100 {
+        if std::fs::remove_dir_all(&target).is_ok() || !target.exists() {
+            return;
+        }
+    }
 }

@@ -26,8 +26,11 @@ fn config() -> SimConfig {
     }
 }
 
+/// A fresh directory per call: the tests of this file run in parallel.
 fn temp_dir(name: &str) -> std::path::PathBuf {
-    let d = std::env::temp_dir().join(format!("imu-increments-{name}-{}", std::process::id()));
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let k = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let d = std::env::temp_dir().join(format!("imu-increments-{name}-{}-{k}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
     d
 }

@@ -133,11 +133,23 @@ where
     let mut waiting = Waiting::default();
     let mut smoothing: Vec<Option<Estimate>> = Vec::new();
     let keep = options.smooth;
+    // Time spent reading the log and handing estimates on, which
+    // `runtime_s` (the filter's time) leaves out.
+    let io = std::cell::Cell::new(std::time::Duration::ZERO);
+    let timed = |f: &mut dyn FnMut() -> Result<(), RunError>| {
+        let t0 = std::time::Instant::now();
+        let r = f();
+        io.set(io.get() + t0.elapsed());
+        r
+    };
     let mut out = |p: P, e: Option<&Estimate>| -> Result<(), RunError> {
         if keep {
             smoothing.push(e.copied());
         }
-        sink(p, e)
+        let t0 = std::time::Instant::now();
+        let r = sink(p, e);
+        io.set(io.get() + t0.elapsed());
+        r
     };
 
     let mut stream = source.events()?;
@@ -181,7 +193,13 @@ where
         // The next IMU sample; every aiding row up to its time is queued.
         let mut next: Option<(Option<u64>, ImuRow)> = first_to_push.take();
         if next.is_none() {
-            while let Some(ev) = stream.next_event()? {
+            loop {
+                let mut ev = None;
+                timed(&mut || {
+                    ev = stream.next_event()?;
+                    Ok(())
+                })?;
+                let Some(ev) = ev else { break };
                 match ev.event {
                     LogEvent::Imu(r) => {
                         imu_row += 1;
@@ -237,8 +255,13 @@ where
             ev.push(&mut nav, &handles);
             last_input = Some(ev);
         }
-        let next_t = stream.next_imu_t()?;
-        if requests.take(row.t, next_t, tolerance, &mut waiting)? {
+        let mut ticket = false;
+        timed(&mut || {
+            let next_t = stream.next_imu_t()?;
+            ticket = requests.take(row.t, next_t, tolerance, &mut waiting)?;
+            Ok(())
+        })?;
+        if ticket {
             nav.request_estimate(row.t);
         }
         waiting.hand_unmatched(&mut out)?;
@@ -286,7 +309,7 @@ where
     result?;
     waiting.hand_unmatched(&mut out)?;
     drop(out);
-    let runtime_s = start.elapsed().as_secs_f64();
+    let runtime_s = start.elapsed().saturating_sub(io.get()).as_secs_f64();
 
     let mut health = aiding.health;
     for (i, h) in health.iter_mut().enumerate() {
