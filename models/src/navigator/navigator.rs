@@ -136,13 +136,14 @@ impl<V: InsVehicle<N>, const N: usize> Navigator<V, N> {
 
     /// Pushes a reading of the sensor of `handle` measured at `t` (s). A
     /// reading within one IMU period before the start (or at it) is applied
-    /// at the start ([`AT_START_S`] after it: the initial estimate is of the
+    /// at the start (`AT_START_S` after it: the initial estimate is of the
     /// start, before any reading); an earlier one is counted as skipped; one
     /// older than the sensor's latency, a duplicate, a frozen value or a
     /// non-finite value is refused and counted in its report.
     pub fn push<R: Reading>(&mut self, _handle: Handle<R>, t: f64, reading: R) {
         let t = if t <= self.start {
-            if !(t >= self.start - self.period_s) {
+            // A NaN time is counted as skipped too.
+            if t.is_nan() || t < self.start - self.period_s {
                 self.skipped[R::SLOT] += 1;
                 return;
             }

@@ -46,7 +46,7 @@ pub type Filter = InsFilter<Sdins25, N>;
 /// When a USBL fix reaches the filter.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum UsblDelivery {
-    /// A travel time (slant range / [`SOUND_SPEED`]) after its measurement time,
+    /// A travel time (slant range / [`super::simulation::SOUND_SPEED`]) after its measurement time,
     /// as on a real ship; the scheduler applies it at the measurement time.
     #[default]
     Acoustic,

@@ -11,7 +11,7 @@ pub mod faults;
 pub mod filter;
 pub mod lockout;
 pub mod model;
-mod replay_loop;
+pub mod replay_loop;
 pub mod replay_output;
 pub mod score;
 pub mod simulation;

@@ -1,5 +1,5 @@
 //! The replay loop: a log's events, read as a stream ([`LogSource`]), pushed
-//! into the vehicle's [`Navigator`] in delivery order, and the estimates at
+//! into the vehicle's [`Navigator`](crate::navigator::Navigator) in delivery order, and the estimates at
 //! the requested output times handed on as they become final. Nothing in it
 //! grows with the log: the aiding rows still travelling, the navigator's
 //! history and the requests not yet final are bounded by the latency window.
@@ -308,7 +308,6 @@ where
     });
     result?;
     waiting.hand_unmatched(&mut out)?;
-    drop(out);
     let runtime_s = start.elapsed().saturating_sub(io.get()).as_secs_f64();
 
     let mut health = aiding.health;
