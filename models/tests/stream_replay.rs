@@ -69,3 +69,67 @@ fn a_streamed_replay_gives_what_the_replay_in_memory_gives() {
     }
     std::fs::remove_dir_all(&root).unwrap();
 }
+
+/// A log whose IMU rows sit at interval midpoints and that has no
+/// `[initial] t`: the initial estimate holds at the start of the first IMU
+/// interval, so readings stamped at the log's start (before the first IMU
+/// row) are used, not dropped; an explicit epoch after them drops them.
+#[test]
+fn readings_at_the_start_of_a_midpoint_log_are_used() {
+    use models::sdins25::filter::{run, FilterOptions};
+    use models::sdins25::simulation::{simulate, SimConfig};
+    let config = SimConfig {
+        duration: 30.0,
+        ..SimConfig::dvl()
+    };
+    let mut log = simulate(&config, 4).log;
+    let dt = 0.01;
+    for r in &mut log.imu {
+        r.t += 0.5 * dt;
+    }
+    // A depth reading and a compass reading at t = 0.
+    let depth = log.depth.as_mut().unwrap();
+    let first_depth = depth[0];
+    depth.insert(
+        0,
+        nav_runtime::log::DepthRow {
+            t: 0.0,
+            ..first_depth
+        },
+    );
+    let heading = log.heading.as_mut().unwrap();
+    let first_heading = heading[0];
+    heading.insert(
+        0,
+        nav_runtime::log::HeadingRow {
+            t: 0.0,
+            ..first_heading
+        },
+    );
+    let times: Vec<f64> = (1..30).map(f64::from).collect();
+    log.meta.initial.t = None;
+    let from_interval_start = run(&log, &FilterOptions::default(), &times).unwrap();
+    let (depth_health, heading_health) = (
+        from_interval_start.health[0].1,
+        from_interval_start.health[2].1,
+    );
+    assert_eq!(depth_health.skipped, 0, "{depth_health:?}");
+    assert_eq!(heading_health.skipped, 0, "{heading_health:?}");
+    assert_eq!(
+        depth_health.accepted + depth_health.gated,
+        depth_health.rows
+    );
+    // An explicit epoch at the first IMU row: the readings before it are
+    // more than one IMU period older only if the epoch is later still.
+    log.meta.initial.t = Some(0.5 * dt + 2.0 * dt);
+    let late = run(&log, &FilterOptions::default(), &times).unwrap();
+    assert_eq!(late.health[0].1.skipped, 1, "{:?}", late.health[0].1);
+    assert_eq!(late.health[2].1.skipped, 1, "{:?}", late.health[2].1);
+    assert!(
+        late.warnings
+            .iter()
+            .any(|w| w.contains("before the initial epoch")),
+        "{:?}",
+        late.warnings
+    );
+}
