@@ -41,7 +41,8 @@ pub(super) fn check(
                 "not read by this model: its rows are not used",
             ));
         }
-        if used && has_rows && !has_section {
+        // The echo sounder's altitude only gates the DVL: it has no noise.
+        if used && has_rows && !has_section && name != "altitude" {
             report.warn(
                 Warning::about(
                     WarningKind::MissingSensorSection,

@@ -172,6 +172,7 @@ fn sdins() -> PreflightOptions {
             "depth.csv",
             "heading.csv",
             "usbl.csv",
+            "altitude.csv",
             "truth.csv",
         ]),
         ..PreflightOptions::default()
@@ -180,9 +181,24 @@ fn sdins() -> PreflightOptions {
 
 #[test]
 fn simulated_log_is_clean() {
-    // The simulator writes an echo sounder the SDINS models do not read.
+    // The SDINS models read every file the simulator writes (the echo
+    // sounder gates the DVL, and needs no [sensors.altitude] noise).
     let report = check(&log(), &sdins());
-    let unused: Vec<_> = report
+    assert!(report.findings.is_empty(), "{:?}", report.findings);
+    // A model that does not read the echo sounder lists it as unused.
+    let without_altitude = PreflightOptions {
+        model_files: Some(&[
+            "imu.csv",
+            "dvl.csv",
+            "depth.csv",
+            "heading.csv",
+            "usbl.csv",
+            "truth.csv",
+        ]),
+        ..PreflightOptions::default()
+    };
+    let partial = check(&log(), &without_altitude);
+    let unused: Vec<_> = partial
         .findings
         .iter()
         .map(|f| (f.severity, f.what.kind, f.what.file.as_deref()))
@@ -195,7 +211,7 @@ fn simulated_log_is_clean() {
             Some("altitude.csv")
         )]
     );
-    // Without the model's file list the altitude file has no section.
+    // Without a model's file list nothing is unused.
     let all = check(&log(), &PreflightOptions::default());
     assert!(
         all.findings

@@ -639,12 +639,14 @@ impl<V: InsVehicle<N>, const N: usize> ReplayModel for InsReplay<V, N> {
     }
     fn log_files(&self) -> Option<&'static [&'static str]> {
         // Aiding files of sensors `V` lacks are reported by the replay itself.
+        // The echo sounder's altitude gates the DVL (above its range).
         Some(&[
             "imu.csv",
             "dvl.csv",
             "depth.csv",
             "heading.csv",
             "usbl.csv",
+            "altitude.csv",
             "truth.csv",
         ])
     }
