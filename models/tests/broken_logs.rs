@@ -133,6 +133,21 @@ fn shift_from(dir: &Path, file: &str, from: usize, dt: f64) {
     });
 }
 
+/// Adds `dt` to the time of every row of every sensor and truth file.
+fn shift_all(dir: &Path, dt: f64) {
+    for f in [
+        "imu.csv",
+        "dvl.csv",
+        "depth.csv",
+        "heading.csv",
+        "usbl.csv",
+        "altitude.csv",
+        "truth.csv",
+    ] {
+        shift_from(dir, f, 0, dt)
+    }
+}
+
 /// Replaces the `key = ...` line of `[section]` of meta.toml by `line` (or
 /// appends it to the section when the key is absent).
 fn meta_key(dir: &Path, section: &str, key: &str, line: &str) {
@@ -740,17 +755,7 @@ fn cases() -> Vec<Case> {
             "epoch time stamps",
             "correct",
             |d| {
-                for f in [
-                    "imu.csv",
-                    "dvl.csv",
-                    "depth.csv",
-                    "heading.csv",
-                    "usbl.csv",
-                    "altitude.csv",
-                    "truth.csv",
-                ] {
-                    shift_from(d, f, 0, 1.7e9)
-                }
+                shift_all(d, 1.7e9);
                 // The epoch of the initial estimate moves with the data.
                 meta_key(d, "initial", "t", "t = 1700000000.0");
             },
@@ -761,19 +766,7 @@ fn cases() -> Vec<Case> {
         (
             "epoch time stamps, [initial] t left at 0",
             "clocks",
-            |d| {
-                for f in [
-                    "imu.csv",
-                    "dvl.csv",
-                    "depth.csv",
-                    "heading.csv",
-                    "usbl.csv",
-                    "altitude.csv",
-                    "truth.csv",
-                ] {
-                    shift_from(d, f, 0, 1.7e9)
-                }
-            },
+            |d| shift_all(d, 1.7e9),
             SDINS,
             Error(&["meta.toml", "initial.t", "before the first IMU row"]),
             Here,
