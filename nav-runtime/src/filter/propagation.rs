@@ -133,15 +133,18 @@ fn propagate_steps<const N: usize, const D: usize, const AVX: bool>(
     if let Some(d0) = contiguous(s.rows) {
         // Column `s` of the block is a combination of the columns of A, each
         // `P[d0..d0 + D, k]` now: vectorized like step 1.
-        let block: [[f64; D]; D] = core::array::from_fn(|r| {
-            let (columns, values) = terms[r];
+        // A plain loop rather than `array::from_fn`: the closure of the
+        // latter is not inlined into the AVX build and costs ~15 % of the
+        // kernel.
+        let mut block = [[0.0f64; D]; D];
+        for (r, (column, &(columns, values))) in block.iter_mut().zip(&terms).enumerate() {
             let base = if s.identity {
                 Some(&cols[d0 + r])
             } else {
                 None
             };
-            combination::<N, D>(base, columns, values, cols, d0)
-        });
+            *column = combination::<N, D>(base, columns, values, cols, d0);
+        }
         for (c, column) in block.iter().enumerate() {
             for (r, &v) in column.iter().enumerate().take(c + 1) {
                 cols[d0 + c][d0 + r] = v;

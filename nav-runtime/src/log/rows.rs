@@ -411,7 +411,10 @@ impl<R: BufRead> Lines<R> {
             while matches!(self.buf.last(), Some(b'\n' | b'\r')) {
                 self.buf.pop();
             }
-            if !self.buf.iter().all(u8::is_ascii_whitespace) {
+            // A line that starts with a printable byte is not blank (the
+            // common case, decided without scanning the line).
+            let starts_printable = self.buf.first().is_some_and(|b| !b.is_ascii_whitespace());
+            if starts_printable || !self.buf.iter().all(u8::is_ascii_whitespace) {
                 return Ok(Some(self.line));
             }
         }
@@ -420,7 +423,21 @@ impl<R: BufRead> Lines<R> {
 
 /// Splits a line at commas and trims ASCII whitespace around each cell.
 fn split_cells(line: &[u8]) -> impl Iterator<Item = &[u8]> {
-    line.split(|&b| b == b',').map(|c| c.trim_ascii())
+    let mut start = 0;
+    let mut commas = memchr::memchr_iter(b',', line);
+    let mut done = false;
+    std::iter::from_fn(move || {
+        if done {
+            return None;
+        }
+        let end = commas.next().unwrap_or_else(|| {
+            done = true;
+            line.len()
+        });
+        let cell = line[start..end].trim_ascii();
+        start = end + 1;
+        Some(cell)
+    })
 }
 
 /// Parses one CSV file of row type `R` from a reader: [`RowReader`] read to
@@ -831,7 +848,9 @@ impl<R: Row, I: Read> RowReader<R, I> {
     fn parse_row(&mut self) -> Result<f64, (String, CsvProblem)> {
         let line = &self.lines.buf;
         let ncols = self.header.len();
-        let count = split_cells(line).count();
+        // Commas are found with a vectorised search; the cells are parsed from
+        // one UTF-8 check of the whole line.
+        let count = memchr::memchr_iter(b',', line).count() + 1;
         if count != ncols {
             // First missing column, or the first extra one.
             return Err((
@@ -842,13 +861,23 @@ impl<R: Row, I: Read> RowReader<R, I> {
                 },
             ));
         }
+        let text = std::str::from_utf8(line).ok();
         for (j, raw) in split_cells(line).enumerate() {
             let Some(i) = self.slot[j] else { continue };
             self.cells[i] = if raw.is_empty() {
                 None
             } else {
-                let text = std::str::from_utf8(raw).ok();
-                match text.and_then(|s| s.parse::<f64>().ok()) {
+                // A cell of a valid UTF-8 line is a valid `str` (the trimmed
+                // comma-separated pieces end on ASCII bytes); a line that is
+                // not UTF-8 is checked cell by cell, to name the bad cell.
+                let cell = match text {
+                    Some(t) => {
+                        let start = raw.as_ptr() as usize - line.as_ptr() as usize;
+                        t.get(start..start + raw.len())
+                    }
+                    None => std::str::from_utf8(raw).ok(),
+                };
+                match cell.and_then(|s| s.parse::<f64>().ok()) {
                     Some(v) if v.is_finite() && (v * self.scale[i]).is_finite() => {
                         Some(v * self.scale[i])
                     }
