@@ -12,8 +12,8 @@
 #   scripts/bench.sh --callgrind --update-baseline   # rewrite that file
 #   scripts/bench.sh --expansion     # compile time of the model declarations
 #
-# Benches: propagation, update, filter_step, replay_step, scenario (crate models) and
-# strapdown (crate nav-runtime). Needs python3 to read criterion's JSON.
+# Benches: propagation, update, filter_step, replay_step, replay_pipeline, scenario
+# (crate models) and strapdown (crate nav-runtime). Needs python3 to read criterion's JSON.
 # See the README section "Performance" for what each ratio means and the targets.
 set -euo pipefail
 
@@ -35,7 +35,7 @@ for arg in "$@"; do
             sed -n '2,18p' "$0"
             exit 0
             ;;
-        propagation | update | filter_step | replay_step | scenario | strapdown) benches+=("$arg") ;;
+        propagation | update | filter_step | replay_step | replay_pipeline | scenario | strapdown) benches+=("$arg") ;;
         *)
             echo "unknown argument: $arg (see --help)" >&2
             exit 2
@@ -43,7 +43,7 @@ for arg in "$@"; do
     esac
 done
 if [ ${#benches[@]} -eq 0 ]; then
-    benches=(propagation update filter_step replay_step strapdown scenario)
+    benches=(propagation update filter_step replay_step replay_pipeline strapdown scenario)
 fi
 
 target_dir=$(cargo metadata --no-deps --format-version 1 |
@@ -289,6 +289,7 @@ for fn in ("update_rates", "update_increments", "mechanization_rates"):
 
 print("SDINS-25 log replay per IMU sample (60 s of lawnmower-dvl)")
 ratio("replay per sample / one generated propagation", "replay/sdins25/replay_per_sample", "replay/sdins25/propagate_covariance", 1.5)
+ratio("navsim replay: streamed, preflight alongside / loaded, then checked", "replay/pipeline/streamed_alongside", "replay/pipeline/loaded_then_checked", 1.0)
 
 print("Scenario runs (lawnmower-dvl, 500 s of data)")
 g = "scenario/lawnmower-dvl"

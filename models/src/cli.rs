@@ -427,36 +427,25 @@ pub fn replay_with(model: &dyn ReplayModel, args: &ReplayArgs) -> Result<(), Run
             model.name()
         )));
     }
-    let (files, summary, report) = stream_and_check(
-        &args.dir,
-        args.lenient,
-        args.max_gap_periods,
-        model.log_files(),
-    )?;
-    if let Some(first) = report.errors().next() {
-        let more = report.errors().count() - 1;
-        let tail = if more > 0 {
-            format!(" ({more} more problems: see `navsim check`)")
-        } else {
-            String::new()
-        };
-        return Err(RunError::Invalid(format!("{first}{tail}")));
-    }
+    let (preflight_options, strictness) =
+        preflight_options(args.lenient, args.max_gap_periods, model.log_files())?;
+    let files = LogFiles::open(&args.dir, strictness)?;
     let options = ReplayOptions {
         stationary: args.stationary,
         keep_series: args.out.is_some(),
         smooth: args.smooth,
         lenient: args.lenient,
     };
-    for reason in &summary.skip_reasons {
-        eprintln!("warning: skipped {reason}");
-    }
-    for file in &summary.unknown_files {
-        eprintln!("warning: ignored unknown file {file}");
-    }
-    let read = &summary;
-    // The result (JSON `warnings`, or the text) of a run's output.
-    let result = |output: &crate::montecarlo::ReplayOutput| {
+    // The JSON (`warnings` included) or text of a run's output.
+    let result = |output: &crate::montecarlo::ReplayOutput,
+                  report: &preflight::Report,
+                  read: &preflight::LogSummary| {
+        for reason in &read.skip_reasons {
+            eprintln!("warning: skipped {reason}");
+        }
+        for file in &read.unknown_files {
+            eprintln!("warning: ignored unknown file {file}");
+        }
         for w in &output.warnings {
             eprintln!("warning: {w}");
         }
@@ -475,11 +464,18 @@ pub fn replay_with(model: &dyn ReplayModel, args: &ReplayArgs) -> Result<(), Run
         }
         value
     };
+    // The preflight reads the log beside the replay; a log it refuses is
+    // refused with its error and the replay's output is discarded.
+    let replay = |out: Option<&std::path::Path>| {
+        preflight::check_alongside(&files, &preflight_options, || {
+            model.replay_files(&files, &options, out)
+        })
+    };
     if let Some(out) = &args.out {
         let mut value = Value::Null;
         let dir = write_out(out, |dir| {
-            let output = model.replay_files(&files, &options, Some(dir))?;
-            value = result(&output);
+            let (output, report, summary) = replay(Some(dir))?;
+            value = result(&output, &report, &summary);
             let path = dir.join("summary.json");
             std::fs::write(&path, report::json_line(&value) + "\n")
                 .map_err(|e| RunError::io(&path, e))
@@ -487,8 +483,8 @@ pub fn replay_with(model: &dyn ReplayModel, args: &ReplayArgs) -> Result<(), Run
         emit(&value, args.json);
         note(args.json, &format!("outputs written to {}", dir.display()));
     } else {
-        let output = model.replay_files(&files, &options, None)?;
-        emit(&result(&output), args.json);
+        let (output, report, summary) = replay(None)?;
+        emit(&result(&output, &report, &summary), args.json);
     }
     Ok(())
 }

@@ -140,6 +140,27 @@ fn the_event_streams_merge_the_new_sensors_with_the_others() {
 }
 
 #[test]
+fn a_stopped_log_ends_its_streams_with_an_error() {
+    let dir = tmp("stopped");
+    log().write(&dir).unwrap();
+    let files = LogFiles::open(&dir, Strictness::Strict).unwrap();
+    let mut stream = EventStream::open(&files).unwrap();
+    assert!(stream.next_event().unwrap().is_some());
+    // A clone shares the flag: a check holding a clone stops this stream.
+    let checker = files.clone();
+    assert!(!files.stopped());
+    checker.stop();
+    assert!(files.stopped());
+    let err = stream.next_event().unwrap_err();
+    assert!(matches!(err, LogError::Stopped { .. }), "{err}");
+    assert!(err.to_string().contains("reading stopped"), "{err}");
+    // A stream opened afterwards is stopped from its first event.
+    let mut later = EventStream::open(&files).unwrap();
+    assert!(matches!(later.next_event(), Err(LogError::Stopped { .. })));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn bad_cells_name_file_line_and_column() {
     let cases = [
         (

@@ -25,6 +25,7 @@
 //! finding. Checks and thresholds are described in `docs/trust.md`.
 
 mod aiding_plausibility;
+mod alongside;
 mod angle_range;
 mod depth_consistency;
 mod finding;
@@ -38,6 +39,7 @@ mod summary;
 mod time_gaps;
 mod truth_values;
 
+pub use alongside::{check_alongside, refusal};
 pub use finding::{Finding, Report, Severity};
 pub use summary::{FileSummary, ImuSummary, LogSummary};
 

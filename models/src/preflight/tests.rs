@@ -568,3 +568,44 @@ fn streaming_reports_the_read_error_of_the_whole_log() {
     assert_eq!(streamed.to_string(), whole.to_string());
     assert!(streamed.to_string().contains("depth.csv"), "{streamed}");
 }
+
+#[test]
+fn alongside_the_preflight_refuses_first_and_stops_the_work() {
+    use crate::montecarlo::RunError;
+    use std::time::{Duration, Instant};
+    let dir = Scratch::new("alongside");
+    let mut bad = log();
+    bad.imu.iter_mut().for_each(|r| r.az = -r.az);
+    bad.write(&dir.0).unwrap();
+    let files = LogFiles::open(&dir.0, Strictness::Strict).unwrap();
+    // The work waits until the refusal stops the log (bounded, so a missing
+    // stop fails the test instead of hanging it), then fails on its own.
+    let started = Instant::now();
+    let result = super::check_alongside(&files, &sdins(), || {
+        while !files.stopped() && started.elapsed() < Duration::from_secs(20) {
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        assert!(files.stopped(), "the refusal stops the log's streams");
+        Err::<(), _>(RunError::Invalid("the work's own error".into()))
+    });
+    let err = result.expect_err("refused").to_string();
+    assert!(
+        err.contains("FLU"),
+        "the preflight's error comes first: {err}"
+    );
+    // An accepted log gives the work's result, its error included.
+    let good = Scratch::new("alongside-good");
+    log().write(&good.0).unwrap();
+    let files = LogFiles::open(&good.0, Strictness::Strict).unwrap();
+    let (n, report, summary) =
+        super::check_alongside(&files, &sdins(), || Ok(7)).expect("accepted");
+    assert_eq!(n, 7);
+    assert_eq!(report.errors().count(), 0);
+    assert!(summary.imu_rows() > 0);
+    assert!(!files.stopped());
+    let err = super::check_alongside(&files, &sdins(), || {
+        Err::<(), _>(RunError::Invalid("the work's own error".into()))
+    })
+    .expect_err("the work's error");
+    assert!(err.to_string().contains("own error"), "{err}");
+}

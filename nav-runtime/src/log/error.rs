@@ -205,13 +205,20 @@ pub enum LogError {
         /// Why.
         reason: String,
     },
+    /// Reading was stopped through [`LogFiles::stop`](super::LogFiles::stop)
+    /// (another reader of the same log, such as the preflight, refused it).
+    #[error("{}: reading stopped", dir.display())]
+    Stopped {
+        /// The log directory.
+        dir: PathBuf,
+    },
 }
 
 impl LogError {
     /// The file the error is about (`meta.toml` for meta errors).
     pub fn file(&self) -> Option<&str> {
         match self {
-            LogError::Io { .. } | LogError::Write { .. } => None,
+            LogError::Io { .. } | LogError::Write { .. } | LogError::Stopped { .. } => None,
             LogError::MissingFile { file, .. }
             | LogError::UnknownFile { file, .. }
             | LogError::EmptyFile { file, .. }

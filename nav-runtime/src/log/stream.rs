@@ -11,6 +11,8 @@
 use std::collections::BTreeMap;
 use std::fs;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 
 use super::mapping::{ImuForm, LogMapping};
 use super::rows::RowReader;
@@ -31,6 +33,8 @@ pub struct LogFiles {
     strictness: Strictness,
     unknown_files: Vec<String>,
     warnings: Vec<Warning>,
+    /// Set by [`LogFiles::stop`]; shared by clones.
+    stop: Arc<AtomicBool>,
 }
 
 /// One file of a log opened for reading.
@@ -102,7 +106,22 @@ impl LogFiles {
             strictness,
             unknown_files,
             warnings,
+            stop: Arc::default(),
         })
+    }
+
+    /// Stops every [`EventStream`] of this log (and of its clones): their
+    /// next [`EventStream::next_event`] is [`LogError::Stopped`]. A check
+    /// reading the log on another thread calls it when it refuses the log,
+    /// so a replay running meanwhile ends at once instead of finishing a
+    /// run whose result is discarded.
+    pub fn stop(&self) {
+        self.stop.store(true, Ordering::Relaxed);
+    }
+
+    /// Whether [`LogFiles::stop`] was called.
+    pub fn stopped(&self) -> bool {
+        self.stop.load(Ordering::Relaxed)
     }
 
     /// The directory.
@@ -320,6 +339,8 @@ pub struct EventStream<'a> {
     pulls: Vec<Pull<'a>>,
     heads: [Option<Located>; ORDER],
     started: bool,
+    /// The log's stop flag and directory (file-backed streams only).
+    stop: Option<(Arc<AtomicBool>, PathBuf)>,
 }
 
 impl std::fmt::Debug for EventStream<'_> {
@@ -388,7 +409,14 @@ impl<'a> EventStream<'a> {
             opt::<BaroRow>(files, Event::Baro)?,
             opt::<GnssRow>(files, Event::Gnss)?,
             pull(files.imu()?, Event::Imu),
-        ]))
+        ])
+        .stopped_by(files))
+    }
+
+    /// The stream ends with [`LogError::Stopped`] once `files` is stopped.
+    fn stopped_by(mut self, files: &LogFiles) -> Self {
+        self.stop = Some((Arc::clone(&files.stop), files.dir.clone()));
+        self
     }
 
     fn new(pulls: Vec<Pull<'a>>) -> Self {
@@ -396,6 +424,7 @@ impl<'a> EventStream<'a> {
             pulls,
             heads: [None; ORDER],
             started: false,
+            stop: None,
         }
     }
 
@@ -415,6 +444,11 @@ impl<'a> EventStream<'a> {
     /// # Errors
     /// A read error or (strict reading) a bad row of any file.
     pub fn next_event(&mut self) -> Result<Option<Located>, LogError> {
+        if let Some((stop, dir)) = &self.stop {
+            if stop.load(Ordering::Relaxed) {
+                return Err(LogError::Stopped { dir: dir.clone() });
+            }
+        }
         self.fill()?;
         let mut best: Option<usize> = None;
         for k in 0..ORDER {
