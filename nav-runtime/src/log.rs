@@ -73,8 +73,8 @@ pub use rows::{
 };
 pub use rows::{BaroRow, GnssRow, MagRow, ReferenceRow};
 pub use stream::{
-    skipped_row_warnings, EventStream, FileRows, Located, LogFiles, LogSource, LogTable, RowSource,
-    SliceRows,
+    skipped_row_warnings, EventStream, FileRows, Located, LogFiles, LogSource, LogTable,
+    Prefetched, RowSource, SliceRows,
 };
 pub use warning::{Warning, WarningKind};
 

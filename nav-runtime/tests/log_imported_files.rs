@@ -7,7 +7,7 @@ use std::path::PathBuf;
 
 use nav_runtime::log::{
     BaroRow, Event, EventStream, GnssRow, ImuRow, LogDir, LogError, LogFiles, MagRow, Meta,
-    ReferenceRow, Strictness,
+    Prefetched, ReferenceRow, Strictness,
 };
 
 fn tmp(tag: &str) -> PathBuf {
@@ -136,6 +136,34 @@ fn the_event_streams_merge_the_new_sensors_with_the_others() {
     assert_eq!(stream_at(0.1), ["mag", "gnss", "imu"]);
     assert_eq!(stream_at(0.2), ["baro", "gnss", "imu"]);
     assert_eq!(streamed.len(), kinds.len());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_stream_continuing_a_prefetched_imu_gives_every_event_once() {
+    let dir = tmp("prefetched");
+    log().write(&dir).unwrap();
+    let files = LogFiles::open(&dir, Strictness::Strict).unwrap();
+    let all = |mut stream: EventStream<'_>| {
+        let mut events = Vec::new();
+        while let Some(e) = stream.next_event().unwrap() {
+            events.push(e);
+        }
+        events
+    };
+    let plain = all(EventStream::open(&files).unwrap());
+    // Read ahead 0, some and more than all of the 5 IMU rows.
+    for ahead in [0, 2, 9] {
+        let imu = files.imu().unwrap();
+        let mut pre = Prefetched::new(Box::new(imu));
+        let read: Vec<f64> = (0..ahead)
+            .map_while(|_| pre.read_ahead().unwrap())
+            .map(|r| r.t)
+            .collect();
+        assert_eq!(read.len(), ahead.min(5));
+        let continued = all(EventStream::open(&files).unwrap().with_imu(pre));
+        assert_eq!(continued, plain, "read ahead {ahead}");
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -15,7 +15,8 @@ use nav_runtime::earth::{meridian_radius, Geodetic};
 use nav_runtime::gate::Gate;
 use nav_runtime::imu::ImuSpec;
 use nav_runtime::log::{
-    DepthRow, DvlRow, HeadingRow, ImuRow, LogDir, LogSource, LogTable, Meta, SensorNoise, UsblRow,
+    DepthRow, DvlRow, HeadingRow, ImuRow, LogDir, LogSource, LogTable, Meta, Prefetched,
+    SensorNoise, UsblRow,
 };
 use nav_runtime::nalgebra::{Matrix3, Vector3};
 use nav_runtime::sensors::ErrorSpec;
@@ -230,7 +231,7 @@ pub fn initial_vehicle_filter<V: InsVehicle<N>, const N: usize>(
     log: &LogDir,
     options: &FilterOptions,
 ) -> Result<InsFilter<V, N>, RunError> {
-    let facts = LogFacts::of(&LogSource::Memory(log), options)?;
+    let (facts, _) = LogFacts::of(&LogSource::Memory(log), options)?;
     let plan = LogPlan::new(&log.meta, &facts, [0.0; 4])?;
     let (builder, _) = plan.builder::<V, N>(options);
     builder.initial_filter(&plan.first).map_err(setup_error)
@@ -280,15 +281,21 @@ pub(super) struct LogFacts {
 
 impl LogFacts {
     /// Reads the first [`PERIOD_INTERVALS`] IMU rows and (for the stuck
-    /// detector) the aiding files.
-    pub(super) fn of(source: &LogSource<'_>, options: &FilterOptions) -> Result<Self, RunError> {
-        let mut imu = source
-            .rows::<ImuRow>()?
-            .ok_or_else(|| RunError::Invalid("imu.csv has no rows".into()))?;
+    /// detector) the aiding files. Also returns `imu.csv` with the rows read
+    /// here kept, to be streamed from its start without reading them again.
+    pub(super) fn of<'a>(
+        source: &LogSource<'a>,
+        options: &FilterOptions,
+    ) -> Result<(Self, Prefetched<'a, ImuRow>), RunError> {
+        let mut imu = Prefetched::new(
+            source
+                .rows::<ImuRow>()?
+                .ok_or_else(|| RunError::Invalid("imu.csv has no rows".into()))?,
+        );
         let mut head = Vec::new();
         while head.len() <= PERIOD_INTERVALS {
-            match imu.next_row()? {
-                Some((_, r)) => head.push(r),
+            match imu.read_ahead()? {
+                Some(r) => head.push(r),
                 None => break,
             }
         }
@@ -311,9 +318,9 @@ impl LogFacts {
         let mut before_epoch = head.iter().take_while(|r| r.t < epoch).count();
         let mut first = head.get(before_epoch).copied();
         while first.is_none() {
-            match imu.next_row()? {
-                Some((_, r)) if r.t < epoch => before_epoch += 1,
-                Some((_, r)) => first = Some(r),
+            match imu.read_ahead()? {
+                Some(r) if r.t < epoch => before_epoch += 1,
+                Some(r) => first = Some(r),
                 None => {
                     return Err(RunError::Invalid(format!(
                     "meta.toml: initial.t = {epoch} s is after the last IMU row: nothing to replay"
@@ -333,13 +340,16 @@ impl LogFacts {
         } else {
             [0.0; 4]
         };
-        Ok(LogFacts {
-            epoch,
-            first,
-            before_epoch,
-            period_s,
-            resolutions,
-        })
+        Ok((
+            LogFacts {
+                epoch,
+                first,
+                before_epoch,
+                period_s,
+                resolutions,
+            },
+            imu,
+        ))
     }
 }
 

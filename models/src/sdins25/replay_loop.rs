@@ -83,7 +83,7 @@ where
     Q: Requests<P>,
 {
     Layout::of::<V, N>()?;
-    let facts = LogFacts::of(source, options)?;
+    let (facts, imu) = LogFacts::of(source, options)?;
     let plan0 = LogPlan::new(source.meta(), &facts, [0.0; 4])?;
     let mut aiding = Aiding::new::<V, N>(options, plan0.transducer);
     let (usbl_latency, has_usbl) = aiding.usbl_latency(source)?;
@@ -160,7 +160,8 @@ where
         r
     };
 
-    let mut stream = source.events()?;
+    // `imu.csv` continues after the rows the facts were read from.
+    let mut stream = source.events()?.with_imu(imu);
     let epoch = plan.initial.t;
     // IMU rows before the epoch are not used; aiding rows before the first
     // IMU row used wait in the queue.

@@ -312,6 +312,54 @@ impl<R: Row> RowSource<R> for SliceRows<'_, R> {
     }
 }
 
+/// A row source read ahead: the rows [`Prefetched::read_ahead`] took are
+/// given again, in order, before the rest of the source. A replay plans from
+/// the first rows of `imu.csv` and then streams the file from its start
+/// without parsing those rows twice.
+pub struct Prefetched<'a, R> {
+    head: std::collections::VecDeque<(Option<u64>, R)>,
+    rest: Box<dyn RowSource<R> + 'a>,
+}
+
+impl<'a, R: Row> Prefetched<'a, R> {
+    /// `rest` with nothing read ahead yet.
+    pub fn new(rest: Box<dyn RowSource<R> + 'a>) -> Self {
+        Prefetched {
+            head: std::collections::VecDeque::new(),
+            rest,
+        }
+    }
+
+    /// Reads the next row of the source and keeps it to be given again.
+    ///
+    /// # Errors
+    /// As the source's [`RowSource::next_row`].
+    pub fn read_ahead(&mut self) -> Result<Option<R>, LogError> {
+        let Some(next) = self.rest.next_row()? else {
+            return Ok(None);
+        };
+        self.head.push_back(next);
+        Ok(Some(next.1))
+    }
+}
+
+impl<R: Row> RowSource<R> for Prefetched<'_, R> {
+    fn next_row(&mut self) -> Result<Option<(Option<u64>, R)>, LogError> {
+        match self.head.pop_front() {
+            Some(row) => Ok(Some(row)),
+            None => self.rest.next_row(),
+        }
+    }
+}
+
+impl<R> std::fmt::Debug for Prefetched<'_, R> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Prefetched")
+            .field("read_ahead", &self.head.len())
+            .finish()
+    }
+}
+
 /// An event of [`EventStream`] with the line of its row when known.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Located {
@@ -473,6 +521,14 @@ impl<'a> EventStream<'a> {
     pub fn next_imu_t(&mut self) -> Result<Option<f64>, LogError> {
         self.fill()?;
         Ok(self.heads[IMU].map(|h| h.event.t()))
+    }
+
+    /// The stream with its IMU rows taken from `imu` (e.g. a [`Prefetched`]
+    /// `imu.csv`) instead of the log's own reader. Meant for a stream not yet
+    /// begun; on a begun one, the IMU row already read stays next.
+    pub fn with_imu(mut self, imu: impl RowSource<ImuRow> + 'a) -> Self {
+        self.pulls[IMU] = pull(imu, Event::Imu);
+        self
     }
 }
 
