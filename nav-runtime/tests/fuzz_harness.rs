@@ -5,7 +5,8 @@
 
 use std::path::PathBuf;
 
-use nav_runtime::log::fuzz::{csv_file, csv_kind_name, meta_toml, CSV_KINDS};
+use nav_runtime::log::fuzz::{csv_file, csv_kind_name, mapped_log, meta_toml, CSV_KINDS};
+use nav_runtime::log::Meta;
 use proptest::prelude::*;
 
 /// Files of `fuzz/<kind>/<target>/` (`kind`: `corpus` or `regressions`).
@@ -41,6 +42,19 @@ fn seed_corpus_and_regressions_pass_the_harnesses() {
     for (name, data) in meta.iter().chain(&inputs("regressions", "meta_toml")) {
         println!("{name}");
         meta_toml(data);
+    }
+    // Each mapping seed declares a mapping the reader accepts.
+    let mapped = inputs("corpus", "mapped_log");
+    assert!(mapped.len() >= 2);
+    for (name, data) in &mapped {
+        let split = data.iter().position(|&b| b == 0).expect("a NUL byte");
+        let text = std::str::from_utf8(&data[..split]).unwrap();
+        let (_, mapping, _) = Meta::parse_log(text).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert!(!mapping.files.is_empty(), "{name}");
+    }
+    for (name, data) in mapped.iter().chain(&inputs("regressions", "mapped_log")) {
+        println!("{name}");
+        mapped_log(data);
     }
 }
 
@@ -90,5 +104,15 @@ proptest! {
     #[test]
     fn mutated_meta_seeds_never_break_the_harness(data in mutated("meta_toml")) {
         meta_toml(&data);
+    }
+
+    #[test]
+    fn arbitrary_bytes_never_break_the_mapping_harness(data in prop::collection::vec(any::<u8>(), 0..400)) {
+        mapped_log(&data);
+    }
+
+    #[test]
+    fn mutated_mapping_seeds_never_break_the_harness(data in mutated("mapped_log")) {
+        mapped_log(&data);
     }
 }

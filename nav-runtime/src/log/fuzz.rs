@@ -8,12 +8,15 @@
 //! increasing times, passes the range checks and reads back unchanged after
 //! being written with [`write_csv`]; the lenient reader accepts what the strict
 //! reader accepts, with the same rows; an accepted `meta.toml` reads back
-//! unchanged from [`Meta::to_toml`], and each of its warnings names a key. A failed assertion panics, which the
-//! fuzzer reports as a crash.
+//! unchanged from [`Meta::to_toml`], and each of its warnings names a key; a
+//! declared mapping (`[files.<sensor>]`) names files inside the log directory
+//! only, and a file read through it gives rows that keep the CSV promises. A
+//! failed assertion panics, which the fuzzer reports as a crash.
 
+use super::mapping::{FileMapping, LogMapping};
 use super::{
-    parse_csv, write_csv, AltitudeRow, DepthRow, DvlRow, HeadingRow, ImuRow, Meta, Row, RpmRow,
-    SpeedRow, Strictness, TruthRow, UsblRow,
+    parse_csv, write_csv, AltitudeRow, DepthRow, DvlRow, HeadingRow, ImuRow, Meta, Row, RowReader,
+    RpmRow, SpeedRow, Strictness, TruthRow, UsblRow,
 };
 use super::{BaroRow, GnssRow, MagRow, ReferenceRow};
 
@@ -138,5 +141,82 @@ pub fn meta_toml(data: &[u8]) {
     match Meta::parse(&again) {
         Ok(back) => assert_eq!(back, meta, "meta.toml round trip:\n{again}"),
         Err(e) => panic!("meta.toml written by to_toml does not read back: {e}\n{again}"),
+    }
+}
+
+/// Splits `data` at its first NUL byte into a `meta.toml` and a CSV file, and
+/// reads the CSV file as every row type's file through the mapping the
+/// `meta.toml` declares (strictly and leniently), checking that each mapped
+/// file stays inside the log directory and that accepted rows keep the CSV
+/// promises (module docs).
+///
+/// # Panics
+/// When the reader breaks one of its promises.
+pub fn mapped_log(data: &[u8]) {
+    let split = data.iter().position(|&b| b == 0).unwrap_or(data.len());
+    let (meta, csv) = (&data[..split], data.get(split + 1..).unwrap_or_default());
+    let Ok(text) = std::str::from_utf8(meta) else {
+        return;
+    };
+    let Ok((_, mapping, _)) = Meta::parse_log(text) else {
+        return;
+    };
+    for m in &mapping.files {
+        let path = std::path::Path::new(&m.file);
+        assert!(
+            path.is_relative()
+                && path
+                    .components()
+                    .all(|c| matches!(c, std::path::Component::Normal(_))),
+            "[files.{}] file = {:?} leaves the log directory",
+            m.sensor,
+            m.file
+        );
+    }
+    mapped_as::<ImuRow>(csv, &mapping);
+    mapped_as::<DvlRow>(csv, &mapping);
+    mapped_as::<DepthRow>(csv, &mapping);
+    mapped_as::<HeadingRow>(csv, &mapping);
+    mapped_as::<UsblRow>(csv, &mapping);
+    mapped_as::<SpeedRow>(csv, &mapping);
+    mapped_as::<RpmRow>(csv, &mapping);
+    mapped_as::<AltitudeRow>(csv, &mapping);
+    mapped_as::<TruthRow>(csv, &mapping);
+    mapped_as::<MagRow>(csv, &mapping);
+    mapped_as::<BaroRow>(csv, &mapping);
+    mapped_as::<GnssRow>(csv, &mapping);
+    mapped_as::<ReferenceRow>(csv, &mapping);
+}
+
+/// `content` read as `R`'s file through `mapping`, strictly and leniently.
+fn mapped_as<R: Row>(content: &[u8], mapping: &LogMapping) {
+    let m: FileMapping = mapping.of::<R>();
+    let read = |strictness| -> Option<Vec<R>> {
+        let mut rows = RowReader::<R, _>::with_mapping(content, strictness, &m).ok()?;
+        let mut kept = Vec::new();
+        while let Ok(Some((_, r))) = rows.next_row() {
+            kept.push(r);
+        }
+        Some(kept)
+    };
+    let strict = read(Strictness::Strict);
+    let lenient = read(Strictness::Lenient);
+    if let Some(rows) = &strict {
+        check_rows(rows);
+    }
+    if let Some(rows) = &lenient {
+        check_rows(rows);
+    }
+    // The lenient reader opens every file the strict reader opens, and the
+    // rows the strict reader accepted before its first error come first.
+    if let Some(strict) = &strict {
+        let Some(lenient) = &lenient else {
+            panic!("{}: strict opened, lenient refused the header", m.file);
+        };
+        assert!(
+            lenient.len() >= strict.len() && lenient[..strict.len()] == strict[..],
+            "{}: lenient rows differ from the strict ones",
+            m.file
+        );
     }
 }
