@@ -17,7 +17,7 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use models::cli::{find_replay_model, find_scenario};
-use models::montecarlo::{ReplayModel, ReplayOptions, RunOptions};
+use models::harness::{ReplayModel, ReplayOptions, RunOptions};
 use models::preflight::{self, check_alongside, PreflightOptions};
 use nav_runtime::log::{LogDir, LogFiles, Strictness};
 

@@ -19,7 +19,7 @@
 //! Run: `cargo bench -p models --bench scenario` (ratios: `scripts/bench.sh`).
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
-use models::montecarlo::{run_seeds, ProgressBar, RunOptions, Scenario};
+use models::harness::{run_seeds, ProgressBar, RunOptions, Scenario};
 use models::sdins25::filter::{run, FilterOptions};
 use models::sdins25::simulation::{simulate, Reference, DURATION};
 use std::hint::black_box;

@@ -12,13 +12,14 @@ use clap::{Args, Parser, Subcommand};
 use nav_runtime::log::{LogFiles, Strictness, Warning, WarningKind};
 use serde_json::Value;
 
-use crate::interrupt::Pending;
-use crate::montecarlo::{
-    demo, find_shard_files, merge_shards, progress_bar, run_seeds, seeds, summary_json,
-    ReplayModel, ReplayOptions, RunError, RunOptions, Scenario, Shard, ShardFile, SHARD_FORMAT,
+use crate::demo;
+use crate::harness::report::{self, StagedDir};
+use crate::harness::{
+    find_shard_files, merge_shards, progress_bar, run_seeds, seeds, summary_json, ReplayModel,
+    ReplayOptions, RunError, RunOptions, Scenario, Shard, ShardFile, SHARD_FORMAT,
 };
+use crate::interrupt::Pending;
 use crate::preflight::{self, PreflightOptions};
-use crate::report::{self, StagedDir};
 use crate::scenario_text::{scenario_text, Plots};
 use crate::sdins25::InsReplay;
 use crate::vehicles::sdins::{Sdins20, Sdins25Composed};
@@ -437,7 +438,7 @@ pub fn replay_with(model: &dyn ReplayModel, args: &ReplayArgs) -> Result<(), Run
         lenient: args.lenient,
     };
     // The JSON (`warnings` included) or text of a run's output.
-    let result = |output: &crate::montecarlo::ReplayOutput,
+    let result = |output: &crate::harness::ReplayOutput,
                   report: &preflight::Report,
                   read: &preflight::LogSummary| {
         for reason in &read.skip_reasons {

@@ -3,16 +3,15 @@
 
 pub mod ahrs;
 pub mod cli;
+pub mod demo;
 pub mod gnss_ins;
+pub mod harness;
 pub mod interrupt;
 pub mod leveling;
 pub mod marker;
-pub mod montecarlo;
 pub mod navigator;
-pub mod plot;
 pub mod preflight;
 pub mod replay;
-pub mod report;
 pub mod scenario_text;
 pub mod sdins25;
 pub mod series;

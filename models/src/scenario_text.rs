@@ -12,7 +12,7 @@ use std::path::Path;
 
 use serde_json::{Map, Value};
 
-use crate::report;
+use crate::harness::report;
 
 /// Below this many runs a p95 or a maximum is flagged as a rough figure.
 pub const FEW_RUNS: u64 = 20;

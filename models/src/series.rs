@@ -7,7 +7,7 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use crate::montecarlo::{RunError, RunTable};
+use crate::harness::{RunError, RunTable};
 
 /// Rows written to a CSV file as they come.
 #[derive(Debug)]

@@ -13,7 +13,7 @@ mod common;
 use std::path::Path;
 
 use common::{navsim, stderr, stdout, TempDir};
-use models::montecarlo::{ReplayModel, ReplayOptions};
+use models::harness::{ReplayModel, ReplayOptions};
 use models::sdins25::filter::{run_vehicle, FilterOptions, InsRun};
 use models::sdins25::simulation::{simulate, SimConfig};
 use models::sdins25::vehicle::InsVehicle;
@@ -482,7 +482,7 @@ fn the_pressure_sensor_auv_replays_with_its_lever_arm() {
         .replay(&moved, &opts)
         .unwrap();
     let depth_rms =
-        |o: &models::montecarlo::ReplayOutput| o.metrics["depth_error_rms_m"].as_f64().unwrap();
+        |o: &models::harness::ReplayOutput| o.metrics["depth_error_rms_m"].as_f64().unwrap();
     println!(
         "depth error RMS: no lever arm {:.4} m; at 1.2 m aft, 0.3 m down: pressure-auv {:.4} m, sdins20 {:.4} m",
         depth_rms(&plain),

@@ -1,7 +1,8 @@
 //! In-process tests of the Monte Carlo plumbing (registries, shards, merge).
 
 use models::cli::{find_replay_model, find_scenario, replay_models, scenarios};
-use models::montecarlo::*;
+use models::demo;
+use models::harness::*;
 use nav_runtime::log::{LogDir, Strictness};
 
 #[test]

@@ -1,10 +1,10 @@
 //! LEVELING-6 scenarios (docs/models/leveling6.md) against the paper and against the
 //! analytic accelerometer-bias floor.
 
+use models::harness::{ReplayModel, ReplayOptions, RunOptions, RunResult, Scenario};
 use models::leveling::filter::{self, LevelingOptions, Tuning};
 use models::leveling::simulation::{self, Biases, Motion};
 use models::leveling::{scenarios, Leveling6Replay};
-use models::montecarlo::{ReplayModel, ReplayOptions, RunOptions, RunResult, Scenario};
 use nav_runtime::earth;
 use nav_runtime::imu::MG;
 use nav_runtime::log::{LogDir, Strictness};

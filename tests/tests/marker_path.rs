@@ -8,7 +8,7 @@
 //! within about 0.1 m, so estimated and true RMS differ by less than that.
 
 use models::cli::find_scenario;
-use models::montecarlo::RunOptions;
+use models::harness::RunOptions;
 
 #[test]
 fn marker_path_two_seeds() {

@@ -5,7 +5,7 @@
 //! nothing panics. Also: arbitrary corruptions of a log that the reader still
 //! accepts never panic the replay.
 
-use models::montecarlo::{ReplayModel, ReplayOptions, RunOptions, RunResult, Scenario};
+use models::harness::{ReplayModel, ReplayOptions, RunOptions, RunResult, Scenario};
 use models::sdins25::faults::{self, ALL};
 use models::sdins25::filter::{self, FilterOptions, ImuSample};
 use models::sdins25::simulation::{simulate, SimConfig};

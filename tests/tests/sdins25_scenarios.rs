@@ -9,7 +9,7 @@
 //!   track and mostly cancels on the lawn-mower legs; the compass bias is
 //!   separated because the initial heading is known, so a few metres.
 
-use models::montecarlo::{ReplayModel, ReplayOptions, RunOptions, Scenario};
+use models::harness::{ReplayModel, ReplayOptions, RunOptions, Scenario};
 use models::sdins25::filter::{self, FilterOptions, UsblDelivery};
 use models::sdins25::simulation::{self, SimConfig};
 use models::sdins25::{run_and_score, scenario, Sdins25Replay};

@@ -23,9 +23,9 @@ use serde_json::{json, Value};
 
 use super::heading::magnetic_heading;
 use super::model::{Ahrs, AhrsGravity, AhrsHeading, AhrsInput, AhrsNoise, AhrsParams};
-use crate::montecarlo::{ReplayModel, ReplayOptions, ReplayOutput, RunError, RunTable};
+use crate::harness::plot;
+use crate::harness::{ReplayModel, ReplayOptions, ReplayOutput, RunError, RunTable};
 use crate::navigator::SensorHealth;
-use crate::plot;
 use crate::ulog::reference::EstimatePoint;
 use crate::ulog::replay::{
     attitude_errors, count, declination, health_json, reference_metrics, rpy_json, wrap,

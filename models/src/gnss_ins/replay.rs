@@ -30,7 +30,7 @@ use super::model::{
 };
 use crate::ahrs::magnetic_heading;
 use crate::ahrs::replay::{horizontal_field, imu_period, write_outputs, MAG_NOISE_DEFAULT};
-use crate::montecarlo::{ReplayModel, ReplayOptions, ReplayOutput, RunError, RunTable};
+use crate::harness::{ReplayModel, ReplayOptions, ReplayOutput, RunError, RunTable};
 use crate::navigator::{Estimate, SensorHealth};
 use crate::sdins25::score;
 use crate::ulog::reference::EstimatePoint;

@@ -6,10 +6,10 @@ pub mod model;
 pub mod observability;
 pub mod simulation;
 
-use crate::montecarlo::{
+use crate::harness::plot::{self, Line};
+use crate::harness::{
     ReplayModel, ReplayOptions, ReplayOutput, RunError, RunOptions, RunResult, RunTable, Scenario,
 };
-use crate::plot::{self, Line};
 use filter::{errors_at_truth, LevelingOptions, Tuning};
 use nav_runtime::imu::{ImuSpec, MG};
 use nav_runtime::log::LogDir;
@@ -218,8 +218,8 @@ impl Scenario for LevelingScenario {
         runs: &[RunResult],
         _options: &RunOptions,
     ) -> Result<Map<String, Value>, RunError> {
-        let roll = crate::montecarlo::metric_values(runs, "roll_error_final_deg");
-        let pitch = crate::montecarlo::metric_values(runs, "pitch_error_final_deg");
+        let roll = crate::harness::metric_values(runs, "roll_error_final_deg");
+        let pitch = crate::harness::metric_values(runs, "pitch_error_final_deg");
         let mut m = Map::new();
         m.insert(
             "roll_error_mean_deg".into(),
@@ -237,8 +237,8 @@ impl Scenario for LevelingScenario {
             "pitch_error_std_deg".into(),
             Value::from(stats::std_dev(&pitch)),
         );
-        let roll_sigma = crate::montecarlo::metric_values(runs, "roll_sigma_final_deg");
-        let pitch_sigma = crate::montecarlo::metric_values(runs, "pitch_sigma_final_deg");
+        let roll_sigma = crate::harness::metric_values(runs, "roll_sigma_final_deg");
+        let pitch_sigma = crate::harness::metric_values(runs, "pitch_sigma_final_deg");
         m.insert(
             "roll_sigma_filter_deg".into(),
             Value::from(stats::mean(&roll_sigma)),
@@ -247,16 +247,12 @@ impl Scenario for LevelingScenario {
             "pitch_sigma_filter_deg".into(),
             Value::from(stats::mean(&pitch_sigma)),
         );
-        let gated: f64 = crate::montecarlo::metric_values(runs, "gated").iter().sum();
-        let rejected: f64 = crate::montecarlo::metric_values(runs, "rejected")
-            .iter()
-            .sum();
-        let repairs: f64 = crate::montecarlo::metric_values(runs, "repairs")
-            .iter()
-            .sum();
+        let gated: f64 = crate::harness::metric_values(runs, "gated").iter().sum();
+        let rejected: f64 = crate::harness::metric_values(runs, "rejected").iter().sum();
+        let repairs: f64 = crate::harness::metric_values(runs, "repairs").iter().sum();
         m.insert(
             "tilt_error_mean_deg".into(),
-            Value::from(stats::mean(&crate::montecarlo::metric_values(
+            Value::from(stats::mean(&crate::harness::metric_values(
                 runs,
                 "tilt_error_final_deg",
             ))),
@@ -274,7 +270,7 @@ impl Scenario for LevelingScenario {
         Ok(m)
     }
     fn write_outputs(&self, runs: &[RunResult], dir: &Path) -> Result<(), RunError> {
-        crate::montecarlo::write_run_tables(runs, dir)?;
+        crate::harness::write_run_tables(runs, dir)?;
         write_ensemble(self.name, runs, dir)
     }
     fn simulate_log(&self, seed: u64, options: &RunOptions) -> Option<Result<LogDir, RunError>> {
@@ -293,7 +289,7 @@ pub fn two_axis_floor_deg() -> f64 {
 /// The JSON of the filter with bias states: roll, pitch and tilt statistics
 /// over the runs, the mean filter sigma, the tilt NEES and the bias estimates.
 fn bias_states_summary(runs: &[RunResult]) -> Map<String, Value> {
-    let col = |k: &str| crate::montecarlo::metric_values(runs, &format!("{BIAS_STATES}.{k}"));
+    let col = |k: &str| crate::harness::metric_values(runs, &format!("{BIAS_STATES}.{k}"));
     let (roll, pitch) = (col("roll_error_final_deg"), col("pitch_error_final_deg"));
     let nees: Vec<f64> = col("tilt_nees_final")
         .into_iter()

@@ -18,8 +18,8 @@ use nav_runtime::stats;
 use plotters::prelude::*;
 use serde_json::{json, Map, Value};
 
-use crate::montecarlo::{metric_values, RunError, RunOptions, RunResult, RunTable, Scenario};
-use crate::report::summary_value;
+use crate::harness::report::summary_value;
+use crate::harness::{metric_values, RunError, RunOptions, RunResult, RunTable, Scenario};
 use simulation::{inspection_waypoints, plan, run_mission, MissionConfig};
 
 pub use model::{Marker9, Marker9Depth, Marker9Dvl, Marker9MarkerFix};
@@ -272,7 +272,7 @@ impl Scenario for MarkerPath {
         Ok(m)
     }
     fn write_outputs(&self, runs: &[RunResult], dir: &FsPath) -> Result<(), RunError> {
-        crate::montecarlo::write_run_tables(runs, dir)?;
+        crate::harness::write_run_tables(runs, dir)?;
         if let Some(first) = runs.first() {
             draw_run(
                 first,

@@ -13,7 +13,7 @@ use nav_runtime::nalgebra::{SMatrix, SVector, Vector2, Vector3};
 use nav_runtime::strapdown::{NavError, NavState, Strapdown};
 
 use super::vehicle::{InsVehicle, Layout};
-use crate::montecarlo::RunError;
+use crate::harness::RunError;
 
 /// The error-state filter of vehicle `V` (`N` states).
 pub type InsFilter<V, const N: usize> = ErrorStateFilter<V, InsNominal<V, N>, N>;

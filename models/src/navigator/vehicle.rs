@@ -33,7 +33,7 @@ use nav_runtime::error_state::{ErrorStateFilter, NominalState};
 use nav_runtime::model::{Model, Record, Sensor};
 use nav_runtime::nalgebra::SVector;
 
-use crate::montecarlo::RunError;
+use crate::harness::RunError;
 
 /// A vehicle the SDINS replay loop can run (see the module docs).
 ///

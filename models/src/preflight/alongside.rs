@@ -5,7 +5,7 @@
 use nav_runtime::log::LogFiles;
 
 use super::{check_files, LogSummary, PreflightOptions, Report};
-use crate::montecarlo::RunError;
+use crate::harness::RunError;
 
 /// Runs `work` (typically a replay of `files`) while [`check_files`] reads
 /// the same log on a second thread, and answers as if the preflight had run

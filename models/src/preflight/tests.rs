@@ -571,7 +571,7 @@ fn streaming_reports_the_read_error_of_the_whole_log() {
 
 #[test]
 fn alongside_the_preflight_refuses_first_and_stops_the_work() {
-    use crate::montecarlo::RunError;
+    use crate::harness::RunError;
     use std::time::{Duration, Instant};
     let dir = Scratch::new("alongside");
     let mut bad = log();

@@ -21,7 +21,7 @@ use nav_runtime::log::{LogFiles, Strictness};
 use serde_json::{json, Map, Value};
 
 use crate::cli::{one_line, parse_failure, replay_with, ReplayArgs};
-use crate::montecarlo::RunError;
+use crate::harness::RunError;
 use crate::navigator::vehicle::{Layout, Present};
 use crate::navigator::InsVehicle;
 use crate::preflight::{LogSummary, PreflightOptions};
@@ -138,9 +138,9 @@ fn check<V: InsVehicle<N>, const N: usize>(c: &CheckCommand) -> Result<(), RunEr
     )?;
     let value = check_report::<V, N>(&summary);
     if c.json {
-        println!("{}", crate::report::json_line(&value));
+        println!("{}", crate::harness::report::json_line(&value));
     } else {
-        print!("{}", crate::report::human(&value));
+        print!("{}", crate::harness::report::human(&value));
     }
     Ok(())
 }

@@ -33,7 +33,7 @@ use rand_chacha::ChaCha8Rng;
 
 use super::filter::Delivery;
 use super::simulation::{Usbl, DURATION};
-use crate::montecarlo::RunError;
+use crate::harness::RunError;
 
 /// Every fault name.
 pub const ALL: [&str; 9] = [

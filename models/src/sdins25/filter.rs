@@ -28,7 +28,7 @@ use super::aiding::Handles;
 use super::model::Sdins25;
 pub use super::replay_loop::{replay_vehicle, run_vehicle};
 use super::simulation::TRACKPOINT_MISALIGNMENT_SIGMA;
-use crate::montecarlo::RunError;
+use crate::harness::RunError;
 pub use crate::navigator::{
     depth_measurement, dvl_measurement, heading_measurement, usbl_measurement, CompassForm,
     Estimate, ImuSample, InsFilter, InsNominal, SensorHealth,

@@ -28,12 +28,12 @@ use nav_runtime::log::{LogDir, LogFiles, LogSource};
 use nav_runtime::stats;
 use serde_json::{json, Map, Value};
 
-use crate::montecarlo::{
+use crate::harness::plot::{self, Line};
+use crate::harness::report::summary_of;
+use crate::harness::{
     metric_values, ReplayModel, ReplayOptions, ReplayOutput, RunError, RunOptions, RunResult,
     RunTable, Scenario,
 };
-use crate::plot::{self, Line};
-use crate::report::summary_of;
 use filter::{FilterOptions, InsRun, Sdins25Run};
 use score::{nees_band_95, Scored, NEES_DOF};
 use simulation::SimConfig;
@@ -304,7 +304,7 @@ fn smoothed_summary(runs: &[RunResult]) -> Value {
         .collect();
     m.insert(
         "horizontal_rms_ratio".into(),
-        crate::report::summary_value(&ratio),
+        crate::harness::report::summary_value(&ratio),
     );
     Value::Object(m)
 }
@@ -383,7 +383,7 @@ impl Scenario for LawnMower {
                 .collect();
             m.insert(
                 "compass_bias_error_final_deg".into(),
-                crate::report::summary_value(&err),
+                crate::harness::report::summary_value(&err),
             );
             m.insert(
                 "compass_bias_sigma_final_deg".into(),
@@ -412,7 +412,7 @@ impl Scenario for LawnMower {
         Ok(m)
     }
     fn write_outputs(&self, runs: &[RunResult], dir: &Path) -> Result<(), RunError> {
-        crate::montecarlo::write_run_tables(runs, dir)?;
+        crate::harness::write_run_tables(runs, dir)?;
         for run in runs.iter().take(PLOTTED_RUNS) {
             if let Some(t) = run.tables.iter().find(|t| t.name == score::TABLE) {
                 write_plots(self.name, &format!("run-{}", run.seed), t, dir)?;

@@ -18,7 +18,7 @@ use nav_runtime::strapdown::RateSamples;
 
 use super::aiding::{place, Aiding, Travelling};
 use super::filter::{setup_error, FilterOptions, InsRun, LogFacts, LogPlan, MAX_GAP_STEPS};
-use crate::montecarlo::RunError;
+use crate::harness::RunError;
 use crate::navigator::vehicle::{Layout, Slot};
 use crate::navigator::{Estimate, ImuSample, InsVehicle, NavigatorError, SENSOR_NAMES};
 

@@ -20,7 +20,7 @@ use super::vehicle::{InsVehicle, Layout};
 use super::{
     error_values, health, metrics, write_plots, write_smoothed_plot, ERROR_KEYS, SMOOTHED_TABLE,
 };
-use crate::montecarlo::{ReplayOptions, ReplayOutput, RunError, RunResult};
+use crate::harness::{ReplayOptions, ReplayOutput, RunError, RunResult};
 use crate::navigator::Estimate;
 use crate::series::TableWriter;
 

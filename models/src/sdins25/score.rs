@@ -8,7 +8,7 @@ use nav_runtime::nalgebra::{Cholesky, SVector};
 use nav_runtime::strapdown::NavState;
 
 use super::filter::{c_bn, Estimate};
-use crate::montecarlo::RunTable;
+use crate::harness::RunTable;
 use crate::series::{BoundedTable, TableWriter, PLOT_ROWS};
 
 /// Navigation states of the NEES.

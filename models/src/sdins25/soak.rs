@@ -25,7 +25,7 @@ use super::filter::{
 };
 use super::score::NEES_DOF;
 use super::simulation::{self, AIDING_RATE, IMU_RATE, SHALLOW_DEPTH};
-use crate::montecarlo::RunError;
+use crate::harness::RunError;
 
 /// Period of the repeated pattern (s).
 pub const PERIOD: f64 = 240.0;

@@ -8,7 +8,7 @@ use serde_json::{json, Map, Value};
 
 use super::reference::{EstimatePoint, Reference};
 use crate::ahrs::declination_from;
-use crate::montecarlo::RunTable;
+use crate::harness::RunTable;
 use crate::navigator::SensorHealth;
 
 /// Magnetometer samples averaged for the declination: those within this

@@ -11,8 +11,8 @@ pub mod filter;
 pub mod model;
 pub mod simulation;
 
-use crate::montecarlo::{metric_values, RunError, RunOptions, RunResult, RunTable, Scenario};
-use crate::plot::{self, Line};
+use crate::harness::plot::{self, Line};
+use crate::harness::{metric_values, RunError, RunOptions, RunResult, RunTable, Scenario};
 use filter::{RunSettings, Source, VkfRun};
 use nav_runtime::log::LogDir;
 use nav_runtime::nalgebra::Vector3;
@@ -492,7 +492,7 @@ impl Scenario for VkfScenario {
         Ok(m)
     }
     fn write_outputs(&self, runs: &[RunResult], dir: &Path) -> Result<(), RunError> {
-        crate::montecarlo::write_run_tables(runs, dir)?;
+        crate::harness::write_run_tables(runs, dir)?;
         match runs.iter().find(|r| !r.tables.is_empty()) {
             Some(r) => write_figures(r, dir),
             None => Ok(()),

@@ -3,7 +3,7 @@
 //! the same time series, row for row.
 
 use models::cli::find_replay_model;
-use models::montecarlo::ReplayOptions;
+use models::harness::ReplayOptions;
 use models::sdins25::soak::{write_log, SoakConfig};
 use nav_runtime::log::{LogDir, LogFiles, Strictness};
 

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use nav_runtime::stats::Summary;
 use serde_json::{Map, Value};
 
-use crate::montecarlo::{metric_values, ReplayOutput, RunError, RunResult};
+use crate::harness::{metric_values, ReplayOutput, RunError, RunResult};
 
 /// The `{"median","p95","max"}` object of metric `key` over runs.
 pub fn summary_of(runs: &[RunResult], key: &str) -> Value {

@@ -8,7 +8,7 @@ use std::path::Path;
 
 use plotters::prelude::*;
 
-use crate::montecarlo::RunError;
+use crate::harness::RunError;
 
 /// Plot size in pixels.
 pub const SIZE: (u32, u32) = (960, 540);
