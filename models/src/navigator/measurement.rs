@@ -70,13 +70,29 @@ pub fn dvl_measurement<V: InsVehicle<N>, const N: usize>(
     v: Vector3<f64>,
     sigma: f64,
 ) -> Box<dyn Measurement<InsFilter<V, N>>> {
+    dvl_measurement_at::<V, N>(v, sigma, Vector3::zeros())
+}
+
+/// A DVL measurement (body axes, m/s) of a DVL at lever arm `lever_arm`
+/// (body axes, m) from the IMU: the DVL moves at the IMU's velocity plus
+/// `omega x r`, with `omega` the bias-corrected body rate of the IMU sample
+/// at the reading's time ([`super::InsNominal::body_rate`]), so the residual
+/// is `v_n - C (v - b - omega x r)`. The block's Jacobian leaves out the
+/// gyro-bias error's share of `omega x r` (`r x delta b_g`: 0.1 mm/s for a
+/// 1 m arm and a 1e-4 rad/s bias error, far below a DVL's noise).
+pub fn dvl_measurement_at<V: InsVehicle<N>, const N: usize>(
+    v: Vector3<f64>,
+    sigma: f64,
+    lever_arm: Vector3<f64>,
+) -> Box<dyn Measurement<InsFilter<V, N>>> {
     let r = SVector::<f64, 3>::repeat(sigma.powi(2));
     Box::new(FnMeasurement::new(
         v.as_slice(),
         move |f: &mut InsFilter<V, N>| {
             let nom = f.nominal();
             let s = &nom.ins.state;
-            let z = s.v_n - s.c_bn * (v - nom.dvl_bias);
+            let arm = nom.body_rate.cross(&lever_arm);
+            let z = s.v_n - s.c_bn * (v - nom.dvl_bias - arm);
             outcome(V::Dvl::update(f, &z, &r, &[]))
         },
     ))

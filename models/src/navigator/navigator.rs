@@ -721,4 +721,46 @@ mod tests {
         assert!((e.baro_bias.0 - 3.0).abs() < 0.05, "{:?}", e.baro_bias);
         assert!(e.nav.euler().yaw.abs() < 3e-3, "{}", e.nav.euler().yaw);
     }
+
+    /// A vehicle turning in place at 0.2 rad/s with its DVL 1.5 m forward:
+    /// the DVL reads `omega x r` = 0.3 m/s to starboard. With the lever arm
+    /// the velocity estimate stays at rest; without it the reading pulls it
+    /// towards 0.3 m/s.
+    #[test]
+    fn a_dvl_at_a_lever_arm_reads_the_turn_rate_times_the_arm() {
+        let omega = 0.2;
+        let arm = Vector3::new(1.5, 0.0, 0.0);
+        let turning = ImuSample {
+            gyro: Vector3::new(0.0, 0.0, omega),
+            ..at_rest()
+        };
+        let speed = |lever_arm: Vector3<f64>| {
+            // No gate: the readings without the arm are applied, not refused.
+            let mut b =
+                Navigator::<Sdins20, 20>::builder(initial(), imu()).options(NavigatorOptions {
+                    gate_probability: None,
+                    ..NavigatorOptions::default()
+                });
+            let dvl = b
+                .sensor::<DvlReading>(SensorSettings::new(0.05).lever_arm(lever_arm))
+                .unwrap();
+            let mut nav = b.build(turning).unwrap();
+            for k in 1..=1000 {
+                let t = k as f64 * 0.01;
+                if k % 50 == 0 {
+                    let w = 1e-4 * (k as f64).sin();
+                    let reading = Vector3::new(w, omega * arm.x, 0.0);
+                    nav.push(dvl, t, DvlReading(reading));
+                }
+                nav.push_imu(t, turning).unwrap();
+            }
+            let r = nav.report(dvl);
+            assert_eq!(r.health.accepted, 20, "{r:?}");
+            nav.estimate().nav.v_n.norm()
+        };
+        let with_arm = speed(arm);
+        assert!(with_arm < 0.02, "{with_arm} m/s");
+        let without = speed(Vector3::zeros());
+        assert!(without > 0.1, "{without} m/s");
+    }
 }

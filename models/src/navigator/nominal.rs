@@ -67,6 +67,9 @@ pub struct InsNominal<V, const N: usize> {
     pub usbl_misalignment: Vector3<f64>,
     /// Barometer bias correction (m: barometric altitude minus height).
     pub baro_bias: f64,
+    /// Bias-corrected body rate of the IMU sample being integrated (rad/s):
+    /// the `omega` of a sensor's `omega x r` lever-arm velocity.
+    pub body_rate: Vector3<f64>,
     /// Where `V` keeps each error state.
     layout: Layout,
     vehicle: PhantomData<fn() -> V>,
@@ -95,6 +98,7 @@ impl<V, const N: usize> core::fmt::Debug for InsNominal<V, N> {
             .field("compass_bias", &self.compass_bias)
             .field("usbl_misalignment", &self.usbl_misalignment)
             .field("baro_bias", &self.baro_bias)
+            .field("body_rate", &self.body_rate)
             .field("layout", &self.layout)
             .finish()
     }
@@ -128,6 +132,7 @@ impl<V: InsVehicle<N>, const N: usize> InsNominal<V, N> {
             compass_bias: 0.0,
             usbl_misalignment: Vector3::zeros(),
             baro_bias: 0.0,
+            body_rate: Vector3::zeros(),
             layout: Layout::of::<V, N>()?,
             vehicle: PhantomData,
         })
@@ -196,6 +201,7 @@ impl<V: InsVehicle<N>, const N: usize> Mechanization<V, N> for InsNominal<V, N> 
             f.z,
         ];
         let input = <V::Input as Record>::from_fn(|i| values[i]);
+        self.body_rate = w;
         self.ins.update_rates(&w, &f, dt);
         input
     }

@@ -9,8 +9,8 @@ use nav_runtime::nalgebra::{Matrix3, Vector3};
 use nav_runtime::scheduler::Measurement;
 
 use super::measurement::{
-    baro_measurement, depth_measurement_at, dvl_measurement, gnss_measurement, heading_measurement,
-    mag_measurement, usbl_measurement, CompassForm,
+    baro_measurement, depth_measurement_at, dvl_measurement_at, gnss_measurement,
+    heading_measurement, mag_measurement, usbl_measurement, CompassForm,
 };
 use super::nominal::InsFilter;
 use super::vehicle::{InsVehicle, Present};
@@ -138,7 +138,7 @@ impl Reading for DvlReading {
         ctx: &Context,
     ) -> Box<dyn Measurement<InsFilter<V, N>>> {
         let v = ctx.mounting.map_or(self.0, |m| m * self.0);
-        dvl_measurement::<V, N>(v, ctx.noise_sigma)
+        dvl_measurement_at::<V, N>(v, ctx.noise_sigma, ctx.lever_arm)
     }
 }
 
