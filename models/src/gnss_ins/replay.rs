@@ -185,8 +185,13 @@ pub fn run(log: &LogDir, options: &ReplayOptions) -> Result<GnssInsRun, RunError
         .copied()
         .collect();
     for name in &run.ignored {
+        let rows = run
+            .health
+            .iter()
+            .find(|(n, _)| n == name)
+            .map_or(0, |(_, h)| h.rows);
         out.warnings.push(format!(
-            "model {NAME} has no {name} sensor: the rows of {name}.csv are not used"
+            "model {NAME} has no {name} sensor: the {rows} rows of {name}.csv are not used"
         ));
     }
     out.warnings.extend(run.warnings);

@@ -1,6 +1,7 @@
 //! Which vehicles the navigator and the log replay ([`crate::sdins25::filter::run_vehicle`]) can
 //! run: the INS error-state core plus any subset of the log-backed sensor
-//! blocks (depth meter, DVL, compass, USBL), declared either in one piece
+//! blocks (depth meter, DVL, compass, USBL, and the GNSS fix, barometer and
+//! magnetic heading of imported flight logs), declared either in one piece
 //! (`crate::sdins25::model::Sdins25`) or composed from
 //! `crate::vehicles::blocks`.
 //!
@@ -23,7 +24,9 @@
 //! `Box::new(InsReplay::<Sdins20, 20>::new())`. Everything else is found from
 //! the generated declaration by name, once per run ([`Layout::of`]): where each
 //! state lives in the vehicle's state vector, and that its inputs, noise and
-//! the USBL's auxiliary input are those of the INS core and the USBL block.
+//! the auxiliary inputs of the USBL and GNSS sensors are those of the INS
+//! core and of those blocks (the barometer's bias walk may follow the core's
+//! noise).
 //! A sensor type of another dimension or another vehicle does not compile; a
 //! sensor put in the wrong slot (e.g. the depth meter as the compass) or a
 //! vehicle without the core is a [`RunError`] naming what is wrong.
