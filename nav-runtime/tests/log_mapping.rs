@@ -451,6 +451,24 @@ fn mountings_are_parsed_and_checked() {
     assert_eq!(meta.sensors.usbl_misalignment_sigma, Some(0.001));
     assert!(meta.sensors.mounting("depth").is_none());
     assert_eq!(Meta::parse(&meta.to_toml()).unwrap(), meta);
+    // The imported-log sensors: a GNSS antenna lever arm and a magnetometer
+    // misalignment, written back the same.
+    let px4 = Meta::parse(&format!(
+        "{INITIAL}[sensors.gnss]\nnoise_sigma = 0.5\nlever_arm = [0.1, 0, -0.2]\n\
+         [sensors.mag]\nnoise_sigma = 0.05\nmisalignment = [0, 0, 0.01]\n\
+         [sensors.baro]\nnoise_sigma = 3.5\n"
+    ))
+    .unwrap();
+    assert_eq!(
+        px4.sensors.mounting("gnss").unwrap().lever_arm,
+        [0.1, 0.0, -0.2]
+    );
+    assert_eq!(
+        px4.sensors.mounting("mag").unwrap().misalignment,
+        [0.0, 0.0, 0.01]
+    );
+    assert!(px4.sensors.mounting("baro").is_none());
+    assert_eq!(Meta::parse(&px4.to_toml()).unwrap(), px4);
     for (text, key, problem) in [
         (
             "[sensors.dvl]\nnoise_sigma = 1\nlever_arm = [1, 2]\n",

@@ -9,6 +9,33 @@ pub mod replay;
 pub use model::{GnssIns, GnssInsBarometer, GnssInsGnssFix, GnssInsMagneticHeading};
 pub use replay::GnssInsReplay;
 
+use crate::navigator::{Absent, InitialSigma, InsVehicle};
+
+/// `gnss-ins` is replayed by the shared loop with its GNSS, barometer and
+/// magnetometer slots.
+impl InsVehicle<16> for GnssIns {
+    const REPLAY_NAME: &'static str = replay::NAME;
+    const DESCRIPTION: &'static str =
+        "16-state INS with GNSS position, barometer and magnetic heading (imported PX4 logs)";
+    type Depth = Absent;
+    type Dvl = Absent;
+    type Compass = Absent;
+    type CompassSmallAngle = Absent;
+    type Usbl = Absent;
+    type Gnss = GnssInsGnssFix;
+    type Baro = GnssInsBarometer;
+    type Mag = GnssInsMagneticHeading;
+    /// 1 m, 0.5 m/s, 0.05 rad level, 0.1 rad heading: a PX4 log's initial
+    /// state is PX4's own estimate at switch-on, far less certain than an
+    /// aligned survey INS.
+    const INITIAL_SIGMA: InitialSigma = InitialSigma {
+        position: 1.0,
+        velocity: 0.5,
+        level: crate::ahrs::replay::LEVEL_SIGMA_DEFAULT,
+        heading: crate::ahrs::replay::HEADING_SIGMA_DEFAULT,
+    };
+}
+
 #[cfg(test)]
 mod tests {
     use nav_runtime::model::{Model, Sensor};
@@ -16,6 +43,14 @@ mod tests {
 
     use super::model::{GnssInsInput, GnssInsParams};
     use super::{GnssIns, GnssInsBarometer};
+
+    #[test]
+    fn the_vehicle_fits_the_replay_loop() {
+        let l = crate::navigator::vehicle::Layout::of::<GnssIns, 16>().unwrap();
+        assert_eq!(l.baro_bias, Some(15));
+        let p = crate::navigator::vehicle::Present::of::<GnssIns, 16>();
+        assert!(p.gnss && p.baro && p.mag && !p.depth && !p.usbl);
+    }
 
     #[test]
     fn sixteen_states_all_used() {

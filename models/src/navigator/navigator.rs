@@ -33,8 +33,12 @@ use super::vehicle::{InsVehicle, Layout, Present};
 /// would be "repaired" by the filter after every step.
 const SIGMA_FLOOR: f64 = 1e-9;
 
+/// Number of log sensors a navigator can have.
+pub const SENSORS: usize = 7;
+
 /// Sensor names in registration order (also the order of readings at equal times).
-pub const SENSOR_NAMES: [&str; 4] = ["depth", "dvl", "heading", "usbl"];
+pub const SENSOR_NAMES: [&str; SENSORS] =
+    ["depth", "dvl", "heading", "usbl", "gnss", "baro", "mag"];
 
 /// Why a navigator could not be built or could not go on.
 #[derive(Debug, thiserror::Error, Clone, PartialEq)]
@@ -71,17 +75,17 @@ struct Requests {
 /// An INS vehicle `V` (`N` error states) navigating from pushed samples.
 pub struct Navigator<V: InsVehicle<N>, const N: usize> {
     scheduler: Scheduler<InsFilter<V, N>>,
-    ids: [SensorId; 4],
+    ids: [SensorId; SENSORS],
     record: SensorId,
-    contexts: [Context; 4],
+    contexts: [Context; SENSORS],
     start: f64,
     /// IMU period (s): readings up to one period before the start are
     /// applied at the start.
     period_s: f64,
     options: NavigatorOptions,
     requests: Rc<RefCell<Requests>>,
-    skipped: [u64; 4],
-    last_nis: [Option<f64>; 4],
+    skipped: [u64; SENSORS],
+    last_nis: [Option<f64>; SENSORS],
 }
 
 /// How long after the start a reading of the start's IMU period is applied
@@ -93,8 +97,9 @@ pub const AT_START_S: f64 = 1e-9;
 pub struct Builder<V: InsVehicle<N>, const N: usize> {
     initial: InitialState,
     imu: ImuSettings,
-    sensors: [Option<SensorSettings>; 4],
+    sensors: [Option<SensorSettings>; SENSORS],
     transducer: Option<Geodetic>,
+    declination: f64,
     options: NavigatorOptions,
     samples: RateSamples,
     layout: Result<Layout, String>,
@@ -108,8 +113,9 @@ impl<V: InsVehicle<N>, const N: usize> Navigator<V, N> {
         Builder {
             initial,
             imu,
-            sensors: [None; 4],
+            sensors: [None; SENSORS],
             transducer: None,
+            declination: 0.0,
             options: NavigatorOptions::default(),
             samples: RateSamples::default(),
             layout: Layout::of::<V, N>().map_err(|e| e.to_string()),
@@ -341,6 +347,13 @@ impl<V: InsVehicle<N>, const N: usize> Builder<V, N> {
         self
     }
 
+    /// Magnetic declination (rad, east positive) added to the
+    /// magnetometer's heading (default 0).
+    pub fn magnetic_declination(mut self, declination: f64) -> Self {
+        self.declination = declination;
+        self
+    }
+
     /// Adds the vehicle's sensor that gives readings of type `R`.
     ///
     /// # Errors
@@ -378,7 +391,7 @@ impl<V: InsVehicle<N>, const N: usize> Builder<V, N> {
         let mut scheduler = Scheduler::new(filter, self.initial.t)
             .map_err(setup)?
             .with_snapshot_every(snapshot_interval(window, self.imu.period_s));
-        let mut ids = Vec::with_capacity(4);
+        let mut ids = Vec::with_capacity(SENSORS);
         for (name, s) in SENSOR_NAMES.iter().zip(&self.sensors) {
             let (rate, latency) = s.map_or((2.0, 0.0), |s| (s.rate_hz, s.latency_s));
             ids.push(scheduler.add_sensor(*name, rate, latency).map_err(setup)?);
@@ -404,18 +417,19 @@ impl<V: InsVehicle<N>, const N: usize> Builder<V, N> {
                 .map_or(nav_runtime::nalgebra::Vector3::zeros(), |s| s.lever_arm),
             compass: self.options.compass,
             usbl_frame: frame,
+            declination: self.declination,
         });
         Ok(Navigator {
             scheduler,
-            ids: [ids[0], ids[1], ids[2], ids[3]],
+            ids: std::array::from_fn(|k| ids[k]),
             record,
             contexts,
             start: self.initial.t,
             period_s: self.imu.period_s,
             options: self.options,
             requests: Rc::new(RefCell::new(Requests::default())),
-            skipped: [0; 4],
-            last_nis: [None; 4],
+            skipped: [0; SENSORS],
+            last_nis: [None; SENSORS],
         })
     }
 
@@ -451,6 +465,7 @@ impl<V: InsVehicle<N>, const N: usize> Builder<V, N> {
             (layout.dvl_bias, 3, bias(1)),
             (layout.compass_bias, 1, bias(2)),
             (layout.usbl_misalignment, 3, misalignment),
+            (layout.baro_bias, 1, bias(5)),
         ] {
             if let Some(i) = at {
                 sigma[i..i + len].fill(s);
@@ -466,7 +481,13 @@ impl<V: InsVehicle<N>, const N: usize> Builder<V, N> {
             imu.gyro_noise_sigma.powi(2) * dt,
         );
         // The INS core's noise in record order (checked by `Layout::of`).
-        let noise = <V::Noise as Record>::from_fn(|i| if i < 3 { qa } else { qg });
+        // The barometer block's bias walk after them (checked there too).
+        let baro_walk = self.sensors[5].map_or(0.0, |s| s.bias_walk);
+        let noise = <V::Noise as Record>::from_fn(|i| match i {
+            0..=2 => qa,
+            3..=5 => qg,
+            _ => baro_walk,
+        });
         let name = V::REPLAY_NAME;
         let err = |e| NavigatorError::Setup(format!("{name} filter: {e}"));
         let gate = match self.options.gate_probability {
@@ -479,7 +500,9 @@ impl<V: InsVehicle<N>, const N: usize> Builder<V, N> {
         let ekf = crate::sdins25::lockout::configure::<V, N>(ekf, self.options.lockout_release)
             .map_err(err)?;
         let t0 = ins.time;
-        let nominal = InsNominal::try_new(ins).map_err(|e| NavigatorError::Setup(e.to_string()))?;
+        let mut nominal =
+            InsNominal::try_new(ins).map_err(|e| NavigatorError::Setup(e.to_string()))?;
+        nominal.baro_bias = self.sensors[5].map_or(0.0, |s| s.initial_bias);
         let mut filter = ErrorStateFilter::new(ekf, nominal);
         if self.options.smooth {
             let file = EpochFile::create(None).map_err(|e| NavigatorError::Setup(e.to_string()))?;
@@ -628,5 +651,116 @@ mod tests {
                 "{e}"
             );
         }
+    }
+
+    /// The GNSS, barometer and magnetometer slots of `gnss-ins`: fixes of an
+    /// antenna 2 m forward of the IMU (heading north) at 2 m north of the
+    /// true IMU position, a barometer reading 3 m high with that bias known,
+    /// and the field of a level vehicle heading north keep the estimate where
+    /// it is; a fix with a NaN latitude is refused and counted, not applied.
+    #[test]
+    fn gnss_baro_and_mag_slots_apply_their_readings() {
+        use crate::gnss_ins::GnssIns;
+        let mut start = initial();
+        start.attitude.yaw = 0.0;
+        start.sigma.position = 5.0;
+        let p = start.position;
+        let mut b = Navigator::<GnssIns, 16>::builder(start, imu());
+        let arm = Vector3::new(2.0, 0.0, 0.0);
+        let gnss = b
+            .sensor::<GnssFix>(SensorSettings::new(0.1).lever_arm(arm))
+            .unwrap();
+        let mut baro_settings = SensorSettings::new(0.5).bias(0.1);
+        baro_settings.initial_bias = 3.0;
+        let baro = b.sensor::<BaroReading>(baro_settings).unwrap();
+        let mag = b.sensor::<MagReading>(SensorSettings::new(0.01)).unwrap();
+        let mut nav = b.build(at_rest()).unwrap();
+        let north = 2.0 / (meridian_radius(p.lat) + p.h);
+        for k in 1..=500 {
+            let t = k as f64 * 0.01;
+            if k % 20 == 0 {
+                // Varying readings (identical ones would be frozen values).
+                let w = 1e-3 * (k as f64).sin();
+                let fix = GnssFix {
+                    lat: p.lat + north,
+                    lon: p.lon,
+                    height: p.h + w,
+                    eph: None,
+                    epv: None,
+                };
+                nav.push(gnss, t, fix);
+                nav.push(baro, t, BaroReading(p.h + 3.0 + w));
+                nav.push(mag, t, MagReading(Vector3::new(0.2, w, 0.4)));
+            }
+            nav.push_imu(t, at_rest()).unwrap();
+        }
+        let bad = GnssFix {
+            lat: f64::NAN,
+            ..GnssFix {
+                lat: p.lat,
+                lon: p.lon,
+                height: p.h,
+                eph: None,
+                epv: None,
+            }
+        };
+        nav.push(gnss, 5.005, bad);
+        nav.push_imu(5.01, at_rest()).unwrap();
+        for (name, r) in [
+            ("gnss", nav.report(gnss)),
+            ("baro", nav.report(baro)),
+            ("mag", nav.report(mag)),
+        ] {
+            assert_eq!(r.health.accepted, 25, "{name}: {r:?}");
+        }
+        assert_eq!(nav.report(gnss).health.rejected, 1);
+        let e = nav.estimate();
+        let dn = (e.nav.lat - p.lat) * (meridian_radius(p.lat) + p.h);
+        assert!(dn.abs() < 0.05, "north error {dn} m (the lever arm is 2 m)");
+        assert!((e.nav.h - p.h).abs() < 0.05, "height {}", e.nav.h - p.h);
+        assert!((e.baro_bias.0 - 3.0).abs() < 0.05, "{:?}", e.baro_bias);
+        assert!(e.nav.euler().yaw.abs() < 3e-3, "{}", e.nav.euler().yaw);
+    }
+
+    /// A vehicle turning in place at 0.2 rad/s with its DVL 1.5 m forward:
+    /// the DVL reads `omega x r` = 0.3 m/s to starboard. With the lever arm
+    /// the velocity estimate stays at rest; without it the reading pulls it
+    /// towards 0.3 m/s.
+    #[test]
+    fn a_dvl_at_a_lever_arm_reads_the_turn_rate_times_the_arm() {
+        let omega = 0.2;
+        let arm = Vector3::new(1.5, 0.0, 0.0);
+        let turning = ImuSample {
+            gyro: Vector3::new(0.0, 0.0, omega),
+            ..at_rest()
+        };
+        let speed = |lever_arm: Vector3<f64>| {
+            // No gate: the readings without the arm are applied, not refused.
+            let mut b =
+                Navigator::<Sdins20, 20>::builder(initial(), imu()).options(NavigatorOptions {
+                    gate_probability: None,
+                    ..NavigatorOptions::default()
+                });
+            let dvl = b
+                .sensor::<DvlReading>(SensorSettings::new(0.05).lever_arm(lever_arm))
+                .unwrap();
+            let mut nav = b.build(turning).unwrap();
+            for k in 1..=1000 {
+                let t = k as f64 * 0.01;
+                if k % 50 == 0 {
+                    let w = 1e-4 * (k as f64).sin();
+                    let reading = Vector3::new(w, omega * arm.x, 0.0);
+                    nav.push(dvl, t, DvlReading(reading));
+                }
+                nav.push_imu(t, turning).unwrap();
+            }
+            let r = nav.report(dvl);
+            assert_eq!(r.health.accepted, 20, "{r:?}");
+            nav.estimate().nav.v_n.norm()
+        };
+        let with_arm = speed(arm);
+        assert!(with_arm < 0.02, "{with_arm} m/s");
+        let without = speed(Vector3::zeros());
+        assert!(without > 0.1, "{without} m/s");
     }
 }

@@ -65,6 +65,11 @@ pub struct InsNominal<V, const N: usize> {
     pub compass_bias: f64,
     /// USBL misalignment correction (rad).
     pub usbl_misalignment: Vector3<f64>,
+    /// Barometer bias correction (m: barometric altitude minus height).
+    pub baro_bias: f64,
+    /// Bias-corrected body rate of the IMU sample being integrated (rad/s):
+    /// the `omega` of a sensor's `omega x r` lever-arm velocity.
+    pub body_rate: Vector3<f64>,
     /// Where `V` keeps each error state.
     layout: Layout,
     vehicle: PhantomData<fn() -> V>,
@@ -92,6 +97,8 @@ impl<V, const N: usize> core::fmt::Debug for InsNominal<V, N> {
             .field("dvl_bias", &self.dvl_bias)
             .field("compass_bias", &self.compass_bias)
             .field("usbl_misalignment", &self.usbl_misalignment)
+            .field("baro_bias", &self.baro_bias)
+            .field("body_rate", &self.body_rate)
             .field("layout", &self.layout)
             .finish()
     }
@@ -124,6 +131,8 @@ impl<V: InsVehicle<N>, const N: usize> InsNominal<V, N> {
             dvl_bias: Vector3::zeros(),
             compass_bias: 0.0,
             usbl_misalignment: Vector3::zeros(),
+            baro_bias: 0.0,
+            body_rate: Vector3::zeros(),
             layout: Layout::of::<V, N>()?,
             vehicle: PhantomData,
         })
@@ -158,6 +167,9 @@ impl<V: InsVehicle<N>, const N: usize> NominalState<N> for InsNominal<V, N> {
         if let Some(i) = l.usbl_misalignment {
             self.usbl_misalignment += v3(i);
         }
+        if let Some(i) = l.baro_bias {
+            self.baro_bias += e[i];
+        }
     }
 }
 
@@ -189,6 +201,7 @@ impl<V: InsVehicle<N>, const N: usize> Mechanization<V, N> for InsNominal<V, N> 
             f.z,
         ];
         let input = <V::Input as Record>::from_fn(|i| values[i]);
+        self.body_rate = w;
         self.ins.update_rates(&w, &f, dt);
         input
     }
@@ -208,6 +221,8 @@ pub struct Estimate {
     pub compass_bias: (f64, f64),
     /// USBL bias estimate (m, N) and its sigma.
     pub usbl_bias_n: (f64, f64),
+    /// Barometer bias estimate (m) and its sigma.
+    pub baro_bias: (f64, f64),
 }
 
 impl Estimate {
@@ -222,6 +237,7 @@ impl Estimate {
             n.layout(),
             n.compass_bias,
             n.usbl_bias[0],
+            n.baro_bias,
         )
     }
 
@@ -237,6 +253,7 @@ impl Estimate {
         let nav = layout.navigation().map(|i| error[i]);
         let compass = layout.compass_bias.map_or(0.0, |i| error[i]);
         let usbl_n = layout.usbl_bias.map_or(0.0, |i| error[i]);
+        let baro = layout.baro_bias.map_or(0.0, |i| error[i]);
         Self::from_parts(
             self.t,
             self.nav.corrected(&NavError::from_slice(&nav)),
@@ -244,6 +261,7 @@ impl Estimate {
             layout,
             self.compass_bias.0 + compass,
             self.usbl_bias_n.0 + usbl_n,
+            self.baro_bias.0 + baro,
         )
     }
 
@@ -254,6 +272,7 @@ impl Estimate {
         layout: &Layout,
         compass_bias: f64,
         usbl_bias_n: f64,
+        baro_bias: f64,
     ) -> Self {
         let idx = layout.navigation();
         let (rm, rn) = (
@@ -272,6 +291,7 @@ impl Estimate {
             cov,
             compass_bias: (compass_bias, sigma(layout.compass_bias)),
             usbl_bias_n: (usbl_bias_n, sigma(layout.usbl_bias)),
+            baro_bias: (baro_bias, sigma(layout.baro_bias)),
         }
     }
 }

@@ -9,7 +9,8 @@ use nav_runtime::nalgebra::{Matrix3, Vector3};
 use nav_runtime::scheduler::Measurement;
 
 use super::measurement::{
-    depth_measurement_at, dvl_measurement, heading_measurement, usbl_measurement, CompassForm,
+    baro_measurement, depth_measurement_at, dvl_measurement_at, gnss_measurement,
+    heading_measurement, mag_measurement, usbl_measurement, CompassForm,
 };
 use super::nominal::InsFilter;
 use super::vehicle::{InsVehicle, Present};
@@ -37,6 +38,34 @@ pub struct UsblFix {
     pub lon: f64,
 }
 
+/// A GNSS position fix of the antenna: latitude, longitude (rad), height
+/// (m, up), with the receiver's own horizontal and vertical accuracy (1
+/// sigma, m) when it gives them; the noise used is the larger of those and
+/// the sensor's noise sigma.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GnssFix {
+    /// Latitude (rad).
+    pub lat: f64,
+    /// Longitude (rad).
+    pub lon: f64,
+    /// Height (m, positive up).
+    pub height: f64,
+    /// Horizontal accuracy (m).
+    pub eph: Option<f64>,
+    /// Vertical accuracy (m).
+    pub epv: Option<f64>,
+}
+
+/// A barometer reading: barometric altitude (m, positive up), biased.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BaroReading(pub f64);
+
+/// A magnetometer reading: the magnetic field in body axes (any unit, the
+/// unit of the sensor's noise sigma); it is used as a tilt-compensated
+/// heading plus the declination.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MagReading(pub Vector3<f64>);
+
 /// What a reading needs from the navigator to become a measurement.
 #[derive(Clone, Copy, Debug)]
 pub struct Context {
@@ -50,14 +79,17 @@ pub struct Context {
     pub compass: CompassForm,
     /// Local frame at the USBL transducer.
     pub usbl_frame: LocalNed,
+    /// Magnetic declination (rad, east positive).
+    pub declination: f64,
 }
 
-/// A reading of one of the log sensors (implemented by the four reading types).
+/// A reading of one of the log sensors (implemented by the seven reading types).
 pub trait Reading: Copy + sealed::Sealed {
-    /// Index of the sensor in the navigator (depth, DVL, compass, USBL).
+    /// Index of the sensor in the navigator (depth, DVL, compass, USBL,
+    /// GNSS, barometer, magnetometer).
     #[doc(hidden)]
     const SLOT: usize;
-    /// Sensor name (`depth`, `dvl`, `heading`, `usbl`).
+    /// Sensor name (`depth`, `dvl`, `heading`, `usbl`, `gnss`, `baro`, `mag`).
     const NAME: &'static str;
     /// Whether vehicle `V` has this sensor.
     #[doc(hidden)]
@@ -76,6 +108,9 @@ mod sealed {
     impl Sealed for super::DvlReading {}
     impl Sealed for super::HeadingReading {}
     impl Sealed for super::UsblFix {}
+    impl Sealed for super::GnssFix {}
+    impl Sealed for super::BaroReading {}
+    impl Sealed for super::MagReading {}
 }
 
 impl Reading for DepthReading {
@@ -103,7 +138,7 @@ impl Reading for DvlReading {
         ctx: &Context,
     ) -> Box<dyn Measurement<InsFilter<V, N>>> {
         let v = ctx.mounting.map_or(self.0, |m| m * self.0);
-        dvl_measurement::<V, N>(v, ctx.noise_sigma)
+        dvl_measurement_at::<V, N>(v, ctx.noise_sigma, ctx.lever_arm)
     }
 }
 
@@ -135,6 +170,49 @@ impl Reading for UsblFix {
         ctx: &Context,
     ) -> Box<dyn Measurement<InsFilter<V, N>>> {
         usbl_measurement::<V, N>(self.lat, self.lon, ctx.noise_sigma, ctx.usbl_frame)
+    }
+}
+
+impl Reading for GnssFix {
+    const SLOT: usize = 4;
+    const NAME: &'static str = "gnss";
+    fn present(p: &Present, _: CompassForm) -> bool {
+        p.gnss
+    }
+    fn measurement<V: InsVehicle<N>, const N: usize>(
+        &self,
+        ctx: &Context,
+    ) -> Box<dyn Measurement<InsFilter<V, N>>> {
+        gnss_measurement::<V, N>(self, ctx.noise_sigma, ctx.lever_arm)
+    }
+}
+
+impl Reading for BaroReading {
+    const SLOT: usize = 5;
+    const NAME: &'static str = "baro";
+    fn present(p: &Present, _: CompassForm) -> bool {
+        p.baro
+    }
+    fn measurement<V: InsVehicle<N>, const N: usize>(
+        &self,
+        ctx: &Context,
+    ) -> Box<dyn Measurement<InsFilter<V, N>>> {
+        baro_measurement::<V, N>(self.0, ctx.noise_sigma)
+    }
+}
+
+impl Reading for MagReading {
+    const SLOT: usize = 6;
+    const NAME: &'static str = "mag";
+    fn present(p: &Present, _: CompassForm) -> bool {
+        p.mag
+    }
+    fn measurement<V: InsVehicle<N>, const N: usize>(
+        &self,
+        ctx: &Context,
+    ) -> Box<dyn Measurement<InsFilter<V, N>>> {
+        let m = ctx.mounting.map_or(self.0, |c| c * self.0);
+        mag_measurement::<V, N>(m, ctx.noise_sigma, ctx.declination)
     }
 }
 

@@ -39,15 +39,20 @@ pub struct InitialSigma {
     pub heading: f64,
 }
 
-impl Default for InitialSigma {
+impl InitialSigma {
     /// 1 m, 0.05 m/s, 0.05 deg level, 0.5 deg heading.
+    pub const DEFAULT: Self = Self {
+        position: 1.0,
+        velocity: 0.05,
+        level: 8.726_646_259_971_648e-4,
+        heading: 8.726_646_259_971_648e-3,
+    };
+}
+
+impl Default for InitialSigma {
+    /// [`InitialSigma::DEFAULT`].
     fn default() -> Self {
-        Self {
-            position: 1.0,
-            velocity: 0.05,
-            level: 8.726_646_259_971_648e-4,
-            heading: 8.726_646_259_971_648e-3,
-        }
+        Self::DEFAULT
     }
 }
 
@@ -73,6 +78,12 @@ pub struct SensorSettings {
     pub noise_sigma: f64,
     /// Sigma of the sensor's bias state, the prior of its covariance.
     pub bias_sigma: f64,
+    /// Initial value of the sensor's bias correction (reading units), for a
+    /// bias taken from the first reading (the barometer's).
+    pub initial_bias: f64,
+    /// Random-walk density of a bias whose block has process noise for it
+    /// (the barometer's `baro_bias_noise`; reading units squared per second).
+    pub bias_walk: f64,
     /// Nominal rate (Hz), for staleness.
     pub rate_hz: f64,
     /// Largest delay between a reading's time and its push (s); older
@@ -97,6 +108,8 @@ impl SensorSettings {
         Self {
             noise_sigma,
             bias_sigma: 0.0,
+            initial_bias: 0.0,
+            bias_walk: 0.0,
             rate_hz: 2.0,
             latency_s: 0.0,
             resolution: 0.0,

@@ -1,6 +1,7 @@
 //! Which vehicles the navigator and the log replay ([`crate::sdins25::filter::run_vehicle`]) can
 //! run: the INS error-state core plus any subset of the log-backed sensor
-//! blocks (depth meter, DVL, compass, USBL), declared either in one piece
+//! blocks (depth meter, DVL, compass, USBL, and the GNSS fix, barometer and
+//! magnetic heading of imported flight logs), declared either in one piece
 //! (`crate::sdins25::model::Sdins25`) or composed from
 //! `crate::vehicles::blocks`.
 //!
@@ -23,7 +24,9 @@
 //! `Box::new(InsReplay::<Sdins20, 20>::new())`. Everything else is found from
 //! the generated declaration by name, once per run ([`Layout::of`]): where each
 //! state lives in the vehicle's state vector, and that its inputs, noise and
-//! the USBL's auxiliary input are those of the INS core and the USBL block.
+//! the auxiliary inputs of the USBL and GNSS sensors are those of the INS
+//! core and of those blocks (the barometer's bias walk may follow the core's
+//! noise).
 //! A sensor type of another dimension or another vehicle does not compile; a
 //! sensor put in the wrong slot (e.g. the depth meter as the compass) or a
 //! vehicle without the core is a [`RunError`] naming what is wrong.
@@ -33,6 +36,7 @@ use nav_runtime::error_state::{ErrorStateFilter, NominalState};
 use nav_runtime::model::{Model, Record, Sensor};
 use nav_runtime::nalgebra::SVector;
 
+use super::settings::InitialSigma;
 use crate::harness::RunError;
 
 /// A vehicle the SDINS replay loop can run (see the module docs).
@@ -63,6 +67,17 @@ pub trait InsVehicle<const N: usize>: Model<N> {
     type CompassSmallAngle: Slot<Self, N, 1>;
     /// The `Usbl` sensor (block `Usbl`), fed by `usbl.csv`.
     type Usbl: Slot<Self, N, 2>;
+    /// The `GnssFix` sensor (block `GnssFix`: position of the antenna,
+    /// whose auxiliary input is its lever arm), fed by `gnss.csv`.
+    type Gnss: Slot<Self, N, 3>;
+    /// The `Barometer` sensor (barometric altitude with a bias state
+    /// `baro_bias`), fed by `baro.csv`.
+    type Baro: Slot<Self, N, 1>;
+    /// The `MagneticHeading` sensor (heading of a tilt-compensated
+    /// magnetometer plus the declination), fed by `mag.csv`.
+    type Mag: Slot<Self, N, 1>;
+    /// The initial-state sigmas a log's `[initial_sigma]` does not give.
+    const INITIAL_SIGMA: InitialSigma = InitialSigma::DEFAULT;
 }
 
 /// A place of [`InsVehicle`]: a generated sensor of model `Mo` with `M`
@@ -159,6 +174,19 @@ pub const NOISE_NAMES: [&str; 6] = [
     "gyro_noise[2]",
 ];
 
+/// Process noise of the blocks of the log sensors beyond the INS core's,
+/// set from the sensor's [`super::SensorSettings::bias_walk`]: the
+/// barometer bias random walk.
+pub const SENSOR_NOISE_NAMES: [&str; 1] = ["baro_bias_noise"];
+
+/// The auxiliary input of the GNSS block's sensor: the antenna lever arm
+/// (body axes, m).
+pub const ANTENNA_AUX_NAMES: [&str; 3] = [
+    "antenna_lever_arm[0]",
+    "antenna_lever_arm[1]",
+    "antenna_lever_arm[2]",
+];
+
 /// The auxiliary input of a depth sensor at a lever arm (body axes, m).
 pub const LEVER_ARM_AUX_NAMES: [&str; 3] = ["lever_arm[0]", "lever_arm[1]", "lever_arm[2]"];
 
@@ -194,6 +222,8 @@ pub struct Layout {
     pub compass_bias: Option<usize>,
     /// `usbl_misalignment` (3), with the USBL block.
     pub usbl_misalignment: Option<usize>,
+    /// `baro_bias` (1), with the barometer block.
+    pub baro_bias: Option<usize>,
 }
 
 /// Which log sensors a vehicle has.
@@ -209,6 +239,12 @@ pub struct Present {
     pub compass_small_angle: bool,
     /// `usbl.csv`.
     pub usbl: bool,
+    /// `gnss.csv`.
+    pub gnss: bool,
+    /// `baro.csv`.
+    pub baro: bool,
+    /// `mag.csv`.
+    pub mag: bool,
 }
 
 impl Present {
@@ -220,6 +256,9 @@ impl Present {
             compass: <V::Compass as Slot<V, N, 1>>::PRESENT,
             compass_small_angle: <V::CompassSmallAngle as Slot<V, N, 1>>::PRESENT,
             usbl: <V::Usbl as Slot<V, N, 2>>::PRESENT,
+            gnss: <V::Gnss as Slot<V, N, 3>>::PRESENT,
+            baro: <V::Baro as Slot<V, N, 1>>::PRESENT,
+            mag: <V::Mag as Slot<V, N, 1>>::PRESENT,
         }
     }
 }
@@ -281,16 +320,23 @@ impl Layout {
         check_slot::<V, V::Compass, N, 1>("Compass")?;
         check_slot::<V, V::CompassSmallAngle, N, 1>("CompassSmallAngle")?;
         check_slot::<V, V::Usbl, N, 2>("Usbl")?;
+        check_slot::<V, V::Gnss, N, 3>("GnssFix")?;
+        check_slot::<V, V::Baro, N, 1>("Barometer")?;
+        check_slot::<V, V::Mag, N, 1>("MagneticHeading")?;
         if <V::Input as Record>::NAMES != INPUT_NAMES {
             return Err(format!(
                 "its inputs {:?} are not the INS core's {INPUT_NAMES:?}",
                 <V::Input as Record>::NAMES
             ));
         }
-        if <V::Noise as Record>::NAMES != NOISE_NAMES {
+        let noise = <V::Noise as Record>::NAMES;
+        if noise.get(..NOISE_NAMES.len()) != Some(&NOISE_NAMES[..])
+            || noise[NOISE_NAMES.len()..]
+                .iter()
+                .any(|n| !SENSOR_NOISE_NAMES.contains(n))
+        {
             return Err(format!(
-                "its process noise {:?} is not the INS core's {NOISE_NAMES:?}",
-                <V::Noise as Record>::NAMES
+                "its process noise {noise:?} is not the INS core's {NOISE_NAMES:?} (plus any of {SENSOR_NOISE_NAMES:?})"
             ));
         }
         let present = Present::of::<V, N>();
@@ -305,6 +351,22 @@ impl Layout {
                 "its USBL auxiliary input is not {USBL_AUX_NAMES:?}"
             ));
         }
+        let gnss_aux = <V::Gnss as Slot<V, N, 3>>::AUX_NAMES;
+        if present.gnss && gnss_aux != ANTENNA_AUX_NAMES {
+            return Err(format!(
+                "its GNSS auxiliary input {gnss_aux:?} is not {ANTENNA_AUX_NAMES:?}"
+            ));
+        }
+        for (slot, aux) in [
+            ("Barometer", <V::Baro as Slot<V, N, 1>>::AUX_NAMES),
+            ("MagneticHeading", <V::Mag as Slot<V, N, 1>>::AUX_NAMES),
+        ] {
+            if !aux.is_empty() {
+                return Err(format!(
+                    "its {slot} sensor has auxiliary inputs {aux:?}; the slot gives none"
+                ));
+            }
+        }
         let layout = Layout {
             position: need("position_error", 3)?,
             velocity: need("velocity_error", 3)?,
@@ -316,6 +378,7 @@ impl Layout {
             dvl_bias: group(names, "dvl_bias", 3)?,
             compass_bias: group(names, "compass_bias", 1)?,
             usbl_misalignment: group(names, "usbl_misalignment", 3)?,
+            baro_bias: group(names, "baro_bias", 1)?,
         };
         let block = |present: bool, state: Option<usize>, name: &str| -> Result<(), String> {
             if present && state.is_none() {
@@ -333,6 +396,10 @@ impl Layout {
         )?;
         block(present.usbl, layout.usbl_bias, "usbl_bias")?;
         block(present.usbl, layout.usbl_misalignment, "usbl_misalignment")?;
+        block(present.baro, layout.baro_bias, "baro_bias")?;
+        if noise.contains(&"baro_bias_noise") && layout.baro_bias.is_none() {
+            return Err("it has `baro_bias_noise` but no state `baro_bias`".into());
+        }
         Ok(layout)
     }
 
@@ -396,6 +463,9 @@ mod tests {
         type Compass = SwappedDepth;
         type CompassSmallAngle = SwappedCompassSmallAngle;
         type Usbl = Absent;
+        type Gnss = Absent;
+        type Baro = Absent;
+        type Mag = Absent;
     }
 
     #[test]
@@ -416,6 +486,9 @@ mod tests {
         type Compass = Absent;
         type CompassSmallAngle = Absent;
         type Usbl = Absent;
+        type Gnss = Absent;
+        type Baro = Absent;
+        type Mag = Absent;
     }
 
     #[test]

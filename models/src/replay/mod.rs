@@ -158,6 +158,9 @@ pub fn check_report<V: InsVehicle<N>, const N: usize>(log: &LogSummary) -> Value
             has.compass || has.compass_small_angle,
         ),
         ("usbl", rows("usbl.csv"), has.usbl),
+        ("gnss", rows("gnss.csv"), has.gnss),
+        ("baro", rows("baro.csv"), has.baro),
+        ("mag", rows("mag.csv"), has.mag),
     ];
     let mut sensors = Map::new();
     let mut warnings: Vec<String> = Vec::new();

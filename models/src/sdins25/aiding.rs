@@ -1,5 +1,6 @@
 //! The aiding rows of a replay on their way to the navigator: each row of the
-//! depth meter, DVL, compass and USBL files, as the log stream hands it over,
+//! depth meter, DVL, compass, USBL, GNSS, barometer and magnetometer files,
+//! as the log stream hands it over,
 //! is counted in its sensor's health and, if usable, queued with its delivery
 //! time (its measurement time plus the delivery delay: the acoustic travel
 //! time of a USBL fix, injected delays of the others). The queue holds only
@@ -16,8 +17,8 @@ use nav_runtime::nalgebra::Vector3;
 use super::filter::{FilterOptions, UsblDelivery};
 use super::simulation::{DVL_MAX_ALTITUDE, SOUND_SPEED};
 use crate::navigator::{
-    CompassForm, DepthReading, DvlReading, Handle, HeadingReading, InsVehicle, Navigator,
-    SensorHealth, UsblFix, SENSOR_NAMES,
+    BaroReading, CompassForm, DepthReading, DvlReading, GnssFix, Handle, HeadingReading,
+    InsVehicle, MagReading, Navigator, SensorHealth, UsblFix, SENSORS, SENSOR_NAMES,
 };
 
 /// A reading of one aiding row.
@@ -27,6 +28,9 @@ enum Reading {
     Dvl(Vector3<f64>),
     Heading(f64),
     Usbl { lat: f64, lon: f64 },
+    Gnss(GnssFix),
+    Baro(f64),
+    Mag(Vector3<f64>),
 }
 
 /// An aiding row on its way: when it was measured and when it arrives.
@@ -80,6 +84,21 @@ impl Travelling {
                     nav.push(h, t, UsblFix { lat, lon });
                 }
             }
+            Reading::Gnss(fix) => {
+                if let Some(h) = handles.gnss {
+                    nav.push(h, t, fix);
+                }
+            }
+            Reading::Baro(altitude) => {
+                if let Some(h) = handles.baro {
+                    nav.push(h, t, BaroReading(altitude));
+                }
+            }
+            Reading::Mag(m) => {
+                if let Some(h) = handles.mag {
+                    nav.push(h, t, MagReading(m));
+                }
+            }
         }
     }
 
@@ -127,18 +146,21 @@ pub(super) struct Handles {
     pub(super) dvl: Option<Handle<DvlReading>>,
     pub(super) heading: Option<Handle<HeadingReading>>,
     pub(super) usbl: Option<Handle<UsblFix>>,
+    pub(super) gnss: Option<Handle<GnssFix>>,
+    pub(super) baro: Option<Handle<BaroReading>>,
+    pub(super) mag: Option<Handle<MagReading>>,
 }
 
 /// The aiding rows of a run: health counts and the rows still travelling.
 pub(super) struct Aiding {
     queue: BinaryHeap<Travelling>,
-    pub(super) health: [SensorHealth; 4],
+    pub(super) health: [SensorHealth; SENSORS],
     /// Rows seen per sensor.
-    rows: [usize; 4],
+    rows: [usize; SENSORS],
     /// The vehicle has the sensor (in the form the options choose).
-    present: [bool; 4],
+    pub(super) present: [bool; SENSORS],
     /// The options use the sensor.
-    used: [bool; 4],
+    used: [bool; SENSORS],
     /// Latest echo-sounder altitude (m).
     altitude: Option<f64>,
     frame: LocalNed,
@@ -158,14 +180,25 @@ impl Aiding {
         };
         Aiding {
             queue: BinaryHeap::new(),
-            health: [SensorHealth::default(); 4],
-            rows: [0; 4],
-            present: [has.depth, has.dvl, has_heading, has.usbl],
+            health: [SensorHealth::default(); SENSORS],
+            rows: [0; SENSORS],
+            present: [
+                has.depth,
+                has.dvl,
+                has_heading,
+                has.usbl,
+                has.gnss,
+                has.baro,
+                has.mag,
+            ],
             used: [
                 options.use_depth,
                 options.use_dvl,
                 options.use_compass,
                 options.use_usbl,
+                options.use_gnss,
+                options.use_baro,
+                options.use_mag,
             ],
             altitude: None,
             frame: LocalNed::new(transducer),
@@ -176,8 +209,8 @@ impl Aiding {
 
     /// Log sensors (with a file) that the vehicle lacks: their rows are
     /// counted as skipped.
-    pub(super) fn ignored(&self, has_file: [bool; 4]) -> Vec<&'static str> {
-        (0..4)
+    pub(super) fn ignored(&self, has_file: [bool; SENSORS]) -> Vec<&'static str> {
+        (0..SENSORS)
             .filter(|&i| has_file[i] && !self.present[i])
             .map(|i| SENSOR_NAMES[i])
             .collect()
@@ -257,6 +290,19 @@ impl Aiding {
                     }),
                 )
             }
+            LogEvent::Gnss(r) => (
+                4,
+                r.t,
+                Some(Reading::Gnss(GnssFix {
+                    lat: r.lat,
+                    lon: r.lon,
+                    height: r.height,
+                    eph: r.eph,
+                    epv: r.epv,
+                })),
+            ),
+            LogEvent::Baro(r) => (5, r.t, Some(Reading::Baro(r.altitude))),
+            LogEvent::Mag(r) => (6, r.t, Some(Reading::Mag(Vector3::new(r.mx, r.my, r.mz)))),
             _ => return,
         };
         let row = self.rows[sensor];

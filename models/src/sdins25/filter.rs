@@ -15,8 +15,8 @@ use nav_runtime::earth::{meridian_radius, Geodetic};
 use nav_runtime::gate::Gate;
 use nav_runtime::imu::ImuSpec;
 use nav_runtime::log::{
-    DepthRow, DvlRow, HeadingRow, ImuRow, LogDir, LogSource, LogTable, Meta, Prefetched,
-    SensorNoise, UsblRow,
+    BaroRow, DepthRow, DvlRow, GnssRow, HeadingRow, ImuRow, LogDir, LogSource, LogTable, MagRow,
+    Meta, Prefetched, SensorNoise, UsblRow,
 };
 use nav_runtime::nalgebra::{Matrix3, Vector3};
 use nav_runtime::sensors::ErrorSpec;
@@ -34,9 +34,19 @@ pub use crate::navigator::{
     Estimate, ImuSample, InsFilter, InsNominal, SensorHealth,
 };
 use crate::navigator::{
-    Bounds, Builder, DepthReading, DvlReading, HeadingReading, ImuSettings, InitialSigma,
-    InitialState, InsVehicle, Navigator, NavigatorError, NavigatorOptions, SensorSettings, UsblFix,
+    BaroReading, Bounds, Builder, DepthReading, DvlReading, GnssFix, HeadingReading, ImuSettings,
+    InitialSigma, InitialState, InsVehicle, MagReading, Navigator, NavigatorError,
+    NavigatorOptions, SensorSettings, UsblFix, SENSORS, SENSOR_NAMES,
 };
+
+/// GNSS position noise without `[sensors.gnss]`, m (PX4's `EKF2_GPS_P_NOISE`).
+pub const GNSS_NOISE_DEFAULT: f64 = 0.5;
+/// Barometer noise without `[sensors.baro]`, m (PX4's `EKF2_BARO_NOISE`).
+pub const BARO_NOISE_DEFAULT: f64 = 3.5;
+/// Barometer bias random walk, m/s^0.5.
+pub const BARO_BIAS_WALK: f64 = 0.05;
+/// Magnetometer noise without `[sensors.mag]`, gauss (PX4's `EKF2_MAG_NOISE`).
+pub const MAG_NOISE_DEFAULT: f64 = crate::ahrs::replay::MAG_NOISE_DEFAULT;
 
 /// Number of error states of SDINS-25.
 pub const N: usize = 25;
@@ -75,6 +85,12 @@ pub struct FilterOptions {
     pub use_compass: bool,
     /// Use the USBL.
     pub use_usbl: bool,
+    /// Use the GNSS fixes.
+    pub use_gnss: bool,
+    /// Use the barometer.
+    pub use_baro: bool,
+    /// Use the magnetometer.
+    pub use_mag: bool,
     /// Extra delivery delay of the DVL, depth and compass measurements
     /// (fault injection; zero in normal runs).
     pub delivery: Delivery,
@@ -157,6 +173,9 @@ impl Default for FilterOptions {
             use_depth: true,
             use_compass: true,
             use_usbl: true,
+            use_gnss: true,
+            use_baro: true,
+            use_mag: true,
             delivery: Delivery::default(),
             stuck_false_alarm: Some(StuckDetector::DEFAULT_FALSE_ALARM),
             bounds: Bounds::default(),
@@ -186,8 +205,13 @@ pub struct InsRun<V: InsVehicle<N>, const N: usize> {
     pub samples: usize,
     /// Time of the first and the last IMU sample used (s).
     pub imu_span: (f64, f64),
-    /// Per-sensor health: depth, dvl, heading, usbl.
-    pub health: [(&'static str, SensorHealth); 4],
+    /// Per-sensor health: depth, dvl, heading, usbl, then gnss, baro and
+    /// mag when the vehicle has that sensor or the log has its file.
+    pub health: Vec<(&'static str, SensorHealth)>,
+    /// Magnetic declination used for the magnetometer (rad, east positive),
+    /// and the samples it was averaged over (see
+    /// [`crate::ulog::replay::declination`]); `(0, 0)` without them.
+    pub magnetic_declination: (f64, usize),
     /// Covariance diagonal repairs.
     pub repairs: u64,
     /// Wall time in the filter loop (s).
@@ -232,7 +256,7 @@ pub fn initial_vehicle_filter<V: InsVehicle<N>, const N: usize>(
     options: &FilterOptions,
 ) -> Result<InsFilter<V, N>, RunError> {
     let (facts, _) = LogFacts::of(&LogSource::Memory(log), options)?;
-    let plan = LogPlan::new(&log.meta, &facts, [0.0; 4])?;
+    let plan = LogPlan::new(&log.meta, &facts, [0.0; SENSORS], V::INITIAL_SIGMA)?;
     let (builder, _) = plan.builder::<V, N>(options);
     builder.initial_filter(&plan.first).map_err(setup_error)
 }
@@ -275,8 +299,14 @@ pub(super) struct LogFacts {
     /// IMU rows before the epoch (not used).
     pub(super) before_epoch: usize,
     pub(super) period_s: f64,
-    /// Depth, DVL, compass and USBL (USBL angles as metres), 0 when unknown.
-    pub(super) resolutions: [f64; 4],
+    /// Of each sensor of [`SENSOR_NAMES`] (USBL and GNSS angles as metres),
+    /// 0 when unknown.
+    pub(super) resolutions: [f64; SENSORS],
+    /// Magnetic declination from the magnetometer samples around the
+    /// initial time and the initial attitude (rad), with the samples used.
+    pub(super) declination: Option<(f64, usize)>,
+    /// The first barometric altitude at or after the first IMU row (m).
+    pub(super) first_baro: Option<f64>,
 }
 
 impl LogFacts {
@@ -331,15 +361,54 @@ impl LogFacts {
         let first = first.unwrap_or(head[0]);
         let resolutions = if options.stuck_false_alarm.is_some() {
             let radius = meridian_radius(source.meta().initial.lat);
+            let gnss = [
+                radius * resolution::<GnssRow>(source, &[1, 2])?,
+                resolution::<GnssRow>(source, &[3])?,
+            ];
             [
                 resolution::<DepthRow>(source, &[1])?,
                 resolution::<DvlRow>(source, &[1, 2, 3])?,
                 resolution::<HeadingRow>(source, &[1])?,
                 radius * resolution::<UsblRow>(source, &[1, 2])?,
+                // The finer of the horizontal and vertical steps.
+                match gnss {
+                    [0.0, v] | [v, 0.0] => v,
+                    [h, v] => h.min(v),
+                },
+                resolution::<BaroRow>(source, &[1])?,
+                resolution::<MagRow>(source, &[1, 2, 3])?,
             ]
         } else {
-            [0.0; 4]
+            [0.0; SENSORS]
         };
+        // The declination: magnetometer samples around the initial time
+        // (the first IMU row without `[initial] t`) against the initial attitude.
+        let t0 = source.meta().initial.t.unwrap_or(t0);
+        let window = crate::ulog::replay::DECLINATION_WINDOW_S;
+        let mut near = Vec::new();
+        if let Some(mut rows) = source.rows::<MagRow>()? {
+            while let Some((_, r)) = rows.next_row()? {
+                if r.t > t0 + window {
+                    break;
+                }
+                if r.t >= t0 - window {
+                    near.push(r);
+                }
+            }
+        }
+        let declination = match source.meta().initial.attitude() {
+            Ok(attitude) => crate::ulog::replay::declination(&near, t0, attitude),
+            Err(_) => None,
+        };
+        let mut first_baro = None;
+        if let Some(mut rows) = source.rows::<BaroRow>()? {
+            while let Some((_, r)) = rows.next_row()? {
+                if r.t >= head[0].t {
+                    first_baro = Some(r.altitude);
+                    break;
+                }
+            }
+        }
         Ok((
             LogFacts {
                 epoch,
@@ -347,6 +416,8 @@ impl LogFacts {
                 before_epoch,
                 period_s,
                 resolutions,
+                declination,
+                first_baro,
             },
             imu,
         ))
@@ -388,19 +459,22 @@ pub(super) struct LogPlan {
     pub(super) first: ImuSample,
     pub(super) initial: InitialState,
     pub(super) imu: ImuSettings,
-    /// Settings of depth, DVL, compass and USBL.
-    pub(super) sensors: [SensorSettings; 4],
+    /// Settings of each sensor of [`SENSOR_NAMES`].
+    pub(super) sensors: [SensorSettings; SENSORS],
+    pub(super) declination: f64,
     pub(super) transducer: Geodetic,
     /// Mounting keys of `meta.toml` the vehicle's models do not represent.
     pub(super) warnings: Vec<String>,
 }
 
 impl LogPlan {
-    /// `latencies`: of depth, DVL, compass and USBL (s).
+    /// `latencies`: of each sensor of [`SENSOR_NAMES`] (s); `defaults`:
+    /// the vehicle's initial sigmas where `[initial_sigma]` has no key.
     pub(super) fn new(
         meta: &Meta,
         facts: &LogFacts,
-        latencies: [f64; 4],
+        latencies: [f64; SENSORS],
+        defaults: InitialSigma,
     ) -> Result<Self, RunError> {
         let [roll, pitch, yaw] = meta.initial.attitude()?;
         let first = &facts.first;
@@ -412,7 +486,7 @@ impl LogPlan {
             accel_noise_sigma: spec.accel_noise,
         });
         let sig = meta.initial_sigma.unwrap_or_default();
-        let d = InitialSigma::default();
+        let d = defaults;
         let initial = InitialState {
             t: facts.epoch,
             position: Geodetic::new(meta.initial.lat, meta.initial.lon, -meta.initial.depth),
@@ -430,9 +504,21 @@ impl LogPlan {
             noise_or(meta.sensors.dvl, ErrorSpec::sdins25_dvl()),
             noise_or(meta.sensors.heading, ErrorSpec::sdins25_compass()),
             noise_or(meta.sensors.usbl, ErrorSpec::sdins25_usbl()),
+            meta.sensors.gnss.unwrap_or(SensorNoise {
+                bias_sigma: 0.0,
+                noise_sigma: GNSS_NOISE_DEFAULT,
+            }),
+            meta.sensors.baro.unwrap_or(SensorNoise {
+                bias_sigma: 0.0,
+                noise_sigma: BARO_NOISE_DEFAULT,
+            }),
+            meta.sensors.mag.unwrap_or(SensorNoise {
+                bias_sigma: 0.0,
+                noise_sigma: MAG_NOISE_DEFAULT,
+            }),
         ];
         let resolution = facts.resolutions;
-        let mut sensors: [SensorSettings; 4] = std::array::from_fn(|i| SensorSettings {
+        let mut sensors: [SensorSettings; SENSORS] = std::array::from_fn(|i| SensorSettings {
             resolution: resolution[i],
             latency_s: latencies[i],
             ..SensorSettings::new(noise[i].noise_sigma).bias(noise[i].bias_sigma)
@@ -445,16 +531,30 @@ impl LogPlan {
             None if noise[3].bias_sigma > 0.0 => TRACKPOINT_MISALIGNMENT_SIGMA,
             None => 0.0,
         };
-        // Mountings: the DVL's misalignment turns its readings into body
-        // axes; what the models do not represent is said, not dropped.
+        // The barometer bias starts at the first reading minus the initial
+        // height, so its prior is one reading's noise unless the log gives one;
+        // it walks by `BARO_BIAS_WALK`.
+        let baro = &mut sensors[5];
+        if baro.bias_sigma <= 0.0 {
+            baro.bias_sigma = baro.noise_sigma;
+        }
+        baro.bias_walk = BARO_BIAS_WALK * BARO_BIAS_WALK;
+        baro.initial_bias = facts.first_baro.map_or(0.0, |a| a - initial.position.h);
+        // Mountings: the DVL's and the magnetometer's misalignments turn
+        // their readings into body axes, the DVL's lever arm corrects its
+        // reading by `omega x r`, the depth sensor's and the GNSS antenna's
+        // go to blocks that take one; what the models do not represent is
+        // said, not dropped.
         let mut warnings = Vec::new();
-        for (i, name) in ["depth", "dvl", "heading", "usbl"].into_iter().enumerate() {
+        for (i, name) in SENSOR_NAMES.into_iter().enumerate() {
             let Some(m) = meta.sensors.mounting(name) else {
                 continue;
             };
-            if i == 0 {
-                // The depth slot's block may take it (checked per vehicle).
-                sensors[0].lever_arm = Vector3::from(m.lever_arm);
+            if i == 0 || i == 1 || i == 4 {
+                // The depth slot's block may take it (checked per vehicle);
+                // the DVL reading is corrected by `omega x r`; the GNSS
+                // block takes the antenna's.
+                sensors[i].lever_arm = Vector3::from(m.lever_arm);
             } else if m.lever_arm != [0.0; 3] {
                 warnings.push(format!(
                     "meta.toml: sensors.{name}.lever_arm {:?} m is not modelled by this replay (the {name} reading is taken at the IMU): ignored",
@@ -462,9 +562,9 @@ impl LogPlan {
                 ));
             }
             if m.misalignment != [0.0; 3] {
-                if i == 1 {
+                if i == 1 || i == 6 {
                     let [roll, pitch, yaw] = m.misalignment;
-                    sensors[1].mounting =
+                    sensors[i].mounting =
                         Some(nav_runtime::attitude::Euler { roll, pitch, yaw }.c_bn());
                 } else {
                     warnings.push(format!(
@@ -494,6 +594,7 @@ impl LogPlan {
             },
             sensors,
             transducer,
+            declination: facts.declination.map_or(0.0, |d| d.0),
         })
     }
 
@@ -511,13 +612,17 @@ impl LogPlan {
                 bounds: options.bounds,
                 smooth: options.smooth,
             })
-            .usbl_transducer(self.transducer);
+            .usbl_transducer(self.transducer)
+            .magnetic_declination(self.declination);
         // A sensor the vehicle lacks is not added (its handle is `None`).
         let handles = Handles {
             depth: b.sensor::<DepthReading>(self.sensors[0]).ok(),
             dvl: b.sensor::<DvlReading>(self.sensors[1]).ok(),
             heading: b.sensor::<HeadingReading>(self.sensors[2]).ok(),
             usbl: b.sensor::<UsblFix>(self.sensors[3]).ok(),
+            gnss: b.sensor::<GnssFix>(self.sensors[4]).ok(),
+            baro: b.sensor::<BaroReading>(self.sensors[5]).ok(),
+            mag: b.sensor::<MagReading>(self.sensors[6]).ok(),
         };
         (b, handles)
     }

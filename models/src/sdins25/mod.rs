@@ -101,6 +101,9 @@ impl InsVehicle<25> for Sdins25 {
     type Compass = Sdins25Compass;
     type CompassSmallAngle = Sdins25CompassSmallAngle;
     type Usbl = Sdins25Usbl;
+    type Gnss = vehicle::Absent;
+    type Baro = vehicle::Absent;
+    type Mag = vehicle::Absent;
 }
 
 /// Runs the SDINS-25 filter over `log` and scores it: [`run_and_score_vehicle`]
@@ -313,9 +316,14 @@ fn smoothed_summary(runs: &[RunResult]) -> Value {
 pub(crate) fn health(runs: &[RunResult]) -> Value {
     let sum = |k: &str| metric_values(runs, k).iter().sum::<f64>();
     let mut h = Map::new();
-    for name in SENSOR_NAMES {
+    // The imported-log sensors when a run has them.
+    let extra = crate::navigator::SENSOR_NAMES[4..].iter().filter(|name| {
+        runs.iter()
+            .any(|r| r.metrics.contains_key(&format!("{name}_rows")))
+    });
+    for name in SENSOR_NAMES.iter().chain(extra) {
         h.insert(
-            name.into(),
+            (*name).to_string(),
             json!({
                 "rows": sum(&format!("{name}_rows")),
                 "accepted": sum(&format!("{name}_accepted")),
@@ -640,6 +648,21 @@ impl<V: InsVehicle<N>, const N: usize> ReplayModel for InsReplay<V, N> {
     fn log_files(&self) -> Option<&'static [&'static str]> {
         // Aiding files of sensors `V` lacks are reported by the replay itself.
         // The echo sounder's altitude gates the DVL (above its range).
+        let p = vehicle::Present::of::<V, N>();
+        if p.gnss || p.baro || p.mag {
+            return Some(&[
+                "imu.csv",
+                "dvl.csv",
+                "depth.csv",
+                "heading.csv",
+                "usbl.csv",
+                "altitude.csv",
+                "gnss.csv",
+                "baro.csv",
+                "mag.csv",
+                "truth.csv",
+            ]);
+        }
         Some(&[
             "imu.csv",
             "dvl.csv",

@@ -10,7 +10,8 @@ use std::collections::VecDeque;
 use std::iter::Peekable;
 
 use nav_runtime::log::{
-    DepthRow, DvlRow, Event as LogEvent, HeadingRow, ImuForm, ImuRow, LogDir, LogSource, UsblRow,
+    BaroRow, DepthRow, DvlRow, Event as LogEvent, GnssRow, HeadingRow, ImuForm, ImuRow, LogDir,
+    LogSource, MagRow, UsblRow,
 };
 use nav_runtime::nalgebra::Vector3;
 use nav_runtime::smoother::{smooth, EpochFile};
@@ -20,7 +21,7 @@ use super::aiding::{place, Aiding, Travelling};
 use super::filter::{setup_error, FilterOptions, InsRun, LogFacts, LogPlan, MAX_GAP_STEPS};
 use crate::harness::RunError;
 use crate::navigator::vehicle::{Layout, Slot};
-use crate::navigator::{Estimate, ImuSample, InsVehicle, NavigatorError, SENSOR_NAMES};
+use crate::navigator::{Estimate, ImuSample, InsVehicle, NavigatorError, SENSORS, SENSOR_NAMES};
 
 /// Runs the filter of vehicle `V` over `log`, recording estimates at
 /// `record_times` (s; each snapped to the nearest IMU sample time within half
@@ -84,10 +85,10 @@ where
 {
     Layout::of::<V, N>()?;
     let (facts, imu) = LogFacts::of(source, options)?;
-    let plan0 = LogPlan::new(source.meta(), &facts, [0.0; 4])?;
+    let plan0 = LogPlan::new(source.meta(), &facts, [0.0; SENSORS], V::INITIAL_SIGMA)?;
     let mut aiding = Aiding::new::<V, N>(options, plan0.transducer);
     let (usbl_latency, has_usbl) = aiding.usbl_latency(source)?;
-    let latencies: [f64; 4] = std::array::from_fn(|i| {
+    let latencies: [f64; SENSORS] = std::array::from_fn(|i| {
         if i == 3 {
             if has_usbl {
                 usbl_latency + 1.0
@@ -100,7 +101,35 @@ where
             0.0
         }
     });
-    let mut plan = LogPlan::new(source.meta(), &facts, latencies)?;
+    let mut plan = LogPlan::new(source.meta(), &facts, latencies, V::INITIAL_SIGMA)?;
+    // The PX4 defaults of the imported-log sensors are said when used.
+    let sensors = &source.meta().sensors;
+    for (present, missing, name, noise) in [
+        (
+            aiding.present[4],
+            sensors.gnss.is_none(),
+            "gnss",
+            plan.sensors[4].noise_sigma,
+        ),
+        (
+            aiding.present[5],
+            sensors.baro.is_none(),
+            "baro",
+            plan.sensors[5].noise_sigma,
+        ),
+        (
+            aiding.present[6],
+            sensors.mag.is_none(),
+            "mag",
+            plan.sensors[6].noise_sigma,
+        ),
+    ] {
+        if present && missing {
+            plan.warnings.push(format!(
+                "meta.toml has no [sensors.{name}]: noise {noise} (PX4's default)"
+            ));
+        }
+    }
     // A depth lever arm is used only by a depth block that takes one.
     let lever_arm = plan.sensors[0].lever_arm;
     if lever_arm != Vector3::zeros() && <V::Depth as Slot<V, N, 1>>::AUX_NAMES.is_empty() {
@@ -125,6 +154,9 @@ where
         source.has::<DvlRow>()?,
         source.has::<HeadingRow>()?,
         source.has::<UsblRow>()?,
+        source.has::<GnssRow>()?,
+        source.has::<BaroRow>()?,
+        source.has::<MagRow>()?,
     ];
     let ignored = aiding.ignored(has_file);
 
@@ -340,11 +372,18 @@ where
     let replays = nav.replays();
     let mut all_warnings = aiding.warnings;
     all_warnings.extend(warnings);
+    // The four SDINS sensors always; the others when the vehicle has them
+    // or the log has their file.
+    let health = (0..SENSORS)
+        .filter(|&i| i < 4 || aiding.present[i] || has_file[i])
+        .map(|i| (SENSOR_NAMES[i], health[i]))
+        .collect();
     Ok(InsRun {
         estimates: Vec::new(),
         imu_span: (first.t, previous.t),
         samples,
-        health: std::array::from_fn(|i| (SENSOR_NAMES[i], health[i])),
+        health,
+        magnetic_declination: facts.declination.unwrap_or((0.0, 0)),
         repairs,
         runtime_s,
         replays,
@@ -501,6 +540,42 @@ impl<T> Requests<(f64, Option<T>)> for Every {
         let k = ((t - origin) / self.period_s + 1e-9).floor() + 1.0;
         self.due = origin + k * self.period_s;
         waiting.groups.push_back((true, vec![(t, None)]));
+        Ok(true)
+    }
+}
+
+/// An estimate at every IMU sample (payload `every(t)`), besides the
+/// requests of `inner` (e.g. the truth rows): for a replay that compares
+/// with another estimator's solution at its own times, by interpolation.
+pub struct EachSample<R, F> {
+    inner: R,
+    every: F,
+}
+
+impl<R, F> EachSample<R, F> {
+    /// The requests of `inner` plus `every(t)` at each sample.
+    pub fn new(inner: R, every: F) -> Self {
+        EachSample { inner, every }
+    }
+}
+
+impl<P, R: Requests<P>, F: FnMut(f64) -> P> Requests<P> for EachSample<R, F> {
+    fn take(
+        &mut self,
+        t: f64,
+        next: Option<f64>,
+        tolerance: f64,
+        waiting: &mut Waiting<P>,
+    ) -> Result<bool, RunError> {
+        let p = (self.every)(t);
+        if self.inner.take(t, next, tolerance, waiting)? {
+            // The newest ticket group is this sample's: one estimate for both.
+            if let Some((_, ps)) = waiting.groups.iter_mut().rev().find(|(ticket, _)| *ticket) {
+                ps.push(p);
+                return Ok(true);
+            }
+        }
+        waiting.groups.push_back((true, vec![p]));
         Ok(true)
     }
 }

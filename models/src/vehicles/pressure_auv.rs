@@ -55,6 +55,9 @@ impl crate::navigator::InsVehicle<20> for PressureAuv {
     type Compass = PressureAuvCompass;
     type CompassSmallAngle = PressureAuvCompassSmallAngle;
     type Usbl = crate::navigator::Absent;
+    type Gnss = crate::navigator::Absent;
+    type Baro = crate::navigator::Absent;
+    type Mag = crate::navigator::Absent;
 }
 
 /// Number of states of [`PressureAuv`].

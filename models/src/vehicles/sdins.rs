@@ -40,6 +40,9 @@ impl InsVehicle<25> for Sdins25Composed {
     type Compass = Sdins25ComposedCompass;
     type CompassSmallAngle = Sdins25ComposedCompassSmallAngle;
     type Usbl = Sdins25ComposedUsbl;
+    type Gnss = Absent;
+    type Baro = Absent;
+    type Mag = Absent;
 }
 
 impl InsVehicle<20> for Sdins20 {
@@ -51,6 +54,9 @@ impl InsVehicle<20> for Sdins20 {
     type Compass = Sdins20Compass;
     type CompassSmallAngle = Sdins20CompassSmallAngle;
     type Usbl = Absent;
+    type Gnss = Absent;
+    type Baro = Absent;
+    type Mag = Absent;
 }
 
 #[cfg(test)]

@@ -117,7 +117,7 @@ pub struct Sensors {
     /// `[sensors.<name>] lever_arm` / `misalignment` of each aiding sensor, in
     /// [`AIDING_SENSORS`] order (`None`: neither key given); see
     /// [`Sensors::mounting`].
-    pub mountings: [Option<Mounting>; 7],
+    pub mountings: [Option<Mounting>; AIDING_SENSORS.len()],
 }
 
 impl Sensors {
@@ -125,7 +125,7 @@ impl Sensors {
     /// `meta.toml` gives one.
     pub fn mounting(&self, name: &str) -> Option<&Mounting> {
         let i = AIDING_SENSORS.iter().position(|s| *s == name)?;
-        self.mountings[i].as_ref()
+        self.mountings.get(i)?.as_ref()
     }
 }
 
@@ -141,7 +141,9 @@ pub struct Mounting {
 }
 
 /// Aiding sensors that may carry a mounting (not `rpm`).
-const MOUNTED: &[&str] = &["dvl", "depth", "heading", "usbl", "speed", "altitude"];
+const MOUNTED: &[&str] = &[
+    "dvl", "depth", "heading", "usbl", "speed", "altitude", "mag", "baro", "gnss",
+];
 
 /// Aiding sensor names accepted under `[sensors.<name>]` (besides `imu`).
 pub const AIDING_SENSORS: &[&str] = &[
