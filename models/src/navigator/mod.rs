@@ -28,7 +28,7 @@ pub mod prelude;
 pub use health::SensorHealth;
 pub use measurement::{
     baro_measurement, depth_measurement, dvl_measurement, dvl_measurement_at, gnss_measurement,
-    heading_measurement, mag_measurement, usbl_measurement, CompassForm,
+    heading_measurement, mag_measurement, usbl_measurement, usbl_measurement_at, CompassForm,
 };
 pub use navigator::{
     Builder, Navigator, NavigatorError, SensorReport, Ticket, SENSORS, SENSOR_NAMES,

@@ -722,6 +722,52 @@ mod tests {
         assert!(e.nav.euler().yaw.abs() < 3e-3, "{}", e.nav.euler().yaw);
     }
 
+    /// A vehicle at rest heading 0.3 rad with its USBL transponder 2 m
+    /// forward and 1 m to starboard: the fixes are of the transponder. With
+    /// the lever arm the position estimate stays at the IMU; without it the
+    /// fixes pull it towards the transponder, 2.2 m away.
+    #[test]
+    fn a_usbl_transponder_at_a_lever_arm_is_fixed_where_it_is() {
+        let arm = Vector3::new(2.0, 1.0, 0.0);
+        let start = initial();
+        let p = start.position;
+        let c_bn = start.attitude.c_bn();
+        let offset = c_bn * arm;
+        let error = |lever_arm: Vector3<f64>| {
+            let mut b = Navigator::<Sdins25, 25>::builder(start, imu()).options(NavigatorOptions {
+                gate_probability: None,
+                ..NavigatorOptions::default()
+            });
+            let usbl = b
+                .sensor::<UsblFix>(SensorSettings::new(0.3).lever_arm(lever_arm))
+                .unwrap();
+            let mut nav = b.build(at_rest()).unwrap();
+            let rm = meridian_radius(p.lat) + p.h;
+            let rn = transverse_radius(p.lat) + p.h;
+            for k in 1..=1000 {
+                let t = k as f64 * 0.01;
+                if k % 50 == 0 {
+                    let w = 1e-3 * (k as f64).sin();
+                    let fix = UsblFix {
+                        lat: p.lat + (offset.x + w) / rm,
+                        lon: p.lon + offset.y / (rn * p.lat.cos()),
+                    };
+                    nav.push(usbl, t, fix);
+                }
+                nav.push_imu(t, at_rest()).unwrap();
+            }
+            assert_eq!(nav.report(usbl).health.accepted, 20);
+            let e = nav.estimate().nav;
+            let dn = (e.lat - p.lat) * rm;
+            let de = (e.lon - p.lon) * rn * p.lat.cos();
+            dn.hypot(de)
+        };
+        let with_arm = error(arm);
+        assert!(with_arm < 0.2, "{with_arm} m");
+        let without = error(Vector3::zeros());
+        assert!(without > 1.5, "{without} m");
+    }
+
     /// A vehicle turning in place at 0.2 rad/s with its DVL 1.5 m forward:
     /// the DVL reads `omega x r` = 0.3 m/s to starboard. With the lever arm
     /// the velocity estimate stays at rest; without it the reading pulls it

@@ -10,7 +10,7 @@ use nav_runtime::scheduler::Measurement;
 
 use super::measurement::{
     baro_measurement, depth_measurement_at, dvl_measurement_at, gnss_measurement,
-    heading_measurement, mag_measurement, usbl_measurement, CompassForm,
+    heading_measurement, mag_measurement, usbl_measurement_at, CompassForm,
 };
 use super::nominal::InsFilter;
 use super::vehicle::{InsVehicle, Present};
@@ -169,7 +169,13 @@ impl Reading for UsblFix {
         &self,
         ctx: &Context,
     ) -> Box<dyn Measurement<InsFilter<V, N>>> {
-        usbl_measurement::<V, N>(self.lat, self.lon, ctx.noise_sigma, ctx.usbl_frame)
+        usbl_measurement_at::<V, N>(
+            self.lat,
+            self.lon,
+            ctx.noise_sigma,
+            ctx.usbl_frame,
+            ctx.lever_arm,
+        )
     }
 }
 

@@ -542,18 +542,19 @@ impl LogPlan {
         baro.initial_bias = facts.first_baro.map_or(0.0, |a| a - initial.position.h);
         // Mountings: the DVL's and the magnetometer's misalignments turn
         // their readings into body axes, the DVL's lever arm corrects its
-        // reading by `omega x r`, the depth sensor's and the GNSS antenna's
-        // go to blocks that take one; what the models do not represent is
-        // said, not dropped.
+        // reading by `omega x r`, the USBL transponder's moves the INS
+        // position compared with the fix by `C_b^n r`, the depth sensor's and
+        // the GNSS antenna's go to blocks that take one; what the models do
+        // not represent is said, not dropped.
         let mut warnings = Vec::new();
         for (i, name) in SENSOR_NAMES.into_iter().enumerate() {
             let Some(m) = meta.sensors.mounting(name) else {
                 continue;
             };
-            if i == 0 || i == 1 || i == 4 {
+            if i <= 4 && i != 2 {
                 // The depth slot's block may take it (checked per vehicle);
-                // the DVL reading is corrected by `omega x r`; the GNSS
-                // block takes the antenna's.
+                // the DVL reading is corrected by `omega x r`, the USBL fix
+                // by `C_b^n r`; the GNSS block takes the antenna's.
                 sensors[i].lever_arm = Vector3::from(m.lever_arm);
             } else if m.lever_arm != [0.0; 3] {
                 warnings.push(format!(
