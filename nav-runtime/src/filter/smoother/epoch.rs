@@ -46,54 +46,51 @@ impl<const N: usize, const S: usize> Epoch<N, S> {
         }
     }
 
+    /// Reads an epoch written by [`Epoch::encode`]; `bytes` holds exactly
+    /// `8 * SCALARS` bytes (missing values read as NaN).
+    pub(crate) fn decode(bytes: &[u8]) -> Self {
+        let mut values = bytes
+            .chunks_exact(8)
+            .map(|c| f64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]));
+        let mut next = || values.next().unwrap_or(f64::NAN);
+        let mut epoch = Self {
+            time: next(),
+            transition: SMatrix::zeros(),
+            predicted: SMatrix::zeros(),
+            correction: SVector::zeros(),
+            filtered: SMatrix::zeros(),
+            snapshot: SVector::zeros(),
+        };
+        epoch.transition.iter_mut().for_each(|v| *v = next());
+        for m in [&mut epoch.predicted, &mut epoch.filtered] {
+            let s = m.as_mut_slice();
+            for c in 0..N {
+                for r in 0..=c {
+                    let v = next();
+                    s[c * N + r] = v;
+                    s[r * N + c] = v;
+                }
+            }
+        }
+        epoch.correction.iter_mut().for_each(|v| *v = next());
+        epoch.snapshot.iter_mut().for_each(|v| *v = next());
+        epoch
+    }
+
     /// Writes the epoch as `SCALARS` little-endian `f64` into `out`.
     pub(crate) fn encode(&self, out: &mut Vec<u8>) {
+        out.reserve(8 * Self::SCALARS);
         let mut put = |v: f64| out.extend_from_slice(&v.to_le_bytes());
         put(self.time);
         self.transition.iter().for_each(|&v| put(v));
         for m in [&self.predicted, &self.filtered] {
+            let s = m.as_slice();
             for c in 0..N {
-                for r in 0..=c {
-                    put(m[(r, c)]);
-                }
+                s[c * N..=c * N + c].iter().for_each(|&v| put(v));
             }
         }
         self.correction.iter().for_each(|&v| put(v));
         self.snapshot.iter().for_each(|&v| put(v));
-    }
-
-    /// Reads an epoch written by [`Epoch::encode`]; `bytes` holds exactly
-    /// `8 * SCALARS` bytes.
-    pub(crate) fn decode(bytes: &[u8]) -> Self {
-        let mut values = bytes
-            .chunks_exact(8)
-            .map(|c| f64::from_le_bytes(c.try_into().unwrap_or([0; 8])));
-        let mut next = || values.next().unwrap_or(f64::NAN);
-        let time = next();
-        let transition = SMatrix::<f64, N, N>::from_iterator((0..N * N).map(|_| next()));
-        let mut symmetric = || {
-            let mut m = SMatrix::<f64, N, N>::zeros();
-            for c in 0..N {
-                for r in 0..=c {
-                    let v = next();
-                    m[(r, c)] = v;
-                    m[(c, r)] = v;
-                }
-            }
-            m
-        };
-        let predicted = symmetric();
-        let filtered = symmetric();
-        let correction = SVector::<f64, N>::from_fn(|_, _| next());
-        let snapshot = SVector::<f64, S>::from_fn(|_, _| next());
-        Self {
-            time,
-            transition,
-            predicted,
-            correction,
-            filtered,
-            snapshot,
-        }
     }
 }
 

@@ -163,18 +163,19 @@ impl<const N: usize, const S: usize> EpochFile<N, S> {
         Ok(())
     }
 
-    /// Reads the epochs `start..start + out.len()` into `out`.
+    /// Reads the `count` epochs from `start` into `out`, through `bytes`.
     fn read_into(
         &mut self,
         start: usize,
-        out: &mut Vec<Epoch<N, S>>,
         count: usize,
+        bytes: &mut Vec<u8>,
+        out: &mut Vec<Epoch<N, S>>,
     ) -> Result<(), SmootherError> {
         self.flush()?;
-        let mut bytes = vec![0u8; count * Self::RECORD];
+        bytes.resize(count * Self::RECORD, 0);
         self.file
             .seek(SeekFrom::Start((start * Self::RECORD) as u64))
-            .and_then(|_| self.file.read_exact(&mut bytes))
+            .and_then(|_| self.file.read_exact(bytes))
             .map_err(|e| self.io(e))?;
         out.clear();
         out.extend(bytes.chunks_exact(Self::RECORD).map(Epoch::decode));
@@ -191,10 +192,11 @@ impl<const N: usize, const S: usize> EpochFile<N, S> {
         mut visit: impl FnMut(&Epoch<N, S>) -> Result<(), SmootherError>,
     ) -> Result<(), SmootherError> {
         let mut chunk = Vec::with_capacity(CHUNK);
+        let mut bytes = Vec::with_capacity(CHUNK * Self::RECORD);
         let mut end = self.len;
         while end > 0 {
             let start = end.saturating_sub(CHUNK);
-            self.read_into(start, &mut chunk, end - start)?;
+            self.read_into(start, end - start, &mut bytes, &mut chunk)?;
             for epoch in chunk.iter().rev() {
                 visit(epoch)?;
             }
