@@ -28,6 +28,7 @@ pub use measurement::{
     depth_measurement, dvl_measurement, heading_measurement, usbl_measurement, CompassForm,
 };
 pub use navigator::{Builder, Navigator, NavigatorError, SensorReport, Ticket, SENSOR_NAMES};
+pub(crate) use nominal::ESTIMATE_SCALARS;
 pub use nominal::{Estimate, ImuSample, InsFilter, InsNominal};
 pub use sensor::{DepthReading, DvlReading, Handle, HeadingReading, Reading, UsblFix};
 pub use settings::{

@@ -9,7 +9,7 @@ use std::marker::PhantomData;
 use nav_runtime::earth::{meridian_radius, transverse_radius};
 use nav_runtime::error_state::{ErrorStateFilter, Mechanization, NominalState};
 use nav_runtime::model::Record;
-use nav_runtime::nalgebra::{SMatrix, SVector, Vector2, Vector3};
+use nav_runtime::nalgebra::{Matrix3, SMatrix, SVector, Vector2, Vector3};
 use nav_runtime::strapdown::{NavError, NavState, Strapdown};
 
 use super::vehicle::{InsVehicle, Layout};
@@ -273,5 +273,57 @@ impl Estimate {
             compass_bias: (compass_bias, sigma(layout.compass_bias)),
             usbl_bias_n: (usbl_bias_n, sigma(layout.usbl_bias)),
         }
+    }
+}
+
+/// Scalars of an `Option<Estimate>` in a [`nav_runtime::smoother::SpillFile`]
+/// record: a presence flag, the time, the solution (latitude, longitude,
+/// height, velocity, attitude matrix), the covariance and the two biases.
+pub(crate) const ESTIMATE_SCALARS: usize = 1 + 1 + 3 + 3 + 9 + 81 + 4;
+
+impl Estimate {
+    /// `e` as [`ESTIMATE_SCALARS`] scalars, bit for bit.
+    pub(crate) fn to_scalars(e: Option<&Estimate>) -> [f64; ESTIMATE_SCALARS] {
+        let mut out = [0.0; ESTIMATE_SCALARS];
+        let Some(e) = e else {
+            return out;
+        };
+        let s = &e.nav;
+        let parts = [1.0, e.t, s.lat, s.lon, s.h]
+            .into_iter()
+            .chain(s.v_n.iter().copied())
+            .chain(s.c_bn.iter().copied())
+            .chain(e.cov.iter().copied())
+            .chain([
+                e.compass_bias.0,
+                e.compass_bias.1,
+                e.usbl_bias_n.0,
+                e.usbl_bias_n.1,
+            ]);
+        for (o, v) in out.iter_mut().zip(parts) {
+            *o = v;
+        }
+        out
+    }
+
+    /// The estimate written by [`Estimate::to_scalars`].
+    pub(crate) fn from_scalars(v: &[f64; ESTIMATE_SCALARS]) -> Option<Estimate> {
+        if v[0] != 1.0 {
+            return None;
+        }
+        let nav = NavState {
+            lat: v[2],
+            lon: v[3],
+            h: v[4],
+            v_n: Vector3::from_column_slice(&v[5..8]),
+            c_bn: Matrix3::from_column_slice(&v[8..17]),
+        };
+        Some(Estimate {
+            t: v[1],
+            nav,
+            cov: SMatrix::<f64, 9, 9>::from_column_slice(&v[17..98]),
+            compass_bias: (v[98], v[99]),
+            usbl_bias_n: (v[100], v[101]),
+        })
     }
 }

@@ -81,8 +81,12 @@ struct Step<const N: usize> {
     correction: SVector<f64, N>,
     /// `Phi_k P_k+`, then `C_k^T = (P_{k+1}-)^-1 Phi_k P_k+`.
     gain_t: SMatrix<f64, N, N>,
-    /// `D = Ps_{k+1} - P_{k+1}-`, then `D C_k^T`.
+    /// `D = Ps_{k+1} - P_{k+1}-`.
     work: SMatrix<f64, N, N>,
+    /// `U = L^T`.
+    upper: SMatrix<f64, N, N>,
+    /// `C_k`.
+    gain: SMatrix<f64, N, N>,
     /// The rows of `Phi_k` that are not unit rows, row-major, and their
     /// indices (`dynamic[..rows]`).
     phi_rows: [[f64; N]; N],
@@ -98,6 +102,8 @@ impl<const N: usize> Step<N> {
             correction: SVector::zeros(),
             gain_t: SMatrix::zeros(),
             work: SMatrix::zeros(),
+            upper: SMatrix::zeros(),
+            gain: SMatrix::zeros(),
             phi_rows: [[0.0; N]; N],
             dynamic: [0; N],
             rows: 0,
@@ -118,35 +124,77 @@ impl<const N: usize> Step<N> {
         epoch: &Epoch<N, S>,
         out: &mut SmoothedEpoch<N, S>,
     ) -> Result<(), SmootherError> {
+        rts_step(self, epoch, out)
+    }
+}
+
+crate::dispatch::avx_dispatch! {
+    /// [`Step::smooth`], compiled for AVX where the CPU has it (the same
+    /// operations in the same order: bit-identical results).
+    fn rts_step<const N: usize, const S: usize>(
+        step: &mut Step<N>,
+        epoch: &Epoch<N, S>,
+        out: &mut SmoothedEpoch<N, S>,
+    ) -> Result<(), SmootherError> => rts_step_portable;
+}
+
+/// The body of [`rts_step`].
+#[inline(always)]
+fn rts_step_portable<const N: usize, const S: usize, const AVX: bool>(
+    step: &mut Step<N>,
+    epoch: &Epoch<N, S>,
+    out: &mut SmoothedEpoch<N, S>,
+) -> Result<(), SmootherError> {
+    step.apply(epoch, out)
+}
+
+impl<const N: usize> Step<N> {
+    #[inline(always)]
+    fn apply<const S: usize>(
+        &mut self,
+        epoch: &Epoch<N, S>,
+        out: &mut SmoothedEpoch<N, S>,
+    ) -> Result<(), SmootherError> {
         // D = Ps_{k+1} - P_{k+1}- (before the factor overwrites P_{k+1}-).
         self.work = out.covariance - self.factor;
         if !cholesky_in_place(&mut self.factor) {
             return Err(SmootherError::NotPositiveDefinite { time: out.time });
         }
+        // U = L^T, so that both triangular solves run over columns.
+        self.upper = self.factor.transpose();
         self.phi_times(&epoch.filtered);
         // C^T = (P_{k+1}-)^-1 Phi_k P_k+   (P_{k+1}- symmetric)
         for column in self.gain_t.as_mut_slice().chunks_exact_mut(N) {
-            solve_in_place(&self.factor, column);
+            solve_in_place(&self.factor, &self.upper, column);
         }
         // S2: s_k = C_k (s_{k+1} + c_{k+1}): entry i is column i of C^T dotted.
-        let v = out.error + self.correction;
-        let gain_t = self.gain_t.as_slice();
-        for (e, column) in out.error.iter_mut().zip(gain_t.chunks_exact(N)) {
-            *e = dot(column, v.as_slice());
+        let v: [f64; N] = (out.error + self.correction).into();
+        let (gain_t, _) = self.gain_t.as_slice().as_chunks::<N>();
+        for (e, column) in out.error.iter_mut().zip(gain_t) {
+            *e = dot_n(column, &v);
         }
-        // S3: Ps_k = P_k+ + C D C^T, with G = D C^T:
-        // (C D C^T)[r][c] = column r of C^T . column c of G.
-        let work = self.work.as_slice();
+        // S3: Ps_k = P_k+ + C D C^T. With G = D C^T, column c of C G is
+        // sum_j G_jc (column j of C); computed whole, its upper triangle is
+        // kept and mirrored (exactly symmetric).
+        self.gain = self.gain_t.transpose();
+        let (work, _) = self.work.as_slice().as_chunks::<N>();
+        let (gain, _) = self.gain.as_slice().as_chunks::<N>();
+        let (filtered, _) = epoch.filtered.as_slice().as_chunks::<N>();
+        let (cov, _) = out.covariance.as_mut_slice().as_chunks_mut::<N>();
         let mut g = [0.0; N];
-        for c in 0..N {
+        for ((gain_c, cov_c), filtered_c) in gain_t.iter().zip(cov.iter_mut()).zip(filtered) {
             g.fill(0.0);
-            for (&a, d) in gain_t[c * N..(c + 1) * N].iter().zip(work.chunks_exact(N)) {
-                axpy(a, d, &mut g);
+            for (&a, d) in gain_c.iter().zip(work) {
+                axpy_n(a, d, &mut g);
             }
-            for r in 0..=c {
-                let v = epoch.filtered[(r, c)] + dot(&gain_t[r * N..(r + 1) * N], &g);
-                out.covariance[(r, c)] = v;
-                out.covariance[(c, r)] = v;
+            *cov_c = *filtered_c;
+            for (&a, column) in g.iter().zip(gain) {
+                axpy_n(a, column, cov_c);
+            }
+        }
+        for c in 0..N {
+            for r in c + 1..N {
+                out.covariance[(r, c)] = out.covariance[(c, r)];
             }
         }
         Ok(())
@@ -155,7 +203,8 @@ impl<const N: usize> Step<N> {
     /// `gain_t = Phi P`, copying the rows of `P` where `Phi` has a unit row
     /// (states without dynamics, e.g. random-constant biases, keep `e_i` rows
     /// in every product of their transition matrices); the other rows are
-    /// `Phi`'s rows (zeros skipped) times `P`.
+    /// `Phi`'s rows times `P`.
+    #[inline(always)]
     fn phi_times(&mut self, p: &SMatrix<f64, N, N>) {
         let phi = &self.transition;
         self.rows = 0;
@@ -170,15 +219,25 @@ impl<const N: usize> Step<N> {
                 self.rows += 1;
             }
         }
-        for c in 0..N {
-            let column = &p.as_slice()[c * N..(c + 1) * N];
-            let out = &mut self.gain_t.as_mut_slice()[c * N..(c + 1) * N];
-            out.copy_from_slice(column);
-            for (row, &i) in self.phi_rows[..self.rows]
-                .iter()
-                .zip(&self.dynamic[..self.rows])
-            {
-                out[i] = dot(row, column);
+        // Row i of Phi P is sum_j Phi_ij (column j of P), P symmetric.
+        let (p, _) = p.as_slice().as_chunks::<N>();
+        let (out, _) = self.gain_t.as_mut_slice().as_chunks_mut::<N>();
+        for (out, column) in out.iter_mut().zip(p) {
+            *out = *column;
+        }
+        let mut row = [0.0; N];
+        for (phi_row, &i) in self.phi_rows[..self.rows]
+            .iter()
+            .zip(&self.dynamic[..self.rows])
+        {
+            row.fill(0.0);
+            for (&a, column) in phi_row.iter().zip(p) {
+                if a != 0.0 {
+                    axpy_n(a, column, &mut row);
+                }
+            }
+            for (out, &v) in out.iter_mut().zip(&row) {
+                out[i] = v;
             }
         }
     }
@@ -187,6 +246,7 @@ impl<const N: usize> Step<N> {
 /// The Cholesky factor of the symmetric `a` in place (lower triangle; the
 /// strict upper triangle is left as it was); `false` if `a` is not
 /// positive definite (or not finite).
+#[inline(always)]
 fn cholesky_in_place<const N: usize>(a: &mut SMatrix<f64, N, N>) -> bool {
     let s = a.as_mut_slice();
     for j in 0..N {
@@ -213,9 +273,11 @@ fn cholesky_in_place<const N: usize>(a: &mut SMatrix<f64, N, N>) -> bool {
     true
 }
 
-/// `x <- (L L^T)^-1 x` with the lower-triangular `l` (column-major).
-fn solve_in_place<const N: usize>(l: &SMatrix<f64, N, N>, x: &mut [f64]) {
-    let l = l.as_slice();
+/// `x <- (L L^T)^-1 x` with the lower-triangular `l` and `u = l^T`
+/// (column-major).
+#[inline(always)]
+fn solve_in_place<const N: usize>(l: &SMatrix<f64, N, N>, u: &SMatrix<f64, N, N>, x: &mut [f64]) {
+    let (l, u) = (l.as_slice(), u.as_slice());
     // L y = x, column by column.
     for j in 0..N {
         let col = &l[j * N..(j + 1) * N];
@@ -226,24 +288,58 @@ fn solve_in_place<const N: usize>(l: &SMatrix<f64, N, N>, x: &mut [f64]) {
             axpy(-xj, &col[j + 1..], tail);
         }
     }
-    // L^T z = y, from the last row: row j of L^T is column j of L.
+    // U z = y, column by column from the last.
     for j in (0..N).rev() {
-        let col = &l[j * N..(j + 1) * N];
-        let v = x[j] - dot(&col[j + 1..], &x[j + 1..]);
-        x[j] = v / col[j];
+        let col = &u[j * N..(j + 1) * N];
+        x[j] /= col[j];
+        let xj = x[j];
+        if xj != 0.0 {
+            axpy(-xj, &col[..j], &mut x[..j]);
+        }
     }
 }
 
-/// `y <- y + a x`.
+/// `y <- y + a x` (over the shorter of the two).
+#[inline(always)]
 fn axpy(a: f64, x: &[f64], y: &mut [f64]) {
     for (y, x) in y.iter_mut().zip(x) {
         *y += a * x;
     }
 }
 
-/// `x . y` (over the shorter of the two).
+/// `x . y` (over the shorter of the two), in four interleaved partial sums
+/// (so the loop runs in vector lanes), added pairwise at the end.
+#[inline(always)]
 fn dot(x: &[f64], y: &[f64]) -> f64 {
-    x.iter().zip(y).map(|(a, b)| a * b).sum()
+    let n = x.len().min(y.len());
+    let (x, y) = (&x[..n], &y[..n]);
+    let mut acc = [0.0; 4];
+    let (xs, x_tail) = x.as_chunks::<4>();
+    let (ys, y_tail) = y.as_chunks::<4>();
+    for (a, b) in xs.iter().zip(ys) {
+        for k in 0..4 {
+            acc[k] += a[k] * b[k];
+        }
+    }
+    let mut tail = 0.0;
+    for (a, b) in x_tail.iter().zip(y_tail) {
+        tail += a * b;
+    }
+    ((acc[0] + acc[2]) + (acc[1] + acc[3])) + tail
+}
+
+/// [`axpy`] of length `N`.
+#[inline(always)]
+fn axpy_n<const N: usize>(a: f64, x: &[f64; N], y: &mut [f64; N]) {
+    for (y, x) in y.iter_mut().zip(x) {
+        *y += a * x;
+    }
+}
+
+/// [`dot`] of length `N`.
+#[inline(always)]
+fn dot_n<const N: usize>(x: &[f64; N], y: &[f64; N]) -> f64 {
+    dot(x, y)
 }
 
 #[cfg(test)]
@@ -270,7 +366,7 @@ mod tests {
         }
         let b = SVector::<f64, 5>::from_fn(|i, _| i as f64 - 1.5);
         let mut x = b;
-        solve_in_place(&l, x.as_mut_slice());
+        solve_in_place(&l, &l.transpose(), x.as_mut_slice());
         let x_ref = reference.solve(&b);
         assert!((x - x_ref).norm() < 1e-12 * x_ref.norm());
     }

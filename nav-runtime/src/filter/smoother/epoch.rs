@@ -48,49 +48,73 @@ impl<const N: usize, const S: usize> Epoch<N, S> {
 
     /// Reads an epoch written by [`Epoch::encode`]; `bytes` holds exactly
     /// `8 * SCALARS` bytes (missing values read as NaN).
+    #[cfg(test)]
     pub(crate) fn decode(bytes: &[u8]) -> Self {
-        let mut values = bytes
-            .chunks_exact(8)
-            .map(|c| f64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]));
-        let mut next = || values.next().unwrap_or(f64::NAN);
-        let mut epoch = Self {
-            time: next(),
-            transition: SMatrix::zeros(),
-            predicted: SMatrix::zeros(),
-            correction: SVector::zeros(),
-            filtered: SMatrix::zeros(),
-            snapshot: SVector::zeros(),
-        };
-        epoch.transition.iter_mut().for_each(|v| *v = next());
-        for m in [&mut epoch.predicted, &mut epoch.filtered] {
-            let s = m.as_mut_slice();
+        let mut epoch = Self::at(
+            f64::NAN,
+            SMatrix::zeros(),
+            SMatrix::zeros(),
+            SVector::zeros(),
+        );
+        epoch.decode_into(bytes);
+        epoch
+    }
+
+    /// [`Epoch::decode`] into `self`, without a temporary epoch.
+    pub(crate) fn decode_into(&mut self, bytes: &[u8]) {
+        let (words, _) = bytes.as_chunks::<8>();
+        let mut words = words.iter();
+        let mut next = Words(&mut words);
+        self.time = next.get();
+        self.transition.iter_mut().for_each(|v| *v = next.get());
+        for m in [&mut self.predicted, &mut self.filtered] {
+            // The upper triangle, column by column, then mirrored.
+            let (columns, _) = m.as_mut_slice().as_chunks_mut::<N>();
+            for (c, column) in columns.iter_mut().enumerate() {
+                column[..=c].iter_mut().for_each(|v| *v = next.get());
+            }
             for c in 0..N {
-                for r in 0..=c {
-                    let v = next();
-                    s[c * N + r] = v;
-                    s[r * N + c] = v;
+                for r in c + 1..N {
+                    m[(r, c)] = m[(c, r)];
                 }
             }
         }
-        epoch.correction.iter_mut().for_each(|v| *v = next());
-        epoch.snapshot.iter_mut().for_each(|v| *v = next());
-        epoch
+        self.correction.iter_mut().for_each(|v| *v = next.get());
+        self.snapshot.iter_mut().for_each(|v| *v = next.get());
     }
 
     /// Writes the epoch as `SCALARS` little-endian `f64` into `out`.
     pub(crate) fn encode(&self, out: &mut Vec<u8>) {
-        out.reserve(8 * Self::SCALARS);
-        let mut put = |v: f64| out.extend_from_slice(&v.to_le_bytes());
-        put(self.time);
-        self.transition.iter().for_each(|&v| put(v));
+        let start = out.len();
+        out.resize(start + 8 * Self::SCALARS, 0);
+        let (words, _) = out[start..].as_chunks_mut::<8>();
+        let mut words = words.iter_mut();
+        let mut put = |values: &[f64]| {
+            // `values` first: at its end no word is taken.
+            for (v, w) in values.iter().zip(&mut words) {
+                *w = v.to_le_bytes();
+            }
+        };
+        put(&[self.time]);
+        put(self.transition.as_slice());
         for m in [&self.predicted, &self.filtered] {
-            let s = m.as_slice();
-            for c in 0..N {
-                s[c * N..=c * N + c].iter().for_each(|&v| put(v));
+            let (columns, _) = m.as_slice().as_chunks::<N>();
+            for (c, column) in columns.iter().enumerate() {
+                put(&column[..=c]);
             }
         }
-        self.correction.iter().for_each(|&v| put(v));
-        self.snapshot.iter().for_each(|&v| put(v));
+        put(self.correction.as_slice());
+        put(self.snapshot.as_slice());
+    }
+}
+
+/// Little-endian `f64` words, NaN past the end.
+struct Words<'a, 'b>(&'a mut core::slice::Iter<'b, [u8; 8]>);
+
+impl Words<'_, '_> {
+    #[inline(always)]
+    fn get(&mut self) -> f64 {
+        self.0.next().map_or(f64::NAN, |b| f64::from_le_bytes(*b))
     }
 }
 

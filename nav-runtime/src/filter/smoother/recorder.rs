@@ -67,7 +67,14 @@ impl<const N: usize, const S: usize> Clone for Recorder<N, S> {
         self.written = source.written;
         self.time = source.time;
         self.rows = source.rows;
-        self.open = source.open;
+        // Most checkpoints have no open epoch: then only the tag is written.
+        match &source.open {
+            None => self.open = None,
+            Some(epoch) => match self.open.as_mut() {
+                Some(open) => open.clone_from(epoch),
+                None => self.open = Some(*epoch),
+            },
+        }
         self.failure.clone_from(&source.failure);
     }
 }
@@ -109,16 +116,18 @@ impl<const N: usize, const S: usize> Recorder<N, S> {
     }
 
     fn close(&mut self) {
-        let Some(epoch) = self.open.take() else {
+        // By reference: an epoch is large, and most steps have none to write.
+        let Some(epoch) = self.open.as_ref() else {
             return;
         };
         let result = match self.store.try_borrow_mut() {
             Ok(mut store) => store
                 .truncate(self.written)
-                .and_then(|()| store.push(&epoch))
+                .and_then(|()| store.push(epoch))
                 .map_err(|e| e.to_string()),
             Err(_) => Err("the epoch file was borrowed while recording".to_string()),
         };
+        self.open = None;
         match result {
             Ok(()) => self.written += 1,
             Err(reason) => self.fail(reason),
@@ -141,42 +150,15 @@ impl<const N: usize, const S: usize> Recorder<N, S> {
             self.rows = (jacobian * self.rows.transpose()).transpose();
             return;
         }
-        let dynamic = &Structure::<Mo, N>::DYNAMIC;
-        // T <- T + dt F T, row by row: row i of T changes by
-        // sum_j dt F_ij (row j of T), where row j of a state without
-        // dynamics is e_j. Rows are contiguous (`rows` holds T^T).
-        let t = self.rows.as_slice();
-        let delta = &mut self.scratch; // delta[i]: change of row i
-        for (i, (d, sparsity)) in delta
-            .iter_mut()
-            .zip(&Mo::JACOBIAN_SPARSITY)
-            .enumerate()
-            .filter(|(i, _)| dynamic[*i])
-        {
-            d.fill(0.0);
-            for (j, _) in sparsity.iter().enumerate().filter(|(_, &nz)| nz) {
-                let a = dt * jacobian[(i, j)];
-                if dynamic[j] {
-                    for (x, &tj) in d.iter_mut().zip(&t[j * N..(j + 1) * N]) {
-                        *x += a * tj;
-                    }
-                } else {
-                    d[j] += a;
-                }
-            }
-        }
-        for ((row, d), _) in self
-            .rows
-            .as_mut_slice()
-            .chunks_exact_mut(N)
-            .zip(delta.iter())
-            .zip(dynamic)
-            .filter(|(_, &dynamic)| dynamic)
-        {
-            for (x, dx) in row.iter_mut().zip(d) {
-                *x += dx;
-            }
-        }
+        step_rows(
+            &mut self.rows,
+            &mut self.scratch,
+            &Mo::JACOBIAN_SPARSITY,
+            &Structure::<Mo, N>::MASKS,
+            &Structure::<Mo, N>::DYNAMIC,
+            jacobian,
+            dt,
+        );
     }
 
     /// Opens the epoch at the current time before its first update, with the
@@ -238,6 +220,80 @@ impl<const N: usize, const S: usize> Recorder<N, S> {
     }
 }
 
+crate::dispatch::avx_dispatch! {
+    /// `T <- T + dt F T` on `rows` (`T^T`) over the rows of the states with
+    /// dynamics (`dynamic`) and the nonzeros of `sparsity`, with `scratch` as
+    /// work space ([`Recorder::propagated`]). Compiled for AVX where the CPU
+    /// has it (the same operations in the same order: bit-identical).
+    fn step_rows<const N: usize>(
+        rows: &mut SMatrix<f64, N, N>,
+        scratch: &mut [[f64; N]; N],
+        sparsity: &[[bool; N]; N],
+        masks: &[u128; N],
+        dynamic: &[bool; N],
+        jacobian: &SMatrix<f64, N, N>,
+        dt: f64,
+    ) => step_rows_portable;
+}
+
+/// The body of [`step_rows`].
+#[inline(always)]
+fn step_rows_portable<const N: usize, const AVX: bool>(
+    rows: &mut SMatrix<f64, N, N>,
+    scratch: &mut [[f64; N]; N],
+    sparsity: &[[bool; N]; N],
+    masks: &[u128; N],
+    dynamic: &[bool; N],
+    jacobian: &SMatrix<f64, N, N>,
+    dt: f64,
+) {
+    // T <- T + dt F T, row by row: row i of T changes by
+    // sum_j dt F_ij (row j of T), where row j of a state without
+    // dynamics is e_j. Rows are contiguous (`rows` holds T^T).
+    let (t, _) = rows.as_slice().as_chunks::<N>();
+    for (i, (d, sparsity)) in scratch
+        .iter_mut()
+        .zip(sparsity)
+        .enumerate()
+        .filter(|(i, _)| dynamic[*i])
+    {
+        d.fill(0.0);
+        let mut step = |j: usize| {
+            let a = dt * jacobian[(i, j)];
+            if dynamic[j] {
+                for (x, &t) in d.iter_mut().zip(&t[j]) {
+                    *x += a * t;
+                }
+            } else {
+                d[j] += a;
+            }
+        };
+        if N <= 128 {
+            // The nonzeros of row i, in order, from its bit mask.
+            let mut mask = masks[i];
+            while mask != 0 {
+                step(mask.trailing_zeros() as usize);
+                mask &= mask - 1;
+            }
+        } else {
+            for (j, _) in sparsity.iter().enumerate().filter(|(_, &nz)| nz) {
+                step(j);
+            }
+        }
+    }
+    let (t, _) = rows.as_mut_slice().as_chunks_mut::<N>();
+    for ((row, d), _) in t
+        .iter_mut()
+        .zip(scratch.iter())
+        .zip(dynamic)
+        .filter(|(_, &dynamic)| dynamic)
+    {
+        for (x, dx) in row.iter_mut().zip(d) {
+            *x += dx;
+        }
+    }
+}
+
 /// Structure of model `Mo`'s transition matrices, from its generated sparsity.
 struct Structure<Mo, const N: usize>(core::marker::PhantomData<Mo>);
 
@@ -245,6 +301,26 @@ impl<Mo: Model<N>, const N: usize> Structure<Mo, N> {
     /// `true` for the states with dynamics: a row of `F` with a structural
     /// nonzero. The others keep unit rows in every `prod (I + F dt)`.
     const DYNAMIC: [bool; N] = dynamic_rows(&Mo::JACOBIAN_SPARSITY);
+    /// The structural nonzeros of each row of `F` as a bit mask (bit `j`
+    /// for column `j`; used for `N <= 128`).
+    const MASKS: [u128; N] = row_masks(&Mo::JACOBIAN_SPARSITY);
+}
+
+/// Bit `j` of entry `i`: `sparsity[i][j]` (columns below 128).
+const fn row_masks<const N: usize>(sparsity: &[[bool; N]; N]) -> [u128; N] {
+    let mut out = [0u128; N];
+    let mut i = 0;
+    while i < N {
+        let mut j = 0;
+        while j < N && j < 128 {
+            if sparsity[i][j] {
+                out[i] |= 1u128 << j;
+            }
+            j += 1;
+        }
+        i += 1;
+    }
+    out
 }
 
 /// Rows of `sparsity` with at least one structural nonzero.
@@ -315,6 +391,7 @@ mod tests {
     #[test]
     fn dynamic_rows_are_the_rows_with_a_nonzero() {
         assert_eq!(Structure::<Four, 4>::DYNAMIC, [true, false, true, false]);
+        assert_eq!(Structure::<Four, 4>::MASKS, [0b0111, 0, 0b1001, 0]);
     }
 
     /// The row-wise product over the states with dynamics equals the dense

@@ -6,6 +6,8 @@ use std::marker::PhantomData;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 
+use nalgebra::{SMatrix, SVector};
+
 use super::epoch::Epoch;
 
 /// Why smoothing failed.
@@ -177,8 +179,18 @@ impl<const N: usize, const S: usize> EpochFile<N, S> {
             .seek(SeekFrom::Start((start * Self::RECORD) as u64))
             .and_then(|_| self.file.read_exact(bytes))
             .map_err(|e| self.io(e))?;
-        out.clear();
-        out.extend(bytes.chunks_exact(Self::RECORD).map(Epoch::decode));
+        // Decoded in place into the reused epochs (no temporary copies).
+        while out.len() < count {
+            out.push(Epoch::at(
+                f64::NAN,
+                SMatrix::zeros(),
+                SMatrix::zeros(),
+                SVector::zeros(),
+            ));
+        }
+        for (epoch, b) in out.iter_mut().zip(bytes.chunks_exact(Self::RECORD)) {
+            epoch.decode_into(b);
+        }
         Ok(())
     }
 
@@ -197,7 +209,7 @@ impl<const N: usize, const S: usize> EpochFile<N, S> {
         while end > 0 {
             let start = end.saturating_sub(CHUNK);
             self.read_into(start, end - start, &mut bytes, &mut chunk)?;
-            for epoch in chunk.iter().rev() {
+            for epoch in chunk[..end - start].iter().rev() {
                 visit(epoch)?;
             }
             end = start;
@@ -216,7 +228,6 @@ impl<const N: usize, const S: usize> Drop for EpochFile<N, S> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nalgebra::{SMatrix, SVector};
 
     fn epoch(t: f64) -> Epoch<2, 1> {
         Epoch::at(
