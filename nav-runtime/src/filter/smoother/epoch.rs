@@ -63,15 +63,25 @@ impl<const N: usize, const S: usize> Epoch<N, S> {
     /// [`Epoch::decode`] into `self`, without a temporary epoch.
     pub(crate) fn decode_into(&mut self, bytes: &[u8]) {
         let (words, _) = bytes.as_chunks::<8>();
-        let mut words = words.iter();
-        let mut next = Words(&mut words);
-        self.time = next.get();
-        self.transition.iter_mut().for_each(|v| *v = next.get());
+        let mut at = 0;
+        // The next `dst.len()` words into `dst` (NaN past the end).
+        let mut fill = |dst: &mut [f64]| {
+            let src = words.get(at..).unwrap_or(&[]);
+            for (d, w) in dst.iter_mut().zip(src) {
+                *d = f64::from_le_bytes(*w);
+            }
+            if let Some(rest) = dst.get_mut(src.len()..) {
+                rest.fill(f64::NAN);
+            }
+            at += dst.len();
+        };
+        fill(core::slice::from_mut(&mut self.time));
+        fill(self.transition.as_mut_slice());
         for m in [&mut self.predicted, &mut self.filtered] {
             // The upper triangle, column by column, then mirrored.
             let (columns, _) = m.as_mut_slice().as_chunks_mut::<N>();
             for (c, column) in columns.iter_mut().enumerate() {
-                column[..=c].iter_mut().for_each(|v| *v = next.get());
+                fill(&mut column[..=c]);
             }
             for c in 0..N {
                 for r in c + 1..N {
@@ -79,15 +89,14 @@ impl<const N: usize, const S: usize> Epoch<N, S> {
                 }
             }
         }
-        self.correction.iter_mut().for_each(|v| *v = next.get());
-        self.snapshot.iter_mut().for_each(|v| *v = next.get());
+        fill(self.correction.as_mut_slice());
+        fill(self.snapshot.as_mut_slice());
     }
 
-    /// Writes the epoch as `SCALARS` little-endian `f64` into `out`.
-    pub(crate) fn encode(&self, out: &mut Vec<u8>) {
-        let start = out.len();
-        out.resize(start + 8 * Self::SCALARS, 0);
-        let (words, _) = out[start..].as_chunks_mut::<8>();
+    /// Writes the epoch as `SCALARS` little-endian `f64` into `out`
+    /// (`8 * SCALARS` bytes; a shorter `out` gets the first values).
+    pub(crate) fn encode(&self, out: &mut [u8]) {
+        let (words, _) = out.as_chunks_mut::<8>();
         let mut words = words.iter_mut();
         let mut put = |values: &[f64]| {
             // `values` first: at its end no word is taken.
@@ -105,16 +114,6 @@ impl<const N: usize, const S: usize> Epoch<N, S> {
         }
         put(self.correction.as_slice());
         put(self.snapshot.as_slice());
-    }
-}
-
-/// Little-endian `f64` words, NaN past the end.
-struct Words<'a, 'b>(&'a mut core::slice::Iter<'b, [u8; 8]>);
-
-impl Words<'_, '_> {
-    #[inline(always)]
-    fn get(&mut self) -> f64 {
-        self.0.next().map_or(f64::NAN, |b| f64::from_le_bytes(*b))
     }
 }
 
@@ -136,7 +135,7 @@ mod tests {
             filtered: sym(0.5),
             snapshot: SVector::from_fn(|i, _| 1e6 + i as f64),
         };
-        let mut bytes = Vec::new();
+        let mut bytes = vec![0; 8 * Epoch::<3, 2>::SCALARS];
         e.encode(&mut bytes);
         assert_eq!(bytes.len(), 8 * Epoch::<3, 2>::SCALARS);
         assert_eq!(Epoch::<3, 2>::decode(&bytes), e);

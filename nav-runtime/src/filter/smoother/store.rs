@@ -57,8 +57,11 @@ const CHUNK: usize = 64;
 pub struct EpochFile<const N: usize, const S: usize> {
     path: PathBuf,
     file: File,
-    /// Epochs in the file, including the ones still in `buffer`.
+    /// Epochs in the file, including the `filled / RECORD` ones still in
+    /// `buffer`.
     len: usize,
+    /// Bytes of `buffer` holding encoded epochs not yet written.
+    filled: usize,
     /// Encoded epochs not yet written.
     buffer: Vec<u8>,
     _epoch: PhantomData<Epoch<N, S>>,
@@ -94,7 +97,9 @@ impl<const N: usize, const S: usize> EpochFile<N, S> {
             path,
             file,
             len: 0,
-            buffer: Vec::with_capacity(CHUNK * Self::RECORD),
+            // Sized once: epochs are encoded into it in place.
+            buffer: vec![0; CHUNK * Self::RECORD],
+            filled: 0,
             _epoch: PhantomData,
         })
     }
@@ -122,16 +127,16 @@ impl<const N: usize, const S: usize> EpochFile<N, S> {
     }
 
     fn flush(&mut self) -> Result<(), SmootherError> {
-        if self.buffer.is_empty() {
+        if self.filled == 0 {
             return Ok(());
         }
-        let written = self.len - self.buffer.len() / Self::RECORD;
+        let written = self.len - self.filled / Self::RECORD;
         let offset = (written * Self::RECORD) as u64;
         let result = self
             .file
             .seek(SeekFrom::Start(offset))
-            .and_then(|_| self.file.write_all(&self.buffer));
-        self.buffer.clear();
+            .and_then(|_| self.file.write_all(&self.buffer[..self.filled]));
+        self.filled = 0;
         result.map_err(|e| self.io(e))
     }
 
@@ -140,9 +145,13 @@ impl<const N: usize, const S: usize> EpochFile<N, S> {
     /// # Errors
     /// [`SmootherError::Io`] if a buffered write fails.
     pub fn push(&mut self, epoch: &Epoch<N, S>) -> Result<(), SmootherError> {
-        epoch.encode(&mut self.buffer);
+        let end = self.filled + Self::RECORD;
+        if let Some(out) = self.buffer.get_mut(self.filled..end) {
+            epoch.encode(out);
+        }
+        self.filled = end;
         self.len += 1;
-        if self.buffer.len() >= CHUNK * Self::RECORD {
+        if self.filled >= CHUNK * Self::RECORD {
             self.flush()?;
         }
         Ok(())
