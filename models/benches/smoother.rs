@@ -11,6 +11,10 @@
 //! The smoother's cost is `forward_and_smoothed / forward - 1` (goal: the
 //! whole at most 2 x the forward pass). Run:
 //! `cargo bench -p models --bench smoother`.
+//!
+//! `SMOOTHER_ONLY=forward` (or `=smoothed`) runs that case once and exits,
+//! for exact instruction counts:
+//! `valgrind --tool=callgrind --toggle-collect='*run_vehicle*' BENCH_BINARY`.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use models::sdins25::filter::{run, FilterOptions};
@@ -29,6 +33,20 @@ fn smoother(c: &mut Criterion) {
         smooth: true,
         ..FilterOptions::default()
     };
+    if let Some(case) = std::env::var_os("SMOOTHER_ONLY") {
+        let options = if case == "smoothed" {
+            &smooth
+        } else {
+            &FilterOptions::default()
+        };
+        let run = run(black_box(&log), options, &times).unwrap();
+        eprintln!(
+            "{} estimates, {} smoothed",
+            run.estimates.iter().flatten().count(),
+            run.smoothed.iter().flatten().flatten().count()
+        );
+        return;
+    }
     let mut g = c.benchmark_group("smoother/lawnmower-usbl-10s");
     g.sample_size(10).measurement_time(Duration::from_secs(8));
     g.bench_function("forward", |b| {

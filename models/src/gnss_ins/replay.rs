@@ -173,6 +173,8 @@ pub fn run(log: &LogDir, options: &ReplayOptions) -> Result<GnssInsRun, RunError
             }
             Ok(())
         },
+        // Not smoothed (`FilterOptions::smooth` is off).
+        |_| Ok(()),
     )?;
     out.samples = run.samples;
     out.runtime_s = run.runtime_s;

@@ -33,6 +33,7 @@ pub use measurement::{
 pub use navigator::{
     Builder, Navigator, NavigatorError, SensorReport, Ticket, SENSORS, SENSOR_NAMES,
 };
+pub(crate) use nominal::ESTIMATE_SCALARS;
 pub use nominal::{Estimate, ImuSample, InsFilter, InsNominal};
 pub use sensor::{
     BaroReading, DepthReading, DvlReading, GnssFix, Handle, HeadingReading, MagReading, Reading,

@@ -14,14 +14,16 @@ use nav_runtime::log::{
     LogSource, MagRow, UsblRow,
 };
 use nav_runtime::nalgebra::Vector3;
-use nav_runtime::smoother::{smooth, EpochFile};
+use nav_runtime::smoother::{smooth, EpochFile, SmootherError, SpillFile};
 use nav_runtime::strapdown::RateSamples;
 
 use super::aiding::{place, Aiding, Travelling};
 use super::filter::{setup_error, FilterOptions, InsRun, LogFacts, LogPlan, MAX_GAP_STEPS};
 use crate::harness::RunError;
 use crate::navigator::vehicle::{Layout, Slot};
-use crate::navigator::{Estimate, ImuSample, InsVehicle, NavigatorError, SENSORS, SENSOR_NAMES};
+use crate::navigator::{
+    Estimate, ImuSample, InsVehicle, NavigatorError, ESTIMATE_SCALARS, SENSORS, SENSOR_NAMES,
+};
 
 /// Runs the filter of vehicle `V` over `log`, recording estimates at
 /// `record_times` (s; each snapped to the nearest IMU sample time within half
@@ -44,31 +46,43 @@ pub fn run_vehicle<V: InsVehicle<N>, const N: usize>(
     let requests = Listed::new(order.iter().map(|&k| Ok((record_times[k], k))));
     let mut estimates: Vec<Option<Estimate>> = vec![None; record_times.len()];
     let mut delivered: Vec<usize> = Vec::new();
-    let mut run =
-        replay_vehicle::<V, N, _, _>(&LogSource::Memory(log), options, requests, |k, e| {
+    let mut in_order: Vec<Option<Estimate>> = Vec::new();
+    let mut run = replay_vehicle::<V, N, _, _>(
+        &LogSource::Memory(log),
+        options,
+        requests,
+        |k, e| {
             estimates[k] = e.copied();
             if options.smooth {
                 delivered.push(k);
             }
             Ok(())
-        })?;
+        },
+        |e| {
+            in_order.push(e.copied());
+            Ok(())
+        },
+    )?;
     run.estimates = estimates;
-    if let Some(smoothed) = run.smoothed.take() {
+    run.smoothed = options.smooth.then(|| {
         let mut by_slot = vec![None; record_times.len()];
-        for (k, e) in delivered.into_iter().zip(smoothed) {
+        for (k, e) in delivered.into_iter().zip(in_order) {
             by_slot[k] = e;
         }
-        run.smoothed = Some(by_slot);
-    }
+        by_slot
+    });
     Ok(run)
 }
 
 /// Runs the filter of vehicle `V` over the log of `source` and hands each
 /// requested estimate to `sink` once it is final: `requests` says at which
 /// IMU samples an estimate is wanted and what `sink` gets back with it
-/// ([`Listed`] output times, [`Every`] period). [`InsRun::estimates`] stays empty;
-/// [`InsRun::smoothed`] (with [`FilterOptions::smooth`]) has one entry per
-/// request, in request order.
+/// ([`Listed`] output times, [`Every`] period). [`InsRun::estimates`] and
+/// [`InsRun::smoothed`] stay empty: with [`FilterOptions::smooth`],
+/// `smoothed_sink` gets the smoothed counterpart of every estimate `sink`
+/// got, in the same order, after the run. Neither the forward estimates the
+/// smoother needs nor the smoothed ones are kept in memory (they wait in
+/// temporary files), so memory does not grow with the log.
 ///
 /// # Errors
 /// As [`run_vehicle`], a read error of the log, and the first error `sink`
@@ -78,6 +92,7 @@ pub fn replay_vehicle<V, const N: usize, P, Q>(
     options: &FilterOptions,
     requests: Q,
     mut sink: impl FnMut(P, Option<&Estimate>) -> Result<(), RunError>,
+    mut smoothed_sink: impl FnMut(Option<&Estimate>) -> Result<(), RunError>,
 ) -> Result<InsRun<V, N>, RunError>
 where
     V: InsVehicle<N>,
@@ -163,8 +178,13 @@ where
     let mut requests = requests;
     let tolerance = 0.5 * plan.imu.period_s + 1e-9;
     let mut waiting = Waiting::default();
-    let mut smoothing: Vec<Option<Estimate>> = Vec::new();
-    let keep = options.smooth;
+    // With smoothing: the estimates handed on, which the smoothed errors
+    // are applied to after the run.
+    let mut smoothing = options
+        .smooth
+        .then(|| SpillFile::create(None, ESTIMATE_SCALARS))
+        .transpose()
+        .map_err(smoother_error)?;
     // Time spent reading the log and handing estimates on, which
     // `runtime_s` (the filter's time) leaves out.
     // (Only a log on disk is read and written as the loop goes.)
@@ -180,8 +200,9 @@ where
         r
     };
     let mut out = |p: P, e: Option<&Estimate>| -> Result<(), RunError> {
-        if keep {
-            smoothing.push(e.copied());
+        if let Some(file) = smoothing.as_mut() {
+            file.push(&Estimate::to_scalars(e))
+                .map_err(smoother_error)?;
         }
         if !timing {
             return sink(p, e);
@@ -365,9 +386,14 @@ where
         .finish_recording()
         .map_err(|e| RunError::Invalid(e.to_string()))?;
     let layout = *final_filter.nominal().layout();
-    let smoothed = recording
-        .map(|store| smoothed_estimates(&mut store.borrow_mut(), &smoothing, &layout))
-        .transpose()?;
+    if let (Some(store), Some(forward)) = (recording, smoothing.as_mut()) {
+        let mut smoothed = smoothed_estimates(&mut store.borrow_mut(), forward, &layout)?;
+        // Written latest first: popped, they come in the order handed on.
+        let mut record = [0.0; ESTIMATE_SCALARS];
+        while smoothed.pop(&mut record).map_err(smoother_error)? {
+            smoothed_sink(Estimate::from_scalars(&record).as_ref())?;
+        }
+    }
     let repairs = final_filter.ekf().counters().covariance_repairs;
     let replays = nav.replays();
     let mut all_warnings = aiding.warnings;
@@ -389,7 +415,7 @@ where
         replays,
         final_filter,
         ignored,
-        smoothed,
+        smoothed: None,
         warnings: all_warnings,
     })
 }
@@ -613,42 +639,51 @@ impl<P> Waiting<P> {
     }
 }
 
-/// The smoothed counterpart of each estimate, from the recorded epochs of
-/// `file` (every output time is an epoch of the recording): the backward pass
-/// meets the epochs latest first and the estimates are matched from the end,
-/// so nothing but the smoothed estimates is kept.
+fn smoother_error(e: SmootherError) -> RunError {
+    RunError::Invalid(e.to_string())
+}
+
+/// The smoothed counterpart of each estimate of `forward` (written in the
+/// order handed on), from the recorded epochs of `file` (every output time is
+/// an epoch of the recording): the backward pass meets the epochs latest
+/// first and the estimates are taken off the end of `forward` to match, so
+/// the smoothed ones come latest first too, into the returned file.
 fn smoothed_estimates<const N: usize>(
     file: &mut EpochFile<N, 0>,
-    estimates: &[Option<Estimate>],
+    forward: &mut SpillFile,
     layout: &Layout,
-) -> Result<Vec<Option<Estimate>>, RunError> {
-    let mut out = vec![None; estimates.len()];
-    let mut k = estimates.len();
+) -> Result<SpillFile, RunError> {
+    let mut out = SpillFile::create(None, ESTIMATE_SCALARS).map_err(smoother_error)?;
+    let none = Estimate::to_scalars(None);
+    let mut record = [0.0; ESTIMATE_SCALARS];
+    // The latest estimate not yet matched (`None` inside: an estimate that
+    // was not available).
+    let mut pop = |forward: &mut SpillFile| -> Result<Option<Option<Estimate>>, SmootherError> {
+        Ok(forward
+            .pop(&mut record)?
+            .then(|| Estimate::from_scalars(&record)))
+    };
+    let mut pending = pop(forward).map_err(smoother_error)?;
     smooth(file, |epoch| {
-        while k > 0 {
-            match &estimates[k - 1] {
-                Some(e) if e.t > epoch.time + 1e-9 => k -= 1,
-                None => k -= 1,
-                Some(e) => {
-                    if (e.t - epoch.time).abs() <= 1e-9 {
-                        out[k - 1] = Some(e.smoothed(&epoch.error, &epoch.covariance, layout));
-                        k -= 1;
-                        // Several requested times may snap to one epoch.
-                        while let Some(Some(same)) = estimates.get(k.wrapping_sub(1)) {
-                            if (same.t - epoch.time).abs() > 1e-9 {
-                                break;
-                            }
-                            out[k - 1] =
-                                Some(same.smoothed(&epoch.error, &epoch.covariance, layout));
-                            k -= 1;
-                        }
-                    }
-                    break;
+        // Later estimates than this epoch have no epoch; several requested
+        // times may snap to one epoch.
+        while let Some(e) = &pending {
+            match e {
+                Some(e) if e.t < epoch.time - 1e-9 => break,
+                Some(e) if (e.t - epoch.time).abs() <= 1e-9 => {
+                    let s = e.smoothed(&epoch.error, &epoch.covariance, layout);
+                    out.push(&Estimate::to_scalars(Some(&s)))?;
                 }
+                _ => out.push(&none)?,
             }
+            pending = pop(forward)?;
         }
         Ok(())
     })
-    .map_err(|e| RunError::Invalid(e.to_string()))?;
+    .map_err(smoother_error)?;
+    while pending.is_some() {
+        out.push(&none).map_err(smoother_error)?;
+        pending = pop(forward).map_err(smoother_error)?;
+    }
     Ok(out)
 }

@@ -2,8 +2,9 @@
 //! filter goes ([`replay_vehicle`]), each estimate is scored against its
 //! truth row and written out as it becomes final, and only bounded copies
 //! of the time series are kept for the plots. Peak memory is that of the
-//! latency window, whatever the log's length (with `--smooth`, the
-//! smoother's inputs are kept: one estimate per output time).
+//! latency window, whatever the log's length (with `--smooth` too: the
+//! smoother's epochs, the forward estimates it corrects and the smoothed
+//! estimates wait in temporary files).
 //!
 //! Output times: the truth rows when the log has `truth.csv`, otherwise
 //! every [`OUTPUT_PERIOD_S`] from the first IMU sample.
@@ -142,7 +143,6 @@ pub(super) fn replay_source<V: InsVehicle<N>, const N: usize>(
             )
         })
         .transpose()?;
-    let mut kept_truth: Vec<Option<(Option<u64>, TruthRow)>> = Vec::new();
     let sink = |(_, truth): OutputTime, e: Option<&Estimate>| {
         if let (Some(w), Some(e)) = (&mut trajectory, e) {
             w.push(&trajectory_row(e))?;
@@ -150,20 +150,39 @@ pub(super) fn replay_source<V: InsVehicle<N>, const N: usize>(
         if let (Some(s), Some((line, row))) = (&mut scorer, &truth) {
             s.push(*line, row, e).map_err(score_error)?;
         }
-        if options.smooth {
-            kept_truth.push(truth);
+        Ok(())
+    };
+    // The smoothed estimates come after the run, one per output time in the
+    // same order: with truth, the output times are the truth rows, read
+    // again beside them.
+    let mut smoothed_scorer = (options.smooth && has_truth)
+        .then(|| -> Result<_, RunError> {
+            let rows = source.rows::<TruthRow>()?;
+            Ok((Scorer::new(None, keep(SMOOTHED_TABLE)?), rows))
+        })
+        .transpose()?;
+    let smoothed_sink = |e: Option<&Estimate>| -> Result<(), RunError> {
+        if let Some((s, Some(rows))) = &mut smoothed_scorer {
+            if let Some((line, row)) = rows.next_row().map_err(RunError::from)? {
+                s.push(line, &row, e).map_err(score_error)?;
+            }
         }
         Ok(())
     };
     let run: InsRun<V, N> = match truth {
-        Some(rows) => {
-            replay_vehicle::<V, N, _, _>(source, &filter_options, truth_times(rows), sink)?
-        }
+        Some(rows) => replay_vehicle::<V, N, _, _>(
+            source,
+            &filter_options,
+            truth_times(rows),
+            sink,
+            smoothed_sink,
+        )?,
         None => replay_vehicle::<V, N, _, _>(
             source,
             &filter_options,
             Every::new(OUTPUT_PERIOD_S),
             sink,
+            smoothed_sink,
         )?,
     };
     if let Some(w) = trajectory {
@@ -174,21 +193,15 @@ pub(super) fn replay_source<V: InsVehicle<N>, const N: usize>(
         .map(|s| s.finish(span))
         .transpose()
         .map_err(score_error)?;
-    let smoothed = match (&run.smoothed, has_truth) {
-        (Some(smoothed), true) => {
-            let mut s = Scorer::new(None, keep(SMOOTHED_TABLE)?);
-            for (truth, e) in kept_truth.iter().zip(smoothed) {
-                if let Some((line, row)) = truth {
-                    s.push(*line, row, e.as_ref()).map_err(score_error)?;
-                }
-            }
+    let smoothed = match smoothed_scorer {
+        Some((s, _)) => {
             let mut s = s
                 .finish(span)
                 .map_err(|e| RunError::Invalid(format!("smoothed run: {e}")))?;
             s.table.name = SMOOTHED_TABLE.to_string();
             Some(s)
         }
-        _ => None,
+        None => None,
     };
     if let Some(dir) = out {
         if let Some(s) = &scored {

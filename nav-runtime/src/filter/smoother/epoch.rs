@@ -46,54 +46,74 @@ impl<const N: usize, const S: usize> Epoch<N, S> {
         }
     }
 
-    /// Writes the epoch as `SCALARS` little-endian `f64` into `out`.
-    pub(crate) fn encode(&self, out: &mut Vec<u8>) {
-        let mut put = |v: f64| out.extend_from_slice(&v.to_le_bytes());
-        put(self.time);
-        self.transition.iter().for_each(|&v| put(v));
-        for m in [&self.predicted, &self.filtered] {
-            for c in 0..N {
-                for r in 0..=c {
-                    put(m[(r, c)]);
-                }
-            }
-        }
-        self.correction.iter().for_each(|&v| put(v));
-        self.snapshot.iter().for_each(|&v| put(v));
+    /// Reads an epoch written by [`Epoch::encode`]; `bytes` holds exactly
+    /// `8 * SCALARS` bytes (missing values read as NaN).
+    #[cfg(test)]
+    pub(crate) fn decode(bytes: &[u8]) -> Self {
+        let mut epoch = Self::at(
+            f64::NAN,
+            SMatrix::zeros(),
+            SMatrix::zeros(),
+            SVector::zeros(),
+        );
+        epoch.decode_into(bytes);
+        epoch
     }
 
-    /// Reads an epoch written by [`Epoch::encode`]; `bytes` holds exactly
-    /// `8 * SCALARS` bytes.
-    pub(crate) fn decode(bytes: &[u8]) -> Self {
-        let mut values = bytes
-            .chunks_exact(8)
-            .map(|c| f64::from_le_bytes(c.try_into().unwrap_or([0; 8])));
-        let mut next = || values.next().unwrap_or(f64::NAN);
-        let time = next();
-        let transition = SMatrix::<f64, N, N>::from_iterator((0..N * N).map(|_| next()));
-        let mut symmetric = || {
-            let mut m = SMatrix::<f64, N, N>::zeros();
+    /// [`Epoch::decode`] into `self`, without a temporary epoch.
+    pub(crate) fn decode_into(&mut self, bytes: &[u8]) {
+        let (words, _) = bytes.as_chunks::<8>();
+        let mut at = 0;
+        // The next `dst.len()` words into `dst` (NaN past the end).
+        let mut fill = |dst: &mut [f64]| {
+            let src = words.get(at..).unwrap_or(&[]);
+            for (d, w) in dst.iter_mut().zip(src) {
+                *d = f64::from_le_bytes(*w);
+            }
+            if let Some(rest) = dst.get_mut(src.len()..) {
+                rest.fill(f64::NAN);
+            }
+            at += dst.len();
+        };
+        fill(core::slice::from_mut(&mut self.time));
+        fill(self.transition.as_mut_slice());
+        for m in [&mut self.predicted, &mut self.filtered] {
+            // The upper triangle, column by column, then mirrored.
+            let (columns, _) = m.as_mut_slice().as_chunks_mut::<N>();
+            for (c, column) in columns.iter_mut().enumerate() {
+                fill(&mut column[..=c]);
+            }
             for c in 0..N {
-                for r in 0..=c {
-                    let v = next();
-                    m[(r, c)] = v;
-                    m[(c, r)] = v;
+                for r in c + 1..N {
+                    m[(r, c)] = m[(c, r)];
                 }
             }
-            m
-        };
-        let predicted = symmetric();
-        let filtered = symmetric();
-        let correction = SVector::<f64, N>::from_fn(|_, _| next());
-        let snapshot = SVector::<f64, S>::from_fn(|_, _| next());
-        Self {
-            time,
-            transition,
-            predicted,
-            correction,
-            filtered,
-            snapshot,
         }
+        fill(self.correction.as_mut_slice());
+        fill(self.snapshot.as_mut_slice());
+    }
+
+    /// Writes the epoch as `SCALARS` little-endian `f64` into `out`
+    /// (`8 * SCALARS` bytes; a shorter `out` gets the first values).
+    pub(crate) fn encode(&self, out: &mut [u8]) {
+        let (words, _) = out.as_chunks_mut::<8>();
+        let mut words = words.iter_mut();
+        let mut put = |values: &[f64]| {
+            // `values` first: at its end no word is taken.
+            for (v, w) in values.iter().zip(&mut words) {
+                *w = v.to_le_bytes();
+            }
+        };
+        put(&[self.time]);
+        put(self.transition.as_slice());
+        for m in [&self.predicted, &self.filtered] {
+            let (columns, _) = m.as_slice().as_chunks::<N>();
+            for (c, column) in columns.iter().enumerate() {
+                put(&column[..=c]);
+            }
+        }
+        put(self.correction.as_slice());
+        put(self.snapshot.as_slice());
     }
 }
 
@@ -115,7 +135,7 @@ mod tests {
             filtered: sym(0.5),
             snapshot: SVector::from_fn(|i, _| 1e6 + i as f64),
         };
-        let mut bytes = Vec::new();
+        let mut bytes = vec![0; 8 * Epoch::<3, 2>::SCALARS];
         e.encode(&mut bytes);
         assert_eq!(bytes.len(), 8 * Epoch::<3, 2>::SCALARS);
         assert_eq!(Epoch::<3, 2>::decode(&bytes), e);

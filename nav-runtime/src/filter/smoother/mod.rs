@@ -40,11 +40,13 @@
 mod backward;
 mod epoch;
 mod recorder;
+mod spill;
 mod store;
 
 pub use backward::{smooth, SmoothedEpoch};
 pub use epoch::Epoch;
 pub use recorder::Recorder;
+pub use spill::SpillFile;
 pub use store::{EpochFile, SmootherError};
 
 #[cfg(test)]

@@ -28,19 +28,55 @@ use crate::model::Model;
 /// checkpoint and resumed after a rollback, it truncates the file to the
 /// epochs of its own history before writing, so the re-propagated span
 /// replaces the old one.
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 pub struct Recorder<const N: usize, const S: usize> {
     store: Rc<RefCell<EpochFile<N, S>>>,
     /// Epochs of this history already in the file.
     written: usize,
     /// Time now, s.
     time: f64,
-    /// `Phi` from the last epoch to now.
-    transition: SMatrix<f64, N, N>,
+    /// `Phi^T` from the last epoch to now: column `i` is row `i` of `Phi`,
+    /// so a row is contiguous.
+    rows: SMatrix<f64, N, N>,
     /// The epoch reached and not yet written.
     open: Option<Epoch<N, S>>,
     /// The first failure.
     failure: Option<Rc<str>>,
+    /// Work space of [`Recorder::propagated`] (the change of each row of
+    /// `Phi` in one step; no meaning between calls, not copied by clones).
+    scratch: [[f64; N]; N],
+}
+
+impl<const N: usize, const S: usize> Clone for Recorder<N, S> {
+    fn clone(&self) -> Self {
+        Self {
+            store: Rc::clone(&self.store),
+            written: self.written,
+            time: self.time,
+            rows: self.rows,
+            open: self.open,
+            failure: self.failure.clone(),
+            scratch: [[0.0; N]; N],
+        }
+    }
+
+    /// Field by field, without the work space: a checkpoint copy costs the
+    /// recording's state only.
+    fn clone_from(&mut self, source: &Self) {
+        self.store.clone_from(&source.store);
+        self.written = source.written;
+        self.time = source.time;
+        self.rows = source.rows;
+        // Most checkpoints have no open epoch: then only the tag is written.
+        match &source.open {
+            None => self.open = None,
+            Some(epoch) => match self.open.as_mut() {
+                Some(open) => open.clone_from(epoch),
+                None => self.open = Some(*epoch),
+            },
+        }
+        self.failure.clone_from(&source.failure);
+    }
 }
 
 impl<const N: usize, const S: usize> Recorder<N, S> {
@@ -56,9 +92,10 @@ impl<const N: usize, const S: usize> Recorder<N, S> {
             store: Rc::new(RefCell::new(store)),
             written: 0,
             time,
-            transition: SMatrix::identity(),
+            rows: SMatrix::identity(),
             open: Some(Epoch::at(time, SMatrix::identity(), *covariance, snapshot)),
             failure: None,
+            scratch: [[0.0; N]; N],
         }
     }
 
@@ -79,16 +116,18 @@ impl<const N: usize, const S: usize> Recorder<N, S> {
     }
 
     fn close(&mut self) {
-        let Some(epoch) = self.open.take() else {
+        // By reference: an epoch is large, and most steps have none to write.
+        let Some(epoch) = self.open.as_ref() else {
             return;
         };
         let result = match self.store.try_borrow_mut() {
             Ok(mut store) => store
                 .truncate(self.written)
-                .and_then(|()| store.push(&epoch))
+                .and_then(|()| store.push(epoch))
                 .map_err(|e| e.to_string()),
             Err(_) => Err("the epoch file was borrowed while recording".to_string()),
         };
+        self.open = None;
         match result {
             Ok(()) => self.written += 1,
             Err(reason) => self.fail(reason),
@@ -98,37 +137,28 @@ impl<const N: usize, const S: usize> Recorder<N, S> {
     /// One prediction step of model `Mo` over `dt` seconds with the step's
     /// `jacobian` (`F` of a continuous model, so `Phi = I + F dt` as the
     /// filter's first-order step; `Phi` itself for a discrete model).
-    /// Structural zeros of `Mo::JACOBIAN_SPARSITY` cost nothing.
+    ///
+    /// For a continuous model only the rows of states with dynamics change:
+    /// a state whose row of `Mo::JACOBIAN_SPARSITY` is structurally zero (a
+    /// random-constant sensor bias) keeps its unit row in every product of
+    /// steps, so it is neither updated nor read as a row; structural zeros of
+    /// `F` cost nothing. No allocation.
     pub fn propagated<Mo: Model<N>>(&mut self, jacobian: &SMatrix<f64, N, N>, dt: f64) {
         self.close();
         self.time += dt;
         if Mo::DISCRETE {
-            self.transition = jacobian * self.transition;
+            self.rows = (jacobian * self.rows.transpose()).transpose();
             return;
         }
-        // T <- T + dt F T over the structural nonzeros of F (rows of F that
-        // are zero leave their rows of T as they are). T is column-major:
-        // entry (i, c) at c N + i.
-        let t = self.transition.as_slice();
-        let mut delta = [[0.0f64; N]; N]; // delta[c][i]
-        for (i, row) in Mo::JACOBIAN_SPARSITY.iter().enumerate() {
-            for (j, _) in row.iter().enumerate().filter(|(_, &nonzero)| nonzero) {
-                let a = dt * jacobian[(i, j)];
-                for (c, d) in delta.iter_mut().enumerate() {
-                    d[i] += a * t[c * N + j];
-                }
-            }
-        }
-        for (column, d) in self
-            .transition
-            .as_mut_slice()
-            .chunks_exact_mut(N)
-            .zip(&delta)
-        {
-            for (x, dx) in column.iter_mut().zip(d) {
-                *x += dx;
-            }
-        }
+        step_rows(
+            &mut self.rows,
+            &mut self.scratch,
+            &Mo::JACOBIAN_SPARSITY,
+            &Structure::<Mo, N>::MASKS,
+            &Structure::<Mo, N>::DYNAMIC,
+            jacobian,
+            dt,
+        );
     }
 
     /// Opens the epoch at the current time before its first update, with the
@@ -136,8 +166,9 @@ impl<const N: usize, const S: usize> Recorder<N, S> {
     /// epoch change nothing.
     pub fn updating(&mut self, covariance: &SMatrix<f64, N, N>, snapshot: SVector<f64, S>) {
         if self.open.is_none() {
-            self.open = Some(Epoch::at(self.time, self.transition, *covariance, snapshot));
-            self.transition = SMatrix::identity();
+            let transition = self.rows.transpose();
+            self.open = Some(Epoch::at(self.time, transition, *covariance, snapshot));
+            self.rows = SMatrix::identity();
         }
     }
 
@@ -186,5 +217,244 @@ impl<const N: usize, const S: usize> Recorder<N, S> {
             });
         }
         self.store.borrow_mut().truncate(self.written)
+    }
+}
+
+crate::dispatch::avx_dispatch! {
+    /// `T <- T + dt F T` on `rows` (`T^T`) over the rows of the states with
+    /// dynamics (`dynamic`) and the nonzeros of `sparsity`, with `scratch` as
+    /// work space ([`Recorder::propagated`]). Compiled for AVX where the CPU
+    /// has it (the same operations in the same order: bit-identical).
+    fn step_rows<const N: usize>(
+        rows: &mut SMatrix<f64, N, N>,
+        scratch: &mut [[f64; N]; N],
+        sparsity: &[[bool; N]; N],
+        masks: &[u128; N],
+        dynamic: &[bool; N],
+        jacobian: &SMatrix<f64, N, N>,
+        dt: f64,
+    ) => step_rows_portable;
+}
+
+/// The body of [`step_rows`].
+#[inline(always)]
+fn step_rows_portable<const N: usize, const AVX: bool>(
+    rows: &mut SMatrix<f64, N, N>,
+    scratch: &mut [[f64; N]; N],
+    sparsity: &[[bool; N]; N],
+    masks: &[u128; N],
+    dynamic: &[bool; N],
+    jacobian: &SMatrix<f64, N, N>,
+    dt: f64,
+) {
+    // T <- T + dt F T, row by row: row i of T changes by
+    // sum_j dt F_ij (row j of T), where row j of a state without
+    // dynamics is e_j. Rows are contiguous (`rows` holds T^T).
+    let (t, _) = rows.as_slice().as_chunks::<N>();
+    for (i, (d, sparsity)) in scratch
+        .iter_mut()
+        .zip(sparsity)
+        .enumerate()
+        .filter(|(i, _)| dynamic[*i])
+    {
+        d.fill(0.0);
+        let mut step = |j: usize| {
+            let a = dt * jacobian[(i, j)];
+            if dynamic[j] {
+                for (x, &t) in d.iter_mut().zip(&t[j]) {
+                    *x += a * t;
+                }
+            } else {
+                d[j] += a;
+            }
+        };
+        if N <= 128 {
+            // The nonzeros of row i, in order, from its bit mask.
+            let mut mask = masks[i];
+            while mask != 0 {
+                step(mask.trailing_zeros() as usize);
+                mask &= mask - 1;
+            }
+        } else {
+            for (j, _) in sparsity.iter().enumerate().filter(|(_, &nz)| nz) {
+                step(j);
+            }
+        }
+    }
+    let (t, _) = rows.as_mut_slice().as_chunks_mut::<N>();
+    for ((row, d), _) in t
+        .iter_mut()
+        .zip(scratch.iter())
+        .zip(dynamic)
+        .filter(|(_, &dynamic)| dynamic)
+    {
+        for (x, dx) in row.iter_mut().zip(d) {
+            *x += dx;
+        }
+    }
+}
+
+/// Structure of model `Mo`'s transition matrices, from its generated sparsity.
+struct Structure<Mo, const N: usize>(core::marker::PhantomData<Mo>);
+
+impl<Mo: Model<N>, const N: usize> Structure<Mo, N> {
+    /// `true` for the states with dynamics: a row of `F` with a structural
+    /// nonzero. The others keep unit rows in every `prod (I + F dt)`.
+    const DYNAMIC: [bool; N] = dynamic_rows(&Mo::JACOBIAN_SPARSITY);
+    /// The structural nonzeros of each row of `F` as a bit mask (bit `j`
+    /// for column `j`; used for `N <= 128`).
+    const MASKS: [u128; N] = row_masks(&Mo::JACOBIAN_SPARSITY);
+}
+
+/// Bit `j` of entry `i`: `sparsity[i][j]` (columns below 128).
+const fn row_masks<const N: usize>(sparsity: &[[bool; N]; N]) -> [u128; N] {
+    let mut out = [0u128; N];
+    let mut i = 0;
+    while i < N {
+        let mut j = 0;
+        while j < N && j < 128 {
+            if sparsity[i][j] {
+                out[i] |= 1u128 << j;
+            }
+            j += 1;
+        }
+        i += 1;
+    }
+    out
+}
+
+/// Rows of `sparsity` with at least one structural nonzero.
+const fn dynamic_rows<const N: usize>(sparsity: &[[bool; N]; N]) -> [bool; N] {
+    let mut out = [false; N];
+    let mut i = 0;
+    while i < N {
+        let mut j = 0;
+        while j < N {
+            out[i] |= sparsity[i][j];
+            j += 1;
+        }
+        i += 1;
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A continuous 4-state model: two states with dynamics (0 and 2), one
+    /// bias feeding them (1), one state that nothing touches (3).
+    struct Four;
+
+    impl Model<4> for Four {
+        type Input = ();
+        type Params = ();
+        type Noise = ();
+        type State = ();
+        const NAME: &'static str = "four";
+        const DISCRETE: bool = false;
+        const STATE_NAMES: [&'static str; 4] = ["a", "b", "c", "d"];
+        const JACOBIAN_SPARSITY: [[bool; 4]; 4] = [
+            [true, true, true, false],
+            [false; 4],
+            [true, false, false, true],
+            [false; 4],
+        ];
+        const OPS_PROPAGATE_COVARIANCE: usize = 0;
+        const OPS_JACOBIAN: usize = 0;
+        fn transition(x: &SVector<f64, 4>, _: &(), _: &(), _: f64) -> SVector<f64, 4> {
+            *x
+        }
+        fn jacobian(_: &SVector<f64, 4>, _: &(), _: &(), _: f64) -> SMatrix<f64, 4, 4> {
+            SMatrix::zeros()
+        }
+        fn process_noise(
+            _: &SVector<f64, 4>,
+            _: &(),
+            _: &(),
+            _: &(),
+            _: f64,
+        ) -> SMatrix<f64, 4, 4> {
+            SMatrix::zeros()
+        }
+        fn propagate_covariance(
+            _: &mut SMatrix<f64, 4, 4>,
+            _: &SVector<f64, 4>,
+            _: &(),
+            _: &(),
+            _: &(),
+            _: f64,
+        ) {
+        }
+    }
+
+    #[test]
+    fn dynamic_rows_are_the_rows_with_a_nonzero() {
+        assert_eq!(Structure::<Four, 4>::DYNAMIC, [true, false, true, false]);
+        assert_eq!(Structure::<Four, 4>::MASKS, [0b0111, 0, 0b1001, 0]);
+    }
+
+    /// The dispatched row step (AVX where the CPU has it) and the portable
+    /// build give the same bits.
+    #[test]
+    fn dispatched_rows_equal_the_portable_ones_bit_for_bit() {
+        let f = SMatrix::<f64, 4, 4>::from_fn(|i, j| {
+            if Four::JACOBIAN_SPARSITY[i][j] {
+                0.7 - 0.3 * i as f64 + 0.11 * j as f64
+            } else {
+                0.0
+            }
+        });
+        let start = SMatrix::<f64, 4, 4>::from_fn(|r, c| {
+            if r == 1 || r == 3 {
+                f64::from(u8::from(r == c))
+            } else {
+                0.1 * (r * 4 + c) as f64 + 1.0
+            }
+        });
+        let (mut a, mut b) = (start, start);
+        let mut scratch = [[0.0; 4]; 4];
+        let (sparsity, masks, dynamic) = (
+            &Four::JACOBIAN_SPARSITY,
+            &Structure::<Four, 4>::MASKS,
+            &Structure::<Four, 4>::DYNAMIC,
+        );
+        step_rows(&mut a, &mut scratch, sparsity, masks, dynamic, &f, 0.013);
+        step_rows_portable::<4, false>(&mut b, &mut scratch, sparsity, masks, dynamic, &f, 0.013);
+        assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits));
+        assert_ne!(a, start, "the step ran");
+    }
+
+    /// The row-wise product over the states with dynamics equals the dense
+    /// product of the steps `I + F dt`, entry for entry.
+    #[test]
+    fn transition_equals_the_dense_product_of_steps() {
+        let file = EpochFile::<4, 0>::create(None).unwrap();
+        let p = SMatrix::<f64, 4, 4>::identity();
+        let mut rec = Recorder::new(file, 0.0, &p, SVector::zeros());
+        let mut dense = SMatrix::<f64, 4, 4>::identity();
+        for k in 0..7 {
+            let x = k as f64;
+            let f = SMatrix::<f64, 4, 4>::from_fn(|i, j| {
+                if Four::JACOBIAN_SPARSITY[i][j] {
+                    0.3 + 0.1 * x - 0.2 * i as f64 + 0.05 * j as f64
+                } else {
+                    0.0
+                }
+            });
+            let dt = 0.1 + 0.01 * x;
+            rec.propagated::<Four>(&f, dt);
+            dense = (SMatrix::identity() + f * dt) * dense;
+        }
+        let got = rec.rows.transpose();
+        for (g, d) in got.iter().zip(dense.iter()) {
+            assert!(
+                (g - d).abs() <= 1e-14 * d.abs().max(1.0),
+                "{got} != {dense}"
+            );
+        }
+        assert_eq!(got.row(1), SMatrix::<f64, 4, 4>::identity().row(1));
+        assert_eq!(got.row(3), SMatrix::<f64, 4, 4>::identity().row(3));
+        assert_ne!(got.column(3), SMatrix::<f64, 4, 4>::identity().column(3));
     }
 }

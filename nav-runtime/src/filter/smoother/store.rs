@@ -6,6 +6,8 @@ use std::marker::PhantomData;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 
+use nalgebra::{SMatrix, SVector};
+
 use super::epoch::Epoch;
 
 /// Why smoothing failed.
@@ -55,8 +57,11 @@ const CHUNK: usize = 64;
 pub struct EpochFile<const N: usize, const S: usize> {
     path: PathBuf,
     file: File,
-    /// Epochs in the file, including the ones still in `buffer`.
+    /// Epochs in the file, including the `filled / RECORD` ones still in
+    /// `buffer`.
     len: usize,
+    /// Bytes of `buffer` holding encoded epochs not yet written.
+    filled: usize,
     /// Encoded epochs not yet written.
     buffer: Vec<u8>,
     _epoch: PhantomData<Epoch<N, S>>,
@@ -92,7 +97,9 @@ impl<const N: usize, const S: usize> EpochFile<N, S> {
             path,
             file,
             len: 0,
-            buffer: Vec::with_capacity(CHUNK * Self::RECORD),
+            // Sized once: epochs are encoded into it in place.
+            buffer: vec![0; CHUNK * Self::RECORD],
+            filled: 0,
             _epoch: PhantomData,
         })
     }
@@ -120,16 +127,16 @@ impl<const N: usize, const S: usize> EpochFile<N, S> {
     }
 
     fn flush(&mut self) -> Result<(), SmootherError> {
-        if self.buffer.is_empty() {
+        if self.filled == 0 {
             return Ok(());
         }
-        let written = self.len - self.buffer.len() / Self::RECORD;
+        let written = self.len - self.filled / Self::RECORD;
         let offset = (written * Self::RECORD) as u64;
         let result = self
             .file
             .seek(SeekFrom::Start(offset))
-            .and_then(|_| self.file.write_all(&self.buffer));
-        self.buffer.clear();
+            .and_then(|_| self.file.write_all(&self.buffer[..self.filled]));
+        self.filled = 0;
         result.map_err(|e| self.io(e))
     }
 
@@ -138,9 +145,13 @@ impl<const N: usize, const S: usize> EpochFile<N, S> {
     /// # Errors
     /// [`SmootherError::Io`] if a buffered write fails.
     pub fn push(&mut self, epoch: &Epoch<N, S>) -> Result<(), SmootherError> {
-        epoch.encode(&mut self.buffer);
+        let end = self.filled + Self::RECORD;
+        if let Some(out) = self.buffer.get_mut(self.filled..end) {
+            epoch.encode(out);
+        }
+        self.filled = end;
         self.len += 1;
-        if self.buffer.len() >= CHUNK * Self::RECORD {
+        if self.filled >= CHUNK * Self::RECORD {
             self.flush()?;
         }
         Ok(())
@@ -163,21 +174,32 @@ impl<const N: usize, const S: usize> EpochFile<N, S> {
         Ok(())
     }
 
-    /// Reads the epochs `start..start + out.len()` into `out`.
+    /// Reads the `count` epochs from `start` into `out`, through `bytes`.
     fn read_into(
         &mut self,
         start: usize,
-        out: &mut Vec<Epoch<N, S>>,
         count: usize,
+        bytes: &mut Vec<u8>,
+        out: &mut Vec<Epoch<N, S>>,
     ) -> Result<(), SmootherError> {
         self.flush()?;
-        let mut bytes = vec![0u8; count * Self::RECORD];
+        bytes.resize(count * Self::RECORD, 0);
         self.file
             .seek(SeekFrom::Start((start * Self::RECORD) as u64))
-            .and_then(|_| self.file.read_exact(&mut bytes))
+            .and_then(|_| self.file.read_exact(bytes))
             .map_err(|e| self.io(e))?;
-        out.clear();
-        out.extend(bytes.chunks_exact(Self::RECORD).map(Epoch::decode));
+        // Decoded in place into the reused epochs (no temporary copies).
+        while out.len() < count {
+            out.push(Epoch::at(
+                f64::NAN,
+                SMatrix::zeros(),
+                SMatrix::zeros(),
+                SVector::zeros(),
+            ));
+        }
+        for (epoch, b) in out.iter_mut().zip(bytes.chunks_exact(Self::RECORD)) {
+            epoch.decode_into(b);
+        }
         Ok(())
     }
 
@@ -191,11 +213,12 @@ impl<const N: usize, const S: usize> EpochFile<N, S> {
         mut visit: impl FnMut(&Epoch<N, S>) -> Result<(), SmootherError>,
     ) -> Result<(), SmootherError> {
         let mut chunk = Vec::with_capacity(CHUNK);
+        let mut bytes = Vec::with_capacity(CHUNK * Self::RECORD);
         let mut end = self.len;
         while end > 0 {
             let start = end.saturating_sub(CHUNK);
-            self.read_into(start, &mut chunk, end - start)?;
-            for epoch in chunk.iter().rev() {
+            self.read_into(start, end - start, &mut bytes, &mut chunk)?;
+            for epoch in chunk[..end - start].iter().rev() {
                 visit(epoch)?;
             }
             end = start;
@@ -214,7 +237,6 @@ impl<const N: usize, const S: usize> Drop for EpochFile<N, S> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nalgebra::{SMatrix, SVector};
 
     fn epoch(t: f64) -> Epoch<2, 1> {
         Epoch::at(
