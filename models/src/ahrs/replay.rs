@@ -24,12 +24,10 @@ use serde_json::{json, Value};
 use super::heading::magnetic_heading;
 use super::model::{Ahrs, AhrsGravity, AhrsHeading, AhrsInput, AhrsNoise, AhrsParams};
 use crate::harness::plot;
-use crate::harness::{ReplayModel, ReplayOptions, ReplayOutput, RunError, RunTable};
+use crate::harness::{ReplayModel, ReplayOptions, ReplayOutput, RunError, RunHealth, RunTable};
 use crate::navigator::SensorHealth;
 use crate::ulog::reference::EstimatePoint;
-use crate::ulog::replay::{
-    attitude_errors, count, declination, health_json, reference_metrics, rpy_json, wrap,
-};
+use crate::ulog::replay::{attitude_errors, count, declination, reference_metrics, rpy_json, wrap};
 
 /// `navsim replay --model ahrs`.
 pub const NAME: &str = "ahrs";
@@ -392,10 +390,13 @@ impl ReplayModel for AhrsReplay {
             _ => 0.0,
         };
         m.insert("replayed_seconds".into(), Value::from(span));
-        let mut health = health_json(&[("gravity", run.gravity), ("mag", run.mag)]);
-        health["imu_gaps"] = Value::from(run.imu_gaps);
-        health["covariance_repairs"] = Value::from(run.covariance_repairs);
-        m.insert("health".into(), health);
+        let health = RunHealth {
+            sensors: vec![("gravity".into(), run.gravity), ("mag".into(), run.mag)],
+            covariance_repairs: run.covariance_repairs,
+            replays: None,
+            imu_gaps: Some(run.imu_gaps),
+        };
+        m.insert("health".into(), health.json());
         if let Some(f) = &run.final_state {
             let e = f.euler().map(f64::to_degrees);
             let b = f.gyro_bias.map(f64::to_degrees);

@@ -19,7 +19,7 @@ use serde_json::{json, Map, Value};
 
 use super::model::GnssIns;
 use crate::ahrs::replay::write_outputs;
-use crate::harness::{ReplayModel, ReplayOptions, ReplayOutput, RunError, RunTable};
+use crate::harness::{ReplayModel, ReplayOptions, ReplayOutput, RunError, RunHealth, RunTable};
 use crate::navigator::{Estimate, SensorHealth};
 use crate::sdins25::filter::{replay_vehicle, FilterOptions, LENIENT_IMU_STEP_PERIODS};
 use crate::sdins25::replay_loop::{EachSample, Listed};
@@ -211,26 +211,17 @@ pub fn run(log: &LogDir, options: &ReplayOptions) -> Result<GnssInsRun, RunError
 }
 
 fn health_json(run: &GnssInsRun) -> Value {
-    let mut m = Map::new();
-    for (name, h) in &run.health {
-        m.insert(
-            (*name).to_string(),
-            json!({
-                "rows": h.rows,
-                "accepted": h.accepted,
-                "gated": h.gated,
-                "rejected": h.rejected,
-                "skipped": h.skipped,
-                "stuck": h.stuck,
-            }),
-        );
+    RunHealth {
+        sensors: run
+            .health
+            .iter()
+            .map(|(name, h)| ((*name).to_string(), *h))
+            .collect(),
+        covariance_repairs: run.covariance_repairs,
+        replays: None,
+        imu_gaps: Some(run.imu_gaps),
     }
-    m.insert("imu_gaps".into(), Value::from(run.imu_gaps));
-    m.insert(
-        "covariance_repairs".into(),
-        Value::from(run.covariance_repairs),
-    );
-    Value::Object(m)
+    .json()
 }
 
 /// The replay model `gnss-ins`.

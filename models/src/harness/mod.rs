@@ -24,6 +24,7 @@
 //! same JSON the unsharded run prints.
 
 mod error;
+mod health;
 pub mod plot;
 mod replay;
 pub mod report;
@@ -32,6 +33,7 @@ mod scenario;
 mod shard;
 
 pub use error::RunError;
+pub use health::{RunHealth, SensorHealth};
 pub use replay::{ReplayModel, ReplayOptions, ReplayOutput};
 pub use run::{
     metric_values, progress_bar, run_seeds, summary_json, write_run_tables, ProgressBar,

@@ -10,7 +10,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
-use super::{RunError, Scenario};
+use super::{RunError, RunHealth, Scenario};
 
 /// Options shared by every run of a scenario (from the command line).
 #[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -91,8 +91,9 @@ impl RunTable {
 
 /// The result of one Monte Carlo run.
 ///
-/// `metrics` and `extra` travel through shard files (JSON) and must hold everything
-/// [`Scenario::summarize`] needs; `tables` stay in memory (only with `--out`).
+/// `metrics`, `health` and `extra` travel through shard files (JSON) and must hold
+/// everything [`Scenario::summarize`] needs; `tables` stay in memory (only with
+/// `--out`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RunResult {
     /// The run's seed.
@@ -101,6 +102,9 @@ pub struct RunResult {
     /// survive shard files (stored as strings).
     #[serde(with = "float_map")]
     pub metrics: BTreeMap<String, f64>,
+    /// Integer counts: per sensor, and the filter's (empty for a scenario
+    /// that keeps none).
+    pub health: RunHealth,
     /// Anything else `summarize` needs (free-form JSON; `null` if unused).
     #[serde(default, skip_serializing_if = "Value::is_null")]
     pub extra: Value,
@@ -115,6 +119,7 @@ impl RunResult {
         RunResult {
             seed,
             metrics: BTreeMap::new(),
+            health: RunHealth::default(),
             extra: Value::Null,
             tables: Vec::new(),
         }

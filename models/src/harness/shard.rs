@@ -81,8 +81,8 @@ pub struct ShardFile {
     pub results: Vec<RunResult>,
 }
 
-/// Current [`ShardFile::format`].
-pub const SHARD_FORMAT: u32 = 1;
+/// Current [`ShardFile::format`] (2: runs carry their typed health counts).
+pub const SHARD_FORMAT: u32 = 2;
 
 impl ShardFile {
     /// Reads a shard file.

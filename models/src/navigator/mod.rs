@@ -14,7 +14,6 @@
 //!
 //! `use models::navigator::prelude::*;` brings all of it.
 
-mod health;
 mod measurement;
 #[allow(clippy::module_inception)]
 mod navigator;
@@ -25,7 +24,7 @@ pub mod vehicle;
 
 pub mod prelude;
 
-pub use health::SensorHealth;
+pub use crate::harness::SensorHealth;
 pub use measurement::{
     baro_measurement, depth_measurement, dvl_measurement, dvl_measurement_at, gnss_measurement,
     heading_measurement, mag_measurement, usbl_measurement, usbl_measurement_at, CompassForm,

@@ -23,11 +23,11 @@ use nav_runtime::smoother::EpochFile;
 use nav_runtime::strapdown::{NavState, RateSamples, Strapdown};
 use nav_runtime::stuck::StuckDetector;
 
-use super::health::SensorHealth;
 use super::nominal::{Estimate, ImuSample, InsFilter, InsNominal};
 use super::sensor::{Context, Handle, Reading};
 use super::settings::{ImuSettings, InitialState, NavigatorOptions, SensorSettings};
 use super::vehicle::{InsVehicle, Layout, Present};
+use crate::harness::SensorHealth;
 
 /// Smallest prior sigma of any state (in the state's units): a zero variance
 /// would be "repaired" by the filter after every step.

@@ -29,6 +29,7 @@ use super::model::Sdins25;
 pub use super::replay_loop::{replay_vehicle, run_vehicle};
 use super::simulation::TRACKPOINT_MISALIGNMENT_SIGMA;
 use crate::harness::RunError;
+use crate::harness::RunHealth;
 pub use crate::navigator::{
     depth_measurement, dvl_measurement, heading_measurement, usbl_measurement, CompassForm,
     Estimate, ImuSample, InsFilter, InsNominal, SensorHealth,
@@ -228,6 +229,22 @@ pub struct InsRun<V: InsVehicle<N>, const N: usize> {
     /// With [`FilterOptions::smooth`]: the smoothed estimates at the same
     /// times as [`InsRun::estimates`].
     pub smoothed: Option<Vec<Option<Estimate>>>,
+}
+
+impl<V: InsVehicle<N>, const N: usize> InsRun<V, N> {
+    /// The run's counts: per sensor, covariance repairs and replays.
+    pub fn health_counts(&self) -> RunHealth {
+        RunHealth {
+            sensors: self
+                .health
+                .iter()
+                .map(|(name, h)| ((*name).to_string(), *h))
+                .collect(),
+            covariance_repairs: self.repairs,
+            replays: Some(self.replays),
+            imu_gaps: None,
+        }
+    }
 }
 
 /// The result of an SDINS-25 run over a log.

@@ -31,8 +31,8 @@ use serde_json::{json, Map, Value};
 use crate::harness::plot::{self, Line};
 use crate::harness::report::summary_of;
 use crate::harness::{
-    metric_values, ReplayModel, ReplayOptions, ReplayOutput, RunError, RunOptions, RunResult,
-    RunTable, Scenario,
+    metric_values, ReplayModel, ReplayOptions, ReplayOutput, RunError, RunHealth, RunOptions,
+    RunResult, RunTable, Scenario,
 };
 use filter::{FilterOptions, InsRun, Sdins25Run};
 use score::{nees_band_95, Scored, NEES_DOF};
@@ -88,9 +88,6 @@ pub fn scenarios() -> Vec<LawnMower> {
 pub fn scenario(name: &str) -> Option<LawnMower> {
     scenarios().into_iter().find(|s| s.name == name)
 }
-
-/// Per-sensor health keys of a run's metrics.
-const SENSOR_NAMES: [&str; 4] = ["depth", "dvl", "heading", "usbl"];
 
 /// SDINS-25 is replayed by the shared loop with every log sensor.
 impl InsVehicle<25> for Sdins25 {
@@ -185,17 +182,7 @@ pub(crate) fn metrics<V: InsVehicle<N>, const N: usize>(
     let mut m = vec![
         ("samples".to_string(), run.samples as f64),
         ("runtime_s".to_string(), run.runtime_s),
-        ("covariance_repairs".to_string(), run.repairs as f64),
-        ("replays".to_string(), run.replays as f64),
     ];
-    for (name, h) in &run.health {
-        m.push((format!("{name}_rows"), h.rows as f64));
-        m.push((format!("{name}_accepted"), h.accepted as f64));
-        m.push((format!("{name}_gated"), h.gated as f64));
-        m.push((format!("{name}_rejected"), h.rejected as f64));
-        m.push((format!("{name}_skipped"), h.skipped as f64));
-        m.push((format!("{name}_stuck"), h.stuck as f64));
-    }
     if let Some(s) = scored {
         m.extend([
             (
@@ -262,6 +249,7 @@ pub fn run_one_with(
     for (k, v) in metrics(&run, scored.as_ref()) {
         r = r.with_metric(&k, v);
     }
+    r.health = run.health_counts();
     let smoothed = score_smoothed(&run, &sim.log, bias).map_err(|e| RunError::Failed {
         seed,
         message: e.to_string(),
@@ -314,32 +302,7 @@ fn smoothed_summary(runs: &[RunResult]) -> Value {
 
 /// The `health` object: per-sensor totals over runs and covariance repairs.
 pub(crate) fn health(runs: &[RunResult]) -> Value {
-    let sum = |k: &str| metric_values(runs, k).iter().sum::<f64>();
-    let mut h = Map::new();
-    // The imported-log sensors when a run has them.
-    let extra = crate::navigator::SENSOR_NAMES[4..].iter().filter(|name| {
-        runs.iter()
-            .any(|r| r.metrics.contains_key(&format!("{name}_rows")))
-    });
-    for name in SENSOR_NAMES.iter().chain(extra) {
-        h.insert(
-            (*name).to_string(),
-            json!({
-                "rows": sum(&format!("{name}_rows")),
-                "accepted": sum(&format!("{name}_accepted")),
-                "gated": sum(&format!("{name}_gated")),
-                "rejected": sum(&format!("{name}_rejected")),
-                "skipped": sum(&format!("{name}_skipped")),
-                "stuck": sum(&format!("{name}_stuck")),
-            }),
-        );
-    }
-    h.insert(
-        "covariance_repairs".into(),
-        Value::from(sum("covariance_repairs")),
-    );
-    h.insert("replays".into(), Value::from(sum("replays")));
-    Value::Object(h)
+    RunHealth::total(runs.iter().map(|r| &r.health)).json()
 }
 
 impl Scenario for LawnMower {

@@ -18,10 +18,8 @@ use super::filter::{replay_vehicle, FilterOptions, InsRun, LENIENT_IMU_STEP_PERI
 use super::replay_loop::{Every, Listed};
 use super::score::{Keep, Scored, Scorer, COLUMNS, TABLE};
 use super::vehicle::{InsVehicle, Layout};
-use super::{
-    error_values, health, metrics, write_plots, write_smoothed_plot, ERROR_KEYS, SMOOTHED_TABLE,
-};
-use crate::harness::{ReplayOptions, ReplayOutput, RunError, RunResult};
+use super::{error_values, write_plots, write_smoothed_plot, ERROR_KEYS, SMOOTHED_TABLE};
+use crate::harness::{ReplayOptions, ReplayOutput, RunError};
 use crate::navigator::Estimate;
 use crate::series::TableWriter;
 
@@ -268,12 +266,8 @@ pub(super) fn output_of<V: InsVehicle<N>, const N: usize>(
         out.warnings
             .push("the log has no truth.csv: the smoothed run is not scored".into());
     }
-    let single = RunResult {
-        metrics: metrics(run, scored.as_ref()).into_iter().collect(),
-        ..RunResult::new(0)
-    };
     out.metrics
-        .insert("health".into(), health(std::slice::from_ref(&single)));
+        .insert("health".into(), run.health_counts().json());
     let last = run.final_filter.nominal().ins.state;
     let e = last.euler();
     out.metrics.insert(

@@ -36,24 +36,6 @@ pub fn count<const M: usize>(
     }
 }
 
-/// The JSON `health` object: `{name: {rows, accepted, gated, rejected, skipped}}`.
-pub fn health_json(sensors: &[(&str, SensorHealth)]) -> Value {
-    let mut m = Map::new();
-    for (name, h) in sensors {
-        m.insert(
-            (*name).to_string(),
-            json!({
-                "rows": h.rows,
-                "accepted": h.accepted,
-                "gated": h.gated,
-                "rejected": h.rejected,
-                "skipped": h.skipped,
-            }),
-        );
-    }
-    Value::Object(m)
-}
-
 /// The magnetic declination (rad, east positive) that makes the
 /// magnetometer agree with the initial attitude: the circular mean of
 /// [`declination_from`] over the samples within [`DECLINATION_WINDOW_S`] of
