@@ -100,61 +100,7 @@ where
 {
     Layout::of::<V, N>()?;
     let (facts, imu) = LogFacts::of(source, options)?;
-    let plan0 = LogPlan::new(source.meta(), &facts, [0.0; SENSORS], V::INITIAL_SIGMA)?;
-    let mut aiding = Aiding::new::<V, N>(options, plan0.transducer);
-    let (usbl_latency, has_usbl) = aiding.usbl_latency(source)?;
-    let latencies: [f64; SENSORS] = std::array::from_fn(|i| {
-        if i == 3 {
-            if has_usbl {
-                usbl_latency + 1.0
-            } else {
-                0.0
-            }
-        } else if options.delivery.is_late() {
-            options.delivery.max_delay() + 0.1
-        } else {
-            0.0
-        }
-    });
-    let mut plan = LogPlan::new(source.meta(), &facts, latencies, V::INITIAL_SIGMA)?;
-    // The PX4 defaults of the imported-log sensors are said when used.
-    let sensors = &source.meta().sensors;
-    for (present, missing, name, noise) in [
-        (
-            aiding.present[4],
-            sensors.gnss.is_none(),
-            "gnss",
-            plan.sensors[4].noise_sigma,
-        ),
-        (
-            aiding.present[5],
-            sensors.baro.is_none(),
-            "baro",
-            plan.sensors[5].noise_sigma,
-        ),
-        (
-            aiding.present[6],
-            sensors.mag.is_none(),
-            "mag",
-            plan.sensors[6].noise_sigma,
-        ),
-    ] {
-        if present && missing {
-            plan.warnings.push(format!(
-                "meta.toml has no [sensors.{name}]: noise {noise} (PX4's default)"
-            ));
-        }
-    }
-    // A depth lever arm is used only by a depth block that takes one.
-    let lever_arm = plan.sensors[0].lever_arm;
-    if lever_arm != Vector3::zeros() && <V::Depth as Slot<V, N, 1>>::AUX_NAMES.is_empty() {
-        plan.warnings.push(format!(
-            "meta.toml: sensors.depth.lever_arm {:?} m is not modelled by model {} (its depth block takes the reading at the IMU): ignored",
-            lever_arm.as_slice(),
-            V::REPLAY_NAME
-        ));
-        plan.sensors[0].lever_arm = Vector3::zeros();
-    }
+    let (plan, mut aiding) = plan_run::<V, N>(source, options, &facts)?;
     let (builder, handles) = plan.builder::<V, N>(options);
     let samples = match source.imu_form()? {
         ImuForm::Rates => RateSamples::Instantaneous,
@@ -418,6 +364,73 @@ where
         smoothed: None,
         warnings: all_warnings,
     })
+}
+
+/// The plan of a run of `V` over `source`: each sensor's settings and
+/// latency (the USBL's from the largest acoustic travel time of its fixes),
+/// the queue of travelling aiding rows, and the warnings about what the log
+/// leaves to defaults or the vehicle cannot represent.
+fn plan_run<V: InsVehicle<N>, const N: usize>(
+    source: &LogSource<'_>,
+    options: &FilterOptions,
+    facts: &LogFacts,
+) -> Result<(LogPlan, Aiding), RunError> {
+    let plan0 = LogPlan::new(source.meta(), facts, [0.0; SENSORS], V::INITIAL_SIGMA)?;
+    let aiding = Aiding::new::<V, N>(options, plan0.transducer);
+    let (usbl_latency, has_usbl) = aiding.usbl_latency(source)?;
+    let latencies: [f64; SENSORS] = std::array::from_fn(|i| {
+        if i == 3 {
+            if has_usbl {
+                usbl_latency + 1.0
+            } else {
+                0.0
+            }
+        } else if options.delivery.is_late() {
+            options.delivery.max_delay() + 0.1
+        } else {
+            0.0
+        }
+    });
+    let mut plan = LogPlan::new(source.meta(), facts, latencies, V::INITIAL_SIGMA)?;
+    // The PX4 defaults of the imported-log sensors are said when used.
+    let sensors = &source.meta().sensors;
+    for (present, missing, name, noise) in [
+        (
+            aiding.present[4],
+            sensors.gnss.is_none(),
+            "gnss",
+            plan.sensors[4].noise_sigma,
+        ),
+        (
+            aiding.present[5],
+            sensors.baro.is_none(),
+            "baro",
+            plan.sensors[5].noise_sigma,
+        ),
+        (
+            aiding.present[6],
+            sensors.mag.is_none(),
+            "mag",
+            plan.sensors[6].noise_sigma,
+        ),
+    ] {
+        if present && missing {
+            plan.warnings.push(format!(
+                "meta.toml has no [sensors.{name}]: noise {noise} (PX4's default)"
+            ));
+        }
+    }
+    // A depth lever arm is used only by a depth block that takes one.
+    let lever_arm = plan.sensors[0].lever_arm;
+    if lever_arm != Vector3::zeros() && <V::Depth as Slot<V, N, 1>>::AUX_NAMES.is_empty() {
+        plan.warnings.push(format!(
+            "meta.toml: sensors.depth.lever_arm {:?} m is not modelled by model {} (its depth block takes the reading at the IMU): ignored",
+            lever_arm.as_slice(),
+            V::REPLAY_NAME
+        ));
+        plan.sensors[0].lever_arm = Vector3::zeros();
+    }
+    Ok((plan, aiding))
 }
 
 fn sample(r: &ImuRow) -> ImuSample {

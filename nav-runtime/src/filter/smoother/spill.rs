@@ -4,12 +4,11 @@
 //! while the backward pass produces them latest first), so that memory does
 //! not grow with the length of the run.
 
-use std::fs::{File, OpenOptions};
+use std::fs::File;
 use std::io::{Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
 
-use super::store::SmootherError;
+use super::store::{create_temporary, SmootherError};
 
 /// Records written and read this many at a time.
 const CHUNK: usize = 256;
@@ -41,23 +40,7 @@ impl SpillFile {
     /// # Errors
     /// [`SmootherError::Io`] if the file cannot be created.
     pub fn create(dir: Option<&Path>, width: usize) -> Result<Self, SmootherError> {
-        static COUNTER: AtomicU64 = AtomicU64::new(0);
-        let dir = dir.map_or_else(std::env::temp_dir, Path::to_path_buf);
-        let name = format!(
-            "nav-smoother-{}-{}.spill",
-            std::process::id(),
-            COUNTER.fetch_add(1, Ordering::Relaxed)
-        );
-        let path = dir.join(name);
-        let file = OpenOptions::new()
-            .read(true)
-            .write(true)
-            .create_new(true)
-            .open(&path)
-            .map_err(|source| SmootherError::Io {
-                path: path.clone(),
-                source,
-            })?;
+        let (path, file) = create_temporary(dir, "spill")?;
         Ok(Self {
             path,
             file,

@@ -10,6 +10,36 @@ use nalgebra::{SMatrix, SVector};
 
 use super::epoch::Epoch;
 
+/// A new, empty temporary file `nav-smoother-<process>-<n>.<extension>`
+/// in `dir` (the system's temporary directory when `None`), opened for
+/// reading and writing; never an existing file.
+///
+/// # Errors
+/// [`SmootherError::Io`] if the file cannot be created.
+pub(super) fn create_temporary(
+    dir: Option<&Path>,
+    extension: &str,
+) -> Result<(PathBuf, File), SmootherError> {
+    static COUNTER: AtomicU64 = AtomicU64::new(0);
+    let dir = dir.map_or_else(std::env::temp_dir, Path::to_path_buf);
+    let name = format!(
+        "nav-smoother-{}-{}.{extension}",
+        std::process::id(),
+        COUNTER.fetch_add(1, Ordering::Relaxed)
+    );
+    let path = dir.join(name);
+    let file = OpenOptions::new()
+        .read(true)
+        .write(true)
+        .create_new(true)
+        .open(&path)
+        .map_err(|source| SmootherError::Io {
+            path: path.clone(),
+            source,
+        })?;
+    Ok((path, file))
+}
+
 /// Why smoothing failed.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
@@ -76,23 +106,7 @@ impl<const N: usize, const S: usize> EpochFile<N, S> {
     /// # Errors
     /// [`SmootherError::Io`] if the file cannot be created.
     pub fn create(dir: Option<&Path>) -> Result<Self, SmootherError> {
-        static COUNTER: AtomicU64 = AtomicU64::new(0);
-        let dir = dir.map_or_else(std::env::temp_dir, Path::to_path_buf);
-        let name = format!(
-            "nav-smoother-{}-{}.epochs",
-            std::process::id(),
-            COUNTER.fetch_add(1, Ordering::Relaxed)
-        );
-        let path = dir.join(name);
-        let file = OpenOptions::new()
-            .read(true)
-            .write(true)
-            .create_new(true)
-            .open(&path)
-            .map_err(|source| SmootherError::Io {
-                path: path.clone(),
-                source,
-            })?;
+        let (path, file) = create_temporary(dir, "epochs")?;
         Ok(Self {
             path,
             file,
