@@ -74,7 +74,7 @@ pub use rows::{
 pub use rows::{BaroRow, GnssRow, MagRow, ReferenceRow};
 pub use stream::{
     skipped_row_warnings, EventStream, FileRows, Located, LogFiles, LogSource, LogTable,
-    Prefetched, RowSource, SliceRows,
+    Prefetched, RowSource, SliceRows, StreamedRow,
 };
 pub use warning::{Warning, WarningKind};
 

@@ -161,7 +161,19 @@ fn a_stream_continuing_a_prefetched_imu_gives_every_event_once() {
             .map(|r| r.t)
             .collect();
         assert_eq!(read.len(), ahead.min(5));
-        let continued = all(EventStream::open(&files).unwrap().with_imu(pre));
+        // The magnetometer and GNSS files read ahead as well.
+        let mut mag = Prefetched::new(Box::new(files.rows::<MagRow>().unwrap().unwrap()));
+        let mut gnss = Prefetched::new(Box::new(files.rows::<GnssRow>().unwrap().unwrap()));
+        for _ in 0..ahead.min(1) {
+            assert!(mag.read_ahead().unwrap().is_some());
+            assert!(gnss.read_ahead().unwrap().is_some());
+        }
+        assert_eq!(mag.read().count(), ahead.min(1));
+        let continued = all(EventStream::open(&files)
+            .unwrap()
+            .with_rows(pre)
+            .with_rows(mag)
+            .with_rows(gnss));
         assert_eq!(continued, plain, "read ahead {ahead}");
     }
     let _ = std::fs::remove_dir_all(&dir);

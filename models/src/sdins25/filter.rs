@@ -15,8 +15,8 @@ use nav_runtime::earth::{meridian_radius, Geodetic};
 use nav_runtime::gate::Gate;
 use nav_runtime::imu::ImuSpec;
 use nav_runtime::log::{
-    BaroRow, DepthRow, DvlRow, GnssRow, HeadingRow, ImuRow, LogDir, LogSource, LogTable, MagRow,
-    Meta, Prefetched, SensorNoise, UsblRow,
+    BaroRow, DepthRow, DvlRow, EventStream, GnssRow, HeadingRow, ImuRow, LogDir, LogSource,
+    LogTable, MagRow, Meta, Prefetched, Row, SensorNoise, StreamedRow, UsblRow,
 };
 use nav_runtime::nalgebra::{Matrix3, Vector3};
 use nav_runtime::sensors::ErrorSpec;
@@ -272,7 +272,7 @@ pub fn initial_vehicle_filter<V: InsVehicle<N>, const N: usize>(
     log: &LogDir,
     options: &FilterOptions,
 ) -> Result<InsFilter<V, N>, RunError> {
-    let (facts, _) = LogFacts::of(&LogSource::Memory(log), options)?;
+    let (facts, _, _) = LogFacts::of(&LogSource::Memory(log), options)?;
     let plan = LogPlan::new(&log.meta, &facts, [0.0; SENSORS], V::INITIAL_SIGMA)?;
     let (builder, _) = plan.builder::<V, N>(options);
     builder.initial_filter(&plan.first).map_err(setup_error)
@@ -328,12 +328,13 @@ pub(super) struct LogFacts {
 
 impl LogFacts {
     /// Reads the first [`PERIOD_INTERVALS`] IMU rows and (for the stuck
-    /// detector) the aiding files. Also returns `imu.csv` with the rows read
-    /// here kept, to be streamed from its start without reading them again.
+    /// detector) the first [`RESOLUTION_ROWS`] rows of each aiding file.
+    /// Also returns `imu.csv` and the aiding files with the rows read here
+    /// kept, to be streamed from their start without reading them again.
     pub(super) fn of<'a>(
         source: &LogSource<'a>,
         options: &FilterOptions,
-    ) -> Result<(Self, Prefetched<'a, ImuRow>), RunError> {
+    ) -> Result<(Self, Prefetched<'a, ImuRow>, AidingHeads<'a>), RunError> {
         let mut imu = Prefetched::new(
             source
                 .rows::<ImuRow>()?
@@ -376,24 +377,35 @@ impl LogFacts {
             }
         }
         let first = first.unwrap_or(head[0]);
+        let mut heads = AidingHeads::default();
         let resolutions = if options.stuck_false_alarm.is_some() {
+            heads = AidingHeads {
+                depth: prefetch(source)?,
+                dvl: prefetch(source)?,
+                heading: prefetch(source)?,
+                usbl: prefetch(source)?,
+                gnss: prefetch(source)?,
+                baro: prefetch(source)?,
+                mag: prefetch(source)?,
+            };
+            let h = &heads;
             let radius = meridian_radius(source.meta().initial.lat);
             let gnss = [
-                radius * resolution::<GnssRow>(source, &[1, 2])?,
-                resolution::<GnssRow>(source, &[3])?,
+                radius * resolution(h.gnss.as_ref(), &[1, 2]),
+                resolution(h.gnss.as_ref(), &[3]),
             ];
             [
-                resolution::<DepthRow>(source, &[1])?,
-                resolution::<DvlRow>(source, &[1, 2, 3])?,
-                resolution::<HeadingRow>(source, &[1])?,
-                radius * resolution::<UsblRow>(source, &[1, 2])?,
+                resolution(h.depth.as_ref(), &[1]),
+                resolution(h.dvl.as_ref(), &[1, 2, 3]),
+                resolution(h.heading.as_ref(), &[1]),
+                radius * resolution(h.usbl.as_ref(), &[1, 2]),
                 // The finer of the horizontal and vertical steps.
                 match gnss {
                     [0.0, v] | [v, 0.0] => v,
                     [h, v] => h.min(v),
                 },
-                resolution::<BaroRow>(source, &[1])?,
-                resolution::<MagRow>(source, &[1, 2, 3])?,
+                resolution(h.baro.as_ref(), &[1]),
+                resolution(h.mag.as_ref(), &[1, 2, 3]),
             ]
         } else {
             [0.0; SENSORS]
@@ -437,20 +449,79 @@ impl LogFacts {
                 first_baro,
             },
             imu,
+            heads,
         ))
     }
 }
 
-/// Output resolution of `columns` of `R`'s file: the smallest non-zero
-/// change between consecutive values of any of them (an empty cell passed
-/// over; see [`log_resolution`]); 0 if no value changes or there is no file.
-fn resolution<R: LogTable>(source: &LogSource<'_>, columns: &[usize]) -> Result<f64, RunError> {
-    let Some(mut rows) = source.rows::<R>()? else {
-        return Ok(0.0);
+/// Aiding rows read at most per file for the output resolution the stuck
+/// detector is built with: 10,000 rows (5,000 s of a 2 Hz sensor) show a
+/// sensor's output step, and the rows stay bounded in memory until the
+/// replay's stream gives them again.
+pub const RESOLUTION_ROWS: usize = 10_000;
+
+/// The aiding files read ahead by [`LogFacts::of`] (`None`: absent, or not
+/// read ahead).
+#[derive(Default)]
+pub(super) struct AidingHeads<'a> {
+    depth: Option<Prefetched<'a, DepthRow>>,
+    dvl: Option<Prefetched<'a, DvlRow>>,
+    heading: Option<Prefetched<'a, HeadingRow>>,
+    usbl: Option<Prefetched<'a, UsblRow>>,
+    gnss: Option<Prefetched<'a, GnssRow>>,
+    baro: Option<Prefetched<'a, BaroRow>>,
+    mag: Option<Prefetched<'a, MagRow>>,
+}
+
+impl<'a> AidingHeads<'a> {
+    /// `stream` with each file read ahead continued from its start.
+    pub(super) fn continue_in(self, stream: EventStream<'a>) -> EventStream<'a> {
+        fn with<'a, R: StreamedRow>(
+            stream: EventStream<'a>,
+            rows: Option<Prefetched<'a, R>>,
+        ) -> EventStream<'a> {
+            match rows {
+                Some(rows) => stream.with_rows(rows),
+                None => stream,
+            }
+        }
+        let s = with(stream, self.depth);
+        let s = with(s, self.dvl);
+        let s = with(s, self.heading);
+        let s = with(s, self.usbl);
+        let s = with(s, self.gnss);
+        let s = with(s, self.baro);
+        with(s, self.mag)
+    }
+}
+
+/// The first [`RESOLUTION_ROWS`] rows of `R`'s file, read ahead.
+fn prefetch<'a, R: LogTable>(
+    source: &LogSource<'a>,
+) -> Result<Option<Prefetched<'a, R>>, RunError> {
+    let Some(rows) = source.rows::<R>()? else {
+        return Ok(None);
+    };
+    let mut rows = Prefetched::new(rows);
+    for _ in 0..RESOLUTION_ROWS {
+        if rows.read_ahead()?.is_none() {
+            break;
+        }
+    }
+    Ok(Some(rows))
+}
+
+/// Output resolution of `columns` of the rows read ahead of a file: the
+/// smallest non-zero change between consecutive values of any of them (an
+/// empty cell passed over; see [`log_resolution`]); 0 if no value changes or
+/// there is no file.
+fn resolution<R: Row>(rows: Option<&Prefetched<'_, R>>, columns: &[usize]) -> f64 {
+    let Some(rows) = rows else {
+        return 0.0;
     };
     let mut last: Vec<Option<f64>> = vec![None; R::COLUMNS.len()];
     let mut q = f64::INFINITY;
-    while let Some((_, r)) = rows.next_row()? {
+    for r in rows.read() {
         for (i, cell) in r.to_cells().into_iter().enumerate() {
             let Some(v) = cell.filter(|_| columns.contains(&i)) else {
                 continue;
@@ -464,7 +535,11 @@ fn resolution<R: LogTable>(source: &LogSource<'_>, columns: &[usize]) -> Result<
             last[i] = Some(v);
         }
     }
-    Ok(if q.is_finite() { q } else { 0.0 })
+    if q.is_finite() {
+        q
+    } else {
+        0.0
+    }
 }
 
 pub(super) fn setup_error(e: NavigatorError) -> RunError {

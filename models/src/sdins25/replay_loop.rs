@@ -99,7 +99,7 @@ where
     Q: Requests<P>,
 {
     Layout::of::<V, N>()?;
-    let (facts, imu) = LogFacts::of(source, options)?;
+    let (facts, imu, heads) = LogFacts::of(source, options)?;
     let (plan, mut aiding) = plan_run::<V, N>(source, options, &facts)?;
     let (builder, handles) = plan.builder::<V, N>(options);
     let samples = match source.imu_form()? {
@@ -159,8 +159,9 @@ where
         r
     };
 
-    // `imu.csv` continues after the rows the facts were read from.
-    let mut stream = source.events()?.with_imu(imu);
+    // `imu.csv` and the aiding files continue after the rows the facts
+    // were read from.
+    let mut stream = heads.continue_in(source.events()?.with_rows(imu));
     let epoch = plan.initial.t;
     // IMU rows before the epoch are not used; aiding rows before the first
     // IMU row used wait in the queue.

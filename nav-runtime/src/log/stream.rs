@@ -341,6 +341,11 @@ impl<'a, R: Row> Prefetched<'a, R> {
         self.head.push_back(next);
         Ok(Some(next.1))
     }
+
+    /// The rows read ahead so far, in order.
+    pub fn read(&self) -> impl Iterator<Item = &R> {
+        self.head.iter().map(|(_, r)| r)
+    }
 }
 
 impl<R: Row> RowSource<R> for Prefetched<'_, R> {
@@ -523,13 +528,48 @@ impl<'a> EventStream<'a> {
         Ok(self.heads[IMU].map(|h| h.event.t()))
     }
 
-    /// The stream with its IMU rows taken from `imu` (e.g. a [`Prefetched`]
-    /// `imu.csv`) instead of the log's own reader. Meant for a stream not yet
-    /// begun; on a begun one, the IMU row already read stays next.
-    pub fn with_imu(mut self, imu: impl RowSource<ImuRow> + 'a) -> Self {
-        self.pulls[IMU] = pull(imu, Event::Imu);
+    /// The stream with the rows of `R`'s file taken from `rows` (e.g. a
+    /// [`Prefetched`] file) instead of the log's own reader. Meant for a
+    /// stream not yet begun; on a begun one, the row already read stays next.
+    pub fn with_rows<R: StreamedRow>(mut self, rows: impl RowSource<R> + 'a) -> Self {
+        self.pulls[R::SOURCE] = pull(rows, R::event);
         self
     }
+}
+
+/// A row type [`EventStream`] merges: its place among the stream's sources
+/// (ties in time go in this order) and its [`Event`].
+pub trait StreamedRow: Row + 'static {
+    /// Index of the file among the stream's sources.
+    const SOURCE: usize;
+    /// The row as an event.
+    fn event(self) -> Event;
+}
+
+macro_rules! streamed_rows {
+    ($($row:ty => $source:literal, $event:ident),* $(,)?) => {$(
+        impl StreamedRow for $row {
+            const SOURCE: usize = $source;
+            fn event(self) -> Event {
+                Event::$event(self)
+            }
+        }
+    )*};
+}
+
+// The order of `EventStream::of` and `EventStream::open`.
+streamed_rows! {
+    AltitudeRow => 0, Altitude,
+    DvlRow => 1, Dvl,
+    DepthRow => 2, Depth,
+    HeadingRow => 3, Heading,
+    UsblRow => 4, Usbl,
+    SpeedRow => 5, Speed,
+    RpmRow => 6, Rpm,
+    MagRow => 7, Mag,
+    BaroRow => 8, Baro,
+    GnssRow => 9, Gnss,
+    ImuRow => 10, Imu,
 }
 
 /// A row type with its table in a [`LogDir`].
