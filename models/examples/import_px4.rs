@@ -1,5 +1,6 @@
 //! Imports the committed PX4 flight log (`models/tests/data/ulog/`) into a log
-//! directory and prints what was written and which topics were used:
+//! directory, prints what was written and which topics were used, and
+//! replays it with `gnss-ins` (the JSON of `navsim replay --json`):
 //!
 //! ```text
 //! cargo run --example import_px4 [-- FILE.ulg [OUT_DIR]]
@@ -31,11 +32,33 @@ fn main() -> ExitCode {
             for w in &log.warnings {
                 println!("  warning: {w}");
             }
-            println!(
-                "replay: navsim replay {} --model ahrs (or --model gnss-ins)",
-                out.display()
-            );
-            ExitCode::SUCCESS
+            // Replayed by `gnss-ins` as `navsim replay OUT_DIR --model
+            // gnss-ins --json` does (`--model ahrs` is the attitude-only one).
+            let model = match models::cli::find_replay_model("gnss-ins") {
+                Ok(m) => m,
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    return ExitCode::FAILURE;
+                }
+            };
+            let args = models::cli::ReplayArgs {
+                dir: out.clone(),
+                model: "gnss-ins".into(),
+                out: None,
+                json: true,
+                lenient: false,
+                stationary: false,
+                max_gap_periods: 10.0,
+                smooth: false,
+            };
+            println!("navsim replay {} --model gnss-ins --json:", out.display());
+            match models::cli::replay_with(model.as_ref(), &args) {
+                Ok(()) => ExitCode::SUCCESS,
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    ExitCode::FAILURE
+                }
+            }
         }
         Err(e) => {
             eprintln!("error: {e}");
