@@ -78,6 +78,7 @@ pub struct Scored {
 
 /// Why a run cannot be scored.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum ScoreError {
     /// `truth.csv` has no rows.
     #[error("truth.csv: no rows after the header: nothing to score (remove the file to replay without scoring)")]

@@ -5,6 +5,7 @@ use std::path::PathBuf;
 
 /// An import failure. Nothing is written when an import fails.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum ImportError {
     /// The file (or the output directory) could not be read or written.
     #[error("{}: {source}", path.display())]
