@@ -87,18 +87,27 @@ pub const SHARD_FORMAT: u32 = 2;
 impl ShardFile {
     /// Reads a shard file.
     pub fn read(path: &Path) -> Result<ShardFile, RunError> {
+        /// The format field alone, read first: a file of another format is
+        /// refused as such, not for the fields it lacks.
+        #[derive(Deserialize)]
+        struct Format {
+            format: u32,
+        }
         let text = std::fs::read_to_string(path).map_err(|e| RunError::io(path, e))?;
-        let file: ShardFile = serde_json::from_str(&text).map_err(|e| RunError::Shard {
+        let not_shard = |e: serde_json::Error| RunError::Shard {
             path: path.to_path_buf(),
             message: format!("not a shard file: {e}"),
-        })?;
-        if file.format != SHARD_FORMAT {
+        };
+        let Format { format } = serde_json::from_str(&text).map_err(not_shard)?;
+        if format != SHARD_FORMAT {
             return Err(RunError::Shard {
                 path: path.to_path_buf(),
-                message: format!("unsupported shard format {}", file.format),
+                message: format!(
+                    "shard format {format}; this navsim reads format {SHARD_FORMAT} (rerun the shard)"
+                ),
             });
         }
-        Ok(file)
+        serde_json::from_str(&text).map_err(not_shard)
     }
 
     /// Writes the shard file as JSON.
@@ -228,4 +237,40 @@ pub fn merge_shards(files: &[(PathBuf, ShardFile)]) -> Result<Merged, RunError> 
         options: first.options.clone(),
         results: by_index.into_values().map(|(_, r)| r.clone()).collect(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A shard of the previous format (no typed health) is refused for its
+    /// format, naming the file; the current format reads back.
+    #[test]
+    fn a_shard_of_another_format_is_refused_as_such() {
+        let dir = std::env::temp_dir().join(format!("shard-format-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("shard-1-of-2.json");
+        let file = ShardFile {
+            format: SHARD_FORMAT,
+            scenario: "demo".into(),
+            seed: 1,
+            runs: 2,
+            shard: "1/2".into(),
+            options: RunOptions::default(),
+            results: vec![RunResult::new(1)],
+        };
+        file.write(&path).unwrap();
+        assert_eq!(ShardFile::read(&path).unwrap(), file);
+        let mut old: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+        old["format"] = 1.into();
+        old["results"][0].as_object_mut().unwrap().remove("health");
+        std::fs::write(&path, old.to_string()).unwrap();
+        let e = ShardFile::read(&path).unwrap_err().to_string();
+        assert!(
+            e.contains("shard-1-of-2.json") && e.contains("shard format 1"),
+            "{e}"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 }
