@@ -589,27 +589,12 @@ fn preflight_options(
     Ok((options, strictness))
 }
 
-/// Runs the preflight over the log on disk as a stream (each file read
-/// once, memory independent of the log's length): the findings and the
-/// [`preflight::LogSummary`] of the opened log. Errors: a bad option, and
-/// the first read error of the log as `LogDir::read` gives it.
-fn stream_and_check(
-    dir: &std::path::Path,
-    lenient: bool,
-    max_gap_periods: f64,
-    model_files: Option<&'static [&'static str]>,
-) -> Result<(LogFiles, preflight::LogSummary, preflight::Report), RunError> {
-    let (options, strictness) = preflight_options(lenient, max_gap_periods, model_files)?;
-    let files = LogFiles::open(dir, strictness)?;
-    let (report, summary) = preflight::check_files(&files, &options)?;
-    Ok((files, summary, report))
-}
-
 /// `navsim check`: runs the preflight over the log as a stream (the log is
 /// not loaded) and prints every finding; fails when there is an error.
 pub fn cmd_check(args: &CheckArgs) -> Result<(), RunError> {
-    let (_, summary, report) =
-        stream_and_check(&args.dir, args.lenient, args.max_gap_periods, None)?;
+    let (options, strictness) = preflight_options(args.lenient, args.max_gap_periods, None)?;
+    let files = LogFiles::open(&args.dir, strictness)?;
+    let (report, summary) = preflight::check_files(&files, &options)?;
     let errors: Vec<Warning> = report.errors().cloned().collect();
     let mut warnings = summary.warnings.clone();
     warnings.extend(report.warnings().cloned());
