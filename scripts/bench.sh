@@ -98,7 +98,8 @@ for line in sys.stdin:
     replay_bin=$(executable replay_step)
     replay_out=$(REPLAY_ONLY=1 valgrind --tool=callgrind --callgrind-out-file=/dev/null \
         --toggle-collect='*run_vehicle*' "$replay_bin" 2>&1)
-    replay_instr=$(echo "$replay_out" | awk '/Collected/ { print $4 }')
+    # One `Collected` line per thread: their sum.
+    replay_instr=$(echo "$replay_out" | awk '/Collected/ { s += $4 } END { print s }')
     replay_samples=$(echo "$replay_out" | awk '/^samples/ { print $2 }')
     replay=$((replay_instr / replay_samples))
     propagate=$(awk -F' = ' '/^propagate.sdins25/ { print $2 }' "$measured")
