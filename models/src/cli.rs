@@ -276,7 +276,7 @@ pub struct ListArgs {
 }
 
 /// Prints a result: one JSON line on stdout with `json`, otherwise human text.
-fn emit(value: &Value, json: bool) {
+pub(crate) fn emit(value: &Value, json: bool) {
     if json {
         println!("{}", report::json_line(value));
     } else {
@@ -285,7 +285,7 @@ fn emit(value: &Value, json: bool) {
 }
 
 /// Human note: stderr with `--json`, stdout otherwise.
-fn note(json: bool, text: &str) {
+pub(crate) fn note(json: bool, text: &str) {
     if json {
         eprintln!("{text}");
     } else {
@@ -534,7 +534,7 @@ pub fn warnings_json(warnings: &[Warning]) -> Value {
 /// Writes an output directory atomically: `fill` writes into a staging
 /// directory that is moved to `out` at the end, removed on error or on
 /// SIGINT/SIGTERM. Errors name `out`, the path the user gave.
-fn write_out(
+pub(crate) fn write_out(
     out: &std::path::Path,
     fill: impl FnOnce(&std::path::Path) -> Result<(), RunError>,
 ) -> Result<PathBuf, RunError> {

@@ -9,6 +9,7 @@ pub mod harness;
 pub mod interrupt;
 pub mod leveling;
 pub mod marker;
+pub mod model_replay;
 pub mod navigator;
 pub mod preflight;
 pub mod replay;

@@ -60,12 +60,12 @@ use std::path::{Path, PathBuf};
 
 pub use error::{CsvProblem, LogError, SkippedRow};
 pub use mapping::{
-    quantity, BodyFrame, FileMapping, ImuForm, LogMapping, NavFrame, Quantity,
+    quantity, relative_log_path, BodyFrame, FileMapping, ImuForm, LogMapping, NavFrame, Quantity,
     IMU_INCREMENT_COLUMNS, MAPPED_SENSORS, STANDARD_GRAVITY,
 };
 pub use meta::{
-    ImuNoise, Initial, InitialSigma, Meta, Mounting, SensorNoise, Sensors, UsblTransducer,
-    AIDING_SENSORS,
+    closest_name, ImuNoise, Initial, InitialSigma, Meta, Mounting, SensorNoise, Sensors,
+    UsblTransducer, AIDING_SENSORS,
 };
 pub use rows::{
     format_f64, parse_csv, write_csv, AltitudeRow, Cell, DepthRow, DvlRow, HeadingRow, ImuRow, Row,

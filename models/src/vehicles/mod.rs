@@ -9,7 +9,10 @@
 //! - [`pressure_auv`]: the walk-through of docs/guide/building-a-vehicle.md: a new
 //!   pressure-sensor block with a lever arm, a vehicle using it, and its filter
 //!   run through [`nav_runtime::ekf::Ekf`].
+//! - [`rover`]: a wheeled rover, not an INS, replayed from a log with
+//!   [`crate::model_replay`].
 
 pub mod blocks;
 pub mod pressure_auv;
+pub mod rover;
 pub mod sdins;

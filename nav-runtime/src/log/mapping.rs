@@ -387,7 +387,7 @@ fn parse_section(
         declared: true,
     };
     if let Some(file) = string("file")? {
-        m.file = check_relative(file).map_err(|p| cx.err(&m.key("file"), p))?;
+        m.file = relative_log_path(file).map_err(|p| cx.err(&m.key("file"), p))?;
         m.declared_file = true;
     }
     let allowed = standard_columns(sensor);
@@ -570,7 +570,7 @@ fn is_increment_column(c: &str) -> bool {
 
 /// The path `file` as `a/b.csv` (no `.` components), or why it is refused:
 /// anything but a plain relative path below the log directory.
-fn check_relative(file: &str) -> Result<String, String> {
+pub fn relative_log_path(file: &str) -> Result<String, String> {
     if file.trim().is_empty() {
         return Err("empty file name".into());
     }

@@ -245,7 +245,7 @@ impl Meta {
                     "unknown section `{name}` ignored (sections read: {})",
                     TOP_LEVEL.join(", ")
                 );
-                if let Some(close) = did_you_mean(name, TOP_LEVEL) {
+                if let Some(close) = closest_name(name, TOP_LEVEL) {
                     message.push_str(&format!("; did you mean `{close}`?"));
                 }
                 warnings.push(Warning {
@@ -485,7 +485,7 @@ const TOP_LEVEL: &[&str] = &["initial", "initial_sigma", "sensors", "usbl", "fil
 
 /// The valid name closest to `name` (edit distance at most 2, or a
 /// case-insensitive match), if any.
-fn did_you_mean<'a>(name: &str, valid: &[&'a str]) -> Option<&'a str> {
+pub fn closest_name<'a>(name: &str, valid: &[&'a str]) -> Option<&'a str> {
     let lower = name.to_ascii_lowercase();
     valid
         .iter()
@@ -632,7 +632,7 @@ impl Cx<'_> {
                     "unknown key"
                 };
                 let mut problem = format!("{what}; expected one of: {}", allowed.join(", "));
-                if let Some(close) = did_you_mean(k, allowed) {
+                if let Some(close) = closest_name(k, allowed) {
                     problem.push_str(&format!("; did you mean `{close}`?"));
                 }
                 return Err(self.err(&join(section, k), problem));

@@ -1,0 +1,631 @@
+//! The replay of a declared model over a log directory: the input rows
+//! propagate the filter, each sensor's rows update it at their own times
+//! (through the multi-rate scheduler), the estimate after each input
+//! sample's updates is scored against the truth and written out
+//! (`docs/model-replay.md`, "What a replay does").
+//!
+//! The files are streamed: memory does not grow with the log.
+
+use std::io::Write;
+use std::path::Path;
+use std::time::Instant;
+
+use nav_runtime::ekf::Ekf;
+use nav_runtime::log::{SkippedRow, Warning, WarningKind};
+use nav_runtime::math::wrap_angle;
+use nav_runtime::model::{Model, Record};
+use nav_runtime::nalgebra::{Cholesky, SMatrix, SVector};
+use nav_runtime::scheduler::{Report, Scheduler};
+
+use super::feed::Feed;
+use super::mapping::Mapping;
+use super::table::MappedRows;
+use super::ModelReplayError;
+
+/// Options of one replay.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct RunOptions {
+    /// Skip (and count) bad CSV rows instead of stopping.
+    pub lenient: bool,
+    /// Write an estimate at most every this many seconds (`0`: after every
+    /// input sample).
+    pub output_period: f64,
+}
+
+/// What happened to one sensor's rows.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct SensorSummary {
+    /// The declared sensor name.
+    pub name: &'static str,
+    /// Its file (`None`: not mapped).
+    pub file: Option<String>,
+    /// Rows read.
+    pub rows: u64,
+    /// Applied.
+    pub accepted: u64,
+    /// Refused by the gate.
+    pub gated: u64,
+    /// Refused by the filter or the scheduler (non-finite values, a row
+    /// before the initial epoch, an innovation covariance not positive).
+    pub rejected: u64,
+    /// Bad rows skipped by lenient reading.
+    pub skipped_rows: u64,
+    /// Mean NIS of the accepted updates (expected: `outputs`).
+    pub nis_mean: Option<f64>,
+    /// Number of outputs (the NIS's degrees of freedom).
+    pub outputs: usize,
+}
+
+/// The truth score of a run.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct TruthScore {
+    /// Input samples with a truth row within half an input period.
+    pub scored: u64,
+    /// `(state, RMS error)` of every state the truth file has (angles wrapped).
+    pub rms: Vec<(&'static str, f64)>,
+    /// Mean NEES over those states (expected: their number).
+    pub nees_mean: f64,
+    /// The NEES's degrees of freedom.
+    pub nees_dof: usize,
+}
+
+/// The result of a replay.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ModelRun {
+    /// Input samples propagated.
+    pub samples: u64,
+    /// First and last input time used, s.
+    pub span: (f64, f64),
+    /// Seconds spent in the loop (reading included).
+    pub runtime_s: f64,
+    /// Per registered sensor.
+    pub sensors: Vec<SensorSummary>,
+    /// The final state and sigma, per state scalar.
+    pub final_state: Vec<(&'static str, f64, f64)>,
+    /// Against the truth file, when there is one.
+    pub truth: Option<TruthScore>,
+    /// Covariance repairs of the filter.
+    pub covariance_repairs: u64,
+    /// Bad rows skipped (lenient reading), per file.
+    pub skipped_rows: Vec<(String, u64)>,
+    /// The first reasons of the skipped rows.
+    pub skip_reasons: Vec<SkippedRow>,
+    /// What the user should know about the result.
+    pub warnings: Vec<Warning>,
+}
+
+/// States the model's [`Model::normalize_state`] wraps to (-pi, pi]: the
+/// states declared `angle`, whose errors are wrapped too.
+pub fn angle_states<M: Model<N>, const N: usize>() -> [bool; N] {
+    std::array::from_fn(|i| {
+        let mut x = SVector::<f64, N>::zeros();
+        x[i] = 2.0 * std::f64::consts::PI + 0.5;
+        M::normalize_state(&mut x);
+        (x[i] - 0.5).abs() < 1e-9
+    })
+}
+
+/// The sensor rows still to be pushed: the reader and its next row.
+struct Pending {
+    rows: MappedRows,
+    next: Option<(u64, f64)>,
+}
+
+/// Runs model `M` with the sensors `feeds` over the log in `dir` as
+/// `mapping` says; with `out`, writes `estimates.csv` there.
+///
+/// # Errors
+/// A file or row the mapping cannot read, a filter set-up error, an input
+/// row the filter refuses.
+pub fn run<M: Model<N>, const N: usize>(
+    dir: &Path,
+    mapping_file: &str,
+    mapping: &Mapping,
+    feeds: &[Box<dyn Feed<M, N>>],
+    options: &RunOptions,
+    out: Option<&Path>,
+) -> Result<ModelRun, ModelReplayError>
+where
+    Ekf<M, N>: Clone,
+{
+    let start = Instant::now();
+    let mut run = ModelRun {
+        warnings: mapping.warnings.clone(),
+        ..ModelRun::default()
+    };
+    let mut inputs = MappedRows::open(dir, &mapping.inputs, mapping_file, options.lenient)?
+        .ok_or_else(|| ModelReplayError::Setup("no input file".into()))?;
+    let mut sensors: Vec<Option<Pending>> = Vec::with_capacity(feeds.len());
+    for m in &mapping.sensors {
+        sensors.push(match m {
+            Some(m) => MappedRows::open(dir, &m.source, mapping_file, options.lenient)?
+                .map(|rows| Pending { rows, next: None }),
+            None => None,
+        });
+    }
+    let truth = MappedRows::open(dir, &mapping.truth, mapping_file, options.lenient)?;
+    let angles = angle_states::<M, N>();
+
+    // The epoch: `[initial] t`, else the first input row. Input rows at or
+    // before it hold over intervals that end before the filter starts.
+    let mut before_epoch = 0u64;
+    let first = loop {
+        let Some((line, t)) = inputs.next_row()? else {
+            return Err(ModelReplayError::Setup(format!(
+                "{}: no input rows{}",
+                inputs.file(),
+                mapping.initial.t.map_or(String::new(), |t| format!(
+                    " after the initial epoch t = {t} s"
+                ))
+            )));
+        };
+        match mapping.initial.t {
+            Some(epoch) if t < epoch => before_epoch += 1,
+            _ => break (line, t),
+        }
+    };
+    let epoch = mapping.initial.t.unwrap_or(first.1);
+    if before_epoch > 0 {
+        run.warnings.push(Warning::about(
+            WarningKind::OutsideImuSpan,
+            inputs.file(),
+            format!(
+                "{}: {before_epoch} row(s) before the initial epoch t = {epoch} s are not used",
+                inputs.file()
+            ),
+        ));
+    }
+    // The first input row at the epoch is the start; one after it is the
+    // first interval.
+    let record = |v: &[f64]| <M::Input as Record>::from_fn(|i| v[i]);
+    let mut held: Option<(u64, f64, M::Input)> =
+        (first.1 > epoch).then(|| (first.0, first.1, record(inputs.values())));
+    let period = match &held {
+        Some((_, t, _)) => t - epoch,
+        None => match inputs.next_row()? {
+            Some((line, t)) => {
+                held = Some((line, t, record(inputs.values())));
+                t - epoch
+            }
+            None => 0.0,
+        },
+    };
+
+    let x0 = SVector::<f64, N>::from_iterator(mapping.initial.state.iter().copied());
+    let p0 = SMatrix::<f64, N, N>::from_diagonal(&SVector::from_iterator(
+        mapping.initial.sigma.iter().map(|s| s * s),
+    ));
+    let params = <M::Params as Record>::from_fn(|i| mapping.params[i]);
+    let noise = <M::Noise as Record>::from_fn(|i| mapping.noise[i]);
+    let mut ekf = Ekf::<M, N>::new(x0, p0, params, noise)
+        .map_err(|e| ModelReplayError::Setup(format!("{mapping_file}: {e}")))?;
+    for (feed, m) in feeds.iter().zip(&mapping.sensors) {
+        if let Some(m) = m {
+            feed.set_gate(&mut ekf, m.gate).map_err(|e| {
+                ModelReplayError::Setup(format!("{mapping_file}: `{}.gate`: {e}", m.source.section))
+            })?;
+        }
+    }
+    run.sensors = feeds
+        .iter()
+        .zip(&mapping.sensors)
+        .map(|(f, m)| {
+            let d = f.declared();
+            SensorSummary {
+                name: d.name,
+                file: m.as_ref().map(|m| m.source.file.clone()),
+                outputs: d.outputs,
+                ..SensorSummary::default()
+            }
+        })
+        .collect();
+    let mut nis_sum = vec![0.0; feeds.len()];
+
+    // Sensor rows at or before the epoch: within one input period of it
+    // they are applied at the epoch, earlier ones are refused.
+    for (k, pending) in sensors.iter_mut().enumerate() {
+        let Some(p) = pending else { continue };
+        let Some(m) = &mapping.sensors[k] else {
+            continue;
+        };
+        while let Some((line, t)) = p.rows.next_row()? {
+            if t > epoch {
+                p.next = Some((line, t));
+                break;
+            }
+            let s = &mut run.sensors[k];
+            if t < epoch - period {
+                s.rejected += 1;
+                continue;
+            }
+            match feeds[k].apply(&mut ekf, p.rows.values(), &m.sigma) {
+                Ok(o) if o.accepted => {
+                    s.accepted += 1;
+                    nis_sum[k] += o.nis;
+                }
+                Ok(_) => s.gated += 1,
+                Err(_) => s.rejected += 1,
+            }
+        }
+    }
+    for s in &run.sensors {
+        if s.rejected > 0 {
+            run.warnings.push(Warning::about(
+                WarningKind::OutsideImuSpan,
+                s.file.as_deref().unwrap_or(""),
+                format!(
+                    "sensor {}: {} row(s) more than one input period before the initial epoch t = {epoch} s are not used",
+                    s.name, s.rejected
+                ),
+            ));
+        }
+    }
+    let before = run
+        .sensors
+        .iter()
+        .map(|s| (s.accepted, s.gated, s.rejected))
+        .collect::<Vec<_>>();
+
+    let mut scheduler = Scheduler::new(ekf, epoch)
+        .map_err(|e| ModelReplayError::Setup(format!("scheduler: {e}")))?;
+    let mut ids = Vec::with_capacity(feeds.len());
+    for f in feeds {
+        ids.push(
+            scheduler
+                .add_sensor(f.declared().name, 1.0, 0.0)
+                .map_err(|e| ModelReplayError::Setup(format!("scheduler: {e}")))?,
+        );
+    }
+
+    let mut estimates = match out {
+        Some(dir) => Some(EstimateWriter::create(dir, &M::STATE_NAMES)?),
+        None => None,
+    };
+    let mut truth = truth.map(|rows| Truth { rows, next: None });
+    if let Some(t) = truth.as_mut() {
+        t.next = t.rows.next_row()?;
+    }
+    let mut score = Score::<N>::new(
+        truth
+            .as_ref()
+            .map(|t| std::array::from_fn(|i| t.rows.has(i))),
+    );
+    let tolerance = 0.5 * period.max(1e-9);
+    let mut last_written = f64::NEG_INFINITY;
+    let mut t_last = epoch;
+    let mut write =
+        |t: f64, f: &Ekf<M, N>, truth: Option<&mut Truth>| -> Result<(), ModelReplayError> {
+            if let Some(values) = truth.map(|tr| tr.at(t, tolerance)).transpose()?.flatten() {
+                score.add(f.state(), f.covariance(), values, &angles);
+            }
+            if let Some(w) = estimates.as_mut() {
+                if t - last_written >= options.output_period * (1.0 - 1e-9) {
+                    w.push(t, f.state(), f.covariance())?;
+                    last_written = t;
+                }
+            }
+            Ok(())
+        };
+    write(epoch, scheduler.filter(), truth.as_mut())?;
+
+    loop {
+        let (line, t, input) = match held.take() {
+            Some(h) => h,
+            None => match inputs.next_row()? {
+                Some((line, t)) => (line, t, record(inputs.values())),
+                None => break,
+            },
+        };
+        // Every sensor row up to this sample's time is queued first: it is
+        // applied at its own time inside the interval.
+        for (k, pending) in sensors.iter_mut().enumerate() {
+            let (Some(p), Some(m)) = (pending.as_mut(), &mapping.sensors[k]) else {
+                continue;
+            };
+            while let Some((_, tm)) = p.next {
+                if tm > t {
+                    break;
+                }
+                // A refusal is counted in the scheduler's sensor statistics.
+                if let Ok(reports) = scheduler.push_measurement(
+                    ids[k],
+                    tm,
+                    feeds[k].measurement(p.rows.values(), &m.sigma),
+                ) {
+                    add_nis(&reports, &mut nis_sum);
+                }
+                p.next = p.rows.next_row()?;
+            }
+        }
+        let reports = scheduler
+            .push_imu(t, input)
+            .map_err(|e| ModelReplayError::Filter {
+                file: inputs.file().to_string(),
+                line,
+                t,
+                problem: e.to_string(),
+            })?;
+        add_nis(&reports, &mut nis_sum);
+        run.samples += 1;
+        t_last = t;
+        write(t, scheduler.filter(), truth.as_mut())?;
+    }
+    // Sensor rows after the last input sample are not used.
+    for (k, pending) in sensors.iter_mut().enumerate() {
+        let Some(p) = pending.as_mut() else { continue };
+        let mut after = 0u64;
+        while p.next.is_some() {
+            after += 1;
+            p.next = p.rows.next_row()?;
+        }
+        if after > 0 {
+            run.warnings.push(Warning::about(
+                WarningKind::OutsideImuSpan,
+                p.rows.file(),
+                format!(
+                    "sensor {}: {after} row(s) after the last input sample (t = {t_last} s) are not used",
+                    run.sensors[k].name
+                ),
+            ));
+        }
+        run.sensors[k].rows = p.rows.rows;
+        run.sensors[k].skipped_rows = p.rows.skipped_rows;
+    }
+    if let Some(w) = estimates {
+        w.finish()?;
+    }
+
+    let filter = scheduler.filter();
+    for (k, s) in run.sensors.iter_mut().enumerate() {
+        let st = scheduler.sensor_stats(ids[k]).unwrap_or_default();
+        let (a, g, r) = before[k];
+        s.accepted = a + st.accepted;
+        s.gated = g + st.gated;
+        s.rejected = r + st.failed + st.too_old + st.duplicate + st.invalid + st.queue_full;
+        s.nis_mean = (s.accepted > 0).then(|| nis_sum[k] / s.accepted as f64);
+    }
+    run.span = (epoch, t_last);
+    run.final_state = M::STATE_NAMES
+        .iter()
+        .enumerate()
+        .map(|(i, n)| (*n, filter.state()[i], filter.covariance()[(i, i)].sqrt()))
+        .collect();
+    run.covariance_repairs = filter.counters().covariance_repairs;
+    run.truth = score.finish(&M::STATE_NAMES);
+    for rows in std::iter::once(&inputs)
+        .chain(sensors.iter().flatten().map(|p| &p.rows))
+        .chain(truth.iter().map(|t| &t.rows))
+    {
+        if rows.skipped_rows > 0 {
+            run.skipped_rows
+                .push((rows.file().to_string(), rows.skipped_rows));
+            run.skip_reasons.extend(rows.skipped.iter().cloned());
+        }
+    }
+    warn_about_result(&mut run, truth.is_some());
+    run.runtime_s = start.elapsed().as_secs_f64();
+    Ok(run)
+}
+
+/// The warnings a result needs to be read right: a sensor that never
+/// corrected the filter, an NIS far from its expectation, repairs.
+fn warn_about_result(run: &mut ModelRun, has_truth: bool) {
+    let mut warnings = Vec::new();
+    for s in &run.sensors {
+        let Some(file) = &s.file else { continue };
+        if s.rows == 0 {
+            warnings.push(Warning::about(
+                WarningKind::Suspicious,
+                file,
+                format!(
+                    "sensor {}: {file} has no rows: the sensor never corrected the estimate",
+                    s.name
+                ),
+            ));
+        } else if s.accepted == 0 {
+            warnings.push(Warning::about(
+                WarningKind::Suspicious,
+                file,
+                format!(
+                    "sensor {}: none of its {} rows was applied ({} gated, {} rejected)",
+                    s.name, s.rows, s.gated, s.rejected
+                ),
+            ));
+        }
+        if let Some(nis) = s.nis_mean {
+            let dof = s.outputs as f64;
+            if s.accepted >= 20 && (nis > 3.0 * dof || nis < dof / 3.0) {
+                warnings.push(Warning::about(
+                    WarningKind::Suspicious,
+                    file,
+                    format!(
+                        "sensor {}: mean NIS {nis:.3} for {} outputs: its sigma or the process noise does not match the log",
+                        s.name, s.outputs
+                    ),
+                ));
+            }
+        }
+    }
+    if run.covariance_repairs > 0 {
+        warnings.push(Warning {
+            kind: WarningKind::Model,
+            file: None,
+            line: None,
+            key: None,
+            message: format!(
+                "the filter repaired its covariance {} time(s): its sigmas are not reliable",
+                run.covariance_repairs
+            ),
+        });
+    }
+    if has_truth && run.truth.as_ref().is_none_or(|t| t.scored == 0) {
+        warnings.push(Warning::about(
+            WarningKind::PartialScoring,
+            "truth.csv",
+            "the truth file has no row within half an input period of an input sample: nothing is scored",
+        ));
+    }
+    run.warnings.extend(warnings);
+}
+
+/// The accepted NIS of the reports, summed per sensor.
+fn add_nis(reports: &[Report], nis_sum: &mut [f64]) {
+    for r in reports {
+        if let Ok(o) = &r.outcome {
+            if o.accepted {
+                if let Some(s) = nis_sum.get_mut(r.sensor.index()) {
+                    *s += o.nis;
+                }
+            }
+        }
+    }
+}
+
+/// The truth file and its next row.
+struct Truth {
+    rows: MappedRows,
+    next: Option<(u64, f64)>,
+}
+
+impl Truth {
+    /// The truth values at `t` (the row within `tolerance`), passing the
+    /// rows before it.
+    fn at(&mut self, t: f64, tolerance: f64) -> Result<Option<&[f64]>, ModelReplayError> {
+        while let Some((_, tt)) = self.next {
+            if tt >= t - tolerance {
+                break;
+            }
+            self.next = self.rows.next_row()?;
+        }
+        Ok(match self.next {
+            Some((_, tt)) if (tt - t).abs() <= tolerance => Some(self.rows.values()),
+            _ => None,
+        })
+    }
+}
+
+/// The running truth score.
+struct Score<const N: usize> {
+    /// Which states the truth has (`None`: no truth file).
+    has: Option<[bool; N]>,
+    squares: [f64; N],
+    nees: f64,
+    scored: u64,
+}
+
+impl<const N: usize> Score<N> {
+    fn new(has: Option<[bool; N]>) -> Self {
+        Score {
+            has,
+            squares: [0.0; N],
+            nees: 0.0,
+            scored: 0,
+        }
+    }
+
+    fn add(
+        &mut self,
+        x: &SVector<f64, N>,
+        p: &SMatrix<f64, N, N>,
+        truth: &[f64],
+        angles: &[bool; N],
+    ) {
+        let Some(has) = self.has else { return };
+        if !has.iter().any(|h| *h) {
+            return;
+        }
+        // The error of the states the truth has; the others get a unit
+        // variance and no error, so the NEES is that of the scored states.
+        let mut e = SVector::<f64, N>::zeros();
+        let mut ps = *p;
+        for i in 0..N {
+            if has[i] {
+                let d = x[i] - truth[i];
+                e[i] = if angles[i] { wrap_angle(d) } else { d };
+            } else {
+                for j in 0..N {
+                    ps[(i, j)] = 0.0;
+                    ps[(j, i)] = 0.0;
+                }
+                ps[(i, i)] = 1.0;
+            }
+        }
+        for i in 0..N {
+            self.squares[i] += e[i] * e[i];
+        }
+        if let Some(c) = Cholesky::new(ps) {
+            self.nees += e.dot(&c.solve(&e));
+        }
+        self.scored += 1;
+    }
+
+    fn finish(self, names: &[&'static str; N]) -> Option<TruthScore> {
+        let has = self.has?;
+        let n = self.scored.max(1) as f64;
+        Some(TruthScore {
+            scored: self.scored,
+            rms: (0..N)
+                .filter(|&i| has[i])
+                .map(|i| (names[i], (self.squares[i] / n).sqrt()))
+                .collect(),
+            nees_mean: self.nees / n,
+            nees_dof: has.iter().filter(|h| **h).count(),
+        })
+    }
+}
+
+/// `estimates.csv`: time, each state and its sigma.
+struct EstimateWriter {
+    path: std::path::PathBuf,
+    file: std::io::BufWriter<std::fs::File>,
+}
+
+impl EstimateWriter {
+    fn create(dir: &Path, names: &[&str]) -> Result<Self, ModelReplayError> {
+        let path = dir.join("estimates.csv");
+        let file = std::fs::File::create(&path).map_err(|e| io_error(&path, e))?;
+        let mut w = EstimateWriter {
+            path,
+            file: std::io::BufWriter::new(file),
+        };
+        let mut header = String::from("t");
+        for n in names {
+            header.push(',');
+            header.push_str(n);
+        }
+        for n in names {
+            header.push_str(",sigma_");
+            header.push_str(n);
+        }
+        writeln!(w.file, "{header}").map_err(|e| io_error(&w.path, e))?;
+        Ok(w)
+    }
+
+    fn push<const N: usize>(
+        &mut self,
+        t: f64,
+        x: &SVector<f64, N>,
+        p: &SMatrix<f64, N, N>,
+    ) -> Result<(), ModelReplayError> {
+        let mut line = format!("{t}");
+        for v in x.iter() {
+            line.push_str(&format!(",{v}"));
+        }
+        for i in 0..N {
+            line.push_str(&format!(",{}", p[(i, i)].sqrt()));
+        }
+        writeln!(self.file, "{line}").map_err(|e| io_error(&self.path, e))
+    }
+
+    fn finish(mut self) -> Result<(), ModelReplayError> {
+        self.file.flush().map_err(|e| io_error(&self.path, e))
+    }
+}
+
+fn io_error(path: &Path, e: std::io::Error) -> ModelReplayError {
+    nav_runtime::log::LogError::Io {
+        path: path.to_path_buf(),
+        source: e,
+    }
+    .into()
+}

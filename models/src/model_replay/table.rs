@@ -1,0 +1,318 @@
+//! A mapped CSV file read as a stream: its header checked against the
+//! mapping (columns found by name, in any order), then one row at a time,
+//! each cell converted to the declared scalar's SI unit. Nothing is held but
+//! the current row.
+
+use std::fs::File;
+use std::path::Path;
+
+use nav_runtime::log::{closest_name, CsvProblem, LogError, SkippedRow};
+
+use super::mapping::{Cell, Column, Source};
+use super::ModelReplayError;
+
+/// Where a declared scalar is read from once the header is known.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Read {
+    /// Column index and factor.
+    Column(usize, f64),
+    /// A constant.
+    Constant(f64),
+    /// Not in this file (a truth state the file does not have).
+    Absent,
+}
+
+/// The rows of one mapped file.
+pub struct MappedRows {
+    file: String,
+    reader: csv::Reader<File>,
+    record: csv::StringRecord,
+    headers: Vec<String>,
+    time: (usize, f64),
+    cells: Vec<Read>,
+    /// The current row's values, one per cell (NaN for an absent one).
+    values: Vec<f64>,
+    previous_t: Option<f64>,
+    lenient: bool,
+    /// Rows skipped (lenient reading): the first few with their reason.
+    pub skipped: Vec<SkippedRow>,
+    /// Number of rows skipped.
+    pub skipped_rows: u64,
+    /// Rows read.
+    pub rows: u64,
+}
+
+/// The skipped rows a reader keeps the reason of.
+const KEPT_REASONS: usize = 5;
+
+impl MappedRows {
+    /// Opens `source` in `dir`: `Ok(None)` for an absent file the mapping
+    /// does not require.
+    ///
+    /// # Errors
+    /// A required file absent or unreadable, an empty file, a column the
+    /// mapping names that the header lacks, a header naming a column twice.
+    pub fn open(
+        dir: &Path,
+        source: &Source,
+        mapping_file: &str,
+        lenient: bool,
+    ) -> Result<Option<MappedRows>, ModelReplayError> {
+        let path = dir.join(&source.file);
+        if !path.is_file() {
+            if !source.required {
+                return Ok(None);
+            }
+            return Err(LogError::MissingFile {
+                file: source.file.clone(),
+                dir: dir.to_path_buf(),
+            }
+            .into());
+        }
+        let io = |e: std::io::Error| LogError::Io {
+            path: path.clone(),
+            source: e,
+        };
+        let file = File::open(&path).map_err(io)?;
+        let mut reader = csv::ReaderBuilder::new()
+            .has_headers(true)
+            .flexible(true)
+            .trim(csv::Trim::All)
+            .from_reader(file);
+        let headers: Vec<String> = match reader.headers() {
+            Ok(h) => h.iter().map(str::to_string).collect(),
+            Err(e) => return Err(csv_error(&source.file, 1, e).into()),
+        };
+        if headers.iter().all(|h| h.is_empty()) {
+            return Err(LogError::EmptyFile {
+                file: source.file.clone(),
+                expected: expected_header(source),
+            }
+            .into());
+        }
+        for (i, h) in headers.iter().enumerate() {
+            if headers[..i].contains(h) {
+                return Err(LogError::Csv {
+                    file: source.file.clone(),
+                    line: 1,
+                    column: h.clone(),
+                    problem: CsvProblem::WrongHeader {
+                        expected: expected_header(source),
+                        found: format!("`{h}` twice"),
+                    },
+                }
+                .into());
+            }
+        }
+        let find = |c: &Column| headers.iter().position(|h| *h == c.header);
+        let missing = |c: &Column| {
+            let names: Vec<&str> = headers.iter().map(String::as_str).collect();
+            let mut problem = format!(
+                "{} has no column `{}` (its columns: {})",
+                source.file,
+                c.header,
+                names.join(", ")
+            );
+            if let Some(close) = closest_name(&c.header, &names) {
+                problem.push_str(&format!("; did you mean `{close}`?"));
+            }
+            ModelReplayError::Mapping {
+                file: mapping_file.to_string(),
+                key: c.key.clone(),
+                line: None,
+                problem,
+            }
+        };
+        let time = (
+            find(&source.time).ok_or_else(|| missing(&source.time))?,
+            source.time.factor,
+        );
+        let mut cells = Vec::with_capacity(source.cells.len());
+        for c in &source.cells {
+            cells.push(match c {
+                Cell::Constant(v) => Read::Constant(*v),
+                Cell::Column(col) => match find(col) {
+                    Some(i) => Read::Column(i, col.factor),
+                    None if !col.required => Read::Absent,
+                    None => return Err(missing(col)),
+                },
+            });
+        }
+        Ok(Some(MappedRows {
+            file: source.file.clone(),
+            reader,
+            record: csv::StringRecord::new(),
+            headers,
+            time,
+            values: vec![f64::NAN; cells.len()],
+            cells,
+            previous_t: None,
+            lenient,
+            skipped: Vec::new(),
+            skipped_rows: 0,
+            rows: 0,
+        }))
+    }
+
+    /// The file's name.
+    pub fn file(&self) -> &str {
+        &self.file
+    }
+
+    /// Whether cell `i` is read (not [`Read::Absent`]).
+    pub fn has(&self, i: usize) -> bool {
+        !matches!(self.cells.get(i), Some(Read::Absent) | None)
+    }
+
+    /// The next row: `(line, t)`, its values in [`MappedRows::values`].
+    ///
+    /// # Errors
+    /// A cell that is not a finite number, a row with too few cells, a time
+    /// not after the previous row's (strict reading; lenient reading skips
+    /// and counts the row).
+    pub fn next_row(&mut self) -> Result<Option<(u64, f64)>, LogError> {
+        loop {
+            let line = self.reader.position().line() + 1;
+            match self.reader.read_record(&mut self.record) {
+                Ok(false) => return Ok(None),
+                Ok(true) => {}
+                Err(e) => {
+                    let e = csv_error(&self.file, line, e);
+                    self.skip_or(e)?;
+                    continue;
+                }
+            }
+            let line = self.record.position().map_or(line, |p| p.line());
+            if self.record.iter().all(str::is_empty) {
+                continue;
+            }
+            match self.parse(line) {
+                Ok(t) => {
+                    self.previous_t = Some(t);
+                    self.rows += 1;
+                    return Ok(Some((line, t)));
+                }
+                Err(e) => self.skip_or(e)?,
+            }
+        }
+    }
+
+    /// The values of the row [`MappedRows::next_row`] returned last.
+    pub fn values(&self) -> &[f64] {
+        &self.values
+    }
+
+    fn skip_or(&mut self, e: LogError) -> Result<(), LogError> {
+        if !self.lenient {
+            return Err(e);
+        }
+        self.skipped_rows += 1;
+        if let LogError::Csv {
+            file,
+            line,
+            column,
+            problem,
+        } = e
+        {
+            if self.skipped.len() < KEPT_REASONS {
+                self.skipped.push(SkippedRow {
+                    file,
+                    line,
+                    column,
+                    problem,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    fn parse(&mut self, line: u64) -> Result<f64, LogError> {
+        let err = |column: usize, problem: CsvProblem| LogError::Csv {
+            file: self.file.clone(),
+            line,
+            column: self
+                .headers
+                .get(column)
+                .cloned()
+                .unwrap_or_else(|| format!("<column {}>", column + 1)),
+            problem,
+        };
+        let cell = |i: usize| -> Result<f64, LogError> {
+            let Some(text) = self.record.get(i) else {
+                return Err(err(
+                    i,
+                    CsvProblem::ColumnCount {
+                        expected: self.headers.len(),
+                        found: self.record.len(),
+                    },
+                ));
+            };
+            if text.is_empty() {
+                return Err(err(i, CsvProblem::EmptyCell));
+            }
+            let v: f64 = text.parse().map_err(|_| {
+                err(
+                    i,
+                    CsvProblem::NotANumber {
+                        text: text.chars().take(40).collect(),
+                    },
+                )
+            })?;
+            if !v.is_finite() {
+                return Err(err(
+                    i,
+                    CsvProblem::NonFinite {
+                        text: text.chars().take(40).collect(),
+                    },
+                ));
+            }
+            Ok(v)
+        };
+        let t = cell(self.time.0)? * self.time.1;
+        if let Some(previous) = self.previous_t {
+            if t < previous {
+                return Err(err(self.time.0, CsvProblem::TimeBackwards { previous, t }));
+            }
+            if t == previous {
+                return Err(err(self.time.0, CsvProblem::DuplicateTime { t }));
+            }
+        }
+        for k in 0..self.cells.len() {
+            self.values[k] = match self.cells[k] {
+                Read::Column(i, f) => cell(i)? * f,
+                Read::Constant(v) => v,
+                Read::Absent => f64::NAN,
+            };
+        }
+        Ok(t)
+    }
+}
+
+fn expected_header(source: &Source) -> String {
+    let mut names = vec![source.time.header.clone()];
+    for c in &source.cells {
+        if let Cell::Column(c) = c {
+            if !names.contains(&c.header) {
+                names.push(c.header.clone());
+            }
+        }
+    }
+    names.join(",")
+}
+
+fn csv_error(file: &str, line: u64, e: csv::Error) -> LogError {
+    let problem = match e.kind() {
+        csv::ErrorKind::Utf8 { .. } => CsvProblem::NotANumber {
+            text: "<not UTF-8>".into(),
+        },
+        _ => CsvProblem::NotANumber {
+            text: e.to_string().chars().take(60).collect(),
+        },
+    };
+    LogError::Csv {
+        file: file.to_string(),
+        line,
+        column: "<row>".into(),
+        problem,
+    }
+}

@@ -1,0 +1,465 @@
+//! The replay of a declared model that is not an INS: a wheeled rover with
+//! a position fix and a range-bearing sensor to a beacon, on logs the tests
+//! write (with the truth), in several units and column orders, and broken
+//! in the ways users break them.
+
+use std::path::PathBuf;
+
+use super::{angle_states, ModelReplayError, RunOptions};
+use crate::vehicles::rover::{rover_replay as rover, write_log, LogStyle, Rover, DRIVE_STEPS};
+
+struct TempDir(PathBuf);
+
+impl TempDir {
+    fn new(tag: &str) -> Self {
+        let dir = std::env::temp_dir().join(format!(
+            "model-replay-{tag}-{}-{:?}",
+            std::process::id(),
+            std::thread::current().id()
+        ));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        TempDir(dir)
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+const SI: LogStyle = LogStyle {
+    other_units: false,
+    shuffled: false,
+};
+
+#[test]
+fn the_heading_is_the_rovers_only_angle_state() {
+    assert_eq!(angle_states::<Rover, 3>(), [false, false, true]);
+}
+
+/// Monte Carlo over 10 seeds: the errors are small against the sensors'
+/// sigmas and the NEES and every sensor's NIS are in their band.
+#[test]
+fn a_rover_replays_consistently_over_seeds() {
+    let dir = TempDir::new("seeds");
+    let (mut nees, mut nis_fix, mut nis_rb, mut rms) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for seed in 0..10 {
+        let log = dir.0.join(format!("seed{seed}"));
+        write_log(&log, seed, SI, DRIVE_STEPS);
+        let run = rover()
+            .replay(&log, None, &RunOptions::default(), None)
+            .unwrap_or_else(|e| panic!("seed {seed}: {e}"));
+        assert_eq!(run.samples, 2000);
+        let truth = run.truth.as_ref().expect("truth scored");
+        assert_eq!(truth.scored, 2001, "every sample has its truth row");
+        assert_eq!(truth.nees_dof, 3);
+        nees.push(truth.nees_mean);
+        let fix = &run.sensors[0];
+        let rb = &run.sensors[1];
+        assert_eq!((fix.rows, rb.rows), (200, 400), "seed {seed}");
+        assert!(
+            fix.accepted >= 198 && rb.accepted >= 396,
+            "seed {seed}: {fix:?} {rb:?}"
+        );
+        nis_fix.push(fix.nis_mean.unwrap());
+        nis_rb.push(rb.nis_mean.unwrap());
+        let horizontal = truth.rms[0].1.hypot(truth.rms[1].1);
+        rms.push(horizontal);
+        assert!(run.warnings.is_empty(), "seed {seed}: {:?}", run.warnings);
+    }
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    // 10 runs x 2001 epochs, 3 states: the mean NEES of a consistent filter
+    // is 3 (time-correlated epochs: a wide band); each NIS mean 2.
+    assert!((2.0..4.0).contains(&mean(&nees)), "NEES {nees:?}");
+    assert!((1.6..2.4).contains(&mean(&nis_fix)), "fix NIS {nis_fix:?}");
+    assert!(
+        (1.6..2.4).contains(&mean(&nis_rb)),
+        "range-bearing NIS {nis_rb:?}"
+    );
+    // The fixes alone (0.5 m each axis) would give 0.71 m horizontal; with
+    // the range-bearing and the dead reckoning between them, well below
+    // (measured: 0.145 m).
+    assert!(mean(&rms) < 0.25, "horizontal RMS {rms:?}");
+}
+
+/// The same log in deg/s and ft with its columns shuffled gives the same
+/// estimate to rounding.
+#[test]
+fn units_and_column_order_do_not_change_the_result() {
+    let dir = TempDir::new("units");
+    let mut finals = Vec::new();
+    for (k, style) in [
+        SI,
+        LogStyle {
+            other_units: true,
+            shuffled: false,
+        },
+        LogStyle {
+            other_units: true,
+            shuffled: true,
+        },
+        LogStyle {
+            other_units: false,
+            shuffled: true,
+        },
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let log = dir.0.join(format!("style{k}"));
+        write_log(&log, 7, style, DRIVE_STEPS);
+        let run = rover()
+            .replay(&log, None, &RunOptions::default(), None)
+            .unwrap_or_else(|e| panic!("style {k}: {e}"));
+        finals.push(run.final_state);
+    }
+    for f in &finals[1..] {
+        for ((name, a, sa), (_, b, sb)) in finals[0].iter().zip(f) {
+            assert!(
+                (a - b).abs() < 1e-9 && (sa - sb).abs() < 1e-9,
+                "{name}: {a} vs {b}"
+            );
+        }
+    }
+}
+
+/// The time column's own unit, and `--out`: `estimates.csv` holds a row per
+/// output time with every state and sigma.
+#[test]
+fn estimates_are_written_at_the_output_period() {
+    let dir = TempDir::new("out");
+    let log = dir.0.join("log");
+    write_log(&log, 1, SI, DRIVE_STEPS);
+    let out = dir.0.join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    let options = RunOptions {
+        lenient: false,
+        output_period: 1.0,
+    };
+    let run = rover().replay(&log, None, &options, Some(&out)).unwrap();
+    let text = std::fs::read_to_string(out.join("estimates.csv")).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next(),
+        Some("t,position[0],position[1],heading,sigma_position[0],sigma_position[1],sigma_heading")
+    );
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|c| c.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 201, "t = 0, 1, ..., 200 s");
+    let last = rows.last().unwrap();
+    assert!((last[0] - 200.0).abs() < 1e-9);
+    for (i, (_, v, s)) in run.final_state.iter().enumerate() {
+        assert_eq!((last[1 + i], last[4 + i]), (*v, *s));
+    }
+}
+
+/// Broken mappings and logs: each is an error naming the file and the key
+/// (or line and column), never a panic and never a number.
+#[test]
+fn broken_mappings_and_logs_are_errors_naming_the_key() {
+    // (what to change: (file, from, to), expected parts of the message)
+    let cases: &[(&str, &str, &str, &[&str])] = &[
+        (
+            "replay.toml",
+            "[sensors.Fix]",
+            "[sensors.Fixx]",
+            &["sensors.Fixx", "did you mean `Fix`"],
+        ),
+        (
+            "replay.toml",
+            "z = [\"north\", \"east\"]",
+            "z = [\"north\", \"eats\"]",
+            &[
+                "sensors.Fix.z[1]",
+                "gnss.csv has no column `eats`",
+                "did you mean `east`",
+            ],
+        ),
+        (
+            "replay.toml",
+            "z = [\"north\", \"east\"]",
+            "z = [\"north\"]",
+            &["sensors.Fix.z", "expected 2 columns, found 1"],
+        ),
+        (
+            "replay.toml",
+            "unit = \"deg\"",
+            "unit = \"degree\"",
+            &["initial.state.heading.unit", "unknown unit `degree`"],
+        ),
+        (
+            "replay.toml",
+            "file = \"gnss.csv\"",
+            "file = \"../gnss.csv\"",
+            &["sensors.Fix.file", "would leave the log directory"],
+        ),
+        (
+            "replay.toml",
+            "file = \"gnss.csv\"",
+            "file = \"/etc/passwd\"",
+            &["sensors.Fix.file", "absolute path"],
+        ),
+        (
+            "replay.toml",
+            "beacon = [40, -25]",
+            "",
+            &["parameters", "`beacon[0]`, `beacon[1]`"],
+        ),
+        (
+            "replay.toml",
+            "speed_noise =",
+            "speed_nosie =",
+            &["noise.speed_nosie", "did you mean `speed_noise`"],
+        ),
+        (
+            "replay.toml",
+            "heading = 0.05",
+            "heading = -0.05",
+            &["initial.sigma", "is not a sigma"],
+        ),
+        (
+            "replay.toml",
+            "sigma = 0.5",
+            "sigma = 0.5\ngate = 1.5",
+            &["sensors.Fix.gate", "not a probability"],
+        ),
+        (
+            "replay.toml",
+            "[inputs]",
+            "[input]",
+            &["`input`", "did you mean `inputs`"],
+        ),
+        (
+            "replay.toml",
+            "sigma = 0.5",
+            "sigma = \"half\"",
+            &["sensors.Fix.sigma", "expected a number, found string"],
+        ),
+        ("replay.toml", "[initial]", "[initial\n", &["replay.toml:"]),
+        (
+            "gnss.csv",
+            "t,north,east",
+            "t,north",
+            &["sensors.Fix.z[1]", "no column `east`"],
+        ),
+        (
+            "wheels.csv",
+            "\n0.5,",
+            "\n0.5x,",
+            &["wheels.csv:7: column `t`", "`0.5x` is not a number"],
+        ),
+        (
+            "wheels.csv",
+            "\n0.5,",
+            "\n0.2,",
+            &["wheels.csv:7: column `t`", "time goes backwards"],
+        ),
+        (
+            "beacon.csv",
+            "\n1,",
+            "\n1,NaN",
+            &["beacon.csv:3: column `range`"],
+        ),
+    ];
+    let dir = TempDir::new("broken");
+    for (k, (file, from, to, expected)) in cases.iter().enumerate() {
+        let log = dir.0.join(format!("case{k}"));
+        write_log(&log, 3, SI, DRIVE_STEPS);
+        let path = log.join(file);
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(text.contains(from), "case {k}: `{from}` not in {file}");
+        std::fs::write(&path, text.replacen(from, to, 1)).unwrap();
+        let message = match rover().replay(&log, None, &RunOptions::default(), None) {
+            Ok(_) => panic!("case {k} ({file}: {from} -> {to}) replayed"),
+            Err(e) => e.to_string(),
+        };
+        for part in *expected {
+            assert!(
+                message.contains(part),
+                "case {k}: `{message}` lacks `{part}`"
+            );
+        }
+    }
+}
+
+/// Lenient reading skips a bad row, counts it and says so; a sensor whose
+/// rows are all refused is a warning, not a silent number.
+#[test]
+fn lenient_reading_and_refused_sensors_are_in_the_warnings() {
+    let dir = TempDir::new("lenient");
+    let log = dir.0.join("log");
+    write_log(&log, 4, SI, DRIVE_STEPS);
+    let path = log.join("gnss.csv");
+    let text = std::fs::read_to_string(&path).unwrap();
+    std::fs::write(&path, text.replacen("\n1.5,", "\n1.5,oops,", 1)).unwrap();
+    let options = RunOptions {
+        lenient: true,
+        output_period: 0.0,
+    };
+    let run = rover().replay(&log, None, &options, None).unwrap();
+    assert_eq!(run.skipped_rows, vec![("gnss.csv".to_string(), 1)]);
+    assert_eq!(run.sensors[0].rows, 199);
+    assert!(run.skip_reasons[0].to_string().contains("gnss.csv:3"));
+
+    // Fixes 100 m off: every one gated, and said.
+    let log = dir.0.join("offset");
+    write_log(&log, 4, SI, DRIVE_STEPS);
+    let path = log.join("gnss.csv");
+    let shifted: String = std::fs::read_to_string(&path)
+        .unwrap()
+        .lines()
+        .enumerate()
+        .map(|(i, l)| {
+            if i == 0 {
+                format!("{l}\n")
+            } else {
+                let c: Vec<f64> = l.split(',').map(|c| c.parse().unwrap()).collect();
+                format!("{},{},{}\n", c[0], c[1] + 100.0, c[2])
+            }
+        })
+        .collect();
+    std::fs::write(&path, shifted).unwrap();
+    let run = rover()
+        .replay(&log, None, &RunOptions::default(), None)
+        .unwrap();
+    assert_eq!(run.sensors[0].accepted, 0);
+    assert!(
+        run.warnings.iter().any(|w| w
+            .message
+            .contains("sensor Fix: none of its 200 rows was applied")),
+        "{:?}",
+        run.warnings
+    );
+}
+
+/// A sensor the mapping does not feed, and sensor rows before the epoch,
+/// are in the warnings.
+#[test]
+fn what_the_log_does_not_feed_is_said() {
+    let dir = TempDir::new("unfed");
+    let log = dir.0.join("log");
+    write_log(&log, 5, SI, DRIVE_STEPS);
+    let mapping = std::fs::read_to_string(log.join("replay.toml")).unwrap();
+    let cut = mapping.find("[sensors.RangeBearing]").unwrap();
+    let truth = mapping.find("[truth.columns]").unwrap();
+    let mapping = format!("{}{}", &mapping[..cut], &mapping[truth..]);
+    let mapping = mapping.replace("t = 0.0\n", "t = 10.0\n");
+    std::fs::write(log.join("replay.toml"), mapping).unwrap();
+    let run = rover()
+        .replay(&log, None, &RunOptions::default(), None)
+        .unwrap();
+    let messages: Vec<&str> = run.warnings.iter().map(|w| w.message.as_str()).collect();
+    assert!(
+        messages
+            .iter()
+            .any(|m| m.contains("no [sensors.RangeBearing]")),
+        "{messages:?}"
+    );
+    assert!(
+        messages
+            .iter()
+            .any(|m| m.contains("100 row(s) before the initial epoch")),
+        "{messages:?}"
+    );
+    assert!(
+        messages
+            .iter()
+            .any(|m| m.contains("sensor Fix: 10 row(s) more than one input period before")),
+        "{messages:?}"
+    );
+    assert_eq!(run.samples, 1900);
+}
+
+#[test]
+fn a_missing_mapping_says_what_it_is_for() {
+    let dir = TempDir::new("nomapping");
+    let e = rover()
+        .replay(&dir.0, None, &RunOptions::default(), None)
+        .unwrap_err();
+    assert!(matches!(e, ModelReplayError::Mapping { .. }));
+    assert!(
+        e.to_string().contains("which files feed model Rover"),
+        "{e}"
+    );
+}
+
+/// The committed log (`models/tests/fixtures/rover`, other units, shuffled
+/// columns) through the library and the program, and its JSON.
+#[test]
+fn the_committed_rover_log_replays() {
+    use std::process::ExitCode;
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/rover");
+    let run = rover()
+        .replay(&dir, None, &RunOptions::default(), None)
+        .unwrap();
+    assert_eq!(run.samples, 600);
+    assert!(run.warnings.is_empty(), "{:?}", run.warnings);
+    let value = super::program::run_json("rover", "Rover", &run, false);
+    let truth = run.truth.as_ref().unwrap();
+    let horizontal = truth.rms[0].1.hypot(truth.rms[1].1);
+    assert!(horizontal < 0.3, "horizontal RMS {horizontal} m");
+    for key in [
+        "samples",
+        "sensors",
+        "final",
+        "state_error_rms",
+        "nees_mean",
+        "health",
+        "warnings",
+    ] {
+        assert!(value.get(key).is_some(), "no `{key}` in {value}");
+    }
+    assert_eq!(value["sensors"]["Fix"]["rows"], 60);
+    assert!(value["sensors"]["RangeBearing"]["nis_mean"].is_f64());
+    assert!(value["state_error_rms"]["heading"].is_f64());
+    assert_eq!(value["final"]["state"]["heading"], run.final_state[2].1);
+
+    let d = dir.to_string_lossy().into_owned();
+    let program =
+        |args: &[&str]| rover().main_with(std::iter::once("rover").chain(args.iter().copied()));
+    assert_eq!(program(&["check", &d, "--json"]), ExitCode::SUCCESS);
+    assert_eq!(program(&["replay", &d, "--json"]), ExitCode::SUCCESS);
+    assert_eq!(
+        program(&["replay", &d, "--mapping", "/no/such/replay.toml"]),
+        ExitCode::FAILURE
+    );
+    assert_eq!(program(&["replay", &d, "--every=-1"]), ExitCode::FAILURE);
+    assert_eq!(program(&["replay"]), ExitCode::from(2), "a usage error");
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: 48, ..Default::default() })]
+    /// A mapping or log with bytes overwritten anywhere replays or fails
+    /// with an error; it never panics.
+    #[test]
+    fn corrupted_mappings_and_logs_never_panic(
+        file in 0usize..4,
+        edits in proptest::collection::vec((0.0f64..1.0, proptest::prelude::any::<u8>()), 1..6),
+    ) {
+        let dir = TempDir::new("corrupt");
+        let log = dir.0.join("log");
+        write_log(&log, 9, SI, 300);
+        let name = ["replay.toml", "wheels.csv", "gnss.csv", "beacon.csv"][file];
+        let path = log.join(name);
+        let mut bytes = std::fs::read(&path).unwrap();
+        for (at, b) in edits {
+            let i = ((bytes.len() as f64) * at) as usize;
+            if let Some(x) = bytes.get_mut(i) {
+                *x = b;
+            }
+        }
+        std::fs::write(&path, bytes).unwrap();
+        for lenient in [false, true] {
+            let options = RunOptions { lenient, output_period: 0.0 };
+            if let Ok(run) = rover().replay(&log, None, &options, None) {
+                for (_, v, s) in &run.final_state {
+                    proptest::prop_assert!(v.is_finite() && s.is_finite());
+                }
+            }
+        }
+    }
+}
