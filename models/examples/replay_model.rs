@@ -1,6 +1,7 @@
 //! The replay program of a declared model that is not an INS: the rover of
 //! `models/src/vehicles/rover.rs` (wheel speed and yaw rate in, a position
-//! fix and a range-bearing to a beacon), fed from a log directory by its
+//! fix, a range-bearing to a beacon and ranges to surveyed landmarks
+//! given with each reading), fed from a log directory by its
 //! `replay.toml` (`docs/model-replay.md`).
 //!
 //! ```text
@@ -10,11 +11,12 @@
 //! ```
 
 use models::model_replay::ModelReplay;
-use models::vehicles::rover::{Rover, RoverFix, RoverRangeBearing};
+use models::vehicles::rover::{Rover, RoverFix, RoverLandmarkRange, RoverRangeBearing};
 
 fn main() -> std::process::ExitCode {
     ModelReplay::<Rover, 3>::new("rover")
         .sensor::<RoverFix, 2>()
         .sensor::<RoverRangeBearing, 2>()
+        .sensor::<RoverLandmarkRange, 1>()
         .main()
 }

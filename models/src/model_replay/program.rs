@@ -41,7 +41,8 @@ struct Common {
     /// Print one JSON object on stdout.
     #[arg(long)]
     json: bool,
-    /// Skip (and count) bad CSV rows instead of stopping.
+    /// Skip (and count) bad CSV rows instead of stopping; propagate an input
+    /// gap in steps (with a warning) instead of refusing it.
     #[arg(long)]
     lenient: bool,
 }

@@ -22,10 +22,18 @@ use super::mapping::Mapping;
 use super::table::MappedRows;
 use super::ModelReplayError;
 
+/// An input interval longer than this many of the shortest interval seen
+/// is a gap: an error, or with [`RunOptions::lenient`] propagated in steps.
+pub const MAX_GAP_PERIODS: f64 = 10.0;
+
+/// The most steps a gap is propagated in.
+pub const MAX_GAP_STEPS: f64 = 1e6;
+
 /// Options of one replay.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct RunOptions {
-    /// Skip (and count) bad CSV rows instead of stopping.
+    /// Skip (and count) bad CSV rows instead of stopping, and propagate an
+    /// input gap in steps (with a warning) instead of refusing it.
     pub lenient: bool,
     /// Write an estimate at most every this many seconds (`0`: after every
     /// input sample).
@@ -307,6 +315,9 @@ where
             Ok(())
         };
     write(epoch, scheduler.filter(), truth.as_mut())?;
+    let mut shortest = if period > 0.0 { period } else { f64::INFINITY };
+    // Gaps propagated in steps: how many, and the first.
+    let (mut gaps, mut first_gap) = (0u64, None::<String>);
 
     loop {
         let (line, t, input) = match held.take() {
@@ -337,18 +348,59 @@ where
                 p.next = p.rows.next_row()?;
             }
         }
-        let reports = scheduler
-            .push_imu(t, input)
-            .map_err(|e| ModelReplayError::Filter {
-                file: inputs.file().to_string(),
-                line,
-                t,
-                problem: e.to_string(),
-            })?;
+        let refused = |e: nav_runtime::scheduler::SchedulerError| ModelReplayError::Filter {
+            file: inputs.file().to_string(),
+            line,
+            t,
+            problem: e.to_string(),
+        };
+        // A gap: an interval longer than MAX_GAP_PERIODS of the shortest
+        // seen. One first-order step over it would be a wrong answer with
+        // no warning.
+        let dt = t - t_last;
+        if dt > MAX_GAP_PERIODS * shortest {
+            let steps = (dt / shortest).ceil();
+            let problem = format!(
+                "gap of {dt} s after t = {t_last} s (more than {MAX_GAP_PERIODS} input periods of {shortest} s)"
+            );
+            if !options.lenient || steps > MAX_GAP_STEPS {
+                return Err(ModelReplayError::Filter {
+                    file: inputs.file().to_string(),
+                    line,
+                    t,
+                    problem: if options.lenient {
+                        format!(
+                            "{problem}: too long to propagate in steps (more than {MAX_GAP_STEPS})"
+                        )
+                    } else {
+                        format!("{problem}; --lenient propagates it in steps of one period, holding this row's input")
+                    },
+                });
+            }
+            gaps += 1;
+            first_gap.get_or_insert_with(|| format!("{}:{line}: {problem}", inputs.file()));
+            for m in 1..steps as usize {
+                let tm = t_last + dt * (m as f64 / steps);
+                let reports = scheduler.push_imu(tm, input).map_err(refused)?;
+                add_nis(&reports, &mut nis_sum);
+            }
+        } else if dt > 0.0 {
+            shortest = shortest.min(dt);
+        }
+        let reports = scheduler.push_imu(t, input).map_err(refused)?;
         add_nis(&reports, &mut nis_sum);
         run.samples += 1;
         t_last = t;
         write(t, scheduler.filter(), truth.as_mut())?;
+    }
+    if let Some(first) = first_gap {
+        run.warnings.push(Warning::about(
+            WarningKind::ImuGap,
+            inputs.file(),
+            format!(
+                "{gaps} input gap(s) propagated in steps holding the sample after each (first: {first})"
+            ),
+        ));
     }
     // Sensor rows after the last input sample are not used.
     for (k, pending) in sensors.iter_mut().enumerate() {

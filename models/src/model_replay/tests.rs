@@ -44,6 +44,7 @@ fn the_heading_is_the_rovers_only_angle_state() {
 #[test]
 fn a_rover_replays_consistently_over_seeds() {
     let dir = TempDir::new("seeds");
+    let mut nis_lm = Vec::new();
     let (mut nees, mut nis_fix, mut nis_rb, mut rms) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for seed in 0..10 {
@@ -57,15 +58,15 @@ fn a_rover_replays_consistently_over_seeds() {
         assert_eq!(truth.scored, 2001, "every sample has its truth row");
         assert_eq!(truth.nees_dof, 3);
         nees.push(truth.nees_mean);
-        let fix = &run.sensors[0];
-        let rb = &run.sensors[1];
-        assert_eq!((fix.rows, rb.rows), (200, 400), "seed {seed}");
+        let [fix, rb, lm] = [&run.sensors[0], &run.sensors[1], &run.sensors[2]];
+        assert_eq!((fix.rows, rb.rows, lm.rows), (200, 400, 100), "seed {seed}");
         assert!(
-            fix.accepted >= 198 && rb.accepted >= 396,
-            "seed {seed}: {fix:?} {rb:?}"
+            fix.accepted >= 198 && rb.accepted >= 396 && lm.accepted >= 99,
+            "seed {seed}: {fix:?} {rb:?} {lm:?}"
         );
         nis_fix.push(fix.nis_mean.unwrap());
         nis_rb.push(rb.nis_mean.unwrap());
+        nis_lm.push(lm.nis_mean.unwrap());
         let horizontal = truth.rms[0].1.hypot(truth.rms[1].1);
         rms.push(horizontal);
         assert!(run.warnings.is_empty(), "seed {seed}: {:?}", run.warnings);
@@ -75,6 +76,10 @@ fn a_rover_replays_consistently_over_seeds() {
     // is 3 (time-correlated epochs: a wide band); each NIS mean 2.
     assert!((2.0..4.0).contains(&mean(&nees)), "NEES {nees:?}");
     assert!((1.6..2.4).contains(&mean(&nis_fix)), "fix NIS {nis_fix:?}");
+    assert!(
+        (0.7..1.3).contains(&mean(&nis_lm)),
+        "landmark NIS {nis_lm:?}"
+    );
     assert!(
         (1.6..2.4).contains(&mean(&nis_rb)),
         "range-bearing NIS {nis_rb:?}"
@@ -462,4 +467,47 @@ proptest::proptest! {
             }
         }
     }
+}
+
+/// An input gap is an error; with lenient reading it is propagated in steps
+/// and said.
+#[test]
+fn an_input_gap_is_refused_or_stepped_and_said() {
+    let dir = TempDir::new("gap");
+    let log = dir.0.join("log");
+    write_log(&log, 6, SI, 600);
+    let path = log.join("wheels.csv");
+    // Rows 30.1 .. 39.9 s removed: a 10-s interval ending at 40 s.
+    let kept: String = std::fs::read_to_string(&path)
+        .unwrap()
+        .lines()
+        .filter(|l| {
+            let t: f64 = l.split(',').next().unwrap().parse().unwrap_or(-1.0);
+            !(30.05..39.95).contains(&t)
+        })
+        .map(|l| format!("{l}\n"))
+        .collect();
+    std::fs::write(&path, kept).unwrap();
+    let e = rover()
+        .replay(&log, None, &RunOptions::default(), None)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("wheels.csv:") && e.contains("gap of") && e.contains("--lenient"),
+        "{e}"
+    );
+    let options = RunOptions {
+        lenient: true,
+        output_period: 0.0,
+    };
+    let run = rover().replay(&log, None, &options, None).unwrap();
+    assert!(
+        run.warnings
+            .iter()
+            .any(|w| w.message.contains("1 input gap(s) propagated in steps")),
+        "{:?}",
+        run.warnings
+    );
+    let truth = run.truth.unwrap();
+    assert!(truth.rms[0].1.hypot(truth.rms[1].1) < 0.5);
 }

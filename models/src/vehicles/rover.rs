@@ -52,14 +52,24 @@ nav_runtime::model! {
             let d = beacon - position;
             h = [norm(d), atan2(d[1], d[0]) - heading];
         }
+        /// Range (m) to a surveyed landmark whose position comes with each
+        /// reading.
+        sensor LandmarkRange: 1 {
+            inputs {
+                /// The landmark's position (north, east), m.
+                landmark: 2,
+            }
+            h = [norm(landmark - position)];
+        }
     }
 }
 
-/// The replay program of the rover: its two sensors registered.
+/// The replay program of the rover: its three sensors registered.
 pub fn rover_replay() -> ModelReplay<Rover, 3> {
     ModelReplay::new("rover")
         .sensor::<RoverFix, 2>()
         .sensor::<RoverRangeBearing, 2>()
+        .sensor::<RoverLandmarkRange, 1>()
 }
 
 /// Wheel-speed noise density, m/s/sqrt(Hz) (per sample: this over sqrt(DT)).
@@ -72,6 +82,8 @@ pub const FIX_SIGMA: f64 = 0.5;
 pub const RANGE_SIGMA: f64 = 0.3;
 /// Bearing noise, rad.
 pub const BEARING_SIGMA: f64 = 0.01;
+/// The surveyed landmarks the rover ranges to in turn (north, east), m.
+pub const LANDMARKS: [[f64; 2]; 3] = [[20.0, 30.0], [60.0, -10.0], [-10.0, 40.0]];
 /// Beacon position (north, east), m.
 pub const BEACON: [f64; 2] = [40.0, -25.0];
 /// Input sample interval, s.
@@ -114,6 +126,7 @@ pub fn write_log(dir: &Path, seed: u64, style: LogStyle, steps: usize) {
     };
     let mut fixes = String::from("t,north,east\n");
     let mut ranges = String::from("t,range,bearing\n");
+    let mut landmarks = String::from("t,landmark_n,landmark_e,range\n");
     let mut truth = String::from("t,position[0],position[1],heading\n");
     for k in 0..=steps {
         let t = k as f64 * DT;
@@ -154,10 +167,16 @@ pub fn write_log(dir: &Path, seed: u64, style: LogStyle, steps: usize) {
             let bearing = nav_runtime::math::wrap_angle(de.atan2(dn) - psi + BEARING_SIGMA * g());
             writeln!(ranges, "{t},{},{bearing}", range * range_unit).unwrap();
         }
+        if k % 20 == 10 {
+            let [ln, le] = LANDMARKS[(k / 20) % LANDMARKS.len()];
+            let range = (ln - x).hypot(le - y) + RANGE_SIGMA * g();
+            writeln!(landmarks, "{t},{ln},{le},{range}").unwrap();
+        }
     }
     std::fs::write(dir.join("wheels.csv"), inputs).unwrap();
     std::fs::write(dir.join("gnss.csv"), fixes).unwrap();
     std::fs::write(dir.join("beacon.csv"), ranges).unwrap();
+    std::fs::write(dir.join("landmarks.csv"), landmarks).unwrap();
     std::fs::write(dir.join("truth.csv"), truth).unwrap();
     std::fs::write(dir.join("replay.toml"), mapping(style)).unwrap();
 }
@@ -204,6 +223,12 @@ sigma = {fix}
 file = "beacon.csv"
 z = [{range}, "bearing"]
 sigma = [{rs}, {bs}]
+
+[sensors.LandmarkRange]
+file = "landmarks.csv"
+z = "range"
+sigma = {rs}
+aux = {{ landmark = ["landmark_n", "landmark_e"] }}
 
 [truth.columns]
 position = ["position[0]", "position[1]"]
