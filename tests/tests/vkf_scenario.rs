@@ -19,7 +19,6 @@ const SEEDS: [u64; 3] = [1, 2, 3];
 fn ordering_vkf_ins_dvl_pure_ins() {
     let mut drift = [[0.0; 3]; SEEDS.len()];
     let mut finals = [[0.0; 3]; SEEDS.len()];
-    let mut coupled_scores = Vec::new();
     for (i, &seed) in SEEDS.iter().enumerate() {
         let logs = simulation::simulate(seed);
         let (run, s) = run_log(&logs.realistic).unwrap();
@@ -37,12 +36,7 @@ fn ordering_vkf_ins_dvl_pure_ins() {
                 sc.final_m, sc.rms_m, sc.max_m, sc.outage_drift_m
             );
         }
-        let [pure, ins_dvl, vkf, coupled] = s.scores;
-        coupled_scores.push((coupled, ins_dvl, s.dvl_error_integral_m));
-        eprintln!(
-            "seed {seed}: outage rms coupled {:.2} / ins-dvl {:.2} m, final coupled {:.2} / ins-dvl {:.2} m, DVL error integral {:.2} m",
-            coupled.outage_rms_m, ins_dvl.outage_rms_m, coupled.final_m, ins_dvl.final_m, s.dvl_error_integral_m
-        );
+        let [pure, ins_dvl, vkf, ..] = s.scores;
         for (o, span) in s.outage_scores.iter().zip(&s.outages) {
             eprintln!("  outage {span:?}: {:?}", o.scores);
         }
@@ -90,23 +84,58 @@ fn ordering_vkf_ins_dvl_pure_ins() {
     assert!(median(1, &drift) < median(0, &drift) / 3.0);
     assert!(median(2, &finals) < median(1, &finals) + 5.0);
     assert!(median(1, &finals) < 0.05 * median(0, &finals));
-    // The speed map inside the integrated filter (20-seed medians, docs:
-    // outage RMS 0.45 of INS-DVL's): inside the outages its error stays under
-    // half of INS-DVL's on every seed here (measured 0.18, 0.46, 0.40), and
-    // its final error is the DVL's own integrated error plus at most 0.5 m
-    // (measured -0.13, -0.02, +0.23 m): what the outages added was taken back.
-    for (i, (coupled, ins_dvl, dvl_floor)) in coupled_scores.iter().enumerate() {
-        let seed = SEEDS[i];
-        assert!(
-            coupled.outage_rms_m < 0.5 * ins_dvl.outage_rms_m,
-            "seed {seed}: {} vs {}",
-            coupled.outage_rms_m,
-            ins_dvl.outage_rms_m
-        );
-        assert!(
-            coupled.final_m < dvl_floor + 0.5,
-            "seed {seed}: final {} vs DVL error integral {dvl_floor}",
-            coupled.final_m
-        );
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
     }
+}
+
+/// The map-state VKF's goals, stated on medians over the 20 seeds of the
+/// scenario's default run (docs/results/vkf.md, "Targets"): final error at
+/// least 20 % below INS-DVL's and outage RMS at most half of it; with the
+/// paper's DVL bias, its DVL bias states take the bias out (INS-DVL ends
+/// hundreds of metres off); and its horizontal NEES, 227 before the DVL
+/// error states, is now within a small factor of the calibrated INS-DVL's.
+#[test]
+fn the_map_state_vkf_meets_its_goals_over_20_seeds() {
+    let (mut real, mut paper) = (Vec::new(), Vec::new());
+    for seed in 1..=20 {
+        let logs = simulation::simulate(seed);
+        real.push(run_log(&logs.realistic).unwrap().1);
+        paper.push(run_log(&logs.paper).unwrap().1);
+    }
+    let med = |runs: &[models::vkf::RunScores], f: &dyn Fn(&models::vkf::RunScores) -> f64| {
+        median(runs.iter().map(f).collect())
+    };
+    let (ins_dvl, coupled, calibrated) = (1, 3, 4);
+    let final_of = |s: usize| move |r: &models::vkf::RunScores| r.scores[s].final_m;
+    let outage_of = |s: usize| move |r: &models::vkf::RunScores| r.scores[s].outage_rms_m;
+    let final_ratio = med(&real, &final_of(coupled)) / med(&real, &final_of(ins_dvl));
+    let outage_ratio = med(&real, &outage_of(coupled)) / med(&real, &outage_of(ins_dvl));
+    let nees = med(&real, &|r| r.coupled_nees_final);
+    let nees_calibrated = med(&real, &|r| r.calibrated_nees_final);
+    let paper_final = med(&paper, &final_of(coupled));
+    let paper_ins_dvl = med(&paper, &final_of(ins_dvl));
+    eprintln!(
+        "final ratio {final_ratio:.3}, outage RMS ratio {outage_ratio:.3}, NEES {nees:.2} (calibrated INS-DVL {nees_calibrated:.2}), paper bias {paper_final:.2} m against INS-DVL {paper_ins_dvl:.2} m, calibrated {:.2} m",
+        med(&paper, &final_of(calibrated))
+    );
+    assert!(final_ratio <= 0.8, "final ratio {final_ratio}");
+    assert!(outage_ratio <= 0.5, "outage RMS ratio {outage_ratio}");
+    assert!(
+        paper_final < 0.05 * paper_ins_dvl,
+        "{paper_final} vs {paper_ins_dvl}"
+    );
+    // A consistent filter's 2-dof NEES has median 1.39.
+    assert!(
+        nees_calibrated < 2.0 * 1.39,
+        "calibrated NEES {nees_calibrated}"
+    );
+    assert!(nees < 10.0 * 1.39, "NEES {nees}");
 }

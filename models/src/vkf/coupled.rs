@@ -42,6 +42,9 @@ pub struct MapTuning {
     pub rpm_speed_noise: f64,
     /// 1-sigma of the unmeasured lateral and vertical body velocity, m/s.
     pub lateral_sigma: f64,
+    /// 1-sigma of the DVL's scale-factor error per axis (its specification;
+    /// the bias sigma comes from the log's `[sensors.dvl] bias_sigma`).
+    pub dvl_scale_sigma: f64,
 }
 
 impl Default for MapTuning {
@@ -56,6 +59,8 @@ impl Default for MapTuning {
             disturbance: SPEED_DISTURBANCE,
             rpm_speed_noise: 0.012,
             lateral_sigma: 0.05,
+            // +-0.2 % uniform.
+            dvl_scale_sigma: super::simulation::DVL_SCALE / 3f64.sqrt(),
         }
     }
 }
@@ -63,7 +68,7 @@ impl Default for MapTuning {
 /// The speed-map navigator: [`NavSpeedMap`] and its slaved attitude computer.
 #[derive(Clone, Debug)]
 pub struct CoupledNav {
-    ekf: Ekf<NavSpeedMap, 12>,
+    ekf: Ekf<NavSpeedMap, 16>,
     attitude: AttitudeComputer,
     r_rpm: Matrix3<f64>,
     max_innovation: f64,
@@ -73,16 +78,18 @@ pub struct CoupledNav {
 
 impl CoupledNav {
     /// Starts at `state` with the 9-state part tuned as the other navigators
-    /// (`nav`) and the map states from `map`.
+    /// (`nav`), the map states from `map` and the DVL bias states from
+    /// `dvl_bias_sigma` (m/s).
     pub fn new(
         state: NavState,
         nav: &super::filter::Tuning,
         map: &MapTuning,
+        dvl_bias_sigma: f64,
     ) -> Result<Self, FilterError> {
-        let mut x0 = SVector::<f64, 12>::zeros();
+        let mut x0 = SVector::<f64, 16>::zeros();
         x0.fixed_rows_mut::<3>(3).copy_from(&state.v_n);
         x0[NavSpeedMap::SPEED_OFFSET] = map.design_map.1;
-        let mut d = SVector::<f64, 12>::zeros();
+        let mut d = SVector::<f64, 16>::zeros();
         d.fixed_rows_mut::<3>(0).fill(0.1f64.powi(2));
         d.fixed_rows_mut::<3>(3).fill(0.05f64.powi(2));
         d.fixed_rows_mut::<3>(6).fill(nav.accel_bias_sigma.powi(2));
@@ -90,6 +97,9 @@ impl CoupledNav {
         d[NavSpeedMap::SPEED_OFFSET] = map.offset_sigma.powi(2);
         let (sigma_d, tau) = map.disturbance;
         d[NavSpeedMap::SPEED_DISTURBANCE] = sigma_d.powi(2);
+        d[NavSpeedMap::DVL_SCALE] = map.dvl_scale_sigma.powi(2);
+        d.fixed_rows_mut::<3>(NavSpeedMap::DVL_BIAS)
+            .fill(dvl_bias_sigma.powi(2));
         let noise = NavSpeedMapNoise {
             accel_noise: Vector3::repeat(nav.accel_density.powi(2)),
             bias_walk: Vector3::repeat(nav.bias_walk_density.powi(2)),
@@ -162,10 +172,10 @@ impl CoupledNav {
             return false;
         }
         let r = Matrix3::identity() * sigma * sigma;
-        let r = self
-            .ekf
-            .update::<NavSpeedMapDvl, 3>(v_n, &r, &())
-            .map(|r| r.accepted);
+        let r = self.considering_dvl_scale(|ekf| {
+            ekf.update::<NavSpeedMapDvl, 3>(v_n, &r, &())
+                .map(|r| r.accepted)
+        });
         self.accepted(r)
     }
 
@@ -173,7 +183,7 @@ impl CoupledNav {
     pub fn update_rpm(&mut self, rpm: f64) -> bool {
         let aux = NavSpeedMapRpmAux { rpm };
         let z = Vector3::zeros();
-        let h = <NavSpeedMapRpm as nav_runtime::model::Sensor<12, 3>>::predict(
+        let h = <NavSpeedMapRpm as nav_runtime::model::Sensor<16, 3>>::predict(
             self.ekf.state(),
             self.ekf.input(),
             self.ekf.params(),
@@ -183,11 +193,32 @@ impl CoupledNav {
             self.refused += 1;
             return false;
         }
-        let r = self
-            .ekf
-            .update::<NavSpeedMapRpm, 3>(&z, &self.r_rpm, &aux)
-            .map(|r| r.accepted);
+        let r_rpm = self.r_rpm;
+        let r = self.considering_dvl_scale(|ekf| {
+            ekf.update::<NavSpeedMapRpm, 3>(&z, &r_rpm, &aux)
+                .map(|r| r.accepted)
+        });
         self.accepted(r)
+    }
+
+    /// Runs `update` with the DVL's forward scale error as a consider state
+    /// (Schmidt): the gains of the other states account for its
+    /// uncertainty, but its estimate and variance are not updated.
+    fn considering_dvl_scale(
+        &mut self,
+        update: impl FnOnce(&mut Ekf<NavSpeedMap, 16>) -> Result<bool, FilterError>,
+    ) -> Result<bool, FilterError> {
+        let i = NavSpeedMap::DVL_SCALE;
+        let (x_c, p_c) = (self.ekf.state()[i], self.ekf.covariance()[(i, i)]);
+        let r = update(&mut self.ekf)?;
+        let mut x = *self.ekf.state();
+        x[i] = x_c;
+        let mut p = *self.ekf.covariance();
+        p[(i, i)] = p_c;
+        // Restoring a larger variance keeps P positive semidefinite.
+        let _ = self.ekf.set_state(x);
+        let _ = self.ekf.set_covariance(p);
+        Ok(r)
     }
 
     fn accepted(&mut self, r: Result<bool, FilterError>) -> bool {

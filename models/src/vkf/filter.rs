@@ -318,6 +318,12 @@ pub struct Record {
     pub coupled_map_speed: f64,
     /// Its horizontal position covariance `[P_NN, P_NE, P_EE]` (m^2).
     pub coupled_covariance: [f64; 3],
+    /// Position of INS-DVL with the DVL error states of the map-state VKF
+    /// (the same filter with the RPM never fused): the baseline that tells
+    /// what the DVL states do from what the RPM map does.
+    pub ins_dvl_calibrated: Vector3<f64>,
+    /// Its horizontal position covariance (m^2).
+    pub calibrated_covariance: [f64; 3],
     /// Switch decision.
     pub source: Source,
     /// Measured altitude (m).
@@ -353,6 +359,8 @@ pub struct VkfRun {
     pub refused: (u64, u64),
     /// Updates refused by the speed-map VKF navigator.
     pub refused_coupled: u64,
+    /// Updates refused by the calibrated INS-DVL navigator.
+    pub refused_calibrated: u64,
     /// Velocity-filter updates applied.
     pub speed_updates: u64,
 }
@@ -401,7 +409,9 @@ pub fn run(log: &LogDir, settings: &RunSettings) -> Result<VkfRun, FilterError> 
     let mut pure = Strapdown::new(start);
     let mut ins_dvl = AidedNav::new(start, &tn)?;
     let mut vkf = AidedNav::new(start, &tn)?;
-    let mut coupled = CoupledNav::new(start, &tn, &settings.map)?;
+    let dvl_bias_sigma = log.meta.sensors.dvl.map_or(0.0, |d| d.bias_sigma);
+    let mut coupled = CoupledNav::new(start, &tn, &settings.map, dvl_bias_sigma)?;
+    let mut calibrated = coupled.clone();
     let mut learner = SpeedLearner::new(&tn, rpm0, dvl_noise)?;
     let mut out = VkfRun::default();
     let mut t_prev = log.imu.first().map_or(0.0, |r| r.t - 0.01).min(0.0);
@@ -413,7 +423,7 @@ pub fn run(log: &LogDir, settings: &RunSettings) -> Result<VkfRun, FilterError> 
                      pure: &Strapdown,
                      ins_dvl: &mut AidedNav,
                      vkf: &mut AidedNav,
-                     coupled: &mut CoupledNav,
+                     [coupled, calibrated]: [&mut CoupledNav; 2],
                      learner: &mut SpeedLearner,
                      out: &mut VkfRun|
      -> Result<(), FilterError> {
@@ -449,6 +459,7 @@ pub fn run(log: &LogDir, settings: &RunSettings) -> Result<VkfRun, FilterError> 
         if source == Source::Dvl {
             if let Some(v) = p.dvl {
                 coupled.update_dvl(&(coupled.c_bn() * v), dvl_noise);
+                calibrated.update_dvl(&(calibrated.c_bn() * v), dvl_noise);
             }
         }
         coupled.update_rpm(rpm);
@@ -479,6 +490,8 @@ pub fn run(log: &LogDir, settings: &RunSettings) -> Result<VkfRun, FilterError> 
             vkf_coupled: coupled.position(),
             coupled_map_speed: coupled.map_speed(rpm),
             coupled_covariance: coupled.horizontal_covariance(),
+            ins_dvl_calibrated: calibrated.position(),
+            calibrated_covariance: calibrated.horizontal_covariance(),
             source,
             altitude,
             rpm,
@@ -502,7 +515,7 @@ pub fn run(log: &LogDir, settings: &RunSettings) -> Result<VkfRun, FilterError> 
                     &pure,
                     &mut ins_dvl,
                     &mut vkf,
-                    &mut coupled,
+                    [&mut coupled, &mut calibrated],
                     &mut learner,
                     &mut out,
                 )?;
@@ -517,6 +530,7 @@ pub fn run(log: &LogDir, settings: &RunSettings) -> Result<VkfRun, FilterError> 
                 ins_dvl.propagate(&dtheta, &dv, dt)?;
                 vkf.propagate(&dtheta, &dv, dt)?;
                 coupled.propagate(&dtheta, &dv, dt)?;
+                calibrated.propagate(&dtheta, &dv, dt)?;
                 out.samples += 1;
             }
             Event::Dvl(row) => {
@@ -539,12 +553,13 @@ pub fn run(log: &LogDir, settings: &RunSettings) -> Result<VkfRun, FilterError> 
         &pure,
         &mut ins_dvl,
         &mut vkf,
-        &mut coupled,
+        [&mut coupled, &mut calibrated],
         &mut learner,
         &mut out,
     )?;
     out.refused = (ins_dvl.refused, vkf.refused);
     out.refused_coupled = coupled.refused;
+    out.refused_calibrated = calibrated.refused;
     Ok(out)
 }
 

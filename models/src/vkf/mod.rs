@@ -24,9 +24,16 @@ use std::path::Path;
 pub use model::{Nav9, Nav9Dvl, Nav9Rpm, VelocityFilter, VelocityFilterDvl};
 
 /// The navigators, in the order of the JSON keys: pure INS, INS-DVL, the
-/// paper's VKF, and the VKF with the speed map inside the integrated filter
-/// ([`coupled`]).
-pub const SOLUTIONS: [&str; 4] = ["pure_ins", "ins_dvl", "vkf", "vkf_coupled"];
+/// paper's VKF, the VKF with the speed map and the DVL errors inside the
+/// integrated filter ([`coupled`]), and INS-DVL with those DVL error states
+/// (the same filter, the RPM never fused).
+pub const SOLUTIONS: [&str; 5] = [
+    "pure_ins",
+    "ins_dvl",
+    "vkf",
+    "vkf_coupled",
+    "ins_dvl_calibrated",
+];
 
 /// Number of navigators.
 const S: usize = SOLUTIONS.len();
@@ -94,6 +101,8 @@ pub struct RunScores {
     /// Horizontal position NEES (2 dof) of the map-state VKF at the last epoch:
     /// its error against its own covariance.
     pub coupled_nees_final: f64,
+    /// The same of the calibrated INS-DVL.
+    pub calibrated_nees_final: f64,
     /// Time, truth north/east and the horizontal error vectors (N, E) of the
     /// navigators, per epoch.
     pub series: Vec<[f64; W]>,
@@ -145,7 +154,13 @@ pub fn score(run: &VkfRun, log: &LogDir) -> Result<RunScores, RunError> {
         last_t = Some(r.t);
         let mut x = [0.0; W];
         x[..3].copy_from_slice(&[r.t, p.x, p.y]);
-        let errors = [r.pure_error, r.ins_dvl - p, r.vkf - p, r.vkf_coupled - p];
+        let errors = [
+            r.pure_error,
+            r.ins_dvl - p,
+            r.vkf - p,
+            r.vkf_coupled - p,
+            r.ins_dvl_calibrated - p,
+        ];
         for (s, e) in errors.iter().enumerate() {
             x[3 + 2 * s] = e.x;
             x[4 + 2 * s] = e.y;
@@ -206,20 +221,28 @@ pub fn score(run: &VkfRun, log: &LogDir) -> Result<RunScores, RunError> {
             outage_rms_m: stats::rms(&hin),
         }
     });
-    let coupled_nees_final = run.records.last().map_or(f64::NAN, |r| {
-        let [nn, ne, ee] = r.coupled_covariance;
-        let (n, e) = (last[3 + 2 * 3], last[4 + 2 * 3]);
+    // Horizontal NEES of navigator `s` at the last epoch, covariance `[nn, ne, ee]`.
+    let nees_final = |s: usize, [nn, ne, ee]: [f64; 3]| {
+        let (n, e) = (last[3 + 2 * s], last[4 + 2 * s]);
         let det = nn * ee - ne * ne;
         if det > 0.0 {
             (ee * n * n - 2.0 * ne * n * e + nn * e * e) / det
         } else {
             f64::NAN
         }
-    });
+    };
+    let (coupled_nees_final, calibrated_nees_final) =
+        run.records.last().map_or((f64::NAN, f64::NAN), |r| {
+            (
+                nees_final(3, r.coupled_covariance),
+                nees_final(4, r.calibrated_covariance),
+            )
+        });
     Ok(RunScores {
         scores,
         distance_m,
         coupled_nees_final,
+        calibrated_nees_final,
         rpm_speed_error_rms_m_s: stats::rms(&rpm_errors),
         dvl_error_integral_m: dvl_integral.xy().norm(),
         outages: outage_scores.iter().map(|o| o.span).collect(),
@@ -295,10 +318,14 @@ fn put_scores(mut r: RunResult, bias: DvlBias, s: &RunScores) -> RunResult {
         .with_metric(&format!("{v}.outages"), s.outage_scores.len() as f64)
         .with_metric(&format!("{v}.dvl_error_integral_m"), s.dvl_error_integral_m)
         .with_metric(&format!("{v}.vkf_coupled_nees_final"), s.coupled_nees_final)
+        .with_metric(
+            &format!("{v}.ins_dvl_calibrated_nees_final"),
+            s.calibrated_nees_final,
+        )
 }
 
 const TABLE: &str = "vkf";
-const COLUMNS: [&str; 31] = [
+const COLUMNS: [&str; 34] = [
     "t",
     "truth_n",
     "truth_e",
@@ -330,9 +357,12 @@ const COLUMNS: [&str; 31] = [
     "vkf_coupled_e",
     "vkf_coupled_error_m",
     "coupled_map_speed",
+    "ins_dvl_calibrated_n",
+    "ins_dvl_calibrated_e",
+    "ins_dvl_calibrated_error_m",
 ];
 const PAPER_TABLE: &str = "vkf-paper-bias";
-const PAPER_COLUMNS: [&str; 15] = [
+const PAPER_COLUMNS: [&str; 18] = [
     "t",
     "truth_n",
     "truth_e",
@@ -348,6 +378,9 @@ const PAPER_COLUMNS: [&str; 15] = [
     "vkf_coupled_n",
     "vkf_coupled_e",
     "vkf_coupled_error_m",
+    "ins_dvl_calibrated_n",
+    "ins_dvl_calibrated_e",
+    "ins_dvl_calibrated_error_m",
 ];
 
 /// Position columns of a scored epoch: truth, the first three estimates and
@@ -371,7 +404,11 @@ fn position_columns(x: &[f64; W]) -> [f64; 12] {
 
 /// 1 Hz tables of a run (every fifth epoch).
 fn tables(run: &VkfRun, s: &RunScores, paper: &RunScores, truth: &RunTruth) -> Vec<RunTable> {
-    let coupled = |x: &[f64; W]| [x[1] + x[9], x[2] + x[10], x[9].hypot(x[10])];
+    // Position and error of navigator `s`.
+    let solution = |x: &[f64; W], s: usize| {
+        let (n, e) = (x[3 + 2 * s], x[4 + 2 * s]);
+        [x[1] + n, x[2] + e, n.hypot(e)]
+    };
     let mut table = RunTable::new(TABLE, &COLUMNS);
     let mut paper_table = RunTable::new(PAPER_TABLE, &PAPER_COLUMNS);
     let by_time = |t: f64, xs: &[[f64; W]]| xs.iter().find(|x| (x[0] - t).abs() < 1e-6).copied();
@@ -402,12 +439,14 @@ fn tables(run: &VkfRun, s: &RunScores, paper: &RunScores, truth: &RunTruth) -> V
             sf_true,
             b_true,
         ]);
-        row.extend(coupled(&x));
+        row.extend(solution(&x, 3));
         row.push(r.coupled_map_speed);
+        row.extend(solution(&x, 4));
         table.push(&row);
         if let Some(y) = by_time(r.t, &paper.series) {
             let mut row = position_columns(&y).to_vec();
-            row.extend(coupled(&y));
+            row.extend(solution(&y, 3));
+            row.extend(solution(&y, 4));
             paper_table.push(&row);
         }
     }
@@ -443,7 +482,8 @@ impl Scenario for VkfScenario {
             .with_metric("outage_s", real.outages.iter().map(|(a, b)| b - a).sum())
             .with_metric("refused_ins_dvl", run.refused.0 as f64)
             .with_metric("refused_vkf", run.refused.1 as f64)
-            .with_metric("refused_vkf_coupled", run.refused_coupled as f64);
+            .with_metric("refused_vkf_coupled", run.refused_coupled as f64)
+            .with_metric("refused_ins_dvl_calibrated", run.refused_calibrated as f64);
         r.extra = json!({ "outages_s": real.outages });
         if options.keep_series {
             r.tables = tables(&run, &real, &paper, &logs.truth);
@@ -488,6 +528,13 @@ impl Scenario for VkfScenario {
         m.insert(
             "refused_updates_vkf_coupled".into(),
             Value::from(refused_coupled),
+        );
+        let refused_calibrated: f64 = metric_values(runs, "refused_ins_dvl_calibrated")
+            .iter()
+            .sum();
+        m.insert(
+            "refused_updates_ins_dvl_calibrated".into(),
+            Value::from(refused_calibrated),
         );
         Ok(m)
     }
@@ -590,6 +637,20 @@ fn variant_summary(runs: &[RunResult], bias: DvlBias) -> Map<String, Value> {
     m.insert(
         "vkf_coupled_position_nees_final_median".into(),
         Value::from(med_present(&format!("{v}.vkf_coupled_nees_final"))),
+    );
+    m.insert(
+        "ins_dvl_calibrated_position_nees_final_median".into(),
+        Value::from(med_present(&format!("{v}.ins_dvl_calibrated_nees_final"))),
+    );
+    // The map-state VKF against INS-DVL with the same DVL error states: what
+    // the RPM map adds beyond the DVL calibration.
+    m.insert(
+        "vkf_coupled_to_ins_dvl_calibrated_final".into(),
+        Value::from(stats::median(&finals[3]) / stats::median(&finals[4])),
+    );
+    m.insert(
+        "vkf_coupled_to_ins_dvl_calibrated_outage_rms".into(),
+        Value::from(stats::median(&outage_rms[3]) / stats::median(&outage_rms[4])),
     );
     m.insert(
         "dvl_error_integral_m".into(),

@@ -93,7 +93,8 @@ nav_runtime::model! {
     /// "Speed-map states"): [`Nav9`]'s position, velocity and accelerometer bias
     /// plus the map's correlated errors, so that the covariance keeps what an
     /// error of the RPM-derived speed does to the position during an outage and
-    /// the returning DVL can take it back. The map is
+    /// the returning DVL can take it back; and the DVL's own scale error and
+    /// bias, so that what they integrate to stays in the covariance. The map is
     /// `V_rpm = (1 + speed_scale) sf0 rpm + speed_offset`, and the forward
     /// through-water speed departs from it by a first-order Gauss-Markov
     /// `speed_disturbance` (sea state, loading) with correlation time `tau`.
@@ -111,6 +112,11 @@ nav_runtime::model! {
             speed_offset,
             /// Forward speed not explained by the map, m/s (Gauss-Markov).
             speed_disturbance,
+            /// The DVL's forward scale-factor error (dimensionless, constant
+            /// over a run; a consider state, see `CoupledNav`).
+            dvl_scale,
+            /// The DVL's bias per body axis, m/s (constant over a run).
+            dvl_bias: 3,
         }
         inputs {
             /// Compensated nav-frame acceleration `a^n`, m/s^2.
@@ -144,9 +150,22 @@ nav_runtime::model! {
             d/dt speed_offset = offset_walk;
             d/dt speed_disturbance = -speed_disturbance / tau + disturbance_drive;
         }
-        /// The DVL's NED velocity (in range).
+        /// The DVL's velocity rotated to NED (in range): the body velocity
+        /// with the DVL's forward scale error and bias,
+        /// `C (diag(1 + s, 1, 1) C^T v + b)` (the lateral and vertical body
+        /// velocities are about zero, so their scale errors do nothing).
+        /// Without them its error would be white to the filter, which then
+        /// averages it away and becomes confident to centimetres while the
+        /// constant part integrates to metres (docs/results/vkf.md,
+        /// "Consistency").
         sensor Dvl: 3 {
-            h = velocity;
+            let v_b = transpose(c_bn) * velocity;
+            let measured = [
+                (1.0 + dvl_scale) * v_b[0] + dvl_bias[0],
+                v_b[1] + dvl_bias[1],
+                v_b[2] + dvl_bias[2]
+            ];
+            h = c_bn * measured;
         }
         /// The RPM as a velocity constraint in body axes, `z = [0, 0, 0]`: the
         /// forward body velocity minus the map's speed and the disturbance, and the
