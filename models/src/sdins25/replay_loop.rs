@@ -186,18 +186,11 @@ where
         // The next IMU sample; every aiding row up to its time is queued.
         let next = match first_to_push.take() {
             Some(first) => Some(first),
-            None => io.time(|| -> Result<_, RunError> {
-                while let Some(ev) = stream.next_event()? {
-                    match ev.event {
-                        LogEvent::Imu(r) => {
-                            imu_row += 1;
-                            return Ok(Some((ev.line, r)));
-                        }
-                        _ => aiding.take(&ev),
-                    }
-                }
-                Ok(None)
-            })?,
+            None => {
+                let next = io.time(|| stream.next_imu(|ev| aiding.take(ev)))?;
+                imu_row += usize::from(next.is_some());
+                next
+            }
         };
         let Some((line, row)) = next else { break };
         // Only formatted for a message.

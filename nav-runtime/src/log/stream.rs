@@ -547,10 +547,30 @@ impl<'a> EventStream<'a> {
         self.pull(k)
     }
 
+    /// The next IMU sample (its line when known, and its row), each event
+    /// before it handed to `other` first, in order; `None` when no IMU row
+    /// is left, every other event having been handed over.
+    ///
+    /// # Errors
+    /// As [`EventStream::next_event`].
+    pub fn next_imu(
+        &mut self,
+        mut other: impl FnMut(&Located),
+    ) -> Result<Option<(Option<u64>, ImuRow)>, LogError> {
+        while let Some(ev) = self.next_event()? {
+            match ev.event {
+                Event::Imu(r) => return Ok(Some((ev.line, r))),
+                _ => other(&ev),
+            }
+        }
+        Ok(None)
+    }
+
     /// The time of the next IMU sample, if any.
     ///
     /// # Errors
     /// As [`EventStream::next_event`].
+    #[inline]
     pub fn next_imu_t(&mut self) -> Result<Option<f64>, LogError> {
         self.fill()?;
         Ok(self.times[IMU])
