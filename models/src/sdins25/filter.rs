@@ -298,8 +298,9 @@ fn median_period(t: impl Iterator<Item = f64>) -> f64 {
     if d.is_empty() {
         return 0.01;
     }
-    d.sort_by(f64::total_cmp);
-    d[d.len() / 2]
+    // The middle one in order (no need to order the others).
+    let middle = d.len() / 2;
+    *d.select_nth_unstable_by(middle, f64::total_cmp).1
 }
 
 /// What a run needs to know of its log before it starts, read without
@@ -340,18 +341,27 @@ impl LogFacts {
                 .rows::<ImuRow>()?
                 .ok_or_else(|| RunError::Invalid("imu.csv has no rows".into()))?,
         );
-        let mut head = Vec::new();
-        while head.len() <= PERIOD_INTERVALS {
-            match imu.read_ahead()? {
-                Some(r) => head.push(r),
-                None => break,
+        // A log in memory is looked at in place (and streamed from its start
+        // again); the first rows of a log on disk are read ahead once and
+        // kept in `imu`, to be streamed from there.
+        let kept: Vec<ImuRow>;
+        let (rows, in_memory): (&[ImuRow], bool) = match source {
+            LogSource::Memory(log) => (&log.imu, true),
+            LogSource::Files(_) => {
+                for _ in 0..=PERIOD_INTERVALS {
+                    if imu.read_ahead()?.is_none() {
+                        break;
+                    }
+                }
+                kept = imu.read().copied().collect();
+                (&kept, false)
             }
-        }
-        let t0 = head
+        };
+        let row0 = *rows
             .first()
-            .ok_or_else(|| RunError::Invalid("imu.csv has no rows".into()))?
-            .t;
-        let period_s = median_period(head.iter().map(|r| r.t));
+            .ok_or_else(|| RunError::Invalid("imu.csv has no rows".into()))?;
+        let t0 = row0.t;
+        let period_s = median_period(rows.iter().map(|r| r.t));
         let epoch = source.meta().initial.t.unwrap_or(t0 - period_s);
         if t0 - epoch > MAX_EPOCH_LEAD_PERIODS * period_s {
             return Err(RunError::Invalid(format!(
@@ -363,10 +373,11 @@ impl LogFacts {
         }
         // Rows before the epoch are not used: the first at or after it starts
         // the rate model.
-        let mut before_epoch = head.iter().take_while(|r| r.t < epoch).count();
-        let mut first = head.get(before_epoch).copied();
+        let mut before_epoch = rows.iter().take_while(|r| r.t < epoch).count();
+        let mut first = rows.get(before_epoch).copied();
         while first.is_none() {
-            match imu.read_ahead()? {
+            let next = if in_memory { None } else { imu.read_ahead()? };
+            match next {
                 Some(r) if r.t < epoch => before_epoch += 1,
                 Some(r) => first = Some(r),
                 None => {
@@ -376,7 +387,7 @@ impl LogFacts {
                 }
             }
         }
-        let first = first.unwrap_or(head[0]);
+        let first = first.unwrap_or(row0);
         let mut heads = AidingHeads::default();
         let resolutions = if options.stuck_false_alarm.is_some() {
             heads = AidingHeads {
@@ -432,7 +443,7 @@ impl LogFacts {
         let mut first_baro = None;
         if let Some(mut rows) = source.rows::<BaroRow>()? {
             while let Some((_, r)) = rows.next_row()? {
-                if r.t >= head[0].t {
+                if r.t >= row0.t {
                     first_baro = Some(r.altitude);
                     break;
                 }

@@ -6,8 +6,10 @@
 //! The same loop runs a log in memory (Monte Carlo, tests) and a log on disk
 //! (`navsim replay`).
 
+use std::cell::Cell;
 use std::collections::VecDeque;
 use std::iter::Peekable;
+use std::time::{Duration, Instant};
 
 use nav_runtime::log::{
     BaroRow, DepthRow, DvlRow, Event as LogEvent, GnssRow, HeadingRow, ImuForm, ImuRow, LogDir,
@@ -131,32 +133,14 @@ where
         .then(|| SpillFile::create(None, ESTIMATE_SCALARS))
         .transpose()
         .map_err(smoother_error)?;
-    // Time spent reading the log and handing estimates on, which
-    // `runtime_s` (the filter's time) leaves out.
-    // (Only a log on disk is read and written as the loop goes.)
-    let timing = matches!(source, LogSource::Files(_));
-    let io = std::cell::Cell::new(std::time::Duration::ZERO);
-    let timed = |f: &mut dyn FnMut() -> Result<(), RunError>| {
-        if !timing {
-            return f();
-        }
-        let t0 = std::time::Instant::now();
-        let r = f();
-        io.set(io.get() + t0.elapsed());
-        r
-    };
+    // Only a log on disk is read and written as the loop goes.
+    let io = IoTime::new(matches!(source, LogSource::Files(_)));
     let mut out = |p: P, e: Option<&Estimate>| -> Result<(), RunError> {
         if let Some(file) = smoothing.as_mut() {
             file.push(&Estimate::to_scalars(e))
                 .map_err(smoother_error)?;
         }
-        if !timing {
-            return sink(p, e);
-        }
-        let t0 = std::time::Instant::now();
-        let r = sink(p, e);
-        io.set(io.get() + t0.elapsed());
-        r
+        io.time(|| sink(p, e))
     };
 
     // `imu.csv` and the aiding files continue after the rows the facts
@@ -193,32 +177,21 @@ where
         waiting.hand_unmatched(&mut out)?;
     }
 
-    let start = std::time::Instant::now();
+    let start = Instant::now();
     let mut samples = 1usize;
     let mut previous = ImuRow { t: epoch, ..first };
     let mut previous_line: Option<u64> = first_line;
     let mut last_input: Option<Travelling> = None;
     loop {
         // The next IMU sample; every aiding row up to its time is queued.
-        let mut next: Option<(Option<u64>, ImuRow)> = first_to_push.take();
-        if next.is_none() {
-            loop {
-                let mut ev = None;
-                timed(&mut || {
-                    ev = stream.next_event()?;
-                    Ok(())
-                })?;
-                let Some(ev) = ev else { break };
-                match ev.event {
-                    LogEvent::Imu(r) => {
-                        imu_row += 1;
-                        next = Some((ev.line, r));
-                        break;
-                    }
-                    _ => aiding.take(&ev),
-                }
+        let next = match first_to_push.take() {
+            Some(first) => Some(first),
+            None => {
+                let next = io.time(|| stream.next_imu(|ev| aiding.take(ev)))?;
+                imu_row += usize::from(next.is_some());
+                next
             }
-        }
+        };
         let Some((line, row)) = next else { break };
         // Only formatted for a message.
         let here = || place("imu.csv", line, imu_row);
@@ -264,11 +237,9 @@ where
             ev.push(&mut nav, &handles);
             last_input = Some(ev);
         }
-        let mut ticket = false;
-        timed(&mut || {
+        let ticket = io.time(|| -> Result<_, RunError> {
             let next_t = stream.next_imu_t()?;
-            ticket = requests.take(row.t, next_t, tolerance, &mut waiting)?;
-            Ok(())
+            requests.take(row.t, next_t, tolerance, &mut waiting)
         })?;
         if ticket {
             nav.request_estimate(row.t);
@@ -317,7 +288,7 @@ where
     });
     result?;
     waiting.hand_unmatched(&mut out)?;
-    let runtime_s = start.elapsed().saturating_sub(io.get()).as_secs_f64();
+    let runtime_s = start.elapsed().saturating_sub(io.spent()).as_secs_f64();
 
     let mut health = aiding.health;
     for (i, h) in health.iter_mut().enumerate() {
@@ -365,6 +336,38 @@ where
         smoothed: None,
         warnings: all_warnings,
     })
+}
+
+/// Time spent reading the log and handing estimates on, which
+/// [`InsRun::runtime_s`] (the filter's time) leaves out; measured only when
+/// `on` (a log in memory is neither read nor written as the loop goes).
+struct IoTime {
+    on: bool,
+    spent: Cell<Duration>,
+}
+
+impl IoTime {
+    fn new(on: bool) -> Self {
+        IoTime {
+            on,
+            spent: Cell::new(Duration::ZERO),
+        }
+    }
+
+    /// Runs `f`, its time counted as I/O.
+    fn time<T>(&self, f: impl FnOnce() -> T) -> T {
+        if !self.on {
+            return f();
+        }
+        let t0 = Instant::now();
+        let r = f();
+        self.spent.set(self.spent.get() + t0.elapsed());
+        r
+    }
+
+    fn spent(&self) -> Duration {
+        self.spent.get()
+    }
 }
 
 /// The plan of a run of `V` over `source`: each sensor's settings and

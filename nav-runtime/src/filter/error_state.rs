@@ -359,9 +359,9 @@ impl<Mo: Model<N>, Nom: NominalState<N>, const N: usize> Estimator<N>
     }
 }
 
-/// Driven by raw IMU samples: the nominal solution is mechanized on a copy, the
-/// error model is propagated with the input it returns, and both are stored
-/// only if the prediction succeeds.
+/// Driven by raw IMU samples: the nominal solution is mechanized, the error
+/// model is propagated with the input it returns, and the nominal solution
+/// goes back to where it was if the prediction fails.
 impl<Mo: Model<N>, Nom: Mechanization<Mo, N>, const N: usize> Propagate
     for ErrorStateFilter<Mo, Nom, N>
 {
@@ -382,12 +382,16 @@ impl<Mo: Model<N>, Nom: Mechanization<Mo, N>, const N: usize> Propagate
             return Err(FilterError::InvalidTimeStep { dt });
         }
         Self::check_input(imu)?;
-        let mut nominal = self.nominal.clone();
-        let input = nominal.mechanize(dt, imu);
+        // Mechanized in place; the copy before the step is put back only if
+        // the prediction fails.
+        let before = self.nominal.clone();
+        let input = self.nominal.mechanize(dt, imu);
         #[cfg(feature = "std")]
         let jacobian = self.step_jacobian(dt, &input);
-        self.ekf.predict(dt, &input)?;
-        self.nominal = nominal;
+        if let Err(e) = self.ekf.predict(dt, &input) {
+            self.nominal = before;
+            return Err(e);
+        }
         #[cfg(feature = "std")]
         self.record_step(jacobian.as_ref(), dt);
         Ok(())

@@ -47,6 +47,9 @@ impl Gate {
         if !(probability > 0.0 && probability < 1.0) {
             return Err(SetupError::InvalidProbability { probability });
         }
+        if probability == Self::DEFAULT_PROBABILITY {
+            return Ok(Self::default());
+        }
         let mut thresholds = [0.0; CACHED_DOF];
         for (i, t) in thresholds.iter_mut().enumerate() {
             *t = chi_square_quantile(probability, i + 1)
@@ -82,15 +85,32 @@ impl Gate {
     }
 }
 
+/// The thresholds of the gate at [`Gate::DEFAULT_PROBABILITY`] for `M = 1
+/// ..= 12`, bit for bit those [`chi_square_quantile`] gives (checked by a
+/// test): every filter starts with this gate, so it costs no quantile
+/// searches to build.
+const DEFAULT_THRESHOLD_BITS: [u64; CACHED_DOF] = [
+    0x402e45fe3a3b14d0, // 15.136705226623604
+    0x40326bb1bbb55554, // 18.420680743952587
+    0x40351b8600a509e8, // 21.10751346616044
+    0x4037834316c081fc, // 23.512742444991076
+    0x4039bead4ea92962, // 25.74483195905612
+    0x403bdb392de2e5a6, // 27.856341236014167
+    0x403de0a418a03bf8, // 29.87750390922517
+    0x403fd3df6dbead3a, // 31.82762800126259
+    0x4040dc27453c148c, // 33.719948438964906
+    0x4041c8319bdd9638, // 35.564013941952396
+    0x4042aef9695ea30e, // 37.366986437997284
+    0x40439134257ab706, // 39.13440388194981
+];
+
 impl Default for Gate {
     /// The gate at [`Gate::DEFAULT_PROBABILITY`].
     fn default() -> Self {
-        // The default probability is valid, so construction cannot fail; the
-        // fallback keeps this path free of panics anyway.
-        Self::new(Self::DEFAULT_PROBABILITY).unwrap_or(Self {
+        Self {
             probability: Self::DEFAULT_PROBABILITY,
-            thresholds: [f64::INFINITY; CACHED_DOF],
-        })
+            thresholds: DEFAULT_THRESHOLD_BITS.map(f64::from_bits),
+        }
     }
 }
 
@@ -344,6 +364,17 @@ mod tests {
         assert!(chi_square_quantile(0.9, 0).is_none());
         assert!(regularized_lower_gamma(-1.0, 1.0).is_nan());
         assert!(regularized_lower_gamma(1.0, f64::NAN).is_nan());
+    }
+
+    /// The default gate's stored thresholds are the computed ones, bit for bit.
+    #[test]
+    fn default_thresholds_are_the_computed_quantiles() {
+        let g = Gate::default();
+        for m in 1..=CACHED_DOF {
+            let computed = chi_square_quantile(Gate::DEFAULT_PROBABILITY, m).unwrap();
+            assert_eq!(g.threshold(m).to_bits(), computed.to_bits(), "M = {m}");
+        }
+        assert_eq!(Gate::new(Gate::DEFAULT_PROBABILITY).unwrap(), g);
     }
 
     #[test]

@@ -85,20 +85,72 @@ impl Geodetic {
 /// `1 - e^2 sin^2 L`.
 #[inline]
 fn w2(lat: f64) -> f64 {
-    let s = sin(lat);
+    w2_of_sin(sin(lat))
+}
+
+/// `1 - e^2 sin^2 L` from `sin L`.
+#[inline]
+fn w2_of_sin(s: f64) -> f64 {
     1.0 - E2 * s * s
+}
+
+/// `R_m` from `w = 1 - e^2 sin^2 L`.
+#[inline]
+fn meridian_radius_of_w2(w: f64) -> f64 {
+    A * (1.0 - E2) / (w * sqrt(w))
+}
+
+/// `R_n` from `w = 1 - e^2 sin^2 L`.
+#[inline]
+fn transverse_radius_of_w2(w: f64) -> f64 {
+    A / sqrt(w)
 }
 
 /// Meridian radius of curvature `R_m = a (1 - e^2) / (1 - e^2 sin^2 L)^1.5` (m).
 pub fn meridian_radius(lat: f64) -> f64 {
-    let w = w2(lat);
-    A * (1.0 - E2) / (w * sqrt(w))
+    meridian_radius_of_w2(w2(lat))
 }
 
 /// Transverse (prime-vertical) radius `R_n = a / (1 - e^2 sin^2 L)^0.5` (m);
 /// the papers' `R_l`.
 pub fn transverse_radius(lat: f64) -> f64 {
-    A / sqrt(w2(lat))
+    transverse_radius_of_w2(w2(lat))
+}
+
+/// The terms of one latitude that a strapdown step needs more than once,
+/// each evaluated once: `sin L` and both radii. Its rates are those of
+/// [`earth_rate_n`] and [`transport_rate_n`], bit for bit.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct AtLatitude {
+    lat: f64,
+    sin: f64,
+    /// [`meridian_radius`] (m).
+    pub(crate) rm: f64,
+    /// [`transverse_radius`] (m).
+    pub(crate) rn: f64,
+}
+
+impl AtLatitude {
+    pub(crate) fn new(lat: f64) -> Self {
+        let s = sin(lat);
+        let w = w2_of_sin(s);
+        AtLatitude {
+            lat,
+            sin: s,
+            rm: meridian_radius_of_w2(w),
+            rn: transverse_radius_of_w2(w),
+        }
+    }
+
+    /// [`earth_rate_n`] at this latitude.
+    pub(crate) fn earth_rate(&self) -> Vector3<f64> {
+        earth_rate_of(cos(self.lat), self.sin)
+    }
+
+    /// [`transport_rate_n`] at this latitude.
+    pub(crate) fn transport_rate(&self, h: f64, v_n: &Vector3<f64>) -> Vector3<f64> {
+        transport_rate_of(self.rn + h, self.rm + h, tan(self.lat), v_n)
+    }
 }
 
 /// `dR_m/dL = 3 a (1 - e^2) e^2 sin L cos L / (1 - e^2 sin^2 L)^2.5` (m/rad);
@@ -141,15 +193,30 @@ pub fn radii(lat: f64) -> Radii {
 /// Earth rate in the navigation frame, `w_ie^n = [Omega cos L, 0, -Omega sin L]`
 /// (rad/s). docs/models/sdins25.md, eq. 3.
 pub fn earth_rate_n(lat: f64) -> Vector3<f64> {
-    Vector3::new(OMEGA * cos(lat), 0.0, -OMEGA * sin(lat))
+    earth_rate_of(cos(lat), sin(lat))
+}
+
+/// [`earth_rate_n`] from `cos L` and `sin L`.
+#[inline]
+fn earth_rate_of(cos_lat: f64, sin_lat: f64) -> Vector3<f64> {
+    Vector3::new(OMEGA * cos_lat, 0.0, -OMEGA * sin_lat)
 }
 
 /// Transport rate `w_en^n = [V_E/(R_n+h), -V_N/(R_m+h), -V_E tan L/(R_n+h)]`
 /// (rad/s) for NED velocity `v_n` (m/s). docs/models/sdins25.md, eq. 3.
 pub fn transport_rate_n(lat: f64, h: f64, v_n: &Vector3<f64>) -> Vector3<f64> {
-    let rn = transverse_radius(lat) + h;
-    let rm = meridian_radius(lat) + h;
-    Vector3::new(v_n[1] / rn, -v_n[0] / rm, -v_n[1] * tan(lat) / rn)
+    transport_rate_of(
+        transverse_radius(lat) + h,
+        meridian_radius(lat) + h,
+        tan(lat),
+        v_n,
+    )
+}
+
+/// [`transport_rate_n`] from `R_n + h`, `R_m + h` and `tan L`.
+#[inline]
+fn transport_rate_of(rn: f64, rm: f64, tan_lat: f64, v_n: &Vector3<f64>) -> Vector3<f64> {
+    Vector3::new(v_n[1] / rn, -v_n[0] / rm, -v_n[1] * tan_lat / rn)
 }
 
 /// Rates of the position coordinates, docs/models/sdins25.md, eq. 1:

@@ -31,7 +31,7 @@ use crate::attitude::{
 };
 use crate::earth::{
     earth_rate_n, meridian_radius, normal_gravity_ned, position_rates, transport_rate_n,
-    transverse_radius, Geodetic,
+    transverse_radius, AtLatitude, Geodetic,
 };
 use crate::math::{cos, wrap_angle};
 use nalgebra::{Matrix3, Vector3};
@@ -573,16 +573,18 @@ impl Strapdown {
         let f_n = c0 * dv_b;
 
         // Predictor: slow terms at the start of the interval.
-        let w_ie0 = earth_rate_n(lat);
-        let w_en0 = transport_rate_n(lat, h, &v);
+        let start = AtLatitude::new(lat);
+        let w_ie0 = start.earth_rate();
+        let w_en0 = start.transport_rate(h, &v);
         let v_pred = v + f_n + (normal_gravity_ned(lat, h) - (2.0 * w_ie0 + w_en0).cross(&v)) * dt;
         let h_mid = h - 0.25 * (v[2] + v_pred[2]) * dt;
-        let lat_mid = lat + 0.25 * (v[0] + v_pred[0]) * dt / (meridian_radius(lat) + h_mid);
+        let lat_mid = lat + 0.25 * (v[0] + v_pred[0]) * dt / (start.rm + h_mid);
         let v_mid = 0.5 * (v + v_pred);
 
         // Corrector: Earth rate, transport rate, gravity and Coriolis at mid-interval.
-        let w_ie = earth_rate_n(lat_mid);
-        let w_en = transport_rate_n(lat_mid, h_mid, &v_mid);
+        let mid = AtLatitude::new(lat_mid);
+        let w_ie = mid.earth_rate();
+        let w_en = mid.transport_rate(h_mid, &v_mid);
         let zeta = (w_ie + w_en) * dt;
         // Rotation of n during the interval, to second order in zeta:
         // int B(t) C0 A(t) f dt with B = exp(-[zeta t/T x]), A = exp([dtheta t/T x]).
@@ -596,7 +598,7 @@ impl Strapdown {
         let h_new = h - 0.5 * (v[2] + v_new[2]) * dt;
         let h_m = 0.5 * (h + h_new);
         let vn_avg = 0.5 * (v[0] + v_new[0]);
-        let lat_m = lat + 0.5 * vn_avg * dt / (meridian_radius(lat) + h_m);
+        let lat_m = lat + 0.5 * vn_avg * dt / (start.rm + h_m);
         let lat_new = lat + vn_avg * dt / (meridian_radius(lat_m) + h_m);
         let lat_m = 0.5 * (lat + lat_new);
         let lon_new =

@@ -391,6 +391,13 @@ const IMU: usize = ORDER - 1;
 pub struct EventStream<'a> {
     pulls: Vec<Pull<'a>>,
     heads: [Option<Located>; ORDER],
+    /// The time of each head, read once when it is pulled: the merge
+    /// compares times only, never copying an event to get at its time.
+    times: [Option<f64>; ORDER],
+    /// The earliest head of the sources before the IMU (at equal times the
+    /// first) and its time: most events are IMU samples, and taking one
+    /// leaves it as it is.
+    aiding: Option<(usize, f64)>,
     started: bool,
     /// The log's stop flag and directory (file-backed streams only).
     stop: Option<(Arc<AtomicBool>, PathBuf)>,
@@ -476,19 +483,40 @@ impl<'a> EventStream<'a> {
         EventStream {
             pulls,
             heads: [None; ORDER],
+            times: [None; ORDER],
+            aiding: None,
             started: false,
             stop: None,
         }
     }
 
+    /// Reads the first row of every source, once.
+    #[inline]
     fn fill(&mut self) -> Result<(), LogError> {
-        if !self.started {
-            for k in 0..ORDER {
-                self.heads[k] = (self.pulls[k])()?;
-            }
-            self.started = true;
+        if self.started {
+            return Ok(());
         }
+        self.start()
+    }
+
+    #[cold]
+    fn start(&mut self) -> Result<(), LogError> {
+        for k in 0..ORDER {
+            self.pull(k)?;
+        }
+        self.started = true;
         Ok(())
+    }
+
+    /// Replaces the head of source `k` with its next row; returns the old
+    /// head. On error the head stays.
+    fn pull(&mut self, k: usize) -> Result<Option<Located>, LogError> {
+        let next = (self.pulls[k])()?;
+        self.times[k] = next.map(|h| h.event.t());
+        if k != IMU {
+            self.aiding = earliest(&self.times[..IMU]);
+        }
+        Ok(std::mem::replace(&mut self.heads[k], next))
     }
 
     /// The next event in time order (ties: the echo sounder, the aiding
@@ -503,29 +531,49 @@ impl<'a> EventStream<'a> {
             }
         }
         self.fill()?;
-        let mut best: Option<usize> = None;
-        for k in 0..ORDER {
-            if let Some(e) = &self.heads[k] {
-                if best
-                    .is_none_or(|b| e.event.t() < self.heads[b].map_or(f64::NAN, |h| h.event.t()))
-                {
-                    best = Some(k);
+        // The earliest head; at equal times the IMU comes last.
+        let k = match (self.aiding, self.times[IMU]) {
+            (Some((k, t)), Some(imu)) => {
+                if imu < t {
+                    IMU
+                } else {
+                    k
                 }
             }
+            (Some((k, _)), None) => k,
+            (None, Some(_)) => IMU,
+            (None, None) => return Ok(None),
+        };
+        self.pull(k)
+    }
+
+    /// The next IMU sample (its line when known, and its row), each event
+    /// before it handed to `other` first, in order; `None` when no IMU row
+    /// is left, every other event having been handed over.
+    ///
+    /// # Errors
+    /// As [`EventStream::next_event`].
+    pub fn next_imu(
+        &mut self,
+        mut other: impl FnMut(&Located),
+    ) -> Result<Option<(Option<u64>, ImuRow)>, LogError> {
+        while let Some(ev) = self.next_event()? {
+            match ev.event {
+                Event::Imu(r) => return Ok(Some((ev.line, r))),
+                _ => other(&ev),
+            }
         }
-        let Some(k) = best else { return Ok(None) };
-        let out = self.heads[k];
-        self.heads[k] = (self.pulls[k])()?;
-        Ok(out)
+        Ok(None)
     }
 
     /// The time of the next IMU sample, if any.
     ///
     /// # Errors
     /// As [`EventStream::next_event`].
+    #[inline]
     pub fn next_imu_t(&mut self) -> Result<Option<f64>, LogError> {
         self.fill()?;
-        Ok(self.heads[IMU].map(|h| h.event.t()))
+        Ok(self.times[IMU])
     }
 
     /// The stream with the rows of `R`'s file taken from `rows` (e.g. a
@@ -535,6 +583,20 @@ impl<'a> EventStream<'a> {
         self.pulls[R::SOURCE] = pull(rows, R::event);
         self
     }
+}
+
+/// The earliest of `times` (at equal times the first) and its index; a
+/// source without a head (`None`) is passed over.
+fn earliest(times: &[Option<f64>]) -> Option<(usize, f64)> {
+    let mut best: Option<(usize, f64)> = None;
+    for (k, t) in times.iter().enumerate() {
+        if let Some(t) = *t {
+            if best.is_none_or(|(_, b)| t < b) {
+                best = Some((k, t));
+            }
+        }
+    }
+    best
 }
 
 /// A row type [`EventStream`] merges: its place among the stream's sources

@@ -565,6 +565,10 @@ impl<F: Propagate + Clone> Scheduler<F> {
 
     /// Indices of queued measurements with time in `(t0, t1]`.
     fn interval(&self, t0: f64, t1: f64) -> std::ops::Range<usize> {
+        // Most IMU steps have nothing queued after their start: no search.
+        if self.queue.last().is_none_or(|q| q.time <= t0) {
+            return self.queue.len()..self.queue.len();
+        }
         self.queue.partition_point(|q| q.time <= t0)..self.queue.partition_point(|q| q.time <= t1)
     }
 
@@ -596,6 +600,9 @@ impl<F: Propagate + Clone> Scheduler<F> {
             }
         }
         let base = self.oldest();
+        if self.queue.first().is_none_or(|q| q.time > base) {
+            return;
+        }
         let done = self.queue.partition_point(|q| q.time <= base);
         for q in self.queue.drain(..done) {
             if let Some(entry) = self.sensors.get_mut(q.sensor) {
