@@ -5,7 +5,7 @@
 
 use std::path::PathBuf;
 
-use super::{angle_states, ModelReplayError, RunOptions};
+use super::{angle_states, ModelReplay, ModelReplayError, RunOptions};
 use crate::vehicles::rover::{rover_replay as rover, write_log, LogStyle, Rover, DRIVE_STEPS};
 
 struct TempDir(PathBuf);
@@ -510,4 +510,83 @@ fn an_input_gap_is_refused_or_stepped_and_said() {
     );
     let truth = run.truth.unwrap();
     assert!(truth.rms[0].1.hypot(truth.rms[1].1) < 0.5);
+}
+
+nav_runtime::model! {
+    /// A discrete constant-velocity tracker with no inputs: the input file
+    /// is only its clock.
+    pub model Tracker {
+        states { position, velocity }
+        noise {
+            /// Velocity change per step, m/s (a per-step variance).
+            velocity_step,
+        }
+        discrete {
+            position = position + velocity * dt;
+            velocity = velocity + velocity_step;
+        }
+        /// A range to the target, m.
+        sensor Range: 1 { h = [position]; }
+    }
+}
+
+/// A discrete model without inputs replays from a clock file, consistently
+/// over seeds (NIS and NEES means near their degrees of freedom).
+#[test]
+fn a_discrete_model_without_inputs_replays_from_a_clock() {
+    use rand::SeedableRng;
+    use rand_distr::{Distribution, Normal};
+    use std::fmt::Write as _;
+    let dir = TempDir::new("tracker");
+    let (step_sigma, range_sigma) = (0.05, 2.0);
+    let (mut nis, mut nees) = (Vec::new(), Vec::new());
+    for seed in 0..10u64 {
+        let log = dir.0.join(format!("seed{seed}"));
+        std::fs::create_dir_all(&log).unwrap();
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+        let n = Normal::new(0.0, 1.0).unwrap();
+        let (mut x, mut v) = (100.0_f64, 3.0_f64);
+        let (mut clock, mut ranges, mut truth) = (
+            String::from("t\n"),
+            String::from("t,range\n"),
+            String::from("t,position,velocity\n"),
+        );
+        for k in 0..=1000 {
+            let t = k as f64 * 0.5;
+            if k > 0 {
+                x += v * 0.5;
+                v += step_sigma * n.sample(&mut rng);
+            }
+            writeln!(clock, "{t}").unwrap();
+            writeln!(truth, "{t},{x},{v}").unwrap();
+            if k % 4 == 0 && k > 0 {
+                writeln!(ranges, "{t},{}", x + range_sigma * n.sample(&mut rng)).unwrap();
+            }
+        }
+        std::fs::write(log.join("clock.csv"), clock).unwrap();
+        std::fs::write(log.join("ranges.csv"), ranges).unwrap();
+        std::fs::write(log.join("truth.csv"), truth).unwrap();
+        std::fs::write(
+            log.join("replay.toml"),
+            format!(
+                "[inputs]\nfile = \"clock.csv\"\n[noise]\nvelocity_step = {}\n\
+                 [initial.state]\nposition = 100.0\nvelocity = 3.0\n\
+                 [initial.sigma]\nposition = 1.0\nvelocity = 0.1\n\
+                 [sensors.Range]\nfile = \"ranges.csv\"\nz = \"range\"\nsigma = {range_sigma}\n",
+                step_sigma * step_sigma
+            ),
+        )
+        .unwrap();
+        let run = ModelReplay::<Tracker, 2>::new("tracker")
+            .sensor::<TrackerRange, 1>()
+            .replay(&log, None, &RunOptions::default(), None)
+            .unwrap_or_else(|e| panic!("seed {seed}: {e}"));
+        assert_eq!((run.samples, run.sensors[0].rows), (1000, 250));
+        assert!(run.warnings.is_empty(), "{:?}", run.warnings);
+        nis.push(run.sensors[0].nis_mean.unwrap());
+        nees.push(run.truth.unwrap().nees_mean);
+    }
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    assert!((0.8..1.2).contains(&mean(&nis)), "NIS {nis:?}");
+    assert!((1.5..2.6).contains(&mean(&nees)), "NEES {nees:?}");
 }
