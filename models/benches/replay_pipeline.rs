@@ -1,6 +1,7 @@
 //! `navsim replay` of a log on disk, two ways, in the same run: the replay
 //! pipeline as the binary runs it (the log streamed file by file, the
-//! preflight reading it beside the replay: [`check_alongside`]) against the
+//! preflight beside the replay, taking the IMU rows the replay reads:
+//! [`check_alongside`]) against the
 //! way the built-in SDINS-25 replay ran before the pipeline streamed (the
 //! whole log read into memory, the preflight run over it, then the replay).
 //!
@@ -35,7 +36,8 @@ fn loaded_then_checked(model: &dyn ReplayModel, dir: &std::path::Path) -> usize 
 /// The pipeline: streamed, the preflight beside the replay.
 fn streamed_alongside(model: &dyn ReplayModel, dir: &std::path::Path) -> usize {
     let files = LogFiles::open(dir, Strictness::Strict).expect("opens the log");
-    let (output, _, _) = check_alongside(&files, &PreflightOptions::default(), || {
+    let options = PreflightOptions::default();
+    let (output, _, _) = check_alongside(&files, &options, model.shares_imu(), || {
         model.replay_files(&files, &ReplayOptions::default(), None)
     })
     .expect("replays");

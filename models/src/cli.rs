@@ -468,7 +468,7 @@ pub fn replay_with(model: &dyn ReplayModel, args: &ReplayArgs) -> Result<(), Run
     // The preflight reads the log beside the replay; a log it refuses is
     // refused with its error and the replay's output is discarded.
     let replay = |out: Option<&std::path::Path>| {
-        preflight::check_alongside(&files, &preflight_options, || {
+        preflight::check_alongside(&files, &preflight_options, model.shares_imu(), || {
             model.replay_files(&files, &options, out)
         })
     };

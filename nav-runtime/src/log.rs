@@ -49,7 +49,9 @@ mod error;
 pub mod fuzz;
 mod mapping;
 mod meta;
+mod read_ahead;
 mod rows;
+mod shared;
 mod stream;
 mod warning;
 
@@ -67,11 +69,13 @@ pub use meta::{
     closest_name, ImuNoise, Initial, InitialSigma, Meta, Mounting, SensorNoise, Sensors,
     UsblTransducer, AIDING_SENSORS,
 };
+pub use read_ahead::{ReadAhead, READ_AHEAD_ROWS};
 pub use rows::{
     format_f64, parse_csv, write_csv, AltitudeRow, Cell, DepthRow, DvlRow, HeadingRow, ImuRow, Row,
     RowReader, RpmRow, SpeedRow, Table, TruthRow, UsblRow, MAX_SKIP_REASONS,
 };
 pub use rows::{BaroRow, GnssRow, MagRow, ReferenceRow};
+pub use shared::{ReadStats, SharedImu};
 pub use stream::{
     skipped_row_warnings, EventStream, FileRows, Located, LogFiles, LogSource, LogTable,
     Prefetched, RowSource, SliceRows, StreamedRow,

@@ -76,6 +76,13 @@ pub trait ReplayModel: Send + Sync {
         }
         Ok(output)
     }
+    /// Whether [`ReplayModel::replay_files`] reads `imu.csv` through
+    /// [`LogSource::imu_rows`](nav_runtime::log::LogSource::imu_rows), so
+    /// that the preflight beside it takes the rows it reads instead of
+    /// parsing the file again. Default: no.
+    fn shares_imu(&self) -> bool {
+        false
+    }
     /// Whether `--smooth` is supported.
     fn can_smooth(&self) -> bool {
         false

@@ -45,7 +45,7 @@ pub use summary::{FileSummary, ImuSummary, LogSummary};
 
 use nav_runtime::log::{
     AltitudeRow, DepthRow, DvlRow, HeadingRow, ImuRow, LogDir, LogError, LogFiles, Meta, Row,
-    RowSource, RpmRow, SliceRows, SpeedRow, TruthRow, UsblRow,
+    RowSource, RpmRow, SharedImu, SliceRows, SpeedRow, TruthRow, UsblRow,
 };
 
 /// What the preflight checks and how strictly.
@@ -130,11 +130,32 @@ pub fn check_files(
     files: &LogFiles,
     options: &PreflightOptions,
 ) -> Result<(Report, LogSummary), LogError> {
+    check_files_with(files, options, None)
+}
+
+/// [`check_files`] with `imu.csv` taken from `imu` (the rows a replay
+/// beside the check reads, [`LogFiles::share_imu`]) instead of parsed here.
+///
+/// # Errors
+/// As [`check_files`].
+pub fn check_files_with(
+    files: &LogFiles,
+    options: &PreflightOptions,
+    imu: Option<SharedImu>,
+) -> Result<(Report, LogSummary), LogError> {
     let mut scan = Scan::new(files.meta(), options);
     let mut summary = LogSummary::new(files);
-    let mut imu = files.imu()?;
-    scan.file(Some(&mut imu))?;
-    summary.add_file(&imu, scan.first_t[ImuRow::INDEX]);
+    match imu {
+        Some(mut shared) => {
+            scan.file(Some(&mut shared))?;
+            summary.add_shared_imu(&shared.stats(), scan.first_t[ImuRow::INDEX]);
+        }
+        None => {
+            let mut imu = files.imu()?;
+            scan.file(Some(&mut imu))?;
+            summary.add_file(&imu, scan.first_t[ImuRow::INDEX]);
+        }
+    }
     summary_file::<DvlRow>(files, &mut scan, &mut summary)?;
     summary_file::<DepthRow>(files, &mut scan, &mut summary)?;
     summary_file::<HeadingRow>(files, &mut scan, &mut summary)?;

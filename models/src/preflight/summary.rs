@@ -5,7 +5,7 @@
 use std::collections::BTreeMap;
 
 use nav_runtime::log::{
-    skipped_row_warnings, FileRows, ImuRow, LogDir, LogFiles, Row, SkippedRow, Warning,
+    skipped_row_warnings, FileRows, ImuRow, LogDir, LogFiles, ReadStats, Row, SkippedRow, Warning,
     MAX_SKIP_REASONS,
 };
 
@@ -170,21 +170,53 @@ impl LogSummary {
 
     /// Adds a file read to its end whose first row is at `first_t`.
     pub(super) fn add_file<R: Row>(&mut self, rows: &FileRows<R>, first_t: Option<f64>) {
-        if rows.skipped() > 0 {
-            self.skipped_rows
-                .insert(R::FILE.to_string(), rows.skipped());
+        let resolution = (0..R::COLUMNS.len()).map(|c| rows.resolution(c)).collect();
+        self.add(
+            R::FILE,
+            rows.accepted(),
+            rows.skip_reasons(),
+            rows.skipped(),
+            (first_t, rows.last().map(Row::t)),
+            resolution,
+        );
+    }
+
+    /// Adds `imu.csv` as another reader read it
+    /// ([`SharedImu`](nav_runtime::log::SharedImu)).
+    pub(super) fn add_shared_imu(&mut self, stats: &ReadStats, first_t: Option<f64>) {
+        self.add(
+            ImuRow::FILE,
+            stats.accepted,
+            &stats.skip_reasons,
+            stats.skipped,
+            (first_t, stats.last.as_ref().map(Row::t)),
+            stats.resolution.clone(),
+        );
+    }
+
+    fn add(
+        &mut self,
+        file: &'static str,
+        accepted: usize,
+        skip_reasons: &[SkippedRow],
+        skipped: usize,
+        (first_t, last_t): (Option<f64>, Option<f64>),
+        resolution: Vec<f64>,
+    ) {
+        if skipped > 0 {
+            self.skipped_rows.insert(file.to_string(), skipped);
             let room = MAX_SKIP_REASONS.saturating_sub(self.skip_reasons.len());
             self.skip_reasons
-                .extend(rows.skip_reasons().iter().take(room).cloned());
+                .extend(skip_reasons.iter().take(room).cloned());
         }
         self.files.push(FileSummary {
-            file: R::FILE,
-            rows: rows.accepted(),
-            skipped: rows.skipped(),
-            skip_reasons: rows.skip_reasons().to_vec(),
+            file,
+            rows: accepted,
+            skipped,
+            skip_reasons: skip_reasons.to_vec(),
             first_t,
-            last_t: rows.last().map(Row::t),
-            resolution: (0..R::COLUMNS.len()).map(|c| rows.resolution(c)).collect(),
+            last_t,
+            resolution,
         });
     }
 

@@ -581,7 +581,7 @@ fn alongside_the_preflight_refuses_first_and_stops_the_work() {
     // The work waits until the refusal stops the log (bounded, so a missing
     // stop fails the test instead of hanging it), then fails on its own.
     let started = Instant::now();
-    let result = super::check_alongside(&files, &sdins(), || {
+    let result = super::check_alongside(&files, &sdins(), false, || {
         while !files.stopped() && started.elapsed() < Duration::from_secs(20) {
             std::thread::sleep(Duration::from_millis(1));
         }
@@ -598,14 +598,68 @@ fn alongside_the_preflight_refuses_first_and_stops_the_work() {
     log().write(&good.0).unwrap();
     let files = LogFiles::open(&good.0, Strictness::Strict).unwrap();
     let (n, report, summary) =
-        super::check_alongside(&files, &sdins(), || Ok(7)).expect("accepted");
+        super::check_alongside(&files, &sdins(), false, || Ok(7)).expect("accepted");
     assert_eq!(n, 7);
     assert_eq!(report.errors().count(), 0);
     assert!(summary.imu_rows() > 0);
     assert!(!files.stopped());
-    let err = super::check_alongside(&files, &sdins(), || {
+    let err = super::check_alongside(&files, &sdins(), false, || {
         Err::<(), _>(RunError::Invalid("the work's own error".into()))
     })
     .expect_err("the work's error");
     assert!(err.to_string().contains("own error"), "{err}");
+}
+
+/// With the IMU shared, the preflight's findings and summary are those of
+/// reading the log itself, however much of `imu.csv` the work read: all of
+/// it, part of it (a work that stops early), or none (a work that never
+/// opens it); strict and lenient, with a bad IMU row.
+#[test]
+fn a_shared_imu_gives_the_findings_of_reading_it() {
+    use nav_runtime::log::{LogSource, RowSource};
+    let dir = Scratch::new("shared-imu");
+    let mut l = log();
+    l.imu.iter_mut().skip(40).take(30).for_each(|r| r.gx = 0.2);
+    l.write(&dir.0).unwrap();
+    let path = dir.0.join("imu.csv");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut lines: Vec<&str> = text.lines().collect();
+    lines.insert(1500, "12.3,x,0,0,0,0,-9.8");
+    std::fs::write(&path, lines.join("\n") + "\n").unwrap();
+    for strictness in [Strictness::Strict, Strictness::Lenient] {
+        let files = LogFiles::open(&dir.0, strictness).unwrap();
+        let mut options = sdins();
+        options.lenient = strictness == Strictness::Lenient;
+        let alone = check_files(&files, &options).map(|(r, s)| (format!("{r:?}"), s));
+        assert_eq!(
+            alone.is_err(),
+            strictness == Strictness::Strict,
+            "the bad row"
+        );
+        // How many IMU rows the work reads before it stops (None: to the end).
+        for read in [None, Some(0), Some(700), Some(5000)] {
+            let shared = super::check_alongside(&files, &options, true, || {
+                let source = LogSource::Files(&files);
+                let mut imu = source.imu_rows().unwrap();
+                let mut n = 0usize;
+                while read.is_none_or(|k| n < k) {
+                    match imu.next_row() {
+                        Ok(Some(_)) => n += 1,
+                        _ => break,
+                    }
+                }
+                Ok(n)
+            });
+            match (&alone, shared) {
+                (Ok((report, summary)), Ok((_, r, s))) => {
+                    assert_eq!(&format!("{r:?}"), report, "{strictness:?} {read:?}");
+                    assert_eq!(&s, summary, "{strictness:?} {read:?}");
+                }
+                (Err(a), Err(b)) => {
+                    assert_eq!(a.to_string(), b.to_string(), "{strictness:?} {read:?}")
+                }
+                (a, b) => panic!("{strictness:?} {read:?}: alone {a:?}, shared {b:?}"),
+            }
+        }
+    }
 }

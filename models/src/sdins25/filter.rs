@@ -336,11 +336,7 @@ impl LogFacts {
         source: &LogSource<'a>,
         options: &FilterOptions,
     ) -> Result<(Self, Prefetched<'a, ImuRow>, AidingHeads<'a>), RunError> {
-        let mut imu = Prefetched::new(
-            source
-                .rows::<ImuRow>()?
-                .ok_or_else(|| RunError::Invalid("imu.csv has no rows".into()))?,
-        );
+        let mut imu = Prefetched::new(source.imu_rows()?);
         // A log in memory is looked at in place (and streamed from its start
         // again); the first rows of a log on disk are read ahead once and
         // kept in `imu`, to be streamed from there.

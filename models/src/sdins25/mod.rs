@@ -647,6 +647,9 @@ impl<V: InsVehicle<N>, const N: usize> ReplayModel for InsReplay<V, N> {
     ) -> Result<ReplayOutput, RunError> {
         replay_output::replay_source::<V, N>(&LogSource::Files(files), options, out)
     }
+    fn shares_imu(&self) -> bool {
+        true
+    }
     fn can_smooth(&self) -> bool {
         true
     }

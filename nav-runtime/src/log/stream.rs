@@ -35,6 +35,9 @@ pub struct LogFiles {
     warnings: Vec<Warning>,
     /// Set by [`LogFiles::stop`]; shared by clones.
     stop: Arc<AtomicBool>,
+    /// `imu.csv` shared with a check beside the replay
+    /// ([`LogFiles::share_imu`]); shared by clones.
+    pub(super) imu_share: super::shared::Slot,
 }
 
 /// One file of a log opened for reading.
@@ -107,6 +110,7 @@ impl LogFiles {
             unknown_files,
             warnings,
             stop: Arc::default(),
+            imu_share: Arc::default(),
         })
     }
 
@@ -273,6 +277,12 @@ pub trait RowSource<R: Row> {
     /// # Errors
     /// A read error or (strict reading) a bad row.
     fn next_row(&mut self) -> Result<Option<(Option<u64>, R)>, LogError>;
+}
+
+impl<R: Row, S: RowSource<R> + ?Sized> RowSource<R> for Box<S> {
+    fn next_row(&mut self) -> Result<Option<(Option<u64>, R)>, LogError> {
+        (**self).next_row()
+    }
 }
 
 impl<R: Row, I: std::io::Read> RowSource<R> for RowReader<R, I> {
@@ -700,7 +710,24 @@ impl<'a> LogSource<'a> {
                 let log: &'a LogDir = log;
                 R::table(log).map(|rows| Box::new(SliceRows::of(log, Some(rows))) as Box<_>)
             }
-            LogSource::Files(files) => files.rows::<R>()?.map(|r| Box::new(r) as Box<_>),
+            LogSource::Files(files) => files
+                .rows::<R>()?
+                .map(|r| Box::new(super::ReadAhead::new(r)) as Box<_>),
+        })
+    }
+
+    /// `imu.csv` for a replay: from a log on disk shared with a check
+    /// beside the replay when the log shares it ([`LogFiles::share_imu`]).
+    ///
+    /// # Errors
+    /// As [`LogFiles::imu`].
+    pub fn imu_rows(&self) -> Result<Box<dyn RowSource<ImuRow> + 'a>, LogError> {
+        Ok(match self {
+            LogSource::Memory(log) => {
+                let log: &'a LogDir = log;
+                Box::new(SliceRows::of(log, Some(&log.imu[..])))
+            }
+            LogSource::Files(files) => Box::new(super::ReadAhead::new(files.imu_for_replay()?)),
         })
     }
 
