@@ -61,7 +61,7 @@ pub use mapping::{
     parse as parse_mapping, Cell, Column, InitialEstimate, Mapping, SensorMapping, Source,
     DEFAULT_GATE, MAPPING_FILE, TRUTH_FILE,
 };
-pub use run::{angle_states, ModelRun, RunOptions, SensorSummary, TruthScore};
+pub use run::{angle_states, quaternion_blocks, ModelRun, RunOptions, SensorSummary, TruthScore};
 
 /// The replay of declared model `M` (`N` states) and its registered
 /// sensors (see the module docs).

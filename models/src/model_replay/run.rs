@@ -113,6 +113,29 @@ pub fn angle_states<M: Model<N>, const N: usize>() -> [bool; N] {
     })
 }
 
+/// The blocks the model's [`Model::normalize_state`] renormalizes to unit
+/// norm (states declared `quaternion`), as index ranges: `q` and `-q` are
+/// the same attitude, so the truth score compares the estimate with the
+/// truth of the same sign.
+pub fn quaternion_blocks<M: Model<N>, const N: usize>() -> Vec<std::ops::Range<usize>> {
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < N {
+        let block = super::declared::block_of(M::STATE_NAMES[i]);
+        let end = (i..N)
+            .find(|&j| super::declared::block_of(M::STATE_NAMES[j]) != block)
+            .unwrap_or(N);
+        let mut x = SVector::<f64, N>::zeros();
+        x[i] = 2.0;
+        M::normalize_state(&mut x);
+        if end - i > 1 && (x[i] - 1.0).abs() < 1e-12 {
+            out.push(i..end);
+        }
+        i = end;
+    }
+    out
+}
+
 /// The sensor rows still to be pushed: the reader and its next row.
 struct Pending {
     rows: MappedRows,
@@ -153,6 +176,7 @@ where
     }
     let truth = MappedRows::open(dir, &mapping.truth, mapping_file, options.lenient)?;
     let angles = angle_states::<M, N>();
+    let quaternions = quaternion_blocks::<M, N>();
 
     // The epoch: `[initial] t`, else the first input row. Input rows at or
     // before it hold over intervals that end before the filter starts.
@@ -304,7 +328,7 @@ where
     let mut write =
         |t: f64, f: &Ekf<M, N>, truth: Option<&mut Truth>| -> Result<(), ModelReplayError> {
             if let Some(values) = truth.map(|tr| tr.at(t, tolerance)).transpose()?.flatten() {
-                score.add(f.state(), f.covariance(), values, &angles);
+                score.add(f.state(), f.covariance(), values, (&angles, &quaternions));
             }
             if let Some(w) = estimates.as_mut() {
                 if t - last_written >= options.output_period * (1.0 - 1e-9) {
@@ -580,11 +604,23 @@ impl<const N: usize> Score<N> {
         x: &SVector<f64, N>,
         p: &SMatrix<f64, N, N>,
         truth: &[f64],
-        angles: &[bool; N],
+        (angles, quaternions): (&[bool; N], &[std::ops::Range<usize>]),
     ) {
         let Some(has) = self.has else { return };
         if !has.iter().any(|h| *h) {
             return;
+        }
+        // A truth quaternion of the other sign is the same attitude.
+        let mut sign = [1.0; N];
+        for q in quaternions {
+            let dot: f64 = q
+                .clone()
+                .map(|i| x[i] * truth[i])
+                .filter(|v| v.is_finite())
+                .sum();
+            if dot < 0.0 {
+                q.clone().for_each(|i| sign[i] = -1.0);
+            }
         }
         // The error of the states the truth has; the others get a unit
         // variance and no error, so the NEES is that of the scored states.
@@ -592,7 +628,7 @@ impl<const N: usize> Score<N> {
         let mut ps = *p;
         for i in 0..N {
             if has[i] {
-                let d = x[i] - truth[i];
+                let d = x[i] - sign[i] * truth[i];
                 e[i] = if angles[i] { wrap_angle(d) } else { d };
             } else {
                 for j in 0..N {

@@ -5,7 +5,7 @@
 
 use std::path::PathBuf;
 
-use super::{angle_states, ModelReplay, ModelReplayError, RunOptions};
+use super::{angle_states, quaternion_blocks, ModelReplay, ModelReplayError, RunOptions};
 use crate::vehicles::rover::{rover_replay as rover, write_log, LogStyle, Rover, DRIVE_STEPS};
 
 struct TempDir(PathBuf);
@@ -589,4 +589,72 @@ fn a_discrete_model_without_inputs_replays_from_a_clock() {
     let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
     assert!((0.8..1.2).contains(&mean(&nis)), "NIS {nis:?}");
     assert!((1.5..2.6).contains(&mean(&nees)), "NEES {nees:?}");
+}
+
+nav_runtime::model! {
+    /// A spinning body: a unit quaternion driven by a gyro, an up sensor.
+    pub model Spin {
+        states { q: quaternion }
+        inputs {
+            /// Body rate, rad/s.
+            rate: 3,
+        }
+        noise {
+            /// Gyro white noise, (rad/s)^2/Hz.
+            rate_noise: 3,
+        }
+        continuous {
+            d/dt q = 0.5 * quat_mul(q, [0.0, rate[0] + rate_noise[0], rate[1] + rate_noise[1], rate[2] + rate_noise[2]]);
+        }
+        /// The vertical in body axes.
+        sensor Up: 3 { h = transpose(quat_to_dcm(q)) * [0.0, 0.0, 1.0]; }
+    }
+}
+
+/// `q` and `-q` are one attitude: a truth file with the other sign scores
+/// as the same small error, not as an error of 2.
+#[test]
+fn a_quaternion_truth_of_the_other_sign_is_the_same_attitude() {
+    use std::fmt::Write as _;
+    assert_eq!(quaternion_blocks::<Spin, 4>(), vec![0..4]);
+    assert!(quaternion_blocks::<Rover, 3>().is_empty());
+    let dir = TempDir::new("spin");
+    let w = 0.2; // rad/s about z
+    let (mut imu, mut up, mut truth) = (
+        String::from("t,wx,wy,wz\n"),
+        String::from("t,ux,uy,uz\n"),
+        String::from("t,q0,q1,q2,q3\n"),
+    );
+    for k in 0..=200 {
+        let t = k as f64 * 0.1;
+        let (s, c) = (0.5 * w * t).sin_cos();
+        writeln!(imu, "{t},0,0,{w}").unwrap();
+        writeln!(truth, "{t},{},0,0,{}", -c, -s).unwrap();
+        if k % 10 == 0 {
+            writeln!(up, "{t},0,0,1").unwrap();
+        }
+    }
+    std::fs::write(dir.0.join("imu.csv"), imu).unwrap();
+    std::fs::write(dir.0.join("up.csv"), up).unwrap();
+    std::fs::write(dir.0.join("truth.csv"), truth).unwrap();
+    std::fs::write(
+        dir.0.join("replay.toml"),
+        "[inputs]\nfile = \"imu.csv\"\n[inputs.columns]\nrate = [\"wx\", \"wy\", \"wz\"]\n\
+         [noise]\nrate_noise = 1e-8\n[initial.state]\nq = [1.0, 0.0, 0.0, 0.0]\n\
+         [initial.sigma]\nq = 0.01\n[sensors.Up]\nfile = \"up.csv\"\nz = [\"ux\", \"uy\", \"uz\"]\nsigma = 0.01\n\
+         [truth.columns]\nq = [\"q0\", \"q1\", \"q2\", \"q3\"]\n",
+    )
+    .unwrap();
+    let run = ModelReplay::<Spin, 4>::new("spin")
+        .sensor::<SpinUp, 3>()
+        .replay(&dir.0, None, &RunOptions::default(), None)
+        .unwrap();
+    let truth = run.truth.unwrap();
+    assert_eq!(truth.scored, 201);
+    for (name, rms) in &truth.rms {
+        assert!(
+            *rms < 1e-3,
+            "{name}: RMS {rms} (the sign of the truth counted as an error?)"
+        );
+    }
 }
