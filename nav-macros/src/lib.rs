@@ -111,8 +111,10 @@
 //! model-level `let`s; process noise is refused there (sensors would see it).
 //! A `let` may stand at model level, in the process section or in a sensor;
 //! anywhere else (inside `states { .. }`, at the top of the macro) is an error
-//! that says so. Blocks have no block-level `let` (write it in the block's
-//! process section or sensor).
+//! that says so. A block may have block-level `let`s too: they join the
+//! composed model's, visible to every section, and their names belong to
+//! the block like its states (another block may not declare them, nor read
+//! them through `needs`).
 //!
 //! ## Model functions
 //!
@@ -127,8 +129,9 @@
 //!
 //! Parameters take any shape (the body is checked for each call's shapes);
 //! the body sees only its parameters and may call builtins and other model
-//! functions, not itself. A function may not be named like a builtin, and
-//! blocks do not declare functions.
+//! functions, not itself. A function may not be named like a builtin. A
+//! block may declare functions as well; they belong to the block like its
+//! `let`s.
 //!
 //! ## Process sections
 //!

@@ -199,3 +199,51 @@ fn private_blocks_and_local_names() {
     assert_eq!(z[0], 2.0 * 1.5 + 0.25);
     assert_eq!(CvTick::UNUSED_STATES, &[] as &[&str]);
 }
+
+mod shared_in_blocks {
+    nav_runtime::model! {
+        /// A block with a block-level `let` and a function, seen by its
+        /// process section and its sensor.
+        pub block Spring {
+            states { x, v }
+            parameters { k }
+            noise { w }
+            fn square(a) = a * a;
+            let energy = 0.5 * (square(v) + k * square(x));
+            continuous {
+                d/dt x = v;
+                d/dt v = -k * x + w;
+            }
+            sensor Energy: 1 { h = [energy]; }
+        }
+
+        /// A second block reading the first's state; its own `let` of the
+        /// same local role has another name.
+        pub block Ruler {
+            states { ruler_bias }
+            needs { x }
+            let reading = x + ruler_bias;
+            sensor Ruler: 1 { h = [reading]; }
+        }
+
+        pub model Oscillator = Spring + Ruler;
+    }
+}
+
+#[test]
+fn block_level_lets_and_functions_compose() {
+    use shared_in_blocks::{Oscillator, OscillatorEnergy, OscillatorParams, OscillatorRuler};
+    let x = SVector::from([0.5, -2.0, 0.1]);
+    let u = <Oscillator as Model<3>>::Input::default();
+    let p = OscillatorParams { k: 4.0 };
+    let e = OscillatorEnergy::predict(&x, &u, &p, &());
+    assert!((e[0] - 0.5 * (4.0 + 4.0 * 0.25)).abs() < 1e-12, "{e}");
+    let r = OscillatorRuler::predict(&x, &u, &p, &());
+    assert!((r[0] - 0.6).abs() < 1e-12, "{r}");
+    // d energy / d (x, v) = (k x, v).
+    let h = OscillatorEnergy::jacobian(&x, &u, &p, &());
+    assert!(
+        (h[(0, 0)] - 2.0).abs() < 1e-12 && (h[(0, 1)] + 2.0).abs() < 1e-12,
+        "{h}"
+    );
+}

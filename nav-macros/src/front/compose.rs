@@ -138,7 +138,8 @@ pub fn step(step: Step) -> syn::Result<TokenStream> {
 struct Owner {
     block: usize,
     kind: &'static str,
-    shape: Shape,
+    /// `None` for a block-level `let` or function, which no `needs` reads.
+    shape: Option<Shape>,
 }
 
 /// One declaration from the blocks, or the errors of the assembly. Also
@@ -209,10 +210,40 @@ fn assemble(
                             Owner {
                                 block: b,
                                 kind,
-                                shape: v.shape,
+                                shape: Some(v.shape),
                             },
                         );
                     }
+                }
+            }
+        }
+        // Block-level `let`s and functions join the model's: their names,
+        // too, belong to one block.
+        let shared = block
+            .lets
+            .iter()
+            .map(|(n, _)| ("`let`", n))
+            .chain(block.functions.iter().map(|f| ("function", &f.name)));
+        for (kind, ident) in shared {
+            let name = ident.to_string();
+            match owners.get(&name) {
+                Some(prev) => cx.error_spanned_by(
+                    &c.blocks[b],
+                    format!(
+                        "block `{}` declares the {kind} `{name}`, which block `{}` declares as a {}: every name of \
+                         a model belongs to one block (rename one of them)",
+                        block.name, block_names[prev.block], prev.kind
+                    ),
+                ),
+                None => {
+                    owners.insert(
+                        name,
+                        Owner {
+                            block: b,
+                            kind,
+                            shape: None,
+                        },
+                    );
                 }
             }
         }
@@ -257,11 +288,27 @@ fn assemble(
                         ),
                     );
                 }
-                Some(owner) if owner.shape != need.shape => cx.error_at(
+                Some(Owner {
+                    block: owner,
+                    kind,
+                    shape: None,
+                }) => cx.error_spanned_by(
+                    &need.name,
+                    format!(
+                        "block `{}` needs `{name}`, which block `{}` declares as a {kind}: `needs` reads states, \
+                         inputs and parameters of other blocks, not their `let`s or functions",
+                        block.name, block_names[*owner]
+                    ),
+                ),
+                Some(Owner {
+                    block: owner,
+                    shape: Some(shape),
+                    ..
+                }) if *shape != need.shape => cx.error_at(
                     need.shape_span,
                     format!(
-                        "block `{}` needs `{name}` as a {}, but block `{}` declares it as a {}",
-                        block.name, need.shape, block_names[owner.block], owner.shape
+                        "block `{}` needs `{name}` as a {}, but block `{}` declares it as a {shape}",
+                        block.name, need.shape, block_names[*owner]
                     ),
                 ),
                 Some(_) => {}
@@ -431,6 +478,8 @@ fn assemble(
         decl.inputs.extend(block.inputs);
         decl.params.extend(block.params);
         decl.noise.extend(block.noise);
+        decl.lets.extend(block.lets);
+        decl.functions.extend(block.functions);
         if let (Some(p), Some(bp)) = (&mut decl.process, block.process) {
             p.stmts.extend(bp.stmts);
         }

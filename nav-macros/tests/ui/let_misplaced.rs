@@ -27,11 +27,4 @@ nav_runtime::model! {
     }
 }
 
-nav_runtime::model! {
-    pub block Part {
-        states { b }
-        let twice = 2.0 * b;
-    }
-}
-
 fn main() {}

@@ -301,24 +301,10 @@ fn parse_sections(
         while !body.is_empty() {
             let attrs = body.call(Attribute::parse_outer)?;
             if body.peek(Token![fn]) {
-                let span = body.span();
-                if is_block {
-                    return Err(syn::Error::new(
-                        span,
-                        "functions are declared in models, not in blocks",
-                    ));
-                }
                 decl.functions.push(parse_function(body)?);
                 continue;
             }
             if body.peek(Token![let]) {
-                let span = body.span();
-                if is_block {
-                    return Err(syn::Error::new(
-                        span,
-                        "a block has no block-level `let`: write it in the block's process section or sensor",
-                    ));
-                }
                 match body.parse::<Stmt>()? {
                     Stmt::Let { name, value } => decl.lets.push((name, value)),
                     Stmt::Assign { .. } => unreachable!("`let` parses as a let statement"),
