@@ -174,74 +174,52 @@ fn assemble(
         if skip[b] {
             continue;
         }
+        // Every declared name, block-level `let`s and functions included
+        // (those have no shape: no `needs` reads them).
         let kinds: [(&'static str, &[Var]); 4] = [
             ("state", &block.states),
             ("input", &block.inputs),
             ("parameter", &block.params),
             ("noise input", &block.noise),
         ];
-        for (kind, vars) in kinds {
-            for v in vars {
-                let name = v.name.to_string();
-                match owners.get(&name) {
-                    Some(prev) => {
-                        let what = if prev.kind == kind {
-                            format!(
-                                "blocks `{}` and `{}` both declare the {kind} `{name}`",
-                                block_names[prev.block], block.name
-                            )
-                        } else {
-                            format!(
-                                "block `{}` declares the {kind} `{name}`, which block `{}` declares as a {}",
-                                block.name, block_names[prev.block], prev.kind
-                            )
-                        };
-                        cx.error_spanned_by(
-                            &c.blocks[b],
-                            format!(
-                                "{what}: every name of a model belongs to one block (a block that reads another \
-                                 block's name lists it in its `needs {{ .. }}`)"
-                            ),
-                        )
-                    }
-                    None => {
-                        owners.insert(
-                            name,
-                            Owner {
-                                block: b,
-                                kind,
-                                shape: Some(v.shape),
-                            },
-                        );
-                    }
-                }
-            }
-        }
-        // Block-level `let`s and functions join the model's: their names,
-        // too, belong to one block.
-        let shared = block
-            .lets
-            .iter()
-            .map(|(n, _)| ("`let`", n))
-            .chain(block.functions.iter().map(|f| ("function", &f.name)));
-        for (kind, ident) in shared {
+        let declared = kinds
+            .into_iter()
+            .flat_map(|(kind, vars)| vars.iter().map(move |v| (kind, &v.name, Some(v.shape))))
+            .chain(block.lets.iter().map(|(n, _)| ("`let`", n, None)))
+            .chain(block.functions.iter().map(|f| ("function", &f.name, None)));
+        for (kind, ident, shape) in declared {
             let name = ident.to_string();
             match owners.get(&name) {
-                Some(prev) => cx.error_spanned_by(
-                    &c.blocks[b],
-                    format!(
-                        "block `{}` declares the {kind} `{name}`, which block `{}` declares as a {}: every name of \
-                         a model belongs to one block (rename one of them)",
-                        block.name, block_names[prev.block], prev.kind
-                    ),
-                ),
+                Some(prev) => {
+                    let what = if prev.kind == kind {
+                        format!(
+                            "blocks `{}` and `{}` both declare the {kind} `{name}`",
+                            block_names[prev.block], block.name
+                        )
+                    } else {
+                        format!(
+                            "block `{}` declares the {kind} `{name}`, which block `{}` declares as a {}",
+                            block.name, block_names[prev.block], prev.kind
+                        )
+                    };
+                    let remedy = match shape {
+                        Some(_) => {
+                            "a block that reads another block's name lists it in its `needs { .. }`"
+                        }
+                        None => "rename one of them",
+                    };
+                    cx.error_spanned_by(
+                        &c.blocks[b],
+                        format!("{what}: every name of a model belongs to one block ({remedy})"),
+                    )
+                }
                 None => {
                     owners.insert(
                         name,
                         Owner {
                             block: b,
                             kind,
-                            shape: None,
+                            shape,
                         },
                     );
                 }

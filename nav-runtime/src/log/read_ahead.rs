@@ -61,11 +61,7 @@ impl<S: RowSource<R>, R: Row> RowSource<R> for ReadAhead<S, R> {
             return Ok(Some(row));
         }
         match self.error.take() {
-            Some(e) => {
-                // Reading may go on after a refused row (lenient callers
-                // stop at the error anyway; strict readers end here).
-                Err(e)
-            }
+            Some(e) => Err(e),
             None => Ok(None),
         }
     }
