@@ -37,9 +37,9 @@ impl ::nav_runtime::model::Record for Leveling6State {
         "gravity_direction[2]",
     ];
     fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
-        let mut v = [0.0f64; 6];
+        let mut v: [f64; 6] = [0.0; 6];
         for (i, slot) in v.iter_mut().enumerate() {
-            *slot = f(i);
+            *slot = <f64 as ::nav_runtime::Real>::of(f(i));
         }
         Self {
             velocity: ::nav_runtime::nalgebra::SVector::<
@@ -54,12 +54,12 @@ impl ::nav_runtime::model::Record for Leveling6State {
     }
     fn get(&self, i: usize) -> f64 {
         match i {
-            0 => self.velocity[0],
-            1 => self.velocity[1],
-            2 => self.velocity[2],
-            3 => self.gravity_direction[0],
-            4 => self.gravity_direction[1],
-            5 => self.gravity_direction[2],
+            0 => <f64 as ::nav_runtime::Real>::to_f64(self.velocity[0]),
+            1 => <f64 as ::nav_runtime::Real>::to_f64(self.velocity[1]),
+            2 => <f64 as ::nav_runtime::Real>::to_f64(self.velocity[2]),
+            3 => <f64 as ::nav_runtime::Real>::to_f64(self.gravity_direction[0]),
+            4 => <f64 as ::nav_runtime::Real>::to_f64(self.gravity_direction[1]),
+            5 => <f64 as ::nav_runtime::Real>::to_f64(self.gravity_direction[2]),
             _ => f64::NAN,
         }
     }
@@ -68,7 +68,9 @@ impl ::nav_runtime::model::Record for Leveling6State {
 impl Leveling6State {
     /// The state from its vector (declaration order).
     pub fn from_vector(v: &::nav_runtime::nalgebra::SVector<f64, 6>) -> Self {
-        <Self as ::nav_runtime::model::Record>::from_fn(|i| v[i])
+        <Self as ::nav_runtime::model::Record>::from_fn(|i| <f64 as ::nav_runtime::Real>::to_f64(
+            v[i],
+        ))
     }
     /// The state as a vector (declaration order).
     pub fn to_vector(&self) -> ::nav_runtime::nalgebra::SVector<f64, 6> {
@@ -113,9 +115,9 @@ impl ::nav_runtime::model::Record for Leveling6Input {
         "earth_rate_body[2]",
     ];
     fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
-        let mut v = [0.0f64; 9];
+        let mut v: [f64; 9] = [0.0; 9];
         for (i, slot) in v.iter_mut().enumerate() {
-            *slot = f(i);
+            *slot = <f64 as ::nav_runtime::Real>::of(f(i));
         }
         Self {
             gyro: ::nav_runtime::nalgebra::SVector::<
@@ -134,15 +136,15 @@ impl ::nav_runtime::model::Record for Leveling6Input {
     }
     fn get(&self, i: usize) -> f64 {
         match i {
-            0 => self.gyro[0],
-            1 => self.gyro[1],
-            2 => self.gyro[2],
-            3 => self.specific_force[0],
-            4 => self.specific_force[1],
-            5 => self.specific_force[2],
-            6 => self.earth_rate_body[0],
-            7 => self.earth_rate_body[1],
-            8 => self.earth_rate_body[2],
+            0 => <f64 as ::nav_runtime::Real>::to_f64(self.gyro[0]),
+            1 => <f64 as ::nav_runtime::Real>::to_f64(self.gyro[1]),
+            2 => <f64 as ::nav_runtime::Real>::to_f64(self.gyro[2]),
+            3 => <f64 as ::nav_runtime::Real>::to_f64(self.specific_force[0]),
+            4 => <f64 as ::nav_runtime::Real>::to_f64(self.specific_force[1]),
+            5 => <f64 as ::nav_runtime::Real>::to_f64(self.specific_force[2]),
+            6 => <f64 as ::nav_runtime::Real>::to_f64(self.earth_rate_body[0]),
+            7 => <f64 as ::nav_runtime::Real>::to_f64(self.earth_rate_body[1]),
+            8 => <f64 as ::nav_runtime::Real>::to_f64(self.earth_rate_body[2]),
             _ => f64::NAN,
         }
     }
@@ -159,15 +161,15 @@ impl ::nav_runtime::model::Record for Leveling6Params {
     const LEN: usize = 1;
     const NAMES: &'static [&'static str] = &["gravity"];
     fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
-        let mut v = [0.0f64; 1];
+        let mut v: [f64; 1] = [0.0; 1];
         for (i, slot) in v.iter_mut().enumerate() {
-            *slot = f(i);
+            *slot = <f64 as ::nav_runtime::Real>::of(f(i));
         }
         Self { gravity: v[0] }
     }
     fn get(&self, i: usize) -> f64 {
         match i {
-            0 => self.gravity,
+            0 => <f64 as ::nav_runtime::Real>::to_f64(self.gravity),
             _ => f64::NAN,
         }
     }
@@ -193,9 +195,9 @@ impl ::nav_runtime::model::Record for Leveling6Noise {
         "gyro_noise[2]",
     ];
     fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
-        let mut v = [0.0f64; 6];
+        let mut v: [f64; 6] = [0.0; 6];
         for (i, slot) in v.iter_mut().enumerate() {
-            *slot = f(i);
+            *slot = <f64 as ::nav_runtime::Real>::of(f(i));
         }
         Self {
             accel_noise: ::nav_runtime::nalgebra::SVector::<
@@ -210,12 +212,12 @@ impl ::nav_runtime::model::Record for Leveling6Noise {
     }
     fn get(&self, i: usize) -> f64 {
         match i {
-            0 => self.accel_noise[0],
-            1 => self.accel_noise[1],
-            2 => self.accel_noise[2],
-            3 => self.gyro_noise[0],
-            4 => self.gyro_noise[1],
-            5 => self.gyro_noise[2],
+            0 => <f64 as ::nav_runtime::Real>::to_f64(self.accel_noise[0]),
+            1 => <f64 as ::nav_runtime::Real>::to_f64(self.accel_noise[1]),
+            2 => <f64 as ::nav_runtime::Real>::to_f64(self.accel_noise[2]),
+            3 => <f64 as ::nav_runtime::Real>::to_f64(self.gyro_noise[0]),
+            4 => <f64 as ::nav_runtime::Real>::to_f64(self.gyro_noise[1]),
+            5 => <f64 as ::nav_runtime::Real>::to_f64(self.gyro_noise[2]),
             _ => f64::NAN,
         }
     }
@@ -333,7 +335,7 @@ Total ops: 3*/
     }
 }
 #[allow(clippy::possible_missing_comma)]
-impl ::nav_runtime::model::Model<6> for Leveling6 {
+impl ::nav_runtime::model::Model<6, f64> for Leveling6 {
     type Input = Leveling6Input;
     type Params = Leveling6Params;
     type Noise = Leveling6Noise;
@@ -565,7 +567,7 @@ impl Leveling6Moving {
     pub const OPS_INNOVATION_TERMS: usize = 43;
 }
 #[allow(clippy::possible_missing_comma)]
-impl ::nav_runtime::model::Sensor<6, 2> for Leveling6Moving {
+impl ::nav_runtime::model::Sensor<6, 2, f64> for Leveling6Moving {
     type Model = Leveling6;
     type Aux = ();
     const NAME: &'static str = "Moving";
@@ -673,7 +675,7 @@ impl Leveling6Stationary {
     pub const OPS_INNOVATION_TERMS: usize = 43;
 }
 #[allow(clippy::possible_missing_comma)]
-impl ::nav_runtime::model::Sensor<6, 4> for Leveling6Stationary {
+impl ::nav_runtime::model::Sensor<6, 4, f64> for Leveling6Stationary {
     type Model = Leveling6;
     type Aux = ();
     const NAME: &'static str = "Stationary";
@@ -797,23 +799,31 @@ mod __leveling6_generated_tests {
     use super::*;
     use ::nav_runtime::model::{Model, Record, Sensor};
     use ::nav_runtime::nalgebra::{SMatrix, SVector};
+    /// The model's scalar.
+    type S = f64;
+    /// Finite-difference step (relative), tolerance of a Jacobian entry
+    /// against it, and tolerance of the sparse covariance algebra
+    /// against dense products, for this scalar's precision.
+    const FD_STEP: S = 1e-6;
+    const FD_TOLERANCE: S = 1e-6;
+    const RELATIVE: S = 1e-12;
     const N: usize = 6;
     const NW: usize = 6;
     /// Points checked per test.
     const POINTS: usize = 6;
-    /// Random draws tried to find them (points with non-finite values are skipped).
+    /// Random draws tried to find them (points with non-finite values, or a kink within a step, are skipped).
     const ATTEMPTS: usize = 400;
     /// Calls `check` at random `(x, u, p, dt)` (it draws anything else from
-    /// `rng`) until `POINTS` points had finite values (`check` returns true
+    /// `rng`) until `POINTS` points were usable (`check` returns true
     /// for those); fails if none had.
     fn at_random_points(
         seed: u64,
         mut check: impl FnMut(
             &mut SplitMix64,
-            SVector<f64, N>,
+            SVector<S, N>,
             Leveling6Input,
             Leveling6Params,
-            f64,
+            S,
         ) -> bool,
     ) {
         let mut rng = SplitMix64(seed);
@@ -847,84 +857,100 @@ mod __leveling6_generated_tests {
             ((self.next_u64() >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
         }
     }
-    fn abs(v: f64) -> f64 {
+    fn abs(v: S) -> S {
         ::nav_runtime::math::abs(v)
+    }
+    /// A uniform draw in [-1, 1] in the model's scalar.
+    fn draw(rng: &mut SplitMix64) -> S {
+        <S as ::nav_runtime::Real>::of(rng.uniform())
     }
     fn random_record<R: Record>(rng: &mut SplitMix64) -> R {
         R::from_fn(|_| rng.uniform())
     }
-    fn random_vector<const K: usize>(rng: &mut SplitMix64) -> SVector<f64, K> {
-        SVector::<f64, K>::from_fn(|_, _| rng.uniform())
+    fn random_vector<const K: usize>(rng: &mut SplitMix64) -> SVector<S, K> {
+        SVector::<S, K>::from_fn(|_, _| draw(rng))
     }
-    fn random_dt(rng: &mut SplitMix64) -> f64 {
-        0.01 + 0.1 * abs(rng.uniform())
+    fn random_dt(rng: &mut SplitMix64) -> S {
+        0.01 + 0.1 * abs(draw(rng))
     }
     /// A random symmetric positive definite matrix `L L^T + I`.
-    fn random_covariance(rng: &mut SplitMix64) -> SMatrix<f64, N, N> {
-        let l = SMatrix::<f64, N, N>::from_fn(|_, _| rng.uniform());
-        l * l.transpose() + SMatrix::<f64, N, N>::identity()
+    fn random_covariance(rng: &mut SplitMix64) -> SMatrix<S, N, N> {
+        let l = SMatrix::<S, N, N>::from_fn(|_, _| draw(rng));
+        l * l.transpose() + SMatrix::<S, N, N>::identity()
     }
     /// The upper triangle of `m`, NaN below (generated code must not read it).
-    fn upper_only(m: &SMatrix<f64, N, N>) -> SMatrix<f64, N, N> {
-        SMatrix::<f64, N, N>::from_fn(|i, j| if i <= j { m[(i, j)] } else { f64::NAN })
+    fn upper_only(m: &SMatrix<S, N, N>) -> SMatrix<S, N, N> {
+        SMatrix::<S, N, N>::from_fn(|i, j| if i <= j { m[(i, j)] } else { S::NAN })
     }
-    fn finite<const R: usize, const C: usize>(m: &SMatrix<f64, R, C>) -> bool {
+    fn finite<const R: usize, const C: usize>(m: &SMatrix<S, R, C>) -> bool {
         m.iter().all(|v| v.is_finite())
     }
-    /// Central differences with step `1e-6 (1 + |x_j|)`, and for each entry
+    /// Central differences with step `FD_STEP (1 + |x_j|)`, and for each entry
     /// the rounding bound `4 eps |f| / step` of the difference quotient
-    /// (it matters only for outputs of order 1e6, such as Earth radii).
+    /// (it matters only for outputs of order 1e6, such as Earth radii, or
+    /// in `f32`). `None` where the step straddles a kink of a non-smooth
+    /// function (`min`, `max`, `clamp`, `abs`, `sign`): the one-sided
+    /// quotients then disagree by far more than curvature explains, and
+    /// the central one is no derivative.
     fn fd_jacobian<const R: usize, const C: usize>(
-        x: &SVector<f64, C>,
-        f: impl Fn(&SVector<f64, C>) -> SVector<f64, R>,
-    ) -> (SMatrix<f64, R, C>, SMatrix<f64, R, C>) {
-        let mut out = SMatrix::<f64, R, C>::zeros();
-        let mut rounding = SMatrix::<f64, R, C>::zeros();
+        x: &SVector<S, C>,
+        f: impl Fn(&SVector<S, C>) -> SVector<S, R>,
+    ) -> Option<(SMatrix<S, R, C>, SMatrix<S, R, C>)> {
+        let mut out = SMatrix::<S, R, C>::zeros();
+        let mut rounding = SMatrix::<S, R, C>::zeros();
+        let f0 = f(x);
         for j in 0..C {
-            let h = 1e-6 * (1.0 + abs(x[j]));
+            let h = FD_STEP * (1.0 + abs(x[j]));
             let (mut xp, mut xm) = (*x, *x);
             xp[j] += h;
             xm[j] -= h;
             let (fp, fm) = (f(&xp), f(&xm));
             let col = (fp - fm) / (xp[j] - xm[j]);
-            out.set_column(j, &col);
             for r in 0..R {
                 let big = if abs(fp[r]) > abs(fm[r]) { abs(fp[r]) } else { abs(fm[r]) };
-                rounding[(r, j)] = 4.0 * f64::EPSILON * big / h;
+                rounding[(r, j)] = 4.0 * S::EPSILON * big / h;
+                let forward = (fp[r] - f0[r]) / (xp[j] - x[j]);
+                let backward = (f0[r] - fm[r]) / (x[j] - xm[j]);
+                if abs(forward - backward)
+                    > 0.25 * (1.0 + abs(col[r])) + 4.0 * rounding[(r, j)]
+                {
+                    return None;
+                }
             }
+            out.set_column(j, &col);
         }
-        (out, rounding)
+        Some((out, rounding))
     }
-    /// `|J - J_fd| <= 1e-6 (1 + |J|)` entrywise (plus the rounding bound).
+    /// `|J - J_fd| <= FD_TOLERANCE (1 + |J|)` entrywise (plus the rounding bound).
     fn assert_close_fd<const R: usize, const C: usize>(
         what: &str,
-        j: &SMatrix<f64, R, C>,
-        (fd, rounding): &(SMatrix<f64, R, C>, SMatrix<f64, R, C>),
+        j: &SMatrix<S, R, C>,
+        (fd, rounding): &(SMatrix<S, R, C>, SMatrix<S, R, C>),
     ) {
         for r in 0..R {
             for c in 0..C {
                 let (a, b) = (j[(r, c)], fd[(r, c)]);
                 assert!(
-                    abs(a - b) <= 1e-6 * (1.0 + abs(a)) + rounding[(r, c)],
+                    abs(a - b) <= FD_TOLERANCE * (1.0 + abs(a)) + rounding[(r, c)],
                     "{what}[({r}, {c})]: generated {a} vs finite differences {b}"
                 );
             }
         }
     }
-    /// Equal to `1e-12` relative to the largest entry of `want`.
+    /// Equal to `RELATIVE` relative to the largest entry of `want`.
     fn assert_close_rel<const R: usize, const C: usize>(
         what: &str,
-        got: &SMatrix<f64, R, C>,
-        want: &SMatrix<f64, R, C>,
+        got: &SMatrix<S, R, C>,
+        want: &SMatrix<S, R, C>,
     ) {
         let scale = want
             .iter()
-            .fold(1.0f64, |m, v| if abs(*v) > m { abs(*v) } else { m });
+            .fold(1.0 as S, |m, v| if abs(*v) > m { abs(*v) } else { m });
         for r in 0..R {
             for c in 0..C {
                 let (a, b) = (got[(r, c)], want[(r, c)]);
                 assert!(
-                    abs(a - b) <= 1e-12 * scale,
+                    abs(a - b) <= RELATIVE * scale,
                     "{what}[({r}, {c})]: generated {a} vs dense {b}"
                 );
             }
@@ -932,7 +958,7 @@ mod __leveling6_generated_tests {
     }
     fn assert_sparsity<const R: usize, const C: usize>(
         what: &str,
-        j: &SMatrix<f64, R, C>,
+        j: &SMatrix<S, R, C>,
         sparsity: &[[bool; C]; R],
     ) {
         for r in 0..R {
@@ -949,9 +975,9 @@ mod __leveling6_generated_tests {
         at_random_points(
             0x5eed_0000,
             |rng, x, u, p, dt| {
-                let jac = <Leveling6 as Model<N>>::jacobian(&x, &u, &p, dt);
-                let f = |x: &SVector<f64, N>| Leveling6::derivative(x, &u, &p);
-                let fd = fd_jacobian(&x, f);
+                let jac = <Leveling6 as Model<N, S>>::jacobian(&x, &u, &p, dt);
+                let f = |x: &SVector<S, N>| Leveling6::derivative(x, &u, &p);
+                let Some(fd) = fd_jacobian(&x, f) else { return false };
                 if !finite(&f(&x)) || !finite(&jac) || !finite(&fd.0) {
                     return false;
                 }
@@ -959,7 +985,7 @@ mod __leveling6_generated_tests {
                 assert_sparsity(
                     "jacobian",
                     &jac,
-                    &<Leveling6 as Model<N>>::JACOBIAN_SPARSITY,
+                    &<Leveling6 as Model<N, S>>::JACOBIAN_SPARSITY,
                 );
                 true
             },
@@ -971,15 +997,15 @@ mod __leveling6_generated_tests {
             0x5eed_0001,
             |rng, x, u, p, dt| {
                 let g = Leveling6::noise_jacobian(&x, &u, &p, dt);
-                let f = |w: &SVector<f64, NW>| Leveling6::process_with_noise(
+                let f = |w: &SVector<S, NW>| Leveling6::process_with_noise(
                     &x,
                     &u,
                     &p,
                     w,
                     dt,
                 );
-                let w0 = SVector::<f64, NW>::zeros();
-                let fd = fd_jacobian(&w0, f);
+                let w0 = SVector::<S, NW>::zeros();
+                let Some(fd) = fd_jacobian(&w0, f) else { return false };
                 if !finite(&f(&w0)) || !finite(&g) || !finite(&fd.0) {
                     return false;
                 }
@@ -993,28 +1019,31 @@ mod __leveling6_generated_tests {
         at_random_points(
             0x5eed_0004,
             |rng, x, u, p, dt| {
-                let q: Leveling6Noise = <Leveling6Noise as Record>::from_fn(|_| abs(
+                let q: Leveling6Noise = <Leveling6Noise as Record>::from_fn(|_| ::nav_runtime::math::abs(
                     rng.uniform(),
                 ));
                 let cov = random_covariance(rng);
-                let jac = <Leveling6 as Model<N>>::jacobian(&x, &u, &p, dt);
+                let jac = <Leveling6 as Model<N, S>>::jacobian(&x, &u, &p, dt);
                 let g = Leveling6::noise_jacobian(&x, &u, &p, dt);
                 if !finite(&jac) || !finite(&g) {
                     return false;
                 }
                 let qdiag = SMatrix::<
-                    f64,
+                    S,
                     NW,
                     NW,
-                >::from_fn(|i, j| if i == j { q.get(i) } else { 0.0 });
+                >::from_fn(|i, j| {
+                    if i == j { <S as ::nav_runtime::Real>::of(q.get(i)) } else { 0.0 }
+                });
                 let qd_dense = g * qdiag * g.transpose() * dt;
-                let qd = <Leveling6 as Model<N>>::process_noise(&x, &u, &p, &q, dt);
+                let qd = <Leveling6 as Model<N, S>>::process_noise(&x, &u, &p, &q, dt);
                 assert_close_rel("process_noise", &qd, &qd_dense);
-                let phi = SMatrix::<f64, N, N>::identity() + jac * dt;
+                let phi = SMatrix::<S, N, N>::identity() + jac * dt;
                 let dense = phi * cov * phi.transpose() + qd_dense;
                 let mut got = cov;
                 <Leveling6 as Model<
                     N,
+                    S,
                 >>::propagate_covariance(&mut got, &x, &u, &p, &q, dt);
                 assert_close_rel("propagate_covariance", &got, &dense);
                 assert_eq!(
@@ -1031,23 +1060,28 @@ mod __leveling6_generated_tests {
         let s = Leveling6State::from_vector(&x);
         assert_eq!(s.to_vector(), x);
         for i in 0..N {
-            assert_eq!(s.get(i), x[i]);
+            assert_eq!(s.get(i), < S as ::nav_runtime::Real > ::to_f64(x[i]));
         }
-        assert_eq!(<< Leveling6 as Model < N >> ::State as Record > ::NAMES.len(), N);
-        assert_eq!(< Leveling6 as Model < N >> ::STATE_NAMES.len(), N);
+        assert_eq!(<< Leveling6 as Model < N, S >> ::State as Record > ::NAMES.len(), N);
+        assert_eq!(< Leveling6 as Model < N, S >> ::STATE_NAMES.len(), N);
     }
     #[test]
     fn sensor_moving_jacobian_matches_finite_differences() {
         at_random_points(
             0x5eed_0002,
             |rng, x, u, p, dt| {
-                let aux: <Leveling6Moving as Sensor<N, 2>>::Aux = random_record(rng);
-                let jac = <Leveling6Moving as Sensor<N, 2>>::jacobian(&x, &u, &p, &aux);
-                let h = |x: &SVector<f64, N>| <Leveling6Moving as Sensor<
+                let aux: <Leveling6Moving as Sensor<N, 2, S>>::Aux = random_record(rng);
+                let jac = <Leveling6Moving as Sensor<
                     N,
                     2,
+                    S,
+                >>::jacobian(&x, &u, &p, &aux);
+                let h = |x: &SVector<S, N>| <Leveling6Moving as Sensor<
+                    N,
+                    2,
+                    S,
                 >>::predict(x, &u, &p, &aux);
-                let fd = fd_jacobian(&x, h);
+                let Some(fd) = fd_jacobian(&x, h) else { return false };
                 if !finite(&h(&x)) || !finite(&jac) || !finite(&fd.0) {
                     return false;
                 }
@@ -1059,7 +1093,7 @@ mod __leveling6_generated_tests {
                 assert_sparsity(
                     concat!(stringify!(Leveling6Moving), "::jacobian"),
                     &jac,
-                    &<Leveling6Moving as Sensor<N, 2>>::JACOBIAN_SPARSITY,
+                    &<Leveling6Moving as Sensor<N, 2, S>>::JACOBIAN_SPARSITY,
                 );
                 true
             },
@@ -1070,16 +1104,25 @@ mod __leveling6_generated_tests {
         at_random_points(
             0x5eed_0003,
             |rng, x, u, p, dt| {
-                let aux: <Leveling6Moving as Sensor<N, 2>>::Aux = random_record(rng);
+                let aux: <Leveling6Moving as Sensor<N, 2, S>>::Aux = random_record(rng);
                 let cov = random_covariance(rng);
-                let hjac = <Leveling6Moving as Sensor<N, 2>>::jacobian(&x, &u, &p, &aux);
-                let pred = <Leveling6Moving as Sensor<N, 2>>::predict(&x, &u, &p, &aux);
+                let hjac = <Leveling6Moving as Sensor<
+                    N,
+                    2,
+                    S,
+                >>::jacobian(&x, &u, &p, &aux);
+                let pred = <Leveling6Moving as Sensor<
+                    N,
+                    2,
+                    S,
+                >>::predict(&x, &u, &p, &aux);
                 if !finite(&hjac) || !finite(&pred) {
                     return false;
                 }
                 let (h, pht, s) = <Leveling6Moving as Sensor<
                     N,
                     2,
+                    S,
                 >>::innovation_terms(&upper_only(&cov), &x, &u, &p, &aux);
                 assert_close_rel("h", &h, &pred);
                 assert_close_rel("P H^T", &pht, &(cov * hjac.transpose()));
@@ -1094,16 +1137,20 @@ mod __leveling6_generated_tests {
         at_random_points(
             0x5eed_0002,
             |rng, x, u, p, dt| {
-                let aux: <Leveling6Stationary as Sensor<N, 4>>::Aux = random_record(rng);
+                let aux: <Leveling6Stationary as Sensor<N, 4, S>>::Aux = random_record(
+                    rng,
+                );
                 let jac = <Leveling6Stationary as Sensor<
                     N,
                     4,
+                    S,
                 >>::jacobian(&x, &u, &p, &aux);
-                let h = |x: &SVector<f64, N>| <Leveling6Stationary as Sensor<
+                let h = |x: &SVector<S, N>| <Leveling6Stationary as Sensor<
                     N,
                     4,
+                    S,
                 >>::predict(x, &u, &p, &aux);
-                let fd = fd_jacobian(&x, h);
+                let Some(fd) = fd_jacobian(&x, h) else { return false };
                 if !finite(&h(&x)) || !finite(&jac) || !finite(&fd.0) {
                     return false;
                 }
@@ -1115,7 +1162,7 @@ mod __leveling6_generated_tests {
                 assert_sparsity(
                     concat!(stringify!(Leveling6Stationary), "::jacobian"),
                     &jac,
-                    &<Leveling6Stationary as Sensor<N, 4>>::JACOBIAN_SPARSITY,
+                    &<Leveling6Stationary as Sensor<N, 4, S>>::JACOBIAN_SPARSITY,
                 );
                 true
             },
@@ -1126,15 +1173,19 @@ mod __leveling6_generated_tests {
         at_random_points(
             0x5eed_0003,
             |rng, x, u, p, dt| {
-                let aux: <Leveling6Stationary as Sensor<N, 4>>::Aux = random_record(rng);
+                let aux: <Leveling6Stationary as Sensor<N, 4, S>>::Aux = random_record(
+                    rng,
+                );
                 let cov = random_covariance(rng);
                 let hjac = <Leveling6Stationary as Sensor<
                     N,
                     4,
+                    S,
                 >>::jacobian(&x, &u, &p, &aux);
                 let pred = <Leveling6Stationary as Sensor<
                     N,
                     4,
+                    S,
                 >>::predict(&x, &u, &p, &aux);
                 if !finite(&hjac) || !finite(&pred) {
                     return false;
@@ -1142,6 +1193,7 @@ mod __leveling6_generated_tests {
                 let (h, pht, s) = <Leveling6Stationary as Sensor<
                     N,
                     4,
+                    S,
                 >>::innovation_terms(&upper_only(&cov), &x, &u, &p, &aux);
                 assert_close_rel("h", &h, &pred);
                 assert_close_rel("P H^T", &pht, &(cov * hjac.transpose()));

@@ -47,9 +47,9 @@ impl ::nav_runtime::model::Record for Marker9State {
         "euler[2]",
     ];
     fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
-        let mut v = [0.0f64; 9];
+        let mut v: [f64; 9] = [0.0; 9];
         for (i, slot) in v.iter_mut().enumerate() {
-            *slot = f(i);
+            *slot = <f64 as ::nav_runtime::Real>::of(f(i));
         }
         Self {
             position: ::nav_runtime::nalgebra::SVector::<
@@ -68,15 +68,15 @@ impl ::nav_runtime::model::Record for Marker9State {
     }
     fn get(&self, i: usize) -> f64 {
         match i {
-            0 => self.position[0],
-            1 => self.position[1],
-            2 => self.position[2],
-            3 => self.velocity[0],
-            4 => self.velocity[1],
-            5 => self.velocity[2],
-            6 => self.euler[0],
-            7 => self.euler[1],
-            8 => self.euler[2],
+            0 => <f64 as ::nav_runtime::Real>::to_f64(self.position[0]),
+            1 => <f64 as ::nav_runtime::Real>::to_f64(self.position[1]),
+            2 => <f64 as ::nav_runtime::Real>::to_f64(self.position[2]),
+            3 => <f64 as ::nav_runtime::Real>::to_f64(self.velocity[0]),
+            4 => <f64 as ::nav_runtime::Real>::to_f64(self.velocity[1]),
+            5 => <f64 as ::nav_runtime::Real>::to_f64(self.velocity[2]),
+            6 => <f64 as ::nav_runtime::Real>::to_f64(self.euler[0]),
+            7 => <f64 as ::nav_runtime::Real>::to_f64(self.euler[1]),
+            8 => <f64 as ::nav_runtime::Real>::to_f64(self.euler[2]),
             _ => f64::NAN,
         }
     }
@@ -85,7 +85,9 @@ impl ::nav_runtime::model::Record for Marker9State {
 impl Marker9State {
     /// The state from its vector (declaration order).
     pub fn from_vector(v: &::nav_runtime::nalgebra::SVector<f64, 9>) -> Self {
-        <Self as ::nav_runtime::model::Record>::from_fn(|i| v[i])
+        <Self as ::nav_runtime::model::Record>::from_fn(|i| <f64 as ::nav_runtime::Real>::to_f64(
+            v[i],
+        ))
     }
     /// The state as a vector (declaration order).
     pub fn to_vector(&self) -> ::nav_runtime::nalgebra::SVector<f64, 9> {
@@ -128,9 +130,9 @@ impl ::nav_runtime::model::Record for Marker9Input {
         "acceleration[2]",
     ];
     fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
-        let mut v = [0.0f64; 6];
+        let mut v: [f64; 6] = [0.0; 6];
         for (i, slot) in v.iter_mut().enumerate() {
-            *slot = f(i);
+            *slot = <f64 as ::nav_runtime::Real>::of(f(i));
         }
         Self {
             gyro: ::nav_runtime::nalgebra::SVector::<
@@ -145,12 +147,12 @@ impl ::nav_runtime::model::Record for Marker9Input {
     }
     fn get(&self, i: usize) -> f64 {
         match i {
-            0 => self.gyro[0],
-            1 => self.gyro[1],
-            2 => self.gyro[2],
-            3 => self.acceleration[0],
-            4 => self.acceleration[1],
-            5 => self.acceleration[2],
+            0 => <f64 as ::nav_runtime::Real>::to_f64(self.gyro[0]),
+            1 => <f64 as ::nav_runtime::Real>::to_f64(self.gyro[1]),
+            2 => <f64 as ::nav_runtime::Real>::to_f64(self.gyro[2]),
+            3 => <f64 as ::nav_runtime::Real>::to_f64(self.acceleration[0]),
+            4 => <f64 as ::nav_runtime::Real>::to_f64(self.acceleration[1]),
+            5 => <f64 as ::nav_runtime::Real>::to_f64(self.acceleration[2]),
             _ => f64::NAN,
         }
     }
@@ -164,9 +166,9 @@ impl ::nav_runtime::model::Record for Marker9Params {
     const LEN: usize = 0;
     const NAMES: &'static [&'static str] = &[];
     fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
-        let mut v = [0.0f64; 0];
+        let mut v: [f64; 0] = [0.0; 0];
         for (i, slot) in v.iter_mut().enumerate() {
-            *slot = f(i);
+            *slot = <f64 as ::nav_runtime::Real>::of(f(i));
         }
         Self {}
     }
@@ -197,9 +199,9 @@ impl ::nav_runtime::model::Record for Marker9Noise {
         "attitude_noise[2]",
     ];
     fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
-        let mut v = [0.0f64; 6];
+        let mut v: [f64; 6] = [0.0; 6];
         for (i, slot) in v.iter_mut().enumerate() {
-            *slot = f(i);
+            *slot = <f64 as ::nav_runtime::Real>::of(f(i));
         }
         Self {
             velocity_noise: ::nav_runtime::nalgebra::SVector::<
@@ -214,12 +216,12 @@ impl ::nav_runtime::model::Record for Marker9Noise {
     }
     fn get(&self, i: usize) -> f64 {
         match i {
-            0 => self.velocity_noise[0],
-            1 => self.velocity_noise[1],
-            2 => self.velocity_noise[2],
-            3 => self.attitude_noise[0],
-            4 => self.attitude_noise[1],
-            5 => self.attitude_noise[2],
+            0 => <f64 as ::nav_runtime::Real>::to_f64(self.velocity_noise[0]),
+            1 => <f64 as ::nav_runtime::Real>::to_f64(self.velocity_noise[1]),
+            2 => <f64 as ::nav_runtime::Real>::to_f64(self.velocity_noise[2]),
+            3 => <f64 as ::nav_runtime::Real>::to_f64(self.attitude_noise[0]),
+            4 => <f64 as ::nav_runtime::Real>::to_f64(self.attitude_noise[1]),
+            5 => <f64 as ::nav_runtime::Real>::to_f64(self.attitude_noise[2]),
             _ => f64::NAN,
         }
     }
@@ -245,9 +247,9 @@ impl ::nav_runtime::model::Record for Marker9MarkerRelativeAux {
         "lever_arm[2]",
     ];
     fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
-        let mut v = [0.0f64; 6];
+        let mut v: [f64; 6] = [0.0; 6];
         for (i, slot) in v.iter_mut().enumerate() {
-            *slot = f(i);
+            *slot = <f64 as ::nav_runtime::Real>::of(f(i));
         }
         Self {
             marker: ::nav_runtime::nalgebra::SVector::<
@@ -262,12 +264,12 @@ impl ::nav_runtime::model::Record for Marker9MarkerRelativeAux {
     }
     fn get(&self, i: usize) -> f64 {
         match i {
-            0 => self.marker[0],
-            1 => self.marker[1],
-            2 => self.marker[2],
-            3 => self.lever_arm[0],
-            4 => self.lever_arm[1],
-            5 => self.lever_arm[2],
+            0 => <f64 as ::nav_runtime::Real>::to_f64(self.marker[0]),
+            1 => <f64 as ::nav_runtime::Real>::to_f64(self.marker[1]),
+            2 => <f64 as ::nav_runtime::Real>::to_f64(self.marker[2]),
+            3 => <f64 as ::nav_runtime::Real>::to_f64(self.lever_arm[0]),
+            4 => <f64 as ::nav_runtime::Real>::to_f64(self.lever_arm[1]),
+            5 => <f64 as ::nav_runtime::Real>::to_f64(self.lever_arm[2]),
             _ => f64::NAN,
         }
     }
@@ -374,7 +376,7 @@ Total ops: 0*/
     }
 }
 #[allow(clippy::possible_missing_comma)]
-impl ::nav_runtime::model::Model<9> for Marker9 {
+impl ::nav_runtime::model::Model<9, f64> for Marker9 {
     type Input = Marker9Input;
     type Params = Marker9Params;
     type Noise = Marker9Noise;
@@ -832,7 +834,7 @@ impl Marker9Dvl {
     pub const OPS_INNOVATION_TERMS: usize = 0;
 }
 #[allow(clippy::possible_missing_comma)]
-impl ::nav_runtime::model::Sensor<9, 3> for Marker9Dvl {
+impl ::nav_runtime::model::Sensor<9, 3, f64> for Marker9Dvl {
     type Model = Marker9;
     type Aux = ();
     const NAME: &'static str = "Dvl";
@@ -953,7 +955,7 @@ impl Marker9Depth {
     pub const OPS_INNOVATION_TERMS: usize = 0;
 }
 #[allow(clippy::possible_missing_comma)]
-impl ::nav_runtime::model::Sensor<9, 1> for Marker9Depth {
+impl ::nav_runtime::model::Sensor<9, 1, f64> for Marker9Depth {
     type Model = Marker9;
     type Aux = ();
     const NAME: &'static str = "Depth";
@@ -1046,7 +1048,7 @@ impl Marker9MarkerFix {
     pub const OPS_INNOVATION_TERMS: usize = 0;
 }
 #[allow(clippy::possible_missing_comma)]
-impl ::nav_runtime::model::Sensor<9, 2> for Marker9MarkerFix {
+impl ::nav_runtime::model::Sensor<9, 2, f64> for Marker9MarkerFix {
     type Model = Marker9;
     type Aux = ();
     const NAME: &'static str = "MarkerFix";
@@ -1154,7 +1156,7 @@ impl Marker9MarkerRelative {
     pub const OPS_INNOVATION_TERMS: usize = 419;
 }
 #[allow(clippy::possible_missing_comma)]
-impl ::nav_runtime::model::Sensor<9, 3> for Marker9MarkerRelative {
+impl ::nav_runtime::model::Sensor<9, 3, f64> for Marker9MarkerRelative {
     type Model = Marker9;
     type Aux = Marker9MarkerRelativeAux;
     const NAME: &'static str = "MarkerRelative";
@@ -1431,23 +1433,31 @@ mod __marker9_generated_tests {
     use super::*;
     use ::nav_runtime::model::{Model, Record, Sensor};
     use ::nav_runtime::nalgebra::{SMatrix, SVector};
+    /// The model's scalar.
+    type S = f64;
+    /// Finite-difference step (relative), tolerance of a Jacobian entry
+    /// against it, and tolerance of the sparse covariance algebra
+    /// against dense products, for this scalar's precision.
+    const FD_STEP: S = 1e-6;
+    const FD_TOLERANCE: S = 1e-6;
+    const RELATIVE: S = 1e-12;
     const N: usize = 9;
     const NW: usize = 6;
     /// Points checked per test.
     const POINTS: usize = 6;
-    /// Random draws tried to find them (points with non-finite values are skipped).
+    /// Random draws tried to find them (points with non-finite values, or a kink within a step, are skipped).
     const ATTEMPTS: usize = 400;
     /// Calls `check` at random `(x, u, p, dt)` (it draws anything else from
-    /// `rng`) until `POINTS` points had finite values (`check` returns true
+    /// `rng`) until `POINTS` points were usable (`check` returns true
     /// for those); fails if none had.
     fn at_random_points(
         seed: u64,
         mut check: impl FnMut(
             &mut SplitMix64,
-            SVector<f64, N>,
+            SVector<S, N>,
             Marker9Input,
             Marker9Params,
-            f64,
+            S,
         ) -> bool,
     ) {
         let mut rng = SplitMix64(seed);
@@ -1481,84 +1491,100 @@ mod __marker9_generated_tests {
             ((self.next_u64() >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
         }
     }
-    fn abs(v: f64) -> f64 {
+    fn abs(v: S) -> S {
         ::nav_runtime::math::abs(v)
+    }
+    /// A uniform draw in [-1, 1] in the model's scalar.
+    fn draw(rng: &mut SplitMix64) -> S {
+        <S as ::nav_runtime::Real>::of(rng.uniform())
     }
     fn random_record<R: Record>(rng: &mut SplitMix64) -> R {
         R::from_fn(|_| rng.uniform())
     }
-    fn random_vector<const K: usize>(rng: &mut SplitMix64) -> SVector<f64, K> {
-        SVector::<f64, K>::from_fn(|_, _| rng.uniform())
+    fn random_vector<const K: usize>(rng: &mut SplitMix64) -> SVector<S, K> {
+        SVector::<S, K>::from_fn(|_, _| draw(rng))
     }
-    fn random_dt(rng: &mut SplitMix64) -> f64 {
-        0.01 + 0.1 * abs(rng.uniform())
+    fn random_dt(rng: &mut SplitMix64) -> S {
+        0.01 + 0.1 * abs(draw(rng))
     }
     /// A random symmetric positive definite matrix `L L^T + I`.
-    fn random_covariance(rng: &mut SplitMix64) -> SMatrix<f64, N, N> {
-        let l = SMatrix::<f64, N, N>::from_fn(|_, _| rng.uniform());
-        l * l.transpose() + SMatrix::<f64, N, N>::identity()
+    fn random_covariance(rng: &mut SplitMix64) -> SMatrix<S, N, N> {
+        let l = SMatrix::<S, N, N>::from_fn(|_, _| draw(rng));
+        l * l.transpose() + SMatrix::<S, N, N>::identity()
     }
     /// The upper triangle of `m`, NaN below (generated code must not read it).
-    fn upper_only(m: &SMatrix<f64, N, N>) -> SMatrix<f64, N, N> {
-        SMatrix::<f64, N, N>::from_fn(|i, j| if i <= j { m[(i, j)] } else { f64::NAN })
+    fn upper_only(m: &SMatrix<S, N, N>) -> SMatrix<S, N, N> {
+        SMatrix::<S, N, N>::from_fn(|i, j| if i <= j { m[(i, j)] } else { S::NAN })
     }
-    fn finite<const R: usize, const C: usize>(m: &SMatrix<f64, R, C>) -> bool {
+    fn finite<const R: usize, const C: usize>(m: &SMatrix<S, R, C>) -> bool {
         m.iter().all(|v| v.is_finite())
     }
-    /// Central differences with step `1e-6 (1 + |x_j|)`, and for each entry
+    /// Central differences with step `FD_STEP (1 + |x_j|)`, and for each entry
     /// the rounding bound `4 eps |f| / step` of the difference quotient
-    /// (it matters only for outputs of order 1e6, such as Earth radii).
+    /// (it matters only for outputs of order 1e6, such as Earth radii, or
+    /// in `f32`). `None` where the step straddles a kink of a non-smooth
+    /// function (`min`, `max`, `clamp`, `abs`, `sign`): the one-sided
+    /// quotients then disagree by far more than curvature explains, and
+    /// the central one is no derivative.
     fn fd_jacobian<const R: usize, const C: usize>(
-        x: &SVector<f64, C>,
-        f: impl Fn(&SVector<f64, C>) -> SVector<f64, R>,
-    ) -> (SMatrix<f64, R, C>, SMatrix<f64, R, C>) {
-        let mut out = SMatrix::<f64, R, C>::zeros();
-        let mut rounding = SMatrix::<f64, R, C>::zeros();
+        x: &SVector<S, C>,
+        f: impl Fn(&SVector<S, C>) -> SVector<S, R>,
+    ) -> Option<(SMatrix<S, R, C>, SMatrix<S, R, C>)> {
+        let mut out = SMatrix::<S, R, C>::zeros();
+        let mut rounding = SMatrix::<S, R, C>::zeros();
+        let f0 = f(x);
         for j in 0..C {
-            let h = 1e-6 * (1.0 + abs(x[j]));
+            let h = FD_STEP * (1.0 + abs(x[j]));
             let (mut xp, mut xm) = (*x, *x);
             xp[j] += h;
             xm[j] -= h;
             let (fp, fm) = (f(&xp), f(&xm));
             let col = (fp - fm) / (xp[j] - xm[j]);
-            out.set_column(j, &col);
             for r in 0..R {
                 let big = if abs(fp[r]) > abs(fm[r]) { abs(fp[r]) } else { abs(fm[r]) };
-                rounding[(r, j)] = 4.0 * f64::EPSILON * big / h;
+                rounding[(r, j)] = 4.0 * S::EPSILON * big / h;
+                let forward = (fp[r] - f0[r]) / (xp[j] - x[j]);
+                let backward = (f0[r] - fm[r]) / (x[j] - xm[j]);
+                if abs(forward - backward)
+                    > 0.25 * (1.0 + abs(col[r])) + 4.0 * rounding[(r, j)]
+                {
+                    return None;
+                }
             }
+            out.set_column(j, &col);
         }
-        (out, rounding)
+        Some((out, rounding))
     }
-    /// `|J - J_fd| <= 1e-6 (1 + |J|)` entrywise (plus the rounding bound).
+    /// `|J - J_fd| <= FD_TOLERANCE (1 + |J|)` entrywise (plus the rounding bound).
     fn assert_close_fd<const R: usize, const C: usize>(
         what: &str,
-        j: &SMatrix<f64, R, C>,
-        (fd, rounding): &(SMatrix<f64, R, C>, SMatrix<f64, R, C>),
+        j: &SMatrix<S, R, C>,
+        (fd, rounding): &(SMatrix<S, R, C>, SMatrix<S, R, C>),
     ) {
         for r in 0..R {
             for c in 0..C {
                 let (a, b) = (j[(r, c)], fd[(r, c)]);
                 assert!(
-                    abs(a - b) <= 1e-6 * (1.0 + abs(a)) + rounding[(r, c)],
+                    abs(a - b) <= FD_TOLERANCE * (1.0 + abs(a)) + rounding[(r, c)],
                     "{what}[({r}, {c})]: generated {a} vs finite differences {b}"
                 );
             }
         }
     }
-    /// Equal to `1e-12` relative to the largest entry of `want`.
+    /// Equal to `RELATIVE` relative to the largest entry of `want`.
     fn assert_close_rel<const R: usize, const C: usize>(
         what: &str,
-        got: &SMatrix<f64, R, C>,
-        want: &SMatrix<f64, R, C>,
+        got: &SMatrix<S, R, C>,
+        want: &SMatrix<S, R, C>,
     ) {
         let scale = want
             .iter()
-            .fold(1.0f64, |m, v| if abs(*v) > m { abs(*v) } else { m });
+            .fold(1.0 as S, |m, v| if abs(*v) > m { abs(*v) } else { m });
         for r in 0..R {
             for c in 0..C {
                 let (a, b) = (got[(r, c)], want[(r, c)]);
                 assert!(
-                    abs(a - b) <= 1e-12 * scale,
+                    abs(a - b) <= RELATIVE * scale,
                     "{what}[({r}, {c})]: generated {a} vs dense {b}"
                 );
             }
@@ -1566,7 +1592,7 @@ mod __marker9_generated_tests {
     }
     fn assert_sparsity<const R: usize, const C: usize>(
         what: &str,
-        j: &SMatrix<f64, R, C>,
+        j: &SMatrix<S, R, C>,
         sparsity: &[[bool; C]; R],
     ) {
         for r in 0..R {
@@ -1583,11 +1609,12 @@ mod __marker9_generated_tests {
         at_random_points(
             0x5eed_0000,
             |rng, x, u, p, dt| {
-                let jac = <Marker9 as Model<N>>::jacobian(&x, &u, &p, dt);
-                let f = |x: &SVector<f64, N>| <Marker9 as Model<
+                let jac = <Marker9 as Model<N, S>>::jacobian(&x, &u, &p, dt);
+                let f = |x: &SVector<S, N>| <Marker9 as Model<
                     N,
+                    S,
                 >>::transition(x, &u, &p, dt);
-                let fd = fd_jacobian(&x, f);
+                let Some(fd) = fd_jacobian(&x, f) else { return false };
                 if !finite(&f(&x)) || !finite(&jac) || !finite(&fd.0) {
                     return false;
                 }
@@ -1595,7 +1622,7 @@ mod __marker9_generated_tests {
                 assert_sparsity(
                     "jacobian",
                     &jac,
-                    &<Marker9 as Model<N>>::JACOBIAN_SPARSITY,
+                    &<Marker9 as Model<N, S>>::JACOBIAN_SPARSITY,
                 );
                 true
             },
@@ -1607,15 +1634,15 @@ mod __marker9_generated_tests {
             0x5eed_0001,
             |rng, x, u, p, dt| {
                 let g = Marker9::noise_jacobian(&x, &u, &p, dt);
-                let f = |w: &SVector<f64, NW>| Marker9::process_with_noise(
+                let f = |w: &SVector<S, NW>| Marker9::process_with_noise(
                     &x,
                     &u,
                     &p,
                     w,
                     dt,
                 );
-                let w0 = SVector::<f64, NW>::zeros();
-                let fd = fd_jacobian(&w0, f);
+                let w0 = SVector::<S, NW>::zeros();
+                let Some(fd) = fd_jacobian(&w0, f) else { return false };
                 if !finite(&f(&w0)) || !finite(&g) || !finite(&fd.0) {
                     return false;
                 }
@@ -1629,28 +1656,31 @@ mod __marker9_generated_tests {
         at_random_points(
             0x5eed_0004,
             |rng, x, u, p, dt| {
-                let q: Marker9Noise = <Marker9Noise as Record>::from_fn(|_| abs(
+                let q: Marker9Noise = <Marker9Noise as Record>::from_fn(|_| ::nav_runtime::math::abs(
                     rng.uniform(),
                 ));
                 let cov = random_covariance(rng);
-                let jac = <Marker9 as Model<N>>::jacobian(&x, &u, &p, dt);
+                let jac = <Marker9 as Model<N, S>>::jacobian(&x, &u, &p, dt);
                 let g = Marker9::noise_jacobian(&x, &u, &p, dt);
                 if !finite(&jac) || !finite(&g) {
                     return false;
                 }
                 let qdiag = SMatrix::<
-                    f64,
+                    S,
                     NW,
                     NW,
-                >::from_fn(|i, j| if i == j { q.get(i) } else { 0.0 });
+                >::from_fn(|i, j| {
+                    if i == j { <S as ::nav_runtime::Real>::of(q.get(i)) } else { 0.0 }
+                });
                 let qd_dense = g * qdiag * g.transpose() * 1.0;
-                let qd = <Marker9 as Model<N>>::process_noise(&x, &u, &p, &q, dt);
+                let qd = <Marker9 as Model<N, S>>::process_noise(&x, &u, &p, &q, dt);
                 assert_close_rel("process_noise", &qd, &qd_dense);
                 let phi = jac;
                 let dense = phi * cov * phi.transpose() + qd_dense;
                 let mut got = cov;
                 <Marker9 as Model<
                     N,
+                    S,
                 >>::propagate_covariance(&mut got, &x, &u, &p, &q, dt);
                 assert_close_rel("propagate_covariance", &got, &dense);
                 assert_eq!(
@@ -1667,23 +1697,24 @@ mod __marker9_generated_tests {
         let s = Marker9State::from_vector(&x);
         assert_eq!(s.to_vector(), x);
         for i in 0..N {
-            assert_eq!(s.get(i), x[i]);
+            assert_eq!(s.get(i), < S as ::nav_runtime::Real > ::to_f64(x[i]));
         }
-        assert_eq!(<< Marker9 as Model < N >> ::State as Record > ::NAMES.len(), N);
-        assert_eq!(< Marker9 as Model < N >> ::STATE_NAMES.len(), N);
+        assert_eq!(<< Marker9 as Model < N, S >> ::State as Record > ::NAMES.len(), N);
+        assert_eq!(< Marker9 as Model < N, S >> ::STATE_NAMES.len(), N);
     }
     #[test]
     fn sensor_dvl_jacobian_matches_finite_differences() {
         at_random_points(
             0x5eed_0002,
             |rng, x, u, p, dt| {
-                let aux: <Marker9Dvl as Sensor<N, 3>>::Aux = random_record(rng);
-                let jac = <Marker9Dvl as Sensor<N, 3>>::jacobian(&x, &u, &p, &aux);
-                let h = |x: &SVector<f64, N>| <Marker9Dvl as Sensor<
+                let aux: <Marker9Dvl as Sensor<N, 3, S>>::Aux = random_record(rng);
+                let jac = <Marker9Dvl as Sensor<N, 3, S>>::jacobian(&x, &u, &p, &aux);
+                let h = |x: &SVector<S, N>| <Marker9Dvl as Sensor<
                     N,
                     3,
+                    S,
                 >>::predict(x, &u, &p, &aux);
-                let fd = fd_jacobian(&x, h);
+                let Some(fd) = fd_jacobian(&x, h) else { return false };
                 if !finite(&h(&x)) || !finite(&jac) || !finite(&fd.0) {
                     return false;
                 }
@@ -1695,7 +1726,7 @@ mod __marker9_generated_tests {
                 assert_sparsity(
                     concat!(stringify!(Marker9Dvl), "::jacobian"),
                     &jac,
-                    &<Marker9Dvl as Sensor<N, 3>>::JACOBIAN_SPARSITY,
+                    &<Marker9Dvl as Sensor<N, 3, S>>::JACOBIAN_SPARSITY,
                 );
                 true
             },
@@ -1706,16 +1737,17 @@ mod __marker9_generated_tests {
         at_random_points(
             0x5eed_0003,
             |rng, x, u, p, dt| {
-                let aux: <Marker9Dvl as Sensor<N, 3>>::Aux = random_record(rng);
+                let aux: <Marker9Dvl as Sensor<N, 3, S>>::Aux = random_record(rng);
                 let cov = random_covariance(rng);
-                let hjac = <Marker9Dvl as Sensor<N, 3>>::jacobian(&x, &u, &p, &aux);
-                let pred = <Marker9Dvl as Sensor<N, 3>>::predict(&x, &u, &p, &aux);
+                let hjac = <Marker9Dvl as Sensor<N, 3, S>>::jacobian(&x, &u, &p, &aux);
+                let pred = <Marker9Dvl as Sensor<N, 3, S>>::predict(&x, &u, &p, &aux);
                 if !finite(&hjac) || !finite(&pred) {
                     return false;
                 }
                 let (h, pht, s) = <Marker9Dvl as Sensor<
                     N,
                     3,
+                    S,
                 >>::innovation_terms(&upper_only(&cov), &x, &u, &p, &aux);
                 assert_close_rel("h", &h, &pred);
                 assert_close_rel("P H^T", &pht, &(cov * hjac.transpose()));
@@ -1730,13 +1762,14 @@ mod __marker9_generated_tests {
         at_random_points(
             0x5eed_0002,
             |rng, x, u, p, dt| {
-                let aux: <Marker9Depth as Sensor<N, 1>>::Aux = random_record(rng);
-                let jac = <Marker9Depth as Sensor<N, 1>>::jacobian(&x, &u, &p, &aux);
-                let h = |x: &SVector<f64, N>| <Marker9Depth as Sensor<
+                let aux: <Marker9Depth as Sensor<N, 1, S>>::Aux = random_record(rng);
+                let jac = <Marker9Depth as Sensor<N, 1, S>>::jacobian(&x, &u, &p, &aux);
+                let h = |x: &SVector<S, N>| <Marker9Depth as Sensor<
                     N,
                     1,
+                    S,
                 >>::predict(x, &u, &p, &aux);
-                let fd = fd_jacobian(&x, h);
+                let Some(fd) = fd_jacobian(&x, h) else { return false };
                 if !finite(&h(&x)) || !finite(&jac) || !finite(&fd.0) {
                     return false;
                 }
@@ -1748,7 +1781,7 @@ mod __marker9_generated_tests {
                 assert_sparsity(
                     concat!(stringify!(Marker9Depth), "::jacobian"),
                     &jac,
-                    &<Marker9Depth as Sensor<N, 1>>::JACOBIAN_SPARSITY,
+                    &<Marker9Depth as Sensor<N, 1, S>>::JACOBIAN_SPARSITY,
                 );
                 true
             },
@@ -1759,16 +1792,17 @@ mod __marker9_generated_tests {
         at_random_points(
             0x5eed_0003,
             |rng, x, u, p, dt| {
-                let aux: <Marker9Depth as Sensor<N, 1>>::Aux = random_record(rng);
+                let aux: <Marker9Depth as Sensor<N, 1, S>>::Aux = random_record(rng);
                 let cov = random_covariance(rng);
-                let hjac = <Marker9Depth as Sensor<N, 1>>::jacobian(&x, &u, &p, &aux);
-                let pred = <Marker9Depth as Sensor<N, 1>>::predict(&x, &u, &p, &aux);
+                let hjac = <Marker9Depth as Sensor<N, 1, S>>::jacobian(&x, &u, &p, &aux);
+                let pred = <Marker9Depth as Sensor<N, 1, S>>::predict(&x, &u, &p, &aux);
                 if !finite(&hjac) || !finite(&pred) {
                     return false;
                 }
                 let (h, pht, s) = <Marker9Depth as Sensor<
                     N,
                     1,
+                    S,
                 >>::innovation_terms(&upper_only(&cov), &x, &u, &p, &aux);
                 assert_close_rel("h", &h, &pred);
                 assert_close_rel("P H^T", &pht, &(cov * hjac.transpose()));
@@ -1783,13 +1817,18 @@ mod __marker9_generated_tests {
         at_random_points(
             0x5eed_0002,
             |rng, x, u, p, dt| {
-                let aux: <Marker9MarkerFix as Sensor<N, 2>>::Aux = random_record(rng);
-                let jac = <Marker9MarkerFix as Sensor<N, 2>>::jacobian(&x, &u, &p, &aux);
-                let h = |x: &SVector<f64, N>| <Marker9MarkerFix as Sensor<
+                let aux: <Marker9MarkerFix as Sensor<N, 2, S>>::Aux = random_record(rng);
+                let jac = <Marker9MarkerFix as Sensor<
                     N,
                     2,
+                    S,
+                >>::jacobian(&x, &u, &p, &aux);
+                let h = |x: &SVector<S, N>| <Marker9MarkerFix as Sensor<
+                    N,
+                    2,
+                    S,
                 >>::predict(x, &u, &p, &aux);
-                let fd = fd_jacobian(&x, h);
+                let Some(fd) = fd_jacobian(&x, h) else { return false };
                 if !finite(&h(&x)) || !finite(&jac) || !finite(&fd.0) {
                     return false;
                 }
@@ -1801,7 +1840,7 @@ mod __marker9_generated_tests {
                 assert_sparsity(
                     concat!(stringify!(Marker9MarkerFix), "::jacobian"),
                     &jac,
-                    &<Marker9MarkerFix as Sensor<N, 2>>::JACOBIAN_SPARSITY,
+                    &<Marker9MarkerFix as Sensor<N, 2, S>>::JACOBIAN_SPARSITY,
                 );
                 true
             },
@@ -1812,19 +1851,25 @@ mod __marker9_generated_tests {
         at_random_points(
             0x5eed_0003,
             |rng, x, u, p, dt| {
-                let aux: <Marker9MarkerFix as Sensor<N, 2>>::Aux = random_record(rng);
+                let aux: <Marker9MarkerFix as Sensor<N, 2, S>>::Aux = random_record(rng);
                 let cov = random_covariance(rng);
                 let hjac = <Marker9MarkerFix as Sensor<
                     N,
                     2,
+                    S,
                 >>::jacobian(&x, &u, &p, &aux);
-                let pred = <Marker9MarkerFix as Sensor<N, 2>>::predict(&x, &u, &p, &aux);
+                let pred = <Marker9MarkerFix as Sensor<
+                    N,
+                    2,
+                    S,
+                >>::predict(&x, &u, &p, &aux);
                 if !finite(&hjac) || !finite(&pred) {
                     return false;
                 }
                 let (h, pht, s) = <Marker9MarkerFix as Sensor<
                     N,
                     2,
+                    S,
                 >>::innovation_terms(&upper_only(&cov), &x, &u, &p, &aux);
                 assert_close_rel("h", &h, &pred);
                 assert_close_rel("P H^T", &pht, &(cov * hjac.transpose()));
@@ -1839,18 +1884,20 @@ mod __marker9_generated_tests {
         at_random_points(
             0x5eed_0002,
             |rng, x, u, p, dt| {
-                let aux: <Marker9MarkerRelative as Sensor<N, 3>>::Aux = random_record(
+                let aux: <Marker9MarkerRelative as Sensor<N, 3, S>>::Aux = random_record(
                     rng,
                 );
                 let jac = <Marker9MarkerRelative as Sensor<
                     N,
                     3,
+                    S,
                 >>::jacobian(&x, &u, &p, &aux);
-                let h = |x: &SVector<f64, N>| <Marker9MarkerRelative as Sensor<
+                let h = |x: &SVector<S, N>| <Marker9MarkerRelative as Sensor<
                     N,
                     3,
+                    S,
                 >>::predict(x, &u, &p, &aux);
-                let fd = fd_jacobian(&x, h);
+                let Some(fd) = fd_jacobian(&x, h) else { return false };
                 if !finite(&h(&x)) || !finite(&jac) || !finite(&fd.0) {
                     return false;
                 }
@@ -1862,7 +1909,7 @@ mod __marker9_generated_tests {
                 assert_sparsity(
                     concat!(stringify!(Marker9MarkerRelative), "::jacobian"),
                     &jac,
-                    &<Marker9MarkerRelative as Sensor<N, 3>>::JACOBIAN_SPARSITY,
+                    &<Marker9MarkerRelative as Sensor<N, 3, S>>::JACOBIAN_SPARSITY,
                 );
                 true
             },
@@ -1873,17 +1920,19 @@ mod __marker9_generated_tests {
         at_random_points(
             0x5eed_0003,
             |rng, x, u, p, dt| {
-                let aux: <Marker9MarkerRelative as Sensor<N, 3>>::Aux = random_record(
+                let aux: <Marker9MarkerRelative as Sensor<N, 3, S>>::Aux = random_record(
                     rng,
                 );
                 let cov = random_covariance(rng);
                 let hjac = <Marker9MarkerRelative as Sensor<
                     N,
                     3,
+                    S,
                 >>::jacobian(&x, &u, &p, &aux);
                 let pred = <Marker9MarkerRelative as Sensor<
                     N,
                     3,
+                    S,
                 >>::predict(&x, &u, &p, &aux);
                 if !finite(&hjac) || !finite(&pred) {
                     return false;
@@ -1891,6 +1940,7 @@ mod __marker9_generated_tests {
                 let (h, pht, s) = <Marker9MarkerRelative as Sensor<
                     N,
                     3,
+                    S,
                 >>::innovation_terms(&upper_only(&cov), &x, &u, &p, &aux);
                 assert_close_rel("h", &h, &pred);
                 assert_close_rel("P H^T", &pht, &(cov * hjac.transpose()));

@@ -81,9 +81,9 @@ impl ::nav_runtime::model::Record for Sdins25State {
         "usbl_misalignment[2]",
     ];
     fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
-        let mut v = [0.0f64; 25];
+        let mut v: [f64; 25] = [0.0; 25];
         for (i, slot) in v.iter_mut().enumerate() {
-            *slot = f(i);
+            *slot = <f64 as ::nav_runtime::Real>::of(f(i));
         }
         Self {
             position_error: ::nav_runtime::nalgebra::SVector::<
@@ -124,31 +124,31 @@ impl ::nav_runtime::model::Record for Sdins25State {
     }
     fn get(&self, i: usize) -> f64 {
         match i {
-            0 => self.position_error[0],
-            1 => self.position_error[1],
-            2 => self.position_error[2],
-            3 => self.velocity_error[0],
-            4 => self.velocity_error[1],
-            5 => self.velocity_error[2],
-            6 => self.attitude_error[0],
-            7 => self.attitude_error[1],
-            8 => self.attitude_error[2],
-            9 => self.accel_bias[0],
-            10 => self.accel_bias[1],
-            11 => self.accel_bias[2],
-            12 => self.gyro_bias[0],
-            13 => self.gyro_bias[1],
-            14 => self.gyro_bias[2],
-            15 => self.usbl_bias[0],
-            16 => self.usbl_bias[1],
-            17 => self.depth_bias,
-            18 => self.dvl_bias[0],
-            19 => self.dvl_bias[1],
-            20 => self.dvl_bias[2],
-            21 => self.compass_bias,
-            22 => self.usbl_misalignment[0],
-            23 => self.usbl_misalignment[1],
-            24 => self.usbl_misalignment[2],
+            0 => <f64 as ::nav_runtime::Real>::to_f64(self.position_error[0]),
+            1 => <f64 as ::nav_runtime::Real>::to_f64(self.position_error[1]),
+            2 => <f64 as ::nav_runtime::Real>::to_f64(self.position_error[2]),
+            3 => <f64 as ::nav_runtime::Real>::to_f64(self.velocity_error[0]),
+            4 => <f64 as ::nav_runtime::Real>::to_f64(self.velocity_error[1]),
+            5 => <f64 as ::nav_runtime::Real>::to_f64(self.velocity_error[2]),
+            6 => <f64 as ::nav_runtime::Real>::to_f64(self.attitude_error[0]),
+            7 => <f64 as ::nav_runtime::Real>::to_f64(self.attitude_error[1]),
+            8 => <f64 as ::nav_runtime::Real>::to_f64(self.attitude_error[2]),
+            9 => <f64 as ::nav_runtime::Real>::to_f64(self.accel_bias[0]),
+            10 => <f64 as ::nav_runtime::Real>::to_f64(self.accel_bias[1]),
+            11 => <f64 as ::nav_runtime::Real>::to_f64(self.accel_bias[2]),
+            12 => <f64 as ::nav_runtime::Real>::to_f64(self.gyro_bias[0]),
+            13 => <f64 as ::nav_runtime::Real>::to_f64(self.gyro_bias[1]),
+            14 => <f64 as ::nav_runtime::Real>::to_f64(self.gyro_bias[2]),
+            15 => <f64 as ::nav_runtime::Real>::to_f64(self.usbl_bias[0]),
+            16 => <f64 as ::nav_runtime::Real>::to_f64(self.usbl_bias[1]),
+            17 => <f64 as ::nav_runtime::Real>::to_f64(self.depth_bias),
+            18 => <f64 as ::nav_runtime::Real>::to_f64(self.dvl_bias[0]),
+            19 => <f64 as ::nav_runtime::Real>::to_f64(self.dvl_bias[1]),
+            20 => <f64 as ::nav_runtime::Real>::to_f64(self.dvl_bias[2]),
+            21 => <f64 as ::nav_runtime::Real>::to_f64(self.compass_bias),
+            22 => <f64 as ::nav_runtime::Real>::to_f64(self.usbl_misalignment[0]),
+            23 => <f64 as ::nav_runtime::Real>::to_f64(self.usbl_misalignment[1]),
+            24 => <f64 as ::nav_runtime::Real>::to_f64(self.usbl_misalignment[2]),
             _ => f64::NAN,
         }
     }
@@ -157,7 +157,9 @@ impl ::nav_runtime::model::Record for Sdins25State {
 impl Sdins25State {
     /// The state from its vector (declaration order).
     pub fn from_vector(v: &::nav_runtime::nalgebra::SVector<f64, 25>) -> Self {
-        <Self as ::nav_runtime::model::Record>::from_fn(|i| v[i])
+        <Self as ::nav_runtime::model::Record>::from_fn(|i| <f64 as ::nav_runtime::Real>::to_f64(
+            v[i],
+        ))
     }
     /// The state as a vector (declaration order).
     pub fn to_vector(&self) -> ::nav_runtime::nalgebra::SVector<f64, 25> {
@@ -233,9 +235,9 @@ impl ::nav_runtime::model::Record for Sdins25Input {
         "specific_force[2]",
     ];
     fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
-        let mut v = [0.0f64; 17];
+        let mut v: [f64; 17] = [0.0; 17];
         for (i, slot) in v.iter_mut().enumerate() {
-            *slot = f(i);
+            *slot = <f64 as ::nav_runtime::Real>::of(f(i));
         }
         Self {
             latitude: v[0],
@@ -257,23 +259,23 @@ impl ::nav_runtime::model::Record for Sdins25Input {
     }
     fn get(&self, i: usize) -> f64 {
         match i {
-            0 => self.latitude,
-            1 => self.height,
-            2 => self.velocity[0],
-            3 => self.velocity[1],
-            4 => self.velocity[2],
-            5 => self.c_bn[(0, 0)],
-            6 => self.c_bn[(0, 1)],
-            7 => self.c_bn[(0, 2)],
-            8 => self.c_bn[(1, 0)],
-            9 => self.c_bn[(1, 1)],
-            10 => self.c_bn[(1, 2)],
-            11 => self.c_bn[(2, 0)],
-            12 => self.c_bn[(2, 1)],
-            13 => self.c_bn[(2, 2)],
-            14 => self.specific_force[0],
-            15 => self.specific_force[1],
-            16 => self.specific_force[2],
+            0 => <f64 as ::nav_runtime::Real>::to_f64(self.latitude),
+            1 => <f64 as ::nav_runtime::Real>::to_f64(self.height),
+            2 => <f64 as ::nav_runtime::Real>::to_f64(self.velocity[0]),
+            3 => <f64 as ::nav_runtime::Real>::to_f64(self.velocity[1]),
+            4 => <f64 as ::nav_runtime::Real>::to_f64(self.velocity[2]),
+            5 => <f64 as ::nav_runtime::Real>::to_f64(self.c_bn[(0, 0)]),
+            6 => <f64 as ::nav_runtime::Real>::to_f64(self.c_bn[(0, 1)]),
+            7 => <f64 as ::nav_runtime::Real>::to_f64(self.c_bn[(0, 2)]),
+            8 => <f64 as ::nav_runtime::Real>::to_f64(self.c_bn[(1, 0)]),
+            9 => <f64 as ::nav_runtime::Real>::to_f64(self.c_bn[(1, 1)]),
+            10 => <f64 as ::nav_runtime::Real>::to_f64(self.c_bn[(1, 2)]),
+            11 => <f64 as ::nav_runtime::Real>::to_f64(self.c_bn[(2, 0)]),
+            12 => <f64 as ::nav_runtime::Real>::to_f64(self.c_bn[(2, 1)]),
+            13 => <f64 as ::nav_runtime::Real>::to_f64(self.c_bn[(2, 2)]),
+            14 => <f64 as ::nav_runtime::Real>::to_f64(self.specific_force[0]),
+            15 => <f64 as ::nav_runtime::Real>::to_f64(self.specific_force[1]),
+            16 => <f64 as ::nav_runtime::Real>::to_f64(self.specific_force[2]),
             _ => f64::NAN,
         }
     }
@@ -287,9 +289,9 @@ impl ::nav_runtime::model::Record for Sdins25Params {
     const LEN: usize = 0;
     const NAMES: &'static [&'static str] = &[];
     fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
-        let mut v = [0.0f64; 0];
+        let mut v: [f64; 0] = [0.0; 0];
         for (i, slot) in v.iter_mut().enumerate() {
-            *slot = f(i);
+            *slot = <f64 as ::nav_runtime::Real>::of(f(i));
         }
         Self {}
     }
@@ -320,9 +322,9 @@ impl ::nav_runtime::model::Record for Sdins25Noise {
         "gyro_noise[2]",
     ];
     fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
-        let mut v = [0.0f64; 6];
+        let mut v: [f64; 6] = [0.0; 6];
         for (i, slot) in v.iter_mut().enumerate() {
-            *slot = f(i);
+            *slot = <f64 as ::nav_runtime::Real>::of(f(i));
         }
         Self {
             accel_noise: ::nav_runtime::nalgebra::SVector::<
@@ -337,12 +339,12 @@ impl ::nav_runtime::model::Record for Sdins25Noise {
     }
     fn get(&self, i: usize) -> f64 {
         match i {
-            0 => self.accel_noise[0],
-            1 => self.accel_noise[1],
-            2 => self.accel_noise[2],
-            3 => self.gyro_noise[0],
-            4 => self.gyro_noise[1],
-            5 => self.gyro_noise[2],
+            0 => <f64 as ::nav_runtime::Real>::to_f64(self.accel_noise[0]),
+            1 => <f64 as ::nav_runtime::Real>::to_f64(self.accel_noise[1]),
+            2 => <f64 as ::nav_runtime::Real>::to_f64(self.accel_noise[2]),
+            3 => <f64 as ::nav_runtime::Real>::to_f64(self.gyro_noise[0]),
+            4 => <f64 as ::nav_runtime::Real>::to_f64(self.gyro_noise[1]),
+            5 => <f64 as ::nav_runtime::Real>::to_f64(self.gyro_noise[2]),
             _ => f64::NAN,
         }
     }
@@ -363,9 +365,9 @@ impl ::nav_runtime::model::Record for Sdins25UsblAux {
         "relative_position[2]",
     ];
     fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
-        let mut v = [0.0f64; 3];
+        let mut v: [f64; 3] = [0.0; 3];
         for (i, slot) in v.iter_mut().enumerate() {
-            *slot = f(i);
+            *slot = <f64 as ::nav_runtime::Real>::of(f(i));
         }
         Self {
             relative_position: ::nav_runtime::nalgebra::SVector::<
@@ -376,9 +378,9 @@ impl ::nav_runtime::model::Record for Sdins25UsblAux {
     }
     fn get(&self, i: usize) -> f64 {
         match i {
-            0 => self.relative_position[0],
-            1 => self.relative_position[1],
-            2 => self.relative_position[2],
+            0 => <f64 as ::nav_runtime::Real>::to_f64(self.relative_position[0]),
+            1 => <f64 as ::nav_runtime::Real>::to_f64(self.relative_position[1]),
+            2 => <f64 as ::nav_runtime::Real>::to_f64(self.relative_position[2]),
             _ => f64::NAN,
         }
     }
@@ -705,7 +707,7 @@ Total ops: 45*/
     }
 }
 #[allow(clippy::possible_missing_comma)]
-impl ::nav_runtime::model::Model<25> for Sdins25 {
+impl ::nav_runtime::model::Model<25, f64> for Sdins25 {
     type Input = Sdins25Input;
     type Params = Sdins25Params;
     type Noise = Sdins25Noise;
@@ -1314,6 +1316,7 @@ Total ops: 126*/
         let _t84 = u.c_bn[(1, 0)] * q.gyro_noise[0];
         let _t85 = u.c_bn[(1, 1)] * q.gyro_noise[1];
         ::nav_runtime::propagation::propagate::<
+            f64,
             25,
             9,
         >(
@@ -1443,7 +1446,7 @@ impl Sdins25Depth {
     pub const OPS_INNOVATION_TERMS: usize = 28;
 }
 #[allow(clippy::possible_missing_comma)]
-impl ::nav_runtime::model::Sensor<25, 1> for Sdins25Depth {
+impl ::nav_runtime::model::Sensor<25, 1, f64> for Sdins25Depth {
     type Model = Sdins25;
     type Aux = ();
     const NAME: &'static str = "Depth";
@@ -1556,7 +1559,7 @@ impl Sdins25Dvl {
     pub const OPS_INNOVATION_TERMS: usize = 1569;
 }
 #[allow(clippy::possible_missing_comma)]
-impl ::nav_runtime::model::Sensor<25, 3> for Sdins25Dvl {
+impl ::nav_runtime::model::Sensor<25, 3, f64> for Sdins25Dvl {
     type Model = Sdins25;
     type Aux = ();
     const NAME: &'static str = "Dvl";
@@ -2144,7 +2147,7 @@ impl Sdins25CompassSmallAngle {
     pub const OPS_INNOVATION_TERMS: usize = 53;
 }
 #[allow(clippy::possible_missing_comma)]
-impl ::nav_runtime::model::Sensor<25, 1> for Sdins25CompassSmallAngle {
+impl ::nav_runtime::model::Sensor<25, 1, f64> for Sdins25CompassSmallAngle {
     type Model = Sdins25;
     type Aux = ();
     const NAME: &'static str = "CompassSmallAngle";
@@ -2258,7 +2261,7 @@ impl Sdins25Compass {
     pub const OPS_INNOVATION_TERMS: usize = 181;
 }
 #[allow(clippy::possible_missing_comma)]
-impl ::nav_runtime::model::Sensor<25, 1> for Sdins25Compass {
+impl ::nav_runtime::model::Sensor<25, 1, f64> for Sdins25Compass {
     type Model = Sdins25;
     type Aux = ();
     const NAME: &'static str = "Compass";
@@ -2414,7 +2417,7 @@ impl Sdins25Usbl {
     pub const OPS_INNOVATION_TERMS: usize = 343;
 }
 #[allow(clippy::possible_missing_comma)]
-impl ::nav_runtime::model::Sensor<25, 2> for Sdins25Usbl {
+impl ::nav_runtime::model::Sensor<25, 2, f64> for Sdins25Usbl {
     type Model = Sdins25;
     type Aux = Sdins25UsblAux;
     const NAME: &'static str = "Usbl";
@@ -2680,23 +2683,31 @@ mod __sdins25_generated_tests {
     use super::*;
     use ::nav_runtime::model::{Model, Record, Sensor};
     use ::nav_runtime::nalgebra::{SMatrix, SVector};
+    /// The model's scalar.
+    type S = f64;
+    /// Finite-difference step (relative), tolerance of a Jacobian entry
+    /// against it, and tolerance of the sparse covariance algebra
+    /// against dense products, for this scalar's precision.
+    const FD_STEP: S = 1e-6;
+    const FD_TOLERANCE: S = 1e-6;
+    const RELATIVE: S = 1e-12;
     const N: usize = 25;
     const NW: usize = 6;
     /// Points checked per test.
     const POINTS: usize = 6;
-    /// Random draws tried to find them (points with non-finite values are skipped).
+    /// Random draws tried to find them (points with non-finite values, or a kink within a step, are skipped).
     const ATTEMPTS: usize = 400;
     /// Calls `check` at random `(x, u, p, dt)` (it draws anything else from
-    /// `rng`) until `POINTS` points had finite values (`check` returns true
+    /// `rng`) until `POINTS` points were usable (`check` returns true
     /// for those); fails if none had.
     fn at_random_points(
         seed: u64,
         mut check: impl FnMut(
             &mut SplitMix64,
-            SVector<f64, N>,
+            SVector<S, N>,
             Sdins25Input,
             Sdins25Params,
-            f64,
+            S,
         ) -> bool,
     ) {
         let mut rng = SplitMix64(seed);
@@ -2730,84 +2741,100 @@ mod __sdins25_generated_tests {
             ((self.next_u64() >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
         }
     }
-    fn abs(v: f64) -> f64 {
+    fn abs(v: S) -> S {
         ::nav_runtime::math::abs(v)
+    }
+    /// A uniform draw in [-1, 1] in the model's scalar.
+    fn draw(rng: &mut SplitMix64) -> S {
+        <S as ::nav_runtime::Real>::of(rng.uniform())
     }
     fn random_record<R: Record>(rng: &mut SplitMix64) -> R {
         R::from_fn(|_| rng.uniform())
     }
-    fn random_vector<const K: usize>(rng: &mut SplitMix64) -> SVector<f64, K> {
-        SVector::<f64, K>::from_fn(|_, _| rng.uniform())
+    fn random_vector<const K: usize>(rng: &mut SplitMix64) -> SVector<S, K> {
+        SVector::<S, K>::from_fn(|_, _| draw(rng))
     }
-    fn random_dt(rng: &mut SplitMix64) -> f64 {
-        0.01 + 0.1 * abs(rng.uniform())
+    fn random_dt(rng: &mut SplitMix64) -> S {
+        0.01 + 0.1 * abs(draw(rng))
     }
     /// A random symmetric positive definite matrix `L L^T + I`.
-    fn random_covariance(rng: &mut SplitMix64) -> SMatrix<f64, N, N> {
-        let l = SMatrix::<f64, N, N>::from_fn(|_, _| rng.uniform());
-        l * l.transpose() + SMatrix::<f64, N, N>::identity()
+    fn random_covariance(rng: &mut SplitMix64) -> SMatrix<S, N, N> {
+        let l = SMatrix::<S, N, N>::from_fn(|_, _| draw(rng));
+        l * l.transpose() + SMatrix::<S, N, N>::identity()
     }
     /// The upper triangle of `m`, NaN below (generated code must not read it).
-    fn upper_only(m: &SMatrix<f64, N, N>) -> SMatrix<f64, N, N> {
-        SMatrix::<f64, N, N>::from_fn(|i, j| if i <= j { m[(i, j)] } else { f64::NAN })
+    fn upper_only(m: &SMatrix<S, N, N>) -> SMatrix<S, N, N> {
+        SMatrix::<S, N, N>::from_fn(|i, j| if i <= j { m[(i, j)] } else { S::NAN })
     }
-    fn finite<const R: usize, const C: usize>(m: &SMatrix<f64, R, C>) -> bool {
+    fn finite<const R: usize, const C: usize>(m: &SMatrix<S, R, C>) -> bool {
         m.iter().all(|v| v.is_finite())
     }
-    /// Central differences with step `1e-6 (1 + |x_j|)`, and for each entry
+    /// Central differences with step `FD_STEP (1 + |x_j|)`, and for each entry
     /// the rounding bound `4 eps |f| / step` of the difference quotient
-    /// (it matters only for outputs of order 1e6, such as Earth radii).
+    /// (it matters only for outputs of order 1e6, such as Earth radii, or
+    /// in `f32`). `None` where the step straddles a kink of a non-smooth
+    /// function (`min`, `max`, `clamp`, `abs`, `sign`): the one-sided
+    /// quotients then disagree by far more than curvature explains, and
+    /// the central one is no derivative.
     fn fd_jacobian<const R: usize, const C: usize>(
-        x: &SVector<f64, C>,
-        f: impl Fn(&SVector<f64, C>) -> SVector<f64, R>,
-    ) -> (SMatrix<f64, R, C>, SMatrix<f64, R, C>) {
-        let mut out = SMatrix::<f64, R, C>::zeros();
-        let mut rounding = SMatrix::<f64, R, C>::zeros();
+        x: &SVector<S, C>,
+        f: impl Fn(&SVector<S, C>) -> SVector<S, R>,
+    ) -> Option<(SMatrix<S, R, C>, SMatrix<S, R, C>)> {
+        let mut out = SMatrix::<S, R, C>::zeros();
+        let mut rounding = SMatrix::<S, R, C>::zeros();
+        let f0 = f(x);
         for j in 0..C {
-            let h = 1e-6 * (1.0 + abs(x[j]));
+            let h = FD_STEP * (1.0 + abs(x[j]));
             let (mut xp, mut xm) = (*x, *x);
             xp[j] += h;
             xm[j] -= h;
             let (fp, fm) = (f(&xp), f(&xm));
             let col = (fp - fm) / (xp[j] - xm[j]);
-            out.set_column(j, &col);
             for r in 0..R {
                 let big = if abs(fp[r]) > abs(fm[r]) { abs(fp[r]) } else { abs(fm[r]) };
-                rounding[(r, j)] = 4.0 * f64::EPSILON * big / h;
+                rounding[(r, j)] = 4.0 * S::EPSILON * big / h;
+                let forward = (fp[r] - f0[r]) / (xp[j] - x[j]);
+                let backward = (f0[r] - fm[r]) / (x[j] - xm[j]);
+                if abs(forward - backward)
+                    > 0.25 * (1.0 + abs(col[r])) + 4.0 * rounding[(r, j)]
+                {
+                    return None;
+                }
             }
+            out.set_column(j, &col);
         }
-        (out, rounding)
+        Some((out, rounding))
     }
-    /// `|J - J_fd| <= 1e-6 (1 + |J|)` entrywise (plus the rounding bound).
+    /// `|J - J_fd| <= FD_TOLERANCE (1 + |J|)` entrywise (plus the rounding bound).
     fn assert_close_fd<const R: usize, const C: usize>(
         what: &str,
-        j: &SMatrix<f64, R, C>,
-        (fd, rounding): &(SMatrix<f64, R, C>, SMatrix<f64, R, C>),
+        j: &SMatrix<S, R, C>,
+        (fd, rounding): &(SMatrix<S, R, C>, SMatrix<S, R, C>),
     ) {
         for r in 0..R {
             for c in 0..C {
                 let (a, b) = (j[(r, c)], fd[(r, c)]);
                 assert!(
-                    abs(a - b) <= 1e-6 * (1.0 + abs(a)) + rounding[(r, c)],
+                    abs(a - b) <= FD_TOLERANCE * (1.0 + abs(a)) + rounding[(r, c)],
                     "{what}[({r}, {c})]: generated {a} vs finite differences {b}"
                 );
             }
         }
     }
-    /// Equal to `1e-12` relative to the largest entry of `want`.
+    /// Equal to `RELATIVE` relative to the largest entry of `want`.
     fn assert_close_rel<const R: usize, const C: usize>(
         what: &str,
-        got: &SMatrix<f64, R, C>,
-        want: &SMatrix<f64, R, C>,
+        got: &SMatrix<S, R, C>,
+        want: &SMatrix<S, R, C>,
     ) {
         let scale = want
             .iter()
-            .fold(1.0f64, |m, v| if abs(*v) > m { abs(*v) } else { m });
+            .fold(1.0 as S, |m, v| if abs(*v) > m { abs(*v) } else { m });
         for r in 0..R {
             for c in 0..C {
                 let (a, b) = (got[(r, c)], want[(r, c)]);
                 assert!(
-                    abs(a - b) <= 1e-12 * scale,
+                    abs(a - b) <= RELATIVE * scale,
                     "{what}[({r}, {c})]: generated {a} vs dense {b}"
                 );
             }
@@ -2815,7 +2842,7 @@ mod __sdins25_generated_tests {
     }
     fn assert_sparsity<const R: usize, const C: usize>(
         what: &str,
-        j: &SMatrix<f64, R, C>,
+        j: &SMatrix<S, R, C>,
         sparsity: &[[bool; C]; R],
     ) {
         for r in 0..R {
@@ -2832,9 +2859,9 @@ mod __sdins25_generated_tests {
         at_random_points(
             0x5eed_0000,
             |rng, x, u, p, dt| {
-                let jac = <Sdins25 as Model<N>>::jacobian(&x, &u, &p, dt);
-                let f = |x: &SVector<f64, N>| Sdins25::derivative(x, &u, &p);
-                let fd = fd_jacobian(&x, f);
+                let jac = <Sdins25 as Model<N, S>>::jacobian(&x, &u, &p, dt);
+                let f = |x: &SVector<S, N>| Sdins25::derivative(x, &u, &p);
+                let Some(fd) = fd_jacobian(&x, f) else { return false };
                 if !finite(&f(&x)) || !finite(&jac) || !finite(&fd.0) {
                     return false;
                 }
@@ -2842,7 +2869,7 @@ mod __sdins25_generated_tests {
                 assert_sparsity(
                     "jacobian",
                     &jac,
-                    &<Sdins25 as Model<N>>::JACOBIAN_SPARSITY,
+                    &<Sdins25 as Model<N, S>>::JACOBIAN_SPARSITY,
                 );
                 true
             },
@@ -2854,15 +2881,15 @@ mod __sdins25_generated_tests {
             0x5eed_0001,
             |rng, x, u, p, dt| {
                 let g = Sdins25::noise_jacobian(&x, &u, &p, dt);
-                let f = |w: &SVector<f64, NW>| Sdins25::process_with_noise(
+                let f = |w: &SVector<S, NW>| Sdins25::process_with_noise(
                     &x,
                     &u,
                     &p,
                     w,
                     dt,
                 );
-                let w0 = SVector::<f64, NW>::zeros();
-                let fd = fd_jacobian(&w0, f);
+                let w0 = SVector::<S, NW>::zeros();
+                let Some(fd) = fd_jacobian(&w0, f) else { return false };
                 if !finite(&f(&w0)) || !finite(&g) || !finite(&fd.0) {
                     return false;
                 }
@@ -2876,28 +2903,31 @@ mod __sdins25_generated_tests {
         at_random_points(
             0x5eed_0004,
             |rng, x, u, p, dt| {
-                let q: Sdins25Noise = <Sdins25Noise as Record>::from_fn(|_| abs(
+                let q: Sdins25Noise = <Sdins25Noise as Record>::from_fn(|_| ::nav_runtime::math::abs(
                     rng.uniform(),
                 ));
                 let cov = random_covariance(rng);
-                let jac = <Sdins25 as Model<N>>::jacobian(&x, &u, &p, dt);
+                let jac = <Sdins25 as Model<N, S>>::jacobian(&x, &u, &p, dt);
                 let g = Sdins25::noise_jacobian(&x, &u, &p, dt);
                 if !finite(&jac) || !finite(&g) {
                     return false;
                 }
                 let qdiag = SMatrix::<
-                    f64,
+                    S,
                     NW,
                     NW,
-                >::from_fn(|i, j| if i == j { q.get(i) } else { 0.0 });
+                >::from_fn(|i, j| {
+                    if i == j { <S as ::nav_runtime::Real>::of(q.get(i)) } else { 0.0 }
+                });
                 let qd_dense = g * qdiag * g.transpose() * dt;
-                let qd = <Sdins25 as Model<N>>::process_noise(&x, &u, &p, &q, dt);
+                let qd = <Sdins25 as Model<N, S>>::process_noise(&x, &u, &p, &q, dt);
                 assert_close_rel("process_noise", &qd, &qd_dense);
-                let phi = SMatrix::<f64, N, N>::identity() + jac * dt;
+                let phi = SMatrix::<S, N, N>::identity() + jac * dt;
                 let dense = phi * cov * phi.transpose() + qd_dense;
                 let mut got = cov;
                 <Sdins25 as Model<
                     N,
+                    S,
                 >>::propagate_covariance(&mut got, &x, &u, &p, &q, dt);
                 assert_close_rel("propagate_covariance", &got, &dense);
                 assert_eq!(
@@ -2914,23 +2944,24 @@ mod __sdins25_generated_tests {
         let s = Sdins25State::from_vector(&x);
         assert_eq!(s.to_vector(), x);
         for i in 0..N {
-            assert_eq!(s.get(i), x[i]);
+            assert_eq!(s.get(i), < S as ::nav_runtime::Real > ::to_f64(x[i]));
         }
-        assert_eq!(<< Sdins25 as Model < N >> ::State as Record > ::NAMES.len(), N);
-        assert_eq!(< Sdins25 as Model < N >> ::STATE_NAMES.len(), N);
+        assert_eq!(<< Sdins25 as Model < N, S >> ::State as Record > ::NAMES.len(), N);
+        assert_eq!(< Sdins25 as Model < N, S >> ::STATE_NAMES.len(), N);
     }
     #[test]
     fn sensor_depth_jacobian_matches_finite_differences() {
         at_random_points(
             0x5eed_0002,
             |rng, x, u, p, dt| {
-                let aux: <Sdins25Depth as Sensor<N, 1>>::Aux = random_record(rng);
-                let jac = <Sdins25Depth as Sensor<N, 1>>::jacobian(&x, &u, &p, &aux);
-                let h = |x: &SVector<f64, N>| <Sdins25Depth as Sensor<
+                let aux: <Sdins25Depth as Sensor<N, 1, S>>::Aux = random_record(rng);
+                let jac = <Sdins25Depth as Sensor<N, 1, S>>::jacobian(&x, &u, &p, &aux);
+                let h = |x: &SVector<S, N>| <Sdins25Depth as Sensor<
                     N,
                     1,
+                    S,
                 >>::predict(x, &u, &p, &aux);
-                let fd = fd_jacobian(&x, h);
+                let Some(fd) = fd_jacobian(&x, h) else { return false };
                 if !finite(&h(&x)) || !finite(&jac) || !finite(&fd.0) {
                     return false;
                 }
@@ -2942,7 +2973,7 @@ mod __sdins25_generated_tests {
                 assert_sparsity(
                     concat!(stringify!(Sdins25Depth), "::jacobian"),
                     &jac,
-                    &<Sdins25Depth as Sensor<N, 1>>::JACOBIAN_SPARSITY,
+                    &<Sdins25Depth as Sensor<N, 1, S>>::JACOBIAN_SPARSITY,
                 );
                 true
             },
@@ -2953,16 +2984,17 @@ mod __sdins25_generated_tests {
         at_random_points(
             0x5eed_0003,
             |rng, x, u, p, dt| {
-                let aux: <Sdins25Depth as Sensor<N, 1>>::Aux = random_record(rng);
+                let aux: <Sdins25Depth as Sensor<N, 1, S>>::Aux = random_record(rng);
                 let cov = random_covariance(rng);
-                let hjac = <Sdins25Depth as Sensor<N, 1>>::jacobian(&x, &u, &p, &aux);
-                let pred = <Sdins25Depth as Sensor<N, 1>>::predict(&x, &u, &p, &aux);
+                let hjac = <Sdins25Depth as Sensor<N, 1, S>>::jacobian(&x, &u, &p, &aux);
+                let pred = <Sdins25Depth as Sensor<N, 1, S>>::predict(&x, &u, &p, &aux);
                 if !finite(&hjac) || !finite(&pred) {
                     return false;
                 }
                 let (h, pht, s) = <Sdins25Depth as Sensor<
                     N,
                     1,
+                    S,
                 >>::innovation_terms(&upper_only(&cov), &x, &u, &p, &aux);
                 assert_close_rel("h", &h, &pred);
                 assert_close_rel("P H^T", &pht, &(cov * hjac.transpose()));
@@ -2977,13 +3009,14 @@ mod __sdins25_generated_tests {
         at_random_points(
             0x5eed_0002,
             |rng, x, u, p, dt| {
-                let aux: <Sdins25Dvl as Sensor<N, 3>>::Aux = random_record(rng);
-                let jac = <Sdins25Dvl as Sensor<N, 3>>::jacobian(&x, &u, &p, &aux);
-                let h = |x: &SVector<f64, N>| <Sdins25Dvl as Sensor<
+                let aux: <Sdins25Dvl as Sensor<N, 3, S>>::Aux = random_record(rng);
+                let jac = <Sdins25Dvl as Sensor<N, 3, S>>::jacobian(&x, &u, &p, &aux);
+                let h = |x: &SVector<S, N>| <Sdins25Dvl as Sensor<
                     N,
                     3,
+                    S,
                 >>::predict(x, &u, &p, &aux);
-                let fd = fd_jacobian(&x, h);
+                let Some(fd) = fd_jacobian(&x, h) else { return false };
                 if !finite(&h(&x)) || !finite(&jac) || !finite(&fd.0) {
                     return false;
                 }
@@ -2995,7 +3028,7 @@ mod __sdins25_generated_tests {
                 assert_sparsity(
                     concat!(stringify!(Sdins25Dvl), "::jacobian"),
                     &jac,
-                    &<Sdins25Dvl as Sensor<N, 3>>::JACOBIAN_SPARSITY,
+                    &<Sdins25Dvl as Sensor<N, 3, S>>::JACOBIAN_SPARSITY,
                 );
                 true
             },
@@ -3006,16 +3039,17 @@ mod __sdins25_generated_tests {
         at_random_points(
             0x5eed_0003,
             |rng, x, u, p, dt| {
-                let aux: <Sdins25Dvl as Sensor<N, 3>>::Aux = random_record(rng);
+                let aux: <Sdins25Dvl as Sensor<N, 3, S>>::Aux = random_record(rng);
                 let cov = random_covariance(rng);
-                let hjac = <Sdins25Dvl as Sensor<N, 3>>::jacobian(&x, &u, &p, &aux);
-                let pred = <Sdins25Dvl as Sensor<N, 3>>::predict(&x, &u, &p, &aux);
+                let hjac = <Sdins25Dvl as Sensor<N, 3, S>>::jacobian(&x, &u, &p, &aux);
+                let pred = <Sdins25Dvl as Sensor<N, 3, S>>::predict(&x, &u, &p, &aux);
                 if !finite(&hjac) || !finite(&pred) {
                     return false;
                 }
                 let (h, pht, s) = <Sdins25Dvl as Sensor<
                     N,
                     3,
+                    S,
                 >>::innovation_terms(&upper_only(&cov), &x, &u, &p, &aux);
                 assert_close_rel("h", &h, &pred);
                 assert_close_rel("P H^T", &pht, &(cov * hjac.transpose()));
@@ -3030,18 +3064,20 @@ mod __sdins25_generated_tests {
         at_random_points(
             0x5eed_0002,
             |rng, x, u, p, dt| {
-                let aux: <Sdins25CompassSmallAngle as Sensor<N, 1>>::Aux = random_record(
+                let aux: <Sdins25CompassSmallAngle as Sensor<N, 1, S>>::Aux = random_record(
                     rng,
                 );
                 let jac = <Sdins25CompassSmallAngle as Sensor<
                     N,
                     1,
+                    S,
                 >>::jacobian(&x, &u, &p, &aux);
-                let h = |x: &SVector<f64, N>| <Sdins25CompassSmallAngle as Sensor<
+                let h = |x: &SVector<S, N>| <Sdins25CompassSmallAngle as Sensor<
                     N,
                     1,
+                    S,
                 >>::predict(x, &u, &p, &aux);
-                let fd = fd_jacobian(&x, h);
+                let Some(fd) = fd_jacobian(&x, h) else { return false };
                 if !finite(&h(&x)) || !finite(&jac) || !finite(&fd.0) {
                     return false;
                 }
@@ -3053,7 +3089,7 @@ mod __sdins25_generated_tests {
                 assert_sparsity(
                     concat!(stringify!(Sdins25CompassSmallAngle), "::jacobian"),
                     &jac,
-                    &<Sdins25CompassSmallAngle as Sensor<N, 1>>::JACOBIAN_SPARSITY,
+                    &<Sdins25CompassSmallAngle as Sensor<N, 1, S>>::JACOBIAN_SPARSITY,
                 );
                 true
             },
@@ -3064,17 +3100,19 @@ mod __sdins25_generated_tests {
         at_random_points(
             0x5eed_0003,
             |rng, x, u, p, dt| {
-                let aux: <Sdins25CompassSmallAngle as Sensor<N, 1>>::Aux = random_record(
+                let aux: <Sdins25CompassSmallAngle as Sensor<N, 1, S>>::Aux = random_record(
                     rng,
                 );
                 let cov = random_covariance(rng);
                 let hjac = <Sdins25CompassSmallAngle as Sensor<
                     N,
                     1,
+                    S,
                 >>::jacobian(&x, &u, &p, &aux);
                 let pred = <Sdins25CompassSmallAngle as Sensor<
                     N,
                     1,
+                    S,
                 >>::predict(&x, &u, &p, &aux);
                 if !finite(&hjac) || !finite(&pred) {
                     return false;
@@ -3082,6 +3120,7 @@ mod __sdins25_generated_tests {
                 let (h, pht, s) = <Sdins25CompassSmallAngle as Sensor<
                     N,
                     1,
+                    S,
                 >>::innovation_terms(&upper_only(&cov), &x, &u, &p, &aux);
                 assert_close_rel("h", &h, &pred);
                 assert_close_rel("P H^T", &pht, &(cov * hjac.transpose()));
@@ -3096,13 +3135,18 @@ mod __sdins25_generated_tests {
         at_random_points(
             0x5eed_0002,
             |rng, x, u, p, dt| {
-                let aux: <Sdins25Compass as Sensor<N, 1>>::Aux = random_record(rng);
-                let jac = <Sdins25Compass as Sensor<N, 1>>::jacobian(&x, &u, &p, &aux);
-                let h = |x: &SVector<f64, N>| <Sdins25Compass as Sensor<
+                let aux: <Sdins25Compass as Sensor<N, 1, S>>::Aux = random_record(rng);
+                let jac = <Sdins25Compass as Sensor<
                     N,
                     1,
+                    S,
+                >>::jacobian(&x, &u, &p, &aux);
+                let h = |x: &SVector<S, N>| <Sdins25Compass as Sensor<
+                    N,
+                    1,
+                    S,
                 >>::predict(x, &u, &p, &aux);
-                let fd = fd_jacobian(&x, h);
+                let Some(fd) = fd_jacobian(&x, h) else { return false };
                 if !finite(&h(&x)) || !finite(&jac) || !finite(&fd.0) {
                     return false;
                 }
@@ -3114,7 +3158,7 @@ mod __sdins25_generated_tests {
                 assert_sparsity(
                     concat!(stringify!(Sdins25Compass), "::jacobian"),
                     &jac,
-                    &<Sdins25Compass as Sensor<N, 1>>::JACOBIAN_SPARSITY,
+                    &<Sdins25Compass as Sensor<N, 1, S>>::JACOBIAN_SPARSITY,
                 );
                 true
             },
@@ -3125,16 +3169,25 @@ mod __sdins25_generated_tests {
         at_random_points(
             0x5eed_0003,
             |rng, x, u, p, dt| {
-                let aux: <Sdins25Compass as Sensor<N, 1>>::Aux = random_record(rng);
+                let aux: <Sdins25Compass as Sensor<N, 1, S>>::Aux = random_record(rng);
                 let cov = random_covariance(rng);
-                let hjac = <Sdins25Compass as Sensor<N, 1>>::jacobian(&x, &u, &p, &aux);
-                let pred = <Sdins25Compass as Sensor<N, 1>>::predict(&x, &u, &p, &aux);
+                let hjac = <Sdins25Compass as Sensor<
+                    N,
+                    1,
+                    S,
+                >>::jacobian(&x, &u, &p, &aux);
+                let pred = <Sdins25Compass as Sensor<
+                    N,
+                    1,
+                    S,
+                >>::predict(&x, &u, &p, &aux);
                 if !finite(&hjac) || !finite(&pred) {
                     return false;
                 }
                 let (h, pht, s) = <Sdins25Compass as Sensor<
                     N,
                     1,
+                    S,
                 >>::innovation_terms(&upper_only(&cov), &x, &u, &p, &aux);
                 assert_close_rel("h", &h, &pred);
                 assert_close_rel("P H^T", &pht, &(cov * hjac.transpose()));
@@ -3149,13 +3202,14 @@ mod __sdins25_generated_tests {
         at_random_points(
             0x5eed_0002,
             |rng, x, u, p, dt| {
-                let aux: <Sdins25Usbl as Sensor<N, 2>>::Aux = random_record(rng);
-                let jac = <Sdins25Usbl as Sensor<N, 2>>::jacobian(&x, &u, &p, &aux);
-                let h = |x: &SVector<f64, N>| <Sdins25Usbl as Sensor<
+                let aux: <Sdins25Usbl as Sensor<N, 2, S>>::Aux = random_record(rng);
+                let jac = <Sdins25Usbl as Sensor<N, 2, S>>::jacobian(&x, &u, &p, &aux);
+                let h = |x: &SVector<S, N>| <Sdins25Usbl as Sensor<
                     N,
                     2,
+                    S,
                 >>::predict(x, &u, &p, &aux);
-                let fd = fd_jacobian(&x, h);
+                let Some(fd) = fd_jacobian(&x, h) else { return false };
                 if !finite(&h(&x)) || !finite(&jac) || !finite(&fd.0) {
                     return false;
                 }
@@ -3167,7 +3221,7 @@ mod __sdins25_generated_tests {
                 assert_sparsity(
                     concat!(stringify!(Sdins25Usbl), "::jacobian"),
                     &jac,
-                    &<Sdins25Usbl as Sensor<N, 2>>::JACOBIAN_SPARSITY,
+                    &<Sdins25Usbl as Sensor<N, 2, S>>::JACOBIAN_SPARSITY,
                 );
                 true
             },
@@ -3178,16 +3232,17 @@ mod __sdins25_generated_tests {
         at_random_points(
             0x5eed_0003,
             |rng, x, u, p, dt| {
-                let aux: <Sdins25Usbl as Sensor<N, 2>>::Aux = random_record(rng);
+                let aux: <Sdins25Usbl as Sensor<N, 2, S>>::Aux = random_record(rng);
                 let cov = random_covariance(rng);
-                let hjac = <Sdins25Usbl as Sensor<N, 2>>::jacobian(&x, &u, &p, &aux);
-                let pred = <Sdins25Usbl as Sensor<N, 2>>::predict(&x, &u, &p, &aux);
+                let hjac = <Sdins25Usbl as Sensor<N, 2, S>>::jacobian(&x, &u, &p, &aux);
+                let pred = <Sdins25Usbl as Sensor<N, 2, S>>::predict(&x, &u, &p, &aux);
                 if !finite(&hjac) || !finite(&pred) {
                     return false;
                 }
                 let (h, pht, s) = <Sdins25Usbl as Sensor<
                     N,
                     2,
+                    S,
                 >>::innovation_terms(&upper_only(&cov), &x, &u, &p, &aux);
                 assert_close_rel("h", &h, &pred);
                 assert_close_rel("P H^T", &pht, &(cov * hjac.transpose()));

@@ -40,9 +40,9 @@ impl ::nav_runtime::model::Record for VelocityFilterState {
     const LEN: usize = 3;
     const NAMES: &'static [&'static str] = &["speed", "scale_factor", "bias"];
     fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
-        let mut v = [0.0f64; 3];
+        let mut v: [f64; 3] = [0.0; 3];
         for (i, slot) in v.iter_mut().enumerate() {
-            *slot = f(i);
+            *slot = <f64 as ::nav_runtime::Real>::of(f(i));
         }
         Self {
             speed: v[0],
@@ -52,9 +52,9 @@ impl ::nav_runtime::model::Record for VelocityFilterState {
     }
     fn get(&self, i: usize) -> f64 {
         match i {
-            0 => self.speed,
-            1 => self.scale_factor,
-            2 => self.bias,
+            0 => <f64 as ::nav_runtime::Real>::to_f64(self.speed),
+            1 => <f64 as ::nav_runtime::Real>::to_f64(self.scale_factor),
+            2 => <f64 as ::nav_runtime::Real>::to_f64(self.bias),
             _ => f64::NAN,
         }
     }
@@ -63,7 +63,9 @@ impl ::nav_runtime::model::Record for VelocityFilterState {
 impl VelocityFilterState {
     /// The state from its vector (declaration order).
     pub fn from_vector(v: &::nav_runtime::nalgebra::SVector<f64, 3>) -> Self {
-        <Self as ::nav_runtime::model::Record>::from_fn(|i| v[i])
+        <Self as ::nav_runtime::model::Record>::from_fn(|i| <f64 as ::nav_runtime::Real>::to_f64(
+            v[i],
+        ))
     }
     /// The state as a vector (declaration order).
     pub fn to_vector(&self) -> ::nav_runtime::nalgebra::SVector<f64, 3> {
@@ -85,15 +87,15 @@ impl ::nav_runtime::model::Record for VelocityFilterInput {
     const LEN: usize = 1;
     const NAMES: &'static [&'static str] = &["rpm"];
     fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
-        let mut v = [0.0f64; 1];
+        let mut v: [f64; 1] = [0.0; 1];
         for (i, slot) in v.iter_mut().enumerate() {
-            *slot = f(i);
+            *slot = <f64 as ::nav_runtime::Real>::of(f(i));
         }
         Self { rpm: v[0] }
     }
     fn get(&self, i: usize) -> f64 {
         match i {
-            0 => self.rpm,
+            0 => <f64 as ::nav_runtime::Real>::to_f64(self.rpm),
             _ => f64::NAN,
         }
     }
@@ -107,9 +109,9 @@ impl ::nav_runtime::model::Record for VelocityFilterParams {
     const LEN: usize = 0;
     const NAMES: &'static [&'static str] = &[];
     fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
-        let mut v = [0.0f64; 0];
+        let mut v: [f64; 0] = [0.0; 0];
         for (i, slot) in v.iter_mut().enumerate() {
-            *slot = f(i);
+            *slot = <f64 as ::nav_runtime::Real>::of(f(i));
         }
         Self {}
     }
@@ -140,9 +142,9 @@ impl ::nav_runtime::model::Record for VelocityFilterNoise {
         "bias_walk",
     ];
     fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
-        let mut v = [0.0f64; 3];
+        let mut v: [f64; 3] = [0.0; 3];
         for (i, slot) in v.iter_mut().enumerate() {
-            *slot = f(i);
+            *slot = <f64 as ::nav_runtime::Real>::of(f(i));
         }
         Self {
             speed_noise: v[0],
@@ -152,9 +154,9 @@ impl ::nav_runtime::model::Record for VelocityFilterNoise {
     }
     fn get(&self, i: usize) -> f64 {
         match i {
-            0 => self.speed_noise,
-            1 => self.scale_factor_walk,
-            2 => self.bias_walk,
+            0 => <f64 as ::nav_runtime::Real>::to_f64(self.speed_noise),
+            1 => <f64 as ::nav_runtime::Real>::to_f64(self.scale_factor_walk),
+            2 => <f64 as ::nav_runtime::Real>::to_f64(self.bias_walk),
             _ => f64::NAN,
         }
     }
@@ -234,7 +236,7 @@ Total ops: 0*/
     }
 }
 #[allow(clippy::possible_missing_comma)]
-impl ::nav_runtime::model::Model<3> for VelocityFilter {
+impl ::nav_runtime::model::Model<3, f64> for VelocityFilter {
     type Input = VelocityFilterInput;
     type Params = VelocityFilterParams;
     type Noise = VelocityFilterNoise;
@@ -347,7 +349,7 @@ impl VelocityFilterDvl {
     pub const OPS_INNOVATION_TERMS: usize = 0;
 }
 #[allow(clippy::possible_missing_comma)]
-impl ::nav_runtime::model::Sensor<3, 1> for VelocityFilterDvl {
+impl ::nav_runtime::model::Sensor<3, 1, f64> for VelocityFilterDvl {
     type Model = VelocityFilter;
     type Aux = ();
     const NAME: &'static str = "Dvl";
@@ -416,23 +418,31 @@ mod __velocity_filter_generated_tests {
     use super::*;
     use ::nav_runtime::model::{Model, Record, Sensor};
     use ::nav_runtime::nalgebra::{SMatrix, SVector};
+    /// The model's scalar.
+    type S = f64;
+    /// Finite-difference step (relative), tolerance of a Jacobian entry
+    /// against it, and tolerance of the sparse covariance algebra
+    /// against dense products, for this scalar's precision.
+    const FD_STEP: S = 1e-6;
+    const FD_TOLERANCE: S = 1e-6;
+    const RELATIVE: S = 1e-12;
     const N: usize = 3;
     const NW: usize = 3;
     /// Points checked per test.
     const POINTS: usize = 6;
-    /// Random draws tried to find them (points with non-finite values are skipped).
+    /// Random draws tried to find them (points with non-finite values, or a kink within a step, are skipped).
     const ATTEMPTS: usize = 400;
     /// Calls `check` at random `(x, u, p, dt)` (it draws anything else from
-    /// `rng`) until `POINTS` points had finite values (`check` returns true
+    /// `rng`) until `POINTS` points were usable (`check` returns true
     /// for those); fails if none had.
     fn at_random_points(
         seed: u64,
         mut check: impl FnMut(
             &mut SplitMix64,
-            SVector<f64, N>,
+            SVector<S, N>,
             VelocityFilterInput,
             VelocityFilterParams,
-            f64,
+            S,
         ) -> bool,
     ) {
         let mut rng = SplitMix64(seed);
@@ -466,84 +476,100 @@ mod __velocity_filter_generated_tests {
             ((self.next_u64() >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
         }
     }
-    fn abs(v: f64) -> f64 {
+    fn abs(v: S) -> S {
         ::nav_runtime::math::abs(v)
+    }
+    /// A uniform draw in [-1, 1] in the model's scalar.
+    fn draw(rng: &mut SplitMix64) -> S {
+        <S as ::nav_runtime::Real>::of(rng.uniform())
     }
     fn random_record<R: Record>(rng: &mut SplitMix64) -> R {
         R::from_fn(|_| rng.uniform())
     }
-    fn random_vector<const K: usize>(rng: &mut SplitMix64) -> SVector<f64, K> {
-        SVector::<f64, K>::from_fn(|_, _| rng.uniform())
+    fn random_vector<const K: usize>(rng: &mut SplitMix64) -> SVector<S, K> {
+        SVector::<S, K>::from_fn(|_, _| draw(rng))
     }
-    fn random_dt(rng: &mut SplitMix64) -> f64 {
-        0.01 + 0.1 * abs(rng.uniform())
+    fn random_dt(rng: &mut SplitMix64) -> S {
+        0.01 + 0.1 * abs(draw(rng))
     }
     /// A random symmetric positive definite matrix `L L^T + I`.
-    fn random_covariance(rng: &mut SplitMix64) -> SMatrix<f64, N, N> {
-        let l = SMatrix::<f64, N, N>::from_fn(|_, _| rng.uniform());
-        l * l.transpose() + SMatrix::<f64, N, N>::identity()
+    fn random_covariance(rng: &mut SplitMix64) -> SMatrix<S, N, N> {
+        let l = SMatrix::<S, N, N>::from_fn(|_, _| draw(rng));
+        l * l.transpose() + SMatrix::<S, N, N>::identity()
     }
     /// The upper triangle of `m`, NaN below (generated code must not read it).
-    fn upper_only(m: &SMatrix<f64, N, N>) -> SMatrix<f64, N, N> {
-        SMatrix::<f64, N, N>::from_fn(|i, j| if i <= j { m[(i, j)] } else { f64::NAN })
+    fn upper_only(m: &SMatrix<S, N, N>) -> SMatrix<S, N, N> {
+        SMatrix::<S, N, N>::from_fn(|i, j| if i <= j { m[(i, j)] } else { S::NAN })
     }
-    fn finite<const R: usize, const C: usize>(m: &SMatrix<f64, R, C>) -> bool {
+    fn finite<const R: usize, const C: usize>(m: &SMatrix<S, R, C>) -> bool {
         m.iter().all(|v| v.is_finite())
     }
-    /// Central differences with step `1e-6 (1 + |x_j|)`, and for each entry
+    /// Central differences with step `FD_STEP (1 + |x_j|)`, and for each entry
     /// the rounding bound `4 eps |f| / step` of the difference quotient
-    /// (it matters only for outputs of order 1e6, such as Earth radii).
+    /// (it matters only for outputs of order 1e6, such as Earth radii, or
+    /// in `f32`). `None` where the step straddles a kink of a non-smooth
+    /// function (`min`, `max`, `clamp`, `abs`, `sign`): the one-sided
+    /// quotients then disagree by far more than curvature explains, and
+    /// the central one is no derivative.
     fn fd_jacobian<const R: usize, const C: usize>(
-        x: &SVector<f64, C>,
-        f: impl Fn(&SVector<f64, C>) -> SVector<f64, R>,
-    ) -> (SMatrix<f64, R, C>, SMatrix<f64, R, C>) {
-        let mut out = SMatrix::<f64, R, C>::zeros();
-        let mut rounding = SMatrix::<f64, R, C>::zeros();
+        x: &SVector<S, C>,
+        f: impl Fn(&SVector<S, C>) -> SVector<S, R>,
+    ) -> Option<(SMatrix<S, R, C>, SMatrix<S, R, C>)> {
+        let mut out = SMatrix::<S, R, C>::zeros();
+        let mut rounding = SMatrix::<S, R, C>::zeros();
+        let f0 = f(x);
         for j in 0..C {
-            let h = 1e-6 * (1.0 + abs(x[j]));
+            let h = FD_STEP * (1.0 + abs(x[j]));
             let (mut xp, mut xm) = (*x, *x);
             xp[j] += h;
             xm[j] -= h;
             let (fp, fm) = (f(&xp), f(&xm));
             let col = (fp - fm) / (xp[j] - xm[j]);
-            out.set_column(j, &col);
             for r in 0..R {
                 let big = if abs(fp[r]) > abs(fm[r]) { abs(fp[r]) } else { abs(fm[r]) };
-                rounding[(r, j)] = 4.0 * f64::EPSILON * big / h;
+                rounding[(r, j)] = 4.0 * S::EPSILON * big / h;
+                let forward = (fp[r] - f0[r]) / (xp[j] - x[j]);
+                let backward = (f0[r] - fm[r]) / (x[j] - xm[j]);
+                if abs(forward - backward)
+                    > 0.25 * (1.0 + abs(col[r])) + 4.0 * rounding[(r, j)]
+                {
+                    return None;
+                }
             }
+            out.set_column(j, &col);
         }
-        (out, rounding)
+        Some((out, rounding))
     }
-    /// `|J - J_fd| <= 1e-6 (1 + |J|)` entrywise (plus the rounding bound).
+    /// `|J - J_fd| <= FD_TOLERANCE (1 + |J|)` entrywise (plus the rounding bound).
     fn assert_close_fd<const R: usize, const C: usize>(
         what: &str,
-        j: &SMatrix<f64, R, C>,
-        (fd, rounding): &(SMatrix<f64, R, C>, SMatrix<f64, R, C>),
+        j: &SMatrix<S, R, C>,
+        (fd, rounding): &(SMatrix<S, R, C>, SMatrix<S, R, C>),
     ) {
         for r in 0..R {
             for c in 0..C {
                 let (a, b) = (j[(r, c)], fd[(r, c)]);
                 assert!(
-                    abs(a - b) <= 1e-6 * (1.0 + abs(a)) + rounding[(r, c)],
+                    abs(a - b) <= FD_TOLERANCE * (1.0 + abs(a)) + rounding[(r, c)],
                     "{what}[({r}, {c})]: generated {a} vs finite differences {b}"
                 );
             }
         }
     }
-    /// Equal to `1e-12` relative to the largest entry of `want`.
+    /// Equal to `RELATIVE` relative to the largest entry of `want`.
     fn assert_close_rel<const R: usize, const C: usize>(
         what: &str,
-        got: &SMatrix<f64, R, C>,
-        want: &SMatrix<f64, R, C>,
+        got: &SMatrix<S, R, C>,
+        want: &SMatrix<S, R, C>,
     ) {
         let scale = want
             .iter()
-            .fold(1.0f64, |m, v| if abs(*v) > m { abs(*v) } else { m });
+            .fold(1.0 as S, |m, v| if abs(*v) > m { abs(*v) } else { m });
         for r in 0..R {
             for c in 0..C {
                 let (a, b) = (got[(r, c)], want[(r, c)]);
                 assert!(
-                    abs(a - b) <= 1e-12 * scale,
+                    abs(a - b) <= RELATIVE * scale,
                     "{what}[({r}, {c})]: generated {a} vs dense {b}"
                 );
             }
@@ -551,7 +577,7 @@ mod __velocity_filter_generated_tests {
     }
     fn assert_sparsity<const R: usize, const C: usize>(
         what: &str,
-        j: &SMatrix<f64, R, C>,
+        j: &SMatrix<S, R, C>,
         sparsity: &[[bool; C]; R],
     ) {
         for r in 0..R {
@@ -568,11 +594,12 @@ mod __velocity_filter_generated_tests {
         at_random_points(
             0x5eed_0000,
             |rng, x, u, p, dt| {
-                let jac = <VelocityFilter as Model<N>>::jacobian(&x, &u, &p, dt);
-                let f = |x: &SVector<f64, N>| <VelocityFilter as Model<
+                let jac = <VelocityFilter as Model<N, S>>::jacobian(&x, &u, &p, dt);
+                let f = |x: &SVector<S, N>| <VelocityFilter as Model<
                     N,
+                    S,
                 >>::transition(x, &u, &p, dt);
-                let fd = fd_jacobian(&x, f);
+                let Some(fd) = fd_jacobian(&x, f) else { return false };
                 if !finite(&f(&x)) || !finite(&jac) || !finite(&fd.0) {
                     return false;
                 }
@@ -580,7 +607,7 @@ mod __velocity_filter_generated_tests {
                 assert_sparsity(
                     "jacobian",
                     &jac,
-                    &<VelocityFilter as Model<N>>::JACOBIAN_SPARSITY,
+                    &<VelocityFilter as Model<N, S>>::JACOBIAN_SPARSITY,
                 );
                 true
             },
@@ -592,15 +619,15 @@ mod __velocity_filter_generated_tests {
             0x5eed_0001,
             |rng, x, u, p, dt| {
                 let g = VelocityFilter::noise_jacobian(&x, &u, &p, dt);
-                let f = |w: &SVector<f64, NW>| VelocityFilter::process_with_noise(
+                let f = |w: &SVector<S, NW>| VelocityFilter::process_with_noise(
                     &x,
                     &u,
                     &p,
                     w,
                     dt,
                 );
-                let w0 = SVector::<f64, NW>::zeros();
-                let fd = fd_jacobian(&w0, f);
+                let w0 = SVector::<S, NW>::zeros();
+                let Some(fd) = fd_jacobian(&w0, f) else { return false };
                 if !finite(&f(&w0)) || !finite(&g) || !finite(&fd.0) {
                     return false;
                 }
@@ -616,26 +643,32 @@ mod __velocity_filter_generated_tests {
             |rng, x, u, p, dt| {
                 let q: VelocityFilterNoise = <VelocityFilterNoise as Record>::from_fn(|
                     _|
-                abs(rng.uniform()));
+                ::nav_runtime::math::abs(rng.uniform()));
                 let cov = random_covariance(rng);
-                let jac = <VelocityFilter as Model<N>>::jacobian(&x, &u, &p, dt);
+                let jac = <VelocityFilter as Model<N, S>>::jacobian(&x, &u, &p, dt);
                 let g = VelocityFilter::noise_jacobian(&x, &u, &p, dt);
                 if !finite(&jac) || !finite(&g) {
                     return false;
                 }
                 let qdiag = SMatrix::<
-                    f64,
+                    S,
                     NW,
                     NW,
-                >::from_fn(|i, j| if i == j { q.get(i) } else { 0.0 });
+                >::from_fn(|i, j| {
+                    if i == j { <S as ::nav_runtime::Real>::of(q.get(i)) } else { 0.0 }
+                });
                 let qd_dense = g * qdiag * g.transpose() * 1.0;
-                let qd = <VelocityFilter as Model<N>>::process_noise(&x, &u, &p, &q, dt);
+                let qd = <VelocityFilter as Model<
+                    N,
+                    S,
+                >>::process_noise(&x, &u, &p, &q, dt);
                 assert_close_rel("process_noise", &qd, &qd_dense);
                 let phi = jac;
                 let dense = phi * cov * phi.transpose() + qd_dense;
                 let mut got = cov;
                 <VelocityFilter as Model<
                     N,
+                    S,
                 >>::propagate_covariance(&mut got, &x, &u, &p, &q, dt);
                 assert_close_rel("propagate_covariance", &got, &dense);
                 assert_eq!(
@@ -652,28 +685,32 @@ mod __velocity_filter_generated_tests {
         let s = VelocityFilterState::from_vector(&x);
         assert_eq!(s.to_vector(), x);
         for i in 0..N {
-            assert_eq!(s.get(i), x[i]);
+            assert_eq!(s.get(i), < S as ::nav_runtime::Real > ::to_f64(x[i]));
         }
         assert_eq!(
-            << VelocityFilter as Model < N >> ::State as Record > ::NAMES.len(), N
+            << VelocityFilter as Model < N, S >> ::State as Record > ::NAMES.len(), N
         );
-        assert_eq!(< VelocityFilter as Model < N >> ::STATE_NAMES.len(), N);
+        assert_eq!(< VelocityFilter as Model < N, S >> ::STATE_NAMES.len(), N);
     }
     #[test]
     fn sensor_dvl_jacobian_matches_finite_differences() {
         at_random_points(
             0x5eed_0002,
             |rng, x, u, p, dt| {
-                let aux: <VelocityFilterDvl as Sensor<N, 1>>::Aux = random_record(rng);
+                let aux: <VelocityFilterDvl as Sensor<N, 1, S>>::Aux = random_record(
+                    rng,
+                );
                 let jac = <VelocityFilterDvl as Sensor<
                     N,
                     1,
+                    S,
                 >>::jacobian(&x, &u, &p, &aux);
-                let h = |x: &SVector<f64, N>| <VelocityFilterDvl as Sensor<
+                let h = |x: &SVector<S, N>| <VelocityFilterDvl as Sensor<
                     N,
                     1,
+                    S,
                 >>::predict(x, &u, &p, &aux);
-                let fd = fd_jacobian(&x, h);
+                let Some(fd) = fd_jacobian(&x, h) else { return false };
                 if !finite(&h(&x)) || !finite(&jac) || !finite(&fd.0) {
                     return false;
                 }
@@ -685,7 +722,7 @@ mod __velocity_filter_generated_tests {
                 assert_sparsity(
                     concat!(stringify!(VelocityFilterDvl), "::jacobian"),
                     &jac,
-                    &<VelocityFilterDvl as Sensor<N, 1>>::JACOBIAN_SPARSITY,
+                    &<VelocityFilterDvl as Sensor<N, 1, S>>::JACOBIAN_SPARSITY,
                 );
                 true
             },
@@ -696,15 +733,19 @@ mod __velocity_filter_generated_tests {
         at_random_points(
             0x5eed_0003,
             |rng, x, u, p, dt| {
-                let aux: <VelocityFilterDvl as Sensor<N, 1>>::Aux = random_record(rng);
+                let aux: <VelocityFilterDvl as Sensor<N, 1, S>>::Aux = random_record(
+                    rng,
+                );
                 let cov = random_covariance(rng);
                 let hjac = <VelocityFilterDvl as Sensor<
                     N,
                     1,
+                    S,
                 >>::jacobian(&x, &u, &p, &aux);
                 let pred = <VelocityFilterDvl as Sensor<
                     N,
                     1,
+                    S,
                 >>::predict(&x, &u, &p, &aux);
                 if !finite(&hjac) || !finite(&pred) {
                     return false;
@@ -712,6 +753,7 @@ mod __velocity_filter_generated_tests {
                 let (h, pht, s) = <VelocityFilterDvl as Sensor<
                     N,
                     1,
+                    S,
                 >>::innovation_terms(&upper_only(&cov), &x, &u, &p, &aux);
                 assert_close_rel("h", &h, &pred);
                 assert_close_rel("P H^T", &pht, &(cov * hjac.transpose()));
@@ -748,9 +790,9 @@ impl ::nav_runtime::model::Record for Nav9State {
         "accel_bias[2]",
     ];
     fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
-        let mut v = [0.0f64; 9];
+        let mut v: [f64; 9] = [0.0; 9];
         for (i, slot) in v.iter_mut().enumerate() {
-            *slot = f(i);
+            *slot = <f64 as ::nav_runtime::Real>::of(f(i));
         }
         Self {
             position: ::nav_runtime::nalgebra::SVector::<
@@ -769,15 +811,15 @@ impl ::nav_runtime::model::Record for Nav9State {
     }
     fn get(&self, i: usize) -> f64 {
         match i {
-            0 => self.position[0],
-            1 => self.position[1],
-            2 => self.position[2],
-            3 => self.velocity[0],
-            4 => self.velocity[1],
-            5 => self.velocity[2],
-            6 => self.accel_bias[0],
-            7 => self.accel_bias[1],
-            8 => self.accel_bias[2],
+            0 => <f64 as ::nav_runtime::Real>::to_f64(self.position[0]),
+            1 => <f64 as ::nav_runtime::Real>::to_f64(self.position[1]),
+            2 => <f64 as ::nav_runtime::Real>::to_f64(self.position[2]),
+            3 => <f64 as ::nav_runtime::Real>::to_f64(self.velocity[0]),
+            4 => <f64 as ::nav_runtime::Real>::to_f64(self.velocity[1]),
+            5 => <f64 as ::nav_runtime::Real>::to_f64(self.velocity[2]),
+            6 => <f64 as ::nav_runtime::Real>::to_f64(self.accel_bias[0]),
+            7 => <f64 as ::nav_runtime::Real>::to_f64(self.accel_bias[1]),
+            8 => <f64 as ::nav_runtime::Real>::to_f64(self.accel_bias[2]),
             _ => f64::NAN,
         }
     }
@@ -786,7 +828,9 @@ impl ::nav_runtime::model::Record for Nav9State {
 impl Nav9State {
     /// The state from its vector (declaration order).
     pub fn from_vector(v: &::nav_runtime::nalgebra::SVector<f64, 9>) -> Self {
-        <Self as ::nav_runtime::model::Record>::from_fn(|i| v[i])
+        <Self as ::nav_runtime::model::Record>::from_fn(|i| <f64 as ::nav_runtime::Real>::to_f64(
+            v[i],
+        ))
     }
     /// The state as a vector (declaration order).
     pub fn to_vector(&self) -> ::nav_runtime::nalgebra::SVector<f64, 9> {
@@ -835,9 +879,9 @@ impl ::nav_runtime::model::Record for Nav9Input {
         "c_bn[2][2]",
     ];
     fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
-        let mut v = [0.0f64; 12];
+        let mut v: [f64; 12] = [0.0; 12];
         for (i, slot) in v.iter_mut().enumerate() {
-            *slot = f(i);
+            *slot = <f64 as ::nav_runtime::Real>::of(f(i));
         }
         Self {
             accel_n: ::nav_runtime::nalgebra::SVector::<
@@ -853,18 +897,18 @@ impl ::nav_runtime::model::Record for Nav9Input {
     }
     fn get(&self, i: usize) -> f64 {
         match i {
-            0 => self.accel_n[0],
-            1 => self.accel_n[1],
-            2 => self.accel_n[2],
-            3 => self.c_bn[(0, 0)],
-            4 => self.c_bn[(0, 1)],
-            5 => self.c_bn[(0, 2)],
-            6 => self.c_bn[(1, 0)],
-            7 => self.c_bn[(1, 1)],
-            8 => self.c_bn[(1, 2)],
-            9 => self.c_bn[(2, 0)],
-            10 => self.c_bn[(2, 1)],
-            11 => self.c_bn[(2, 2)],
+            0 => <f64 as ::nav_runtime::Real>::to_f64(self.accel_n[0]),
+            1 => <f64 as ::nav_runtime::Real>::to_f64(self.accel_n[1]),
+            2 => <f64 as ::nav_runtime::Real>::to_f64(self.accel_n[2]),
+            3 => <f64 as ::nav_runtime::Real>::to_f64(self.c_bn[(0, 0)]),
+            4 => <f64 as ::nav_runtime::Real>::to_f64(self.c_bn[(0, 1)]),
+            5 => <f64 as ::nav_runtime::Real>::to_f64(self.c_bn[(0, 2)]),
+            6 => <f64 as ::nav_runtime::Real>::to_f64(self.c_bn[(1, 0)]),
+            7 => <f64 as ::nav_runtime::Real>::to_f64(self.c_bn[(1, 1)]),
+            8 => <f64 as ::nav_runtime::Real>::to_f64(self.c_bn[(1, 2)]),
+            9 => <f64 as ::nav_runtime::Real>::to_f64(self.c_bn[(2, 0)]),
+            10 => <f64 as ::nav_runtime::Real>::to_f64(self.c_bn[(2, 1)]),
+            11 => <f64 as ::nav_runtime::Real>::to_f64(self.c_bn[(2, 2)]),
             _ => f64::NAN,
         }
     }
@@ -878,9 +922,9 @@ impl ::nav_runtime::model::Record for Nav9Params {
     const LEN: usize = 0;
     const NAMES: &'static [&'static str] = &[];
     fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
-        let mut v = [0.0f64; 0];
+        let mut v: [f64; 0] = [0.0; 0];
         for (i, slot) in v.iter_mut().enumerate() {
-            *slot = f(i);
+            *slot = <f64 as ::nav_runtime::Real>::of(f(i));
         }
         Self {}
     }
@@ -911,9 +955,9 @@ impl ::nav_runtime::model::Record for Nav9Noise {
         "bias_walk[2]",
     ];
     fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
-        let mut v = [0.0f64; 6];
+        let mut v: [f64; 6] = [0.0; 6];
         for (i, slot) in v.iter_mut().enumerate() {
-            *slot = f(i);
+            *slot = <f64 as ::nav_runtime::Real>::of(f(i));
         }
         Self {
             accel_noise: ::nav_runtime::nalgebra::SVector::<
@@ -928,12 +972,12 @@ impl ::nav_runtime::model::Record for Nav9Noise {
     }
     fn get(&self, i: usize) -> f64 {
         match i {
-            0 => self.accel_noise[0],
-            1 => self.accel_noise[1],
-            2 => self.accel_noise[2],
-            3 => self.bias_walk[0],
-            4 => self.bias_walk[1],
-            5 => self.bias_walk[2],
+            0 => <f64 as ::nav_runtime::Real>::to_f64(self.accel_noise[0]),
+            1 => <f64 as ::nav_runtime::Real>::to_f64(self.accel_noise[1]),
+            2 => <f64 as ::nav_runtime::Real>::to_f64(self.accel_noise[2]),
+            3 => <f64 as ::nav_runtime::Real>::to_f64(self.bias_walk[0]),
+            4 => <f64 as ::nav_runtime::Real>::to_f64(self.bias_walk[1]),
+            5 => <f64 as ::nav_runtime::Real>::to_f64(self.bias_walk[2]),
             _ => f64::NAN,
         }
     }
@@ -1061,7 +1105,7 @@ Total ops: 0*/
     }
 }
 #[allow(clippy::possible_missing_comma)]
-impl ::nav_runtime::model::Model<9> for Nav9 {
+impl ::nav_runtime::model::Model<9, f64> for Nav9 {
     type Input = Nav9Input;
     type Params = Nav9Params;
     type Noise = Nav9Noise;
@@ -1304,7 +1348,7 @@ impl Nav9Dvl {
     pub const OPS_INNOVATION_TERMS: usize = 0;
 }
 #[allow(clippy::possible_missing_comma)]
-impl ::nav_runtime::model::Sensor<9, 3> for Nav9Dvl {
+impl ::nav_runtime::model::Sensor<9, 3, f64> for Nav9Dvl {
     type Model = Nav9;
     type Aux = ();
     const NAME: &'static str = "Dvl";
@@ -1425,7 +1469,7 @@ impl Nav9Rpm {
     pub const OPS_INNOVATION_TERMS: usize = 0;
 }
 #[allow(clippy::possible_missing_comma)]
-impl ::nav_runtime::model::Sensor<9, 3> for Nav9Rpm {
+impl ::nav_runtime::model::Sensor<9, 3, f64> for Nav9Rpm {
     type Model = Nav9;
     type Aux = ();
     const NAME: &'static str = "Rpm";
@@ -1533,23 +1577,31 @@ mod __nav9_generated_tests {
     use super::*;
     use ::nav_runtime::model::{Model, Record, Sensor};
     use ::nav_runtime::nalgebra::{SMatrix, SVector};
+    /// The model's scalar.
+    type S = f64;
+    /// Finite-difference step (relative), tolerance of a Jacobian entry
+    /// against it, and tolerance of the sparse covariance algebra
+    /// against dense products, for this scalar's precision.
+    const FD_STEP: S = 1e-6;
+    const FD_TOLERANCE: S = 1e-6;
+    const RELATIVE: S = 1e-12;
     const N: usize = 9;
     const NW: usize = 6;
     /// Points checked per test.
     const POINTS: usize = 6;
-    /// Random draws tried to find them (points with non-finite values are skipped).
+    /// Random draws tried to find them (points with non-finite values, or a kink within a step, are skipped).
     const ATTEMPTS: usize = 400;
     /// Calls `check` at random `(x, u, p, dt)` (it draws anything else from
-    /// `rng`) until `POINTS` points had finite values (`check` returns true
+    /// `rng`) until `POINTS` points were usable (`check` returns true
     /// for those); fails if none had.
     fn at_random_points(
         seed: u64,
         mut check: impl FnMut(
             &mut SplitMix64,
-            SVector<f64, N>,
+            SVector<S, N>,
             Nav9Input,
             Nav9Params,
-            f64,
+            S,
         ) -> bool,
     ) {
         let mut rng = SplitMix64(seed);
@@ -1583,84 +1635,100 @@ mod __nav9_generated_tests {
             ((self.next_u64() >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
         }
     }
-    fn abs(v: f64) -> f64 {
+    fn abs(v: S) -> S {
         ::nav_runtime::math::abs(v)
+    }
+    /// A uniform draw in [-1, 1] in the model's scalar.
+    fn draw(rng: &mut SplitMix64) -> S {
+        <S as ::nav_runtime::Real>::of(rng.uniform())
     }
     fn random_record<R: Record>(rng: &mut SplitMix64) -> R {
         R::from_fn(|_| rng.uniform())
     }
-    fn random_vector<const K: usize>(rng: &mut SplitMix64) -> SVector<f64, K> {
-        SVector::<f64, K>::from_fn(|_, _| rng.uniform())
+    fn random_vector<const K: usize>(rng: &mut SplitMix64) -> SVector<S, K> {
+        SVector::<S, K>::from_fn(|_, _| draw(rng))
     }
-    fn random_dt(rng: &mut SplitMix64) -> f64 {
-        0.01 + 0.1 * abs(rng.uniform())
+    fn random_dt(rng: &mut SplitMix64) -> S {
+        0.01 + 0.1 * abs(draw(rng))
     }
     /// A random symmetric positive definite matrix `L L^T + I`.
-    fn random_covariance(rng: &mut SplitMix64) -> SMatrix<f64, N, N> {
-        let l = SMatrix::<f64, N, N>::from_fn(|_, _| rng.uniform());
-        l * l.transpose() + SMatrix::<f64, N, N>::identity()
+    fn random_covariance(rng: &mut SplitMix64) -> SMatrix<S, N, N> {
+        let l = SMatrix::<S, N, N>::from_fn(|_, _| draw(rng));
+        l * l.transpose() + SMatrix::<S, N, N>::identity()
     }
     /// The upper triangle of `m`, NaN below (generated code must not read it).
-    fn upper_only(m: &SMatrix<f64, N, N>) -> SMatrix<f64, N, N> {
-        SMatrix::<f64, N, N>::from_fn(|i, j| if i <= j { m[(i, j)] } else { f64::NAN })
+    fn upper_only(m: &SMatrix<S, N, N>) -> SMatrix<S, N, N> {
+        SMatrix::<S, N, N>::from_fn(|i, j| if i <= j { m[(i, j)] } else { S::NAN })
     }
-    fn finite<const R: usize, const C: usize>(m: &SMatrix<f64, R, C>) -> bool {
+    fn finite<const R: usize, const C: usize>(m: &SMatrix<S, R, C>) -> bool {
         m.iter().all(|v| v.is_finite())
     }
-    /// Central differences with step `1e-6 (1 + |x_j|)`, and for each entry
+    /// Central differences with step `FD_STEP (1 + |x_j|)`, and for each entry
     /// the rounding bound `4 eps |f| / step` of the difference quotient
-    /// (it matters only for outputs of order 1e6, such as Earth radii).
+    /// (it matters only for outputs of order 1e6, such as Earth radii, or
+    /// in `f32`). `None` where the step straddles a kink of a non-smooth
+    /// function (`min`, `max`, `clamp`, `abs`, `sign`): the one-sided
+    /// quotients then disagree by far more than curvature explains, and
+    /// the central one is no derivative.
     fn fd_jacobian<const R: usize, const C: usize>(
-        x: &SVector<f64, C>,
-        f: impl Fn(&SVector<f64, C>) -> SVector<f64, R>,
-    ) -> (SMatrix<f64, R, C>, SMatrix<f64, R, C>) {
-        let mut out = SMatrix::<f64, R, C>::zeros();
-        let mut rounding = SMatrix::<f64, R, C>::zeros();
+        x: &SVector<S, C>,
+        f: impl Fn(&SVector<S, C>) -> SVector<S, R>,
+    ) -> Option<(SMatrix<S, R, C>, SMatrix<S, R, C>)> {
+        let mut out = SMatrix::<S, R, C>::zeros();
+        let mut rounding = SMatrix::<S, R, C>::zeros();
+        let f0 = f(x);
         for j in 0..C {
-            let h = 1e-6 * (1.0 + abs(x[j]));
+            let h = FD_STEP * (1.0 + abs(x[j]));
             let (mut xp, mut xm) = (*x, *x);
             xp[j] += h;
             xm[j] -= h;
             let (fp, fm) = (f(&xp), f(&xm));
             let col = (fp - fm) / (xp[j] - xm[j]);
-            out.set_column(j, &col);
             for r in 0..R {
                 let big = if abs(fp[r]) > abs(fm[r]) { abs(fp[r]) } else { abs(fm[r]) };
-                rounding[(r, j)] = 4.0 * f64::EPSILON * big / h;
+                rounding[(r, j)] = 4.0 * S::EPSILON * big / h;
+                let forward = (fp[r] - f0[r]) / (xp[j] - x[j]);
+                let backward = (f0[r] - fm[r]) / (x[j] - xm[j]);
+                if abs(forward - backward)
+                    > 0.25 * (1.0 + abs(col[r])) + 4.0 * rounding[(r, j)]
+                {
+                    return None;
+                }
             }
+            out.set_column(j, &col);
         }
-        (out, rounding)
+        Some((out, rounding))
     }
-    /// `|J - J_fd| <= 1e-6 (1 + |J|)` entrywise (plus the rounding bound).
+    /// `|J - J_fd| <= FD_TOLERANCE (1 + |J|)` entrywise (plus the rounding bound).
     fn assert_close_fd<const R: usize, const C: usize>(
         what: &str,
-        j: &SMatrix<f64, R, C>,
-        (fd, rounding): &(SMatrix<f64, R, C>, SMatrix<f64, R, C>),
+        j: &SMatrix<S, R, C>,
+        (fd, rounding): &(SMatrix<S, R, C>, SMatrix<S, R, C>),
     ) {
         for r in 0..R {
             for c in 0..C {
                 let (a, b) = (j[(r, c)], fd[(r, c)]);
                 assert!(
-                    abs(a - b) <= 1e-6 * (1.0 + abs(a)) + rounding[(r, c)],
+                    abs(a - b) <= FD_TOLERANCE * (1.0 + abs(a)) + rounding[(r, c)],
                     "{what}[({r}, {c})]: generated {a} vs finite differences {b}"
                 );
             }
         }
     }
-    /// Equal to `1e-12` relative to the largest entry of `want`.
+    /// Equal to `RELATIVE` relative to the largest entry of `want`.
     fn assert_close_rel<const R: usize, const C: usize>(
         what: &str,
-        got: &SMatrix<f64, R, C>,
-        want: &SMatrix<f64, R, C>,
+        got: &SMatrix<S, R, C>,
+        want: &SMatrix<S, R, C>,
     ) {
         let scale = want
             .iter()
-            .fold(1.0f64, |m, v| if abs(*v) > m { abs(*v) } else { m });
+            .fold(1.0 as S, |m, v| if abs(*v) > m { abs(*v) } else { m });
         for r in 0..R {
             for c in 0..C {
                 let (a, b) = (got[(r, c)], want[(r, c)]);
                 assert!(
-                    abs(a - b) <= 1e-12 * scale,
+                    abs(a - b) <= RELATIVE * scale,
                     "{what}[({r}, {c})]: generated {a} vs dense {b}"
                 );
             }
@@ -1668,7 +1736,7 @@ mod __nav9_generated_tests {
     }
     fn assert_sparsity<const R: usize, const C: usize>(
         what: &str,
-        j: &SMatrix<f64, R, C>,
+        j: &SMatrix<S, R, C>,
         sparsity: &[[bool; C]; R],
     ) {
         for r in 0..R {
@@ -1685,9 +1753,9 @@ mod __nav9_generated_tests {
         at_random_points(
             0x5eed_0000,
             |rng, x, u, p, dt| {
-                let jac = <Nav9 as Model<N>>::jacobian(&x, &u, &p, dt);
-                let f = |x: &SVector<f64, N>| Nav9::derivative(x, &u, &p);
-                let fd = fd_jacobian(&x, f);
+                let jac = <Nav9 as Model<N, S>>::jacobian(&x, &u, &p, dt);
+                let f = |x: &SVector<S, N>| Nav9::derivative(x, &u, &p);
+                let Some(fd) = fd_jacobian(&x, f) else { return false };
                 if !finite(&f(&x)) || !finite(&jac) || !finite(&fd.0) {
                     return false;
                 }
@@ -1695,7 +1763,7 @@ mod __nav9_generated_tests {
                 assert_sparsity(
                     "jacobian",
                     &jac,
-                    &<Nav9 as Model<N>>::JACOBIAN_SPARSITY,
+                    &<Nav9 as Model<N, S>>::JACOBIAN_SPARSITY,
                 );
                 true
             },
@@ -1707,15 +1775,9 @@ mod __nav9_generated_tests {
             0x5eed_0001,
             |rng, x, u, p, dt| {
                 let g = Nav9::noise_jacobian(&x, &u, &p, dt);
-                let f = |w: &SVector<f64, NW>| Nav9::process_with_noise(
-                    &x,
-                    &u,
-                    &p,
-                    w,
-                    dt,
-                );
-                let w0 = SVector::<f64, NW>::zeros();
-                let fd = fd_jacobian(&w0, f);
+                let f = |w: &SVector<S, NW>| Nav9::process_with_noise(&x, &u, &p, w, dt);
+                let w0 = SVector::<S, NW>::zeros();
+                let Some(fd) = fd_jacobian(&w0, f) else { return false };
                 if !finite(&f(&w0)) || !finite(&g) || !finite(&fd.0) {
                     return false;
                 }
@@ -1729,27 +1791,32 @@ mod __nav9_generated_tests {
         at_random_points(
             0x5eed_0004,
             |rng, x, u, p, dt| {
-                let q: Nav9Noise = <Nav9Noise as Record>::from_fn(|_| abs(
+                let q: Nav9Noise = <Nav9Noise as Record>::from_fn(|_| ::nav_runtime::math::abs(
                     rng.uniform(),
                 ));
                 let cov = random_covariance(rng);
-                let jac = <Nav9 as Model<N>>::jacobian(&x, &u, &p, dt);
+                let jac = <Nav9 as Model<N, S>>::jacobian(&x, &u, &p, dt);
                 let g = Nav9::noise_jacobian(&x, &u, &p, dt);
                 if !finite(&jac) || !finite(&g) {
                     return false;
                 }
                 let qdiag = SMatrix::<
-                    f64,
+                    S,
                     NW,
                     NW,
-                >::from_fn(|i, j| if i == j { q.get(i) } else { 0.0 });
+                >::from_fn(|i, j| {
+                    if i == j { <S as ::nav_runtime::Real>::of(q.get(i)) } else { 0.0 }
+                });
                 let qd_dense = g * qdiag * g.transpose() * dt;
-                let qd = <Nav9 as Model<N>>::process_noise(&x, &u, &p, &q, dt);
+                let qd = <Nav9 as Model<N, S>>::process_noise(&x, &u, &p, &q, dt);
                 assert_close_rel("process_noise", &qd, &qd_dense);
-                let phi = SMatrix::<f64, N, N>::identity() + jac * dt;
+                let phi = SMatrix::<S, N, N>::identity() + jac * dt;
                 let dense = phi * cov * phi.transpose() + qd_dense;
                 let mut got = cov;
-                <Nav9 as Model<N>>::propagate_covariance(&mut got, &x, &u, &p, &q, dt);
+                <Nav9 as Model<
+                    N,
+                    S,
+                >>::propagate_covariance(&mut got, &x, &u, &p, &q, dt);
                 assert_close_rel("propagate_covariance", &got, &dense);
                 assert_eq!(
                     got, got.transpose(), "the propagated covariance must be symmetric"
@@ -1765,23 +1832,24 @@ mod __nav9_generated_tests {
         let s = Nav9State::from_vector(&x);
         assert_eq!(s.to_vector(), x);
         for i in 0..N {
-            assert_eq!(s.get(i), x[i]);
+            assert_eq!(s.get(i), < S as ::nav_runtime::Real > ::to_f64(x[i]));
         }
-        assert_eq!(<< Nav9 as Model < N >> ::State as Record > ::NAMES.len(), N);
-        assert_eq!(< Nav9 as Model < N >> ::STATE_NAMES.len(), N);
+        assert_eq!(<< Nav9 as Model < N, S >> ::State as Record > ::NAMES.len(), N);
+        assert_eq!(< Nav9 as Model < N, S >> ::STATE_NAMES.len(), N);
     }
     #[test]
     fn sensor_dvl_jacobian_matches_finite_differences() {
         at_random_points(
             0x5eed_0002,
             |rng, x, u, p, dt| {
-                let aux: <Nav9Dvl as Sensor<N, 3>>::Aux = random_record(rng);
-                let jac = <Nav9Dvl as Sensor<N, 3>>::jacobian(&x, &u, &p, &aux);
-                let h = |x: &SVector<f64, N>| <Nav9Dvl as Sensor<
+                let aux: <Nav9Dvl as Sensor<N, 3, S>>::Aux = random_record(rng);
+                let jac = <Nav9Dvl as Sensor<N, 3, S>>::jacobian(&x, &u, &p, &aux);
+                let h = |x: &SVector<S, N>| <Nav9Dvl as Sensor<
                     N,
                     3,
+                    S,
                 >>::predict(x, &u, &p, &aux);
-                let fd = fd_jacobian(&x, h);
+                let Some(fd) = fd_jacobian(&x, h) else { return false };
                 if !finite(&h(&x)) || !finite(&jac) || !finite(&fd.0) {
                     return false;
                 }
@@ -1789,7 +1857,7 @@ mod __nav9_generated_tests {
                 assert_sparsity(
                     concat!(stringify!(Nav9Dvl), "::jacobian"),
                     &jac,
-                    &<Nav9Dvl as Sensor<N, 3>>::JACOBIAN_SPARSITY,
+                    &<Nav9Dvl as Sensor<N, 3, S>>::JACOBIAN_SPARSITY,
                 );
                 true
             },
@@ -1800,16 +1868,17 @@ mod __nav9_generated_tests {
         at_random_points(
             0x5eed_0003,
             |rng, x, u, p, dt| {
-                let aux: <Nav9Dvl as Sensor<N, 3>>::Aux = random_record(rng);
+                let aux: <Nav9Dvl as Sensor<N, 3, S>>::Aux = random_record(rng);
                 let cov = random_covariance(rng);
-                let hjac = <Nav9Dvl as Sensor<N, 3>>::jacobian(&x, &u, &p, &aux);
-                let pred = <Nav9Dvl as Sensor<N, 3>>::predict(&x, &u, &p, &aux);
+                let hjac = <Nav9Dvl as Sensor<N, 3, S>>::jacobian(&x, &u, &p, &aux);
+                let pred = <Nav9Dvl as Sensor<N, 3, S>>::predict(&x, &u, &p, &aux);
                 if !finite(&hjac) || !finite(&pred) {
                     return false;
                 }
                 let (h, pht, s) = <Nav9Dvl as Sensor<
                     N,
                     3,
+                    S,
                 >>::innovation_terms(&upper_only(&cov), &x, &u, &p, &aux);
                 assert_close_rel("h", &h, &pred);
                 assert_close_rel("P H^T", &pht, &(cov * hjac.transpose()));
@@ -1824,13 +1893,14 @@ mod __nav9_generated_tests {
         at_random_points(
             0x5eed_0002,
             |rng, x, u, p, dt| {
-                let aux: <Nav9Rpm as Sensor<N, 3>>::Aux = random_record(rng);
-                let jac = <Nav9Rpm as Sensor<N, 3>>::jacobian(&x, &u, &p, &aux);
-                let h = |x: &SVector<f64, N>| <Nav9Rpm as Sensor<
+                let aux: <Nav9Rpm as Sensor<N, 3, S>>::Aux = random_record(rng);
+                let jac = <Nav9Rpm as Sensor<N, 3, S>>::jacobian(&x, &u, &p, &aux);
+                let h = |x: &SVector<S, N>| <Nav9Rpm as Sensor<
                     N,
                     3,
+                    S,
                 >>::predict(x, &u, &p, &aux);
-                let fd = fd_jacobian(&x, h);
+                let Some(fd) = fd_jacobian(&x, h) else { return false };
                 if !finite(&h(&x)) || !finite(&jac) || !finite(&fd.0) {
                     return false;
                 }
@@ -1838,7 +1908,7 @@ mod __nav9_generated_tests {
                 assert_sparsity(
                     concat!(stringify!(Nav9Rpm), "::jacobian"),
                     &jac,
-                    &<Nav9Rpm as Sensor<N, 3>>::JACOBIAN_SPARSITY,
+                    &<Nav9Rpm as Sensor<N, 3, S>>::JACOBIAN_SPARSITY,
                 );
                 true
             },
@@ -1849,16 +1919,17 @@ mod __nav9_generated_tests {
         at_random_points(
             0x5eed_0003,
             |rng, x, u, p, dt| {
-                let aux: <Nav9Rpm as Sensor<N, 3>>::Aux = random_record(rng);
+                let aux: <Nav9Rpm as Sensor<N, 3, S>>::Aux = random_record(rng);
                 let cov = random_covariance(rng);
-                let hjac = <Nav9Rpm as Sensor<N, 3>>::jacobian(&x, &u, &p, &aux);
-                let pred = <Nav9Rpm as Sensor<N, 3>>::predict(&x, &u, &p, &aux);
+                let hjac = <Nav9Rpm as Sensor<N, 3, S>>::jacobian(&x, &u, &p, &aux);
+                let pred = <Nav9Rpm as Sensor<N, 3, S>>::predict(&x, &u, &p, &aux);
                 if !finite(&hjac) || !finite(&pred) {
                     return false;
                 }
                 let (h, pht, s) = <Nav9Rpm as Sensor<
                     N,
                     3,
+                    S,
                 >>::innovation_terms(&upper_only(&cov), &x, &u, &p, &aux);
                 assert_close_rel("h", &h, &pred);
                 assert_close_rel("P H^T", &pht, &(cov * hjac.transpose()));

@@ -59,6 +59,7 @@
 //! | `continuous { .. }` | `dx/dt = f(x, u, p, w)` | `derivative`, `F`, `Phi = I + F dt` |
 //! | `discrete { .. }` | `x_k = f(x_{k-1}, u, p, dt, w)` | `transition`, `Phi = df/dx` |
 //! | `sensor Name: M { .. }` | a measurement `h(x, u, p, aux)` with `M` outputs | `NameSensorName` |
+//! | `scalar f32;` | the scalar the code is generated for (`f64` when absent) | `Model<N, f32>`, `Ekf<Name, N, f32>` |
 //!
 //! Entries of `states`, `inputs`, `parameters`, `noise` and sensor `inputs` are
 //! comma-separated: `x` (scalar), `x: n` (vector), `x: RxC` (row-major matrix,
@@ -66,6 +67,22 @@
 //! unique across states, inputs, parameters, noise, model-level `let`s, the
 //! process section's `let`s and each sensor's inputs and `let`s (different
 //! sensors may reuse their own names); `dt` is reserved.
+//!
+//! ## Scalar type
+//!
+//! `scalar f32;` generates every record field, function and test of the
+//! model in single precision (for flight computers without a double FPU);
+//! the default is `f64`. The model then implements `Model<N, f32>` and its
+//! sensors `Sensor<N, M, f32>`, and runs in `Ekf<Name, N, f32>` (the filter
+//! core, gates and covariance kernels are generic; times stay `f32` in
+//! `predict`, NIS values and thresholds are `f64`). Records keep their
+//! `f64` `Record` interface (`from_fn`, `get`) for loggers and mappings.
+//! The generated tests use a finite-difference step of `2e-3` and a
+//! tolerance of `1e-3` in `f32` (`1e-6`, `1e-6` in `f64`), and `1e-4`
+//! instead of `1e-12` for the sparse products. A composed model takes
+//! `scalar f32;` among its options (`model X = A + B { scalar f32; }`); a
+//! block has none. `f16` and other types are compile errors. See
+//! `docs/language.md`, "Scalar type", for measured differences.
 //!
 //! ## States kept on a manifold
 //!

@@ -19,6 +19,8 @@
 
 use nalgebra::{SMatrix, SVector};
 
+use crate::real::Real;
+
 /// A fixed-size group of named scalars: a model's state, inputs, parameters,
 /// noise densities, or a sensor's auxiliary inputs. Generated for each of them.
 ///
@@ -45,8 +47,9 @@ impl Record for () {
     }
 }
 
-/// A process model with `N` states. Implemented by generated code.
-pub trait Model<const N: usize>: Sized + 'static {
+/// A process model with `N` states, computed in the scalar `T` (`f64`
+/// unless declared `scalar f32;`). Implemented by generated code.
+pub trait Model<const N: usize, T: Real = f64>: Sized + 'static {
     /// Inputs `u` (IMU outputs, a nominal navigation solution, ...).
     type Input: Record;
     /// Constant parameters `p` (gravity, Earth rate, ...).
@@ -73,29 +76,19 @@ pub trait Model<const N: usize>: Sized + 'static {
     const OPS_JACOBIAN: usize;
 
     /// One step of the state: `x + f dt` (continuous, Euler) or `f(x, ..., dt)`.
-    fn transition(
-        x: &SVector<f64, N>,
-        u: &Self::Input,
-        p: &Self::Params,
-        dt: f64,
-    ) -> SVector<f64, N>;
+    fn transition(x: &SVector<T, N>, u: &Self::Input, p: &Self::Params, dt: T) -> SVector<T, N>;
 
     /// `F = df/dx` (continuous) or `Phi = df/dx` (discrete) at `(x, u, p)`.
-    fn jacobian(
-        x: &SVector<f64, N>,
-        u: &Self::Input,
-        p: &Self::Params,
-        dt: f64,
-    ) -> SMatrix<f64, N, N>;
+    fn jacobian(x: &SVector<T, N>, u: &Self::Input, p: &Self::Params, dt: T) -> SMatrix<T, N, N>;
 
     /// The dense discrete process-noise covariance `Qd` (see module docs).
     fn process_noise(
-        x: &SVector<f64, N>,
+        x: &SVector<T, N>,
         u: &Self::Input,
         p: &Self::Params,
         q: &Self::Noise,
-        dt: f64,
-    ) -> SMatrix<f64, N, N>;
+        dt: T,
+    ) -> SMatrix<T, N, N>;
 
     /// Returns the state to its manifold: states declared `angle` are wrapped
     /// to (-pi, pi], states declared `quaternion` renormalized to unit norm
@@ -103,7 +96,7 @@ pub trait Model<const N: usize>: Sized + 'static {
     /// filter's finiteness checks report). The filter calls it after every
     /// predict and every accepted update; the default does nothing.
     /// No allocation, no panic.
-    fn normalize_state(x: &mut SVector<f64, N>) {
+    fn normalize_state(x: &mut SVector<T, N>) {
         let _ = x;
     }
 
@@ -113,21 +106,22 @@ pub trait Model<const N: usize>: Sized + 'static {
     /// symmetric. Small models are unrolled entry by entry, larger ones run
     /// [`crate::propagation::propagate`] over their structure.
     fn propagate_covariance(
-        cov: &mut SMatrix<f64, N, N>,
-        x: &SVector<f64, N>,
+        cov: &mut SMatrix<T, N, N>,
+        x: &SVector<T, N>,
         u: &Self::Input,
         p: &Self::Params,
         q: &Self::Noise,
-        dt: f64,
+        dt: T,
     );
 }
 
-/// A measurement model with `M` outputs for a model with `N` states.
+/// A measurement model with `M` outputs for a model with `N` states, in
+/// the model's scalar `T`.
 /// Implemented by generated code; `Model` ties it to one model, so a sensor of
 /// another model is rejected by the type checker.
-pub trait Sensor<const N: usize, const M: usize>: 'static {
+pub trait Sensor<const N: usize, const M: usize, T: Real = f64>: 'static {
     /// The model whose state this sensor observes.
-    type Model: Model<N>;
+    type Model: Model<N, T>;
     /// Extra inputs this sensor's `h` needs (lever arms, a transducer position, ...).
     type Aux: Record;
 
@@ -142,29 +136,29 @@ pub trait Sensor<const N: usize, const M: usize>: 'static {
 
     /// The predicted measurement `h(x, u, p, aux)`.
     fn predict(
-        x: &SVector<f64, N>,
-        u: &<Self::Model as Model<N>>::Input,
-        p: &<Self::Model as Model<N>>::Params,
+        x: &SVector<T, N>,
+        u: &<Self::Model as Model<N, T>>::Input,
+        p: &<Self::Model as Model<N, T>>::Params,
         aux: &Self::Aux,
-    ) -> SVector<f64, M>;
+    ) -> SVector<T, M>;
 
     /// `H = dh/dx` at `(x, u, p, aux)`.
     fn jacobian(
-        x: &SVector<f64, N>,
-        u: &<Self::Model as Model<N>>::Input,
-        p: &<Self::Model as Model<N>>::Params,
+        x: &SVector<T, N>,
+        u: &<Self::Model as Model<N, T>>::Input,
+        p: &<Self::Model as Model<N, T>>::Params,
         aux: &Self::Aux,
-    ) -> SMatrix<f64, M, N>;
+    ) -> SMatrix<T, M, N>;
 
     /// `(h, P H^T, H P H^T)` from the sparsity of `H`; reads only the upper
     /// triangle of `P`. `H P H^T` is returned symmetric.
     fn innovation_terms(
-        cov: &SMatrix<f64, N, N>,
-        x: &SVector<f64, N>,
-        u: &<Self::Model as Model<N>>::Input,
-        p: &<Self::Model as Model<N>>::Params,
+        cov: &SMatrix<T, N, N>,
+        x: &SVector<T, N>,
+        u: &<Self::Model as Model<N, T>>::Input,
+        p: &<Self::Model as Model<N, T>>::Params,
         aux: &Self::Aux,
-    ) -> (SVector<f64, M>, SMatrix<f64, N, M>, SMatrix<f64, M, M>);
+    ) -> (SVector<T, M>, SMatrix<T, N, M>, SMatrix<T, M, M>);
 }
 
 /// Index of the first non-finite scalar of a record.

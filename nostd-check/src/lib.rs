@@ -25,11 +25,16 @@ nav_runtime::model! {
     }
 }
 
+/// The second round of the language without std: a model-level `let`, a
+/// quaternion and an angle state (renormalized and wrapped by the filter),
+/// rotations and non-smooth functions; declared in `f64` ([`Attitude`]) and
+/// in `f32` ([`AttitudeSingle`]).
+macro_rules! attitude {
+    ($name:ident, $scalar:ident) => {
 nav_runtime::model! {
-    /// The second round of the language without std: a model-level `let`, a
-    /// quaternion and an angle state (renormalized and wrapped by the filter),
-    /// rotations and non-smooth functions.
-    pub model Attitude {
+    /// A quaternion attitude with an angle state (see the macro above).
+    pub model $name {
+        scalar $scalar;
         states { q: quaternion, heading: angle, attitude_error: 3 }
         inputs { gyro: 3 }
         parameters { gravity, limit }
@@ -49,6 +54,11 @@ nav_runtime::model! {
         }
     }
 }
+    };
+}
+
+attitude!(Attitude, f64);
+attitude!(AttitudeSingle, f32);
 
 /// One predict and one update of [`Attitude`]; returns the quaternion norm
 /// after them (1 to rounding).
@@ -79,6 +89,40 @@ pub fn attitude_step() -> Result<f64, FilterError> {
     Ok(ekf.state().fixed_rows::<4>(0).norm())
 }
 
+/// [`attitude_step`] in single precision, with a sequential update as
+/// well; returns the quaternion norm (1 to `f32` rounding).
+pub fn attitude_step_single() -> Result<f32, FilterError> {
+    let x0 = SVector::<f32, 8>::from_column_slice(&[1.0, 0.0, 0.0, 0.0, 3.0, 0.0, 0.0, 0.0]);
+    let mut ekf = Ekf::<AttitudeSingle, 8, f32>::new(
+        x0,
+        SMatrix::<f32, 8, 8>::identity() * 1e-2,
+        AttitudeSingleParams {
+            gravity: 9.8,
+            limit: 1.0,
+        },
+        AttitudeSingleNoise {
+            gyro_noise: Vector3::repeat(1e-6),
+        },
+    )?;
+    ekf.predict(
+        0.1,
+        &AttitudeSingleInput {
+            gyro: Vector3::new(0.1, 0.2, 0.3),
+        },
+    )?;
+    ekf.update::<AttitudeSingleAccel, 3>(
+        &Vector3::new(0.1, 0.0, -9.8),
+        &SMatrix::<f32, 3, 3>::identity(),
+        &(),
+    )?;
+    ekf.update_sequential::<AttitudeSingleEuler, 3>(
+        &Vector3::new(0.0, 0.0, 0.05),
+        &Vector3::repeat(1e-2),
+        &(),
+    )?;
+    Ok(ekf.state().fixed_rows::<4>(0).norm())
+}
+
 /// One predict and one update at rest; returns the NIS.
 pub fn step() -> Result<f64, FilterError> {
     let mut ekf = Ekf::<Leveling, 6>::new(
@@ -99,4 +143,19 @@ pub fn step() -> Result<f64, FilterError> {
     let report =
         ekf.update::<LevelingMoving, 2>(&Vector2::new(0.0, 1.0), &Matrix2::identity(), &())?;
     Ok(report.nis)
+}
+
+#[cfg(test)]
+mod tests {
+    /// The steps run (here with the workspace's std build of the runtime;
+    /// `tests/tests/no_std.rs` builds them without std) and keep the
+    /// quaternion on the unit sphere in both precisions.
+    #[test]
+    fn steps_run_in_both_precisions() {
+        let double = super::attitude_step().expect("f64 step");
+        let single = super::attitude_step_single().expect("f32 step");
+        assert!((double - 1.0).abs() < 1e-12, "{double}");
+        assert!((single - 1.0).abs() < 1e-6, "{single}");
+        assert!(super::step().expect("leveling step").is_finite());
+    }
 }

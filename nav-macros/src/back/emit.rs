@@ -6,7 +6,7 @@ use quote::{format_ident, quote};
 use syn::Ident;
 
 use crate::front::names::screaming_case;
-use crate::front::parse::{Manifold, ModelDecl, Shape, Var};
+use crate::front::parse::{Manifold, ModelDecl, Scalar, Shape, Var};
 use crate::symbolic::cse::{schedule, Schedule};
 use crate::symbolic::derive::Derived;
 use crate::symbolic::strength;
@@ -44,23 +44,26 @@ struct Emitter<'a> {
     params: Vec<TokenStream>,
     noise: Vec<TokenStream>,
     aux: Vec<Vec<TokenStream>>,
+    /// The scalar type (`f64` or `f32`) and the module of its functions.
+    scalar: TokenStream,
+    math: TokenStream,
 }
 
 fn lit(v: usize) -> Literal {
     Literal::usize_unsuffixed(v)
 }
 
-/// `f64`, `SVector<f64, n>` or `SMatrix<f64, r, c>`.
-fn field_type(shape: Shape) -> TokenStream {
+/// `T`, `SVector<T, n>` or `SMatrix<T, r, c>` for the scalar `T`.
+fn field_type(shape: Shape, scalar: &TokenStream) -> TokenStream {
     match shape {
-        Shape::Scalar => quote!(f64),
+        Shape::Scalar => quote!(#scalar),
         Shape::Vector(n) => {
             let n = lit(n);
-            quote!(::nav_runtime::nalgebra::SVector<f64, #n>)
+            quote!(::nav_runtime::nalgebra::SVector<#scalar, #n>)
         }
         Shape::Matrix(r, c) => {
             let (r, c) = (lit(r), lit(c));
-            quote!(::nav_runtime::nalgebra::SMatrix<f64, #r, #c>)
+            quote!(::nav_runtime::nalgebra::SMatrix<#scalar, #r, #c>)
         }
     }
 }
@@ -127,6 +130,8 @@ impl<'a> Emitter<'a> {
             params: paths(&decl.params),
             noise: paths(&decl.noise),
             aux: decl.sensors.iter().map(|s| paths(&s.inputs)).collect(),
+            scalar: decl.scalar.tokens(),
+            math: decl.scalar.math(),
         }
     }
 
@@ -174,7 +179,7 @@ impl<'a> Emitter<'a> {
             graph: &graph,
             sch: &sch,
         };
-        let math = quote!(::nav_runtime::math);
+        let math = &self.math;
         let temp = |id: Id| sch.temp_of[id.0 as usize].map(|k| format_ident!("_t{}", k));
         let mut lets = TokenStream::new();
         let mut paired = vec![false; sch.temps.len()];
@@ -219,7 +224,7 @@ impl<'a> Emitter<'a> {
     }
 
     fn node_expr(&self, f: &Function<'_>, id: Id, cov: &TokenStream, min: u8) -> TokenStream {
-        let math = quote!(::nav_runtime::math);
+        let math = &self.math;
         let (prec, tokens) = match f.graph.node(id) {
             Node::Const(bits) => {
                 let v = f64::from_bits(bits);
@@ -343,6 +348,7 @@ impl<'a> Emitter<'a> {
         );
         let state_ty = &self.state_ty;
         let nl = &self.n;
+        let scalar = &self.scalar;
         let to_vec: Vec<TokenStream> = scalar_paths(&self.decl.states)
             .into_iter()
             .map(|(p, _)| quote!(self #p))
@@ -385,12 +391,12 @@ impl<'a> Emitter<'a> {
             #[allow(clippy::possible_missing_comma)]
             impl #state_ty {
                 /// The state from its vector (declaration order).
-                pub fn from_vector(v: &::nav_runtime::nalgebra::SVector<f64, #nl>) -> Self {
-                    <Self as ::nav_runtime::model::Record>::from_fn(|i| v[i])
+                pub fn from_vector(v: &::nav_runtime::nalgebra::SVector<#scalar, #nl>) -> Self {
+                    <Self as ::nav_runtime::model::Record>::from_fn(|i| <#scalar as ::nav_runtime::Real>::to_f64(v[i]))
                 }
                 /// The state as a vector (declaration order).
-                pub fn to_vector(&self) -> ::nav_runtime::nalgebra::SVector<f64, #nl> {
-                    ::nav_runtime::nalgebra::SVector::<f64, #nl>::from_column_slice(&[#(#to_vec),*])
+                pub fn to_vector(&self) -> ::nav_runtime::nalgebra::SVector<#scalar, #nl> {
+                    ::nav_runtime::nalgebra::SVector::<#scalar, #nl>::from_column_slice(&[#(#to_vec),*])
                 }
             }
             #input
@@ -403,8 +409,9 @@ impl<'a> Emitter<'a> {
     fn record(&self, ty: &Ident, text: &str, vars: &[Var]) -> TokenStream {
         let vis = &self.decl.vis;
         let doc = doc(text);
+        let scalar = &self.scalar;
         let fields = vars.iter().map(|v| {
-            let (attrs, f, t) = (&v.attrs, &v.name, field_type(v.shape));
+            let (attrs, f, t) = (&v.attrs, &v.name, field_type(v.shape, scalar));
             quote!(#(#attrs)* pub #f: #t,)
         });
         let paths = scalar_paths(vars);
@@ -412,7 +419,7 @@ impl<'a> Emitter<'a> {
         let names = paths.iter().map(|(_, s)| s);
         let arms = paths.iter().enumerate().map(|(i, (p, _))| {
             let i = lit(i);
-            quote!(#i => self #p,)
+            quote!(#i => <#scalar as ::nav_runtime::Real>::to_f64(self #p),)
         });
         let mut offset = 0;
         let inits = vars.iter().map(|v| {
@@ -423,11 +430,11 @@ impl<'a> Emitter<'a> {
                 Shape::Scalar => quote!(#f: v[#a],),
                 Shape::Vector(n) => {
                     let n = lit(n);
-                    quote!(#f: ::nav_runtime::nalgebra::SVector::<f64, #n>::from_column_slice(&v[#a..#b]),)
+                    quote!(#f: ::nav_runtime::nalgebra::SVector::<#scalar, #n>::from_column_slice(&v[#a..#b]),)
                 }
                 Shape::Matrix(r, c) => {
                     let (r, c) = (lit(r), lit(c));
-                    quote!(#f: ::nav_runtime::nalgebra::SMatrix::<f64, #r, #c>::from_row_slice(&v[#a..#b]),)
+                    quote!(#f: ::nav_runtime::nalgebra::SMatrix::<#scalar, #r, #c>::from_row_slice(&v[#a..#b]),)
                 }
             }
         });
@@ -443,9 +450,9 @@ impl<'a> Emitter<'a> {
                 const LEN: usize = #len;
                 const NAMES: &'static [&'static str] = &[#(#names),*];
                 fn from_fn(mut f: impl FnMut(usize) -> f64) -> Self {
-                    let mut v = [0.0f64; #len];
+                    let mut v: [#scalar; #len] = [0.0; #len];
                     for (i, slot) in v.iter_mut().enumerate() {
-                        *slot = f(i);
+                        *slot = <#scalar as ::nav_runtime::Real>::of(f(i));
                     }
                     Self { #(#inits)* }
                 }
@@ -471,6 +478,7 @@ impl<'a> Emitter<'a> {
         let attrs = &self.decl.attrs;
         let svec = quote!(::nav_runtime::nalgebra::SVector);
         let smat = quote!(::nav_runtime::nalgebra::SMatrix);
+        let scalar = &self.scalar;
         let nocov = quote!(_p);
 
         // Index constants.
@@ -633,7 +641,7 @@ impl<'a> Emitter<'a> {
                 let (n, changed) = (&self.n, lit(pr.rows.len()));
                 let body = quote! {
                     #lets
-                    ::nav_runtime::propagation::propagate::<#n, #changed>(
+                    ::nav_runtime::propagation::propagate::<#scalar, #n, #changed>(
                         cov,
                         &Self::PROPAGATION_STRUCTURE,
                         &[#(#coefficients),*],
@@ -657,7 +665,7 @@ impl<'a> Emitter<'a> {
             }
         };
 
-        let normalize = normalize_state(&self.decl.states, &self.n);
+        let normalize = normalize_state(&self.decl.states, &self.n, self.decl.scalar);
         // derivative and process with noise
         let continuous = d.kind == ProcessKind::Continuous;
         let derivative = if continuous {
@@ -672,7 +680,7 @@ impl<'a> Emitter<'a> {
                 /// Operations in [`Self::derivative`].
                 pub const OPS_DERIVATIVE: usize = #ops;
                 #dd
-                pub fn derivative(x: &#svec<f64, #n>, u: &#input_ty, p: &#params_ty) -> #svec<f64, #n> {
+                pub fn derivative(x: &#svec<#scalar, #n>, u: &#input_ty, p: &#params_ty) -> #svec<#scalar, #n> {
                     #lets
                     #fill
                     out
@@ -737,14 +745,14 @@ impl<'a> Emitter<'a> {
                 #derivative
                 #w_doc
                 pub fn process_with_noise(
-                    x: &#svec<f64, #n>, u: &#input_ty, p: &#params_ty, w: &#svec<f64, #nw>, dt: f64,
-                ) -> #svec<f64, #n> {
+                    x: &#svec<#scalar, #n>, u: &#input_ty, p: &#params_ty, w: &#svec<#scalar, #nw>, dt: #scalar,
+                ) -> #svec<#scalar, #n> {
                     #w_lets
                     #w_fill
                     out
                 }
                 #gb_doc
-                pub fn noise_jacobian(x: &#svec<f64, #n>, u: &#input_ty, p: &#params_ty, dt: f64) -> #smat<f64, #n, #nw> {
+                pub fn noise_jacobian(x: &#svec<#scalar, #n>, u: &#input_ty, p: &#params_ty, dt: #scalar) -> #smat<#scalar, #n, #nw> {
                     #gb_lets
                     #gb_fill
                     out
@@ -752,7 +760,7 @@ impl<'a> Emitter<'a> {
             }
 
             #[allow(clippy::possible_missing_comma)]
-            impl ::nav_runtime::model::Model<#n> for #name {
+            impl ::nav_runtime::model::Model<#n, #scalar> for #name {
                 type Input = #input_ty;
                 type Params = #params_ty;
                 type Noise = #noise_ty;
@@ -765,21 +773,21 @@ impl<'a> Emitter<'a> {
                 const OPS_JACOBIAN: usize = #jb_ops;
 
                 #tr_doc
-                fn transition(x: &#svec<f64, #n>, u: &#input_ty, p: &#params_ty, dt: f64) -> #svec<f64, #n> {
+                fn transition(x: &#svec<#scalar, #n>, u: &#input_ty, p: &#params_ty, dt: #scalar) -> #svec<#scalar, #n> {
                     #tr_lets
                     #tr_fill
                     out
                 }
                 #jb_doc
-                fn jacobian(x: &#svec<f64, #n>, u: &#input_ty, p: &#params_ty, dt: f64) -> #smat<f64, #n, #n> {
+                fn jacobian(x: &#svec<#scalar, #n>, u: &#input_ty, p: &#params_ty, dt: #scalar) -> #smat<#scalar, #n, #n> {
                     #jb_lets
                     #jb_fill
                     out
                 }
                 #qb_doc
                 fn process_noise(
-                    x: &#svec<f64, #n>, u: &#input_ty, p: &#params_ty, q: &#noise_ty, dt: f64,
-                ) -> #smat<f64, #n, #n> {
+                    x: &#svec<#scalar, #n>, u: &#input_ty, p: &#params_ty, q: &#noise_ty, dt: #scalar,
+                ) -> #smat<#scalar, #n, #n> {
                     #qb_lets
                     #qb_fill
                     out
@@ -787,7 +795,7 @@ impl<'a> Emitter<'a> {
                 #normalize
                 #pb_doc
                 fn propagate_covariance(
-                    cov: &mut #smat<f64, #n, #n>, x: &#svec<f64, #n>, u: &#input_ty, p: &#params_ty, q: &#noise_ty, dt: f64,
+                    cov: &mut #smat<#scalar, #n, #n>, x: &#svec<#scalar, #n>, u: &#input_ty, p: &#params_ty, q: &#noise_ty, dt: #scalar,
                 ) {
                     #pb_body
                 }
@@ -811,6 +819,7 @@ impl<'a> Emitter<'a> {
         let m = lit(ds.m);
         let svec = quote!(::nav_runtime::nalgebra::SVector);
         let smat = quote!(::nav_runtime::nalgebra::SMatrix);
+        let scalar = &self.scalar;
         let attrs = &sd.attrs;
         let sensor_name = sd.name.to_string();
         let angles: Vec<bool> = (0..ds.m)
@@ -892,7 +901,7 @@ impl<'a> Emitter<'a> {
             }
 
             #[allow(clippy::possible_missing_comma)]
-            impl ::nav_runtime::model::Sensor<#n, #m> for #ty {
+            impl ::nav_runtime::model::Sensor<#n, #m, #scalar> for #ty {
                 type Model = #name;
                 type Aux = #aux_ty;
                 const NAME: &'static str = #sensor_name;
@@ -901,25 +910,25 @@ impl<'a> Emitter<'a> {
                 const OPS_INNOVATION_TERMS: usize = #i_ops;
 
                 #p_doc
-                fn predict(x: &#svec<f64, #n>, u: &#input_ty, p: &#params_ty, aux: &#aux_ty) -> #svec<f64, #m> {
+                fn predict(x: &#svec<#scalar, #n>, u: &#input_ty, p: &#params_ty, aux: &#aux_ty) -> #svec<#scalar, #m> {
                     #h_lets
                     #h_fill
                     out
                 }
                 #j_doc
-                fn jacobian(x: &#svec<f64, #n>, u: &#input_ty, p: &#params_ty, aux: &#aux_ty) -> #smat<f64, #m, #n> {
+                fn jacobian(x: &#svec<#scalar, #n>, u: &#input_ty, p: &#params_ty, aux: &#aux_ty) -> #smat<#scalar, #m, #n> {
                     #j_lets
                     #j_fill
                     out
                 }
                 #i_doc
                 fn innovation_terms(
-                    cov: &#smat<f64, #n, #n>, x: &#svec<f64, #n>, u: &#input_ty, p: &#params_ty, aux: &#aux_ty,
-                ) -> (#svec<f64, #m>, #smat<f64, #n, #m>, #smat<f64, #m, #m>) {
+                    cov: &#smat<#scalar, #n, #n>, x: &#svec<#scalar, #n>, u: &#input_ty, p: &#params_ty, aux: &#aux_ty,
+                ) -> (#svec<#scalar, #m>, #smat<#scalar, #n, #m>, #smat<#scalar, #m, #m>) {
                     #i_lets
-                    let mut h = #svec::<f64, #m>::zeros();
-                    let mut pht = #smat::<f64, #n, #m>::zeros();
-                    let mut s = #smat::<f64, #m, #m>::zeros();
+                    let mut h = #svec::<#scalar, #m>::zeros();
+                    let mut pht = #smat::<#scalar, #n, #m>::zeros();
+                    let mut s = #smat::<#scalar, #m, #m>::zeros();
                     #(#h_sets)*
                     #(#u_sets)*
                     #(#s_sets)*
@@ -936,6 +945,7 @@ impl<'a> Emitter<'a> {
 
     fn nonzero_vector(&self, body: &Body, ids: &[Id]) -> TokenStream {
         let l = lit(ids.len());
+        let scalar = &self.scalar;
         let sets = body
             .exprs
             .iter()
@@ -946,11 +956,12 @@ impl<'a> Emitter<'a> {
                 let i = lit(i);
                 quote!(out[#i] = #e;)
             });
-        quote!(let mut out = ::nav_runtime::nalgebra::SVector::<f64, #l>::zeros(); #(#sets)*)
+        quote!(let mut out = ::nav_runtime::nalgebra::SVector::<#scalar, #l>::zeros(); #(#sets)*)
     }
 
     fn nonzero_matrix(&self, body: &Body, ids: &[Id], rows: usize, cols: usize) -> TokenStream {
         let (r, c) = (lit(rows), lit(cols));
+        let scalar = &self.scalar;
         let sets = body
             .exprs
             .iter()
@@ -961,11 +972,12 @@ impl<'a> Emitter<'a> {
                 let (i, j) = (lit(k / cols), lit(k % cols));
                 quote!(out[(#i, #j)] = #e;)
             });
-        quote!(let mut out = ::nav_runtime::nalgebra::SMatrix::<f64, #r, #c>::zeros(); #(#sets)*)
+        quote!(let mut out = ::nav_runtime::nalgebra::SMatrix::<#scalar, #r, #c>::zeros(); #(#sets)*)
     }
 
     fn symmetric(&self, body: &Body, upper: &[(usize, usize, Id)], n: usize) -> TokenStream {
         let nl = lit(n);
+        let scalar = &self.scalar;
         let sets = body
             .exprs
             .iter()
@@ -976,7 +988,7 @@ impl<'a> Emitter<'a> {
                 quote!(out[(#i, #j)] = #expr;)
             });
         quote! {
-            let mut out = ::nav_runtime::nalgebra::SMatrix::<f64, #nl, #nl>::zeros();
+            let mut out = ::nav_runtime::nalgebra::SMatrix::<#scalar, #nl, #nl>::zeros();
             #(#sets)*
             for i in 0..#nl {
                 for j in 0..i {
@@ -1011,8 +1023,9 @@ fn float_literal(v: f64) -> TokenStream {
 
 /// `Model::normalize_state` for states declared `angle` or `quaternion`, or
 /// nothing (the trait's no-op default) if there are none.
-fn normalize_state(states: &[Var], n: &Literal) -> TokenStream {
-    let math = quote!(::nav_runtime::math);
+fn normalize_state(states: &[Var], n: &Literal, scalar: Scalar) -> TokenStream {
+    let math = scalar.math();
+    let scalar = scalar.tokens();
     let mut offset = 0;
     let mut body = TokenStream::new();
     for v in states {
@@ -1042,7 +1055,7 @@ fn normalize_state(states: &[Var], n: &Literal) -> TokenStream {
     quote! {
         /// Wraps the `angle` states to (-pi, pi] and renormalizes the
         /// `quaternion` states (see `Model::normalize_state`).
-        fn normalize_state(x: &mut ::nav_runtime::nalgebra::SVector<f64, #n>) {
+        fn normalize_state(x: &mut ::nav_runtime::nalgebra::SVector<#scalar, #n>) {
             #body
         }
     }

@@ -7,7 +7,7 @@ use proc_macro2::{Literal, TokenStream};
 use quote::{format_ident, quote};
 
 use crate::front::names::snake_case;
-use crate::front::parse::ModelDecl;
+use crate::front::parse::{ModelDecl, Scalar};
 use crate::symbolic::derive::Derived;
 use crate::symbolic::ProcessKind;
 
@@ -28,14 +28,24 @@ pub fn tests(decl: &ModelDecl, d: &Derived) -> TokenStream {
     let f_of_x = if continuous {
         quote!(#name::derivative(x, &u, &p))
     } else {
-        quote!(<#name as Model<N>>::transition(x, &u, &p, dt))
+        quote!(<#name as Model<N, S>>::transition(x, &u, &p, dt))
     };
     let phi = if continuous {
-        quote!(SMatrix::<f64, N, N>::identity() + jac * dt)
+        quote!(SMatrix::<S, N, N>::identity() + jac * dt)
     } else {
         quote!(jac)
     };
     let qd_scale = if continuous { quote!(dt) } else { quote!(1.0) };
+    let scalar = decl.scalar.tokens();
+    let math = decl.scalar.math();
+    // f64: step 1e-6 (near the optimum eps^(1/3)); f32: 2e-3, where the
+    // truncation error h^2 f'''/6 and the rounding 4 eps |f| / h of the
+    // quotient are both below the 1e-3 tolerance for O(1) derivatives. The
+    // sparse algebra sums at most N products: 1e-12 in f64, 1e-4 in f32.
+    let (fd_step, fd_tolerance, relative) = match decl.scalar {
+        Scalar::F64 => (quote!(1e-6), quote!(1e-6), quote!(1e-12)),
+        Scalar::F32 => (quote!(2e-3), quote!(1e-3), quote!(1e-4)),
+    };
 
     let sensor_tests = decl.sensors.iter().map(|s| {
         let ty = format_ident!("{}{}", name, s.name);
@@ -47,15 +57,15 @@ pub fn tests(decl: &ModelDecl, d: &Derived) -> TokenStream {
             #[test]
             fn #t_jac() {
                 at_random_points(0x5eed_0002, |rng, x, u, p, dt| {
-                    let aux: <#ty as Sensor<N, #m>>::Aux = random_record(rng);
-                    let jac = <#ty as Sensor<N, #m>>::jacobian(&x, &u, &p, &aux);
-                    let h = |x: &SVector<f64, N>| <#ty as Sensor<N, #m>>::predict(x, &u, &p, &aux);
-                    let fd = fd_jacobian(&x, h);
+                    let aux: <#ty as Sensor<N, #m, S>>::Aux = random_record(rng);
+                    let jac = <#ty as Sensor<N, #m, S>>::jacobian(&x, &u, &p, &aux);
+                    let h = |x: &SVector<S, N>| <#ty as Sensor<N, #m, S>>::predict(x, &u, &p, &aux);
+                    let Some(fd) = fd_jacobian(&x, h) else { return false };
                     if !finite(&h(&x)) || !finite(&jac) || !finite(&fd.0) {
                         return false;
                     }
                     assert_close_fd(concat!(stringify!(#ty), "::jacobian"), &jac, &fd);
-                    assert_sparsity(concat!(stringify!(#ty), "::jacobian"), &jac, &<#ty as Sensor<N, #m>>::JACOBIAN_SPARSITY);
+                    assert_sparsity(concat!(stringify!(#ty), "::jacobian"), &jac, &<#ty as Sensor<N, #m, S>>::JACOBIAN_SPARSITY);
                     true
                 });
             }
@@ -63,14 +73,14 @@ pub fn tests(decl: &ModelDecl, d: &Derived) -> TokenStream {
             #[test]
             fn #t_inn() {
                 at_random_points(0x5eed_0003, |rng, x, u, p, dt| {
-                    let aux: <#ty as Sensor<N, #m>>::Aux = random_record(rng);
+                    let aux: <#ty as Sensor<N, #m, S>>::Aux = random_record(rng);
                     let cov = random_covariance(rng);
-                    let hjac = <#ty as Sensor<N, #m>>::jacobian(&x, &u, &p, &aux);
-                    let pred = <#ty as Sensor<N, #m>>::predict(&x, &u, &p, &aux);
+                    let hjac = <#ty as Sensor<N, #m, S>>::jacobian(&x, &u, &p, &aux);
+                    let pred = <#ty as Sensor<N, #m, S>>::predict(&x, &u, &p, &aux);
                     if !finite(&hjac) || !finite(&pred) {
                         return false;
                     }
-                    let (h, pht, s) = <#ty as Sensor<N, #m>>::innovation_terms(&upper_only(&cov), &x, &u, &p, &aux);
+                    let (h, pht, s) = <#ty as Sensor<N, #m, S>>::innovation_terms(&upper_only(&cov), &x, &u, &p, &aux);
                     assert_close_rel("h", &h, &pred);
                     assert_close_rel("P H^T", &pht, &(cov * hjac.transpose()));
                     assert_close_rel("H P H^T", &s, &(hjac * cov * hjac.transpose()));
@@ -89,19 +99,27 @@ pub fn tests(decl: &ModelDecl, d: &Derived) -> TokenStream {
             use ::nav_runtime::model::{Model, Record, Sensor};
             use ::nav_runtime::nalgebra::{SMatrix, SVector};
 
+            /// The model's scalar.
+            type S = #scalar;
+            /// Finite-difference step (relative), tolerance of a Jacobian entry
+            /// against it, and tolerance of the sparse covariance algebra
+            /// against dense products, for this scalar's precision.
+            const FD_STEP: S = #fd_step;
+            const FD_TOLERANCE: S = #fd_tolerance;
+            const RELATIVE: S = #relative;
             const N: usize = #n;
             const NW: usize = #nw;
             /// Points checked per test.
             const POINTS: usize = 6;
-            /// Random draws tried to find them (points with non-finite values are skipped).
+            /// Random draws tried to find them (points with non-finite values, or a kink within a step, are skipped).
             const ATTEMPTS: usize = 400;
 
             /// Calls `check` at random `(x, u, p, dt)` (it draws anything else from
-            /// `rng`) until `POINTS` points had finite values (`check` returns true
+            /// `rng`) until `POINTS` points were usable (`check` returns true
             /// for those); fails if none had.
             fn at_random_points(
                 seed: u64,
-                mut check: impl FnMut(&mut SplitMix64, SVector<f64, N>, #input_ty, #params_ty, f64) -> bool,
+                mut check: impl FnMut(&mut SplitMix64, SVector<S, N>, #input_ty, #params_ty, S) -> bool,
             ) {
                 let mut rng = SplitMix64(seed);
                 let mut checked = 0;
@@ -137,91 +155,106 @@ pub fn tests(decl: &ModelDecl, d: &Derived) -> TokenStream {
                 }
             }
 
-            fn abs(v: f64) -> f64 {
-                ::nav_runtime::math::abs(v)
+            fn abs(v: S) -> S {
+                #math::abs(v)
+            }
+
+            /// A uniform draw in [-1, 1] in the model's scalar.
+            fn draw(rng: &mut SplitMix64) -> S {
+                <S as ::nav_runtime::Real>::of(rng.uniform())
             }
 
             fn random_record<R: Record>(rng: &mut SplitMix64) -> R {
                 R::from_fn(|_| rng.uniform())
             }
 
-            fn random_vector<const K: usize>(rng: &mut SplitMix64) -> SVector<f64, K> {
-                SVector::<f64, K>::from_fn(|_, _| rng.uniform())
+            fn random_vector<const K: usize>(rng: &mut SplitMix64) -> SVector<S, K> {
+                SVector::<S, K>::from_fn(|_, _| draw(rng))
             }
 
-            fn random_dt(rng: &mut SplitMix64) -> f64 {
-                0.01 + 0.1 * abs(rng.uniform())
+            fn random_dt(rng: &mut SplitMix64) -> S {
+                0.01 + 0.1 * abs(draw(rng))
             }
 
             /// A random symmetric positive definite matrix `L L^T + I`.
-            fn random_covariance(rng: &mut SplitMix64) -> SMatrix<f64, N, N> {
-                let l = SMatrix::<f64, N, N>::from_fn(|_, _| rng.uniform());
-                l * l.transpose() + SMatrix::<f64, N, N>::identity()
+            fn random_covariance(rng: &mut SplitMix64) -> SMatrix<S, N, N> {
+                let l = SMatrix::<S, N, N>::from_fn(|_, _| draw(rng));
+                l * l.transpose() + SMatrix::<S, N, N>::identity()
             }
 
             /// The upper triangle of `m`, NaN below (generated code must not read it).
-            fn upper_only(m: &SMatrix<f64, N, N>) -> SMatrix<f64, N, N> {
-                SMatrix::<f64, N, N>::from_fn(|i, j| if i <= j { m[(i, j)] } else { f64::NAN })
+            fn upper_only(m: &SMatrix<S, N, N>) -> SMatrix<S, N, N> {
+                SMatrix::<S, N, N>::from_fn(|i, j| if i <= j { m[(i, j)] } else { S::NAN })
             }
 
-            fn finite<const R: usize, const C: usize>(m: &SMatrix<f64, R, C>) -> bool {
+            fn finite<const R: usize, const C: usize>(m: &SMatrix<S, R, C>) -> bool {
                 m.iter().all(|v| v.is_finite())
             }
 
-            /// Central differences with step `1e-6 (1 + |x_j|)`, and for each entry
+            /// Central differences with step `FD_STEP (1 + |x_j|)`, and for each entry
             /// the rounding bound `4 eps |f| / step` of the difference quotient
-            /// (it matters only for outputs of order 1e6, such as Earth radii).
+            /// (it matters only for outputs of order 1e6, such as Earth radii, or
+            /// in `f32`). `None` where the step straddles a kink of a non-smooth
+            /// function (`min`, `max`, `clamp`, `abs`, `sign`): the one-sided
+            /// quotients then disagree by far more than curvature explains, and
+            /// the central one is no derivative.
             fn fd_jacobian<const R: usize, const C: usize>(
-                x: &SVector<f64, C>,
-                f: impl Fn(&SVector<f64, C>) -> SVector<f64, R>,
-            ) -> (SMatrix<f64, R, C>, SMatrix<f64, R, C>) {
-                let mut out = SMatrix::<f64, R, C>::zeros();
-                let mut rounding = SMatrix::<f64, R, C>::zeros();
+                x: &SVector<S, C>,
+                f: impl Fn(&SVector<S, C>) -> SVector<S, R>,
+            ) -> Option<(SMatrix<S, R, C>, SMatrix<S, R, C>)> {
+                let mut out = SMatrix::<S, R, C>::zeros();
+                let mut rounding = SMatrix::<S, R, C>::zeros();
+                let f0 = f(x);
                 for j in 0..C {
-                    let h = 1e-6 * (1.0 + abs(x[j]));
+                    let h = FD_STEP * (1.0 + abs(x[j]));
                     let (mut xp, mut xm) = (*x, *x);
                     xp[j] += h;
                     xm[j] -= h;
                     let (fp, fm) = (f(&xp), f(&xm));
                     let col = (fp - fm) / (xp[j] - xm[j]);
-                    out.set_column(j, &col);
                     for r in 0..R {
                         let big = if abs(fp[r]) > abs(fm[r]) { abs(fp[r]) } else { abs(fm[r]) };
-                        rounding[(r, j)] = 4.0 * f64::EPSILON * big / h;
+                        rounding[(r, j)] = 4.0 * S::EPSILON * big / h;
+                        let forward = (fp[r] - f0[r]) / (xp[j] - x[j]);
+                        let backward = (f0[r] - fm[r]) / (x[j] - xm[j]);
+                        if abs(forward - backward) > 0.25 * (1.0 + abs(col[r])) + 4.0 * rounding[(r, j)] {
+                            return None;
+                        }
                     }
+                    out.set_column(j, &col);
                 }
-                (out, rounding)
+                Some((out, rounding))
             }
 
-            /// `|J - J_fd| <= 1e-6 (1 + |J|)` entrywise (plus the rounding bound).
+            /// `|J - J_fd| <= FD_TOLERANCE (1 + |J|)` entrywise (plus the rounding bound).
             fn assert_close_fd<const R: usize, const C: usize>(
                 what: &str,
-                j: &SMatrix<f64, R, C>,
-                (fd, rounding): &(SMatrix<f64, R, C>, SMatrix<f64, R, C>),
+                j: &SMatrix<S, R, C>,
+                (fd, rounding): &(SMatrix<S, R, C>, SMatrix<S, R, C>),
             ) {
                 for r in 0..R {
                     for c in 0..C {
                         let (a, b) = (j[(r, c)], fd[(r, c)]);
                         assert!(
-                            abs(a - b) <= 1e-6 * (1.0 + abs(a)) + rounding[(r, c)],
+                            abs(a - b) <= FD_TOLERANCE * (1.0 + abs(a)) + rounding[(r, c)],
                             "{what}[({r}, {c})]: generated {a} vs finite differences {b}"
                         );
                     }
                 }
             }
 
-            /// Equal to `1e-12` relative to the largest entry of `want`.
-            fn assert_close_rel<const R: usize, const C: usize>(what: &str, got: &SMatrix<f64, R, C>, want: &SMatrix<f64, R, C>) {
-                let scale = want.iter().fold(1.0f64, |m, v| if abs(*v) > m { abs(*v) } else { m });
+            /// Equal to `RELATIVE` relative to the largest entry of `want`.
+            fn assert_close_rel<const R: usize, const C: usize>(what: &str, got: &SMatrix<S, R, C>, want: &SMatrix<S, R, C>) {
+                let scale = want.iter().fold(1.0 as S, |m, v| if abs(*v) > m { abs(*v) } else { m });
                 for r in 0..R {
                     for c in 0..C {
                         let (a, b) = (got[(r, c)], want[(r, c)]);
-                        assert!(abs(a - b) <= 1e-12 * scale, "{what}[({r}, {c})]: generated {a} vs dense {b}");
+                        assert!(abs(a - b) <= RELATIVE * scale, "{what}[({r}, {c})]: generated {a} vs dense {b}");
                     }
                 }
             }
 
-            fn assert_sparsity<const R: usize, const C: usize>(what: &str, j: &SMatrix<f64, R, C>, sparsity: &[[bool; C]; R]) {
+            fn assert_sparsity<const R: usize, const C: usize>(what: &str, j: &SMatrix<S, R, C>, sparsity: &[[bool; C]; R]) {
                 for r in 0..R {
                     for c in 0..C {
                         assert!(sparsity[r][c] || j[(r, c)] == 0.0, "{what}[({r}, {c})] is a structural zero but is {}", j[(r, c)]);
@@ -232,14 +265,14 @@ pub fn tests(decl: &ModelDecl, d: &Derived) -> TokenStream {
             #[test]
             fn jacobian_matches_finite_differences() {
                 at_random_points(0x5eed_0000, |rng, x, u, p, dt| {
-                                        let jac = <#name as Model<N>>::jacobian(&x, &u, &p, dt);
-                    let f = |x: &SVector<f64, N>| #f_of_x;
-                    let fd = fd_jacobian(&x, f);
+                                        let jac = <#name as Model<N, S>>::jacobian(&x, &u, &p, dt);
+                    let f = |x: &SVector<S, N>| #f_of_x;
+                    let Some(fd) = fd_jacobian(&x, f) else { return false };
                     if !finite(&f(&x)) || !finite(&jac) || !finite(&fd.0) {
                         return false;
                     }
                     assert_close_fd("jacobian", &jac, &fd);
-                    assert_sparsity("jacobian", &jac, &<#name as Model<N>>::JACOBIAN_SPARSITY);
+                    assert_sparsity("jacobian", &jac, &<#name as Model<N, S>>::JACOBIAN_SPARSITY);
                     true
                 });
             }
@@ -248,9 +281,9 @@ pub fn tests(decl: &ModelDecl, d: &Derived) -> TokenStream {
             fn noise_jacobian_matches_finite_differences() {
                 at_random_points(0x5eed_0001, |rng, x, u, p, dt| {
                                         let g = #name::noise_jacobian(&x, &u, &p, dt);
-                    let f = |w: &SVector<f64, NW>| #name::process_with_noise(&x, &u, &p, w, dt);
-                    let w0 = SVector::<f64, NW>::zeros();
-                    let fd = fd_jacobian(&w0, f);
+                    let f = |w: &SVector<S, NW>| #name::process_with_noise(&x, &u, &p, w, dt);
+                    let w0 = SVector::<S, NW>::zeros();
+                    let Some(fd) = fd_jacobian(&w0, f) else { return false };
                     if !finite(&f(&w0)) || !finite(&g) || !finite(&fd.0) {
                         return false;
                     }
@@ -262,21 +295,21 @@ pub fn tests(decl: &ModelDecl, d: &Derived) -> TokenStream {
             #[test]
             fn propagate_covariance_matches_dense_products() {
                 at_random_points(0x5eed_0004, |rng, x, u, p, dt| {
-                    let q: #noise_ty = <#noise_ty as Record>::from_fn(|_| abs(rng.uniform()));
+                    let q: #noise_ty = <#noise_ty as Record>::from_fn(|_| ::nav_runtime::math::abs(rng.uniform()));
                     let cov = random_covariance(rng);
-                    let jac = <#name as Model<N>>::jacobian(&x, &u, &p, dt);
+                    let jac = <#name as Model<N, S>>::jacobian(&x, &u, &p, dt);
                     let g = #name::noise_jacobian(&x, &u, &p, dt);
                     if !finite(&jac) || !finite(&g) {
                         return false;
                     }
-                    let qdiag = SMatrix::<f64, NW, NW>::from_fn(|i, j| if i == j { q.get(i) } else { 0.0 });
+                    let qdiag = SMatrix::<S, NW, NW>::from_fn(|i, j| if i == j { <S as ::nav_runtime::Real>::of(q.get(i)) } else { 0.0 });
                     let qd_dense = g * qdiag * g.transpose() * #qd_scale;
-                    let qd = <#name as Model<N>>::process_noise(&x, &u, &p, &q, dt);
+                    let qd = <#name as Model<N, S>>::process_noise(&x, &u, &p, &q, dt);
                     assert_close_rel("process_noise", &qd, &qd_dense);
                     let phi = #phi;
                     let dense = phi * cov * phi.transpose() + qd_dense;
                     let mut got = cov; // P symmetric (the kernel reads whole columns)
-                    <#name as Model<N>>::propagate_covariance(&mut got, &x, &u, &p, &q, dt);
+                    <#name as Model<N, S>>::propagate_covariance(&mut got, &x, &u, &p, &q, dt);
                     assert_close_rel("propagate_covariance", &got, &dense);
                     assert_eq!(got, got.transpose(), "the propagated covariance must be symmetric");
                     true
@@ -290,10 +323,10 @@ pub fn tests(decl: &ModelDecl, d: &Derived) -> TokenStream {
                 let s = #state_ty::from_vector(&x);
                 assert_eq!(s.to_vector(), x);
                 for i in 0..N {
-                    assert_eq!(s.get(i), x[i]);
+                    assert_eq!(s.get(i), <S as ::nav_runtime::Real>::to_f64(x[i]));
                 }
-                assert_eq!(<<#name as Model<N>>::State as Record>::NAMES.len(), N);
-                assert_eq!(<#name as Model<N>>::STATE_NAMES.len(), N);
+                assert_eq!(<<#name as Model<N, S>>::State as Record>::NAMES.len(), N);
+                assert_eq!(<#name as Model<N, S>>::STATE_NAMES.len(), N);
             }
 
             #(#sensor_tests)*

@@ -451,6 +451,7 @@ fn assemble(
         }),
         sensors: Vec::new(),
         unknown_hint: "",
+        scalar: c.scalar.unwrap_or_default(),
     };
     for block in blocks {
         decl.inputs.extend(block.inputs);

@@ -41,5 +41,28 @@ macro_rules! avx_dispatch {
             $portable::<$($c,)* false>($($arg),*)
         }
     };
+    // The same for a kernel generic over the scalar (`f32` or `f64`).
+    (
+        $(#[$meta:meta])*
+        $vis:vis fn $name:ident<$t:ident: Real, $(const $c:ident: usize),*>($($arg:ident: $ty:ty),* $(,)?)
+            $(-> $ret:ty)? => $portable:ident;
+    ) => {
+        $(#[$meta])*
+        #[inline]
+        $vis fn $name<$t: $crate::real::Real, $(const $c: usize),*>($($arg: $ty),*) $(-> $ret)? {
+            #[cfg(all(feature = "std", target_arch = "x86_64"))]
+            {
+                #[target_feature(enable = "avx")]
+                unsafe fn with_avx<$t: $crate::real::Real, $(const $c: usize),*>($($arg: $ty),*) $(-> $ret)? {
+                    $portable::<$t, $($c,)* true>($($arg),*)
+                }
+                if $crate::dispatch::has_avx() {
+                    // SAFETY: the CPU executes AVX instructions (checked above).
+                    return unsafe { with_avx::<$t, $($c),*>($($arg),*) };
+                }
+            }
+            $portable::<$t, $($c,)* false>($($arg),*)
+        }
+    };
 }
 pub(crate) use avx_dispatch;

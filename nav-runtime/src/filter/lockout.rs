@@ -43,6 +43,7 @@ use nalgebra::{Cholesky, SMatrix, SVector};
 use crate::ekf::{Ekf, UpdateReport};
 use crate::gate::chi_square_quantile;
 use crate::model::{Model, Sensor};
+use crate::real::Real;
 use crate::setup_error::SetupError;
 
 /// Largest measurement dimension whose refusals are examined; refusals of
@@ -331,17 +332,17 @@ impl Lockout {
     /// refused one is judged and, on [`Verdict::Release`], `p` is inflated
     /// by eq. L4 at the state `x`. Returns `true` if `p` was inflated.
     #[allow(clippy::too_many_arguments)]
-    pub(crate) fn after_gate<S, const N: usize, const M: usize>(
+    pub(crate) fn after_gate<S, T: Real, const N: usize, const M: usize>(
         &mut self,
-        report: &UpdateReport<M>,
-        p: &mut SMatrix<f64, N, N>,
-        x: &SVector<f64, N>,
-        input: &<S::Model as Model<N>>::Input,
-        params: &<S::Model as Model<N>>::Params,
+        report: &UpdateReport<M, T>,
+        p: &mut SMatrix<T, N, N>,
+        x: &SVector<T, N>,
+        input: &<S::Model as Model<N, T>>::Input,
+        params: &<S::Model as Model<N, T>>::Params,
         aux: &S::Aux,
     ) -> bool
     where
-        S: Sensor<N, M>,
+        S: Sensor<N, M, T>,
     {
         let sensor = TypeId::of::<S>();
         if self.rule.is_none() {
@@ -354,14 +355,14 @@ impl Lockout {
         let (verdict, mean) = self.judge(
             sensor,
             S::NAME,
-            &report.innovation,
-            &report.innovation_covariance,
+            &report.innovation.map(Real::to_f64),
+            &report.innovation_covariance.map(Real::to_f64),
         );
         if verdict != Verdict::Release {
             return false;
         }
         let (_, u, hph) = S::innovation_terms(p, x, input, params, aux);
-        match inflation(p, &u, &hph, &mean) {
+        match inflation(p, &u, &hph, &mean.map(T::of)) {
             Some(inflated) => {
                 *p = inflated;
                 true
@@ -373,12 +374,12 @@ impl Lockout {
 
 /// Eq. L4: `P + d d^T` with `d = U C^-1 b` (`U = P H^T`, `C = H P H^T`);
 /// `None` if `C` has no Cholesky factor or the result is not finite.
-fn inflation<const N: usize, const M: usize>(
-    p: &SMatrix<f64, N, N>,
-    u: &SMatrix<f64, N, M>,
-    hph: &SMatrix<f64, M, M>,
-    mean: &SVector<f64, M>,
-) -> Option<SMatrix<f64, N, N>> {
+fn inflation<T: Real, const N: usize, const M: usize>(
+    p: &SMatrix<T, N, N>,
+    u: &SMatrix<T, N, M>,
+    hph: &SMatrix<T, M, M>,
+    mean: &SVector<T, M>,
+) -> Option<SMatrix<T, N, N>> {
     let mut c = *hph;
     for i in 0..M {
         for j in 0..i {
@@ -391,13 +392,13 @@ fn inflation<const N: usize, const M: usize>(
     all_finite(inflated.as_slice()).then_some(inflated)
 }
 
-fn all_finite(v: &[f64]) -> bool {
+fn all_finite<T: Real>(v: &[T]) -> bool {
     v.iter().all(|x| x.is_finite())
 }
 
 /// The lock-out release settings of a filter (the state lives in the filter,
 /// see [`crate::lockout`]).
-impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
+impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
     /// Gate lock-out release by `rule` (`None`, the default: a sensor the
     /// gate refuses stays refused). See [`crate::lockout`].
     #[must_use]

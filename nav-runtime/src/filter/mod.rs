@@ -13,6 +13,7 @@ pub mod gate;
 pub mod lockout;
 pub mod math;
 pub mod propagation;
+pub mod real;
 #[cfg(feature = "std")]
 pub mod scheduler;
 pub mod setup_error;

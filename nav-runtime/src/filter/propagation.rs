@@ -6,7 +6,7 @@
 //! Why a loop over tables and not generated straight-line code: the product
 //! unrolled entry by entry is, for a 25-state INS, about 48 KB of scalar code
 //! that runs front-end bound, and unrolled row by row it spills registers;
-//! here a row of `Phi P` is an `[f64; N]`, each nonzero of `Phi` is one
+//! here a row of `Phi P` is an `[T; N]` (`T` the model's scalar), each nonzero of `Phi` is one
 //! vectorized row operation, and the structure costs a table read per nonzero.
 //!
 //! With `Phi = I + C` (Euler, continuous models) or `Phi = C` (discrete), only
@@ -23,6 +23,8 @@
 //! generated model's tests check its own.
 
 use nalgebra::SMatrix;
+
+use crate::real::Real;
 
 /// Structure of `Phi` and `Qd`, emitted by `model!` as a constant.
 #[derive(Clone, Copy, Debug)]
@@ -87,36 +89,36 @@ crate::dispatch::avx_dispatch! {
     /// inconsistent hand-made one panics on an index check, never reads out of
     /// bounds.
     /// Runs compiled for AVX where the CPU has it (bit-identical results).
-    pub fn propagate<const N: usize, const D: usize>(
-        cov: &mut SMatrix<f64, N, N>,
+    pub fn propagate<T: Real, const N: usize, const D: usize>(
+        cov: &mut SMatrix<T, N, N>,
         structure: &Structure<'_>,
-        coefficients: &[f64],
-        noise: &[f64],
+        coefficients: &[T],
+        noise: &[T],
     ) => propagate_steps;
 }
 
 /// The four steps of [`propagate`].
 #[inline(always)]
-fn propagate_steps<const N: usize, const D: usize, const AVX: bool>(
-    cov: &mut SMatrix<f64, N, N>,
+fn propagate_steps<T: Real, const N: usize, const D: usize, const AVX: bool>(
+    cov: &mut SMatrix<T, N, N>,
     structure: &Structure<'_>,
-    coefficients: &[f64],
-    noise: &[f64],
+    coefficients: &[T],
+    noise: &[T],
 ) {
     let s = structure;
     // Column-major storage of a symmetric P: column k is row k.
-    let cols: &mut [[f64; N]; N] = &mut cov.data.0;
+    let cols: &mut [[T; N]; N] = &mut cov.data.0;
     // The nonzeros of each changed row, as slices (no index arithmetic below).
-    let terms: [(&[usize], &[f64]); D] = core::array::from_fn(|r| {
+    let terms: [(&[usize], &[T]); D] = core::array::from_fn(|r| {
         let range = s.start[r]..s.start[r + 1];
         (&s.columns[range.clone()], &coefficients[range])
     });
     // Step 1: A = (Phi P)[D, :], one row operation per nonzero, in column
     // blocks whose accumulators stay in registers across the nonzeros.
-    let mut a = [[0.0f64; N]; D];
+    let mut a = [[T::zero(); N]; D];
     for ((row, &i), &(columns, values)) in a.iter_mut().zip(s.rows).zip(&terms) {
         let base = if s.identity { Some(&cols[i]) } else { None };
-        combine_rows::<N, AVX>(row, base, columns, values, cols);
+        combine_rows::<T, N, AVX>(row, base, columns, values, cols);
     }
     // Step 2: rows and columns D of P become those of A (the U entries are
     // final). Columns first, then rows: afterwards every column `k` holds
@@ -136,14 +138,14 @@ fn propagate_steps<const N: usize, const D: usize, const AVX: bool>(
         // A plain loop rather than `array::from_fn`: the closure of the
         // latter is not inlined into the AVX build and costs ~15 % of the
         // kernel.
-        let mut block = [[0.0f64; D]; D];
+        let mut block = [[T::zero(); D]; D];
         for (r, (column, &(columns, values))) in block.iter_mut().zip(&terms).enumerate() {
             let base = if s.identity {
                 Some(&cols[d0 + r])
             } else {
                 None
             };
-            *column = combination::<N, D>(base, columns, values, cols, d0);
+            *column = combination::<T, N, D>(base, columns, values, cols, d0);
         }
         for (c, column) in block.iter().enumerate() {
             for (r, &v) in column.iter().enumerate().take(c + 1) {
@@ -154,7 +156,7 @@ fn propagate_steps<const N: usize, const D: usize, const AVX: bool>(
     } else {
         for (r, (ar, &i)) in a.iter().zip(s.rows).enumerate() {
             for (&j, &(columns, values)) in s.rows[r..].iter().zip(&terms[r..]) {
-                let mut v = if s.identity { ar[j] } else { 0.0 };
+                let mut v = if s.identity { ar[j] } else { T::zero() };
                 for (&k, &c) in columns.iter().zip(values) {
                     v += c * ar[k];
                 }
@@ -191,40 +193,40 @@ const fn whole_row(avx: bool) -> usize {
 /// no column is left to a scalar loop (`N` is a constant: only one arm of
 /// the `match` survives compilation).
 #[inline(always)]
-fn combine_rows<const N: usize, const AVX: bool>(
-    row: &mut [f64; N],
-    base: Option<&[f64; N]>,
+fn combine_rows<T: Real, const N: usize, const AVX: bool>(
+    row: &mut [T; N],
+    base: Option<&[T; N]>,
     columns: &[usize],
-    values: &[f64],
-    cols: &[[f64; N]; N],
+    values: &[T],
+    cols: &[[T; N]; N],
 ) {
     if N <= whole_row(AVX) {
-        block::<N, N>(row, base, columns, values, cols, 0);
+        block::<T, N, N>(row, base, columns, values, cols, 0);
         return;
     }
     let full = N / BLOCK - 1;
     for b in 0..full {
-        block::<N, BLOCK>(row, base, columns, values, cols, b * BLOCK);
+        block::<T, N, BLOCK>(row, base, columns, values, cols, b * BLOCK);
     }
     let c0 = full * BLOCK;
     let args = (row, base, columns, values, cols);
     match N % BLOCK {
-        0 => block::<N, 12>(args.0, args.1, args.2, args.3, args.4, c0),
+        0 => block::<T, N, 12>(args.0, args.1, args.2, args.3, args.4, c0),
         r => {
             let (first, second) = split_remainder(r);
             let mid = c0 + first;
             match (first, second) {
-                (6, 7) => pair::<N, 6, 7>(args, c0, mid),
-                (7, 7) => pair::<N, 7, 7>(args, c0, mid),
-                (7, 8) => pair::<N, 7, 8>(args, c0, mid),
-                (8, 8) => pair::<N, 8, 8>(args, c0, mid),
-                (8, 9) => pair::<N, 8, 9>(args, c0, mid),
-                (9, 9) => pair::<N, 9, 9>(args, c0, mid),
-                (9, 10) => pair::<N, 9, 10>(args, c0, mid),
-                (10, 10) => pair::<N, 10, 10>(args, c0, mid),
-                (10, 11) => pair::<N, 10, 11>(args, c0, mid),
-                (11, 11) => pair::<N, 11, 11>(args, c0, mid),
-                _ => pair::<N, 11, 12>(args, c0, mid),
+                (6, 7) => pair::<T, N, 6, 7>(args, c0, mid),
+                (7, 7) => pair::<T, N, 7, 7>(args, c0, mid),
+                (7, 8) => pair::<T, N, 7, 8>(args, c0, mid),
+                (8, 8) => pair::<T, N, 8, 8>(args, c0, mid),
+                (8, 9) => pair::<T, N, 8, 9>(args, c0, mid),
+                (9, 9) => pair::<T, N, 9, 9>(args, c0, mid),
+                (9, 10) => pair::<T, N, 9, 10>(args, c0, mid),
+                (10, 10) => pair::<T, N, 10, 10>(args, c0, mid),
+                (10, 11) => pair::<T, N, 10, 11>(args, c0, mid),
+                (11, 11) => pair::<T, N, 11, 11>(args, c0, mid),
+                _ => pair::<T, N, 11, 12>(args, c0, mid),
             }
         }
     }
@@ -237,49 +239,49 @@ const fn split_remainder(remainder: usize) -> (usize, usize) {
     (total / 2, total - total / 2)
 }
 
-type RowArgs<'a, const N: usize> = (
-    &'a mut [f64; N],
-    Option<&'a [f64; N]>,
+type RowArgs<'a, T, const N: usize> = (
+    &'a mut [T; N],
+    Option<&'a [T; N]>,
     &'a [usize],
-    &'a [f64],
-    &'a [[f64; N]; N],
+    &'a [T],
+    &'a [[T; N]; N],
 );
 
 /// Two consecutive blocks of `A` and `B` columns starting at `c0` and `c1`.
 #[inline(always)]
-fn pair<const N: usize, const A: usize, const B: usize>(
-    (row, base, columns, values, cols): RowArgs<'_, N>,
+fn pair<T: Real, const N: usize, const A: usize, const B: usize>(
+    (row, base, columns, values, cols): RowArgs<'_, T, N>,
     c0: usize,
     c1: usize,
 ) {
-    block::<N, A>(row, base, columns, values, cols, c0);
-    block::<N, B>(row, base, columns, values, cols, c1);
+    block::<T, N, A>(row, base, columns, values, cols, c0);
+    block::<T, N, B>(row, base, columns, values, cols, c1);
 }
 
 /// Columns `c0..c0 + B` of `row = base + sum_e values[e] P[columns[e], :]`.
 #[inline(always)]
-fn block<const N: usize, const B: usize>(
-    row: &mut [f64; N],
-    base: Option<&[f64; N]>,
+fn block<T: Real, const N: usize, const B: usize>(
+    row: &mut [T; N],
+    base: Option<&[T; N]>,
     columns: &[usize],
-    values: &[f64],
-    cols: &[[f64; N]; N],
+    values: &[T],
+    cols: &[[T; N]; N],
     c0: usize,
 ) {
-    row[c0..c0 + B].copy_from_slice(&combination::<N, B>(base, columns, values, cols, c0));
+    row[c0..c0 + B].copy_from_slice(&combination::<T, N, B>(base, columns, values, cols, c0));
 }
 
 /// `base[c0..c0 + B] + sum_e values[e] P[columns[e], c0..c0 + B]` (rows of
 /// the symmetric `P` are its columns), accumulated in registers.
 #[inline(always)]
-fn combination<const N: usize, const B: usize>(
-    base: Option<&[f64; N]>,
+fn combination<T: Real, const N: usize, const B: usize>(
+    base: Option<&[T; N]>,
     columns: &[usize],
-    values: &[f64],
-    cols: &[[f64; N]; N],
+    values: &[T],
+    cols: &[[T; N]; N],
     c0: usize,
-) -> [f64; B] {
-    let mut acc = [0.0f64; B];
+) -> [T; B] {
+    let mut acc = [T::zero(); B];
     if let Some(b) = base {
         acc.copy_from_slice(&b[c0..c0 + B]);
     }
@@ -362,14 +364,14 @@ mod tests {
             noise: &noise_at,
         };
         let mut got = p;
-        propagate::<N, D>(&mut got, &structure, &coefficients, &noise);
+        propagate::<f64, N, D>(&mut got, &structure, &coefficients, &noise);
         let want = phi * p * phi.transpose() + qd;
         let err = (got - want).amax() / want.amax();
         assert!(err < 1e-13, "relative error {err}");
         assert_eq!(got, got.transpose(), "result not exactly symmetric");
         // The vector width chosen at run time never changes a bit.
         let mut portable = p;
-        propagate_steps::<N, D, false>(&mut portable, &structure, &coefficients, &noise);
+        propagate_steps::<f64, N, D, false>(&mut portable, &structure, &coefficients, &noise);
         assert!(
             got.iter()
                 .zip(&portable)

@@ -1,5 +1,5 @@
 //! The grammar of compositions: `model Name = A + B { order { .. } allow_unused
-//! { .. } }` and the internal steps `@nav_block { .. } @nav_compose { .. } { .. }`
+//! { .. } scalar f32; }` and the internal steps `@nav_block { .. } @nav_compose { .. } { .. }`
 //! through which the blocks' macros hand their tokens back (see
 //! `front/compose.rs`).
 
@@ -77,6 +77,7 @@ pub(super) fn parse_composition(
         blocks,
         order: None,
         allow_unused: Vec::new(),
+        scalar: None,
         tokens: TokenStream::new(),
     };
     if input.peek(syn::token::Brace) {
@@ -84,6 +85,13 @@ pub(super) fn parse_composition(
         braced!(body in input);
         while !body.is_empty() {
             let kw: Ident = body.parse()?;
+            if kw == "scalar" {
+                if compose.scalar.is_some() {
+                    return Err(syn::Error::new(kw.span(), "duplicate `scalar` section"));
+                }
+                compose.scalar = Some(super::Scalar::parse_after_keyword(&body)?);
+                continue;
+            }
             let inner;
             braced!(inner in body);
             if kw == "order" && compose.order.is_none() {
@@ -113,7 +121,7 @@ pub(super) fn parse_composition(
             } else {
                 return Err(syn::Error::new(
                     kw.span(),
-                    format!("unknown section `{kw}` of a composition; expected `order` or `allow_unused`"),
+                    format!("unknown section `{kw}` of a composition; expected `order`, `allow_unused` or `scalar`"),
                 ));
             }
         }

@@ -52,6 +52,53 @@ pub struct ModelDecl {
     pub sensors: Vec<SensorDecl>,
     /// `"; .."` appended to unknown-name errors (a hint about `needs` in blocks).
     pub unknown_hint: &'static str,
+    /// `scalar f32;`: the scalar the code is generated for (`f64` by default).
+    pub scalar: Scalar,
+}
+
+/// The scalar a model's code is generated for.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Scalar {
+    /// Double precision, the default.
+    #[default]
+    F64,
+    /// Single precision (`scalar f32;`).
+    F32,
+}
+
+impl Scalar {
+    /// The Rust type.
+    pub fn tokens(self) -> TokenStream {
+        match self {
+            Scalar::F64 => quote::quote!(f64),
+            Scalar::F32 => quote::quote!(f32),
+        }
+    }
+
+    /// The module of `nav_runtime` with the scalar functions of this precision.
+    pub fn math(self) -> TokenStream {
+        match self {
+            Scalar::F64 => quote::quote!(::nav_runtime::math),
+            Scalar::F32 => quote::quote!(::nav_runtime::math::single),
+        }
+    }
+
+    /// `scalar f32;` or `scalar f64;` after the keyword.
+    pub fn parse_after_keyword(input: ParseStream) -> syn::Result<Scalar> {
+        let ty: Ident = input.parse()?;
+        let scalar = match ty.to_string().as_str() {
+            "f64" => Scalar::F64,
+            "f32" => Scalar::F32,
+            other => {
+                return Err(syn::Error::new(
+                    ty.span(),
+                    format!("unknown scalar `{other}`; expected `f32` or `f64`"),
+                ))
+            }
+        };
+        input.parse::<Token![;]>()?;
+        Ok(scalar)
+    }
 }
 
 /// `fn name(a, b) = expr;`: a small function of the model, inlined where it
@@ -84,6 +131,8 @@ pub struct ComposeDecl {
     pub order: Option<(Ident, Vec<Ident>)>,
     /// `allow_unused { a, b[1], .. }`: states allowed to be unused.
     pub allow_unused: Vec<(Ident, Option<LitInt>)>,
+    /// `scalar f32;`: the composed model's scalar.
+    pub scalar: Option<Scalar>,
     /// The whole declaration as written, carried through the composition steps.
     pub tokens: TokenStream,
 }
@@ -296,6 +345,7 @@ fn parse_sections(
             } else {
                 ""
             },
+            scalar: Scalar::F64,
         };
         let mut seen: Vec<String> = Vec::new();
         while !body.is_empty() {
@@ -345,6 +395,14 @@ fn parse_sections(
                     decl.process = Some(Process { kind, keyword: kw, stmts });
                 }
                 "sensor" => decl.sensors.push(parse_sensor(body, attrs)?),
+                "scalar" if is_block => {
+                    return Err(syn::Error::new(
+                        kw.span(),
+                        "a block has no scalar of its own: the composed model chooses it \
+                         (`model Name = A + B { scalar f32; }`)",
+                    ))
+                }
+                "scalar" => decl.scalar = Scalar::parse_after_keyword(body)?,
                 "needs" => {
                     return Err(syn::Error::new(
                         kw.span(),

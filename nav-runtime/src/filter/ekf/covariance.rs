@@ -5,6 +5,7 @@
 use nalgebra::{SMatrix, SVector};
 
 use super::validation::all_finite;
+use crate::real::Real;
 
 /// The default lower bound a repaired variance is reset to when no positive
 /// previous value exists (see [`Ekf::with_variance_floor`](crate::ekf::Ekf::with_variance_floor)).
@@ -17,36 +18,36 @@ crate::dispatch::avx_dispatch! {
     /// that overflows merely sends the caller to the exact slow path,
     /// [`off_diagonal_finite`] and [`repair_diagonal`]).
     /// Runs compiled for AVX where the CPU has it.
-    pub(super) fn covariance_is_clean<const N: usize>(p: &SMatrix<f64, N, N>) -> bool => covariance_is_clean_pass;
+    pub(super) fn covariance_is_clean<T: Real, const N: usize>(p: &SMatrix<T, N, N>) -> bool => covariance_is_clean_pass;
 }
 
 /// The pass of [`covariance_is_clean`].
 #[inline(always)]
-pub(super) fn covariance_is_clean_pass<const N: usize, const AVX: bool>(
-    p: &SMatrix<f64, N, N>,
+pub(super) fn covariance_is_clean_pass<T: Real, const N: usize, const AVX: bool>(
+    p: &SMatrix<T, N, N>,
 ) -> bool {
-    let mut acc = [0.0f64; 8];
+    let mut acc = [T::zero(); 8];
     let mut chunks = p.as_slice().chunks_exact(8);
     for chunk in &mut chunks {
         for (a, x) in acc.iter_mut().zip(chunk) {
-            *a += x;
+            *a += *x;
         }
     }
     for (a, x) in acc.iter_mut().zip(chunks.remainder()) {
-        *a += x;
+        *a += *x;
     }
     let mut diagonal_ok = true;
     for (i, col) in p.data.0.iter().enumerate() {
         let d = col[i];
-        diagonal_ok &= d > 0.0 && d <= f64::MAX;
+        diagonal_ok &= d > T::zero() && d <= T::MAX;
     }
-    diagonal_ok && acc.iter().sum::<f64>().is_finite()
+    diagonal_ok && acc.iter().fold(T::zero(), |s, a| s + *a).is_finite()
 }
 
 /// `true` if every entry below the diagonal of `p` is finite (for a symmetric
 /// `p`, every off-diagonal entry). A non-finite off-diagonal entry cannot be
 /// repaired meaningfully: the prediction or update is refused.
-pub(super) fn off_diagonal_finite<const N: usize>(p: &SMatrix<f64, N, N>) -> bool {
+pub(super) fn off_diagonal_finite<T: Real, const N: usize>(p: &SMatrix<T, N, N>) -> bool {
     p.as_slice()
         .chunks_exact(N)
         .enumerate()
@@ -57,15 +58,15 @@ pub(super) fn off_diagonal_finite<const N: usize>(p: &SMatrix<f64, N, N>) -> boo
 /// update (see [`Ekf::update`]): each variance that is not positive and
 /// finite is reset to its previous value `prev[i]` (if above `floor`) or to
 /// `floor`, with its row and column zeroed. Returns the number repaired.
-pub(super) fn repair_diagonal<const N: usize>(
-    p: &mut SMatrix<f64, N, N>,
-    prev: &SVector<f64, N>,
-    floor: f64,
+pub(super) fn repair_diagonal<T: Real, const N: usize>(
+    p: &mut SMatrix<T, N, N>,
+    prev: &SVector<T, N>,
+    floor: T,
 ) -> u32 {
     let mut repairs = 0;
     for i in 0..N {
         let d = p[(i, i)];
-        if d.is_finite() && d > 0.0 {
+        if d.is_finite() && d > T::zero() {
             continue;
         }
         let before = prev[i];
@@ -75,8 +76,8 @@ pub(super) fn repair_diagonal<const N: usize>(
             floor
         };
         for j in 0..N {
-            p[(i, j)] = 0.0;
-            p[(j, i)] = 0.0;
+            p[(i, j)] = T::zero();
+            p[(j, i)] = T::zero();
         }
         p[(i, i)] = value;
         repairs += 1;
@@ -85,7 +86,7 @@ pub(super) fn repair_diagonal<const N: usize>(
 }
 
 /// Copies the upper triangle onto the lower one.
-pub(super) fn mirror_upper<const N: usize>(m: &mut SMatrix<f64, N, N>) {
+pub(super) fn mirror_upper<T: Real, const N: usize>(m: &mut SMatrix<T, N, N>) {
     for c in 0..N {
         for r in 0..c {
             m[(c, r)] = m[(r, c)];
@@ -94,7 +95,7 @@ pub(super) fn mirror_upper<const N: usize>(m: &mut SMatrix<f64, N, N>) {
 }
 
 /// Copies the lower triangle onto the upper one.
-pub(super) fn mirror_lower<const N: usize>(m: &mut SMatrix<f64, N, N>) {
+pub(super) fn mirror_lower<T: Real, const N: usize>(m: &mut SMatrix<T, N, N>) {
     for c in 0..N {
         for r in 0..c {
             m[(r, c)] = m[(c, r)];

@@ -3,6 +3,7 @@
 use nalgebra::SMatrix;
 
 use super::covariance::mirror_upper;
+use crate::real::Real;
 
 /// How a continuous model's transition matrix `Phi` and process noise `Qd` are
 /// obtained over a step `dt`. Discrete models (`Model::DISCRETE`) always use the
@@ -43,14 +44,15 @@ pub enum Discretization {
 /// Dense second-order discretization: `Phi = I + F dt + (F dt)^2 / 2` and the
 /// trapezoidal `Qd = (Phi Qc Phi^T + Qc) dt / 2` (Brown & Hwang, sec. 7.2), with
 /// `Qc = G Q G^T` the continuous noise covariance. Returns `(Phi, Qd)`.
-pub fn second_order<const N: usize>(
-    f: &SMatrix<f64, N, N>,
-    qc: &SMatrix<f64, N, N>,
-    dt: f64,
-) -> (SMatrix<f64, N, N>, SMatrix<f64, N, N>) {
+pub fn second_order<T: Real, const N: usize>(
+    f: &SMatrix<T, N, N>,
+    qc: &SMatrix<T, N, N>,
+    dt: T,
+) -> (SMatrix<T, N, N>, SMatrix<T, N, N>) {
+    let half = T::of(0.5);
     let fdt = f * dt;
-    let phi = SMatrix::<f64, N, N>::identity() + fdt + fdt * fdt * 0.5;
-    let mut qd = (phi * qc * phi.transpose() + qc) * (0.5 * dt);
+    let phi = SMatrix::<T, N, N>::identity() + fdt + fdt * fdt * half;
+    let mut qd = (phi * qc * phi.transpose() + qc) * (half * dt);
     mirror_upper(&mut qd);
     (phi, qd)
 }
@@ -64,11 +66,11 @@ pub fn second_order<const N: usize>(
 /// triangular matrices are closed under products), by scaling `A` by `2^-s`
 /// until its infinity norm is at most 1/2, a degree-16 Taylor polynomial
 /// (truncation below 1e-19 relative) and `s` squarings. No allocation.
-pub fn van_loan<const N: usize>(
-    f: &SMatrix<f64, N, N>,
-    qc: &SMatrix<f64, N, N>,
-    dt: f64,
-) -> (SMatrix<f64, N, N>, SMatrix<f64, N, N>) {
+pub fn van_loan<T: Real, const N: usize>(
+    f: &SMatrix<T, N, N>,
+    qc: &SMatrix<T, N, N>,
+    dt: T,
+) -> (SMatrix<T, N, N>, SMatrix<T, N, N>) {
     let a = BlockUpper {
         a: -(f * dt),
         b: qc * dt,
@@ -83,13 +85,13 @@ pub fn van_loan<const N: usize>(
 
 /// A 2N x 2N block upper-triangular matrix `[[a, b], [0, c]]`.
 #[derive(Clone, Copy)]
-struct BlockUpper<const N: usize> {
-    a: SMatrix<f64, N, N>,
-    b: SMatrix<f64, N, N>,
-    c: SMatrix<f64, N, N>,
+struct BlockUpper<T: Real, const N: usize> {
+    a: SMatrix<T, N, N>,
+    b: SMatrix<T, N, N>,
+    c: SMatrix<T, N, N>,
 }
 
-impl<const N: usize> BlockUpper<N> {
+impl<T: Real, const N: usize> BlockUpper<T, N> {
     fn identity() -> Self {
         Self {
             a: SMatrix::identity(),
@@ -107,7 +109,7 @@ impl<const N: usize> BlockUpper<N> {
         }
     }
 
-    fn scale(&self, k: f64) -> Self {
+    fn scale(&self, k: T) -> Self {
         Self {
             a: self.a * k,
             b: self.b * k,
@@ -120,9 +122,9 @@ impl<const N: usize> BlockUpper<N> {
         let mut n: f64 = 0.0;
         for r in 0..N {
             let top: f64 = (0..N)
-                .map(|c| self.a[(r, c)].abs() + self.b[(r, c)].abs())
+                .map(|c| self.a[(r, c)].abs().to_f64() + self.b[(r, c)].abs().to_f64())
                 .sum();
-            let bottom: f64 = (0..N).map(|c| self.c[(r, c)].abs()).sum();
+            let bottom: f64 = (0..N).map(|c| self.c[(r, c)].abs().to_f64()).sum();
             n = n.max(top).max(bottom);
         }
         n
@@ -140,11 +142,11 @@ impl<const N: usize> BlockUpper<N> {
         if norm.is_finite() && norm > 0.5 {
             squarings = (libm::ceil(libm::log2(norm / 0.5)) as i32).clamp(0, MAX_SQUARINGS);
         }
-        let scaled = self.scale(libm::pow(2.0, -f64::from(squarings)));
+        let scaled = self.scale(T::of(libm::pow(2.0, -f64::from(squarings))));
         // Horner: I + A (I + A/2 (I + A/3 (...))).
         let mut r = Self::identity();
         for k in (1..=DEGREE).rev() {
-            let t = scaled.mul(&r).scale(1.0 / f64::from(k));
+            let t = scaled.mul(&r).scale(T::of(1.0 / f64::from(k)));
             r = Self {
                 a: t.a + SMatrix::identity(),
                 b: t.b,

@@ -6,11 +6,12 @@ use core::any::TypeId;
 use super::{Ekf, SetupError, UpdateReport};
 use crate::gate::Gate;
 use crate::model::{Model, Sensor};
+use crate::real::Real;
 
 /// Number of sensors whose gate can be set individually on one filter.
 pub const MAX_SENSOR_GATES: usize = 16;
 
-impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
+impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
     /// Sets the gate used by sensors without their own setting; `None` disables it.
     #[must_use]
     pub fn with_default_gate(mut self, gate: Option<Gate>) -> Self {
@@ -34,7 +35,7 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
         gate: Option<Gate>,
     ) -> Result<(), SetupError>
     where
-        S: Sensor<N, M, Model = Mo>,
+        S: Sensor<N, M, T, Model = Mo>,
     {
         self.gates.set(TypeId::of::<S>(), gate)
     }
@@ -42,7 +43,7 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
     /// The gate that applies to sensor `S` (its own setting, else the default).
     pub fn sensor_gate<S, const M: usize>(&self) -> Option<Gate>
     where
-        S: Sensor<N, M, Model = Mo>,
+        S: Sensor<N, M, T, Model = Mo>,
     {
         self.gates
             .get(TypeId::of::<S>())
@@ -51,21 +52,24 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
 
     /// Hands the gate's decision to the lock-out release, which may inflate
     /// `P` (see [`crate::lockout`]).
-    pub(super) fn after_gate<S, const M: usize>(&mut self, report: &UpdateReport<M>, aux: &S::Aux)
-    where
-        S: Sensor<N, M, Model = Mo>,
+    pub(super) fn after_gate<S, const M: usize>(
+        &mut self,
+        report: &UpdateReport<M, T>,
+        aux: &S::Aux,
+    ) where
+        S: Sensor<N, M, T, Model = Mo>,
     {
         let (p, x, u, par) = (&mut self.p, &self.x, &self.input, &self.params);
         if self
             .lockout
-            .after_gate::<S, N, M>(report, p, x, u, par, aux)
+            .after_gate::<S, T, N, M>(report, p, x, u, par, aux)
         {
             self.counters.updates_released += 1;
         }
     }
 
     /// Accepted/gated totals of one update that was not an error.
-    pub(super) fn count_gate_outcome<const M: usize>(&mut self, report: &UpdateReport<M>) {
+    pub(super) fn count_gate_outcome<const M: usize>(&mut self, report: &UpdateReport<M, T>) {
         if report.accepted {
             self.counters.updates_accepted += 1;
         } else {

@@ -4,18 +4,19 @@ use nalgebra::SMatrix;
 
 use super::covariance::{mirror_lower, mirror_upper, off_diagonal_finite, repair_diagonal};
 use super::FilterError;
+use crate::real::Real;
 
 /// The Joseph covariance update `P - K U^T - U K^T + K S K^T` (eq. U6) with
 /// `U = P H^T` and `S = H P H^T + R`, which equals
 /// `(I - K H) P (I - K H)^T + K R K^T` for any gain `K`. O(N^2 M) on one
 /// triangle, then mirrored (see [`joseph_lower`]).
 #[cfg(test)]
-pub(crate) fn joseph_update<const N: usize, const M: usize>(
-    p: &SMatrix<f64, N, N>,
-    k: &SMatrix<f64, N, M>,
-    u: &SMatrix<f64, N, M>,
-    s: &SMatrix<f64, M, M>,
-) -> SMatrix<f64, N, N> {
+pub(crate) fn joseph_update<T: Real, const N: usize, const M: usize>(
+    p: &SMatrix<T, N, N>,
+    k: &SMatrix<T, N, M>,
+    u: &SMatrix<T, N, M>,
+    s: &SMatrix<T, M, M>,
+) -> SMatrix<T, N, N> {
     let mut out = *p;
     let _ = joseph_lower(&mut out, k, u, s);
     mirror_lower(&mut out);
@@ -36,22 +37,22 @@ pub(crate) fn joseph_update<const N: usize, const M: usize>(
 /// so the prior's upper triangle (equal to its lower one, `P` being exactly
 /// symmetric) stays available to undo the update.
 #[inline(always)]
-pub(super) fn joseph_lower<const N: usize, const M: usize>(
-    p: &mut SMatrix<f64, N, N>,
-    k: &SMatrix<f64, N, M>,
-    u: &SMatrix<f64, N, M>,
-    s: &SMatrix<f64, M, M>,
+pub(super) fn joseph_lower<T: Real, const N: usize, const M: usize>(
+    p: &mut SMatrix<T, N, N>,
+    k: &SMatrix<T, N, M>,
+    u: &SMatrix<T, N, M>,
+    s: &SMatrix<T, M, M>,
 ) -> bool {
     let w = k * s - u;
     let (kd, ud, wd) = (&k.data.0, &u.data.0, &w.data.0);
     // Row sums of the result: finite if every entry is (an overflowing sum
     // merely sends the caller to the exact slow path).
-    let mut acc = [0.0f64; N];
+    let mut acc = [T::zero(); N];
     let mut diagonal_ok = true;
     // Coefficients of column `c`: `U[c, m]` and `K[c, m]`.
     let coefficients = |c: usize| {
-        let mut a = [0.0f64; M];
-        let mut b = [0.0f64; M];
+        let mut a = [T::zero(); M];
+        let mut b = [T::zero(); M];
         for m in 0..M {
             a[m] = ud[m][c];
             b[m] = kd[m][c];
@@ -85,8 +86,8 @@ pub(super) fn joseph_lower<const N: usize, const M: usize>(
             col1[r] = v1;
             acc[r] += v0 + v1;
         }
-        diagonal_ok &= col0[c] > 0.0 && col0[c] <= f64::MAX;
-        diagonal_ok &= col1[c + 1] > 0.0 && col1[c + 1] <= f64::MAX;
+        diagonal_ok &= col0[c] > T::zero() && col0[c] <= T::MAX;
+        diagonal_ok &= col1[c + 1] > T::zero() && col1[c + 1] <= T::MAX;
         c += 2;
     }
     if c + 1 == N {
@@ -98,7 +99,7 @@ pub(super) fn joseph_lower<const N: usize, const M: usize>(
             }
             col[c] = v;
             acc[c] += v;
-            diagonal_ok &= v > 0.0 && v <= f64::MAX;
+            diagonal_ok &= v > T::zero() && v <= T::MAX;
         }
     }
     diagonal_ok && acc.iter().all(|x| x.is_finite())
@@ -113,23 +114,23 @@ crate::dispatch::avx_dispatch! {
     /// entry is not finite, the prior is restored exactly (its upper triangle
     /// and its saved diagonal) and the update is refused. Runs compiled for
     /// AVX where the CPU has it (bit-identical results).
-    pub(super) fn joseph_in_place<const N: usize, const M: usize>(
-        p: &mut SMatrix<f64, N, N>,
-        k: &SMatrix<f64, N, M>,
-        u: &SMatrix<f64, N, M>,
-        s: &SMatrix<f64, M, M>,
-        floor: f64,
+    pub(super) fn joseph_in_place<T: Real, const N: usize, const M: usize>(
+        p: &mut SMatrix<T, N, N>,
+        k: &SMatrix<T, N, M>,
+        u: &SMatrix<T, N, M>,
+        s: &SMatrix<T, M, M>,
+        floor: T,
     ) -> Result<u32, FilterError> => joseph_in_place_steps;
 }
 
 /// The body of [`joseph_in_place`].
 #[inline(always)]
-pub(super) fn joseph_in_place_steps<const N: usize, const M: usize, const AVX: bool>(
-    p: &mut SMatrix<f64, N, N>,
-    k: &SMatrix<f64, N, M>,
-    u: &SMatrix<f64, N, M>,
-    s: &SMatrix<f64, M, M>,
-    floor: f64,
+pub(super) fn joseph_in_place_steps<T: Real, const N: usize, const M: usize, const AVX: bool>(
+    p: &mut SMatrix<T, N, N>,
+    k: &SMatrix<T, N, M>,
+    u: &SMatrix<T, N, M>,
+    s: &SMatrix<T, M, M>,
+    floor: T,
 ) -> Result<u32, FilterError> {
     let prior_diagonal = p.diagonal();
     if joseph_lower(p, k, u, s) {

@@ -40,6 +40,7 @@ use nalgebra::{SMatrix, SVector};
 
 use crate::gate::Gate;
 use crate::model::Model;
+use crate::real::Real;
 
 mod covariance;
 mod discretization;
@@ -65,15 +66,16 @@ pub use update::Estimator;
 
 use gating::GateTable;
 
-/// An extended Kalman filter for model `Mo` with `N` states.
+/// An extended Kalman filter for model `Mo` with `N` states, computed in
+/// the model's scalar `T` (`f64` unless the model is declared `scalar f32;`).
 ///
 /// Holds the state `x`, its covariance `P` (kept exactly symmetric), the model
 /// parameters and process-noise intensities, the last input (used by sensors
 /// whose `h` depends on it), the discretization, the gates and the counters.
 /// The whole filter is a plain value: cloning it is a checkpoint.
-pub struct Ekf<Mo: Model<N>, const N: usize> {
-    x: SVector<f64, N>,
-    p: SMatrix<f64, N, N>,
+pub struct Ekf<Mo: Model<N, T>, const N: usize, T: Real = f64> {
+    x: SVector<T, N>,
+    p: SMatrix<T, N, N>,
     params: Mo::Params,
     noise: Mo::Noise,
     input: Mo::Input,

@@ -7,6 +7,7 @@ use super::discretization::{second_order, van_loan, Discretization};
 use super::validation::all_finite;
 use super::{Ekf, FilterError};
 use crate::model::{first_non_finite, name_of, Model};
+use crate::real::Real;
 
 /// A filter that can be propagated with an input sample: the interface the
 /// multi-rate scheduler drives. Implemented by [`Ekf`] (input = the model input)
@@ -27,7 +28,7 @@ pub trait Propagate {
     fn propagate(&mut self, dt: f64, input: &Self::Input) -> Result<(), FilterError>;
 }
 
-impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
+impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
     /// Propagates state and covariance over `dt` seconds with `input` held
     /// constant (eq. P1), using [`Model::transition`] and, by default, the
     /// generated sparse [`Model::propagate_covariance`]; see [`Discretization`].
@@ -38,7 +39,7 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
     /// [`FilterError::NonFiniteInput`] for a NaN/infinite input scalar,
     /// [`FilterError::NonFiniteResult`] if the model produced NaN/infinity.
     /// The filter is unchanged in every case.
-    pub fn predict(&mut self, dt: f64, input: &Mo::Input) -> Result<(), FilterError> {
+    pub fn predict(&mut self, dt: T, input: &Mo::Input) -> Result<(), FilterError> {
         match self.predict_in_place(dt, input) {
             Ok(repairs) => {
                 Mo::normalize_state(&mut self.x);
@@ -60,9 +61,9 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
     /// The state is propagated into a temporary and checked first; `P` is
     /// propagated in place with one backup copy, which is restored if the
     /// result has a non-finite covariance.
-    pub(super) fn predict_in_place(&mut self, dt: f64, u: &Mo::Input) -> Result<u32, FilterError> {
-        if !(dt.is_finite() && dt > 0.0) {
-            return Err(FilterError::InvalidTimeStep { dt });
+    pub(super) fn predict_in_place(&mut self, dt: T, u: &Mo::Input) -> Result<u32, FilterError> {
+        if !(dt.is_finite() && dt > T::zero()) {
+            return Err(FilterError::InvalidTimeStep { dt: dt.to_f64() });
         }
         if let Some(index) = first_non_finite(u) {
             return Err(FilterError::NonFiniteInput {
@@ -96,7 +97,7 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
                 let f = Mo::jacobian(&self.x, u, par, dt);
                 let qc = Mo::process_noise(&self.x, u, par, q, dt) / dt;
                 let (phi, qd) = second_order(&f, &qc, dt);
-                let x_new = heun::<Mo, N>(&self.x, u, par, dt);
+                let x_new = heun::<Mo, N, T>(&self.x, u, par, dt);
                 if !all_finite(x_new.as_slice()) {
                     return Err(not_finite);
                 }
@@ -108,7 +109,7 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
                 let f = Mo::jacobian(&self.x, u, par, dt);
                 let qc = Mo::process_noise(&self.x, u, par, q, dt) / dt;
                 let (phi, qd) = van_loan(&f, &qc, dt);
-                let x_new = runge_kutta4::<Mo, N>(&self.x, u, par, dt);
+                let x_new = runge_kutta4::<Mo, N, T>(&self.x, u, par, dt);
                 if !all_finite(x_new.as_slice()) {
                     return Err(not_finite);
                 }
@@ -123,14 +124,14 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
                 self.p = prev;
                 return Err(not_finite);
             }
-            repairs = repair_diagonal(&mut self.p, &prev.diagonal(), self.variance_floor);
+            repairs = repair_diagonal(&mut self.p, &prev.diagonal(), T::of(self.variance_floor));
         }
         self.x = x_new;
         Ok(repairs)
     }
 }
 
-impl<Mo: Model<N>, const N: usize> Propagate for Ekf<Mo, N> {
+impl<Mo: Model<N, T>, const N: usize, T: Real> Propagate for Ekf<Mo, N, T> {
     type Input = Mo::Input;
 
     fn check_input(input: &Mo::Input) -> Result<(), FilterError> {
@@ -144,33 +145,34 @@ impl<Mo: Model<N>, const N: usize> Propagate for Ekf<Mo, N> {
     }
 
     fn propagate(&mut self, dt: f64, input: &Mo::Input) -> Result<(), FilterError> {
-        self.predict(dt, input)
+        self.predict(T::of(dt), input)
     }
 }
 
 /// Heun's method from model transitions: with `x1 = T(x)` (Euler),
 /// `x + dt (f(x) + f(x1)) / 2 = (x + T(x1)) / 2`.
-pub(super) fn heun<Mo: Model<N>, const N: usize>(
-    x: &SVector<f64, N>,
+pub(super) fn heun<Mo: Model<N, T>, const N: usize, T: Real>(
+    x: &SVector<T, N>,
     u: &Mo::Input,
     p: &Mo::Params,
-    dt: f64,
-) -> SVector<f64, N> {
+    dt: T,
+) -> SVector<T, N> {
     let x1 = Mo::transition(x, u, p, dt);
-    (x + Mo::transition(&x1, u, p, dt)) * 0.5
+    (x + Mo::transition(&x1, u, p, dt)) * T::of(0.5)
 }
 
 /// Classical Runge-Kutta 4 from model transitions: `f(y) dt = T(y) - y`.
-pub(super) fn runge_kutta4<Mo: Model<N>, const N: usize>(
-    x: &SVector<f64, N>,
+pub(super) fn runge_kutta4<Mo: Model<N, T>, const N: usize, T: Real>(
+    x: &SVector<T, N>,
     u: &Mo::Input,
     p: &Mo::Params,
-    dt: f64,
-) -> SVector<f64, N> {
-    let step = |y: &SVector<f64, N>| Mo::transition(y, u, p, dt) - y;
+    dt: T,
+) -> SVector<T, N> {
+    let step = |y: &SVector<T, N>| Mo::transition(y, u, p, dt) - y;
     let d1 = step(x);
-    let d2 = step(&(x + d1 * 0.5));
-    let d3 = step(&(x + d2 * 0.5));
+    let half = T::of(0.5);
+    let d2 = step(&(x + d1 * half));
+    let d3 = step(&(x + d2 * half));
     let d4 = step(&(x + d3));
-    x + (d1 + (d2 + d3) * 2.0 + d4) / 6.0
+    x + (d1 + (d2 + d3) * T::of(2.0) + d4) / T::of(6.0)
 }

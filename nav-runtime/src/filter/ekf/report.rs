@@ -2,6 +2,8 @@
 
 use nalgebra::{SMatrix, SVector};
 
+use crate::real::Real;
+
 /// Totals kept by the filter. Per-sensor statistics are the caller's, from the
 /// [`UpdateReport`]s.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -28,7 +30,7 @@ pub struct FilterCounters {
 
 /// The outcome of one measurement update.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct UpdateReport<const M: usize> {
+pub struct UpdateReport<const M: usize, T: Real = f64> {
     /// The sensor's declared name.
     pub sensor: &'static str,
     /// `true` if the update passed the gate and was applied.
@@ -39,9 +41,9 @@ pub struct UpdateReport<const M: usize> {
     /// The gate threshold that was applied, `None` if gating is disabled.
     pub threshold: Option<f64>,
     /// `nu = z - h(x)` with angle components wrapped to (-pi, pi] (eq. U1).
-    pub innovation: SVector<f64, M>,
+    pub innovation: SVector<T, M>,
     /// `S = H P H^T + R` (eq. U2).
-    pub innovation_covariance: SMatrix<f64, M, M>,
+    pub innovation_covariance: SMatrix<T, M, M>,
     /// Covariance diagonal entries repaired by this update.
     pub repairs: u32,
 }

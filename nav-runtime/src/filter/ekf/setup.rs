@@ -11,8 +11,9 @@ use super::validation::{all_finite, check_noise_intensities, checked_covariance}
 use super::{Ekf, FilterCounters, SetupError};
 use crate::gate::Gate;
 use crate::model::{first_non_finite, Model, Record};
+use crate::real::Real;
 
-impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
+impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
     /// A filter at state `x0` with covariance `p0`.
     ///
     /// `p0` must be finite, symmetric (to 1e-9 relative; the upper triangle is
@@ -26,8 +27,8 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
     /// # Errors
     /// [`SetupError::Invalid`] naming the first problem found.
     pub fn new(
-        x0: SVector<f64, N>,
-        p0: SMatrix<f64, N, N>,
+        x0: SVector<T, N>,
+        p0: SMatrix<T, N, N>,
         params: Mo::Params,
         noise: Mo::Noise,
     ) -> Result<Self, SetupError> {
@@ -82,17 +83,17 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
     }
 
     /// The state estimate.
-    pub fn state(&self) -> &SVector<f64, N> {
+    pub fn state(&self) -> &SVector<T, N> {
         &self.x
     }
 
     /// The state estimate as the model's named record.
     pub fn state_record(&self) -> Mo::State {
-        <Mo::State as Record>::from_fn(|i| self.x.get(i).copied().unwrap_or(f64::NAN))
+        <Mo::State as Record>::from_fn(|i| self.x.get(i).map_or(f64::NAN, |v| v.to_f64()))
     }
 
     /// The state covariance (symmetric).
-    pub fn covariance(&self) -> &SMatrix<f64, N, N> {
+    pub fn covariance(&self) -> &SMatrix<T, N, N> {
         &self.p
     }
 
@@ -125,7 +126,7 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
     ///
     /// # Errors
     /// [`SetupError::Invalid`] if `x` is not finite (state unchanged).
-    pub fn set_state(&mut self, x: SVector<f64, N>) -> Result<(), SetupError> {
+    pub fn set_state(&mut self, x: SVector<T, N>) -> Result<(), SetupError> {
         if !all_finite(x.as_slice()) {
             return Err(SetupError::Invalid {
                 reason: "state is not finite",
@@ -145,7 +146,7 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
     ///
     /// # Errors
     /// [`SetupError::Invalid`] (covariance unchanged).
-    pub fn set_covariance(&mut self, p: SMatrix<f64, N, N>) -> Result<(), SetupError> {
+    pub fn set_covariance(&mut self, p: SMatrix<T, N, N>) -> Result<(), SetupError> {
         self.p = checked_covariance(&p)?;
         Ok(())
     }
@@ -177,7 +178,7 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
     }
 }
 
-impl<Mo: Model<N>, const N: usize> Clone for Ekf<Mo, N> {
+impl<Mo: Model<N, T>, const N: usize, T: Real> Clone for Ekf<Mo, N, T> {
     fn clone(&self) -> Self {
         Self {
             x: self.x,
@@ -211,7 +212,7 @@ impl<Mo: Model<N>, const N: usize> Clone for Ekf<Mo, N> {
     }
 }
 
-impl<Mo: Model<N>, const N: usize> core::fmt::Debug for Ekf<Mo, N> {
+impl<Mo: Model<N, T>, const N: usize, T: Real> core::fmt::Debug for Ekf<Mo, N, T> {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         f.debug_struct("Ekf")
             .field("model", &Mo::NAME)

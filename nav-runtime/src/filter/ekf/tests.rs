@@ -102,7 +102,7 @@ fn joseph_vector_width_never_changes_a_bit() {
         let k = u * s.try_inverse().unwrap();
         let (mut dispatched, mut portable) = (p, p);
         let a = joseph_in_place(&mut dispatched, &k, &u, &s, 0.0);
-        let b = joseph_in_place_steps::<25, 3, false>(&mut portable, &k, &u, &s, 0.0);
+        let b = joseph_in_place_steps::<f64, 25, 3, false>(&mut portable, &k, &u, &s, 0.0);
         assert_eq!(a, b);
         assert!(dispatched
             .iter()

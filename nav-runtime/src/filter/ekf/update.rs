@@ -10,8 +10,8 @@ use super::gating::passes;
 use super::joseph::{joseph_in_place, joseph_lower};
 use super::validation::{all_finite, check_measurement, checked_noise};
 use super::{Ekf, FilterError, UpdateReport};
-use crate::math::wrap_angle;
 use crate::model::{Model, Sensor};
+use crate::real::Real;
 
 /// A filter that can fuse measurements of the sensors of its model.
 pub trait Estimator<const N: usize> {
@@ -43,7 +43,7 @@ pub trait Estimator<const N: usize> {
         S: Sensor<N, M, Model = Self::Model>;
 }
 
-impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
+impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
     /// Fuses measurement `z` of sensor `S` with noise covariance `r`.
     ///
     /// Computes the innovation (eq. U1, angle components wrapped per
@@ -67,12 +67,12 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
     /// model output. The filter state is unchanged in every case.
     pub fn update<S, const M: usize>(
         &mut self,
-        z: &SVector<f64, M>,
-        r: &SMatrix<f64, M, M>,
+        z: &SVector<T, M>,
+        r: &SMatrix<T, M, M>,
         aux: &S::Aux,
-    ) -> Result<UpdateReport<M>, FilterError>
+    ) -> Result<UpdateReport<M, T>, FilterError>
     where
-        S: Sensor<N, M, Model = Mo>,
+        S: Sensor<N, M, T, Model = Mo>,
     {
         match self.batch_update::<S, M>(z, r, aux) {
             Ok(report) => {
@@ -111,12 +111,12 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
     /// [`FilterError::InnovationCovarianceNotPositiveDefinite`].
     pub fn update_sequential<S, const M: usize>(
         &mut self,
-        z: &SVector<f64, M>,
-        r_diag: &SVector<f64, M>,
+        z: &SVector<T, M>,
+        r_diag: &SVector<T, M>,
         aux: &S::Aux,
-    ) -> Result<UpdateReport<M>, FilterError>
+    ) -> Result<UpdateReport<M, T>, FilterError>
     where
-        S: Sensor<N, M, Model = Mo>,
+        S: Sensor<N, M, T, Model = Mo>,
     {
         let result = self.sequential_update::<S, M>(z, r_diag, aux);
         let report = self.commit(result)?;
@@ -127,8 +127,8 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
     /// Stores an update's result and keeps the totals.
     pub(super) fn commit<const M: usize>(
         &mut self,
-        result: Result<Proposal<N, M>, FilterError>,
-    ) -> Result<UpdateReport<M>, FilterError> {
+        result: Result<Proposal<T, N, M>, FilterError>,
+    ) -> Result<UpdateReport<M, T>, FilterError> {
         match result {
             Ok(Proposal { report, posterior }) => {
                 if let Some((x, p)) = posterior {
@@ -153,14 +153,14 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
     /// on error `x` and `P` are unchanged.
     pub(super) fn batch_update<S, const M: usize>(
         &mut self,
-        z: &SVector<f64, M>,
-        r: &SMatrix<f64, M, M>,
+        z: &SVector<T, M>,
+        r: &SMatrix<T, M, M>,
         aux: &S::Aux,
-    ) -> Result<UpdateReport<M>, FilterError>
+    ) -> Result<UpdateReport<M, T>, FilterError>
     where
-        S: Sensor<N, M, Model = Mo>,
+        S: Sensor<N, M, T, Model = Mo>,
     {
-        check_measurement::<S, N, M>(z, aux)?;
+        check_measurement::<S, T, N, M>(z, aux)?;
         let r = checked_noise(r)?;
         let (h, u, hph) = S::innovation_terms(&self.p, &self.x, &self.input, &self.params, aux);
         if !(all_finite(h.as_slice()) && all_finite(u.as_slice()) && all_finite(hph.as_slice())) {
@@ -168,14 +168,14 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
                 stage: "measurement model",
             });
         }
-        let nu = innovation::<S, N, M>(z, &h);
+        let nu = innovation::<S, T, N, M>(z, &h);
         let mut s = hph + r;
         mirror_upper(&mut s);
         let not_pd = FilterError::InnovationCovarianceNotPositiveDefinite { sensor: S::NAME };
         // S^-1 once (M x M, from the Cholesky factor): the NIS and the gain
         // are then products, cheaper than M + N triangular solve pairs.
         let s_inverse = Cholesky::new(s).ok_or(not_pd)?.inverse();
-        let nis = nu.dot(&(s_inverse * nu));
+        let nis = nu.dot(&(s_inverse * nu)).to_f64();
         if !nis.is_finite() {
             return Err(not_pd);
         }
@@ -198,7 +198,7 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
         if !all_finite(x_new.as_slice()) {
             return Err(FilterError::NonFiniteResult { stage: "update" });
         }
-        report.repairs = joseph_in_place(&mut self.p, &k, &u, &s, self.variance_floor)?;
+        report.repairs = joseph_in_place(&mut self.p, &k, &u, &s, T::of(self.variance_floor))?;
         self.x = x_new;
         Ok(report)
     }
@@ -206,20 +206,20 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
     /// Scalar sequential fusion for diagonal `R` (see [`Ekf::update_sequential`]).
     pub(super) fn sequential_update<S, const M: usize>(
         &self,
-        z: &SVector<f64, M>,
-        r_diag: &SVector<f64, M>,
+        z: &SVector<T, M>,
+        r_diag: &SVector<T, M>,
         aux: &S::Aux,
-    ) -> Result<Proposal<N, M>, FilterError>
+    ) -> Result<Proposal<T, N, M>, FilterError>
     where
-        S: Sensor<N, M, Model = Mo>,
+        S: Sensor<N, M, T, Model = Mo>,
     {
-        check_measurement::<S, N, M>(z, aux)?;
+        check_measurement::<S, T, N, M>(z, aux)?;
         if !all_finite(r_diag.as_slice()) {
             return Err(FilterError::InvalidMeasurementNoise {
                 reason: "not finite",
             });
         }
-        if r_diag.iter().any(|v| *v < 0.0) {
+        if r_diag.iter().any(|v| *v < T::zero()) {
             return Err(FilterError::InvalidMeasurementNoise {
                 reason: "negative variance",
             });
@@ -231,7 +231,7 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
                 stage: "measurement model",
             });
         }
-        let nu = innovation::<S, N, M>(z, &h);
+        let nu = innovation::<S, T, N, M>(z, &h);
         let not_pd = FilterError::InnovationCovarianceNotPositiveDefinite { sensor: S::NAME };
 
         // The batch S = H P H^T + R, for the report only.
@@ -241,27 +241,28 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
         }
         mirror_upper(&mut s_full);
 
-        let mut dx = SVector::<f64, N>::zeros();
+        let mut dx = SVector::<T, N>::zeros();
         let mut p = self.p;
-        let mut nis = 0.0;
+        let mut nis = T::zero();
         for i in 0..M {
             let hi = hm.row(i).transpose();
             let ui = p * hi;
             let si = hi.dot(&ui) + r_diag[i];
-            if !(si.is_finite() && si > 0.0) {
+            if !(si.is_finite() && si > T::zero()) {
                 return Err(not_pd);
             }
             let mut ei = nu[i] - hi.dot(&dx);
             if S::ANGLES[i] {
-                ei = wrap_angle(ei);
+                ei = ei.wrap_angle();
             }
             nis += ei * ei / si;
             let ki = ui / si;
             dx += ki * ei;
             // Scalar Joseph form: P - k u^T - u k^T + k s k^T (eq. U6, M = 1).
-            let _ = joseph_lower(&mut p, &ki, &ui, &SMatrix::<f64, 1, 1>::new(si));
+            let _ = joseph_lower(&mut p, &ki, &ui, &SMatrix::<T, 1, 1>::new(si));
             mirror_lower(&mut p);
         }
+        let nis = nis.to_f64();
         if !nis.is_finite() {
             return Err(not_pd);
         }
@@ -289,7 +290,8 @@ impl<Mo: Model<N>, const N: usize> Ekf<Mo, N> {
             if !off_diagonal_finite(&p) {
                 return Err(FilterError::NonFiniteResult { stage: "update" });
             }
-            report.repairs = repair_diagonal(&mut p, &self.p.diagonal(), self.variance_floor);
+            report.repairs =
+                repair_diagonal(&mut p, &self.p.diagonal(), T::of(self.variance_floor));
         }
         Ok(Proposal {
             report,
@@ -327,23 +329,23 @@ impl<Mo: Model<N>, const N: usize> Estimator<N> for Ekf<Mo, N> {
 }
 
 /// A computed update not yet stored: the report and, if accepted, `(x, P)`.
-pub(super) struct Proposal<const N: usize, const M: usize> {
-    report: UpdateReport<M>,
-    posterior: Option<(SVector<f64, N>, SMatrix<f64, N, N>)>,
+pub(super) struct Proposal<T: Real, const N: usize, const M: usize> {
+    report: UpdateReport<M, T>,
+    posterior: Option<(SVector<T, N>, SMatrix<T, N, N>)>,
 }
 
 /// `nu = z - h`, angle components wrapped to (-pi, pi] (eq. U1).
-pub(super) fn innovation<S, const N: usize, const M: usize>(
-    z: &SVector<f64, M>,
-    h: &SVector<f64, M>,
-) -> SVector<f64, M>
+pub(super) fn innovation<S, T: Real, const N: usize, const M: usize>(
+    z: &SVector<T, M>,
+    h: &SVector<T, M>,
+) -> SVector<T, M>
 where
-    S: Sensor<N, M>,
+    S: Sensor<N, M, T>,
 {
     let mut nu = z - h;
     for (v, angle) in nu.iter_mut().zip(S::ANGLES.iter()) {
         if *angle {
-            *v = wrap_angle(*v);
+            *v = v.wrap_angle();
         }
     }
     nu

@@ -6,14 +6,15 @@ use nalgebra::{SMatrix, SVector};
 use super::covariance::mirror_upper;
 use super::{FilterError, SetupError};
 use crate::model::{first_non_finite, name_of, Record, Sensor};
+use crate::real::Real;
 
 /// Refuses a non-finite measurement or auxiliary input.
-pub(super) fn check_measurement<S, const N: usize, const M: usize>(
-    z: &SVector<f64, M>,
+pub(super) fn check_measurement<S, T: Real, const N: usize, const M: usize>(
+    z: &SVector<T, M>,
     aux: &S::Aux,
 ) -> Result<(), FilterError>
 where
-    S: Sensor<N, M>,
+    S: Sensor<N, M, T>,
 {
     if let Some(index) = z.iter().position(|v| !v.is_finite()) {
         return Err(FilterError::NonFiniteMeasurement { index });
@@ -29,15 +30,15 @@ where
 
 /// `r` checked (finite, symmetric to 1e-9 relative, non-negative variances)
 /// and made exactly symmetric from its upper triangle.
-pub(super) fn checked_noise<const M: usize>(
-    r: &SMatrix<f64, M, M>,
-) -> Result<SMatrix<f64, M, M>, FilterError> {
+pub(super) fn checked_noise<T: Real, const M: usize>(
+    r: &SMatrix<T, M, M>,
+) -> Result<SMatrix<T, M, M>, FilterError> {
     if !all_finite(r.as_slice()) {
         return Err(FilterError::InvalidMeasurementNoise {
             reason: "not finite",
         });
     }
-    if (0..M).any(|i| r[(i, i)] < 0.0) {
+    if (0..M).any(|i| r[(i, i)] < T::zero()) {
         return Err(FilterError::InvalidMeasurementNoise {
             reason: "negative variance",
         });
@@ -53,15 +54,15 @@ pub(super) fn checked_noise<const M: usize>(
 }
 
 /// An initial covariance checked like [`checked_noise`].
-pub(super) fn checked_covariance<const N: usize>(
-    p: &SMatrix<f64, N, N>,
-) -> Result<SMatrix<f64, N, N>, SetupError> {
+pub(super) fn checked_covariance<T: Real, const N: usize>(
+    p: &SMatrix<T, N, N>,
+) -> Result<SMatrix<T, N, N>, SetupError> {
     if !all_finite(p.as_slice()) {
         return Err(SetupError::Invalid {
             reason: "covariance is not finite",
         });
     }
-    if (0..N).any(|i| p[(i, i)] < 0.0) {
+    if (0..N).any(|i| p[(i, i)] < T::zero()) {
         return Err(SetupError::Invalid {
             reason: "covariance has a negative variance",
         });
@@ -88,15 +89,19 @@ pub(super) fn check_noise_intensities<R: Record>(q: &R) -> Result<(), SetupError
 
 /// Symmetric to 1e-9 relative to the larger of the entry pair and the
 /// geometric mean of the two variances.
-pub(super) fn is_symmetric<const N: usize>(m: &SMatrix<f64, N, N>) -> bool {
+/// Relative asymmetry accepted in a covariance given to the filter (`f64`;
+/// an `f32` matrix may be off by its own rounding, 64 epsilon).
+const SYMMETRY_TOLERANCE: f64 = 1e-9;
+
+pub(super) fn is_symmetric<T: Real, const N: usize>(m: &SMatrix<T, N, N>) -> bool {
     (0..N).all(|c| {
         (0..c).all(|r| {
-            let (a, b) = (m[(r, c)], m[(c, r)]);
+            let (a, b) = (m[(r, c)].to_f64(), m[(c, r)].to_f64());
             let scale = a
                 .abs()
                 .max(b.abs())
-                .max(libm::sqrt((m[(r, r)] * m[(c, c)]).abs()));
-            (a - b).abs() <= 1e-9 * scale
+                .max(libm::sqrt((m[(r, r)].to_f64() * m[(c, c)].to_f64()).abs()));
+            (a - b).abs() <= SYMMETRY_TOLERANCE.max(64.0 * T::EPSILON) * scale
         })
     })
 }
@@ -104,16 +109,17 @@ pub(super) fn is_symmetric<const N: usize>(m: &SMatrix<f64, N, N>) -> bool {
 /// `true` if every element is finite. Branch-free over chunks of four (`x * 0`
 /// is zero for a finite `x` and NaN otherwise, and NaN survives the sums), so
 /// the check vectorizes.
-pub(super) fn all_finite(v: &[f64]) -> bool {
-    let mut acc = [0.0f64; 4];
+pub(super) fn all_finite<T: Real>(v: &[T]) -> bool {
+    let zero = T::zero();
+    let mut acc = [zero; 4];
     let mut chunks = v.chunks_exact(4);
     for chunk in &mut chunks {
         for (a, x) in acc.iter_mut().zip(chunk) {
-            *a += x * 0.0;
+            *a += *x * zero;
         }
     }
     for (a, x) in acc.iter_mut().zip(chunks.remainder()) {
-        *a += x * 0.0;
+        *a += *x * zero;
     }
-    acc.iter().all(|a| *a == 0.0)
+    acc.iter().all(|a| *a == zero)
 }
