@@ -2,7 +2,8 @@
 //! file as they come ([`TableWriter`], the same format as
 //! [`RunTable::write_csv`]), and a bounded copy for plots ([`BoundedTable`]:
 //! every k-th row, k doubling whenever the copy fills, so a 24-hour log keeps
-//! as many points as a 1-hour one).
+//! as many points as a 1-hour one), and the choice between them and a whole
+//! table in memory that a replay's options make ([`SeriesSink`]).
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -115,6 +116,84 @@ impl BoundedTable {
             }
         }
         self.table
+    }
+}
+
+/// Where the rows of one output table of a streamed replay go: written to
+/// `<name>.csv` under the output directory with a bounded copy kept for the
+/// plots, kept whole in memory (a replay asked for its series without an
+/// output directory, e.g. a log in memory), or nowhere. Only the first
+/// keeps memory bounded whatever the log's length, and only the second
+/// returns every row.
+#[derive(Debug)]
+pub enum SeriesSink {
+    /// Every row written to the file; a bounded copy for plots.
+    Written(TableWriter, BoundedTable),
+    /// Every row in memory.
+    Kept(RunTable),
+    /// Not asked for.
+    Nothing,
+}
+
+impl SeriesSink {
+    /// The sink of table `name` for a replay writing into `out` (when
+    /// given), else keeping its series in memory when `keep_series`.
+    ///
+    /// # Errors
+    /// The file cannot be created.
+    pub fn new(
+        name: &str,
+        columns: &[&str],
+        out: Option<&Path>,
+        keep_series: bool,
+    ) -> Result<Self, RunError> {
+        Ok(match out {
+            Some(dir) => SeriesSink::Written(
+                TableWriter::create(&dir.join(format!("{name}.csv")), columns)?,
+                BoundedTable::new(name, columns, PLOT_ROWS),
+            ),
+            None if keep_series => SeriesSink::Kept(RunTable::new(name, columns)),
+            None => SeriesSink::Nothing,
+        })
+    }
+
+    /// Whether rows go anywhere (a caller may skip forming them).
+    pub fn wanted(&self) -> bool {
+        !matches!(self, SeriesSink::Nothing)
+    }
+
+    /// Offers one row.
+    ///
+    /// # Errors
+    /// The file cannot be written.
+    pub fn push(&mut self, row: &[f64]) -> Result<(), RunError> {
+        match self {
+            SeriesSink::Written(writer, plot) => {
+                plot.push(row);
+                writer.push(row)
+            }
+            SeriesSink::Kept(table) => {
+                table.push(row);
+                Ok(())
+            }
+            SeriesSink::Nothing => Ok(()),
+        }
+    }
+
+    /// Ends the table: the file flushed, and the rows in memory (every row,
+    /// or the bounded copy of a written table); `None` when not asked for.
+    ///
+    /// # Errors
+    /// The file cannot be written.
+    pub fn finish(self) -> Result<Option<RunTable>, RunError> {
+        match self {
+            SeriesSink::Written(writer, plot) => {
+                writer.finish()?;
+                Ok(Some(plot.into_table()))
+            }
+            SeriesSink::Kept(table) => Ok(Some(table)),
+            SeriesSink::Nothing => Ok(None),
+        }
     }
 }
 

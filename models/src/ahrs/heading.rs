@@ -19,6 +19,17 @@ pub fn magnetic_heading(mag: [f64; 3], roll: f64, pitch: f64, declination: f64) 
     Some(yaw.sin().atan2(yaw.cos()))
 }
 
+/// The horizontal magnitude of the body field `mag` levelled with `roll`,
+/// `pitch` (rad): what sets the heading's noise (a weak horizontal field
+/// reads as a noisy heading).
+pub fn horizontal_field(mag: [f64; 3], roll: f64, pitch: f64) -> f64 {
+    let (sr, cr) = roll.sin_cos();
+    let (sp, cp) = pitch.sin_cos();
+    let north = mag[0] * cp + (mag[1] * sr + mag[2] * cr) * sp;
+    let east = mag[1] * cr - mag[2] * sr;
+    north.hypot(east)
+}
+
 /// The declination (rad) that makes the first magnetometer sample agree
 /// with an initial attitude (`roll`, `pitch`, `yaw`, rad): the field's
 /// direction is taken from the log itself when no model of it is at hand.

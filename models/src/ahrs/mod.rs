@@ -1,13 +1,22 @@
 //! `ahrs`: attitude and gyro bias from gyro, accelerometer and magnetometer
 //! (`docs/ulog.md`, "The `ahrs` model"). The declaration is in [`model`].
 
+pub mod gravity_window;
 pub mod heading;
+pub mod measurement;
 pub mod model;
+pub mod nominal;
+pub mod outputs;
 pub mod replay;
+pub mod settings;
+pub mod stream;
 
-pub use heading::{declination_from, magnetic_heading};
+pub use heading::{declination_from, horizontal_field, magnetic_heading};
 pub use model::{Ahrs, AhrsGravity, AhrsHeading};
+pub use nominal::{AhrsFilter, AhrsNominal};
 pub use replay::AhrsReplay;
+pub use settings::AhrsSettings;
+pub use stream::AhrsStream;
 
 #[cfg(test)]
 mod tests {

@@ -31,8 +31,8 @@ impl InsVehicle<16> for GnssIns {
     const INITIAL_SIGMA: InitialSigma = InitialSigma {
         position: 1.0,
         velocity: 0.5,
-        level: crate::ahrs::replay::LEVEL_SIGMA_DEFAULT,
-        heading: crate::ahrs::replay::HEADING_SIGMA_DEFAULT,
+        level: crate::ahrs::settings::LEVEL_SIGMA_DEFAULT,
+        heading: crate::ahrs::settings::HEADING_SIGMA_DEFAULT,
     };
 }
 

@@ -18,7 +18,7 @@ use nav_runtime::log::{LogDir, LogSource, TruthRow};
 use serde_json::{json, Map, Value};
 
 use super::model::GnssIns;
-use crate::ahrs::replay::write_outputs;
+use crate::ahrs::outputs::write_outputs;
 use crate::harness::{ReplayModel, ReplayOptions, ReplayOutput, RunError, RunHealth, RunTable};
 use crate::navigator::{Estimate, SensorHealth};
 use crate::sdins25::filter::{replay_vehicle, FilterOptions, LENIENT_IMU_STEP_PERIODS};
@@ -35,7 +35,7 @@ pub const N: usize = 16;
 /// A truth height this far from the initial height is on another datum, m.
 pub const TRUTH_DATUM_GAP_M: f64 = 100.0;
 /// IMU intervals longer than this are counted as gaps (`health.imu_gaps`), s.
-pub const IMU_GAP_S: f64 = crate::ahrs::replay::MAX_IMU_STEP_S;
+pub const IMU_GAP_S: f64 = crate::ahrs::stream::MAX_IMU_STEP_S;
 /// Files read.
 pub const FILES: &[&str] = &[
     "imu.csv",

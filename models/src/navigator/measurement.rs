@@ -232,7 +232,7 @@ pub fn mag_measurement<V: InsVehicle<N>, const N: usize>(
             // the filter refuses.
             let psi = crate::ahrs::magnetic_heading(field, e.roll, e.pitch, declination)
                 .unwrap_or(f64::NAN);
-            let s = (sigma / crate::ahrs::replay::horizontal_field(field, e.roll, e.pitch)).atan();
+            let s = (sigma / crate::ahrs::horizontal_field(field, e.roll, e.pitch)).atan();
             let z = SVector::<f64, 1>::new(wrap_angle(e.yaw - psi));
             let r = SVector::<f64, 1>::new(s * s);
             outcome(V::Mag::update(f, &z, &r, &[]))

@@ -47,7 +47,7 @@ pub const BARO_NOISE_DEFAULT: f64 = 3.5;
 /// Barometer bias random walk, m/s^0.5.
 pub const BARO_BIAS_WALK: f64 = 0.05;
 /// Magnetometer noise without `[sensors.mag]`, gauss (PX4's `EKF2_MAG_NOISE`).
-pub const MAG_NOISE_DEFAULT: f64 = crate::ahrs::replay::MAG_NOISE_DEFAULT;
+pub const MAG_NOISE_DEFAULT: f64 = crate::ahrs::settings::MAG_NOISE_DEFAULT;
 
 /// Number of error states of SDINS-25.
 pub const N: usize = 25;
@@ -292,7 +292,10 @@ pub const MAX_EPOCH_LEAD_PERIODS: f64 = 10.0;
 /// the period is known before the log is read further.
 pub const PERIOD_INTERVALS: usize = 10_000;
 
-fn median_period(t: impl Iterator<Item = f64>) -> f64 {
+/// The median of the first [`PERIOD_INTERVALS`] intervals of the times `t`
+/// (0.01 s with fewer than two): the sampling interval, robust to the odd
+/// gap or jitter at the start of a log.
+pub fn median_period(t: impl Iterator<Item = f64>) -> f64 {
     let t: Vec<f64> = t.take(PERIOD_INTERVALS + 1).collect();
     let mut d: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).collect();
     if d.is_empty() {

@@ -18,6 +18,7 @@ pub mod fuzz;
 pub mod guard;
 pub mod reference;
 pub mod replay;
+pub mod running_score;
 mod topics;
 
 #[cfg(test)]

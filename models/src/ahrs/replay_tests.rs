@@ -1,0 +1,211 @@
+//! The streamed `ahrs` replay on the committed PX4 fixture
+//! (`tests/data/ulog/sample_px4_events.ulg`, imported here): the same
+//! result from the files as from the log in memory, the figures of the
+//! loop over a whole log in memory it replaces, and broken copies of the
+//! log refused or warned about, never a panic.
+
+use std::path::{Path, PathBuf};
+
+use nav_runtime::log::{LogDir, LogFiles, Strictness};
+use serde_json::Value;
+
+use super::*;
+
+struct TempDir(PathBuf);
+
+impl TempDir {
+    fn new(tag: &str) -> Self {
+        let dir = std::env::temp_dir().join(format!(
+            "ahrs-replay-{tag}-{}-{:?}",
+            std::process::id(),
+            std::thread::current().id()
+        ));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        TempDir(dir)
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// The fixture imported into `tmp`.
+fn flight(tmp: &TempDir) -> PathBuf {
+    let ulg = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/ulog/sample_px4_events.ulg");
+    let dir = tmp.0.join("flight");
+    crate::ulog::import(&ulg, &dir).expect("the fixture imports");
+    dir
+}
+
+fn streamed(dir: &Path, strictness: Strictness) -> Result<ReplayOutput, RunError> {
+    let files = LogFiles::open(dir, strictness)?;
+    AhrsReplay.replay_files(&files, &ReplayOptions::default(), None)
+}
+
+fn num(v: &serde_json::Map<String, Value>, path: &[&str]) -> f64 {
+    let mut x = &v[path[0]];
+    for k in &path[1..] {
+        x = &x[*k];
+    }
+    x.as_f64().unwrap_or_else(|| panic!("{path:?} in {v:?}"))
+}
+
+/// Rewrites `file` of `dir` line by line.
+fn edit(dir: &Path, file: &str, f: impl Fn(usize, &str) -> Option<String>) {
+    let path = dir.join(file);
+    let text = std::fs::read_to_string(&path).unwrap();
+    let lines: Vec<String> = text
+        .lines()
+        .enumerate()
+        .filter_map(|(i, l)| f(i, l))
+        .collect();
+    std::fs::write(&path, lines.join("\n") + "\n").unwrap();
+}
+
+/// The figures of the loop over the whole log in memory that the streamed
+/// replay replaced, on this fixture. The magnetometer rows are now applied
+/// at their own times inside the IMU interval (before, at the sample before
+/// them), which moves the yaw by a few 1e-4 deg and roll and pitch by about
+/// 1e-6 deg; every count is unchanged.
+const PREVIOUS_DIFFERENCE_DEG: [f64; 3] =
+    [0.05959170528131505, 0.06650047338870645, 0.3330727138854449];
+const LEVEL_TOLERANCE_DEG: f64 = 1e-5;
+const YAW_TOLERANCE_DEG: f64 = 2e-3;
+
+#[test]
+fn the_streamed_replay_keeps_the_figures_of_the_whole_log_replay() {
+    let tmp = TempDir::new("figures");
+    let dir = flight(&tmp);
+    let files = streamed(&dir, Strictness::Strict).expect("replays");
+    let log = LogDir::read(&dir, Strictness::Strict).expect("reads");
+    let options = ReplayOptions {
+        keep_series: true,
+        ..ReplayOptions::default()
+    };
+    let memory = AhrsReplay.replay(&log, &options).expect("replays");
+    // From the files and from memory: the same rows, the same result.
+    assert_eq!(files.metrics, memory.metrics);
+    assert_eq!(files.samples, memory.samples);
+    assert_eq!(files.warnings, memory.warnings);
+    let m = &files.metrics;
+    for (k, axis) in ["roll", "pitch", "yaw"].iter().enumerate() {
+        let d = num(m, &["attitude_difference_rms_deg", axis]);
+        let tolerance = if k == 2 {
+            YAW_TOLERANCE_DEG
+        } else {
+            LEVEL_TOLERANCE_DEG
+        };
+        assert!(
+            (d - PREVIOUS_DIFFERENCE_DEG[k]).abs() < tolerance,
+            "{axis}: {d} deg, was {}",
+            PREVIOUS_DIFFERENCE_DEG[k]
+        );
+    }
+    let health = &m["health"];
+    for (sensor, counts) in [("gravity", [213, 189, 24]), ("mag", [459, 315, 144])] {
+        let h = &health[sensor];
+        let got = ["rows", "accepted", "skipped"].map(|k| h[k].as_u64().unwrap());
+        assert_eq!(got, counts, "{sensor}: {h}");
+        assert_eq!(h["rejected"], 0, "{sensor}: {h}");
+    }
+    assert_eq!(health["imu_gaps"], 0);
+    assert_eq!(files.samples, 5349);
+    assert_eq!(num(m, &["reference_samples"]), 428.0);
+    assert!((num(m, &["replayed_seconds"]) - 21.396).abs() < 1e-9);
+    assert!((num(m, &["magnetic_declination_deg"]) - 3.4753151997696037).abs() < 1e-12);
+    // The series of the log in memory: every row.
+    let names: Vec<&str> = memory.tables.iter().map(|t| t.name.as_str()).collect();
+    assert_eq!(names, ["estimates", "reference_difference"]);
+    assert_eq!(memory.tables[1].rows.len(), 428);
+    assert_eq!(memory.tables[0].rows.len(), 213);
+    assert!(files.tables.is_empty(), "no series asked for");
+}
+
+#[test]
+fn written_series_are_every_row_and_the_plots() {
+    let tmp = TempDir::new("out");
+    let dir = flight(&tmp);
+    let out = tmp.0.join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    let files = LogFiles::open(&dir, Strictness::Strict).unwrap();
+    let options = ReplayOptions {
+        keep_series: true,
+        ..ReplayOptions::default()
+    };
+    AhrsReplay
+        .replay_files(&files, &options, Some(&out))
+        .expect("replays");
+    let lines = |f: &str| {
+        std::fs::read_to_string(out.join(f))
+            .unwrap()
+            .lines()
+            .count()
+    };
+    assert_eq!(lines("reference_difference.csv"), 429);
+    assert_eq!(lines("estimates.csv"), 214);
+    assert!(out.join("attitude_difference.svg").is_file());
+}
+
+#[test]
+fn broken_logs_are_refused_or_warned_about() {
+    let tmp = TempDir::new("broken");
+    let dir = flight(&tmp);
+    let copy = |name: &str| {
+        let to = tmp.0.join(name);
+        std::fs::create_dir_all(&to).unwrap();
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            std::fs::copy(&path, to.join(path.file_name().unwrap())).unwrap();
+        }
+        to
+    };
+    // A row cut short (a log copied while written).
+    let cut = copy("cut");
+    let text = std::fs::read_to_string(cut.join("imu.csv")).unwrap();
+    std::fs::write(cut.join("imu.csv"), &text[..text.len() - 20]).unwrap();
+    let e = streamed(&cut, Strictness::Strict)
+        .expect_err("strict")
+        .to_string();
+    assert!(e.contains("imu.csv"), "{e}");
+    streamed(&cut, Strictness::Lenient).expect("lenient skips the row");
+    // A NaN in mag.csv.
+    let nan = copy("nan");
+    edit(&nan, "mag.csv", |i, l| {
+        let t = l.split(',').next().unwrap_or_default();
+        Some(if i == 200 {
+            format!("{t},NaN,0.0,0.4")
+        } else {
+            l.into()
+        })
+    });
+    let e = streamed(&nan, Strictness::Strict)
+        .expect_err("strict")
+        .to_string();
+    assert!(e.contains("mag.csv:201"), "{e}");
+    // One second without IMU rows: a gap, counted and not propagated.
+    let gap = copy("gap");
+    edit(&gap, "imu.csv", |i, l| {
+        (!(1000..1250).contains(&i)).then(|| l.into())
+    });
+    let out = streamed(&gap, Strictness::Strict).expect("a gap is not an error");
+    assert_eq!(out.metrics["health"]["imu_gaps"], 1);
+    // No magnetometer: said.
+    let no_mag = copy("no-mag");
+    std::fs::remove_file(no_mag.join("mag.csv")).unwrap();
+    let out = streamed(&no_mag, Strictness::Strict).expect("gyro only");
+    assert!(
+        out.warnings.iter().any(|w| w.contains("no mag.csv")),
+        "{:?}",
+        out.warnings
+    );
+    // No IMU rows at all.
+    let empty = copy("empty");
+    edit(&empty, "imu.csv", |i, l| (i == 0).then(|| l.into()));
+    let e = streamed(&empty, Strictness::Strict)
+        .expect_err("nothing")
+        .to_string();
+    assert!(e.contains("imu.csv"), "{e}");
+}

@@ -1,0 +1,331 @@
+//! The `ahrs` filter driven by a log's rows as they come: IMU samples
+//! propagate the error-state filter through the multi-rate scheduler, the
+//! gravity window is formed from the same samples and pushed as a
+//! measurement at its end time, and each magnetometer row is a measurement
+//! at its own time (a late one is applied after re-propagation, with the
+//! heading formed from the nominal attitude of its time).
+//!
+//! An IMU interval that is not increasing or longer than
+//! [`MAX_IMU_STEP_S`] is a gap: it is not propagated; the filter starts
+//! again at the sample after it, with the gravity window, and the
+//! magnetometer rows inside the gap are applied to the estimate before it
+//! (the attitude the filter has there), as are those after the last
+//! sample. Until the IMU has covered a magnetometer row's time the row
+//! waits here, not in the scheduler, so that a gap can still take it.
+
+use nav_runtime::log::MagRow;
+use nav_runtime::scheduler::{Measurement, MeasurementOutcome, Scheduler, SensorId, SensorStats};
+
+use super::gravity_window::{GravityWindow, GRAVITY_PERIOD_S};
+use super::heading::magnetic_heading;
+use super::measurement::{gravity_measurement, heading_measurement};
+use super::nominal::AhrsFilter;
+use super::settings::AhrsSettings;
+use crate::harness::{RunError, SensorHealth};
+use crate::navigator::ImuSample;
+
+/// A mean specific force further than this from gravity is an acceleration:
+/// the gravity measurement is skipped, m/s^2.
+pub const GRAVITY_TOLERANCE: f64 = 0.5;
+/// An IMU interval longer than this is not propagated (a gap), s.
+pub const MAX_IMU_STEP_S: f64 = 0.5;
+/// How late a magnetometer row may come and still be applied at its own
+/// time (the scheduler keeps this much history), s.
+pub const MAG_LATENCY_S: f64 = 0.2;
+/// Nominal magnetometer rate given to the scheduler (it only decides when
+/// the sensor is called stale), Hz.
+const MAG_RATE_HZ: f64 = 10.0;
+
+/// What one IMU sample did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ImuStep {
+    /// The first sample: the filter starts at its time.
+    Start,
+    /// A gap before it: the filter starts again at its time.
+    Gap,
+    /// The interval before it was propagated; `window_closed`: a gravity
+    /// window ended at it (its measurement, unless skipped, applied).
+    Propagated {
+        /// A gravity window ended at this sample.
+        window_closed: bool,
+    },
+}
+
+/// The counts of a run so far.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct AhrsCounts {
+    /// Gravity windows closed and what became of them.
+    pub gravity: SensorHealth,
+    /// Magnetometer rows and what became of them.
+    pub mag: SensorHealth,
+    /// IMU intervals not propagated.
+    pub imu_gaps: u64,
+    /// IMU intervals propagated.
+    pub samples: usize,
+}
+
+/// The `ahrs` filter fed row by row (see the module docs).
+pub struct AhrsStream {
+    settings: AhrsSettings,
+    scheduler: Scheduler<AhrsFilter>,
+    mag_id: SensorId,
+    gravity_id: SensorId,
+    window: GravityWindow,
+    /// Time of the last IMU sample (the scheduler's time), once there is one.
+    last_imu: Option<f64>,
+    /// Magnetometer rows after the last IMU sample, in arrival order.
+    waiting: Vec<MagRow>,
+    /// Outcomes of schedulers replaced at a gap, and of rows applied to the
+    /// estimate directly.
+    settled: AhrsCounts,
+    /// Rows and skips, counted here.
+    counts: AhrsCounts,
+}
+
+impl AhrsStream {
+    /// The filter of `settings`, waiting for its first IMU sample.
+    ///
+    /// # Errors
+    /// A filter set-up error.
+    pub fn new(settings: AhrsSettings) -> Result<Self, RunError> {
+        let filter = settings.filter()?;
+        let (scheduler, mag_id, gravity_id) = scheduler_at(filter, 0.0)?;
+        Ok(AhrsStream {
+            settings,
+            scheduler,
+            mag_id,
+            gravity_id,
+            window: GravityWindow::starting_at(0.0),
+            last_imu: None,
+            waiting: Vec::new(),
+            settled: AhrsCounts::default(),
+            counts: AhrsCounts::default(),
+        })
+    }
+
+    /// The filter at the last IMU sample.
+    pub fn filter(&self) -> &AhrsFilter {
+        self.scheduler.filter()
+    }
+
+    /// The settings.
+    pub fn settings(&self) -> &AhrsSettings {
+        &self.settings
+    }
+
+    /// Time of the last IMU sample.
+    pub fn now(&self) -> Option<f64> {
+        self.last_imu
+    }
+
+    /// The IMU sample `imu` ending its interval at `t`.
+    ///
+    /// # Errors
+    /// A sample the scheduler refuses (not finite) or a propagation error.
+    pub fn push_imu(&mut self, t: f64, imu: ImuSample) -> Result<ImuStep, RunError> {
+        let Some(previous) = self.last_imu.replace(t) else {
+            self.start_at(t, None)?;
+            return Ok(ImuStep::Start);
+        };
+        let dt = t - previous;
+        if !(dt > 0.0 && dt <= MAX_IMU_STEP_S) {
+            self.counts.imu_gaps += 1;
+            self.start_at(t, Some(previous))?;
+            return Ok(ImuStep::Gap);
+        }
+        let closed = self.window.add(t, imu.accel);
+        if let Some(mean) = closed {
+            self.counts.gravity.rows += 1;
+            if (mean.force.norm() - self.settings.gravity).abs() > GRAVITY_TOLERANCE {
+                self.counts.gravity.skipped += 1;
+            } else {
+                let m = gravity_measurement(
+                    mean.force,
+                    mean.samples,
+                    self.settings.gravity,
+                    self.settings.accel_sigma,
+                );
+                // After the last sample: queued, applied at `t` by `push_imu`.
+                // A refusal is counted in the scheduler's statistics.
+                let _ = self.scheduler.push_measurement(self.gravity_id, t, m);
+            }
+        }
+        self.hand_over_waiting(t);
+        self.scheduler
+            .push_imu(t, imu)
+            .map_err(|e| RunError::Invalid(format!("ahrs: imu.csv t = {t}: {e}")))?;
+        self.counts.samples += 1;
+        Ok(ImuStep::Propagated {
+            window_closed: closed.is_some(),
+        })
+    }
+
+    /// A magnetometer row, on time or late.
+    ///
+    /// # Errors
+    /// A filter set-up error when the filter starts again after a gap.
+    pub fn push_mag(&mut self, row: MagRow) -> Result<(), RunError> {
+        self.counts.mag.rows += 1;
+        let Some(now) = self.last_imu else {
+            self.counts.mag.skipped += 1;
+            return Ok(());
+        };
+        let field = [row.mx, row.my, row.mz];
+        let [roll, pitch, _] = self.filter().nominal().euler();
+        if magnetic_heading(field, roll, pitch, 0.0).is_none() {
+            self.counts.mag.skipped += 1;
+            return Ok(());
+        }
+        if row.t <= now {
+            // Late: applied at its time by re-propagation (or refused as
+            // too old, counted by the scheduler).
+            let _ = self.scheduler.push_measurement(
+                self.mag_id,
+                row.t,
+                heading_of(&self.settings, &row),
+            );
+            return Ok(());
+        }
+        self.waiting.push(row);
+        if row.t > now + MAX_IMU_STEP_S {
+            // The interval that will hold it is longer than a step: a gap.
+            self.apply_waiting_at(now)?;
+        }
+        Ok(())
+    }
+
+    /// Ends the run: rows after the last IMU sample are applied to the
+    /// estimate there. Returns the counts.
+    ///
+    /// # Errors
+    /// A filter set-up error.
+    pub fn finish(&mut self) -> Result<AhrsCounts, RunError> {
+        if let Some(now) = self.last_imu {
+            self.apply_waiting_at(now)?;
+        }
+        Ok(self.counts())
+    }
+
+    /// The counts so far (rows waiting for the IMU not yet counted as
+    /// applied or refused).
+    pub fn counts(&self) -> AhrsCounts {
+        let mut c = self.counts;
+        c.mag += self.settled.mag;
+        c.gravity += self.settled.gravity;
+        add_outcomes(&mut c.mag, self.scheduler.sensor_stats(self.mag_id));
+        add_outcomes(&mut c.gravity, self.scheduler.sensor_stats(self.gravity_id));
+        c
+    }
+
+    /// Pushes the waiting rows up to `t` to the scheduler (queued, applied
+    /// inside the coming interval at their own times).
+    fn hand_over_waiting(&mut self, t: f64) {
+        if self.waiting.is_empty() {
+            return;
+        }
+        let mut waiting = std::mem::take(&mut self.waiting);
+        waiting.retain(|row| {
+            if row.t > t {
+                return true;
+            }
+            let m = heading_of(&self.settings, row);
+            // A refusal is counted in the scheduler's statistics.
+            let _ = self.scheduler.push_measurement(self.mag_id, row.t, m);
+            false
+        });
+        self.waiting = waiting;
+    }
+
+    /// The filter starts at `t` (the first sample, or the one after a gap
+    /// that began at `gap_start`); the rows waiting are applied first to the
+    /// estimate before the gap.
+    fn start_at(&mut self, t: f64, gap_start: Option<f64>) -> Result<(), RunError> {
+        if let Some(before) = gap_start {
+            self.apply_waiting_at(before)?;
+        }
+        self.restart(self.filter().clone(), t)?;
+        self.window = GravityWindow::starting_at(t);
+        Ok(())
+    }
+
+    /// Applies the waiting rows, in time order, to the estimate at the last
+    /// IMU sample (`now`), without propagation: the IMU will not cover them.
+    fn apply_waiting_at(&mut self, now: f64) -> Result<(), RunError> {
+        if self.waiting.is_empty() {
+            return Ok(());
+        }
+        self.waiting.sort_by(|a, b| a.t.total_cmp(&b.t));
+        let mut filter = self.filter().clone();
+        let waiting = std::mem::take(&mut self.waiting);
+        for row in &waiting {
+            let m = heading_of(&self.settings, row);
+            let outcome = m.check().and_then(|()| m.apply(&mut filter));
+            count_outcome(&mut self.settled.mag, outcome);
+        }
+        self.waiting = waiting;
+        self.waiting.clear();
+        self.restart(filter, now)
+    }
+
+    /// A new scheduler with `filter` at `t`; the old one's counts are kept.
+    fn restart(&mut self, filter: AhrsFilter, t: f64) -> Result<(), RunError> {
+        let (scheduler, mag_id, gravity_id) = scheduler_at(filter, t)?;
+        let old = std::mem::replace(&mut self.scheduler, scheduler);
+        add_outcomes(&mut self.settled.mag, old.sensor_stats(self.mag_id));
+        add_outcomes(&mut self.settled.gravity, old.sensor_stats(self.gravity_id));
+        self.mag_id = mag_id;
+        self.gravity_id = gravity_id;
+        Ok(())
+    }
+}
+
+/// The heading measurement of magnetometer row `row`.
+fn heading_of(settings: &AhrsSettings, row: &MagRow) -> Box<dyn Measurement<AhrsFilter>> {
+    heading_measurement(
+        [row.mx, row.my, row.mz],
+        settings.mag_sigma,
+        settings.declination,
+    )
+}
+
+/// A scheduler with `filter` at `t` and the two sensors (the magnetometer
+/// first: at equal times it is applied before the gravity window).
+fn scheduler_at(
+    filter: AhrsFilter,
+    t: f64,
+) -> Result<(Scheduler<AhrsFilter>, SensorId, SensorId), RunError> {
+    let setup = |e: nav_runtime::scheduler::SchedulerError| RunError::Invalid(format!("ahrs: {e}"));
+    let mut scheduler = Scheduler::new(filter, t).map_err(setup)?;
+    let mag = scheduler
+        .add_sensor("mag", MAG_RATE_HZ, MAG_LATENCY_S)
+        .map_err(setup)?;
+    let gravity = scheduler
+        .add_sensor("gravity", 1.0 / GRAVITY_PERIOD_S, 0.0)
+        .map_err(setup)?;
+    Ok((scheduler, mag, gravity))
+}
+
+/// Adds a scheduler's final outcomes; a measurement still waiting in it is
+/// counted as refused (it was never applied).
+fn add_outcomes(into: &mut SensorHealth, stats: Option<SensorStats>) {
+    let s = stats.unwrap_or_default();
+    into.accepted += s.accepted;
+    into.gated += s.gated;
+    into.rejected += s.failed + s.pending + s.too_old + s.duplicate + s.invalid + s.queue_full;
+    into.stuck += s.stuck;
+}
+
+fn count_outcome(
+    h: &mut SensorHealth,
+    outcome: Result<MeasurementOutcome, nav_runtime::ekf::FilterError>,
+) {
+    match outcome {
+        Ok(o) if o.accepted => h.accepted += 1,
+        Ok(_) => h.gated += 1,
+        Err(_) => h.rejected += 1,
+    }
+}
+
+#[cfg(test)]
+#[path = "stream_tests.rs"]
+mod tests;
