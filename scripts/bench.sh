@@ -86,6 +86,12 @@ for line in sys.stdin:
         printf "%-10s %12s %12s %12s %18s %14.3f\n" "$m" "$g" "$d" "$h" "$dm" "$(echo "$g / $d" | bc -l)"
         echo "propagate.$m = $g" >>"$measured"
     done
+    # SDINS-25 composed, generated in f64 and in f32 (`scalar f32;`).
+    p64=$(count PROPAGATE_ONLY sdins25_precision/generated_f64 '*propagate_f64*' "$propagation_bin")
+    p32=$(count PROPAGATE_ONLY sdins25_precision/generated_f32 '*propagate_f32*' "$propagation_bin")
+    printf "\n%-20s %12s %12s %14s\n" "SDINS-25 precision" f64 f32 f32/f64
+    printf "%-20s %12s %12s %14.3f\n" propagation "$p64" "$p32" "$(echo "$p32 / $p64" | bc -l)"
+    echo "propagate.sdins25_f32 = $p32" >>"$measured"
     printf "\n%-20s %12s %12s %14s\n" "update (SDINS-25)" generated dense generated/dense
     for s in dvl compass usbl depth; do
         g=$(count UPDATE_ONLY "$s/generated" '*generated_update*' "$update_bin")

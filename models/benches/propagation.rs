@@ -12,6 +12,10 @@
 //! - `handwritten` (SDINS-25 only): blocks of `F dt` and `Qd` precomputed, only
 //!   the 9 changed rows computed.
 //!
+//! Group `propagate/sdins25_precision`: the composed SDINS-25 generated in
+//! `f64` (`generated_f64`, the baseline) and in `f32` (`generated_f32`,
+//! `scalar f32;`) at the same operating point.
+//!
 //! Run: `cargo bench -p models --bench propagation` (ratios: `scripts/bench.sh`).
 
 mod common;
@@ -21,7 +25,9 @@ use criterion::{criterion_group, Criterion};
 use models::leveling::model::Leveling6;
 use models::marker::model::Marker9;
 use models::sdins25::model::Sdins25;
+use models::vehicles::sdins::{Sdins25Composed, Sdins25Single};
 use nav_runtime::model::Model;
+use nav_runtime::model::Record;
 use nav_runtime::nalgebra::{SMatrix, SVector};
 use std::hint::black_box;
 
@@ -118,6 +124,7 @@ fn propagation(c: &mut Criterion) {
             })
         });
     });
+    precision(c);
     bench_model::<Leveling6, 6>(
         c,
         "leveling6",
@@ -134,6 +141,88 @@ fn propagation(c: &mut Criterion) {
         0.02,
         |_| {},
     );
+}
+
+/// The SDINS-25 operating point and covariance for the composed model in
+/// both precisions (records converted by position: the composed records
+/// have the monolithic names and order).
+type PrecisionPoint = (
+    <Sdins25Composed as Model<25>>::Input,
+    <Sdins25Single as Model<25, f32>>::Input,
+    <Sdins25Composed as Model<25>>::Noise,
+    <Sdins25Single as Model<25, f32>>::Noise,
+    SMatrix<f64, 25, 25>,
+);
+
+fn precision_point() -> PrecisionPoint {
+    let (_, u, _, q) = sdins25_point();
+    (
+        Record::from_fn(|i| u.get(i)),
+        Record::from_fn(|i| u.get(i)),
+        Record::from_fn(|i| q.get(i)),
+        Record::from_fn(|i| q.get(i)),
+        sdins25_covariance(),
+    )
+}
+
+#[inline(never)]
+fn propagate_f64(
+    cov: &mut SMatrix<f64, 25, 25>,
+    u: &<Sdins25Composed as Model<25>>::Input,
+    q: &<Sdins25Composed as Model<25>>::Noise,
+) {
+    Sdins25Composed::propagate_covariance(
+        cov,
+        &SVector::zeros(),
+        u,
+        &Default::default(),
+        q,
+        DT_SDINS,
+    );
+}
+
+#[inline(never)]
+fn propagate_f32(
+    cov: &mut SMatrix<f32, 25, 25>,
+    u: &<Sdins25Single as Model<25, f32>>::Input,
+    q: &<Sdins25Single as Model<25, f32>>::Noise,
+) {
+    Sdins25Single::propagate_covariance(
+        cov,
+        &SVector::zeros(),
+        u,
+        &Default::default(),
+        q,
+        DT_SDINS as f32,
+    );
+}
+
+fn precision(c: &mut Criterion) {
+    let (u64_, u32_, q64, q32, p0) = precision_point();
+    let p0_single = p0.map(|v| v as f32);
+    let (mut a, mut b) = (p0, p0_single);
+    propagate_f64(&mut a, &u64_, &q64);
+    propagate_f32(&mut b, &u32_, &q32);
+    let worst = (0..25)
+        .map(|i| (a[(i, i)] - f64::from(b[(i, i)])).abs() / a[(i, i)])
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-5, "f32 propagation differs from f64 by {worst}");
+    let mut g = c.benchmark_group("propagate/sdins25_precision");
+    g.bench_function("generated_f64", |bch| {
+        bch.iter_custom(|iters| {
+            time_in_place(iters, &p0, RESET_EVERY, |p| {
+                propagate_f64(p, black_box(&u64_), black_box(&q64))
+            })
+        })
+    });
+    g.bench_function("generated_f32", |bch| {
+        bch.iter_custom(|iters| {
+            time_in_place(iters, &p0_single, RESET_EVERY, |p| {
+                propagate_f32(p, black_box(&u32_), black_box(&q32))
+            })
+        })
+    });
+    g.finish();
 }
 
 /// `PROPAGATE_ONLY=<model>/<variant>` (e.g. `sdins25/generated`): skip criterion
@@ -183,6 +272,18 @@ fn only(which: &str) {
         black_box((p, p25));
     }
     match which.split_once('/') {
+        Some(("sdins25_precision", v)) => {
+            let (u64_, u32_, q64, q32, p0) = precision_point();
+            let (mut a, mut b) = (p0, p0.map(|v| v as f32));
+            for _ in 0..calls {
+                match v {
+                    "generated_f64" => propagate_f64(black_box(&mut a), &u64_, &q64),
+                    "generated_f32" => propagate_f32(black_box(&mut b), &u32_, &q32),
+                    _ => panic!("unknown variant {v}"),
+                }
+            }
+            black_box((a, b));
+        }
         Some(("sdins25", v)) => {
             run::<Sdins25, 25>(v, calls, sdins25_point(), sdins25_covariance(), DT_SDINS)
         }

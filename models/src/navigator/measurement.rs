@@ -194,18 +194,24 @@ pub fn gnss_measurement<V: InsVehicle<N>, const N: usize>(
     ))
 }
 
-/// A barometric altitude (m, up) with noise sigma (m), for the `Barometer`
-/// sensor of vehicle `V`: the residual is `h - (h_baro - b^)`.
+/// A barometric altitude (m, up) of a port at lever arm `port` (body axes,
+/// m) from the IMU, with noise sigma (m), for the `Barometer` sensor of
+/// vehicle `V`: the residual is `(h - (C r)_D) - (h_baro - b^)`, the INS
+/// height carried to the port minus the bias-corrected reading (a port 1 m
+/// ahead of the IMU rises 17 mm per degree of pitch).
 pub fn baro_measurement<V: InsVehicle<N>, const N: usize>(
     altitude: f64,
     sigma: f64,
+    port: Vector3<f64>,
 ) -> Box<dyn Measurement<InsFilter<V, N>>> {
     let r = SVector::<f64, 1>::new(sigma.powi(2));
     Box::new(FnMeasurement::new(
         &[altitude],
         move |f: &mut InsFilter<V, N>| {
             let nom = f.nominal();
-            let z = SVector::<f64, 1>::new(nom.ins.state.h - (altitude - nom.baro_bias));
+            let s = &nom.ins.state;
+            let down = (s.c_bn * port).z;
+            let z = SVector::<f64, 1>::new(s.h - down - (altitude - nom.baro_bias));
             outcome(V::Baro::update(f, &z, &r, &[]))
         },
     ))

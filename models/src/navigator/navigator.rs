@@ -653,6 +653,42 @@ mod tests {
         }
     }
 
+    /// The barometer port's lever arm carries the INS height to the port:
+    /// a port 1.5 m below the IMU of a level vehicle reads 1.5 m low. With
+    /// the lever arm declared the height estimate stays at the truth; with
+    /// none it is pulled to the port's height.
+    #[test]
+    fn baro_lever_arm_carries_the_height_to_the_port() {
+        use crate::gnss_ins::GnssIns;
+        // (port lever arm down, m; expected height error, m)
+        for (arm_down, expected) in [(1.5, 0.0), (0.0, -1.5)] {
+            let mut start = initial();
+            start.sigma.position = 5.0;
+            let p = start.position;
+            let mut b = Navigator::<GnssIns, 16>::builder(start, imu());
+            let mut settings = SensorSettings::new(0.5)
+                .bias(0.01)
+                .lever_arm(Vector3::new(0.0, 0.0, arm_down));
+            settings.initial_bias = 3.0;
+            let baro = b.sensor::<BaroReading>(settings).unwrap();
+            let mut nav = b.build(at_rest()).unwrap();
+            for k in 1..=500 {
+                let t = k as f64 * 0.01;
+                if k % 20 == 0 {
+                    let w = 1e-3 * (k as f64).sin();
+                    nav.push(baro, t, BaroReading(p.h - 1.5 + 3.0 + w));
+                }
+                nav.push_imu(t, at_rest()).unwrap();
+            }
+            assert_eq!(nav.report(baro).health.accepted, 25);
+            let dh = nav.estimate().nav.h - p.h;
+            assert!(
+                (dh - expected).abs() < 0.15,
+                "port {arm_down} m down: height error {dh} m"
+            );
+        }
+    }
+
     /// The GNSS, barometer and magnetometer slots of `gnss-ins`: fixes of an
     /// antenna 2 m forward of the IMU (heading north) at 2 m north of the
     /// true IMU position, a barometer reading 3 m high with that bias known,

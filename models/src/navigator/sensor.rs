@@ -203,7 +203,7 @@ impl Reading for BaroReading {
         &self,
         ctx: &Context,
     ) -> Box<dyn Measurement<InsFilter<V, N>>> {
-        baro_measurement::<V, N>(self.0, ctx.noise_sigma)
+        baro_measurement::<V, N>(self.0, ctx.noise_sigma, ctx.lever_arm)
     }
 }
 

@@ -645,22 +645,25 @@ impl LogPlan {
         // Mountings: the DVL's and the magnetometer's misalignments turn
         // their readings into body axes, the DVL's lever arm corrects its
         // reading by `omega x r`, the USBL transponder's moves the INS
-        // position compared with the fix by `C_b^n r`, the depth sensor's and
-        // the GNSS antenna's go to blocks that take one; what the models do
-        // not represent is said, not dropped.
+        // position compared with the fix by `C_b^n r`, the barometer port's
+        // its height by `(C_b^n r)_D`, the depth sensor's and the GNSS
+        // antenna's go to blocks that take one; a compass or magnetometer
+        // measures a direction, which a lever arm does not change; what the
+        // models do not represent is said, not dropped.
         let mut warnings = Vec::new();
         for (i, name) in SENSOR_NAMES.into_iter().enumerate() {
             let Some(m) = meta.sensors.mounting(name) else {
                 continue;
             };
-            if i <= 4 && i != 2 {
+            if i != 2 && i != 6 {
                 // The depth slot's block may take it (checked per vehicle);
                 // the DVL reading is corrected by `omega x r`, the USBL fix
-                // by `C_b^n r`; the GNSS block takes the antenna's.
+                // by `C_b^n r`, the barometer's height by `(C_b^n r)_D`; the
+                // GNSS block takes the antenna's.
                 sensors[i].lever_arm = Vector3::from(m.lever_arm);
             } else if m.lever_arm != [0.0; 3] {
                 warnings.push(format!(
-                    "meta.toml: sensors.{name}.lever_arm {:?} m is not modelled by this replay (the {name} reading is taken at the IMU): ignored",
+                    "meta.toml: sensors.{name}.lever_arm {:?} m has no effect: the {name} measures a direction, the same anywhere on the vehicle",
                     m.lever_arm
                 ));
             }

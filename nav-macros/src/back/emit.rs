@@ -228,7 +228,7 @@ impl<'a> Emitter<'a> {
         let (prec, tokens) = match f.graph.node(id) {
             Node::Const(bits) => {
                 let v = f64::from_bits(bits);
-                let l = float_literal(v.abs());
+                let l = float_literal(v.abs(), self.decl.scalar);
                 if v < 0.0 {
                     (3, quote!(-#l))
                 } else {
@@ -1011,9 +1011,17 @@ impl<'a> Emitter<'a> {
     }
 }
 
-/// A float literal that round-trips exactly (`{:?}` of f64 is shortest-exact).
-fn float_literal(v: f64) -> TokenStream {
-    let mut s = format!("{v:?}");
+/// A float literal that round-trips exactly in the model's scalar (`{:?}`
+/// is shortest-exact): an `f32` model gets the nearest `f32` of the value,
+/// with no digits beyond what `f32` holds.
+fn float_literal(v: f64, scalar: Scalar) -> TokenStream {
+    let mut s = match scalar {
+        Scalar::F64 => format!("{v:?}"),
+        // A value beyond f32's range keeps its f64 digits: rustc then
+        // reports the literal as out of range for `f32`.
+        Scalar::F32 if (v as f32).is_finite() => format!("{:?}", v as f32),
+        Scalar::F32 => format!("{v:?}"),
+    };
     if !s.contains('.') && !s.contains('e') {
         s.push_str(".0");
     }
