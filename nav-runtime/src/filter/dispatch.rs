@@ -5,12 +5,20 @@
 //! contraction), so results are bit-identical on every CPU (tested beside
 //! each use). Without `std` there is no detection: the portable code runs,
 //! vectorized for whatever `-C target-feature` the build enables.
+//!
+//! The opt-in `fma` feature fuses the kernels' multiply-adds
+//! ([`crate::real::Real::plus_product`]) and compiles the fast path for
+//! AVX and FMA. A fused multiply-add is exactly rounded, so the results are
+//! still the same on every CPU (the portable path calls the exact software
+//! `fma`), but they differ from the default build in the last bits.
 
-/// Whether the CPU executes AVX instructions (std caches the answer).
+/// Whether the CPU executes AVX instructions (and, in the `fma` build,
+/// FMA ones; std caches the answer).
 #[cfg(all(feature = "std", target_arch = "x86_64"))]
 #[inline(always)]
 pub fn has_avx() -> bool {
     std::arch::is_x86_feature_detected!("avx")
+        && (!cfg!(feature = "fma") || std::arch::is_x86_feature_detected!("fma"))
 }
 
 /// `fn name<const ..>(args) -> ret => portable;` defines `name`, which calls
@@ -52,7 +60,8 @@ macro_rules! avx_dispatch {
         $vis fn $name<$t: $crate::real::Real, $(const $c: usize),*>($($arg: $ty),*) $(-> $ret)? {
             #[cfg(all(feature = "std", target_arch = "x86_64"))]
             {
-                #[target_feature(enable = "avx")]
+                #[cfg_attr(not(feature = "fma"), target_feature(enable = "avx"))]
+                #[cfg_attr(feature = "fma", target_feature(enable = "avx,fma"))]
                 unsafe fn with_avx<$t: $crate::real::Real, $(const $c: usize),*>($($arg: $ty),*) $(-> $ret)? {
                     $portable::<$t, $($c,)* true>($($arg),*)
                 }

@@ -158,7 +158,7 @@ fn propagate_steps<T: Real, const N: usize, const D: usize, const AVX: bool>(
             for (&j, &(columns, values)) in s.rows[r..].iter().zip(&terms[r..]) {
                 let mut v = if s.identity { ar[j] } else { T::zero() };
                 for (&k, &c) in columns.iter().zip(values) {
-                    v += c * ar[k];
+                    v = v.plus_product(c, ar[k]);
                 }
                 cols[j][i] = v;
                 cols[i][j] = v;
@@ -287,7 +287,7 @@ fn combination<T: Real, const N: usize, const B: usize>(
     }
     for (&k, &c) in columns.iter().zip(values) {
         for (x, &y) in acc.iter_mut().zip(&cols[k][c0..c0 + B]) {
-            *x += c * y;
+            *x = x.plus_product(c, y);
         }
     }
     acc

@@ -23,6 +23,17 @@ pub trait Real: nalgebra::RealField + Copy + Default + sealed::Sealed {
     /// The angle wrapped to (-pi, pi] ([`crate::math::wrap_angle`] in this
     /// precision).
     fn wrap_angle(self) -> Self;
+
+    /// `self + a b`, the step of the covariance kernels' sums: one rounding
+    /// (a fused multiply-add) in the `fma` build, two otherwise.
+    #[inline(always)]
+    fn plus_product(self, a: Self, b: Self) -> Self {
+        if cfg!(feature = "fma") {
+            a.mul_add(b, self)
+        } else {
+            self + a * b
+        }
+    }
 }
 
 impl Real for f64 {

@@ -71,7 +71,7 @@ pub(super) fn joseph_lower<T: Real, const N: usize, const M: usize>(
         };
         let mut v = col0[c];
         for m in 0..M {
-            v += wd[m][c] * b0[m] - kd[m][c] * a0[m];
+            v = term(v, wd[m][c], b0[m], kd[m][c], a0[m]);
         }
         col0[c] = v;
         acc[c] += v;
@@ -79,8 +79,8 @@ pub(super) fn joseph_lower<T: Real, const N: usize, const M: usize>(
             let (mut v0, mut v1) = (col0[r], col1[r]);
             for m in 0..M {
                 let (k_r, w_r) = (kd[m][r], wd[m][r]);
-                v0 += w_r * b0[m] - k_r * a0[m];
-                v1 += w_r * b1[m] - k_r * a1[m];
+                v0 = term(v0, w_r, b0[m], k_r, a0[m]);
+                v1 = term(v1, w_r, b1[m], k_r, a1[m]);
             }
             col0[r] = v0;
             col1[r] = v1;
@@ -95,7 +95,7 @@ pub(super) fn joseph_lower<T: Real, const N: usize, const M: usize>(
         if let Some(col) = cols.last_mut() {
             let mut v = col[c];
             for m in 0..M {
-                v += wd[m][c] * b[m] - kd[m][c] * a[m];
+                v = term(v, wd[m][c], b[m], kd[m][c], a[m]);
             }
             col[c] = v;
             acc[c] += v;
@@ -103,6 +103,17 @@ pub(super) fn joseph_lower<T: Real, const N: usize, const M: usize>(
         }
     }
     diagonal_ok && acc.iter().all(|x| x.is_finite())
+}
+
+/// One term of a column of eq. U6: `v + (w b - k a)`; in the `fma` build
+/// two fused multiply-adds, `fma(-k, a, fma(w, b, v))`.
+#[inline(always)]
+fn term<T: Real>(v: T, w: T, b: T, k: T, a: T) -> T {
+    if cfg!(feature = "fma") {
+        v.plus_product(w, b).plus_product(-k, a)
+    } else {
+        v + (w * b - k * a)
+    }
 }
 
 crate::dispatch::avx_dispatch! {
