@@ -34,9 +34,15 @@ nav_runtime::model! {
     }
 }
 
+/// MARKER-9 (discrete), declared for a name and a scalar: [`Marker9`] in
+/// `f64`, [`Marker9Single`] in `f32` (whose generated tests check the `f32`
+/// code).
+macro_rules! marker9 {
+    ($name:ident, $scalar:ident) => {
 nav_runtime::model! {
     /// MARKER-9, docs/models/marker9.md, eq. 2 (discrete).
-    pub model Marker9 {
+    pub model $name {
+        scalar $scalar;
         states { position: 3, velocity: 3, roll, pitch, yaw }
         inputs { gyro: 3, acceleration: 3 }
         noise { velocity_noise: 3, attitude_noise: 3 }
@@ -66,11 +72,21 @@ nav_runtime::model! {
         }
     }
 }
+    };
+}
 
+marker9!(Marker9, f64);
+marker9!(Marker9Single, f32);
+
+/// Every builtin, declared for a name and a scalar: [`Everything`] in `f64`,
+/// [`EverythingSingle`] in `f32`.
+macro_rules! everything {
+    ($name:ident, $scalar:ident) => {
 nav_runtime::model! {
     /// Every function, every vector function, a matrix input, method-call forms and a
     /// sensor with auxiliary inputs.
-    model Everything {
+    model $name {
+        scalar $scalar;
         states { s: 2, z }
         inputs { m: 2x2, v: 3 }
         parameters { k }
@@ -96,6 +112,11 @@ nav_runtime::model! {
         }
     }
 }
+    };
+}
+
+everything!(Everything, f64);
+everything!(EverythingSingle, f32);
 
 /// splitmix64, uniform in [-1, 1].
 struct Rng(u64);
@@ -440,4 +461,69 @@ fn everything_records_and_shapes() {
     );
     assert_eq!(<EverythingLook as Sensor<3, 2>>::ANGLES, [false, true]);
     assert_eq!(Everything::NW, 1);
+}
+
+/// The `f32` twins evaluate every builtin as the `f64` models do, to `f32`
+/// rounding: transition, `F` and sensor `h`/`H` at random points, relative
+/// to the magnitude of each value (1e-4: a few hundred `f32` ulps, for
+/// chains of transcendental functions).
+#[test]
+fn single_precision_twins_agree_with_double() {
+    fn close<const R: usize, const C: usize>(
+        what: &str,
+        a: &SMatrix<f64, R, C>,
+        b: &SMatrix<f32, R, C>,
+    ) {
+        for (x, y) in a.iter().zip(b.iter()) {
+            let y = f64::from(*y);
+            assert!(
+                (x - y).abs() <= 1e-4 * (1.0 + x.abs()),
+                "{what}: f64 {x} vs f32 {y}"
+            );
+        }
+    }
+    fn convert<A: Record, B: Record>(a: &A) -> B {
+        B::from_fn(|i| a.get(i))
+    }
+    let mut rng = Rng(0xf32);
+    for _ in 0..20 {
+        let x: SVector<f64, 3> = rng.vector();
+        let u: EverythingInput = rng.record();
+        let p: EverythingParams = rng.record();
+        let aux: EverythingLookAux = rng.record();
+        let (xs, us, ps, auxs) = (x.cast::<f32>(), convert(&u), convert(&p), convert(&aux));
+        let dt = 0.01;
+        close(
+            "transition",
+            &<Everything as Model<3>>::transition(&x, &u, &p, dt),
+            &<EverythingSingle as Model<3, f32>>::transition(&xs, &us, &ps, dt as f32),
+        );
+        close(
+            "F",
+            &<Everything as Model<3>>::jacobian(&x, &u, &p, dt),
+            &<EverythingSingle as Model<3, f32>>::jacobian(&xs, &us, &ps, dt as f32),
+        );
+        close(
+            "h",
+            &<EverythingLook as Sensor<3, 2>>::predict(&x, &u, &p, &aux),
+            &<EverythingSingleLook as Sensor<3, 2, f32>>::predict(&xs, &us, &ps, &auxs),
+        );
+        close(
+            "H",
+            &<EverythingLook as Sensor<3, 2>>::jacobian(&x, &u, &p, &aux),
+            &<EverythingSingleLook as Sensor<3, 2, f32>>::jacobian(&xs, &us, &ps, &auxs),
+        );
+        let xm: SVector<f64, 9> = rng.vector();
+        let um: Marker9Input = rng.record();
+        close(
+            "MARKER-9 Phi",
+            &<Marker9 as Model<9>>::jacobian(&xm, &um, &Default::default(), 0.02),
+            &<Marker9Single as Model<9, f32>>::jacobian(
+                &xm.cast(),
+                &convert(&um),
+                &Default::default(),
+                0.02,
+            ),
+        );
+    }
 }
