@@ -69,7 +69,10 @@ pub struct BoundedTable {
     capacity: usize,
     stride: usize,
     seen: usize,
-    last: Option<Vec<f64>>,
+    /// The last row offered, when it was not kept (compared by position,
+    /// not by value: a row with a NaN is unequal to itself).
+    last: Vec<f64>,
+    last_kept: bool,
 }
 
 /// Rows a plot series keeps.
@@ -83,24 +86,26 @@ impl BoundedTable {
             capacity: capacity.max(2),
             stride: 1,
             seen: 0,
-            last: None,
+            last: Vec::new(),
+            last_kept: true,
         }
     }
 
     /// Offers one row.
     pub fn push(&mut self, row: &[f64]) {
-        if self.seen.is_multiple_of(self.stride) {
-            if self.table.rows.len() == self.capacity {
-                let kept: Vec<Vec<f64>> = self.table.rows.drain(..).step_by(2).collect();
-                self.table.rows = kept;
-                self.stride *= 2;
-            }
-            if self.seen.is_multiple_of(self.stride) {
-                self.table.push(row);
-            }
+        if self.seen.is_multiple_of(self.stride) && self.table.rows.len() == self.capacity {
+            let kept: Vec<Vec<f64>> = self.table.rows.drain(..).step_by(2).collect();
+            self.table.rows = kept;
+            self.stride *= 2;
+        }
+        self.last_kept = self.seen.is_multiple_of(self.stride);
+        if self.last_kept {
+            self.table.push(row);
+        } else {
+            self.last.clear();
+            self.last.extend_from_slice(row);
         }
         self.seen += 1;
-        self.last = Some(row.to_vec());
     }
 
     /// Rows offered.
@@ -110,10 +115,8 @@ impl BoundedTable {
 
     /// The kept rows (and the last row offered, if it was not kept).
     pub fn into_table(mut self) -> RunTable {
-        if let Some(last) = self.last {
-            if self.table.rows.last() != Some(&last) {
-                self.table.rows.push(last);
-            }
+        if !self.last_kept {
+            self.table.rows.push(self.last);
         }
         self.table
     }
@@ -223,6 +226,22 @@ mod tests {
                 steps[..steps.len() - 1].iter().all(|s| *s == first),
                 "{n}: {steps:?}"
             );
+        }
+    }
+
+    /// The last row is added once, whether kept or not, even when it holds
+    /// a NaN (a column the row lacks) and so is unequal to itself.
+    #[test]
+    fn the_last_row_comes_once_even_with_a_nan() {
+        for (n, capacity) in [(5usize, 100usize), (101, 100), (1000, 64)] {
+            let mut b = BoundedTable::new("x", &["t", "v"], capacity);
+            for i in 0..n {
+                b.push(&[i as f64, f64::NAN]);
+            }
+            let t = b.into_table();
+            let times: Vec<f64> = t.rows.iter().map(|r| r[0]).collect();
+            assert_eq!(times.last(), Some(&((n - 1) as f64)), "{n}");
+            assert!(times.windows(2).all(|w| w[0] < w[1]), "{n}: {times:?}");
         }
     }
 }

@@ -1,10 +1,12 @@
 //! `gnss-ins`: the INS error-state core aided by a GNSS position fix, a
 //! barometer and a magnetic heading (`docs/ulog.md`, "The `gnss-ins` model").
-//! The declaration is in [`model`], its two sensor blocks in [`blocks`].
+//! The declaration is in [`model`], its two sensor blocks in [`blocks`], the
+//! replay in [`replay`] with its running scores in [`scores`].
 
 pub mod blocks;
 pub mod model;
 pub mod replay;
+pub mod scores;
 
 pub use model::{GnssIns, GnssInsBarometer, GnssInsGnssFix, GnssInsMagneticHeading};
 pub use replay::GnssInsReplay;

@@ -10,30 +10,37 @@
 //! barometric altitude with its drifting bias (the bias starts at the first
 //! barometer sample minus the initial height) and the magnetic heading
 //! (declination from the log, as for `ahrs`). An estimate is taken at every
-//! IMU sample, for the comparison with the reference at its own times.
+//! IMU sample, for the comparison with the reference at its own times, and
+//! at every truth row, for the INS errors.
+//!
+//! The replay is a stream: the files are read as the filter goes, each
+//! estimate is scored as it comes ([`RunningScores`]) and the time series
+//! are written out as they grow ([`SeriesSink`]), the plots drawn from
+//! bounded copies, so memory does not grow with the log.
 
 use std::path::Path;
 
-use nav_runtime::log::{LogDir, LogSource, TruthRow};
-use serde_json::{json, Map, Value};
+use nav_runtime::log::{
+    BaroRow, GnssRow, LogDir, LogFiles, LogSource, MagRow, RowSource, TruthRow,
+};
+use serde_json::{json, Value};
 
 use super::model::GnssIns;
-use crate::ahrs::outputs::write_outputs;
-use crate::harness::{ReplayModel, ReplayOptions, ReplayOutput, RunError, RunHealth, RunTable};
-use crate::navigator::{Estimate, SensorHealth};
+use super::scores::RunningScores;
+pub use super::scores::TRUTH_DATUM_GAP_M;
+use crate::ahrs::outputs::{write_outputs, write_plots};
+use crate::harness::{ReplayModel, ReplayOptions, ReplayOutput, RunError, RunHealth};
+use crate::navigator::Estimate;
 use crate::sdins25::filter::{replay_vehicle, FilterOptions, LENIENT_IMU_STEP_PERIODS};
 use crate::sdins25::replay_loop::{EachSample, Listed};
-use crate::sdins25::score;
+use crate::series::SeriesSink;
 use crate::ulog::reference::EstimatePoint;
-use crate::ulog::replay::{attitude_errors, reference_metrics, rpy_json};
 
 /// `navsim replay --model gnss-ins`.
 pub const NAME: &str = "gnss-ins";
 /// Number of states.
 pub const N: usize = 16;
 
-/// A truth height this far from the initial height is on another datum, m.
-pub const TRUTH_DATUM_GAP_M: f64 = 100.0;
 /// IMU intervals longer than this are counted as gaps (`health.imu_gaps`), s.
 pub const IMU_GAP_S: f64 = crate::ahrs::stream::MAX_IMU_STEP_S;
 /// Files read.
@@ -46,42 +53,21 @@ pub const FILES: &[&str] = &[
     "truth.csv",
 ];
 
+/// Name of the table of estimates.
+pub const ESTIMATES_TABLE: &str = "estimates";
+/// The estimates table has a row at every this many IMU samples.
+pub const ESTIMATES_EVERY: usize = 10;
+
 /// What an estimate is requested for.
 enum Wanted {
     /// The estimate at an IMU sample (for the reference and the tables).
     Sample,
-    /// The estimate at truth row `k`.
-    Truth(usize),
+    /// The estimate at a truth row, with its line in `truth.csv`.
+    Truth(Option<u64>, TruthRow),
 }
 
-/// A run of the `gnss-ins` vehicle over a log.
-#[derive(Debug, Clone, Default)]
-pub struct GnssInsRun {
-    /// The estimate at every IMU sample.
-    pub points: Vec<EstimatePoint>,
-    /// The estimate at every truth row (`None` where no IMU sample is near).
-    pub at_truth: Vec<Option<Estimate>>,
-    /// `estimates` table (every 10th IMU sample).
-    pub table: RunTable,
-    /// GNSS, barometer and magnetometer counts.
-    pub health: Vec<(&'static str, SensorHealth)>,
-    /// IMU intervals longer than [`IMU_GAP_S`].
-    pub imu_gaps: u64,
-    /// IMU samples propagated.
-    pub samples: usize,
-    /// Declination, rad, and the samples averaged.
-    pub declination: (f64, usize),
-    /// The final estimate.
-    pub final_estimate: Option<Estimate>,
-    /// Covariance repairs.
-    pub covariance_repairs: u64,
-    /// Filter seconds.
-    pub runtime_s: f64,
-    /// Notes.
-    pub warnings: Vec<String>,
-}
-
-const TABLE_COLUMNS: [&str; 14] = [
+/// Columns of the estimates table.
+pub const ESTIMATES_COLUMNS: [&str; 14] = [
     "t",
     "lat",
     "lon",
@@ -98,6 +84,7 @@ const TABLE_COLUMNS: [&str; 14] = [
     "baro_bias",
 ];
 
+/// The row of the estimates table of estimate `e`.
 fn table_row(e: &Estimate) -> [f64; 14] {
     let nav = &e.nav;
     let a = nav.euler();
@@ -119,109 +106,161 @@ fn table_row(e: &Estimate) -> [f64; 14] {
     ]
 }
 
-/// Runs the `gnss-ins` vehicle over `log` through the shared replay loop.
+/// The truth rows of `rows` (none without `truth.csv`) as output times.
+fn truth_requests<'a>(
+    mut rows: Option<Box<dyn RowSource<TruthRow> + 'a>>,
+) -> Listed<impl Iterator<Item = Result<(f64, Wanted), RunError>> + 'a> {
+    Listed::new(std::iter::from_fn(move || {
+        rows.as_mut()?
+            .next_row()
+            .map_err(RunError::from)
+            .transpose()
+            .map(|r| r.map(|(line, row)| (row.t, Wanted::Truth(line, row))))
+    }))
+}
+
+/// What the run keeps of the estimates at the IMU samples: only their
+/// count, span and the last one.
+#[derive(Debug, Default)]
+struct SampleTally {
+    samples: usize,
+    first_t: Option<f64>,
+    last_t: Option<f64>,
+    imu_gaps: u64,
+    last: Option<Estimate>,
+}
+
+/// Replays `source`; with `out`, the tables are written there as the run
+/// goes and plotted from bounded copies, else kept in the output when
+/// `options.keep_series`.
 ///
 /// # Errors
 /// As [`replay_vehicle`]: no initial attitude, no IMU rows, a setup error,
-/// an IMU row the filter refuses or an estimate out of its bounds.
-pub fn run(log: &LogDir, options: &ReplayOptions) -> Result<GnssInsRun, RunError> {
+/// a bad row (strict reading), an IMU row the filter refuses or an estimate
+/// out of its bounds; a table that cannot be written.
+pub fn replay_source(
+    source: &LogSource<'_>,
+    options: &ReplayOptions,
+    out: Option<&Path>,
+) -> Result<ReplayOutput, RunError> {
     let filter_options = FilterOptions {
         max_imu_step: options.lenient.then_some(LENIENT_IMU_STEP_PERIODS),
         ..FilterOptions::default()
     };
-    let truth = log.truth.as_deref().unwrap_or_default();
-    let mut out = GnssInsRun {
-        at_truth: vec![None; truth.len()],
-        table: RunTable::new("estimates", &TABLE_COLUMNS),
-        ..GnssInsRun::default()
-    };
-    let mut order: Vec<usize> = (0..truth.len()).collect();
-    order.sort_by(|&a, &b| truth[a].t.total_cmp(&truth[b].t));
-    let requests = EachSample::new(
-        Listed::new(
-            order
-                .into_iter()
-                .map(|k| Ok((truth[k].t, Wanted::Truth(k)))),
-        ),
-        |_| Wanted::Sample,
-    );
-    let mut last: Option<f64> = None;
+    let meta = source.meta();
+    let mut scores = RunningScores::new(source, out, options.keep_series, -meta.initial.depth)?;
+    let mut estimates = SeriesSink::new(
+        ESTIMATES_TABLE,
+        &ESTIMATES_COLUMNS,
+        out,
+        options.keep_series,
+    )?;
+    let mut tally = SampleTally::default();
+    let requests = EachSample::new(truth_requests(source.rows::<TruthRow>()?), |_| {
+        Wanted::Sample
+    });
     let run = replay_vehicle::<GnssIns, N, _, _>(
-        &LogSource::Memory(log),
+        source,
         &filter_options,
         requests,
-        |wanted, e| {
-            match (wanted, e) {
-                (Wanted::Truth(k), e) => out.at_truth[k] = e.copied(),
-                (Wanted::Sample, Some(e)) => {
-                    if last.is_some_and(|t| e.t - t > IMU_GAP_S) {
-                        out.imu_gaps += 1;
-                    }
-                    last = Some(e.t);
-                    let a = e.nav.euler();
-                    out.points.push(EstimatePoint {
-                        t: e.t,
-                        attitude: [a.roll, a.pitch, a.yaw],
-                        position: Some([e.nav.lat, e.nav.lon, e.nav.h]),
-                    });
-                    if out.points.len().is_multiple_of(10) {
-                        out.table.push(&table_row(e));
-                    }
-                    out.final_estimate = Some(*e);
+        |wanted, e| match (wanted, e) {
+            (Wanted::Truth(line, row), e) => scores.push_truth(line, &row, e),
+            (Wanted::Sample, Some(e)) => {
+                if tally.last_t.is_some_and(|t| e.t - t > IMU_GAP_S) {
+                    tally.imu_gaps += 1;
                 }
-                (Wanted::Sample, None) => {}
+                tally.first_t.get_or_insert(e.t);
+                tally.last_t = Some(e.t);
+                tally.samples += 1;
+                tally.last = Some(*e);
+                if tally.samples.is_multiple_of(ESTIMATES_EVERY) && estimates.wanted() {
+                    estimates.push(&table_row(e))?;
+                }
+                let a = e.nav.euler();
+                scores.push_sample(EstimatePoint {
+                    t: e.t,
+                    attitude: [a.roll, a.pitch, a.yaw],
+                    position: Some([e.nav.lat, e.nav.lon, e.nav.h]),
+                })
             }
-            Ok(())
+            (Wanted::Sample, None) => Ok(()),
         },
         // Not smoothed (`FilterOptions::smooth` is off).
         |_| Ok(()),
     )?;
-    out.samples = run.samples;
-    out.runtime_s = run.runtime_s;
-    out.covariance_repairs = run.repairs;
-    out.declination = run.magnetic_declination;
-    out.health = run
-        .health
-        .iter()
-        .filter(|(name, _)| ["gnss", "baro", "mag"].contains(name))
-        .copied()
-        .collect();
+
+    let mut output = ReplayOutput {
+        samples: run.samples,
+        runtime_s: run.runtime_s,
+        ..Default::default()
+    };
+    let warnings = &mut output.warnings;
     for name in &run.ignored {
         let rows = run
             .health
             .iter()
             .find(|(n, _)| n == name)
             .map_or(0, |(_, h)| h.rows);
-        out.warnings.push(format!(
+        warnings.push(format!(
             "model {NAME} has no {name} sensor: the {rows} rows of {name}.csv are not used"
         ));
     }
-    out.warnings.extend(run.warnings);
-    for (file, missing) in [
-        ("gnss.csv", log.gnss.is_none()),
-        ("baro.csv", log.baro.is_none()),
-        ("mag.csv", log.mag.is_none()),
+    warnings.extend(run.warnings.iter().cloned());
+    for (file, present) in [
+        ("gnss.csv", source.has::<GnssRow>()?),
+        ("baro.csv", source.has::<BaroRow>()?),
+        ("mag.csv", source.has::<MagRow>()?),
     ] {
-        if missing {
-            out.warnings
-                .push(format!("the log has no {file}: that aiding is absent"));
+        if !present {
+            warnings.push(format!("the log has no {file}: that aiding is absent"));
         }
     }
-    Ok(out)
-}
-
-fn health_json(run: &GnssInsRun) -> Value {
-    RunHealth {
+    let m = &mut output.metrics;
+    let scored = scores.finish(Some(run.imu_span), m, warnings)?;
+    m.insert(
+        "magnetic_declination_deg".into(),
+        Value::from(run.magnetic_declination.0.to_degrees()),
+    );
+    let span = match (tally.first_t, tally.last_t) {
+        (Some(a), Some(b)) => b - a,
+        _ => 0.0,
+    };
+    m.insert("replayed_seconds".into(), Value::from(span));
+    let health = RunHealth {
         sensors: run
             .health
             .iter()
+            .filter(|(name, _)| ["gnss", "baro", "mag"].contains(name))
             .map(|(name, h)| ((*name).to_string(), *h))
             .collect(),
-        covariance_repairs: run.covariance_repairs,
+        covariance_repairs: run.repairs,
         replays: None,
-        imu_gaps: Some(run.imu_gaps),
+        imu_gaps: Some(tally.imu_gaps),
+    };
+    m.insert("health".into(), health.json());
+    if let Some(e) = &tally.last {
+        let s = e.nav;
+        let a = s.euler();
+        m.insert(
+            "final".into(),
+            json!({
+                "lat": s.lat, "lon": s.lon, "height": s.h,
+                "vn": s.v_n.x, "ve": s.v_n.y, "vd": s.v_n.z,
+                "roll": a.roll.to_degrees(), "pitch": a.pitch.to_degrees(), "yaw": a.yaw.to_degrees(),
+                "baro_bias_m": e.baro_bias.0,
+            }),
+        );
     }
-    .json()
+    // The tables in the order they always came: truth errors, estimates,
+    // reference differences.
+    let mut tables = scored.truth;
+    tables.extend(estimates.finish()?);
+    tables.extend(scored.reference);
+    match out {
+        Some(dir) => write_plots(NAME, &tables, dir)?,
+        None => output.tables = tables,
+    }
+    Ok(output)
 }
 
 /// The replay model `gnss-ins`.
@@ -239,103 +278,25 @@ impl ReplayModel for GnssInsReplay {
         Some(FILES)
     }
     fn replay(&self, log: &LogDir, options: &ReplayOptions) -> Result<ReplayOutput, RunError> {
-        let run = run(log, options)?;
-        let mut out = ReplayOutput {
-            samples: run.samples,
-            runtime_s: run.runtime_s,
-            warnings: run.warnings.clone(),
-            ..Default::default()
-        };
-        let m = &mut out.metrics;
-        let diff = reference_metrics(log, &run.points, m, &mut out.warnings);
-        if let Some(truth) = log.truth.as_deref() {
-            scored_against(
-                truth,
-                log,
-                &run,
-                options,
-                m,
-                &mut out.warnings,
-                &mut out.tables,
-            );
-        }
-        m.insert(
-            "magnetic_declination_deg".into(),
-            Value::from(run.declination.0.to_degrees()),
-        );
-        let span = match (run.points.first(), run.points.last()) {
-            (Some(a), Some(b)) => b.t - a.t,
-            _ => 0.0,
-        };
-        m.insert("replayed_seconds".into(), Value::from(span));
-        m.insert("health".into(), health_json(&run));
-        if let Some(e) = &run.final_estimate {
-            let s = e.nav;
-            let a = s.euler();
-            m.insert(
-                "final".into(),
-                json!({
-                    "lat": s.lat, "lon": s.lon, "height": s.h,
-                    "vn": s.v_n.x, "ve": s.v_n.y, "vd": s.v_n.z,
-                    "roll": a.roll.to_degrees(), "pitch": a.pitch.to_degrees(), "yaw": a.yaw.to_degrees(),
-                    "baro_bias_m": e.baro_bias.0,
-                }),
-            );
-        }
-        if options.keep_series {
-            out.tables.push(run.table);
-            out.tables.extend(diff);
-        }
-        Ok(out)
+        replay_source(&LogSource::Memory(log), options, None)
+    }
+    fn replay_files(
+        &self,
+        files: &LogFiles,
+        options: &ReplayOptions,
+        out: Option<&Path>,
+    ) -> Result<ReplayOutput, RunError> {
+        replay_source(&LogSource::Files(files), options, out)
+    }
+    /// The replay loop reads `imu.csv` through `LogSource::imu_rows`.
+    fn shares_imu(&self) -> bool {
+        true
     }
     fn write_outputs(&self, output: &ReplayOutput, dir: &Path) -> Result<(), RunError> {
         write_outputs(NAME, output, dir)
     }
 }
 
-/// The usual error keys against `truth.csv` and the attitude errors.
-fn scored_against(
-    truth: &[TruthRow],
-    log: &LogDir,
-    run: &GnssInsRun,
-    options: &ReplayOptions,
-    m: &mut Map<String, Value>,
-    warnings: &mut Vec<String>,
-    tables: &mut Vec<RunTable>,
-) {
-    let h0 = -log.meta.initial.depth;
-    if let Some(r) = truth
-        .first()
-        .filter(|r| (-r.depth - h0).abs() > TRUTH_DATUM_GAP_M)
-    {
-        warnings.push(format!(
-            "truth.csv: height {:.1} m at t = {} s, the initial height {h0:.1} m: the truth's \
-             vertical datum differs (depth_error_rms_m and nees_mean are not meaningful)",
-            -r.depth, r.t
-        ));
-    }
-    match score::score(&run.at_truth, truth, None, log.imu_time_span()) {
-        Ok(s) => {
-            for (k, v) in [
-                ("horizontal_error_final_m", s.horizontal_error_final_m),
-                ("horizontal_error_rms_m", s.horizontal_error_rms_m),
-                ("depth_error_rms_m", s.depth_error_rms_m),
-                ("nees_mean", s.nees_mean),
-                ("scored_seconds", s.scored_seconds),
-            ] {
-                m.insert(k.into(), Value::from(v));
-            }
-            warnings.extend(s.partial.clone());
-            if options.keep_series {
-                tables.push(s.table);
-            }
-        }
-        Err(e) => warnings.push(format!("not scored against truth: {e}")),
-    }
-    if let Some((rms, _, table)) = attitude_errors(truth, &run.points) {
-        m.insert("attitude_error_rms_deg".into(), rpy_json(rms));
-        if options.keep_series {
-            tables.push(table);
-        }
-    }
-}
+#[cfg(test)]
+#[path = "replay_tests.rs"]
+mod tests;

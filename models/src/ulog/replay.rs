@@ -215,7 +215,9 @@ pub fn rpy_json(v: [f64; 3]) -> Value {
 /// The reference keys of the replay JSON (`attitude_difference_rms_deg`,
 /// `horizontal_difference_rms_m` when both sides have positions,
 /// `reference_samples`, `reference_scored_seconds`) and the difference
-/// table; nothing without `reference.csv`.
+/// table; nothing without `reference.csv`. The replays score as their
+/// estimates come ([`super::running_score`]); this is the form over a whole
+/// series in memory that they are checked against.
 pub fn reference_metrics(
     log: &LogDir,
     points: &[EstimatePoint],

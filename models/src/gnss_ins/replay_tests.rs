@@ -1,0 +1,390 @@
+//! The streamed `gnss-ins` replay on the committed PX4 fixture
+//! (`tests/data/ulog/sample_px4_events.ulg`, imported here, with PX4's
+//! estimate copied into `truth.csv` so that every score is exercised): the
+//! same result from the files as from the log in memory and as the scores
+//! of the whole series it replaces, every row written under `--out`, and
+//! broken copies of the log refused or warned about, never a panic.
+
+use std::path::{Path, PathBuf};
+
+use nav_runtime::log::{LogFiles, Strictness};
+use serde_json::{Map, Value};
+
+use super::*;
+use crate::harness::RunTable;
+use crate::sdins25::score;
+use crate::ulog::replay::{attitude_errors, reference_metrics, rpy_json};
+
+/// The streamed scores sum the same terms in the same order as the
+/// whole-series functions; they are expected to agree to the last bit, and
+/// are held to this relative tolerance.
+const SAME_SUMS_TOLERANCE: f64 = 1e-12;
+
+struct TempDir(PathBuf);
+
+impl TempDir {
+    fn new(tag: &str) -> Self {
+        let dir = std::env::temp_dir().join(format!(
+            "gnss-ins-replay-{tag}-{}-{:?}",
+            std::process::id(),
+            std::thread::current().id()
+        ));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        TempDir(dir)
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// The fixture imported into `tmp`, with `reference.csv` copied as
+/// `truth.csv` (height turned into depth).
+fn flight(tmp: &TempDir) -> PathBuf {
+    let ulg = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/ulog/sample_px4_events.ulg");
+    let dir = tmp.0.join("flight");
+    crate::ulog::import(&ulg, &dir).expect("the fixture imports");
+    let reference = std::fs::read_to_string(dir.join("reference.csv")).unwrap();
+    let mut truth = String::from("t,lat,lon,depth,vn,ve,vd,roll,pitch,yaw\n");
+    for line in reference.lines().skip(1) {
+        let c: Vec<&str> = line.split(',').collect();
+        let depth = -c[3].parse::<f64>().unwrap();
+        truth.push_str(&format!(
+            "{},{},{},{depth},{}\n",
+            c[0],
+            c[1],
+            c[2],
+            c[4..].join(",")
+        ));
+    }
+    std::fs::write(dir.join("truth.csv"), truth).unwrap();
+    dir
+}
+
+/// A copy of `dir` named `name` beside it.
+fn copy(dir: &Path, name: &str) -> PathBuf {
+    let to = dir.with_file_name(name);
+    std::fs::create_dir_all(&to).unwrap();
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        std::fs::copy(&path, to.join(path.file_name().unwrap())).unwrap();
+    }
+    to
+}
+
+/// Rewrites `file` of `dir` line by line (`None` drops the line).
+fn edit(dir: &Path, file: &str, f: impl Fn(usize, &str) -> Option<String>) {
+    let path = dir.join(file);
+    let text = std::fs::read_to_string(&path).unwrap();
+    let lines: Vec<String> = text
+        .lines()
+        .enumerate()
+        .filter_map(|(i, l)| f(i, l))
+        .collect();
+    std::fs::write(&path, lines.join("\n") + "\n").unwrap();
+}
+
+fn streamed(dir: &Path, strictness: Strictness) -> Result<ReplayOutput, RunError> {
+    streamed_with(dir, strictness, &ReplayOptions::default())
+}
+
+fn streamed_with(
+    dir: &Path,
+    strictness: Strictness,
+    options: &ReplayOptions,
+) -> Result<ReplayOutput, RunError> {
+    let files = LogFiles::open(dir, strictness)?;
+    GnssInsReplay.replay_files(&files, options, None)
+}
+
+/// The scores of the whole series, as the replay computed them before it
+/// streamed: every estimate at the IMU samples and at the truth rows kept,
+/// then compared with the files read whole. Returns the score keys, the
+/// scoring warnings and the tables (truth errors, attitude errors,
+/// reference differences).
+fn whole_series(log: &LogDir) -> (Map<String, Value>, Vec<String>, Vec<RunTable>) {
+    enum At {
+        Sample,
+        Truth(usize),
+    }
+    let truth = log.truth.as_deref().unwrap_or_default();
+    let mut points = Vec::new();
+    let mut at_truth = vec![None; truth.len()];
+    let requests = EachSample::new(
+        Listed::new(
+            truth
+                .iter()
+                .enumerate()
+                .map(|(k, r)| Ok((r.t, At::Truth(k)))),
+        ),
+        |_| At::Sample,
+    );
+    replay_vehicle::<GnssIns, N, _, _>(
+        &LogSource::Memory(log),
+        &FilterOptions::default(),
+        requests,
+        |at, e| {
+            match (at, e) {
+                (At::Truth(k), e) => at_truth[k] = e.copied(),
+                (At::Sample, Some(e)) => {
+                    let a = e.nav.euler();
+                    points.push(EstimatePoint {
+                        t: e.t,
+                        attitude: [a.roll, a.pitch, a.yaw],
+                        position: Some([e.nav.lat, e.nav.lon, e.nav.h]),
+                    });
+                }
+                (At::Sample, None) => {}
+            }
+            Ok(())
+        },
+        |_| Ok(()),
+    )
+    .expect("replays");
+    let (mut metrics, mut warnings, mut tables) = (Map::new(), Vec::new(), Vec::new());
+    let difference = reference_metrics(log, &points, &mut metrics, &mut warnings);
+    let s = score::score(&at_truth, truth, None, log.imu_time_span()).expect("scored");
+    for (k, v) in [
+        ("horizontal_error_final_m", s.horizontal_error_final_m),
+        ("horizontal_error_rms_m", s.horizontal_error_rms_m),
+        ("depth_error_rms_m", s.depth_error_rms_m),
+        ("nees_mean", s.nees_mean),
+        ("scored_seconds", s.scored_seconds),
+    ] {
+        metrics.insert(k.into(), Value::from(v));
+    }
+    warnings.extend(s.partial);
+    tables.push(s.table);
+    let (rms, _, table) = attitude_errors(truth, &points).expect("attitude scored");
+    metrics.insert("attitude_error_rms_deg".into(), rpy_json(rms));
+    tables.push(table);
+    tables.extend(difference);
+    (metrics, warnings, tables)
+}
+
+/// `a` and `b` equal, numbers to [`SAME_SUMS_TOLERANCE`] relative.
+fn close(a: &Value, b: &Value) -> bool {
+    match (a, b) {
+        (Value::Number(x), Value::Number(y)) => {
+            let (x, y) = (x.as_f64().unwrap(), y.as_f64().unwrap());
+            x == y || (x - y).abs() <= SAME_SUMS_TOLERANCE * x.abs().max(y.abs())
+        }
+        (Value::Object(x), Value::Object(y)) => {
+            x.len() == y.len() && x.iter().all(|(k, v)| y.get(k).is_some_and(|w| close(v, w)))
+        }
+        _ => a == b,
+    }
+}
+
+fn same_rows(a: &RunTable, b: &RunTable) {
+    assert_eq!(a.name, b.name);
+    assert_eq!(a.columns, b.columns, "{}", a.name);
+    assert_eq!(a.rows.len(), b.rows.len(), "{}", a.name);
+    for (x, y) in a.rows.iter().zip(&b.rows) {
+        for (u, v) in x.iter().zip(y) {
+            let same = u == v
+                || (u.is_nan() && v.is_nan())
+                || (u - v).abs() <= SAME_SUMS_TOLERANCE * u.abs().max(v.abs());
+            assert!(same, "{}: {x:?} vs {y:?}", a.name);
+        }
+    }
+}
+
+#[test]
+fn the_streamed_replay_equals_the_whole_series_scores() {
+    let tmp = TempDir::new("figures");
+    let dir = flight(&tmp);
+    let options = ReplayOptions {
+        keep_series: true,
+        ..ReplayOptions::default()
+    };
+    let files = streamed_with(&dir, Strictness::Strict, &options).expect("replays");
+    let log = LogDir::read(&dir, Strictness::Strict).expect("reads");
+    let memory = GnssInsReplay.replay(&log, &options).expect("replays");
+    // From the files and from memory: the same rows, the same result.
+    assert_eq!(files.metrics, memory.metrics);
+    assert_eq!(files.samples, memory.samples);
+    assert_eq!(files.warnings, memory.warnings);
+    assert_eq!(files.tables.len(), memory.tables.len());
+    for (a, b) in files.tables.iter().zip(&memory.tables) {
+        same_rows(a, b);
+    }
+
+    let (whole, whole_warnings, whole_tables) = whole_series(&log);
+    for (k, v) in &whole {
+        let got = files
+            .metrics
+            .get(k)
+            .unwrap_or_else(|| panic!("{k} missing"));
+        assert!(close(got, v), "{k}: {got} streamed, {v} whole");
+    }
+    assert_eq!(files.warnings, whole_warnings);
+    let names: Vec<&str> = files.tables.iter().map(|t| t.name.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "errors",
+            "attitude_errors",
+            "estimates",
+            "reference_difference"
+        ]
+    );
+    same_rows(&files.tables[0], &whole_tables[0]);
+    same_rows(&files.tables[1], &whole_tables[1]);
+    same_rows(&files.tables[3], &whole_tables[2]);
+    // Every 10th of the 5350 IMU samples (the first one starts the filter).
+    assert_eq!(files.tables[2].rows.len(), 535);
+    assert_eq!(files.metrics["reference_samples"], 428);
+    assert!((files.metrics["replayed_seconds"].as_f64().unwrap() - 21.396).abs() < 1e-9);
+}
+
+#[test]
+fn written_series_are_every_row_and_the_plots() {
+    let tmp = TempDir::new("out");
+    let dir = flight(&tmp);
+    let out = tmp.0.join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    let options = ReplayOptions {
+        keep_series: true,
+        ..ReplayOptions::default()
+    };
+    let files = LogFiles::open(&dir, Strictness::Strict).unwrap();
+    let written = GnssInsReplay
+        .replay_files(&files, &options, Some(&out))
+        .expect("replays");
+    assert!(written.tables.is_empty(), "the series went to the files");
+    let kept = streamed_with(&dir, Strictness::Strict, &options).expect("replays");
+    assert_eq!(written.metrics, kept.metrics);
+    for table in &kept.tables {
+        // Written as it grew, and as the whole table writes itself.
+        let text = std::fs::read_to_string(out.join(format!("{}.csv", table.name))).unwrap();
+        let whole = tmp.0.join("whole.csv");
+        table.write_csv(&whole).expect("writes");
+        let expected = std::fs::read_to_string(&whole).unwrap();
+        assert!(text == expected, "{}", table.name);
+    }
+    for f in [
+        "attitude_difference.svg",
+        "horizontal_difference.svg",
+        "attitude_errors.svg",
+    ] {
+        assert!(out.join(f).is_file(), "{f}");
+    }
+}
+
+fn has_warning(out: &ReplayOutput, text: &str) -> bool {
+    out.warnings.iter().any(|w| w.contains(text))
+}
+
+#[test]
+fn broken_logs_are_refused_or_warned_about() {
+    let tmp = TempDir::new("broken");
+    let dir = flight(&tmp);
+    // A row cut short (a log copied while written).
+    let cut = copy(&dir, "cut");
+    let text = std::fs::read_to_string(cut.join("imu.csv")).unwrap();
+    std::fs::write(cut.join("imu.csv"), &text[..text.len() - 20]).unwrap();
+    let e = streamed(&cut, Strictness::Strict)
+        .expect_err("strict")
+        .to_string();
+    assert!(e.contains("imu.csv"), "{e}");
+    streamed(&cut, Strictness::Lenient).expect("lenient skips the row");
+    // The last truth row cut short.
+    let cut_truth = copy(&dir, "cut-truth");
+    let text = std::fs::read_to_string(cut_truth.join("truth.csv")).unwrap();
+    std::fs::write(cut_truth.join("truth.csv"), &text[..text.len() - 30]).unwrap();
+    let e = streamed(&cut_truth, Strictness::Strict)
+        .expect_err("strict")
+        .to_string();
+    assert!(e.contains("truth.csv"), "{e}");
+    // A NaN in gnss.csv and in reference.csv.
+    for (file, line) in [("gnss.csv", 101), ("reference.csv", 201)] {
+        let nan = copy(&dir, &format!("nan-{file}"));
+        edit(&nan, file, |i, l| {
+            let mut cells: Vec<String> = l.split(',').map(String::from).collect();
+            if i + 1 == line {
+                cells[1] = "NaN".into();
+            }
+            Some(cells.join(","))
+        });
+        let e = streamed(&nan, Strictness::Strict)
+            .expect_err("strict")
+            .to_string();
+        assert!(e.contains(&format!("{file}:{line}")), "{e}");
+    }
+    // No gnss.csv: an INS aided by the barometer and the heading only,
+    // said. Over the first 12 s it stays near PX4's estimate; over the
+    // whole flight its level and velocity diverge (roll 50 deg, 77 m/s
+    // east by t = 26 s) until the solution is not finite: a clear error
+    // naming the IMU row, not a wrong answer.
+    let no_gnss = copy(&dir, "no-gnss");
+    std::fs::remove_file(no_gnss.join("gnss.csv")).unwrap();
+    let e = streamed(&no_gnss, Strictness::Strict)
+        .expect_err("diverges")
+        .to_string();
+    assert!(
+        e.contains("imu.csv line") && e.contains("not finite"),
+        "{e}"
+    );
+    edit(&no_gnss, "imu.csv", |i, l| (i < 3000).then(|| l.into()));
+    let out = streamed(&no_gnss, Strictness::Strict).expect("no GNSS is not an error");
+    assert!(
+        has_warning(&out, "the log has no gnss.csv: that aiding is absent"),
+        "{:?}",
+        out.warnings
+    );
+    assert_eq!(out.metrics["health"]["gnss"]["rows"], 0);
+    assert!(out.metrics["horizontal_difference_rms_m"].as_f64().unwrap() > 0.0);
+    // One second without IMU rows: a gap, counted; with lenient reading
+    // propagated in bounded steps, and said.
+    let gap = copy(&dir, "gap");
+    edit(&gap, "imu.csv", |i, l| {
+        (!(1000..1250).contains(&i)).then(|| l.into())
+    });
+    let out = streamed(&gap, Strictness::Strict).expect("a gap is not an error");
+    assert_eq!(out.metrics["health"]["imu_gaps"], 1);
+    let lenient = ReplayOptions {
+        lenient: true,
+        ..ReplayOptions::default()
+    };
+    let out = streamed_with(&gap, Strictness::Lenient, &lenient).expect("replays");
+    assert_eq!(out.metrics["health"]["imu_gaps"], 1);
+    assert!(has_warning(&out, "imu.csv gap of"), "{:?}", out.warnings);
+    // Truth after the log: not scored, said; the reference still is.
+    let late = copy(&dir, "late-truth");
+    edit(&late, "truth.csv", |i, l| {
+        if i == 0 {
+            return Some(l.into());
+        }
+        let (t, rest) = l.split_once(',').unwrap();
+        Some(format!("{},{rest}", t.parse::<f64>().unwrap() + 100.0))
+    });
+    let out = streamed(&late, Strictness::Strict).expect("replays");
+    assert!(
+        has_warning(&out, "not scored against truth"),
+        "{:?}",
+        out.warnings
+    );
+    assert!(out.metrics.get("horizontal_error_rms_m").is_none());
+    assert!(out.metrics.get("attitude_error_rms_deg").is_none());
+    assert!(out.metrics.contains_key("attitude_difference_rms_deg"));
+    // A truth file of a header only.
+    let empty_truth = copy(&dir, "empty-truth");
+    edit(&empty_truth, "truth.csv", |i, l| (i == 0).then(|| l.into()));
+    let out = streamed(&empty_truth, Strictness::Strict).expect("replays");
+    assert!(
+        has_warning(&out, "not scored against truth: truth.csv: no rows"),
+        "{:?}",
+        out.warnings
+    );
+    // No IMU rows at all.
+    let empty = copy(&dir, "empty");
+    edit(&empty, "imu.csv", |i, l| (i == 0).then(|| l.into()));
+    let e = streamed(&empty, Strictness::Strict)
+        .expect_err("nothing")
+        .to_string();
+    assert!(e.contains("imu.csv"), "{e}");
+}
