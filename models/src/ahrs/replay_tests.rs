@@ -10,27 +10,7 @@ use nav_runtime::log::{LogDir, LogFiles, Strictness};
 use serde_json::Value;
 
 use super::*;
-
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new(tag: &str) -> Self {
-        let dir = std::env::temp_dir().join(format!(
-            "ahrs-replay-{tag}-{}-{:?}",
-            std::process::id(),
-            std::thread::current().id()
-        ));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        TempDir(dir)
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
+use crate::harness::TempDir;
 
 /// The fixture imported into `tmp`.
 fn flight(tmp: &TempDir) -> PathBuf {

@@ -12,6 +12,7 @@ use serde_json::{Map, Value};
 
 use super::*;
 use crate::harness::RunTable;
+use crate::harness::TempDir;
 use crate::sdins25::score;
 use crate::ulog::replay::{attitude_errors, reference_metrics, rpy_json};
 
@@ -19,27 +20,6 @@ use crate::ulog::replay::{attitude_errors, reference_metrics, rpy_json};
 /// whole-series functions; they are expected to agree to the last bit, and
 /// are held to this relative tolerance.
 const SAME_SUMS_TOLERANCE: f64 = 1e-12;
-
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new(tag: &str) -> Self {
-        let dir = std::env::temp_dir().join(format!(
-            "gnss-ins-replay-{tag}-{}-{:?}",
-            std::process::id(),
-            std::thread::current().id()
-        ));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        TempDir(dir)
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
 
 /// The fixture imported into `tmp`, with `reference.csv` copied as
 /// `truth.csv` (height turned into depth).

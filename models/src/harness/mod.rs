@@ -31,6 +31,8 @@ pub mod report;
 mod run;
 mod scenario;
 mod shard;
+#[cfg(test)]
+mod temp_dir;
 
 pub use error::RunError;
 pub use health::{RunHealth, SensorHealth};
@@ -41,3 +43,5 @@ pub use run::{
 };
 pub use scenario::Scenario;
 pub use shard::{find_shard_files, merge_shards, seeds, Merged, Shard, ShardFile, SHARD_FORMAT};
+#[cfg(test)]
+pub(crate) use temp_dir::TempDir;

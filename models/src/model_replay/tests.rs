@@ -3,31 +3,10 @@
 //! write (with the truth), in several units and column orders, and broken
 //! in the ways users break them.
 
-use std::path::PathBuf;
 
 use super::{angle_states, quaternion_blocks, ModelReplay, ModelReplayError, RunOptions};
+use crate::harness::TempDir;
 use crate::vehicles::rover::{rover_replay as rover, write_log, LogStyle, Rover, DRIVE_STEPS};
-
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new(tag: &str) -> Self {
-        let dir = std::env::temp_dir().join(format!(
-            "model-replay-{tag}-{}-{:?}",
-            std::process::id(),
-            std::thread::current().id()
-        ));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        TempDir(dir)
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
 
 const SI: LogStyle = LogStyle {
     other_units: false,
