@@ -3,7 +3,6 @@
 //! write (with the truth), in several units and column orders, and broken
 //! in the ways users break them.
 
-
 use super::{angle_states, quaternion_blocks, ModelReplay, ModelReplayError, RunOptions};
 use crate::harness::TempDir;
 use crate::vehicles::rover::{rover_replay as rover, write_log, LogStyle, Rover, DRIVE_STEPS};
