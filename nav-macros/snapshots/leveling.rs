@@ -360,6 +360,7 @@ impl ::nav_runtime::model::Model<6, f64> for Leveling6 {
     ];
     const OPS_PROPAGATE_COVARIANCE: usize = 289;
     const OPS_JACOBIAN: usize = 12;
+    const ZERO_IS_FIXED: bool = false;
     /**One Euler step `x + f(x, u, p) dt`.
 
 Total ops: 45*/

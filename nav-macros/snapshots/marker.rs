@@ -407,6 +407,7 @@ impl ::nav_runtime::model::Model<9, f64> for Marker9 {
     ];
     const OPS_PROPAGATE_COVARIANCE: usize = 683;
     const OPS_JACOBIAN: usize = 114;
+    const ZERO_IS_FIXED: bool = false;
     /**The next state `f(x, u, p, dt)` (noise-free).
 
 Total ops: 80*/

@@ -870,6 +870,7 @@ impl ::nav_runtime::model::Model<25, f64> for Sdins25 {
     ];
     const OPS_PROPAGATE_COVARIANCE: usize = (391 + Self::PROPAGATION_STRUCTURE.ops(25));
     const OPS_JACOBIAN: usize = 248;
+    const ZERO_IS_FIXED: bool = true;
     /**One Euler step `x + f(x, u, p) dt`.
 
 Total ops: 251*/

@@ -251,6 +251,7 @@ impl ::nav_runtime::model::Model<3, f64> for VelocityFilter {
     ];
     const OPS_PROPAGATE_COVARIANCE: usize = 9;
     const OPS_JACOBIAN: usize = 0;
+    const ZERO_IS_FIXED: bool = true;
     /**The next state `f(x, u, p, dt)` (noise-free).
 
 Total ops: 2*/
@@ -1136,6 +1137,7 @@ impl ::nav_runtime::model::Model<9, f64> for Nav9 {
     ];
     const OPS_PROPAGATE_COVARIANCE: usize = 258;
     const OPS_JACOBIAN: usize = 9;
+    const ZERO_IS_FIXED: bool = false;
     /**One Euler step `x + f(x, u, p) dt`.
 
 Total ops: 30*/

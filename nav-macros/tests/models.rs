@@ -602,3 +602,48 @@ fn single_precision_filter_follows_double_with_every_discretization() {
         assert_eq!(single.counters().covariance_repairs, 0, "{method:?}");
     }
 }
+
+nav_runtime::model! {
+    /// An error model: `F x` and noise only.
+    model ErrorOnly {
+        states { e: 2 }
+        inputs { rate }
+        noise { w: 2 }
+        continuous {
+            d/dt e = [rate * e[1] + w[0], -rate * e[0] + sin(e[1]) + w[1]];
+        }
+        sensor Fix: 1 { h = [e[0]]; }
+    }
+}
+nav_runtime::model! {
+    /// The same with a forcing input: zero is not kept.
+    model Forced {
+        states { e: 2 }
+        inputs { rate, push }
+        noise { w: 2 }
+        continuous {
+            d/dt e = [rate * e[1] + w[0] + push, -rate * e[0] + cos(e[1]) + w[1]];
+        }
+        sensor Fix: 1 { h = [e[0]]; }
+    }
+}
+
+/// `Model::ZERO_IS_FIXED` is proved symbolically: true only where the
+/// transition of the zero state is zero for every input and parameter.
+#[test]
+fn zero_is_fixed_only_where_the_transition_keeps_zero() {
+    let cases = [
+        ("ErrorOnly", <ErrorOnly as Model<2>>::ZERO_IS_FIXED, true),
+        ("Forced", <Forced as Model<2>>::ZERO_IS_FIXED, false),
+        ("Leveling6", <Leveling6 as Model<6>>::ZERO_IS_FIXED, false),
+        ("Marker9", <Marker9 as Model<9>>::ZERO_IS_FIXED, false),
+        ("Everything", <Everything as Model<3>>::ZERO_IS_FIXED, false),
+    ];
+    for (name, got, want) in cases {
+        assert_eq!(got, want, "{name}");
+    }
+    // Where it holds, skipping the transition at zero is exact.
+    let u = ErrorOnlyInput { rate: 0.3 };
+    let x = <ErrorOnly as Model<2>>::transition(&SVector::zeros(), &u, &Default::default(), 0.1);
+    assert_eq!(x, SVector::<f64, 2>::zeros());
+}

@@ -74,6 +74,11 @@ pub trait Model<const N: usize, T: Real = f64>: Sized + 'static {
     const OPS_PROPAGATE_COVARIANCE: usize;
     /// Arithmetic operations in the generated [`Model::jacobian`].
     const OPS_JACOBIAN: usize;
+    /// The transition maps the zero state to itself for every input and
+    /// parameter (an error-state model between feedbacks): the filter then
+    /// skips evaluating it at `x = 0`. The generator proves it symbolically;
+    /// `false` (the default) is always safe.
+    const ZERO_IS_FIXED: bool = false;
 
     /// One step of the state: `x + f dt` (continuous, Euler) or `f(x, ..., dt)`.
     fn transition(x: &SVector<T, N>, u: &Self::Input, p: &Self::Params, dt: T) -> SVector<T, N>;

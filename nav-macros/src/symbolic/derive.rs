@@ -30,6 +30,10 @@ pub struct Derived {
     /// The structure and coefficients of `Phi P Phi^T + Qd`.
     pub propagation: Propagation,
     pub sensors: Vec<DerivedSensor>,
+    /// The transition maps the zero state to itself for every input and
+    /// parameter (symbolically: every entry simplifies to 0 at `x = 0`), as
+    /// an error-state model does between feedbacks.
+    pub zero_is_fixed: bool,
 }
 
 /// `P <- Phi P Phi^T + Qd` as the runtime's structured kernel takes it
@@ -270,7 +274,13 @@ pub fn derive(lowered: Lowered, nw: usize) -> Derived {
         })
         .collect();
 
+    let is_state = |s: Sym| matches!(s, Sym::State(_));
+    let mut memo = HashMap::new();
+    let zero_is_fixed = transition
+        .iter()
+        .all(|&t| g.substitute_zero(t, &is_state, &mut memo) == Graph::ZERO);
     Derived {
+        zero_is_fixed,
         graph,
         kind,
         n,

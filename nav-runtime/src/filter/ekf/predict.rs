@@ -83,7 +83,14 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
         let prev = self.p;
         let x_new = match method {
             Discretization::FirstOrder => {
-                let x_new = Mo::transition(&self.x, u, par, dt);
+                // An error-state filter's state is zero after every
+                // feedback, and its transition keeps it there: nothing to
+                // evaluate (the inputs were checked finite above).
+                let x_new = if Mo::ZERO_IS_FIXED && self.x.iter().all(|v| *v == T::zero()) {
+                    self.x
+                } else {
+                    Mo::transition(&self.x, u, par, dt)
+                };
                 if !all_finite(x_new.as_slice()) {
                     return Err(not_finite);
                 }
