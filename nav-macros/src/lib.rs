@@ -347,8 +347,10 @@
 //! For `pub model Foo` with `N` state scalars and `NW` noise scalars:
 //!
 //! - `pub struct Foo;` implementing `nav_runtime::model::Model<N>` (`NAME`,
-//!   `DISCRETE`, `STATE_NAMES`, `JACOBIAN_SPARSITY`, `OPS_*`, `transition`,
-//!   `jacobian`, `process_noise`, `propagate_covariance`), with inherent items:
+//!   `DISCRETE`, `STATE_NAMES`, `JACOBIAN_SPARSITY`, `OPS_*`,
+//!   `ZERO_IS_FIXED`, `transition`, `jacobian`, `process_noise`,
+//!   `propagate_covariance`; `Model<N, f32>` with `scalar f32;`, and `f32`
+//!   wherever `f64` stands below), with inherent items:
 //!   - `Foo::N`, `Foo::NW`, and one index constant per state block, the index
 //!     of its first scalar in SCREAMING_CASE (`Foo::VELOCITY`);
 //!   - `Foo::UNUSED_STATES`: the state scalars no sensor depends on (see
@@ -361,6 +363,10 @@
 //!     or `quaternion` (see "States kept on a manifold");
 //!   - `Foo::OPS_TRANSITION`, `OPS_DERIVATIVE`, `OPS_JACOBIAN`,
 //!     `OPS_NOISE_JACOBIAN`, `OPS_PROCESS_NOISE`, `OPS_PROPAGATE_COVARIANCE`.
+//!   - `ZERO_IS_FIXED` (in the `Model` impl) is `true` when every entry of
+//!     the transition simplifies to zero at `x = 0` for any input and
+//!     parameter, as in an error-state model; the filter then skips the
+//!     transition of a zero state (exactly: it would return zero).
 //! - `FooState`, `FooInput`, `FooParams`, `FooNoise`: structs with one public
 //!   field per entry (`f64`, `SVector<f64, n>` or `SMatrix<f64, r, c>`),
 //!   deriving `Clone, Copy, Debug, Default, PartialEq`, implementing
