@@ -263,8 +263,10 @@ mod tests {
         );
         assert_eq!(Sdins25Composed::UNUSED_STATES, &[] as &[&str]);
         // Error-state models: the filter skips the transition at zero.
-        assert!(<Sdins25Composed as Model<25>>::ZERO_IS_FIXED);
-        assert!(<mono::Sdins25 as Model<25>>::ZERO_IS_FIXED);
+        const {
+            assert!(<Sdins25Composed as Model<25>>::ZERO_IS_FIXED);
+            assert!(<mono::Sdins25 as Model<25>>::ZERO_IS_FIXED);
+        }
         assert_eq!(Sdins20::N, 20);
         assert_eq!(Sdins20::UNUSED_STATES, &["position_error[1]"]);
     }

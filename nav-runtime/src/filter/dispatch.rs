@@ -12,6 +12,9 @@
 //! still the same on every CPU (the portable path calls the exact software
 //! `fma`), but they differ from the default build in the last bits.
 
+/// Whether the kernels fuse their multiply-adds (the `fma` feature).
+pub(crate) const FUSED: bool = cfg!(feature = "fma");
+
 /// Whether the CPU executes AVX instructions (and, in the `fma` build,
 /// FMA ones; std caches the answer).
 #[cfg(all(feature = "std", target_arch = "x86_64"))]
@@ -49,7 +52,8 @@ macro_rules! avx_dispatch {
             $portable::<$($c,)* false>($($arg),*)
         }
     };
-    // The same for a kernel generic over the scalar (`f32` or `f64`).
+    // The same for a kernel generic over the scalar (`f32` or `f64`), whose
+    // portable body also takes a last `const FUSED: bool` (see `FUSED`).
     (
         $(#[$meta:meta])*
         $vis:vis fn $name:ident<$t:ident: Real, $(const $c:ident: usize),*>($($arg:ident: $ty:ty),* $(,)?)
@@ -63,14 +67,14 @@ macro_rules! avx_dispatch {
                 #[cfg_attr(not(feature = "fma"), target_feature(enable = "avx"))]
                 #[cfg_attr(feature = "fma", target_feature(enable = "avx,fma"))]
                 unsafe fn with_avx<$t: $crate::real::Real, $(const $c: usize),*>($($arg: $ty),*) $(-> $ret)? {
-                    $portable::<$t, $($c,)* true>($($arg),*)
+                    $portable::<$t, $($c,)* true, { $crate::dispatch::FUSED }>($($arg),*)
                 }
                 if $crate::dispatch::has_avx() {
                     // SAFETY: the CPU executes AVX instructions (checked above).
                     return unsafe { with_avx::<$t, $($c),*>($($arg),*) };
                 }
             }
-            $portable::<$t, $($c,)* false>($($arg),*)
+            $portable::<$t, $($c,)* false, { $crate::dispatch::FUSED }>($($arg),*)
         }
     };
 }

@@ -99,7 +99,7 @@ crate::dispatch::avx_dispatch! {
 
 /// The four steps of [`propagate`].
 #[inline(always)]
-fn propagate_steps<T: Real, const N: usize, const D: usize, const AVX: bool>(
+fn propagate_steps<T: Real, const N: usize, const D: usize, const AVX: bool, const FUSED: bool>(
     cov: &mut SMatrix<T, N, N>,
     structure: &Structure<'_>,
     coefficients: &[T],
@@ -118,7 +118,7 @@ fn propagate_steps<T: Real, const N: usize, const D: usize, const AVX: bool>(
     let mut a = [[T::zero(); N]; D];
     for ((row, &i), &(columns, values)) in a.iter_mut().zip(s.rows).zip(&terms) {
         let base = if s.identity { Some(&cols[i]) } else { None };
-        combine_rows::<T, N, AVX>(row, base, columns, values, cols);
+        combine_rows::<T, N, AVX, FUSED>(row, base, columns, values, cols);
     }
     // Step 2: rows and columns D of P become those of A (the U entries are
     // final). Columns first, then rows: afterwards every column `k` holds
@@ -145,7 +145,7 @@ fn propagate_steps<T: Real, const N: usize, const D: usize, const AVX: bool>(
             } else {
                 None
             };
-            *column = combination::<T, N, D>(base, columns, values, cols, d0);
+            *column = combination::<T, N, D, FUSED>(base, columns, values, cols, d0);
         }
         for (c, column) in block.iter().enumerate() {
             for (r, &v) in column.iter().enumerate().take(c + 1) {
@@ -158,7 +158,7 @@ fn propagate_steps<T: Real, const N: usize, const D: usize, const AVX: bool>(
             for (&j, &(columns, values)) in s.rows[r..].iter().zip(&terms[r..]) {
                 let mut v = if s.identity { ar[j] } else { T::zero() };
                 for (&k, &c) in columns.iter().zip(values) {
-                    v = v.plus_product(c, ar[k]);
+                    v = v.plus_product::<FUSED>(c, ar[k]);
                 }
                 cols[j][i] = v;
                 cols[i][j] = v;
@@ -193,7 +193,7 @@ const fn whole_row(avx: bool) -> usize {
 /// no column is left to a scalar loop (`N` is a constant: only one arm of
 /// the `match` survives compilation).
 #[inline(always)]
-fn combine_rows<T: Real, const N: usize, const AVX: bool>(
+fn combine_rows<T: Real, const N: usize, const AVX: bool, const FUSED: bool>(
     row: &mut [T; N],
     base: Option<&[T; N]>,
     columns: &[usize],
@@ -201,32 +201,32 @@ fn combine_rows<T: Real, const N: usize, const AVX: bool>(
     cols: &[[T; N]; N],
 ) {
     if N <= whole_row(AVX) {
-        block::<T, N, N>(row, base, columns, values, cols, 0);
+        block::<T, N, N, FUSED>(row, base, columns, values, cols, 0);
         return;
     }
     let full = N / BLOCK - 1;
     for b in 0..full {
-        block::<T, N, BLOCK>(row, base, columns, values, cols, b * BLOCK);
+        block::<T, N, BLOCK, FUSED>(row, base, columns, values, cols, b * BLOCK);
     }
     let c0 = full * BLOCK;
     let args = (row, base, columns, values, cols);
     match N % BLOCK {
-        0 => block::<T, N, 12>(args.0, args.1, args.2, args.3, args.4, c0),
+        0 => block::<T, N, 12, FUSED>(args.0, args.1, args.2, args.3, args.4, c0),
         r => {
             let (first, second) = split_remainder(r);
             let mid = c0 + first;
             match (first, second) {
-                (6, 7) => pair::<T, N, 6, 7>(args, c0, mid),
-                (7, 7) => pair::<T, N, 7, 7>(args, c0, mid),
-                (7, 8) => pair::<T, N, 7, 8>(args, c0, mid),
-                (8, 8) => pair::<T, N, 8, 8>(args, c0, mid),
-                (8, 9) => pair::<T, N, 8, 9>(args, c0, mid),
-                (9, 9) => pair::<T, N, 9, 9>(args, c0, mid),
-                (9, 10) => pair::<T, N, 9, 10>(args, c0, mid),
-                (10, 10) => pair::<T, N, 10, 10>(args, c0, mid),
-                (10, 11) => pair::<T, N, 10, 11>(args, c0, mid),
-                (11, 11) => pair::<T, N, 11, 11>(args, c0, mid),
-                _ => pair::<T, N, 11, 12>(args, c0, mid),
+                (6, 7) => pair::<T, N, 6, 7, FUSED>(args, c0, mid),
+                (7, 7) => pair::<T, N, 7, 7, FUSED>(args, c0, mid),
+                (7, 8) => pair::<T, N, 7, 8, FUSED>(args, c0, mid),
+                (8, 8) => pair::<T, N, 8, 8, FUSED>(args, c0, mid),
+                (8, 9) => pair::<T, N, 8, 9, FUSED>(args, c0, mid),
+                (9, 9) => pair::<T, N, 9, 9, FUSED>(args, c0, mid),
+                (9, 10) => pair::<T, N, 9, 10, FUSED>(args, c0, mid),
+                (10, 10) => pair::<T, N, 10, 10, FUSED>(args, c0, mid),
+                (10, 11) => pair::<T, N, 10, 11, FUSED>(args, c0, mid),
+                (11, 11) => pair::<T, N, 11, 11, FUSED>(args, c0, mid),
+                _ => pair::<T, N, 11, 12, FUSED>(args, c0, mid),
             }
         }
     }
@@ -249,18 +249,18 @@ type RowArgs<'a, T, const N: usize> = (
 
 /// Two consecutive blocks of `A` and `B` columns starting at `c0` and `c1`.
 #[inline(always)]
-fn pair<T: Real, const N: usize, const A: usize, const B: usize>(
+fn pair<T: Real, const N: usize, const A: usize, const B: usize, const FUSED: bool>(
     (row, base, columns, values, cols): RowArgs<'_, T, N>,
     c0: usize,
     c1: usize,
 ) {
-    block::<T, N, A>(row, base, columns, values, cols, c0);
-    block::<T, N, B>(row, base, columns, values, cols, c1);
+    block::<T, N, A, FUSED>(row, base, columns, values, cols, c0);
+    block::<T, N, B, FUSED>(row, base, columns, values, cols, c1);
 }
 
 /// Columns `c0..c0 + B` of `row = base + sum_e values[e] P[columns[e], :]`.
 #[inline(always)]
-fn block<T: Real, const N: usize, const B: usize>(
+fn block<T: Real, const N: usize, const B: usize, const FUSED: bool>(
     row: &mut [T; N],
     base: Option<&[T; N]>,
     columns: &[usize],
@@ -268,13 +268,15 @@ fn block<T: Real, const N: usize, const B: usize>(
     cols: &[[T; N]; N],
     c0: usize,
 ) {
-    row[c0..c0 + B].copy_from_slice(&combination::<T, N, B>(base, columns, values, cols, c0));
+    row[c0..c0 + B].copy_from_slice(&combination::<T, N, B, FUSED>(
+        base, columns, values, cols, c0,
+    ));
 }
 
 /// `base[c0..c0 + B] + sum_e values[e] P[columns[e], c0..c0 + B]` (rows of
 /// the symmetric `P` are its columns), accumulated in registers.
 #[inline(always)]
-fn combination<T: Real, const N: usize, const B: usize>(
+fn combination<T: Real, const N: usize, const B: usize, const FUSED: bool>(
     base: Option<&[T; N]>,
     columns: &[usize],
     values: &[T],
@@ -287,7 +289,7 @@ fn combination<T: Real, const N: usize, const B: usize>(
     }
     for (&k, &c) in columns.iter().zip(values) {
         for (x, &y) in acc.iter_mut().zip(&cols[k][c0..c0 + B]) {
-            *x = x.plus_product(c, y);
+            *x = x.plus_product::<FUSED>(c, y);
         }
     }
     acc
@@ -371,14 +373,38 @@ mod tests {
         assert_eq!(got, got.transpose(), "result not exactly symmetric");
         // The vector width chosen at run time never changes a bit.
         let mut portable = p;
-        propagate_steps::<f64, N, D, false>(&mut portable, &structure, &coefficients, &noise);
+        propagate_steps::<f64, N, D, false, { crate::dispatch::FUSED }>(
+            &mut portable,
+            &structure,
+            &coefficients,
+            &noise,
+        );
         assert!(
             got.iter()
                 .zip(&portable)
                 .all(|(a, b)| a.to_bits() == b.to_bits()),
             "dispatched and portable results differ"
         );
+        // Fused multiply-adds (the `fma` build) also equal the dense
+        // product, and differ from the unfused kernel in the last bits only.
+        let (mut fused, mut unfused) = (p, p);
+        propagate_steps::<f64, N, D, false, true>(&mut fused, &structure, &coefficients, &noise);
+        propagate_steps::<f64, N, D, false, false>(&mut unfused, &structure, &coefficients, &noise);
+        let err = (fused - want).amax() / want.amax();
+        assert!(err < 1e-13, "fused: relative error {err}");
+        assert_eq!(
+            fused,
+            fused.transpose(),
+            "fused result not exactly symmetric"
+        );
+        let apart = (fused - unfused).amax() / want.amax();
+        assert!(apart < 1e-14, "fused and unfused {apart} apart");
+        FUSED_DIFFERS.fetch_or(fused != unfused, core::sync::atomic::Ordering::Relaxed);
     }
+
+    /// Whether some case's fused result differed from the unfused one.
+    static FUSED_DIFFERS: core::sync::atomic::AtomicBool =
+        core::sync::atomic::AtomicBool::new(false);
 
     #[test]
     fn equals_the_dense_product() {
@@ -392,6 +418,8 @@ mod tests {
             for_each_remainder(seed);
             check::<3, 0>([], true, seed);
         }
+        // The fused kernel really fuses: its rounding is not the unfused one.
+        assert!(FUSED_DIFFERS.load(core::sync::atomic::Ordering::Relaxed));
     }
 
     /// Every split of the last blocks (N = 25 to 35 covers remainders 1 to 11).

@@ -25,10 +25,12 @@ pub trait Real: nalgebra::RealField + Copy + Default + sealed::Sealed {
     fn wrap_angle(self) -> Self;
 
     /// `self + a b`, the step of the covariance kernels' sums: one rounding
-    /// (a fused multiply-add) in the `fma` build, two otherwise.
+    /// (a fused multiply-add) if `FUSED`, two otherwise. The kernels take
+    /// `FUSED` as a parameter, [`crate::dispatch::FUSED`] (the `fma`
+    /// feature) in the filter, both in their tests.
     #[inline(always)]
-    fn plus_product(self, a: Self, b: Self) -> Self {
-        if cfg!(feature = "fma") {
+    fn plus_product<const FUSED: bool>(self, a: Self, b: Self) -> Self {
+        if FUSED {
             a.mul_add(b, self)
         } else {
             self + a * b

@@ -23,7 +23,12 @@ crate::dispatch::avx_dispatch! {
 
 /// The pass of [`covariance_is_clean`].
 #[inline(always)]
-pub(super) fn covariance_is_clean_pass<T: Real, const N: usize, const AVX: bool>(
+pub(super) fn covariance_is_clean_pass<
+    T: Real,
+    const N: usize,
+    const AVX: bool,
+    const FUSED: bool,
+>(
     p: &SMatrix<T, N, N>,
 ) -> bool {
     let mut acc = [T::zero(); 8];

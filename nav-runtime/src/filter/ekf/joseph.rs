@@ -18,7 +18,7 @@ pub(crate) fn joseph_update<T: Real, const N: usize, const M: usize>(
     s: &SMatrix<T, M, M>,
 ) -> SMatrix<T, N, N> {
     let mut out = *p;
-    let _ = joseph_lower(&mut out, k, u, s);
+    let _ = joseph_lower::<T, N, M, false>(&mut out, k, u, s);
     mirror_lower(&mut out);
     out
 }
@@ -37,7 +37,7 @@ pub(crate) fn joseph_update<T: Real, const N: usize, const M: usize>(
 /// so the prior's upper triangle (equal to its lower one, `P` being exactly
 /// symmetric) stays available to undo the update.
 #[inline(always)]
-pub(super) fn joseph_lower<T: Real, const N: usize, const M: usize>(
+pub(super) fn joseph_lower<T: Real, const N: usize, const M: usize, const FUSED: bool>(
     p: &mut SMatrix<T, N, N>,
     k: &SMatrix<T, N, M>,
     u: &SMatrix<T, N, M>,
@@ -71,7 +71,7 @@ pub(super) fn joseph_lower<T: Real, const N: usize, const M: usize>(
         };
         let mut v = col0[c];
         for m in 0..M {
-            v = term(v, wd[m][c], b0[m], kd[m][c], a0[m]);
+            v = term::<T, FUSED>(v, wd[m][c], b0[m], kd[m][c], a0[m]);
         }
         col0[c] = v;
         acc[c] += v;
@@ -79,8 +79,8 @@ pub(super) fn joseph_lower<T: Real, const N: usize, const M: usize>(
             let (mut v0, mut v1) = (col0[r], col1[r]);
             for m in 0..M {
                 let (k_r, w_r) = (kd[m][r], wd[m][r]);
-                v0 = term(v0, w_r, b0[m], k_r, a0[m]);
-                v1 = term(v1, w_r, b1[m], k_r, a1[m]);
+                v0 = term::<T, FUSED>(v0, w_r, b0[m], k_r, a0[m]);
+                v1 = term::<T, FUSED>(v1, w_r, b1[m], k_r, a1[m]);
             }
             col0[r] = v0;
             col1[r] = v1;
@@ -95,7 +95,7 @@ pub(super) fn joseph_lower<T: Real, const N: usize, const M: usize>(
         if let Some(col) = cols.last_mut() {
             let mut v = col[c];
             for m in 0..M {
-                v = term(v, wd[m][c], b[m], kd[m][c], a[m]);
+                v = term::<T, FUSED>(v, wd[m][c], b[m], kd[m][c], a[m]);
             }
             col[c] = v;
             acc[c] += v;
@@ -105,12 +105,12 @@ pub(super) fn joseph_lower<T: Real, const N: usize, const M: usize>(
     diagonal_ok && acc.iter().all(|x| x.is_finite())
 }
 
-/// One term of a column of eq. U6: `v + (w b - k a)`; in the `fma` build
-/// two fused multiply-adds, `fma(-k, a, fma(w, b, v))`.
+/// One term of a column of eq. U6: `v + (w b - k a)`; `FUSED`: two fused
+/// multiply-adds, `fma(-k, a, fma(w, b, v))`.
 #[inline(always)]
-fn term<T: Real>(v: T, w: T, b: T, k: T, a: T) -> T {
-    if cfg!(feature = "fma") {
-        v.plus_product(w, b).plus_product(-k, a)
+fn term<T: Real, const FUSED: bool>(v: T, w: T, b: T, k: T, a: T) -> T {
+    if FUSED {
+        v.plus_product::<true>(w, b).plus_product::<true>(-k, a)
     } else {
         v + (w * b - k * a)
     }
@@ -136,7 +136,13 @@ crate::dispatch::avx_dispatch! {
 
 /// The body of [`joseph_in_place`].
 #[inline(always)]
-pub(super) fn joseph_in_place_steps<T: Real, const N: usize, const M: usize, const AVX: bool>(
+pub(super) fn joseph_in_place_steps<
+    T: Real,
+    const N: usize,
+    const M: usize,
+    const AVX: bool,
+    const FUSED: bool,
+>(
     p: &mut SMatrix<T, N, N>,
     k: &SMatrix<T, N, M>,
     u: &SMatrix<T, N, M>,
@@ -144,7 +150,7 @@ pub(super) fn joseph_in_place_steps<T: Real, const N: usize, const M: usize, con
     floor: T,
 ) -> Result<u32, FilterError> {
     let prior_diagonal = p.diagonal();
-    if joseph_lower(p, k, u, s) {
+    if joseph_lower::<T, N, M, FUSED>(p, k, u, s) {
         mirror_lower(p);
         return Ok(0);
     }

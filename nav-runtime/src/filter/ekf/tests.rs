@@ -102,13 +102,40 @@ fn joseph_vector_width_never_changes_a_bit() {
         let k = u * s.try_inverse().unwrap();
         let (mut dispatched, mut portable) = (p, p);
         let a = joseph_in_place(&mut dispatched, &k, &u, &s, 0.0);
-        let b = joseph_in_place_steps::<f64, 25, 3, false>(&mut portable, &k, &u, &s, 0.0);
+        let b = joseph_in_place_steps::<f64, 25, 3, false, { crate::dispatch::FUSED }>(
+            &mut portable,
+            &k,
+            &u,
+            &s,
+            0.0,
+        );
         assert_eq!(a, b);
         assert!(dispatched
             .iter()
             .zip(&portable)
             .all(|(x, y)| x.to_bits() == y.to_bits()));
     }
+}
+
+/// The fused Joseph kernel (the `fma` build) equals the unfused one to the
+/// last bits, and is not the same rounding.
+#[test]
+fn fused_joseph_differs_only_in_the_last_bits() {
+    let mut g = Gauss::new(11);
+    let mut differs = false;
+    for _ in 0..20 {
+        let (p, _, _, u, s) = random_update::<25, 3>(&mut g);
+        let k = u * s.try_inverse().unwrap();
+        let (mut fused, mut unfused) = (p, p);
+        let a = joseph_in_place_steps::<f64, 25, 3, false, true>(&mut fused, &k, &u, &s, 0.0);
+        let b = joseph_in_place_steps::<f64, 25, 3, false, false>(&mut unfused, &k, &u, &s, 0.0);
+        assert_eq!(a, b);
+        assert_eq!(fused, fused.transpose());
+        let apart = max_rel(&fused, &unfused);
+        assert!(apart < 1e-12, "{apart}");
+        differs |= fused != unfused;
+    }
+    assert!(differs, "the fused kernel rounds as the unfused one");
 }
 
 #[test]

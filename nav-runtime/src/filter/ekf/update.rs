@@ -259,7 +259,12 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
             let ki = ui / si;
             dx += ki * ei;
             // Scalar Joseph form: P - k u^T - u k^T + k s k^T (eq. U6, M = 1).
-            let _ = joseph_lower(&mut p, &ki, &ui, &SMatrix::<T, 1, 1>::new(si));
+            let _ = joseph_lower::<T, N, 1, { crate::dispatch::FUSED }>(
+                &mut p,
+                &ki,
+                &ui,
+                &SMatrix::<T, 1, 1>::new(si),
+            );
             mirror_lower(&mut p);
         }
         let nis = nis.to_f64();
