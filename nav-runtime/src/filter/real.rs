@@ -26,8 +26,8 @@ pub trait Real: nalgebra::RealField + Copy + Default + sealed::Sealed {
 
     /// `self + a b`, the step of the covariance kernels' sums: one rounding
     /// (a fused multiply-add) if `FUSED`, two otherwise. The kernels take
-    /// `FUSED` as a parameter, [`crate::dispatch::FUSED`] (the `fma`
-    /// feature) in the filter, both in their tests.
+    /// `FUSED` as a parameter: the `fma` feature's choice in the filter,
+    /// both in their tests.
     #[inline(always)]
     fn plus_product<const FUSED: bool>(self, a: Self, b: Self) -> Self {
         if FUSED {
