@@ -7,6 +7,7 @@ use nav_runtime::log::{LogDir, MagRow, ReferenceRow, TruthRow};
 use serde_json::{json, Map, Value};
 
 use super::reference::{EstimatePoint, Reference};
+use super::running_score::{REFERENCE_COLUMNS, TRUTH_COLUMNS};
 use crate::ahrs::declination_from;
 use crate::harness::RunTable;
 use crate::navigator::SensorHealth;
@@ -114,23 +115,7 @@ pub fn at(points: &[EstimatePoint], t: f64, j: &mut usize) -> Option<EstimatePoi
 /// wrapped differences (deg) and, with positions, the north and east
 /// differences (m).
 pub fn difference_table(reference: &Reference, points: &[EstimatePoint]) -> RunTable {
-    let mut table = RunTable::new(
-        "reference_difference",
-        &[
-            "t",
-            "roll_deg",
-            "pitch_deg",
-            "yaw_deg",
-            "ref_roll_deg",
-            "ref_pitch_deg",
-            "ref_yaw_deg",
-            "diff_roll_deg",
-            "diff_pitch_deg",
-            "diff_yaw_deg",
-            "diff_n_m",
-            "diff_e_m",
-        ],
-    );
+    let mut table = RunTable::new("reference_difference", &REFERENCE_COLUMNS);
     let mut j = 0;
     for (i, &t) in reference.t.iter().enumerate() {
         let Some(e) = at(points, t, &mut j) else {
@@ -170,10 +155,7 @@ pub fn attitude_errors(
     truth: &[TruthRow],
     points: &[EstimatePoint],
 ) -> Option<([f64; 3], f64, RunTable)> {
-    let mut table = RunTable::new(
-        "attitude_errors",
-        &["t", "err_roll_deg", "err_pitch_deg", "err_yaw_deg"],
-    );
+    let mut table = RunTable::new("attitude_errors", &TRUTH_COLUMNS);
     let mut sum = [0.0; 3];
     let mut j = 0;
     let (mut first, mut last, mut n) = (None, 0.0, 0usize);

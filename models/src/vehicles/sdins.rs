@@ -133,6 +133,23 @@ mod tests {
         B::from_fn(|i| a.get(i))
     }
 
+    /// A zero reading with noise variance 1e-4 per component of sensor `A`
+    /// (`f64` filter) and its twin `B` (`f32` filter).
+    fn fuse<A, B, const M: usize>(
+        double: &mut Ekf<Sdins25Composed, 25>,
+        single: &mut Ekf<Sdins25Single, 25, f32>,
+    ) where
+        A: Sensor<25, M, Model = Sdins25Composed, Aux = ()>,
+        B: Sensor<25, M, f32, Model = Sdins25Single, Aux = ()>,
+    {
+        let z = SVector::<f64, M>::zeros();
+        let r = SMatrix::<f64, M, M>::identity() * 1e-4;
+        double.update::<A, M>(&z, &r, &()).expect("f64 update");
+        single
+            .update::<B, M>(&z.cast(), &r.cast(), &())
+            .expect("f32 update");
+    }
+
     /// The SDINS-25 error filter in `f32` and in `f64` over 500 s from the
     /// same inputs (IMU at 100 Hz, covariance steps of `dt` s), with DVL,
     /// depth and compass updates at 1 Hz. Returns the largest relative
@@ -182,28 +199,10 @@ mod tests {
             if k % per_second != per_second - 1 {
                 continue;
             }
-            let z3 = SVector::<f64, 3>::zeros();
-            let r3 = SMatrix::<f64, 3, 3>::identity() * 1e-4;
-            let r1 = SMatrix::<f64, 1, 1>::new(1e-4);
-            double
-                .update::<Sdins25ComposedDvl, 3>(&z3, &r3, &())
-                .expect("f64 dvl");
-            single
-                .update::<Sdins25SingleDvl, 3>(&z3.cast(), &r3.cast(), &())
-                .expect("f32 dvl");
-            let z1 = SVector::<f64, 1>::zeros();
-            double
-                .update::<Sdins25ComposedDepth, 1>(&z1, &r1, &())
-                .expect("f64 depth");
-            single
-                .update::<Sdins25SingleDepth, 1>(&z1.cast(), &r1.cast(), &())
-                .expect("f32 depth");
-            double
-                .update::<Sdins25ComposedCompass, 1>(&z1, &r1, &())
-                .expect("f64 compass");
-            single
-                .update::<Sdins25SingleCompass, 1>(&z1.cast(), &r1.cast(), &())
-                .expect("f32 compass");
+            // A zero reading of each sensor, in both filters.
+            fuse::<Sdins25ComposedDvl, Sdins25SingleDvl, 3>(&mut double, &mut single);
+            fuse::<Sdins25ComposedDepth, Sdins25SingleDepth, 1>(&mut double, &mut single);
+            fuse::<Sdins25ComposedCompass, Sdins25SingleCompass, 1>(&mut double, &mut single);
             for i in 0..25 {
                 let a = double.covariance()[(i, i)].sqrt();
                 let b = f64::from(single.covariance()[(i, i)]).sqrt();
