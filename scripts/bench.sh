@@ -77,7 +77,7 @@ for line in sys.stdin:
     measured=$(mktemp)
     trap 'rm -f "$measured"' EXIT
     printf "%-10s %12s %12s %12s %18s %14s\n" model generated dense hand-written "dense incl. F, Qd" generated/dense
-    for m in sdins25 leveling6 marker9; do
+    for m in sdins25 leveling6 marker9 px4_ekf24; do
         g=$(count PROPAGATE_ONLY "$m/generated" '*generated_propagate*' "$propagation_bin")
         d=$(count PROPAGATE_ONLY "$m/dense" '*dense_propagate*' "$propagation_bin")
         dm=$(count PROPAGATE_ONLY "$m/dense_with_model" '*dense_propagate_with_model*' "$propagation_bin")
@@ -92,6 +92,11 @@ for line in sys.stdin:
     printf "\n%-20s %12s %12s %14s\n" "SDINS-25 precision" f64 f32 f32/f64
     printf "%-20s %12s %12s %14.3f\n" propagation "$p64" "$p32" "$(echo "$p32 / $p64" | bc -l)"
     echo "propagate.sdins25_f32 = $p32" >>"$measured"
+    # PX4's 24-state model in both precisions.
+    x64=$(count PROPAGATE_ONLY px4_ekf24_precision/generated_f64 '*px4_propagate_f64*' "$propagation_bin")
+    x32=$(count PROPAGATE_ONLY px4_ekf24_precision/generated_f32 '*px4_propagate_f32*' "$propagation_bin")
+    printf "%-20s %12s %12s %14.3f\n" "PX4 24-state" "$x64" "$x32" "$(echo "$x32 / $x64" | bc -l)"
+    echo "propagate.px4_ekf24_f32 = $x32" >>"$measured"
     printf "\n%-20s %12s %12s %14s\n" "update (SDINS-25)" generated dense generated/dense
     for s in dvl compass usbl depth; do
         g=$(count UPDATE_ONLY "$s/generated" '*generated_update*' "$update_bin")
@@ -108,7 +113,7 @@ for line in sys.stdin:
     replay_instr=$(echo "$replay_out" | awk '/Collected/ { s += $4 } END { print s }')
     replay_samples=$(echo "$replay_out" | awk '/^samples/ { print $2 }')
     replay=$((replay_instr / replay_samples))
-    propagate=$(awk -F' = ' '/^propagate.sdins25/ { print $2 }' "$measured")
+    propagate=$(awk -F' = ' '$1 == "propagate.sdins25" { print $2 }' "$measured")
     printf "\n%-20s %12s %12s %14s\n" "replay (SDINS-25)" per-sample propagation ratio
     printf "%-20s %12s %12s %14.2f\n" "$replay_samples samples" "$replay" "$propagate" \
         "$(echo "$replay / $propagate" | bc -l)"

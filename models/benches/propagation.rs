@@ -14,7 +14,9 @@
 //!
 //! Group `propagate/sdins25_precision`: the composed SDINS-25 generated in
 //! `f64` (`generated_f64`, the baseline) and in `f32` (`generated_f32`,
-//! `scalar f32;`) at the same operating point.
+//! `scalar f32;`) at the same operating point; `propagate/px4_ekf24_precision`
+//! the same for PX4's 24-state model (`models::px4_ekf24`), which also has
+//! the group `propagate/px4_ekf24` of the variants above.
 //!
 //! Run: `cargo bench -p models --bench propagation` (ratios: `scripts/bench.sh`).
 
@@ -24,6 +26,7 @@ use common::*;
 use criterion::{criterion_group, Criterion};
 use models::leveling::model::Leveling6;
 use models::marker::model::Marker9;
+use models::px4_ekf24::{Px4Ekf24, Px4Ekf24Single};
 use models::sdins25::model::Sdins25;
 use models::vehicles::sdins::{Sdins25Composed, Sdins25Single};
 use nav_runtime::model::Model;
@@ -141,6 +144,82 @@ fn propagation(c: &mut Criterion) {
         0.02,
         |_| {},
     );
+    bench_model::<Px4Ekf24, 24>(
+        c,
+        "px4_ekf24",
+        px4_ekf24_point(),
+        px4_ekf24_covariance(),
+        0.01,
+        |_| {},
+    );
+    px4_precision(c);
+}
+
+/// PX4's model in both precisions, at the same point.
+type Px4Single = (
+    SVector<f32, 24>,
+    <Px4Ekf24Single as Model<24, f32>>::Input,
+    <Px4Ekf24Single as Model<24, f32>>::Params,
+    <Px4Ekf24Single as Model<24, f32>>::Noise,
+);
+
+fn px4_single_point() -> Px4Single {
+    let (x, u, p, q) = px4_ekf24_point();
+    (
+        x.map(|v| v as f32),
+        Record::from_fn(|i| u.get(i)),
+        Record::from_fn(|i| p.get(i)),
+        Record::from_fn(|i| q.get(i)),
+    )
+}
+
+#[inline(never)]
+fn px4_propagate_f64(
+    cov: &mut SMatrix<f64, 24, 24>,
+    point: &(
+        SVector<f64, 24>,
+        <Px4Ekf24 as Model<24>>::Input,
+        <Px4Ekf24 as Model<24>>::Params,
+        <Px4Ekf24 as Model<24>>::Noise,
+    ),
+) {
+    let (x, u, p, q) = point;
+    Px4Ekf24::propagate_covariance(cov, x, u, p, q, 0.01);
+}
+
+#[inline(never)]
+fn px4_propagate_f32(cov: &mut SMatrix<f32, 24, 24>, point: &Px4Single) {
+    let (x, u, p, q) = point;
+    Px4Ekf24Single::propagate_covariance(cov, x, u, p, q, 0.01);
+}
+
+fn px4_precision(c: &mut Criterion) {
+    let (p64, p32) = (px4_ekf24_point(), px4_single_point());
+    let c64 = px4_ekf24_covariance();
+    let c32 = c64.map(|v| v as f32);
+    let (mut a, mut b) = (c64, c32);
+    px4_propagate_f64(&mut a, &p64);
+    px4_propagate_f32(&mut b, &p32);
+    let worst = (0..24)
+        .map(|i| (a[(i, i)] - f64::from(b[(i, i)])).abs() / a[(i, i)])
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-5, "f32 propagation differs from f64 by {worst}");
+    let mut g = c.benchmark_group("propagate/px4_ekf24_precision");
+    g.bench_function("generated_f64", |bch| {
+        bch.iter_custom(|iters| {
+            time_in_place(iters, &c64, RESET_EVERY, |p| {
+                px4_propagate_f64(p, black_box(&p64))
+            })
+        })
+    });
+    g.bench_function("generated_f32", |bch| {
+        bch.iter_custom(|iters| {
+            time_in_place(iters, &c32, RESET_EVERY, |p| {
+                px4_propagate_f32(p, black_box(&p32))
+            })
+        })
+    });
+    g.finish();
 }
 
 /// The SDINS-25 operating point and covariance for the composed model in
@@ -284,6 +363,22 @@ fn only(which: &str) {
             }
             black_box((a, b));
         }
+        Some(("px4_ekf24_precision", v)) => {
+            let (p64, p32) = (px4_ekf24_point(), px4_single_point());
+            let mut a = px4_ekf24_covariance();
+            let mut b = a.map(|v| v as f32);
+            for _ in 0..calls {
+                match v {
+                    "generated_f64" => px4_propagate_f64(black_box(&mut a), &p64),
+                    "generated_f32" => px4_propagate_f32(black_box(&mut b), &p32),
+                    _ => panic!("unknown variant {v}"),
+                }
+            }
+            black_box((a, b));
+        }
+        Some(("px4_ekf24", v)) => {
+            run::<Px4Ekf24, 24>(v, calls, px4_ekf24_point(), px4_ekf24_covariance(), 0.01)
+        }
         Some(("sdins25", v)) => {
             run::<Sdins25, 25>(v, calls, sdins25_point(), sdins25_covariance(), DT_SDINS)
         }
@@ -293,7 +388,9 @@ fn only(which: &str) {
         Some(("marker9", v)) => {
             run::<Marker9, 9>(v, calls, marker9_point(), marker9_covariance(), 0.02)
         }
-        _ => panic!("PROPAGATE_ONLY={which}: expected <sdins25|leveling6|marker9>/<variant>"),
+        _ => panic!(
+            "PROPAGATE_ONLY={which}: expected <sdins25|leveling6|marker9|px4_ekf24>/<variant>"
+        ),
     }
 }
 

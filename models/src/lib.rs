@@ -12,6 +12,7 @@ pub mod marker;
 pub mod model_replay;
 pub mod navigator;
 pub mod preflight;
+pub mod px4_ekf24;
 pub mod replay;
 pub mod scenario_text;
 pub mod sdins25;

@@ -20,6 +20,7 @@ use models::leveling::model::{Leveling6, Leveling6Moving, Leveling6Stationary};
 use models::marker::model::{
     Marker9, Marker9Depth, Marker9Dvl, Marker9MarkerFix, Marker9MarkerRelative,
 };
+use models::px4_ekf24::{Px4Ekf24, Px4Ekf24Single};
 use models::sdins25::model::{
     Sdins25, Sdins25Compass, Sdins25CompassSmallAngle, Sdins25Depth, Sdins25Dvl, Sdins25Usbl,
 };
@@ -99,6 +100,8 @@ fn current() -> Counts {
     sensor!(c, Marker9Depth);
     sensor!(c, Marker9MarkerFix);
     sensor!(c, Marker9MarkerRelative);
+    discrete_model!(c, Px4Ekf24);
+    discrete_model!(c, Px4Ekf24Single);
     c
 }
 
@@ -322,5 +325,6 @@ fn propagation_counts_against_dense_and_minimum() {
     row::<Sdins25, 25>(&mut out, "Sdins25", Sdins25::OPS_PROCESS_NOISE);
     row::<Leveling6, 6>(&mut out, "Leveling6", Leveling6::OPS_PROCESS_NOISE);
     row::<Marker9, 9>(&mut out, "Marker9", Marker9::OPS_PROCESS_NOISE);
+    row::<Px4Ekf24, 24>(&mut out, "Px4Ekf24", Px4Ekf24::OPS_PROCESS_NOISE);
     eprintln!("{out}");
 }

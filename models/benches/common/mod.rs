@@ -7,6 +7,7 @@ use std::time::{Duration, Instant};
 
 use models::leveling::model::{Leveling6Input, Leveling6Noise, Leveling6Params};
 use models::marker::model::{Marker9Input, Marker9Noise, Marker9Params};
+use models::px4_ekf24::{Px4Ekf24Input, Px4Ekf24Noise, Px4Ekf24Params};
 use models::sdins25::model::{Sdins25Input, Sdins25Noise, Sdins25Params};
 use nav_runtime::attitude::Euler;
 use nav_runtime::model::{Model, Sensor};
@@ -107,6 +108,59 @@ pub fn sdins25_covariance() -> SMatrix<f64, 25, 25> {
 
 pub fn leveling6_covariance() -> SMatrix<f64, 6, 6> {
     covariance(&[0.5, 0.5, 0.5, 0.3, 0.3, 0.1])
+}
+
+/// PX4's 24-state model in forward flight at 100 Hz (summed IMU increments
+/// over 10 ms): pitched and heading NE at 5 m/s, a little wind.
+pub fn px4_ekf24_point() -> (
+    SVector<f64, 24>,
+    Px4Ekf24Input,
+    Px4Ekf24Params,
+    Px4Ekf24Noise,
+) {
+    let dt = 0.01;
+    let q = nav_runtime::nalgebra::UnitQuaternion::from_euler_angles(
+        2f64.to_radians(),
+        -3f64.to_radians(),
+        40f64.to_radians(),
+    );
+    let mut x = SVector::<f64, 24>::zeros();
+    x.fixed_rows_mut::<4>(0)
+        .copy_from_slice(&[q.w, q.i, q.j, q.k]);
+    let rest = [
+        3.8, 3.2, -0.4, // velocity
+        120.0, -40.0, -30.0, // position
+        1e-3, -2e-3, 5e-4, // gyro bias
+        0.05, -0.03, 0.08, // accel bias
+        0.21, 0.02, 0.42, // earth field
+        0.01, -0.02, 0.015, // body field
+        3.0, -2.0, // wind
+    ];
+    x.rows_mut(4, 20).copy_from_slice(&rest);
+    let input = Px4Ekf24Input {
+        delta_velocity: Vector3::new(0.2, -0.1, -9.78) * dt,
+        delta_velocity_dt: dt,
+        delta_angle: Vector3::new(0.01, -0.02, 0.05) * dt,
+        delta_angle_dt: dt,
+    };
+    let noise = Px4Ekf24Noise {
+        delta_velocity_noise: Vector3::repeat((0.35 * dt).powi(2)),
+        delta_angle_noise: Vector3::repeat((0.015 * dt).powi(2)),
+    };
+    (x, input, Px4Ekf24Params { gravity: 9.80665 }, noise)
+}
+
+pub fn px4_ekf24_covariance() -> SMatrix<f64, 24, 24> {
+    let mut s = [0.0; 24];
+    s[..4].fill(0.02);
+    s[4..7].fill(0.5);
+    s[7..10].fill(2.0);
+    s[10..13].fill(1e-3);
+    s[13..16].fill(0.05);
+    s[16..19].fill(0.02);
+    s[19..22].fill(0.01);
+    s[22..24].fill(1.0);
+    covariance(&s)
 }
 
 pub fn marker9_covariance() -> SMatrix<f64, 9, 9> {

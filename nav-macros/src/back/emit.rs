@@ -571,7 +571,11 @@ impl<'a> Emitter<'a> {
         let identity = pr.identity;
         let structure_doc = doc(&format!(
             "Structure of `Phi` ({}) and `Qd` for the covariance propagation: rows {:?} change, the others are unit rows.",
-            if identity { "`I + F dt`" } else { "`df/dx`" },
+            match (identity, d.kind) {
+                (true, ProcessKind::Continuous) => "`I + F dt`",
+                (true, ProcessKind::Discrete) => "`I + C`: `df/dx` with a unit diagonal in its changed rows",
+                (false, _) => "`df/dx`",
+            },
             pr.rows
         ));
         let rows = pr.rows.iter().map(|&i| lit(i));

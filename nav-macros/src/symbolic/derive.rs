@@ -37,8 +37,10 @@ pub struct Derived {
 }
 
 /// `P <- Phi P Phi^T + Qd` as the runtime's structured kernel takes it
-/// (`nav_runtime::propagation`): `Phi = I + C` (continuous, `C = F dt`) or
-/// `Phi = C` (discrete), only the rows of `Phi` that are not unit rows.
+/// (`nav_runtime::propagation`): `Phi = I + C` (continuous, `C = F dt`; or
+/// discrete with a unit diagonal in every changed row, `C = Phi - I`) or
+/// `Phi = C` (other discrete models), only the rows of `Phi` that are not
+/// unit rows.
 pub struct Propagation {
     pub identity: bool,
     /// Changed rows (not unit rows of `Phi`), ascending.
@@ -154,7 +156,7 @@ pub fn derive(lowered: Lowered, nw: usize) -> Derived {
     // a discrete row equal to e_i is a unit row, as is a zero row of F.
     let identity = kind == ProcessKind::Continuous;
     let mut rows = Vec::new();
-    let mut entries = Vec::new();
+    let mut entries: Vec<Vec<(usize, Id)>> = Vec::new();
     for i in 0..n {
         let row = &jacobian[i * n..(i + 1) * n];
         let unit = if identity {
@@ -184,6 +186,21 @@ pub fn derive(lowered: Lowered, nw: usize) -> Derived {
                 .map(|(k, e)| (k, if identity { g.mul(e, dt) } else { e }))
                 .collect(),
         );
+    }
+    // A discrete `Phi` whose changed rows all hold exactly 1 on the diagonal
+    // (an increment `x + ..` in every row, as in PX4's model) is `I + C` as
+    // well: the kernel then starts each row of `Phi P` from the row of `P` and
+    // spends no multiply on the diagonal.
+    let identity = identity
+        || (!rows.is_empty()
+            && rows
+                .iter()
+                .zip(&entries)
+                .all(|(&i, row)| row.iter().any(|&(k, e)| k == i && e == Graph::ONE)));
+    if identity && kind == ProcessKind::Discrete {
+        for (&i, row) in rows.iter().zip(entries.iter_mut()) {
+            row.retain(|&(k, _)| k != i);
+        }
     }
     let noise = (0..n)
         .flat_map(|i| (i..n).map(move |j| (i, j)))

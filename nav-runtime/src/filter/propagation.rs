@@ -9,7 +9,8 @@
 //! here a row of `Phi P` is an `[T; N]` (`T` the model's scalar), each nonzero of `Phi` is one
 //! vectorized row operation, and the structure costs a table read per nonzero.
 //!
-//! With `Phi = I + C` (Euler, continuous models) or `Phi = C` (discrete), only
+//! With `Phi = I + C` (Euler, continuous models, and discrete ones with a unit
+//! diagonal in every changed row) or `Phi = C` (other discrete ones), only
 //! the rows of `Phi` that are not unit rows ("changed rows", set `D`) alter `P`:
 //! 1. `A = (Phi P)[D, :]`: per changed row, `P[i, :]` (Euler) plus a linear
 //!    combination of rows of `P`, vectorized over the columns;
@@ -29,7 +30,8 @@ use crate::real::Real;
 /// Structure of `Phi` and `Qd`, emitted by `model!` as a constant.
 #[derive(Clone, Copy, Debug)]
 pub struct Structure<'a> {
-    /// `Phi = I + C` if true (continuous models, Euler), `Phi = C` if false.
+    /// `Phi = I + C` if true (continuous models, Euler; discrete models whose
+    /// changed rows all have a unit diagonal), `Phi = C` if false.
     pub identity: bool,
     /// The changed rows `D`, ascending. Every other row of `Phi` is a unit row.
     pub rows: &'a [usize],
@@ -44,7 +46,7 @@ pub struct Structure<'a> {
 
 impl Structure<'_> {
     /// Arithmetic operations of the four steps for `N` states (multiplies and
-    /// adds, each counted once; the Qd adds of both triangles counted).
+    /// adds, each counted once; one add per nonzero of `Qd`'s upper triangle).
     pub const fn ops(&self, n: usize) -> usize {
         let mut ops = 0;
         let d = self.rows.len();
@@ -69,13 +71,7 @@ impl Structure<'_> {
             }
             r += 1;
         }
-        let mut k = 0;
-        while k < self.noise.len() {
-            let (i, j) = self.noise[k];
-            ops += if i == j { 1 } else { 2 };
-            k += 1;
-        }
-        ops
+        ops + self.noise.len()
     }
 }
 
@@ -165,12 +161,12 @@ fn propagate_steps<T: Real, const N: usize, const D: usize, const AVX: bool, con
             }
         }
     }
-    // Step 4: Qd.
+    // Step 4: Qd. P is exactly symmetric here, so an off-diagonal sum is
+    // formed once and stored in both triangles.
     for (&(i, j), &q) in s.noise.iter().zip(noise) {
-        cols[j][i] += q;
-        if i != j {
-            cols[i][j] += q;
-        }
+        let v = cols[j][i] + q;
+        cols[j][i] = v;
+        cols[i][j] = v;
     }
 }
 
@@ -461,7 +457,8 @@ mod tests {
             columns: &[1, 3, 0],
             noise: &[(1, 1), (0, 1)],
         };
-        // Step 1: 2*(2+1)*4 = 24; step 3: pairs (0,0) 4, (0,1) 2, (1,1) 2; Qd 3.
-        assert_eq!(s.ops(4), 24 + 8 + 3);
+        // Step 1: 2*(2+1)*4 = 24; step 3: pairs (0,0) 4, (0,1) 2, (1,1) 2;
+        // Qd one add per upper-triangle nonzero: 2.
+        assert_eq!(s.ops(4), 24 + 8 + 2);
     }
 }
