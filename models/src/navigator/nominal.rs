@@ -10,6 +10,7 @@ use nav_runtime::earth::{meridian_radius, transverse_radius};
 use nav_runtime::error_state::{ErrorStateFilter, Mechanization, NominalState};
 use nav_runtime::model::Record;
 use nav_runtime::nalgebra::{Matrix3, SMatrix, SVector, Vector2, Vector3};
+use nav_runtime::smoother::States;
 use nav_runtime::strapdown::{NavError, NavState, Strapdown};
 
 use super::vehicle::{InsVehicle, Layout};
@@ -263,6 +264,22 @@ impl Estimate {
             self.usbl_bias_n.0 + usbl_n,
             self.baro_bias.0 + baro,
         )
+    }
+
+    /// The states whose smoothed covariance [`Estimate::smoothed`] reads
+    /// (the navigation errors and the reported biases), for
+    /// [`nav_runtime::smoother::smooth_states`].
+    pub fn covariance_states<const N: usize>(layout: &Layout) -> States<N> {
+        let mut chosen = [false; N];
+        let biases = [layout.compass_bias, layout.usbl_bias, layout.baro_bias];
+        for i in layout
+            .navigation()
+            .into_iter()
+            .chain(biases.into_iter().flatten())
+        {
+            chosen[i] = true;
+        }
+        States::from_mask(chosen)
     }
 
     fn from_parts<const N: usize>(

@@ -16,7 +16,7 @@ use nav_runtime::log::{
     LogSource, MagRow, UsblRow,
 };
 use nav_runtime::nalgebra::Vector3;
-use nav_runtime::smoother::{smooth, EpochFile, SmootherError, SpillFile};
+use nav_runtime::smoother::{smooth_states, EpochFile, SmootherError, SpillFile};
 use nav_runtime::strapdown::RateSamples;
 
 use super::aiding::{place, Aiding, Travelling};
@@ -696,7 +696,10 @@ fn smoothed_estimates<const N: usize>(
             .then(|| Estimate::from_scalars(&record)))
     };
     let mut pending = pop(forward).map_err(smoother_error)?;
-    smooth(file, |epoch| {
+    // Only the covariance entries an estimate reports are smoothed at the
+    // output epochs.
+    let states = Estimate::covariance_states::<N>(layout);
+    smooth_states(file, &states, |epoch| {
         // Later estimates than this epoch have no epoch; several requested
         // times may snap to one epoch.
         while let Some(e) = &pending {

@@ -140,11 +140,11 @@ impl<Mo: Model<N>, Nom: NominalState<N>, const N: usize> ErrorStateFilter<Mo, No
     /// As [`Ekf::predict`]; nothing changes on error.
     pub fn predict(&mut self, dt: f64, input: &Mo::Input) -> Result<(), FilterError> {
         #[cfg(feature = "std")]
-        let jacobian = self.step_jacobian(dt, input);
-        self.ekf.predict(dt, input)?;
+        let start = self.start_step();
+        let result = self.ekf.predict(dt, input);
         #[cfg(feature = "std")]
-        self.record_step(jacobian.as_ref(), dt);
-        Ok(())
+        self.record_step(start, result.is_ok().then_some(input), dt);
+        result
     }
 
     /// Fuses the residual `z` (INS value minus sensor value) of sensor `S`, as
@@ -280,17 +280,33 @@ impl<Mo: Model<N>, Nom: NominalState<N>, const N: usize> ErrorStateFilter<Mo, No
         Ok(Some(rec.store()))
     }
 
-    /// The Jacobian of the coming step, when recording.
-    fn step_jacobian(&self, dt: f64, input: &Mo::Input) -> Option<SMatrix<f64, N, N>> {
-        self.recording
-            .as_ref()
-            .map(|_| Mo::jacobian(self.ekf.state(), input, self.ekf.params(), dt))
+    /// Before a prediction step, when recording: the state the step starts
+    /// from, and the capture of the step's transition armed
+    /// ([`crate::propagation::propagate`]).
+    fn start_step(&self) -> Option<SVector<f64, N>> {
+        self.recording.as_ref().map(|_| {
+            crate::propagation::capture::arm();
+            *self.ekf.state()
+        })
     }
 
-    fn record_step(&mut self, jacobian: Option<&SMatrix<f64, N, N>>, dt: f64) {
-        if let (Some(rec), Some(jacobian)) = (self.recording.as_mut(), jacobian) {
-            rec.propagated::<Mo>(jacobian, dt);
-        }
+    /// After a prediction step from `start` ([`Self::start_step`]), when
+    /// recording: the step's transition into the recording, from the
+    /// coefficients the covariance propagation used if it offered them, from
+    /// the Jacobian at `start` otherwise. `None` for `input` after a failed
+    /// step: nothing is recorded.
+    fn record_step(&mut self, start: Option<SVector<f64, N>>, input: Option<&Mo::Input>, dt: f64) {
+        let Some(x) = start else {
+            return;
+        };
+        let params = self.ekf.params();
+        crate::propagation::capture::take(|step| {
+            if let (Some(rec), Some(input)) = (self.recording.as_mut(), input) {
+                if !step.is_some_and(|s| rec.propagated_step::<Mo>(s, dt)) {
+                    rec.propagated::<Mo>(&Mo::jacobian(&x, input, params, dt), dt);
+                }
+            }
+        });
     }
 }
 
@@ -387,13 +403,15 @@ impl<Mo: Model<N>, Nom: Mechanization<Mo, N>, const N: usize> Propagate
         let before = self.nominal.clone();
         let input = self.nominal.mechanize(dt, imu);
         #[cfg(feature = "std")]
-        let jacobian = self.step_jacobian(dt, &input);
+        let start = self.start_step();
         if let Err(e) = self.ekf.predict(dt, &input) {
+            #[cfg(feature = "std")]
+            self.record_step(start, None, dt);
             self.nominal = before;
             return Err(e);
         }
         #[cfg(feature = "std")]
-        self.record_step(jacobian.as_ref(), dt);
+        self.record_step(start, Some(&input), dt);
         Ok(())
     }
 }

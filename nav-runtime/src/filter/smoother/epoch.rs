@@ -63,6 +63,10 @@ impl<const N: usize, const S: usize> Epoch<N, S> {
     /// [`Epoch::decode`] into `self`, without a temporary epoch.
     pub(crate) fn decode_into(&mut self, bytes: &[u8]) {
         let (words, _) = bytes.as_chunks::<8>();
+        if let Some(words) = words.get(..Self::SCALARS) {
+            self.decode_whole(words);
+            return;
+        }
         let mut at = 0;
         // The next `dst.len()` words into `dst` (NaN past the end).
         let mut fill = |dst: &mut [f64]| {
@@ -91,6 +95,36 @@ impl<const N: usize, const S: usize> Epoch<N, S> {
         }
         fill(self.correction.as_mut_slice());
         fill(self.snapshot.as_mut_slice());
+    }
+
+    /// [`Epoch::decode_into`] of a whole record (`SCALARS` words): each
+    /// entry of an upper triangle is written to both of its places.
+    fn decode_whole(&mut self, words: &[[u8; 8]]) {
+        let (time, rest) = words.split_at(1);
+        self.time = f64::from_le_bytes(time[0]);
+        let (transition, mut rest) = rest.split_at(N * N);
+        for (d, w) in self.transition.as_mut_slice().iter_mut().zip(transition) {
+            *d = f64::from_le_bytes(*w);
+        }
+        for m in [&mut self.predicted, &mut self.filtered] {
+            let m = m.as_mut_slice();
+            for c in 0..N {
+                let (column, tail) = rest.split_at(c + 1);
+                for (r, w) in column.iter().enumerate() {
+                    let v = f64::from_le_bytes(*w);
+                    m[c * N + r] = v;
+                    m[r * N + c] = v;
+                }
+                rest = tail;
+            }
+        }
+        let (correction, snapshot) = rest.split_at(N);
+        for (d, w) in self.correction.iter_mut().zip(correction) {
+            *d = f64::from_le_bytes(*w);
+        }
+        for (d, w) in self.snapshot.iter_mut().zip(snapshot) {
+            *d = f64::from_le_bytes(*w);
+        }
     }
 
     /// Writes the epoch as `SCALARS` little-endian `f64` into `out`
@@ -139,5 +173,11 @@ mod tests {
         e.encode(&mut bytes);
         assert_eq!(bytes.len(), 8 * Epoch::<3, 2>::SCALARS);
         assert_eq!(Epoch::<3, 2>::decode(&bytes), e);
+        // A short record: what is there, NaN for the rest.
+        let short = Epoch::<3, 2>::decode(&bytes[..8 * (Epoch::<3, 2>::SCALARS - 1)]);
+        assert_eq!((short.time, short.filtered), (e.time, e.filtered));
+        assert_eq!(short.correction, e.correction);
+        assert_eq!(short.snapshot[0], e.snapshot[0]);
+        assert!(short.snapshot[1].is_nan());
     }
 }

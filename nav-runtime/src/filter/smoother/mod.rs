@@ -31,6 +31,14 @@
 //! error `s_k` removed (for an error-state filter: `NominalState::inject(s_k)`
 //! on the recorded nominal solution).
 //!
+//! Only the epochs with updates are links of this recursion: an output epoch
+//! `j` (no update, `P_j+ = P_j-`, `c_j = 0`) changes nothing in it, so it is
+//! derived directly from the next epoch with updates `u`, with
+//! `C_j = P_j+ Phi(u, j)^T (P_u-)^-1` over the product of the transitions
+//! between them (exact; the backward pass's module docs give the form
+//! computed). [`smooth_states`] reports the smoothed covariance between
+//! chosen states only, which at the output epochs is all it computes.
+//!
 //! Late measurements: the scheduler restores a checkpoint (a clone of the
 //! filter, recorder included) and re-propagates. Every recorder clone knows
 //! how many records were valid on its own history, and truncates the file to
@@ -43,7 +51,7 @@ mod recorder;
 mod spill;
 mod store;
 
-pub use backward::{smooth, SmoothedEpoch};
+pub use backward::{smooth, smooth_states, SmoothedEpoch, States};
 pub use epoch::Epoch;
 pub use recorder::Recorder;
 pub use spill::SpillFile;

@@ -161,6 +161,47 @@ impl<const N: usize, const S: usize> Recorder<N, S> {
         );
     }
 
+    /// [`Recorder::propagated`] for a continuous model with the step's
+    /// transition `I + C` as the filter's covariance propagation used it
+    /// (`step`, copied by [`crate::propagation::propagate`]), so the
+    /// Jacobian need not be evaluated again. `false`, and nothing recorded,
+    /// if `step` does not fit the model's sparsity (a changed row of a state
+    /// without dynamics, a column outside the structure) or the model is
+    /// discrete: then call [`Recorder::propagated`].
+    pub(crate) fn propagated_step<Mo: Model<N>>(
+        &mut self,
+        step: &crate::propagation::capture::Step,
+        dt: f64,
+    ) -> bool {
+        let dynamic = &Structure::<Mo, N>::DYNAMIC;
+        let width = Structure::<Mo, N>::WIDTH;
+        let (rows, start, columns) = (&step.rows, &step.start, &step.columns);
+        let fits = !Mo::DISCRETE
+            && start.len() == rows.len() + 1
+            && start.first() == Some(&0)
+            && start.windows(2).all(|w| w[0] <= w[1])
+            && start.last() == Some(&columns.len())
+            && step.coefficients.len() == columns.len()
+            && rows.iter().all(|&i| i < N && dynamic[i])
+            && columns.iter().all(|&j| j < width);
+        if !fits {
+            return false;
+        }
+        self.close();
+        self.time += dt;
+        // Whole vectors of four past the structure's width (the entries
+        // there are zeros, in the rows of states with dynamics).
+        let lanes = width.div_ceil(4) * 4;
+        step_coefficients(
+            &mut self.rows,
+            &mut self.scratch,
+            dynamic,
+            lanes.min(N),
+            step,
+        );
+        true
+    }
+
     /// Opens the epoch at the current time before its first update, with the
     /// filter's covariance before the update; further calls at the same
     /// epoch change nothing.
@@ -294,6 +335,62 @@ fn step_rows_portable<const N: usize, const AVX: bool>(
     }
 }
 
+crate::dispatch::avx_dispatch! {
+    /// `T <- T + C T` on `rows` (`T^T`) for the step `I + C` given by
+    /// `step` (its changed rows, their nonzeros and coefficients; checked
+    /// against the model's structure), over the first `width` columns (past
+    /// them the rows of states with dynamics are zero), with `scratch` as
+    /// work space ([`Recorder::propagated_step`]). Compiled for AVX where
+    /// the CPU has it (the same operations in the same order:
+    /// bit-identical).
+    fn step_coefficients<const N: usize>(
+        rows: &mut SMatrix<f64, N, N>,
+        scratch: &mut [[f64; N]; N],
+        dynamic: &[bool; N],
+        width: usize,
+        step: &crate::propagation::capture::Step,
+    ) => step_coefficients_portable;
+}
+
+/// The body of [`step_coefficients`].
+#[inline(always)]
+fn step_coefficients_portable<const N: usize, const AVX: bool>(
+    rows: &mut SMatrix<f64, N, N>,
+    scratch: &mut [[f64; N]; N],
+    dynamic: &[bool; N],
+    width: usize,
+    step: &crate::propagation::capture::Step,
+) {
+    let (changed, start) = (&step.rows, &step.start);
+    let (columns, coefficients) = (&step.columns, &step.coefficients);
+    // Row i of T changes by sum_j C_ij (row j of T), where row j of a state
+    // without dynamics is e_j. Rows are contiguous (`rows` holds T^T).
+    let (t, _) = rows.as_slice().as_chunks::<N>();
+    for ((d, range), _) in scratch
+        .iter_mut()
+        .zip(start.windows(2).map(|w| w[0]..w[1]))
+        .zip(changed)
+    {
+        let d = &mut d[..width];
+        d.fill(0.0);
+        for (&j, &a) in columns[range.clone()].iter().zip(&coefficients[range]) {
+            if dynamic[j] {
+                for (x, &t) in d.iter_mut().zip(&t[j][..width]) {
+                    *x += a * t;
+                }
+            } else {
+                d[j] += a;
+            }
+        }
+    }
+    let (t, _) = rows.as_mut_slice().as_chunks_mut::<N>();
+    for (d, &i) in scratch.iter().zip(changed) {
+        for (x, dx) in t[i][..width].iter_mut().zip(&d[..width]) {
+            *x += dx;
+        }
+    }
+}
+
 /// Structure of model `Mo`'s transition matrices, from its generated sparsity.
 struct Structure<Mo, const N: usize>(core::marker::PhantomData<Mo>);
 
@@ -304,6 +401,32 @@ impl<Mo: Model<N>, const N: usize> Structure<Mo, N> {
     /// The structural nonzeros of each row of `F` as a bit mask (bit `j`
     /// for column `j`; used for `N <= 128`).
     const MASKS: [u128; N] = row_masks(&Mo::JACOBIAN_SPARSITY);
+    /// One past the last column a row of a state with dynamics can have a
+    /// nonzero in, in any product of steps: its own index or a structural
+    /// nonzero of its row of `F`.
+    const WIDTH: usize = width(&Mo::JACOBIAN_SPARSITY);
+}
+
+/// [`Structure::WIDTH`] of `sparsity`.
+const fn width<const N: usize>(sparsity: &[[bool; N]; N]) -> usize {
+    let mut out = 0;
+    let mut i = 0;
+    while i < N {
+        let mut j = 0;
+        while j < N {
+            if sparsity[i][j] {
+                if i + 1 > out {
+                    out = i + 1;
+                }
+                if j + 1 > out {
+                    out = j + 1;
+                }
+            }
+            j += 1;
+        }
+        i += 1;
+    }
+    out
 }
 
 /// Bit `j` of entry `i`: `sparsity[i][j]` (columns below 128).
@@ -392,6 +515,111 @@ mod tests {
     fn dynamic_rows_are_the_rows_with_a_nonzero() {
         assert_eq!(Structure::<Four, 4>::DYNAMIC, [true, false, true, false]);
         assert_eq!(Structure::<Four, 4>::MASKS, [0b0111, 0, 0b1001, 0]);
+        assert_eq!(Structure::<Four, 4>::WIDTH, 4);
+        let mut sparsity = [[false; 6]; 6];
+        assert_eq!(width(&sparsity), 0);
+        sparsity[2][0] = true;
+        assert_eq!(width(&sparsity), 3);
+        sparsity[1][4] = true;
+        assert_eq!(width(&sparsity), 5);
+    }
+
+    /// The Jacobian of step `k` of the tests (nonzero at Four's sparsity).
+    fn jacobian(k: usize) -> SMatrix<f64, 4, 4> {
+        let x = k as f64;
+        SMatrix::<f64, 4, 4>::from_fn(|i, j| {
+            if Four::JACOBIAN_SPARSITY[i][j] {
+                0.3 + 0.1 * x - 0.2 * i as f64 + 0.05 * j as f64
+            } else {
+                0.0
+            }
+        })
+    }
+
+    /// `I + C` of a step in the layout of the covariance propagation, with
+    /// `C = dt F` over Four's sparsity.
+    fn captured(f: &SMatrix<f64, 4, 4>, dt: f64) -> crate::propagation::capture::Step {
+        let mut step = crate::propagation::capture::Step::default();
+        step.start.push(0);
+        for i in [0, 2] {
+            step.rows.push(i);
+            for j in 0..4 {
+                if Four::JACOBIAN_SPARSITY[i][j] {
+                    step.columns.push(j);
+                    step.coefficients.push(dt * f[(i, j)]);
+                }
+            }
+            step.start.push(step.columns.len());
+        }
+        step
+    }
+
+    /// Steps given by the propagation's coefficients record the same bits
+    /// as steps given by the Jacobian; a step that does not fit the
+    /// sparsity is refused and records nothing.
+    #[test]
+    fn coefficient_steps_equal_jacobian_steps_bit_for_bit() {
+        let p = SMatrix::<f64, 4, 4>::identity();
+        let start = |t| {
+            Recorder::new(
+                EpochFile::<4, 0>::create(None).unwrap(),
+                t,
+                &p,
+                SVector::zeros(),
+            )
+        };
+        let (mut by_jacobian, mut by_coefficients) = (start(0.0), start(0.0));
+        for k in 0..7 {
+            let (f, dt) = (jacobian(k), 0.1 + 0.01 * k as f64);
+            by_jacobian.propagated::<Four>(&f, dt);
+            assert!(by_coefficients.propagated_step::<Four>(&captured(&f, dt), dt));
+        }
+        assert_eq!(
+            by_jacobian.rows.map(f64::to_bits),
+            by_coefficients.rows.map(f64::to_bits)
+        );
+        assert_eq!(by_jacobian.time, by_coefficients.time);
+        assert_ne!(
+            by_jacobian.rows,
+            SMatrix::<f64, 4, 4>::identity(),
+            "the steps ran"
+        );
+        let rows = by_coefficients.rows;
+        for bad in [
+            |s: &mut crate::propagation::capture::Step| s.rows[1] = 1,
+            |s: &mut crate::propagation::capture::Step| s.columns[0] = 4,
+            |s: &mut crate::propagation::capture::Step| s.start[1] = 9,
+            |s: &mut crate::propagation::capture::Step| {
+                s.coefficients.pop();
+            },
+        ] {
+            let mut step = captured(&jacobian(0), 0.1);
+            bad(&mut step);
+            assert!(!by_coefficients.propagated_step::<Four>(&step, 0.1));
+        }
+        assert_eq!(by_coefficients.rows, rows);
+        assert_eq!(by_coefficients.time, by_jacobian.time);
+    }
+
+    /// The dispatched coefficient step (AVX where the CPU has it) and the
+    /// portable build give the same bits.
+    #[test]
+    fn dispatched_coefficient_step_equals_the_portable_one_bit_for_bit() {
+        let step = captured(&jacobian(3), 0.013);
+        let start = SMatrix::<f64, 4, 4>::from_fn(|r, c| {
+            if r == 1 || r == 3 {
+                f64::from(u8::from(r == c))
+            } else {
+                0.1 * (r * 4 + c) as f64 + 1.0
+            }
+        });
+        let (mut a, mut b) = (start, start);
+        let mut scratch = [[0.0; 4]; 4];
+        let dynamic = &Structure::<Four, 4>::DYNAMIC;
+        step_coefficients(&mut a, &mut scratch, dynamic, 4, &step);
+        step_coefficients_portable::<4, false>(&mut b, &mut scratch, dynamic, 4, &step);
+        assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits));
+        assert_ne!(a, start, "the step ran");
     }
 
     /// The dispatched row step (AVX where the CPU has it) and the portable

@@ -194,12 +194,16 @@ fn step_of(t: f64) -> usize {
 
 #[test]
 fn linear_gaussian_smoother_equals_batch_least_squares() {
-    // Cases: (seed, steps, fix every, an epoch at every step).
+    // Cases: (seed, steps, fix every, an epoch at every step). With an
+    // epoch at every step, the output epochs between fixes are derived from
+    // the next fix.
     for &(seed, steps, every, mark_all) in &[
         (1, 60, 4, false),
         (2, 60, 4, true),
         (3, 45, 1, false),
         (4, 80, 9, false),
+        (5, 80, 9, true),
+        (6, 70, 25, true),
     ] {
         let run = simulate(seed, steps, every);
         let exact = batch(&run);
