@@ -601,18 +601,24 @@ mod tests {
         assert_eq!(by_coefficients.time, by_jacobian.time);
     }
 
-    /// The dispatched coefficient step (AVX where the CPU has it) and the
-    /// portable build give the same bits.
-    #[test]
-    fn dispatched_coefficient_step_equals_the_portable_one_bit_for_bit() {
-        let step = captured(&jacobian(3), 0.013);
-        let start = SMatrix::<f64, 4, 4>::from_fn(|r, c| {
+    /// A transition product with unit rows 1 and 3 (the states without
+    /// dynamics) and distinct entries elsewhere.
+    fn partial_transition() -> SMatrix<f64, 4, 4> {
+        SMatrix::<f64, 4, 4>::from_fn(|r, c| {
             if r == 1 || r == 3 {
                 f64::from(u8::from(r == c))
             } else {
                 0.1 * (r * 4 + c) as f64 + 1.0
             }
-        });
+        })
+    }
+
+    /// The dispatched coefficient step (AVX where the CPU has it) and the
+    /// portable build give the same bits.
+    #[test]
+    fn dispatched_coefficient_step_equals_the_portable_one_bit_for_bit() {
+        let step = captured(&jacobian(3), 0.013);
+        let start = partial_transition();
         let (mut a, mut b) = (start, start);
         let mut scratch = [[0.0; 4]; 4];
         let dynamic = &Structure::<Four, 4>::DYNAMIC;
@@ -633,13 +639,7 @@ mod tests {
                 0.0
             }
         });
-        let start = SMatrix::<f64, 4, 4>::from_fn(|r, c| {
-            if r == 1 || r == 3 {
-                f64::from(u8::from(r == c))
-            } else {
-                0.1 * (r * 4 + c) as f64 + 1.0
-            }
-        });
+        let start = partial_transition();
         let (mut a, mut b) = (start, start);
         let mut scratch = [[0.0; 4]; 4];
         let (sparsity, masks, dynamic) = (
