@@ -1050,6 +1050,44 @@ mod __leveling6_generated_tests {
                 assert_eq!(
                     got, got.transpose(), "the propagated covariance must be symmetric"
                 );
+                let mut observed = cov;
+                let mut rebuilt: Option<SMatrix<S, N, N>> = None;
+                <Leveling6 as Model<
+                    N,
+                    S,
+                >>::propagate_covariance_observed(
+                    &mut observed,
+                    &x,
+                    &u,
+                    &p,
+                    &q,
+                    dt,
+                    |c| {
+                        let s = <Leveling6 as Model<N, S>>::PROPAGATION
+                            .expect("observed only over a structure");
+                        let mut m = SMatrix::<S, N, N>::identity();
+                        for (r, &i) in s.rows.iter().enumerate() {
+                            if !s.identity {
+                                m[(i, i)] = 0.0;
+                            }
+                            for k in s.start[r]..s.start[r + 1] {
+                                m[(i, s.columns[k])] += c[k];
+                            }
+                        }
+                        rebuilt = Some(m);
+                    },
+                );
+                assert_eq!(
+                    observed, got,
+                    "propagate_covariance_observed equals propagate_covariance"
+                );
+                assert_eq!(
+                    rebuilt.is_some(), < Leveling6 as Model < N, S >> ::PROPAGATION
+                    .is_some(), "observed once over a structure"
+                );
+                if let Some(m) = rebuilt {
+                    assert_close_rel("observed transition", &m, &phi);
+                }
                 true
             },
         );

@@ -1228,6 +1228,23 @@ Total ops: 126*/
         q: &Sdins25Noise,
         dt: f64,
     ) {
+        Self::propagate_covariance_observed(cov, x, u, p, q, dt, |_| ());
+    }
+    const PROPAGATION: ::core::option::Option<
+        ::nav_runtime::propagation::Structure<'static>,
+    > = ::core::option::Option::Some(Self::PROPAGATION_STRUCTURE);
+    /// The coefficients of `C` go to `observe`, then `nav_runtime::propagation::propagate`
+    /// runs over [`Self::PROPAGATION_STRUCTURE`].
+    #[inline]
+    fn propagate_covariance_observed<F: FnOnce(&[f64])>(
+        cov: &mut ::nav_runtime::nalgebra::SMatrix<f64, 25, 25>,
+        x: &::nav_runtime::nalgebra::SVector<f64, 25>,
+        u: &Sdins25Input,
+        p: &Sdins25Params,
+        q: &Sdins25Noise,
+        dt: f64,
+        observe: F,
+    ) {
         let _t0 = u.height - x[2];
         let _t1 = u.latitude - x[0];
         let (_t2, _t11) = ::nav_runtime::math::sin_cos(_t1);
@@ -1316,6 +1333,79 @@ Total ops: 126*/
         let _t83 = u.c_bn[(1, 2)] * q.gyro_noise[2];
         let _t84 = u.c_bn[(1, 0)] * q.gyro_noise[0];
         let _t85 = u.c_bn[(1, 1)] * q.gyro_noise[1];
+        let coefficients = [
+            -(dt * (_t8 * (_t10 * _t15))),
+            -(dt * (_t8 * _t10)),
+            _t16,
+            dt * (_t19 * (_t21 * (_t2 * _t18 - _t11 * _t22))),
+            -(dt * (_t19 * (_t11 * _t21))),
+            dt * _t19,
+            -dt,
+            dt * (_t23 * _t25 - _t20 * _t33),
+            dt * (_t23 * _t34 - _t20 * _t35),
+            dt * (_t8 * _t23),
+            -(dt * (_t38 + _t20 * _t39)),
+            -(dt * _t24),
+            -_t43,
+            _t44,
+            dt * _t45,
+            dt * _t46,
+            dt * _t47,
+            dt * (_t9 * _t33 - _t23 * _t50),
+            dt * (_t9 * _t35 - _t23 * _t51),
+            dt * _t38,
+            dt * (_t9 * _t39 + _t28 * _t23),
+            dt * _t52,
+            _t43,
+            -_t53,
+            dt * _t54,
+            dt * _t55,
+            dt * _t56,
+            dt
+                * ((1.0 - _t58 * _t59 + _t0 * _t60 * 2.458172257647332e-14)
+                    * (_t13
+                        * ((_t11 * _t61 + _t2 * (_t11 * 0.00193185265241)) * 9.7803253359
+                            + _t14 * _t62))
+                    + _t62 * (_t59 * (_t11 * _t57 + _t2 * (_t11 * 0.0067056213295)))
+                    - (_t9 * _t25 - _t20 * _t50)),
+            -(dt
+                * (_t62
+                    * (_t58 * 3.135711885774796e-7
+                        - 2.458172257647332e-14 * (_t60 + _t60))
+                    + (_t9 * _t34 - _t20 * _t51))),
+            dt * (_t24 - _t10),
+            -(dt * (_t48 + _t52)),
+            -_t44,
+            _t53,
+            dt * _t63,
+            dt * _t64,
+            dt * _t65,
+            -(dt * (_t36 + _t49)),
+            -(dt * _t51),
+            dt * _t28,
+            -_t71,
+            _t72,
+            -(dt * u.c_bn[(0, 0)]),
+            -(dt * u.c_bn[(0, 1)]),
+            -(dt * u.c_bn[(0, 2)]),
+            -(dt * _t25),
+            -(dt * _t34),
+            -_t16,
+            _t71,
+            _t73,
+            -(dt * u.c_bn[(1, 0)]),
+            -(dt * u.c_bn[(1, 1)]),
+            -(dt * u.c_bn[(1, 2)]),
+            -(dt * (_t26 + _t32)),
+            -(dt * _t35),
+            -(dt * _t39),
+            -_t72,
+            -_t73,
+            -(dt * u.c_bn[(2, 0)]),
+            -(dt * u.c_bn[(2, 1)]),
+            -(dt * u.c_bn[(2, 2)]),
+        ];
+        observe(&coefficients);
         ::nav_runtime::propagation::propagate::<
             f64,
             25,
@@ -1323,78 +1413,7 @@ Total ops: 126*/
         >(
             cov,
             &Self::PROPAGATION_STRUCTURE,
-            &[
-                -(dt * (_t8 * (_t10 * _t15))),
-                -(dt * (_t8 * _t10)),
-                _t16,
-                dt * (_t19 * (_t21 * (_t2 * _t18 - _t11 * _t22))),
-                -(dt * (_t19 * (_t11 * _t21))),
-                dt * _t19,
-                -dt,
-                dt * (_t23 * _t25 - _t20 * _t33),
-                dt * (_t23 * _t34 - _t20 * _t35),
-                dt * (_t8 * _t23),
-                -(dt * (_t38 + _t20 * _t39)),
-                -(dt * _t24),
-                -_t43,
-                _t44,
-                dt * _t45,
-                dt * _t46,
-                dt * _t47,
-                dt * (_t9 * _t33 - _t23 * _t50),
-                dt * (_t9 * _t35 - _t23 * _t51),
-                dt * _t38,
-                dt * (_t9 * _t39 + _t28 * _t23),
-                dt * _t52,
-                _t43,
-                -_t53,
-                dt * _t54,
-                dt * _t55,
-                dt * _t56,
-                dt
-                    * ((1.0 - _t58 * _t59 + _t0 * _t60 * 2.458172257647332e-14)
-                        * (_t13
-                            * ((_t11 * _t61 + _t2 * (_t11 * 0.00193185265241))
-                                * 9.7803253359 + _t14 * _t62))
-                        + _t62 * (_t59 * (_t11 * _t57 + _t2 * (_t11 * 0.0067056213295)))
-                        - (_t9 * _t25 - _t20 * _t50)),
-                -(dt
-                    * (_t62
-                        * (_t58 * 3.135711885774796e-7
-                            - 2.458172257647332e-14 * (_t60 + _t60))
-                        + (_t9 * _t34 - _t20 * _t51))),
-                dt * (_t24 - _t10),
-                -(dt * (_t48 + _t52)),
-                -_t44,
-                _t53,
-                dt * _t63,
-                dt * _t64,
-                dt * _t65,
-                -(dt * (_t36 + _t49)),
-                -(dt * _t51),
-                dt * _t28,
-                -_t71,
-                _t72,
-                -(dt * u.c_bn[(0, 0)]),
-                -(dt * u.c_bn[(0, 1)]),
-                -(dt * u.c_bn[(0, 2)]),
-                -(dt * _t25),
-                -(dt * _t34),
-                -_t16,
-                _t71,
-                _t73,
-                -(dt * u.c_bn[(1, 0)]),
-                -(dt * u.c_bn[(1, 1)]),
-                -(dt * u.c_bn[(1, 2)]),
-                -(dt * (_t26 + _t32)),
-                -(dt * _t35),
-                -(dt * _t39),
-                -_t72,
-                -_t73,
-                -(dt * u.c_bn[(2, 0)]),
-                -(dt * u.c_bn[(2, 1)]),
-                -(dt * u.c_bn[(2, 2)]),
-            ],
+            &coefficients,
             &[
                 dt * (_t47 * _t74 + (_t45 * _t75 + _t46 * _t76)),
                 dt * (_t56 * _t74 + (_t54 * _t75 + _t55 * _t76)),
@@ -2934,6 +2953,44 @@ mod __sdins25_generated_tests {
                 assert_eq!(
                     got, got.transpose(), "the propagated covariance must be symmetric"
                 );
+                let mut observed = cov;
+                let mut rebuilt: Option<SMatrix<S, N, N>> = None;
+                <Sdins25 as Model<
+                    N,
+                    S,
+                >>::propagate_covariance_observed(
+                    &mut observed,
+                    &x,
+                    &u,
+                    &p,
+                    &q,
+                    dt,
+                    |c| {
+                        let s = <Sdins25 as Model<N, S>>::PROPAGATION
+                            .expect("observed only over a structure");
+                        let mut m = SMatrix::<S, N, N>::identity();
+                        for (r, &i) in s.rows.iter().enumerate() {
+                            if !s.identity {
+                                m[(i, i)] = 0.0;
+                            }
+                            for k in s.start[r]..s.start[r + 1] {
+                                m[(i, s.columns[k])] += c[k];
+                            }
+                        }
+                        rebuilt = Some(m);
+                    },
+                );
+                assert_eq!(
+                    observed, got,
+                    "propagate_covariance_observed equals propagate_covariance"
+                );
+                assert_eq!(
+                    rebuilt.is_some(), < Sdins25 as Model < N, S >> ::PROPAGATION
+                    .is_some(), "observed once over a structure"
+                );
+                if let Some(m) = rebuilt {
+                    assert_close_rel("observed transition", &m, &phi);
+                }
                 true
             },
         );

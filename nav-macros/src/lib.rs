@@ -349,7 +349,11 @@
 //! - `pub struct Foo;` implementing `nav_runtime::model::Model<N>` (`NAME`,
 //!   `DISCRETE`, `STATE_NAMES`, `JACOBIAN_SPARSITY`, `OPS_*`,
 //!   `ZERO_IS_FIXED`, `transition`, `jacobian`, `process_noise`,
-//!   `propagate_covariance`; `Model<N, f32>` with `scalar f32;`, and `f32`
+//!   `propagate_covariance`, and for a model whose propagation runs the
+//!   sparse row kernel (more than 12 states) `PROPAGATION`
+//!   and `propagate_covariance_observed`, which hands the nonzeros of
+//!   `C` (`Phi = I + C`) to a closure, for the smoother's recording;
+//!   `Model<N, f32>` with `scalar f32;`, and `f32`
 //!   wherever `f64` stands below), with inherent items:
 //!   - `Foo::N`, `Foo::NW`, and one index constant per state block, the index
 //!     of its first scalar in SCREAMING_CASE (`Foo::VELOCITY`);
@@ -381,7 +385,9 @@
 //!   differences at seeded points uniform in [-1, 1] (splitmix64 inline; points
 //!   with non-finite values are skipped; `|J - J_fd| <= 1e-6 (1 + |J|)` plus the
 //!   rounding bound of the difference quotient), of `process_noise` and
-//!   `propagate_covariance` against dense `G Q G^T` and `Phi P Phi^T + Qd`, and
+//!   `propagate_covariance` against dense `G Q G^T` and `Phi P Phi^T + Qd`
+//!   (and `propagate_covariance_observed` against it, with the coefficients
+//!   it hands over rebuilding `Phi`), and
 //!   of `innovation_terms` against dense `P H^T`, `H P H^T` (1e-12 relative,
 //!   with a NaN lower triangle in `P` to prove only the upper one is read).
 //!

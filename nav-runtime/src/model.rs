@@ -79,6 +79,11 @@ pub trait Model<const N: usize, T: Real = f64>: Sized + 'static {
     /// skips evaluating it at `x = 0`. The generator proves it symbolically;
     /// `false` (the default) is always safe.
     const ZERO_IS_FIXED: bool = false;
+    /// The structure [`Model::propagate_covariance`] runs
+    /// [`crate::propagation::propagate`] over, `Phi = I + C` or `Phi = C`
+    /// with the nonzeros of `C` in its changed rows; `None` (the default)
+    /// when the propagation is unrolled or written by hand.
+    const PROPAGATION: Option<crate::propagation::Structure<'static>> = None;
 
     /// One step of the state: `x + f dt` (continuous, Euler) or `f(x, ..., dt)`.
     fn transition(x: &SVector<T, N>, u: &Self::Input, p: &Self::Params, dt: T) -> SVector<T, N>;
@@ -118,6 +123,24 @@ pub trait Model<const N: usize, T: Real = f64>: Sized + 'static {
         q: &Self::Noise,
         dt: T,
     );
+
+    /// [`Model::propagate_covariance`], handing the step's transition to
+    /// `observe` before `P` changes: the nonzeros of `C` in the order of
+    /// [`Model::PROPAGATION`]'s columns, as the propagation uses them (so a
+    /// smoother's recording need not evaluate the Jacobian again). Not
+    /// called when [`Model::PROPAGATION`] is `None` (the default).
+    fn propagate_covariance_observed<F: FnOnce(&[T])>(
+        cov: &mut SMatrix<T, N, N>,
+        x: &SVector<T, N>,
+        u: &Self::Input,
+        p: &Self::Params,
+        q: &Self::Noise,
+        dt: T,
+        observe: F,
+    ) {
+        let _ = observe;
+        Self::propagate_covariance(cov, x, u, p, q, dt);
+    }
 }
 
 /// A measurement model with `M` outputs for a model with `N` states, in

@@ -3,7 +3,8 @@
 //! A global allocator is per binary, so this test has its own binary: every
 //! allocation made by the test thread while counting is on is counted, and
 //! 1000 predict/update cycles (every discretization, batch and sequential
-//! updates, gated, refused and error-state updates) must make none.
+//! updates, gated, refused and error-state updates, and an error-state filter
+//! recording for the smoother) must make none.
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
@@ -13,6 +14,8 @@ use nav_runtime::error_state::{ErrorStateFilter, NominalState};
 use nav_runtime::gate::Gate;
 use nav_runtime::model::{Model, Record, Sensor};
 use nav_runtime::nalgebra::{SMatrix, SVector};
+use nav_runtime::propagation::{propagate, Structure};
+use nav_runtime::smoother::EpochFile;
 
 struct Counting;
 
@@ -109,6 +112,15 @@ impl Model<6> for Cv3 {
     };
     const OPS_PROPAGATE_COVARIANCE: usize = 0;
     const OPS_JACOBIAN: usize = 0;
+    // The first-order step runs the row kernel, as a generated model of
+    // this size would, so a smoother's recording takes its transition.
+    const PROPAGATION: Option<Structure<'static>> = Some(Structure {
+        identity: true,
+        rows: &[0, 1, 2],
+        start: &[0, 1, 2, 3],
+        columns: &[3, 4, 5],
+        noise: &[(3, 3), (4, 4), (5, 5)],
+    });
 
     fn transition(x: &SVector<f64, 6>, u: &Accel, _: &(), dt: f64) -> SVector<f64, 6> {
         let a = SVector::<f64, 6>::new(0.0, 0.0, 0.0, u.ax, u.ay, u.az);
@@ -127,6 +139,21 @@ impl Model<6> for Cv3 {
         dt: f64,
     ) -> SMatrix<f64, 6, 6> {
         SMatrix::<f64, 6, 6>::from_fn(|r, c| if r == c && r >= 3 { q.q * dt } else { 0.0 })
+    }
+
+    fn propagate_covariance_observed<F: FnOnce(&[f64])>(
+        cov: &mut SMatrix<f64, 6, 6>,
+        _: &SVector<f64, 6>,
+        _: &Accel,
+        _: &(),
+        q: &Psd,
+        dt: f64,
+        observe: F,
+    ) {
+        let coefficients = [dt; 3];
+        observe(&coefficients);
+        let structure = Self::PROPAGATION.expect("declared above");
+        propagate::<f64, 6, 3>(cov, &structure, &coefficients, &[q.q * dt; 3]);
     }
 
     fn propagate_covariance(
@@ -256,6 +283,13 @@ fn predict_and_update_do_not_allocate() {
         .set_sensor_gate::<Range, 1>(Some(Gate::new(0.99).expect("valid")))
         .expect("capacity");
     let mut esf = ErrorStateFilter::new(new_filter(Discretization::FirstOrder), Nominal::default());
+    // A smoother's recording beside the filter (its epoch buffer sized at
+    // the start).
+    let mut recording =
+        ErrorStateFilter::new(new_filter(Discretization::FirstOrder), Nominal::default());
+    recording
+        .start_recording(EpochFile::create(None).expect("temporary file"), 0.0)
+        .expect("first order");
     let r3 = SMatrix::<f64, 3, 3>::identity() * 4.0;
     let r3_diag = SVector::<f64, 3>::new(4.0, 4.0, 4.0);
     let r1 = SMatrix::<f64, 1, 1>::new(1.0);
@@ -294,10 +328,12 @@ fn predict_and_update_do_not_allocate() {
                 let bad = SVector::<f64, 3>::new(f64::NAN, 0.0, 0.0);
                 outcomes[3] += usize::from(f.update::<Position, 3>(&bad, &r3, &()).is_err());
             }
-            esf.predict(0.01, &u).expect("finite step");
             let z3 = SVector::<f64, 3>::new(0.3, -0.2, 0.1);
-            esf.update::<Position, 3>(&z3, &r3, &())
-                .expect("valid update");
+            for f in [&mut esf, &mut recording] {
+                f.predict(0.01, &u).expect("finite step");
+                f.update::<Position, 3>(&z3, &r3, &())
+                    .expect("valid update");
+            }
         }
     });
     assert_eq!(count, 0, "heap allocations in predict/update");
@@ -306,6 +342,9 @@ fn predict_and_update_do_not_allocate() {
     assert_eq!((outcomes[2], outcomes[3]), (3000, 3000));
     // One reset at construction (non-zero initial error), one per update.
     assert_eq!(esf.resets(), 1001);
+    // The recording took every step and every update.
+    let file = recording.finish_recording().expect("recorded").expect("on");
+    assert_eq!(file.borrow().len(), 1001);
     // Sanity: the counter does see allocations.
     assert!(allocations(|| drop(std::hint::black_box(vec![1u8; 16]))) >= 1);
 }

@@ -600,7 +600,7 @@ impl<'a> Emitter<'a> {
                     noise: &[#(#noise_at),*],
                 };
         };
-        let (pb_body, pb_ops, pb_doc) = match &pr.unrolled {
+        let (pb_body, pb_ops, pb_doc, pb_observed) = match &pr.unrolled {
             Some(entries) => {
                 let pb = self.body(&entries.iter().map(|e| e.2).collect::<Vec<_>>(), quote!(_p));
                 let sets = entries
@@ -633,7 +633,7 @@ impl<'a> Emitter<'a> {
                      the result is mirrored.\n\nTotal ops: {}",
                     pb.ops
                 );
-                (body, quote!(#ops), doc(&text))
+                (body, quote!(#ops), doc(&text), quote!())
             }
             None => {
                 let mut roots: Vec<Id> = pr.entries.iter().flatten().map(|e| e.1).collect();
@@ -644,13 +644,28 @@ impl<'a> Emitter<'a> {
                     (&pb.lets, &pb.exprs[..nc], &pb.exprs[nc..]);
                 let (n, changed) = (&self.n, lit(pr.rows.len()));
                 let body = quote! {
-                    #lets
-                    ::nav_runtime::propagation::propagate::<#scalar, #n, #changed>(
-                        cov,
-                        &Self::PROPAGATION_STRUCTURE,
-                        &[#(#coefficients),*],
-                        &[#(#noise_values),*],
-                    );
+                    Self::propagate_covariance_observed(cov, x, u, p, q, dt, |_| ());
+                };
+                let observed = quote! {
+                    const PROPAGATION: ::core::option::Option<::nav_runtime::propagation::Structure<'static>> =
+                        ::core::option::Option::Some(Self::PROPAGATION_STRUCTURE);
+                    /// The coefficients of `C` go to `observe`, then `nav_runtime::propagation::propagate`
+                    /// runs over [`Self::PROPAGATION_STRUCTURE`].
+                    #[inline]
+                    fn propagate_covariance_observed<F: FnOnce(&[#scalar])>(
+                        cov: &mut #smat<#scalar, #n, #n>, x: &#svec<#scalar, #n>, u: &#input_ty, p: &#params_ty,
+                        q: &#noise_ty, dt: #scalar, observe: F,
+                    ) {
+                        #lets
+                        let coefficients = [#(#coefficients),*];
+                        observe(&coefficients);
+                        ::nav_runtime::propagation::propagate::<#scalar, #n, #changed>(
+                            cov,
+                            &Self::PROPAGATION_STRUCTURE,
+                            &coefficients,
+                            &[#(#noise_values),*],
+                        );
+                    }
                 };
                 let body_ops = lit(pb.ops);
                 let text = format!(
@@ -665,6 +680,7 @@ impl<'a> Emitter<'a> {
                     body,
                     quote!((#body_ops + Self::PROPAGATION_STRUCTURE.ops(#n))),
                     doc(&text),
+                    observed,
                 )
             }
         };
@@ -805,6 +821,7 @@ impl<'a> Emitter<'a> {
                 ) {
                     #pb_body
                 }
+                #pb_observed
             }
         }
     }

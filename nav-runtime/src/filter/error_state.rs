@@ -140,11 +140,21 @@ impl<Mo: Model<N>, Nom: NominalState<N>, const N: usize> ErrorStateFilter<Mo, No
     /// As [`Ekf::predict`]; nothing changes on error.
     pub fn predict(&mut self, dt: f64, input: &Mo::Input) -> Result<(), FilterError> {
         #[cfg(feature = "std")]
-        let start = self.start_step();
-        let result = self.ekf.predict(dt, input);
-        #[cfg(feature = "std")]
-        self.record_step(start, result.is_ok().then_some(input), dt);
-        result
+        if let Some(rec) = self.recording.as_deref_mut() {
+            // The step's coefficients are staged as the propagation uses
+            // them and recorded once the step has succeeded.
+            let start = *self.ekf.state();
+            let mut staged = false;
+            let result = self.ekf.predict_observed(dt, input, |coefficients| {
+                rec.stage(coefficients);
+                staged = true;
+            });
+            if result.is_ok() && !(staged && rec.propagated_staged::<Mo>(dt)) {
+                rec.propagated::<Mo>(&Mo::jacobian(&start, input, self.ekf.params(), dt), dt);
+            }
+            return result;
+        }
+        self.ekf.predict(dt, input)
     }
 
     /// Fuses the residual `z` (INS value minus sensor value) of sensor `S`, as
@@ -239,12 +249,9 @@ impl<Mo: Model<N>, Nom: NominalState<N>, const N: usize> ErrorStateFilter<Mo, No
                 reason: "smoothing needs the first-order discretization",
             });
         }
-        self.recording = Some(Box::new(Recorder::new(
-            file,
-            time,
-            self.ekf.covariance(),
-            SVector::zeros(),
-        )));
+        let mut recorder = Recorder::new(file, time, self.ekf.covariance(), SVector::zeros());
+        recorder.reserve_stage(Mo::PROPAGATION.map_or(0, |s| s.columns.len()));
+        self.recording = Some(Box::new(recorder));
         Ok(())
     }
 
@@ -278,35 +285,6 @@ impl<Mo: Model<N>, Nom: NominalState<N>, const N: usize> ErrorStateFilter<Mo, No
         };
         rec.finish()?;
         Ok(Some(rec.store()))
-    }
-
-    /// Before a prediction step, when recording: the state the step starts
-    /// from, and the capture of the step's transition armed
-    /// ([`crate::propagation::propagate`]).
-    fn start_step(&self) -> Option<SVector<f64, N>> {
-        self.recording.as_ref().map(|_| {
-            crate::propagation::capture::arm();
-            *self.ekf.state()
-        })
-    }
-
-    /// After a prediction step from `start` ([`Self::start_step`]), when
-    /// recording: the step's transition into the recording, from the
-    /// coefficients the covariance propagation used if it offered them, from
-    /// the Jacobian at `start` otherwise. `None` for `input` after a failed
-    /// step: nothing is recorded.
-    fn record_step(&mut self, start: Option<SVector<f64, N>>, input: Option<&Mo::Input>, dt: f64) {
-        let Some(x) = start else {
-            return;
-        };
-        let params = self.ekf.params();
-        crate::propagation::capture::take(|step| {
-            if let (Some(rec), Some(input)) = (self.recording.as_mut(), input) {
-                if !step.is_some_and(|s| rec.propagated_step::<Mo>(s, dt)) {
-                    rec.propagated::<Mo>(&Mo::jacobian(&x, input, params, dt), dt);
-                }
-            }
-        });
     }
 }
 
@@ -402,16 +380,10 @@ impl<Mo: Model<N>, Nom: Mechanization<Mo, N>, const N: usize> Propagate
         // the prediction fails.
         let before = self.nominal.clone();
         let input = self.nominal.mechanize(dt, imu);
-        #[cfg(feature = "std")]
-        let start = self.start_step();
-        if let Err(e) = self.ekf.predict(dt, &input) {
-            #[cfg(feature = "std")]
-            self.record_step(start, None, dt);
+        if let Err(e) = self.predict(dt, &input) {
             self.nominal = before;
             return Err(e);
         }
-        #[cfg(feature = "std")]
-        self.record_step(start, Some(&input), dt);
         Ok(())
     }
 }

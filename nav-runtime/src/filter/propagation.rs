@@ -84,10 +84,6 @@ impl Structure<'_> {
 /// inconsistent hand-made one panics on an index check, never reads out of
 /// bounds.
 /// Runs compiled for AVX where the CPU has it (bit-identical results).
-///
-/// With `std`, a smoother's recording on this thread may take a copy of the
-/// structure's rows and the coefficients (the transition of the step, as
-/// the filter used it; see `capture`); otherwise nothing but a flag is read.
 #[inline]
 pub fn propagate<T: Real, const N: usize, const D: usize>(
     cov: &mut SMatrix<T, N, N>,
@@ -95,8 +91,6 @@ pub fn propagate<T: Real, const N: usize, const D: usize>(
     coefficients: &[T],
     noise: &[T],
 ) {
-    #[cfg(feature = "std")]
-    capture::offer(structure, coefficients);
     propagate_kernel::<T, N, D>(cov, structure, coefficients, noise);
 }
 
@@ -108,76 +102,6 @@ crate::dispatch::avx_dispatch! {
         coefficients: &[T],
         noise: &[T],
     ) => propagate_steps;
-}
-
-/// The transition of one prediction step for a smoother's recording: while
-/// armed on a thread, [`propagate`] copies its structure's changed rows and
-/// coefficients (`Phi = I + C`), so the recorder has the filter's own
-/// transition without evaluating the Jacobian again.
-#[cfg(feature = "std")]
-pub(crate) mod capture {
-    use std::cell::{Cell, RefCell};
-    use std::vec::Vec;
-
-    use super::Structure;
-    use crate::real::Real;
-
-    /// The changed rows of `Phi = I + C` of one step, in the layout of
-    /// [`Structure`]: row `rows[r]` has the nonzeros
-    /// `columns[start[r]..start[r + 1]]` with values `coefficients[..]`.
-    #[derive(Debug, Default)]
-    pub(crate) struct Step {
-        pub rows: Vec<usize>,
-        pub start: Vec<usize>,
-        pub columns: Vec<usize>,
-        pub coefficients: Vec<f64>,
-        /// Calls of [`super::propagate`] since armed (one is a step).
-        calls: usize,
-        /// `false` if a call was not of the form `I + C`.
-        identity: bool,
-    }
-
-    std::thread_local! {
-        static ARMED: Cell<bool> = const { Cell::new(false) };
-        static STEP: RefCell<Step> = RefCell::new(Step::default());
-    }
-
-    /// Copies the next propagations on this thread until [`take`].
-    pub(crate) fn arm() {
-        STEP.with_borrow_mut(|s| s.calls = 0);
-        ARMED.set(true);
-    }
-
-    /// [`super::propagate`]'s offer: copied when armed (the buffers keep
-    /// their capacity, so after the first step nothing is allocated).
-    #[inline]
-    pub(super) fn offer<T: Real>(structure: &Structure<'_>, coefficients: &[T]) {
-        if !ARMED.get() {
-            return;
-        }
-        STEP.with_borrow_mut(|s| {
-            s.calls += 1;
-            s.identity = structure.identity;
-            s.rows.clear();
-            s.rows.extend_from_slice(structure.rows);
-            s.start.clear();
-            s.start.extend_from_slice(structure.start);
-            s.columns.clear();
-            s.columns.extend_from_slice(structure.columns);
-            s.coefficients.clear();
-            s.coefficients
-                .extend(coefficients.iter().map(|c| c.to_f64()));
-        });
-    }
-
-    /// Disarms and calls `f` with the step copied since [`arm`]: `None`
-    /// unless exactly one propagation of the form `I + C` ran (a model
-    /// whose covariance propagation is written by hand does not call
-    /// [`super::propagate`]).
-    pub(crate) fn take<R>(f: impl FnOnce(Option<&Step>) -> R) -> R {
-        ARMED.set(false);
-        STEP.with_borrow(|s| f((s.calls == 1 && s.identity).then_some(s)))
-    }
 }
 
 /// The four steps of [`propagate`].
@@ -531,45 +455,6 @@ mod tests {
                 "{r}: {a} + {b}"
             );
         }
-    }
-
-    /// Armed, one propagation is copied (rows, nonzeros, coefficients);
-    /// none or two are no step; unarmed, nothing is copied.
-    #[test]
-    fn an_armed_capture_copies_one_propagation() {
-        let structure = Structure {
-            identity: true,
-            rows: &[0, 2],
-            start: &[0, 2, 3],
-            columns: &[1, 2, 0],
-            noise: &[(0, 0)],
-        };
-        let (coefficients, noise) = ([0.5, -0.25, 2.0], [0.1]);
-        let mut p = SMatrix::<f64, 3, 3>::identity();
-        let once = |p: &mut SMatrix<f64, 3, 3>| {
-            propagate::<f64, 3, 2>(p, &structure, &coefficients, &noise)
-        };
-        capture::arm();
-        once(&mut p);
-        capture::take(|step| {
-            let step = step.expect("one step");
-            assert_eq!(
-                (step.rows.as_slice(), step.start.as_slice()),
-                (&[0, 2][..], &[0, 2, 3][..])
-            );
-            assert_eq!(step.columns, [1, 2, 0]);
-            assert_eq!(step.coefficients, coefficients);
-        });
-        capture::arm();
-        capture::take(|step| assert!(step.is_none(), "no propagation"));
-        capture::arm();
-        once(&mut p);
-        once(&mut p);
-        capture::take(|step| assert!(step.is_none(), "two propagations"));
-        capture::arm();
-        capture::take(|_| ());
-        once(&mut p);
-        capture::take(|step| assert!(step.is_none(), "not armed"));
     }
 
     #[test]

@@ -40,7 +40,23 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
     /// [`FilterError::NonFiniteResult`] if the model produced NaN/infinity.
     /// The filter is unchanged in every case.
     pub fn predict(&mut self, dt: T, input: &Mo::Input) -> Result<(), FilterError> {
-        match self.predict_in_place(dt, input) {
+        self.predict_observed(dt, input, |_| ())
+    }
+
+    /// [`Ekf::predict`], handing the step's transition to `observe` as
+    /// [`Model::propagate_covariance_observed`] does (only with the
+    /// first-order step of a model whose [`Model::PROPAGATION`] is set; the
+    /// step may still fail after the call).
+    ///
+    /// # Errors
+    /// As [`Ekf::predict`].
+    pub(crate) fn predict_observed<F: FnOnce(&[T])>(
+        &mut self,
+        dt: T,
+        input: &Mo::Input,
+        observe: F,
+    ) -> Result<(), FilterError> {
+        match self.predict_in_place(dt, input, observe) {
             Ok(repairs) => {
                 Mo::normalize_state(&mut self.x);
                 self.input = *input;
@@ -61,7 +77,12 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
     /// The state is propagated into a temporary and checked first; `P` is
     /// propagated in place with one backup copy, which is restored if the
     /// result has a non-finite covariance.
-    pub(super) fn predict_in_place(&mut self, dt: T, u: &Mo::Input) -> Result<u32, FilterError> {
+    pub(super) fn predict_in_place<F: FnOnce(&[T])>(
+        &mut self,
+        dt: T,
+        u: &Mo::Input,
+        observe: F,
+    ) -> Result<u32, FilterError> {
         if !(dt.is_finite() && dt > T::zero()) {
             return Err(FilterError::InvalidTimeStep { dt: dt.to_f64() });
         }
@@ -97,7 +118,7 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
                 // The generated propagation writes an exactly symmetric `P`
                 // (it computes the upper triangle and mirrors it), so there
                 // is nothing to mirror here.
-                Mo::propagate_covariance(&mut self.p, &self.x, u, par, q, dt);
+                Mo::propagate_covariance_observed(&mut self.p, &self.x, u, par, q, dt, observe);
                 x_new
             }
             Discretization::SecondOrder => {

@@ -45,6 +45,12 @@ pub struct Recorder<const N: usize, const S: usize> {
     /// Work space of [`Recorder::propagated`] (the change of each row of
     /// `Phi` in one step; no meaning between calls, not copied by clones).
     scratch: [[f64; N]; N],
+    /// The coefficients of the step in progress ([`Recorder::stage`]), in a
+    /// buffer reserved at the start ([`Recorder::reserve_stage`]); not copied
+    /// by clones.
+    staged: Vec<f64>,
+    /// `true` while [`Recorder::staged`] holds the step in progress.
+    staged_valid: bool,
 }
 
 impl<const N: usize, const S: usize> Clone for Recorder<N, S> {
@@ -57,6 +63,8 @@ impl<const N: usize, const S: usize> Clone for Recorder<N, S> {
             open: self.open,
             failure: self.failure.clone(),
             scratch: [[0.0; N]; N],
+            staged: Vec::with_capacity(self.staged.capacity()),
+            staged_valid: false,
         }
     }
 
@@ -76,6 +84,10 @@ impl<const N: usize, const S: usize> Clone for Recorder<N, S> {
             },
         }
         self.failure.clone_from(&source.failure);
+        // The stage buffer's capacity only (allocates once, if ever).
+        self.staged.clear();
+        self.staged.reserve_exact(source.staged.capacity());
+        self.staged_valid = false;
     }
 }
 
@@ -96,7 +108,42 @@ impl<const N: usize, const S: usize> Recorder<N, S> {
             open: Some(Epoch::at(time, SMatrix::identity(), *covariance, snapshot)),
             failure: None,
             scratch: [[0.0; N]; N],
+            staged: Vec::new(),
+            staged_valid: false,
         }
+    }
+
+    /// Reserves room for `len` coefficients per step for [`Recorder::stage`]
+    /// (a setup call: staging then never allocates).
+    pub(crate) fn reserve_stage(&mut self, len: usize) {
+        self.staged.reserve_exact(len);
+    }
+
+    /// Keeps a copy of the coefficients of the step in progress (as a
+    /// filter's covariance propagation hands them over) for
+    /// [`Recorder::propagated_staged`]. Never allocates: coefficients that do
+    /// not fit the reserved buffer are not kept, and the step is then
+    /// recorded from its Jacobian.
+    pub(crate) fn stage(&mut self, coefficients: &[f64]) {
+        self.staged.clear();
+        self.staged_valid = coefficients.len() <= self.staged.capacity();
+        if self.staged_valid {
+            self.staged.extend_from_slice(coefficients);
+        }
+    }
+
+    /// [`Recorder::propagated_step`] with the coefficients staged since the
+    /// last step over `Mo::PROPAGATION`; `false`, and nothing recorded, if
+    /// none were staged or they do not fit.
+    pub(crate) fn propagated_staged<Mo: Model<N>>(&mut self, dt: f64) -> bool {
+        let (Some(structure), true) = (Mo::PROPAGATION, core::mem::take(&mut self.staged_valid))
+        else {
+            return false;
+        };
+        let staged = core::mem::take(&mut self.staged);
+        let recorded = self.propagated_step::<Mo>(&structure, &staged, dt);
+        self.staged = staged;
+        recorded
     }
 
     /// The epoch file (shared by every clone).
@@ -163,25 +210,28 @@ impl<const N: usize, const S: usize> Recorder<N, S> {
 
     /// [`Recorder::propagated`] for a continuous model with the step's
     /// transition `I + C` as the filter's covariance propagation used it
-    /// (`step`, copied by [`crate::propagation::propagate`]), so the
-    /// Jacobian need not be evaluated again. `false`, and nothing recorded,
-    /// if `step` does not fit the model's sparsity (a changed row of a state
-    /// without dynamics, a column outside the structure) or the model is
-    /// discrete: then call [`Recorder::propagated`].
+    /// (`structure` and the nonzeros `coefficients` of `C`, see
+    /// [`Model::propagate_covariance_observed`]), so the Jacobian need not be
+    /// evaluated again. `false`, and nothing recorded, if the step does not
+    /// fit the model's sparsity (a changed row of a state without dynamics,
+    /// a column outside the structure), is not of the form `I + C`, or the
+    /// model is discrete: then call [`Recorder::propagated`].
     pub(crate) fn propagated_step<Mo: Model<N>>(
         &mut self,
-        step: &crate::propagation::capture::Step,
+        structure: &crate::propagation::Structure<'_>,
+        coefficients: &[f64],
         dt: f64,
     ) -> bool {
         let dynamic = &Structure::<Mo, N>::DYNAMIC;
         let width = Structure::<Mo, N>::WIDTH;
-        let (rows, start, columns) = (&step.rows, &step.start, &step.columns);
+        let (rows, start, columns) = (structure.rows, structure.start, structure.columns);
         let fits = !Mo::DISCRETE
+            && structure.identity
             && start.len() == rows.len() + 1
             && start.first() == Some(&0)
             && start.windows(2).all(|w| w[0] <= w[1])
             && start.last() == Some(&columns.len())
-            && step.coefficients.len() == columns.len()
+            && coefficients.len() == columns.len()
             && rows.iter().all(|&i| i < N && dynamic[i])
             && columns.iter().all(|&j| j < width);
         if !fits {
@@ -197,7 +247,8 @@ impl<const N: usize, const S: usize> Recorder<N, S> {
             &mut self.scratch,
             dynamic,
             lanes.min(N),
-            step,
+            structure,
+            coefficients,
         );
         true
     }
@@ -337,7 +388,7 @@ fn step_rows_portable<const N: usize, const AVX: bool>(
 
 crate::dispatch::avx_dispatch! {
     /// `T <- T + C T` on `rows` (`T^T`) for the step `I + C` given by
-    /// `step` (its changed rows, their nonzeros and coefficients; checked
+    /// `structure` and `coefficients` (its changed rows, their nonzeros and coefficients; checked
     /// against the model's structure), over the first `width` columns (past
     /// them the rows of states with dynamics are zero), with `scratch` as
     /// work space ([`Recorder::propagated_step`]). Compiled for AVX where
@@ -348,7 +399,8 @@ crate::dispatch::avx_dispatch! {
         scratch: &mut [[f64; N]; N],
         dynamic: &[bool; N],
         width: usize,
-        step: &crate::propagation::capture::Step,
+        structure: &crate::propagation::Structure<'_>,
+        coefficients: &[f64],
     ) => step_coefficients_portable;
 }
 
@@ -359,10 +411,10 @@ fn step_coefficients_portable<const N: usize, const AVX: bool>(
     scratch: &mut [[f64; N]; N],
     dynamic: &[bool; N],
     width: usize,
-    step: &crate::propagation::capture::Step,
+    structure: &crate::propagation::Structure<'_>,
+    coefficients: &[f64],
 ) {
-    let (changed, start) = (&step.rows, &step.start);
-    let (columns, coefficients) = (&step.columns, &step.coefficients);
+    let (changed, start, columns) = (structure.rows, structure.start, structure.columns);
     // Row i of T changes by sum_j C_ij (row j of T), where row j of a state
     // without dynamics is e_j. Rows are contiguous (`rows` holds T^T).
     let (t, _) = rows.as_slice().as_chunks::<N>();
@@ -485,6 +537,15 @@ mod tests {
         ];
         const OPS_PROPAGATE_COVARIANCE: usize = 0;
         const OPS_JACOBIAN: usize = 0;
+        // The layout of `captured`.
+        const PROPAGATION: Option<crate::propagation::Structure<'static>> =
+            Some(crate::propagation::Structure {
+                identity: true,
+                rows: &[0, 2],
+                start: &[0, 3, 5],
+                columns: &[0, 1, 2, 0, 3],
+                noise: &[],
+            });
         fn transition(x: &SVector<f64, 4>, _: &(), _: &(), _: f64) -> SVector<f64, 4> {
             *x
         }
@@ -536,10 +597,35 @@ mod tests {
         })
     }
 
+    /// A step `I + C` in the layout of the covariance propagation.
+    #[derive(Clone, Default)]
+    struct Step {
+        rows: Vec<usize>,
+        start: Vec<usize>,
+        columns: Vec<usize>,
+        coefficients: Vec<f64>,
+        identity: bool,
+    }
+
+    impl Step {
+        fn structure(&self) -> crate::propagation::Structure<'_> {
+            crate::propagation::Structure {
+                identity: self.identity,
+                rows: &self.rows,
+                start: &self.start,
+                columns: &self.columns,
+                noise: &[],
+            }
+        }
+    }
+
     /// `I + C` of a step in the layout of the covariance propagation, with
     /// `C = dt F` over Four's sparsity.
-    fn captured(f: &SMatrix<f64, 4, 4>, dt: f64) -> crate::propagation::capture::Step {
-        let mut step = crate::propagation::capture::Step::default();
+    fn captured(f: &SMatrix<f64, 4, 4>, dt: f64) -> Step {
+        let mut step = Step {
+            identity: true,
+            ..Step::default()
+        };
         step.start.push(0);
         for i in [0, 2] {
             step.rows.push(i);
@@ -572,7 +658,12 @@ mod tests {
         for k in 0..7 {
             let (f, dt) = (jacobian(k), 0.1 + 0.01 * k as f64);
             by_jacobian.propagated::<Four>(&f, dt);
-            assert!(by_coefficients.propagated_step::<Four>(&captured(&f, dt), dt));
+            let step = captured(&f, dt);
+            assert!(by_coefficients.propagated_step::<Four>(
+                &step.structure(),
+                &step.coefficients,
+                dt
+            ));
         }
         assert_eq!(
             by_jacobian.rows.map(f64::to_bits),
@@ -586,19 +677,60 @@ mod tests {
         );
         let rows = by_coefficients.rows;
         for bad in [
-            |s: &mut crate::propagation::capture::Step| s.rows[1] = 1,
-            |s: &mut crate::propagation::capture::Step| s.columns[0] = 4,
-            |s: &mut crate::propagation::capture::Step| s.start[1] = 9,
-            |s: &mut crate::propagation::capture::Step| {
+            |s: &mut Step| s.rows[1] = 1,
+            |s: &mut Step| s.columns[0] = 4,
+            |s: &mut Step| s.start[1] = 9,
+            |s: &mut Step| {
                 s.coefficients.pop();
             },
+            |s: &mut Step| s.identity = false,
         ] {
             let mut step = captured(&jacobian(0), 0.1);
             bad(&mut step);
-            assert!(!by_coefficients.propagated_step::<Four>(&step, 0.1));
+            assert!(!by_coefficients.propagated_step::<Four>(
+                &step.structure(),
+                &step.coefficients,
+                0.1
+            ));
         }
         assert_eq!(by_coefficients.rows, rows);
         assert_eq!(by_coefficients.time, by_jacobian.time);
+    }
+
+    /// Staged coefficients record the step as given directly, only within
+    /// the reserved buffer (staging never allocates), and only once.
+    #[test]
+    fn staged_steps_are_recorded_once_and_only_within_the_reserve() {
+        let p = SMatrix::<f64, 4, 4>::identity();
+        let start = || {
+            Recorder::new(
+                EpochFile::<4, 0>::create(None).unwrap(),
+                0.0,
+                &p,
+                SVector::zeros(),
+            )
+        };
+        let (mut direct, mut staged, mut unreserved) = (start(), start(), start());
+        staged.reserve_stage(5);
+        let capacity = staged.staged.capacity();
+        for k in 0..5 {
+            let (f, dt) = (jacobian(k), 0.1 + 0.01 * k as f64);
+            let step = captured(&f, dt);
+            assert!(direct.propagated_step::<Four>(&step.structure(), &step.coefficients, dt));
+            staged.stage(&step.coefficients);
+            assert!(staged.propagated_staged::<Four>(dt));
+            assert!(
+                !staged.propagated_staged::<Four>(dt),
+                "a staged step is used once"
+            );
+            unreserved.stage(&step.coefficients);
+            assert!(!unreserved.propagated_staged::<Four>(dt));
+        }
+        assert_eq!(staged.staged.capacity(), capacity, "no growth");
+        assert_eq!(unreserved.staged.capacity(), 0, "nothing allocated");
+        assert_eq!(direct.rows.map(f64::to_bits), staged.rows.map(f64::to_bits));
+        assert_eq!(direct.time, staged.time);
+        assert_eq!(unreserved.rows, p, "nothing recorded");
     }
 
     /// A transition product with unit rows 1 and 3 (the states without
@@ -622,8 +754,9 @@ mod tests {
         let (mut a, mut b) = (start, start);
         let mut scratch = [[0.0; 4]; 4];
         let dynamic = &Structure::<Four, 4>::DYNAMIC;
-        step_coefficients(&mut a, &mut scratch, dynamic, 4, &step);
-        step_coefficients_portable::<4, false>(&mut b, &mut scratch, dynamic, 4, &step);
+        let (structure, c) = (step.structure(), &step.coefficients);
+        step_coefficients(&mut a, &mut scratch, dynamic, 4, &structure, c);
+        step_coefficients_portable::<4, false>(&mut b, &mut scratch, dynamic, 4, &structure, c);
         assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits));
         assert_ne!(a, start, "the step ran");
     }
