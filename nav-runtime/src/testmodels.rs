@@ -10,6 +10,10 @@
 //! - [`Osc`]: harmonic oscillator (theta, omega) with `omega' = -w^2 theta`, whose
 //!   transition matrix is a rotation; its sensor [`Angle`] measures an angle.
 //! - [`Dcv`]: a discrete constant-velocity model.
+//! - [`Rows`]: a 4-state model whose covariance propagation runs the row
+//!   kernel over a [`Model::PROPAGATION`] structure (two changed rows, `Qd`
+//!   inside and outside them), with `F` taken from the input, so a test can
+//!   make any step (a zeroed row, an overflow).
 
 use nalgebra::{SMatrix, SVector};
 
@@ -46,6 +50,8 @@ record!(Offset { offset });
 record!(OscParams { w });
 record!(OscNoise { q });
 record!(DcvNoise { var_v });
+record!(RowsInput { f00, f01, f22, f23 });
+record!(RowsNoise { q1, q2 });
 
 /// Dense `(h, P H^T, H P H^T)` for hand-written sensors.
 pub fn dense_terms<const N: usize, const M: usize>(
@@ -371,6 +377,98 @@ impl Model<2> for Dcv {
             cov,
             &Self::jacobian(x, u, p, dt),
             &Self::process_noise(x, u, p, q, dt),
+        );
+    }
+}
+
+/// States (a, b, c, d): `a' = f00 a + f01 b`, `c' = f22 c + f23 d`, `b' = w1`,
+/// `c` also driven by `w2`; `d` constant. Changed rows 0 and 2; `Qd` at
+/// `(1, 1)` (outside them) and `(2, 2)`.
+pub struct Rows;
+
+impl Rows {
+    /// `F` of the input.
+    fn f(u: &RowsInput) -> SMatrix<f64, 4, 4> {
+        let mut f = SMatrix::<f64, 4, 4>::zeros();
+        f[(0, 0)] = u.f00;
+        f[(0, 1)] = u.f01;
+        f[(2, 2)] = u.f22;
+        f[(2, 3)] = u.f23;
+        f
+    }
+}
+
+impl Model<4> for Rows {
+    type Input = RowsInput;
+    type Params = ();
+    type Noise = RowsNoise;
+    type State = ();
+    const NAME: &'static str = "Rows";
+    const DISCRETE: bool = false;
+    const STATE_NAMES: [&'static str; 4] = ["a", "b", "c", "d"];
+    const JACOBIAN_SPARSITY: [[bool; 4]; 4] = [
+        [true, true, false, false],
+        [false; 4],
+        [false, false, true, true],
+        [false; 4],
+    ];
+    const OPS_PROPAGATE_COVARIANCE: usize = 0;
+    const OPS_JACOBIAN: usize = 0;
+    const PROPAGATION: Option<crate::propagation::Structure<'static>> =
+        Some(crate::propagation::Structure {
+            identity: true,
+            rows: &[0, 2],
+            start: &[0, 2, 4],
+            columns: &[0, 1, 2, 3],
+            noise: &[(1, 1), (2, 2)],
+        });
+
+    fn transition(x: &SVector<f64, 4>, u: &RowsInput, _: &(), dt: f64) -> SVector<f64, 4> {
+        x + Self::f(u) * x * dt
+    }
+
+    fn jacobian(_: &SVector<f64, 4>, u: &RowsInput, _: &(), _: f64) -> SMatrix<f64, 4, 4> {
+        Self::f(u)
+    }
+
+    fn process_noise(
+        _: &SVector<f64, 4>,
+        _: &RowsInput,
+        _: &(),
+        q: &RowsNoise,
+        dt: f64,
+    ) -> SMatrix<f64, 4, 4> {
+        SMatrix::<f64, 4, 4>::from_diagonal(&SVector::<f64, 4>::new(0.0, q.q1 * dt, q.q2 * dt, 0.0))
+    }
+
+    fn propagate_covariance(
+        cov: &mut SMatrix<f64, 4, 4>,
+        x: &SVector<f64, 4>,
+        u: &RowsInput,
+        p: &(),
+        q: &RowsNoise,
+        dt: f64,
+    ) {
+        Self::propagate_covariance_observed(cov, x, u, p, q, dt, |_| ());
+    }
+
+    fn propagate_covariance_observed<F: FnOnce(&[f64])>(
+        cov: &mut SMatrix<f64, 4, 4>,
+        _: &SVector<f64, 4>,
+        u: &RowsInput,
+        _: &(),
+        q: &RowsNoise,
+        dt: f64,
+        observe: F,
+    ) {
+        let coefficients = [u.f00 * dt, u.f01 * dt, u.f22 * dt, u.f23 * dt];
+        observe(&coefficients);
+        let structure = Self::PROPAGATION.expect("declared above");
+        crate::propagation::propagate::<f64, 4, 2>(
+            cov,
+            &structure,
+            &coefficients,
+            &[q.q1 * dt, q.q2 * dt],
         );
     }
 }

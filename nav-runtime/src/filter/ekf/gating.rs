@@ -65,6 +65,8 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
             .after_gate::<S, T, N, M>(report, p, x, u, par, aux)
         {
             self.counters.updates_released += 1;
+            // Inflated outside the update's checks.
+            self.clean = false;
         }
     }
 

@@ -42,6 +42,7 @@ use crate::gate::Gate;
 use crate::model::Model;
 use crate::real::Real;
 
+mod changed;
 mod covariance;
 mod discretization;
 mod error;
@@ -86,5 +87,14 @@ pub struct Ekf<Mo: Model<N, T>, const N: usize, T: Real = f64> {
     pub(crate) lockout: crate::lockout::Lockout,
     variance_floor: f64,
     counters: FilterCounters,
+    /// `true` while `P` is known clean (every entry finite, every variance
+    /// positive): set by the checks that end every prediction and update,
+    /// cleared when `P` is set or inflated from outside them. A prediction
+    /// over a known structure then checks only the entries it changes.
+    clean: bool,
+    /// Work space of a prediction over [`Model::PROPAGATION`]: the entries
+    /// of `P` it changes, saved before the step to restore them if it fails
+    /// (no meaning between calls; not copied by `clone_from`).
+    saved: [[T; N]; N],
     _model: PhantomData<fn() -> Mo>,
 }

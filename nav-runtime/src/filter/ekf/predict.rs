@@ -1,12 +1,16 @@
 //! Prediction (eq. P1) and the [`Propagate`] interface the scheduler drives.
 
-use nalgebra::SVector;
+use nalgebra::{SMatrix, SVector};
 
+use super::changed::{
+    changed_are_clean, changed_entries, restore_changed, save_changed, ChangedEntries,
+};
 use super::covariance::{covariance_is_clean, mirror_upper, off_diagonal_finite, repair_diagonal};
 use super::discretization::{second_order, van_loan, Discretization};
 use super::validation::all_finite;
 use super::{Ekf, FilterError};
 use crate::model::{first_non_finite, name_of, Model};
+use crate::propagation::Structure;
 use crate::real::Real;
 
 /// A filter that can be propagated with an input sample: the interface the
@@ -74,9 +78,13 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
     /// Propagates `x` and `P` in place (eq. P1); on error both are unchanged.
     /// Returns the number of repaired variances.
     ///
-    /// The state is propagated into a temporary and checked first; `P` is
-    /// propagated in place with one backup copy, which is restored if the
-    /// result has a non-finite covariance.
+    /// The state is propagated into a temporary and checked first. `P` is
+    /// propagated in place: over a model's [`Model::PROPAGATION`] structure,
+    /// from a `P` known clean, only the entries the step changes are saved
+    /// before it and checked after it ([`super::changed`]: nothing else can
+    /// change, so this is the whole check); otherwise the whole `P`. A
+    /// result with a non-finite off-diagonal entry is refused and the saved
+    /// entries are restored; non-positive variances are repaired.
     pub(super) fn predict_in_place<F: FnOnce(&[T])>(
         &mut self,
         dt: T,
@@ -92,72 +100,109 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
                 name: name_of::<Mo::Input>(index),
             });
         }
-        let not_finite = FilterError::NonFiniteResult {
-            stage: "prediction",
-        };
         let (par, q) = (&self.params, &self.noise);
         let method = if Mo::DISCRETE {
             Discretization::FirstOrder
         } else {
             self.discretization
         };
-        let prev = self.p;
-        let x_new = match method {
-            Discretization::FirstOrder => {
-                // An error-state filter's state is zero after every
-                // feedback, and its transition keeps it there: nothing to
-                // evaluate (the inputs were checked finite above).
-                let x_new = if Mo::ZERO_IS_FIXED && self.x.iter().all(|v| *v == T::zero()) {
-                    self.x
-                } else {
-                    Mo::transition(&self.x, u, par, dt)
-                };
-                if !all_finite(x_new.as_slice()) {
-                    return Err(not_finite);
+        if method == Discretization::FirstOrder {
+            // An error-state filter's state is zero after every feedback,
+            // and its transition keeps it there: nothing to evaluate (the
+            // inputs were checked finite above).
+            let x_new = if Mo::ZERO_IS_FIXED && self.x.iter().all(|v| *v == T::zero()) {
+                self.x
+            } else {
+                Mo::transition(&self.x, u, par, dt)
+            };
+            if !all_finite(x_new.as_slice()) {
+                return Err(NOT_FINITE);
+            }
+            // Fixed at compile time from the model's constant structure.
+            let changed = const { changed_entries::<N>(Mo::PROPAGATION) };
+            let repairs = match Mo::PROPAGATION.filter(|_| changed.valid && self.clean) {
+                Some(structure) => self.propagate_changed(&structure, &changed, dt, u, observe)?,
+                None => {
+                    let prev = self.p;
+                    // The generated propagation writes an exactly symmetric
+                    // `P` (it computes the upper triangle and mirrors it).
+                    Mo::propagate_covariance_observed(&mut self.p, &self.x, u, par, q, dt, observe);
+                    self.checked_or_restored(&prev)?
                 }
-                // The generated propagation writes an exactly symmetric `P`
-                // (it computes the upper triangle and mirrors it), so there
-                // is nothing to mirror here.
-                Mo::propagate_covariance_observed(&mut self.p, &self.x, u, par, q, dt, observe);
-                x_new
-            }
-            Discretization::SecondOrder => {
-                let f = Mo::jacobian(&self.x, u, par, dt);
-                let qc = Mo::process_noise(&self.x, u, par, q, dt) / dt;
-                let (phi, qd) = second_order(&f, &qc, dt);
-                let x_new = heun::<Mo, N, T>(&self.x, u, par, dt);
-                if !all_finite(x_new.as_slice()) {
-                    return Err(not_finite);
-                }
-                self.p = phi * prev * phi.transpose() + qd;
-                mirror_upper(&mut self.p);
-                x_new
-            }
-            Discretization::VanLoan => {
-                let f = Mo::jacobian(&self.x, u, par, dt);
-                let qc = Mo::process_noise(&self.x, u, par, q, dt) / dt;
-                let (phi, qd) = van_loan(&f, &qc, dt);
-                let x_new = runge_kutta4::<Mo, N, T>(&self.x, u, par, dt);
-                if !all_finite(x_new.as_slice()) {
-                    return Err(not_finite);
-                }
-                self.p = phi * prev * phi.transpose() + qd;
-                mirror_upper(&mut self.p);
-                x_new
-            }
-        };
-        let mut repairs = 0;
-        if !covariance_is_clean(&self.p) {
-            if !off_diagonal_finite(&self.p) {
-                self.p = prev;
-                return Err(not_finite);
-            }
-            repairs = repair_diagonal(&mut self.p, &prev.diagonal(), T::of(self.variance_floor));
+            };
+            self.x = x_new;
+            return Ok(repairs);
         }
+        let prev = self.p;
+        let f = Mo::jacobian(&self.x, u, par, dt);
+        let qc = Mo::process_noise(&self.x, u, par, q, dt) / dt;
+        let (phi, qd, x_new) = if method == Discretization::SecondOrder {
+            let (phi, qd) = second_order(&f, &qc, dt);
+            (phi, qd, heun::<Mo, N, T>(&self.x, u, par, dt))
+        } else {
+            let (phi, qd) = van_loan(&f, &qc, dt);
+            (phi, qd, runge_kutta4::<Mo, N, T>(&self.x, u, par, dt))
+        };
+        if !all_finite(x_new.as_slice()) {
+            return Err(NOT_FINITE);
+        }
+        self.p = phi * prev * phi.transpose() + qd;
+        mirror_upper(&mut self.p);
+        let repairs = self.checked_or_restored(&prev)?;
         self.x = x_new;
         Ok(repairs)
     }
+
+    /// After a prediction from `prev`: `P` checked whole and its variances
+    /// repaired, or `prev` restored if an off-diagonal entry is not finite.
+    fn checked_or_restored(&mut self, prev: &SMatrix<T, N, N>) -> Result<u32, FilterError> {
+        let mut repairs = 0;
+        if !covariance_is_clean(&self.p) {
+            if !off_diagonal_finite(&self.p) {
+                self.p = *prev;
+                return Err(NOT_FINITE);
+            }
+            repairs = repair_diagonal(&mut self.p, &prev.diagonal(), T::of(self.variance_floor));
+        }
+        self.clean = true;
+        Ok(repairs)
+    }
+
+    /// The first-order covariance step over `structure` from a `P` known
+    /// clean, saving, checking and restoring only the entries it changes
+    /// ([`super::changed`]). Its outcome is that of the whole check: the
+    /// entries it skips are those of the clean `P` before the step.
+    fn propagate_changed<F: FnOnce(&[T])>(
+        &mut self,
+        structure: &Structure<'_>,
+        changed: &ChangedEntries<N>,
+        dt: T,
+        u: &Mo::Input,
+        observe: F,
+    ) -> Result<u32, FilterError> {
+        let prev_diagonal = self.p.diagonal();
+        save_changed(&mut self.saved, &self.p, structure, changed);
+        let (par, q) = (&self.params, &self.noise);
+        Mo::propagate_covariance_observed(&mut self.p, &self.x, u, par, q, dt, observe);
+        if changed_are_clean(&self.p, structure, changed) {
+            return Ok(0);
+        }
+        if !off_diagonal_finite(&self.p) {
+            restore_changed(&mut self.p, &self.saved, structure, changed);
+            return Err(NOT_FINITE);
+        }
+        Ok(repair_diagonal(
+            &mut self.p,
+            &prev_diagonal,
+            T::of(self.variance_floor),
+        ))
+    }
 }
+
+/// A prediction whose state or covariance is not finite.
+const NOT_FINITE: FilterError = FilterError::NonFiniteResult {
+    stage: "prediction",
+};
 
 impl<Mo: Model<N, T>, const N: usize, T: Real> Propagate for Ekf<Mo, N, T> {
     type Input = Mo::Input;

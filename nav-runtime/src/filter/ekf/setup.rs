@@ -56,6 +56,8 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
             lockout: crate::lockout::Lockout::new(),
             variance_floor: DEFAULT_VARIANCE_FLOOR,
             counters: FilterCounters::default(),
+            clean: false,
+            saved: [[T::zero(); N]; N],
             _model: PhantomData,
         })
     }
@@ -148,6 +150,7 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
     /// [`SetupError::Invalid`] (covariance unchanged).
     pub fn set_covariance(&mut self, p: SMatrix<T, N, N>) -> Result<(), SetupError> {
         self.p = checked_covariance(&p)?;
+        self.clean = false;
         Ok(())
     }
 
@@ -192,6 +195,8 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Clone for Ekf<Mo, N, T> {
             lockout: self.lockout,
             variance_floor: self.variance_floor,
             counters: self.counters,
+            clean: self.clean,
+            saved: [[T::zero(); N]; N],
             _model: PhantomData,
         }
     }
@@ -209,6 +214,7 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Clone for Ekf<Mo, N, T> {
         self.lockout = source.lockout;
         self.variance_floor = source.variance_floor;
         self.counters = source.counters;
+        self.clean = source.clean;
     }
 }
 

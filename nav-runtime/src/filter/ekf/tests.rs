@@ -5,7 +5,7 @@ use super::*;
 use crate::model::Sensor;
 use crate::testmodels::{
     Angle, Cvb, CvbInput, CvbNoise, Dcv, DcvNoise, Gauss, Offset, Osc, OscNoise, OscParams, Pos,
-    PosVel, Quad,
+    PosVel, Quad, Rows, RowsInput, RowsNoise,
 };
 
 type M3 = SMatrix<f64, 3, 3>;
@@ -810,4 +810,69 @@ fn per_sensor_gates_override_the_default() {
         f.set_sensor_gate::<Pos, 1>(Some(tight)).unwrap();
     }
     assert_eq!(f.sensor_gate::<Pos, 1>(), Some(tight));
+}
+
+/// A prediction over a model's structure saves, checks and restores only
+/// the entries it changes when `P` is known clean; the outcome (state,
+/// every bit of `P`, errors, repairs, counters) equals the whole-matrix
+/// path's, which runs when `P` is not known clean. Cases: a zero variance
+/// outside the changed rows at the start (repaired by the first,
+/// whole-matrix step), ordinary steps, a changed row zeroed (its variance
+/// repaired), an overflowing diagonal entry (repaired), an overflowing
+/// off-diagonal block (refused, `P` restored), and a `Qd` entry outside the
+/// changed rows overflowing on every step (repaired).
+#[test]
+fn structured_prediction_equals_the_whole_check() {
+    let input = |f00: f64, f01: f64, f22: f64, f23: f64| RowsInput { f00, f01, f22, f23 };
+    let dt = 0.1;
+    let steps = [
+        input(-0.1, 0.5, 0.2, -0.3),
+        input(0.3, -0.2, -0.5, 0.1),
+        // Row 0 of Phi = I + F dt becomes zero: P[0, 0] = 0, repaired.
+        input(-1.0 / dt, 0.0, 0.1, 0.2),
+        input(0.05, 1.0, 0.0, 0.4),
+        // Overflows in a diagonal entry of a changed row: repaired.
+        input(1e300, 1e300, 0.0, 0.0),
+        // Overflows in the off-diagonal block of the changed rows: refused.
+        input(1e300, 1e300, 1e300, 0.0),
+        input(0.2, 0.1, -0.1, 0.3),
+    ];
+    let start = |p11: f64, q1: f64| {
+        let p0 = SMatrix::<f64, 4, 4>::from_row_slice(&[
+            2.0, 0.3, 0.1, 0.0, //
+            0.3, p11, 0.0, 0.0, //
+            0.1, 0.0, 0.5, 0.0, //
+            0.0, 0.0, 0.0, 0.0, // d: zero variance, never propagated
+        ]);
+        let x0 = SVector::<f64, 4>::new(0.1, -0.2, 0.3, 0.4);
+        Ekf::<Rows, 4>::new(x0, p0, (), RowsNoise { q1, q2: 1e-3 }).unwrap()
+    };
+    // Second case: the Qd entry (1, 1), outside the changed rows,
+    // overflows on every step (its variance repaired each time).
+    for (p11, q1) in [(1.0, 1e-2), (0.95 * f64::MAX, f64::MAX)] {
+        let (mut structured, mut whole) = (start(p11, q1), start(p11, q1));
+        for (k, u) in steps.iter().enumerate() {
+            let before = structured.covariance().map(f64::to_bits);
+            whole.clean = false;
+            let a = structured.predict(dt, u);
+            let b = whole.predict(dt, u);
+            assert_eq!(a, b, "step {k}, q1 {q1:e}");
+            assert_eq!(
+                structured.covariance().map(f64::to_bits),
+                whole.covariance().map(f64::to_bits),
+                "step {k}, q1 {q1:e}"
+            );
+            assert_eq!(structured.state(), whole.state());
+            assert_eq!(structured.counters(), whole.counters());
+            if a.is_err() {
+                assert_eq!(
+                    structured.covariance().map(f64::to_bits),
+                    before,
+                    "restored"
+                );
+            }
+        }
+        let counters = structured.counters();
+        assert!(counters.predictions_rejected >= 1 && counters.covariance_repairs >= 3);
+    }
 }

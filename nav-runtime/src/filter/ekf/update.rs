@@ -135,6 +135,8 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
                     self.x = x;
                     Mo::normalize_state(&mut self.x);
                     self.p = p;
+                    // The proposal's `P` passed the clean check (or was repaired).
+                    self.clean = true;
                     self.counters.covariance_repairs += u64::from(report.repairs);
                 }
                 self.count_gate_outcome(&report);
@@ -199,6 +201,7 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
             return Err(FilterError::NonFiniteResult { stage: "update" });
         }
         report.repairs = joseph_in_place(&mut self.p, &k, &u, &s, T::of(self.variance_floor))?;
+        self.clean = true;
         self.x = x_new;
         Ok(report)
     }
