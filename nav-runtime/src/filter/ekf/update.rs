@@ -3,11 +3,9 @@
 
 use nalgebra::{Cholesky, SMatrix, SVector};
 
-use super::covariance::{
-    covariance_is_clean, mirror_lower, mirror_upper, off_diagonal_finite, repair_diagonal,
-};
+use super::covariance::mirror_upper;
 use super::gating::passes;
-use super::joseph::{joseph_in_place, joseph_lower};
+use super::joseph::joseph_in_place;
 use super::validation::{all_finite, check_measurement, checked_noise};
 use super::{Ekf, FilterError, UpdateReport};
 use crate::model::{Model, Sensor};
@@ -74,27 +72,16 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
     where
         S: Sensor<N, M, T, Model = Mo>,
     {
-        match self.batch_update::<S, M>(z, r, aux) {
-            Ok(report) => {
-                self.count_gate_outcome(&report);
-                if report.accepted {
-                    Mo::normalize_state(&mut self.x);
-                    self.counters.covariance_repairs += u64::from(report.repairs);
-                }
-                self.after_gate::<S, M>(&report, aux);
-                Ok(report)
-            }
-            Err(e) => {
-                self.counters.updates_rejected += 1;
-                Err(e)
-            }
-        }
+        let result = self.batch_update::<S, M>(z, r, aux);
+        self.stored::<S, M>(result, aux)
     }
 
     /// Fuses measurement `z` of sensor `S` as `M` scalar updates, one per row of
-    /// `H` (from the dense [`Sensor::jacobian`] at the prior state), with no
+    /// `H` (from the dense [`Sensor::jacobian`] at the prior state, with
+    /// `P H^T` from the generated sparse [`Sensor::innovation_terms`]), with no
     /// matrix inverse or factorization: each step divides by the scalar
-    /// `s_i = h_i P h_i^T + r_i` (the scalar fusion of PX4's EKF2).
+    /// `s_i = h_i P h_i^T + r_i` (the scalar fusion of PX4's EKF2), and the
+    /// steps are stored as one Joseph pass over `P`.
     ///
     /// **Valid only for diagonal `R`**, which is why the noise is given as its
     /// diagonal `r_diag`: with correlated noise the scalar updates would ignore
@@ -119,27 +106,27 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
         S: Sensor<N, M, T, Model = Mo>,
     {
         let result = self.sequential_update::<S, M>(z, r_diag, aux);
-        let report = self.commit(result)?;
-        self.after_gate::<S, M>(&report, aux);
-        Ok(report)
+        self.stored::<S, M>(result, aux)
     }
 
-    /// Stores an update's result and keeps the totals.
-    pub(super) fn commit<const M: usize>(
+    /// The totals of an update's outcome, the state normalized after an
+    /// accepted one, and the gate's decision handed to the lock-out.
+    fn stored<S, const M: usize>(
         &mut self,
-        result: Result<Proposal<T, N, M>, FilterError>,
-    ) -> Result<UpdateReport<M, T>, FilterError> {
+        result: Result<UpdateReport<M, T>, FilterError>,
+        aux: &S::Aux,
+    ) -> Result<UpdateReport<M, T>, FilterError>
+    where
+        S: Sensor<N, M, T, Model = Mo>,
+    {
         match result {
-            Ok(Proposal { report, posterior }) => {
-                if let Some((x, p)) = posterior {
-                    self.x = x;
+            Ok(report) => {
+                self.count_gate_outcome(&report);
+                if report.accepted {
                     Mo::normalize_state(&mut self.x);
-                    self.p = p;
-                    // The proposal's `P` passed the clean check (or was repaired).
-                    self.clean = true;
                     self.counters.covariance_repairs += u64::from(report.repairs);
                 }
-                self.count_gate_outcome(&report);
+                self.after_gate::<S, M>(&report, aux);
                 Ok(report)
             }
             Err(e) => {
@@ -207,12 +194,22 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
     }
 
     /// Scalar sequential fusion for diagonal `R` (see [`Ekf::update_sequential`]).
+    ///
+    /// The scalar steps are formed without touching `P`: with `k_j = u_j /
+    /// s_j`, step `j` takes `P` to `P - u_j k_j^T`, so the vector of step
+    /// `i` is `u_i = P_{i-1} h_i = U[:, i] - sum_{j<i} u_j (k_j . h_i)`
+    /// from the generated sparse `U = P H^T` (O(N M^2) instead of a dense
+    /// `P h_i` per step). Once the gate has accepted the whole vector, the
+    /// `M` steps are stored as one Joseph pass, `P - K U'^T - U' K^T + K D
+    /// K^T` with `K = [k_i]`, `U' = [u_i]` and `D = diag(s_i)` (each step's
+    /// `-k u^T - u k^T + s k k^T` is its scalar Joseph form), in place with
+    /// the checks and repairs of [`Ekf::update`].
     pub(super) fn sequential_update<S, const M: usize>(
-        &self,
+        &mut self,
         z: &SVector<T, M>,
         r_diag: &SVector<T, M>,
         aux: &S::Aux,
-    ) -> Result<Proposal<T, N, M>, FilterError>
+    ) -> Result<UpdateReport<M, T>, FilterError>
     where
         S: Sensor<N, M, T, Model = Mo>,
     {
@@ -227,9 +224,14 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
                 reason: "negative variance",
             });
         }
-        let h = S::predict(&self.x, &self.input, &self.params, aux);
+        let (h, u_prior, hph) =
+            S::innovation_terms(&self.p, &self.x, &self.input, &self.params, aux);
         let hm = S::jacobian(&self.x, &self.input, &self.params, aux);
-        if !(all_finite(h.as_slice()) && all_finite(hm.as_slice())) {
+        if !(all_finite(h.as_slice())
+            && all_finite(hm.as_slice())
+            && all_finite(u_prior.as_slice())
+            && all_finite(hph.as_slice()))
+        {
             return Err(FilterError::NonFiniteResult {
                 stage: "measurement model",
             });
@@ -238,18 +240,25 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
         let not_pd = FilterError::InnovationCovarianceNotPositiveDefinite { sensor: S::NAME };
 
         // The batch S = H P H^T + R, for the report only.
-        let mut s_full = hm * (self.p * hm.transpose());
+        let mut s_full = hph;
         for i in 0..M {
             s_full[(i, i)] += r_diag[i];
         }
         mirror_upper(&mut s_full);
 
+        let mut u = u_prior;
+        let mut k = SMatrix::<T, N, M>::zeros();
+        let mut s = SMatrix::<T, M, M>::zeros();
         let mut dx = SVector::<T, N>::zeros();
-        let mut p = self.p;
         let mut nis = T::zero();
         for i in 0..M {
             let hi = hm.row(i).transpose();
-            let ui = p * hi;
+            for j in 0..i {
+                let c = k.column(j).dot(&hi);
+                let uj = u.column(j).into_owned();
+                u.column_mut(i).axpy(-c, &uj, T::one());
+            }
+            let ui = u.column(i).into_owned();
             let si = hi.dot(&ui) + r_diag[i];
             if !(si.is_finite() && si > T::zero()) {
                 return Err(not_pd);
@@ -261,14 +270,8 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
             nis += ei * ei / si;
             let ki = ui / si;
             dx += ki * ei;
-            // Scalar Joseph form: P - k u^T - u k^T + k s k^T (eq. U6, M = 1).
-            let _ = joseph_lower::<T, N, 1, { crate::dispatch::FUSED }>(
-                &mut p,
-                &ki,
-                &ui,
-                &SMatrix::<T, 1, 1>::new(si),
-            );
-            mirror_lower(&mut p);
+            k.set_column(i, &ki);
+            s[(i, i)] = si;
         }
         let nis = nis.to_f64();
         if !nis.is_finite() {
@@ -285,26 +288,16 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
             repairs: 0,
         };
         if !report.accepted {
-            return Ok(Proposal {
-                report,
-                posterior: None,
-            });
+            return Ok(report);
         }
         let x_new = self.x + dx;
         if !all_finite(x_new.as_slice()) {
             return Err(FilterError::NonFiniteResult { stage: "update" });
         }
-        if !covariance_is_clean(&p) {
-            if !off_diagonal_finite(&p) {
-                return Err(FilterError::NonFiniteResult { stage: "update" });
-            }
-            report.repairs =
-                repair_diagonal(&mut p, &self.p.diagonal(), T::of(self.variance_floor));
-        }
-        Ok(Proposal {
-            report,
-            posterior: Some((x_new, p)),
-        })
+        report.repairs = joseph_in_place(&mut self.p, &k, &u, &s, T::of(self.variance_floor))?;
+        self.clean = true;
+        self.x = x_new;
+        Ok(report)
     }
 }
 
@@ -334,12 +327,6 @@ impl<Mo: Model<N>, const N: usize> Estimator<N> for Ekf<Mo, N> {
     {
         Ekf::update_sequential::<S, M>(self, z, r_diag, aux)
     }
-}
-
-/// A computed update not yet stored: the report and, if accepted, `(x, P)`.
-pub(super) struct Proposal<T: Real, const N: usize, const M: usize> {
-    report: UpdateReport<M, T>,
-    posterior: Option<(SVector<T, N>, SMatrix<T, N, N>)>,
 }
 
 /// `nu = z - h`, angle components wrapped to (-pi, pi] (eq. U1).
