@@ -118,12 +118,12 @@ pub fn transverse_radius(lat: f64) -> f64 {
 }
 
 /// The terms of one latitude that a strapdown step needs more than once,
-/// each evaluated once: `sin L` and both radii. Its rates are those of
-/// [`earth_rate_n`] and [`transport_rate_n`], bit for bit.
+/// each evaluated once: `sin L`, `cos L`, `tan L` and both radii.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct AtLatitude {
-    lat: f64,
     sin: f64,
+    cos: f64,
+    tan: f64,
     /// [`meridian_radius`] (m).
     pub(crate) rm: f64,
     /// [`transverse_radius`] (m).
@@ -131,26 +131,59 @@ pub(crate) struct AtLatitude {
 }
 
 impl AtLatitude {
+    /// From the latitude itself; its rates are those of [`earth_rate_n`] and
+    /// [`transport_rate_n`], bit for bit (the strapdown's reference step).
+    #[cfg(test)]
     pub(crate) fn new(lat: f64) -> Self {
         let s = sin(lat);
         let w = w2_of_sin(s);
         AtLatitude {
-            lat,
             sin: s,
+            cos: cos(lat),
+            tan: tan(lat),
+            rm: meridian_radius_of_w2(w),
+            rn: transverse_radius_of_w2(w),
+        }
+    }
+
+    /// From `sin L` and `cos L` (no trigonometric call): `tan L = sin L / cos L`
+    /// (within an ulp or two of `tan`), radii from `w = 1 - e^2 sin^2 L` as in
+    /// [`meridian_radius`] and [`transverse_radius`].
+    #[inline]
+    pub(crate) fn from_sin_cos(sin_lat: f64, cos_lat: f64) -> Self {
+        let w = w2_of_sin(sin_lat);
+        AtLatitude {
+            sin: sin_lat,
+            cos: cos_lat,
+            tan: sin_lat / cos_lat,
             rm: meridian_radius_of_w2(w),
             rn: transverse_radius_of_w2(w),
         }
     }
 
     /// [`earth_rate_n`] at this latitude.
+    #[inline]
     pub(crate) fn earth_rate(&self) -> Vector3<f64> {
-        earth_rate_of(cos(self.lat), self.sin)
+        earth_rate_of(self.cos, self.sin)
     }
 
     /// [`transport_rate_n`] at this latitude.
+    #[inline]
     pub(crate) fn transport_rate(&self, h: f64, v_n: &Vector3<f64>) -> Vector3<f64> {
-        transport_rate_of(self.rn + h, self.rm + h, tan(self.lat), v_n)
+        transport_rate_of(self.rn + h, self.rm + h, self.tan, v_n)
     }
+}
+
+/// [`meridian_radius`] from `sin L` (m).
+#[inline]
+pub(crate) fn meridian_radius_of_sin(sin_lat: f64) -> f64 {
+    meridian_radius_of_w2(w2_of_sin(sin_lat))
+}
+
+/// [`transverse_radius`] from `sin L` (m).
+#[inline]
+pub(crate) fn transverse_radius_of_sin(sin_lat: f64) -> f64 {
+    transverse_radius_of_w2(w2_of_sin(sin_lat))
 }
 
 /// `dR_m/dL = 3 a (1 - e^2) e^2 sin L cos L / (1 - e^2 sin^2 L)^2.5` (m/rad);
@@ -339,9 +372,16 @@ pub fn normal_gravity_field(lat: f64, h: f64) -> NormalGravity {
 /// and the truth generator need only the gradient).
 #[inline(always)]
 fn field<const POTENTIAL: bool>(lat: f64, h: f64) -> NormalGravity {
+    let (sl, cl) = crate::math::sin_cos(lat);
+    field_of::<POTENTIAL>(sl, cl, h)
+}
+
+/// [`field`] from `sin L` and `cos L`: the same arithmetic after the one
+/// trigonometric call, so [`field`] is unchanged bit for bit.
+#[inline(always)]
+fn field_of<const POTENTIAL: bool>(sl: f64, cl: f64, h: f64) -> NormalGravity {
     let e = lin_ecc();
     let e2l = e * e;
-    let (sl, cl) = crate::math::sin_cos(lat);
     let rn = A / sqrt(1.0 - E2 * sl * sl);
     // Meridian-plane coordinates (p, z) of the point.
     let p = (rn + h) * cl;
@@ -401,6 +441,13 @@ fn field<const POTENTIAL: bool>(lat: f64, h: f64) -> NormalGravity {
 /// This is the `g^n` of docs/models/sdins25.md, eq. 2 used by [`crate::strapdown`].
 pub fn normal_gravity_ned(lat: f64, h: f64) -> Vector3<f64> {
     field::<false>(lat, h).ned()
+}
+
+/// [`normal_gravity_ned`] from `sin L` and `cos L` (for a caller that has
+/// them already, the strapdown): the same field without the trigonometry.
+#[inline]
+pub(crate) fn normal_gravity_ned_of(sin_lat: f64, cos_lat: f64, h: f64) -> Vector3<f64> {
+    field_of::<false>(sin_lat, cos_lat, h).ned()
 }
 
 /// Exact magnitude of normal gravity |gamma|(L, h) (m/s^2).
