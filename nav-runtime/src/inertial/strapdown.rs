@@ -504,26 +504,40 @@ fn sample_increments<const N: usize>(
     t: f64,
 ) -> PolyIncrements {
     let k = &SAMPLE_WEIGHTS[N - 1];
-    let mut dtheta = Vector3::zeros();
-    let mut dv = Vector3::zeros();
-    let mut coning = Vector3::zeros();
-    let mut axf = Vector3::zeros();
-    for s in 0..N {
-        dtheta += w[s] * k.a[s];
-        dv += f[s] * k.a[s];
+    // Sample s's terms; called with constant s so that the whole sum is
+    // straight-line code with the weights as constants.
+    #[inline(always)]
+    fn sample<const N: usize>(
+        s: usize,
+        k: &SampleWeights,
+        w: &[Vector3<f64>; 4],
+        f: &[Vector3<f64>; 4],
+        acc: &mut [Vector3<f64>; 4],
+    ) {
+        if s >= N {
+            return;
+        }
+        acc[0] += w[s] * k.a[s];
+        acc[1] += f[s] * k.a[s];
         let mut u = f[0] * k.m[s][0];
         for r in 1..N {
             u += f[r] * k.m[s][r];
         }
-        axf += w[s].cross(&u);
+        acc[3] += w[s].cross(&u);
         if s + 1 < N {
             let mut z = w[s + 1] * k.g[s][s + 1];
             for r in s + 2..N {
                 z += w[r] * k.g[s][r];
             }
-            coning += w[s].cross(&z);
+            acc[2] += w[s].cross(&z);
         }
     }
+    let mut acc = [Vector3::zeros(); 4];
+    sample::<N>(0, k, w, f, &mut acc);
+    sample::<N>(1, k, w, f, &mut acc);
+    sample::<N>(2, k, w, f, &mut acc);
+    sample::<N>(3, k, w, f, &mut acc);
+    let [dtheta, dv, coning, axf] = acc;
     let t2 = t * t;
     let dtheta = dtheta * t;
     let dv = dv * t;
