@@ -174,18 +174,6 @@ impl AtLatitude {
     }
 }
 
-/// [`meridian_radius`] from `sin L` (m).
-#[inline]
-pub(crate) fn meridian_radius_of_sin(sin_lat: f64) -> f64 {
-    meridian_radius_of_w2(w2_of_sin(sin_lat))
-}
-
-/// [`transverse_radius`] from `sin L` (m).
-#[inline]
-pub(crate) fn transverse_radius_of_sin(sin_lat: f64) -> f64 {
-    transverse_radius_of_w2(w2_of_sin(sin_lat))
-}
-
 /// `dR_m/dL = 3 a (1 - e^2) e^2 sin L cos L / (1 - e^2 sin^2 L)^2.5` (m/rad);
 /// the papers' `R_mm` (docs/models/sdins25.md, eq. 16).
 pub fn meridian_radius_dlat(lat: f64) -> f64 {
