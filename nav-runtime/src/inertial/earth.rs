@@ -307,8 +307,8 @@ fn q_and_qp_of_z(z: f64) -> (f64, f64) {
 /// number of terms (0.0821 on the ellipsoid; 0.1 is about 1000 km below it).
 const NEAR_SURFACE_Z: f64 = 0.1;
 
-/// Terms of [`q_and_qp_near_surface`]: for `z <= 0.1` the first omitted term
-/// is below `1e-20` of `q'` (`z^20/(4 * 11^2)` against `q' >= 6 z^2/15`).
+/// Terms of [`q_and_qp_near_surface`]: for `z <= 0.1` the first omitted terms
+/// (`k = 11`) are `0.3 z^20` of `q` and `0.03 z^20` of `q'`, below `3e-21`.
 const NEAR_SURFACE_TERMS: usize = 10;
 
 /// The coefficients of `q / z^3` and `q' / z^2` as polynomials in `z^2`
