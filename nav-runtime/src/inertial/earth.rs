@@ -118,12 +118,12 @@ pub fn transverse_radius(lat: f64) -> f64 {
 }
 
 /// The terms of one latitude that a strapdown step needs more than once,
-/// each evaluated once: `sin L` and both radii. Its rates are those of
-/// [`earth_rate_n`] and [`transport_rate_n`], bit for bit.
+/// each evaluated once: `sin L`, `cos L`, `tan L` and both radii.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct AtLatitude {
-    lat: f64,
     sin: f64,
+    cos: f64,
+    tan: f64,
     /// [`meridian_radius`] (m).
     pub(crate) rm: f64,
     /// [`transverse_radius`] (m).
@@ -131,25 +131,46 @@ pub(crate) struct AtLatitude {
 }
 
 impl AtLatitude {
+    /// From the latitude itself; its rates are those of [`earth_rate_n`] and
+    /// [`transport_rate_n`], bit for bit (the strapdown's reference step).
+    #[cfg(test)]
     pub(crate) fn new(lat: f64) -> Self {
         let s = sin(lat);
         let w = w2_of_sin(s);
         AtLatitude {
-            lat,
             sin: s,
+            cos: cos(lat),
+            tan: tan(lat),
+            rm: meridian_radius_of_w2(w),
+            rn: transverse_radius_of_w2(w),
+        }
+    }
+
+    /// From `sin L` and `cos L` (no trigonometric call): `tan L = sin L / cos L`
+    /// (within an ulp or two of `tan`), radii from `w = 1 - e^2 sin^2 L` as in
+    /// [`meridian_radius`] and [`transverse_radius`].
+    #[inline]
+    pub(crate) fn from_sin_cos(sin_lat: f64, cos_lat: f64) -> Self {
+        let w = w2_of_sin(sin_lat);
+        AtLatitude {
+            sin: sin_lat,
+            cos: cos_lat,
+            tan: sin_lat / cos_lat,
             rm: meridian_radius_of_w2(w),
             rn: transverse_radius_of_w2(w),
         }
     }
 
     /// [`earth_rate_n`] at this latitude.
+    #[inline]
     pub(crate) fn earth_rate(&self) -> Vector3<f64> {
-        earth_rate_of(cos(self.lat), self.sin)
+        earth_rate_of(self.cos, self.sin)
     }
 
     /// [`transport_rate_n`] at this latitude.
+    #[inline]
     pub(crate) fn transport_rate(&self, h: f64, v_n: &Vector3<f64>) -> Vector3<f64> {
-        transport_rate_of(self.rn + h, self.rm + h, tan(self.lat), v_n)
+        transport_rate_of(self.rn + h, self.rm + h, self.tan, v_n)
     }
 }
 
@@ -282,6 +303,44 @@ fn q_and_qp_of_z(z: f64) -> (f64, f64) {
     (q * z, qp)
 }
 
+/// Largest `z = E/u` for which [`q_and_qp_near_surface`] uses its fixed
+/// number of terms (0.0821 on the ellipsoid; 0.1 is about 1000 km below it).
+const NEAR_SURFACE_Z: f64 = 0.1;
+
+/// Terms of [`q_and_qp_near_surface`]: for `z <= 0.1` the first omitted terms
+/// (`k = 11`) are `0.3 z^20` of `q` and `0.03 z^20` of `q'`, below `3e-21`.
+const NEAR_SURFACE_TERMS: usize = 10;
+
+/// The coefficients of `q / z^3` and `q' / z^2` as polynomials in `z^2`
+/// (from [`SERIES`]), at compile time.
+const NEAR_SURFACE_SERIES: [(f64, f64); NEAR_SURFACE_TERMS] = {
+    let mut c = [(0.0, 0.0); NEAR_SURFACE_TERMS];
+    let mut k = 1;
+    while k <= NEAR_SURFACE_TERMS {
+        c[k - 1] = (2.0 * k as f64 * SERIES[k], 6.0 * SERIES[k]);
+        k += 1;
+    }
+    c
+};
+
+/// [`q_and_qp_of_z`] with a fixed number of terms by Horner's rule (no
+/// convergence test), for the points near the Earth's surface where the
+/// strapdown evaluates gravity; the same values to rounding (tested), the
+/// loop beyond `z = 0.1`.
+#[inline(always)]
+fn q_and_qp_near_surface(z: f64) -> (f64, f64) {
+    if z > NEAR_SURFACE_Z {
+        return q_and_qp_of_z(z);
+    }
+    let z2 = z * z;
+    let (mut q, mut qp) = (0.0, 0.0);
+    for &(cq, cqp) in NEAR_SURFACE_SERIES.iter().rev() {
+        q = q * z2 + cq;
+        qp = qp * z2 + cqp;
+    }
+    (q * z2 * z, qp * z2)
+}
+
 /// `q(z)`, see [`q_and_qp_of_z`].
 #[cfg(test)]
 fn q_of_z(z: f64) -> f64 {
@@ -339,9 +398,23 @@ pub fn normal_gravity_field(lat: f64, h: f64) -> NormalGravity {
 /// and the truth generator need only the gradient).
 #[inline(always)]
 fn field<const POTENTIAL: bool>(lat: f64, h: f64) -> NormalGravity {
+    let (sl, cl) = crate::math::sin_cos(lat);
+    field_of::<POTENTIAL>(sl, cl, h, q_and_qp_of_z)
+}
+
+/// [`field`] from `sin L` and `cos L`: the same arithmetic after the one
+/// trigonometric call, so [`field`] is unchanged bit for bit.
+/// `series` evaluates `q` and `q'` ([`q_and_qp_of_z`] or
+/// [`q_and_qp_near_surface`]).
+#[inline(always)]
+fn field_of<const POTENTIAL: bool>(
+    sl: f64,
+    cl: f64,
+    h: f64,
+    series: impl Fn(f64) -> (f64, f64),
+) -> NormalGravity {
     let e = lin_ecc();
     let e2l = e * e;
-    let (sl, cl) = crate::math::sin_cos(lat);
     let rn = A / sqrt(1.0 - E2 * sl * sl);
     // Meridian-plane coordinates (p, z) of the point.
     let p = (rn + h) * cl;
@@ -366,7 +439,7 @@ fn field<const POTENTIAL: bool>(lat: f64, h: f64) -> NormalGravity {
 
     let w2 = OMEGA * OMEGA;
     let zz = e / u;
-    let (qu, qp) = q_and_qp_of_z(zz);
+    let (qu, qp) = series(zz);
     let dq_du = -e / ue2 * qp;
 
     let potential = if POTENTIAL {
@@ -401,6 +474,15 @@ fn field<const POTENTIAL: bool>(lat: f64, h: f64) -> NormalGravity {
 /// This is the `g^n` of docs/models/sdins25.md, eq. 2 used by [`crate::strapdown`].
 pub fn normal_gravity_ned(lat: f64, h: f64) -> Vector3<f64> {
     field::<false>(lat, h).ned()
+}
+
+/// [`normal_gravity_ned`] from `sin L` and `cos L` (for a caller that has
+/// them already, the strapdown): the same field without the trigonometry,
+/// its series by [`q_and_qp_near_surface`]; equal to [`normal_gravity_ned`]
+/// to rounding (tested).
+#[inline]
+pub(crate) fn normal_gravity_ned_of(sin_lat: f64, cos_lat: f64, h: f64) -> Vector3<f64> {
+    field_of::<false>(sin_lat, cos_lat, h, q_and_qp_near_surface).ned()
 }
 
 /// Exact magnitude of normal gravity |gamma|(L, h) (m/s^2).
@@ -823,5 +905,36 @@ mod tests {
         assert!((w[1] + pr[0]).abs() < 1e-18);
         assert!((w[2] + pr[1] * l.sin()).abs() < 1e-18);
         assert!((earth_rate_n(l).norm() - OMEGA).abs() < 1e-18);
+    }
+    #[test]
+    fn near_surface_series_and_gravity_match_the_loop() {
+        let mut worst_series: f64 = 0.0;
+        for i in 0..=1000 {
+            let z = 0.1 * i as f64 / 1000.0;
+            let (q, qp) = q_and_qp_of_z(z);
+            let (qf, qpf) = q_and_qp_near_surface(z);
+            if z > 0.0 {
+                worst_series = worst_series
+                    .max(((qf - q) / q).abs())
+                    .max(((qpf - qp) / qp).abs());
+            }
+        }
+        assert_eq!(q_and_qp_near_surface(0.2), q_and_qp_of_z(0.2));
+        let mut worst: f64 = 0.0;
+        for lat_deg in (-90..=90).map(|d| d as f64 + 0.37) {
+            for h in [
+                -11_000.0, -500.0, -20.0, 0.0, 30.0, 1000.0, 12_000.0, 400_000.0,
+            ] {
+                let lat = f64::to_radians(lat_deg.clamp(-90.0, 90.0));
+                let (s, c) = crate::math::sin_cos(lat);
+                let g = normal_gravity_ned(lat, h);
+                let d = (normal_gravity_ned_of(s, c, h) - g).amax() / g.norm();
+                worst = worst.max(d);
+            }
+        }
+        // Measured: 5.0e-16 (series, at z near 0.1), 1.8e-16 (gravity, relative to |g|).
+        println!("near-surface series vs loop {worst_series:.1e}, gravity {worst:.1e}");
+        assert!(worst_series < 1e-15, "{worst_series:e}");
+        assert!(worst < 5e-16, "{worst:e}");
     }
 }
