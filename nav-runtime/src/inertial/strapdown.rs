@@ -23,6 +23,15 @@
 //! Gravity is [`crate::earth::normal_gravity_ned`] (exact WGS-84 normal gravity,
 //! with its north component); the truth generator uses the same field.
 //!
+//! How a step is evaluated (docs/performance-replay.md, second round): the
+//! rate-form increments are constant weights on the raw samples; `sin L`
+//! and `cos L` are evaluated once at a base latitude kept across steps and
+//! carried to the latitudes of a step by a small-angle step (exact functions
+//! beyond 1e-4 rad); gravity is the same exact field from those sines;
+//! small rotations use their series; `C_b^n` is re-orthonormalized every
+//! few steps. Each of these changes the result only at the rounding level,
+//! which the tests check against the straightforward step kept beside it.
+//!
 //! `core` + libm only (via [`crate::math`]), so it builds `no_std`.
 
 use crate::attitude::{
