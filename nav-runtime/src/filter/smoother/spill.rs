@@ -104,9 +104,12 @@ impl SpillFile {
         if self.reading {
             self.settle()?;
         }
-        for i in 0..self.width {
-            let v = values.get(i).copied().unwrap_or(f64::NAN);
-            self.buffer.extend_from_slice(&v.to_le_bytes());
+        // The record's bytes in place (one resize, not one extend a scalar).
+        let start = self.buffer.len();
+        self.buffer.resize(start + self.record(), 0);
+        let (words, _) = self.buffer[start..].as_chunks_mut::<8>();
+        for (i, w) in words.iter_mut().enumerate() {
+            *w = values.get(i).copied().unwrap_or(f64::NAN).to_le_bytes();
         }
         self.len += 1;
         if self.buffer.len() >= CHUNK * self.record() {
