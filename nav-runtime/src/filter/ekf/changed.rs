@@ -62,6 +62,8 @@ pub(super) const fn changed_entries<const N: usize>(
         }
         k += 1;
     }
+    // Every index is inside `N x N` from here on: the accesses below use
+    // `get` all the same, so that no path can panic.
     changed.valid = true;
     let mut consecutive = !s.rows.is_empty();
     k = 1;
@@ -91,7 +93,15 @@ fn consecutive_rows<'p, T: Real, const N: usize>(
 /// others are saved and checked with their rows).
 #[inline(always)]
 fn outside<const N: usize>(changed: &ChangedEntries<N>, (i, j): (usize, usize)) -> bool {
-    !(changed.rows[i] || changed.rows[j])
+    let changed_row = |k: usize| changed.rows.get(k).copied().unwrap_or(true);
+    !(changed_row(i) || changed_row(j))
+}
+
+/// `P[i, j]` of the column-major storage, `None` outside it (never for a
+/// valid structure; no index can panic).
+#[inline(always)]
+fn entry<T: Real, const N: usize>(p: &SMatrix<T, N, N>, (i, j): (usize, usize)) -> Option<T> {
+    p.data.0.get(j).and_then(|column| column.get(i)).copied()
 }
 
 crate::dispatch::avx_dispatch! {
@@ -121,7 +131,9 @@ fn save_changed_pass<T: Real, const N: usize, const AVX: bool, const FUSED: bool
         Some(run) => rows.as_flattened_mut().copy_from_slice(run),
         None => {
             for (row, &i) in rows.iter_mut().zip(structure.rows) {
-                *row = p.data.0[i];
+                if let Some(column) = p.data.0.get(i) {
+                    *row = *column;
+                }
             }
         }
     }
@@ -131,8 +143,8 @@ fn save_changed_pass<T: Real, const N: usize, const AVX: bool, const FUSED: bool
     let mut slots = rest.as_flattened_mut().iter_mut();
     for &(i, j) in structure.noise {
         if outside(changed, (i, j)) {
-            if let Some(v) = slots.next() {
-                *v = p.data.0[j][i];
+            if let (Some(v), Some(value)) = (slots.next(), entry(p, (i, j))) {
+                *v = value;
             }
         }
     }
@@ -151,15 +163,22 @@ pub(super) fn restore_changed<T: Real, const N: usize>(
     for &(i, j) in structure.noise {
         if outside(changed, (i, j)) {
             if let Some(&v) = slots.next() {
-                cols[j][i] = v;
-                cols[i][j] = v;
+                for (c, r) in [(j, i), (i, j)] {
+                    if let Some(x) = cols.get_mut(c).and_then(|column| column.get_mut(r)) {
+                        *x = v;
+                    }
+                }
             }
         }
     }
     for (row, &i) in rows.iter().zip(structure.rows) {
-        cols[i] = *row;
+        if let Some(column) = cols.get_mut(i) {
+            *column = *row;
+        }
         for (col, &v) in cols.iter_mut().zip(row) {
-            col[i] = v;
+            if let Some(x) = col.get_mut(i) {
+                *x = v;
+            }
         }
     }
 }
@@ -188,20 +207,20 @@ fn changed_are_clean_pass<T: Real, const N: usize, const AVX: bool, const FUSED:
     match consecutive_rows(p, structure, changed) {
         Some(run) => add_to(&mut acc, run),
         None => {
-            for &i in structure.rows {
-                add_to(&mut acc, &p.data.0[i]);
+            for column in structure.rows.iter().filter_map(|&i| p.data.0.get(i)) {
+                add_to(&mut acc, column);
             }
         }
     }
     let mut diagonal_ok = true;
     for &i in structure.rows {
-        let d = p.data.0[i][i];
+        let d = entry(p, (i, i)).unwrap_or(T::zero());
         diagonal_ok &= d > T::zero() && d <= T::MAX;
     }
     if changed.outside_noise > 0 {
         for &(i, j) in structure.noise {
             if outside(changed, (i, j)) {
-                let v = p.data.0[j][i];
+                let v = entry(p, (i, j)).unwrap_or(T::zero() / T::zero());
                 diagonal_ok &= v.is_finite() && (i != j || v > T::zero());
             }
         }
