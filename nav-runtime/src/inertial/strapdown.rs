@@ -1468,7 +1468,6 @@ mod tests {
 
     #[test]
     fn fast_step_matches_the_reference_step() {
-        // (latitude deg, dt s, rate scale, samples, compensate)
         // (latitude deg, dt s, rate scale, samples, compensate, speed m/s)
         let cases = [
             (0.0, 0.01, 1.0, RateSamples::Instantaneous, true, 3.0),
@@ -1535,7 +1534,7 @@ mod tests {
             // Bounds a small factor above the measured differences: at 100 Hz
             // (100 s, 3 and 250 m/s) at most 5.1e-12 m, 1.8e-12 m/s and
             // 5.9e-15 rad; with dt = 0.1 s (1000 s, rotation vectors up to
-            // 0.25 rad) 1.4e-8 m, 3.2e-11 m/s and 1.1e-14 rad. The reference
+            // 0.25 rad) 1.2e-8 m, 3.1e-11 m/s and 1.1e-14 rad. The reference
             // nudged by one rounding of its attitude drifts from itself by as
             // much (up to 1.2e-11 m, 1.1e-12 m/s, 4.9e-15 rad at 100 Hz;
             // 9.1e-9 m, 1.5e-11 m/s at dt = 0.1 s): the attitudes differ by

@@ -7,7 +7,7 @@
 //! matrix for SDINS-25 (9 changed rows of 25), where saving and checking
 //! the whole `P` cost as much as a fifth of the propagation.
 
-use nalgebra::SMatrix;
+use nalgebra::{SMatrix, SVector};
 
 use crate::propagation::Structure;
 use crate::real::Real;
@@ -181,6 +181,34 @@ pub(super) fn restore_changed<T: Real, const N: usize>(
             }
         }
     }
+}
+
+/// The diagonal of `P` before the step, from `p` after it and what
+/// [`save_changed`] saved (for the repair; off the common path).
+pub(super) fn saved_diagonal<T: Real, const N: usize>(
+    p: &SMatrix<T, N, N>,
+    saved: &[[T; N]; N],
+    structure: &Structure<'_>,
+    changed: &ChangedEntries<N>,
+) -> SVector<T, N> {
+    let mut diagonal = p.diagonal();
+    let (rows, rest) = saved.split_at(structure.rows.len());
+    let mut slots = rest.as_flattened().iter();
+    for &(i, j) in structure.noise {
+        if outside(changed, (i, j)) {
+            if let (Some(&v), Some(d)) = (slots.next(), diagonal.get_mut(i)) {
+                if i == j {
+                    *d = v;
+                }
+            }
+        }
+    }
+    for (row, &i) in rows.iter().zip(structure.rows) {
+        if let (Some(&v), Some(d)) = (row.get(i), diagonal.get_mut(i)) {
+            *d = v;
+        }
+    }
+    diagonal
 }
 
 crate::dispatch::avx_dispatch! {

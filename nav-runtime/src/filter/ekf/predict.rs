@@ -3,7 +3,8 @@
 use nalgebra::{SMatrix, SVector};
 
 use super::changed::{
-    changed_are_clean, changed_entries, restore_changed, save_changed, ChangedEntries,
+    changed_are_clean, changed_entries, restore_changed, save_changed, saved_diagonal,
+    ChangedEntries,
 };
 use super::covariance::{covariance_is_clean, mirror_upper, off_diagonal_finite, repair_diagonal};
 use super::discretization::{second_order, van_loan, Discretization};
@@ -180,7 +181,6 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
         u: &Mo::Input,
         observe: F,
     ) -> Result<u32, FilterError> {
-        let prev_diagonal = self.p.diagonal();
         save_changed(&mut self.saved, &self.p, structure, changed);
         let (par, q) = (&self.params, &self.noise);
         Mo::propagate_covariance_observed(&mut self.p, &self.x, u, par, q, dt, observe);
@@ -191,6 +191,7 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
             restore_changed(&mut self.p, &self.saved, structure, changed);
             return Err(NOT_FINITE);
         }
+        let prev_diagonal = saved_diagonal(&self.p, &self.saved, structure, changed);
         Ok(repair_diagonal(
             &mut self.p,
             &prev_diagonal,

@@ -123,6 +123,8 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
             Ok(report) => {
                 self.count_gate_outcome(&report);
                 if report.accepted {
+                    // An accepted update's Joseph pass checked (or repaired) `P`.
+                    self.clean = true;
                     Mo::normalize_state(&mut self.x);
                     self.counters.covariance_repairs += u64::from(report.repairs);
                 }
@@ -188,7 +190,6 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
             return Err(FilterError::NonFiniteResult { stage: "update" });
         }
         report.repairs = joseph_in_place(&mut self.p, &k, &u, &s, T::of(self.variance_floor))?;
-        self.clean = true;
         self.x = x_new;
         Ok(report)
     }
@@ -295,7 +296,6 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
             return Err(FilterError::NonFiniteResult { stage: "update" });
         }
         report.repairs = joseph_in_place(&mut self.p, &k, &u, &s, T::of(self.variance_floor))?;
-        self.clean = true;
         self.x = x_new;
         Ok(report)
     }
