@@ -6,7 +6,7 @@
 //   Leveling6::OPS_TRANSITION = 45
 //   Leveling6::OPS_JACOBIAN = 12
 //   Leveling6::OPS_NOISE_JACOBIAN = 3
-//   Leveling6::OPS_PROCESS_NOISE = 30
+//   Leveling6::OPS_PROCESS_NOISE = 28
 //   Leveling6::OPS_PROPAGATE_COVARIANCE = 289
 //   Leveling6::OPS_DERIVATIVE = 33
 //   Leveling6Moving::OPS_PREDICT = 5
@@ -248,7 +248,7 @@ impl Leveling6 {
     /// Operations in [`Self::noise_jacobian`].
     pub const OPS_NOISE_JACOBIAN: usize = 3;
     /// Operations in `process_noise`.
-    pub const OPS_PROCESS_NOISE: usize = 30;
+    pub const OPS_PROCESS_NOISE: usize = 28;
     /// Operations in `propagate_covariance`.
     pub const OPS_PROPAGATE_COVARIANCE: usize = 289;
     ///Structure of `Phi` (`I + F dt`) and `Qd` for the covariance propagation: rows [0, 1, 2, 3, 4, 5] change, the others are unit rows.
@@ -269,16 +269,16 @@ Total ops: 33*/
         u: &Leveling6Input,
         p: &Leveling6Params,
     ) -> ::nav_runtime::nalgebra::SVector<f64, 6> {
-        let _t0 = u.gyro[2] + u.earth_rate_body[2];
-        let _t1 = u.gyro[1] + u.earth_rate_body[1];
-        let _t2 = u.gyro[0] + u.earth_rate_body[0];
+        let _t0 = u.earth_rate_body[2] + u.gyro[2];
+        let _t1 = u.earth_rate_body[1] + u.gyro[1];
+        let _t2 = u.earth_rate_body[0] + u.gyro[0];
         let _t3 = u.gyro[2] - u.earth_rate_body[2];
         let _t4 = u.gyro[1] - u.earth_rate_body[1];
         let _t5 = u.gyro[0] - u.earth_rate_body[0];
         let mut out = ::nav_runtime::nalgebra::SVector::<f64, 6>::zeros();
-        out[0] = u.specific_force[0] + (x[1] * _t0 - x[2] * _t1 + x[3] * p.gravity);
-        out[1] = u.specific_force[1] + (x[2] * _t2 - _t0 * x[0] + p.gravity * x[4]);
-        out[2] = u.specific_force[2] + (_t1 * x[0] - x[1] * _t2 + p.gravity * x[5]);
+        out[0] = p.gravity * x[3] + (_t0 * x[1] - _t1 * x[2]) + u.specific_force[0];
+        out[1] = p.gravity * x[4] + (x[2] * _t2 - _t0 * x[0]) + u.specific_force[1];
+        out[2] = p.gravity * x[5] + (_t1 * x[0] - x[1] * _t2) + u.specific_force[2];
         out[3] = x[4] * _t3 - x[5] * _t4;
         out[4] = x[5] * _t5 - x[3] * _t3;
         out[5] = x[3] * _t4 - x[4] * _t5;
@@ -294,19 +294,19 @@ Total ops: 39*/
         w: &::nav_runtime::nalgebra::SVector<f64, 6>,
         dt: f64,
     ) -> ::nav_runtime::nalgebra::SVector<f64, 6> {
-        let _t0 = u.gyro[2] + u.earth_rate_body[2];
-        let _t1 = u.gyro[1] + u.earth_rate_body[1];
-        let _t2 = u.gyro[0] + u.earth_rate_body[0];
-        let _t3 = w[5] + (u.gyro[2] - u.earth_rate_body[2]);
-        let _t4 = w[4] + (u.gyro[1] - u.earth_rate_body[1]);
-        let _t5 = w[3] + (u.gyro[0] - u.earth_rate_body[0]);
+        let _t0 = u.earth_rate_body[2] + u.gyro[2];
+        let _t1 = u.earth_rate_body[1] + u.gyro[1];
+        let _t2 = u.earth_rate_body[0] + u.gyro[0];
+        let _t3 = u.gyro[2] - u.earth_rate_body[2] + w[5];
+        let _t4 = u.gyro[1] - u.earth_rate_body[1] + w[4];
+        let _t5 = u.gyro[0] - u.earth_rate_body[0] + w[3];
         let mut out = ::nav_runtime::nalgebra::SVector::<f64, 6>::zeros();
-        out[0] = w[0]
-            + (u.specific_force[0] + (x[1] * _t0 - x[2] * _t1 + x[3] * p.gravity));
-        out[1] = w[1]
-            + (u.specific_force[1] + (x[2] * _t2 - _t0 * x[0] + p.gravity * x[4]));
-        out[2] = w[2]
-            + (u.specific_force[2] + (_t1 * x[0] - x[1] * _t2 + p.gravity * x[5]));
+        out[0] = p.gravity * x[3] + (_t0 * x[1] - _t1 * x[2]) + u.specific_force[0]
+            + w[0];
+        out[1] = p.gravity * x[4] + (x[2] * _t2 - _t0 * x[0]) + u.specific_force[1]
+            + w[1];
+        out[2] = p.gravity * x[5] + (_t1 * x[0] - x[1] * _t2) + u.specific_force[2]
+            + w[2];
         out[3] = x[4] * _t3 - x[5] * _t4;
         out[4] = x[5] * _t5 - x[3] * _t3;
         out[5] = x[3] * _t4 - x[4] * _t5;
@@ -370,19 +370,20 @@ Total ops: 45*/
         p: &Leveling6Params,
         dt: f64,
     ) -> ::nav_runtime::nalgebra::SVector<f64, 6> {
-        let _t0 = u.gyro[2] + u.earth_rate_body[2];
-        let _t1 = u.gyro[1] + u.earth_rate_body[1];
-        let _t2 = u.gyro[0] + u.earth_rate_body[0];
+        let _t0 = u.earth_rate_body[2] + u.gyro[2];
+        let _t1 = u.earth_rate_body[1] + u.gyro[1];
+        let _t2 = u.earth_rate_body[0] + u.gyro[0];
         let _t3 = u.gyro[2] - u.earth_rate_body[2];
         let _t4 = u.gyro[1] - u.earth_rate_body[1];
         let _t5 = u.gyro[0] - u.earth_rate_body[0];
         let mut out = ::nav_runtime::nalgebra::SVector::<f64, 6>::zeros();
-        out[0] = x[0]
-            + (u.specific_force[0] + (x[1] * _t0 - x[2] * _t1 + x[3] * p.gravity)) * dt;
+        out[0] = dt
+            * (p.gravity * x[3] + (_t0 * x[1] - _t1 * x[2]) + u.specific_force[0])
+            + x[0];
         out[1] = x[1]
-            + dt * (u.specific_force[1] + (x[2] * _t2 - x[0] * _t0 + p.gravity * x[4]));
+            + dt * (p.gravity * x[4] + (x[2] * _t2 - _t0 * x[0]) + u.specific_force[1]);
         out[2] = x[2]
-            + dt * (u.specific_force[2] + (x[0] * _t1 - x[1] * _t2 + p.gravity * x[5]));
+            + dt * (p.gravity * x[5] + (_t1 * x[0] - x[1] * _t2) + u.specific_force[2]);
         out[3] = x[3] + dt * (x[4] * _t3 - x[5] * _t4);
         out[4] = x[4] + dt * (x[5] * _t5 - x[3] * _t3);
         out[5] = x[5] + dt * (x[3] * _t4 - x[4] * _t5);
@@ -397,9 +398,9 @@ Total ops: 12*/
         p: &Leveling6Params,
         dt: f64,
     ) -> ::nav_runtime::nalgebra::SMatrix<f64, 6, 6> {
-        let _t0 = u.gyro[2] + u.earth_rate_body[2];
-        let _t1 = u.gyro[1] + u.earth_rate_body[1];
-        let _t2 = u.gyro[0] + u.earth_rate_body[0];
+        let _t0 = u.earth_rate_body[2] + u.gyro[2];
+        let _t1 = u.earth_rate_body[1] + u.gyro[1];
+        let _t2 = u.earth_rate_body[0] + u.gyro[0];
         let mut out = ::nav_runtime::nalgebra::SMatrix::<f64, 6, 6>::zeros();
         out[(0, 1)] = _t0;
         out[(0, 2)] = -_t1;
@@ -420,7 +421,7 @@ Total ops: 12*/
     }
     /**`Qd = G Q G^T dt`, `Q = diag(q)`.
 
-Total ops: 30*/
+Total ops: 28*/
     fn process_noise(
         x: &::nav_runtime::nalgebra::SVector<f64, 6>,
         u: &Leveling6Input,
@@ -428,20 +429,21 @@ Total ops: 30*/
         q: &Leveling6Noise,
         dt: f64,
     ) -> ::nav_runtime::nalgebra::SMatrix<f64, 6, 6> {
-        let _t0 = x[5] * q.gyro_noise[1];
-        let _t1 = x[4] * q.gyro_noise[2];
-        let _t2 = x[5] * q.gyro_noise[0];
+        let _t0 = q.gyro_noise[2] * x[4];
+        let _t1 = q.gyro_noise[1] * x[5];
+        let _t2 = -dt;
+        let _t3 = x[5] * q.gyro_noise[0];
         let mut out = ::nav_runtime::nalgebra::SMatrix::<f64, 6, 6>::zeros();
-        out[(0, 0)] = dt * q.accel_noise[0];
+        out[(0, 0)] = q.accel_noise[0] * dt;
         out[(1, 1)] = dt * q.accel_noise[1];
         out[(2, 2)] = dt * q.accel_noise[2];
-        out[(3, 3)] = dt * (x[5] * _t0 + x[4] * _t1);
-        out[(3, 4)] = -(dt * (_t1 * x[3]));
-        out[(3, 5)] = -(dt * (_t0 * x[3]));
-        out[(4, 4)] = dt * (x[5] * _t2 + x[3] * (q.gyro_noise[2] * x[3]));
-        out[(4, 5)] = -(dt * (x[4] * _t2));
+        out[(3, 3)] = dt * (x[4] * _t0 + x[5] * _t1);
+        out[(3, 4)] = _t2 * (_t0 * x[3]);
+        out[(3, 5)] = _t2 * (_t1 * x[3]);
+        out[(4, 4)] = dt * (x[3] * (q.gyro_noise[2] * x[3]) + x[5] * _t3);
+        out[(4, 5)] = _t2 * (x[4] * _t3);
         out[(5, 5)] = dt
-            * (x[4] * (x[4] * q.gyro_noise[0]) + x[3] * (q.gyro_noise[1] * x[3]));
+            * (x[3] * (q.gyro_noise[1] * x[3]) + x[4] * (x[4] * q.gyro_noise[0]));
         for i in 0..6 {
             for j in 0..i {
                 out[(i, j)] = out[(j, i)];
@@ -461,87 +463,78 @@ Total ops: 289*/
         dt: f64,
     ) {
         let _p = *cov;
-        let _t0 = dt * p.gravity;
-        let _t1 = dt * (u.gyro[2] + u.earth_rate_body[2]);
-        let _t2 = dt * (u.gyro[1] + u.earth_rate_body[1]);
-        let _t3 = _p[(3, 3)] * _t0 + (_p[(1, 3)] * _t1 + _p[(0, 3)] - _p[(2, 3)] * _t2);
-        let _t4 = _t1 * _p[(0, 1)];
-        let _t5 = _t2 * _p[(0, 2)];
-        let _t6 = _t0 * _p[(0, 3)] + (_p[(0, 0)] + _t4 - _t5);
-        let _t7 = _t0 * _p[(1, 3)] + (_p[(0, 1)] + _t1 * _p[(1, 1)] - _t2 * _p[(1, 2)]);
-        let _t8 = _t0 * _p[(2, 3)] + (_p[(0, 2)] + _t1 * _p[(1, 2)] - _t2 * _p[(2, 2)]);
-        let _t9 = _t0 * _p[(3, 4)];
-        let _t10 = _t9 + (_p[(0, 4)] + _t1 * _p[(1, 4)] - _t2 * _p[(2, 4)]);
-        let _t11 = dt * (u.gyro[0] + u.earth_rate_body[0]);
-        let _t12 = _t0 * _p[(3, 5)];
-        let _t13 = _t12 + (_p[(0, 5)] + _t1 * _p[(1, 5)] - _t2 * _p[(2, 5)]);
-        let _t14 = dt * (u.earth_rate_body[1] - u.gyro[1]);
-        let _t15 = dt * (u.gyro[2] - u.earth_rate_body[2]);
-        let _t16 = dt * (u.gyro[0] - u.earth_rate_body[0]);
-        let _t17 = dt * (u.earth_rate_body[2] - u.gyro[2]);
-        let _t18 = dt * (u.gyro[1] - u.earth_rate_body[1]);
-        let _t19 = dt * (u.earth_rate_body[0] - u.gyro[0]);
-        let _t20 = _t0 * _p[(4, 4)]
-            + (_p[(2, 4)] * _t11 + (_p[(1, 4)] - _t1 * _p[(0, 4)]));
-        let _t21 = _t0 * _p[(2, 4)]
-            + (_p[(2, 2)] * _t11 + (_p[(1, 2)] - _t1 * _p[(0, 2)]));
-        let _t22 = _p[(1, 2)] * _t11;
-        let _t23 = _t0 * _p[(1, 4)] + (_t22 + (_p[(1, 1)] - _t4));
-        let _t24 = _t0 * _p[(0, 4)]
-            + (_p[(0, 2)] * _t11 + (_p[(0, 1)] - _t1 * _p[(0, 0)]));
-        let _t25 = _t0 * _p[(4, 5)];
-        let _t26 = _t25 + (_t11 * _p[(2, 5)] + (_p[(1, 5)] - _t1 * _p[(0, 5)]));
-        let _t27 = _t9 + (_p[(2, 3)] * _t11 + (_p[(1, 3)] - _t1 * _p[(0, 3)]));
-        let _t28 = _t0 * _p[(5, 5)]
-            + (_p[(2, 5)] + (_t2 * _p[(0, 5)] - _t11 * _p[(1, 5)]));
-        let _t29 = _t12 + (_p[(2, 3)] + (_t2 * _p[(0, 3)] - _p[(1, 3)] * _t11));
-        let _t30 = _t25 + (_p[(2, 4)] + (_t2 * _p[(0, 4)] - _p[(1, 4)] * _t11));
-        let _t31 = x[5] * q.gyro_noise[1];
-        let _t32 = x[4] * q.gyro_noise[2];
-        let _t33 = _t14 * _p[(5, 5)] + (_p[(3, 5)] + _t15 * _p[(4, 5)]);
-        let _t34 = _p[(3, 5)] * _t14 + (_p[(3, 3)] + _p[(3, 4)] * _t15);
-        let _t35 = _t14 * _p[(4, 5)] + (_p[(3, 4)] + _t15 * _p[(4, 4)]);
-        let _t36 = x[5] * q.gyro_noise[0];
-        let _t37 = _t16 * _p[(5, 5)] + (_p[(4, 5)] + _p[(3, 5)] * _t17);
-        let _t38 = _t16 * _p[(4, 5)] + (_p[(4, 4)] + _p[(3, 4)] * _t17);
-        let _t39 = _p[(3, 5)] * _t16 + (_p[(3, 4)] + _p[(3, 3)] * _t17);
-        cov[(0, 0)] = q.accel_noise[0] * dt
-            + (_t0 * _t3 + (_t6 + _t1 * _t7 - _t2 * _t8));
-        cov[(0, 1)] = _t0 * _t10 + (_t8 * _t11 + (_t7 - _t1 * _t6));
-        cov[(0, 2)] = _t0 * _t13 + (_t8 + (_t2 * _t6 - _t7 * _t11));
-        cov[(0, 3)] = _t13 * _t14 + (_t3 + _t10 * _t15);
-        cov[(0, 4)] = _t13 * _t16 + (_t10 + _t3 * _t17);
-        cov[(0, 5)] = _t13 + (_t3 * _t18 + _t10 * _t19);
-        cov[(1, 1)] = dt * q.accel_noise[1]
-            + (_t0 * _t20 + (_t11 * _t21 + (_t23 - _t1 * _t24)));
-        cov[(1, 2)] = _t0 * _t26 + (_t21 + (_t2 * _t24 - _t11 * _t23));
-        cov[(1, 3)] = _t14 * _t26 + (_t27 + _t15 * _t20);
-        cov[(1, 4)] = _t16 * _t26 + (_t20 + _t17 * _t27);
-        cov[(1, 5)] = _t26 + (_t18 * _t27 + _t19 * _t20);
-        cov[(2, 2)] = dt * q.accel_noise[2]
-            + (_t0 * _t28
-                + (_t0 * _p[(2, 5)] + (_p[(2, 2)] + (_t5 - _t22))
-                    + (_t2
-                        * (_t0 * _p[(0, 5)]
-                            + (_p[(0, 2)] + (_t2 * _p[(0, 0)] - _p[(0, 1)] * _t11)))
-                        - _t11
-                            * (_t0 * _p[(1, 5)]
-                                + (_p[(1, 2)] + (_t2 * _p[(0, 1)] - _p[(1, 1)] * _t11))))));
-        cov[(2, 3)] = _t14 * _t28 + (_t29 + _t15 * _t30);
-        cov[(2, 4)] = _t16 * _t28 + (_t30 + _t17 * _t29);
+        let _t0 = dt * (u.earth_rate_body[2] + u.gyro[2]);
+        let _t1 = (u.earth_rate_body[1] + u.gyro[1]) * dt;
+        let _t2 = dt * p.gravity;
+        let _t3 = _t0 * _p[(1, 1)] + _p[(0, 1)] - _t1 * _p[(1, 2)] + _t2 * _p[(1, 3)];
+        let _t4 = _t0 * _p[(0, 1)];
+        let _t5 = _t1 * _p[(0, 2)];
+        let _t6 = _t4 + _p[(0, 0)] - _t5 + _t2 * _p[(0, 3)];
+        let _t7 = _p[(1, 2)] * _t0 + _p[(0, 2)] - _p[(2, 2)] * _t1 + _p[(2, 3)] * _t2;
+        let _t8 = _p[(0, 3)] + _t0 * _p[(1, 3)] - _t1 * _p[(2, 3)] + _t2 * _p[(3, 3)];
+        let _t9 = dt * (u.earth_rate_body[0] + u.gyro[0]);
+        let _t10 = _t2 * _p[(3, 4)];
+        let _t11 = _t0 * _p[(1, 4)] + _p[(0, 4)] - _t1 * _p[(2, 4)] + _t10;
+        let _t12 = _t2 * _p[(3, 5)];
+        let _t13 = _t0 * _p[(1, 5)] + _p[(0, 5)] - _t1 * _p[(2, 5)] + _t12;
+        let _t14 = dt * (u.gyro[2] - u.earth_rate_body[2]);
+        let _t15 = dt * (u.earth_rate_body[1] - u.gyro[1]);
+        let _t16 = dt * (u.earth_rate_body[2] - u.gyro[2]);
+        let _t17 = dt * (u.gyro[0] - u.earth_rate_body[0]);
+        let _t18 = dt * (u.earth_rate_body[0] - u.gyro[0]);
+        let _t19 = dt * (u.gyro[1] - u.earth_rate_body[1]);
+        let _t20 = _p[(1, 2)] * _t9;
+        let _t21 = _p[(1, 1)] - _t4 + _t20 + _t2 * _p[(1, 4)];
+        let _t22 = _p[(0, 1)] - _t0 * _p[(0, 0)] + _p[(0, 2)] * _t9 + _t2 * _p[(0, 4)];
+        let _t23 = _p[(1, 2)] - _t0 * _p[(0, 2)] + _p[(2, 2)] * _t9 + _t2 * _p[(2, 4)];
+        let _t24 = _p[(1, 4)] - _t0 * _p[(0, 4)] + _t9 * _p[(2, 4)] + _t2 * _p[(4, 4)];
+        let _t25 = _t2 * _p[(4, 5)];
+        let _t26 = _p[(1, 5)] - _t0 * _p[(0, 5)] + _t9 * _p[(2, 5)] + _t25;
+        let _t27 = _t10 + (_p[(1, 3)] - _t0 * _p[(0, 3)] + _p[(2, 3)] * _t9);
+        let _t28 = _p[(2, 5)] + (_t1 * _p[(0, 5)] - _t9 * _p[(1, 5)]) + _t2 * _p[(5, 5)];
+        let _t29 = _t25 + (_p[(2, 4)] + (_t1 * _p[(0, 4)] - _t9 * _p[(1, 4)]));
+        let _t30 = _t12 + (_p[(2, 3)] + (_t1 * _p[(0, 3)] - _p[(1, 3)] * _t9));
+        let _t31 = _p[(3, 4)] + _t14 * _p[(4, 4)] + _t15 * _p[(4, 5)];
+        let _t32 = _p[(3, 3)] + _p[(3, 4)] * _t14 + _p[(3, 5)] * _t15;
+        let _t33 = _p[(3, 5)] + _t14 * _p[(4, 5)] + _t15 * _p[(5, 5)];
+        let _t34 = q.gyro_noise[2] * x[4];
+        let _t35 = q.gyro_noise[1] * x[5];
+        let _t36 = _p[(3, 4)] + _p[(3, 3)] * _t16 + _p[(3, 5)] * _t17;
+        let _t37 = _p[(4, 4)] + _p[(3, 4)] * _t16 + _t17 * _p[(4, 5)];
+        let _t38 = _p[(4, 5)] + _p[(3, 5)] * _t16 + _t17 * _p[(5, 5)];
+        let _t39 = x[5] * q.gyro_noise[0];
+        cov[(0, 0)] = _t0 * _t3 + _t6 - _t1 * _t7 + _t2 * _t8 + dt * q.accel_noise[0];
+        cov[(0, 1)] = _t3 - _t0 * _t6 + _t7 * _t9 + _t2 * _t11;
+        cov[(0, 2)] = _t7 + (_t1 * _t6 - _t3 * _t9) + _t2 * _t13;
+        cov[(0, 3)] = _t8 + _t11 * _t14 + _t13 * _t15;
+        cov[(0, 4)] = _t11 + _t8 * _t16 + _t13 * _t17;
+        cov[(0, 5)] = _t13 + (_t11 * _t18 + _t8 * _t19);
+        cov[(1, 1)] = _t21 - _t0 * _t22 + _t9 * _t23 + _t2 * _t24
+            + dt * q.accel_noise[1];
+        cov[(1, 2)] = _t23 + (_t1 * _t22 - _t9 * _t21) + _t2 * _t26;
+        cov[(1, 3)] = _t14 * _t24 + _t27 + _t15 * _t26;
+        cov[(1, 4)] = _t24 + _t16 * _t27 + _t17 * _t26;
+        cov[(1, 5)] = _t26 + (_t18 * _t24 + _t19 * _t27);
+        cov[(2, 2)] = _t1
+            * (_p[(0, 2)] + (_t1 * _p[(0, 0)] - _p[(0, 1)] * _t9) + _t2 * _p[(0, 5)])
+            - _t9
+                * (_p[(1, 2)] + (_t1 * _p[(0, 1)] - _p[(1, 1)] * _t9) + _t2 * _p[(1, 5)])
+            + (_p[(2, 2)] + (_t5 - _t20) + _t2 * _p[(2, 5)]) + _t2 * _t28
+            + dt * q.accel_noise[2];
+        cov[(2, 3)] = _t14 * _t29 + _t30 + _t15 * _t28;
+        cov[(2, 4)] = _t29 + _t16 * _t30 + _t17 * _t28;
         cov[(2, 5)] = _t28 + (_t18 * _t29 + _t19 * _t30);
-        cov[(3, 3)] = dt * (x[5] * _t31 + x[4] * _t32)
-            + (_t14 * _t33 + (_t34 + _t15 * _t35));
-        cov[(3, 4)] = _t16 * _t33 + (_t35 + _t17 * _t34) - dt * (_t32 * x[3]);
-        cov[(3, 5)] = _t33 + (_t18 * _t34 + _t19 * _t35) - dt * (_t31 * x[3]);
-        cov[(4, 4)] = dt * (x[5] * _t36 + x[3] * (q.gyro_noise[2] * x[3]))
-            + (_t16 * _t37 + (_t38 + _t17 * _t39));
-        cov[(4, 5)] = _t37 + (_t18 * _t39 + _t19 * _t38) - dt * (x[4] * _t36);
-        cov[(5, 5)] = dt
-            * (x[4] * (x[4] * q.gyro_noise[0]) + x[3] * (q.gyro_noise[1] * x[3]))
-            + (_p[(5, 5)] + (_p[(3, 5)] * _t18 + _t19 * _p[(4, 5)])
-                + (_t18 * (_p[(3, 5)] + (_p[(3, 3)] * _t18 + _p[(3, 4)] * _t19))
-                    + _t19 * (_p[(4, 5)] + (_p[(3, 4)] * _t18 + _t19 * _p[(4, 4)]))));
+        cov[(3, 3)] = _t14 * _t31 + _t32 + _t15 * _t33
+            + dt * (x[4] * _t34 + x[5] * _t35);
+        cov[(3, 4)] = _t31 + _t16 * _t32 + _t17 * _t33 - dt * (_t34 * x[3]);
+        cov[(3, 5)] = _t33 + (_t18 * _t31 + _t19 * _t32) - dt * (_t35 * x[3]);
+        cov[(4, 4)] = _t16 * _t36 + _t37 + _t17 * _t38
+            + dt * (x[3] * (q.gyro_noise[2] * x[3]) + x[5] * _t39);
+        cov[(4, 5)] = _t38 + (_t18 * _t37 + _t19 * _t36) - dt * (x[4] * _t39);
+        cov[(5, 5)] = _t18 * (_p[(4, 5)] + (_t18 * _p[(4, 4)] + _p[(3, 4)] * _t19))
+            + _t19 * (_p[(3, 5)] + (_p[(3, 4)] * _t18 + _p[(3, 3)] * _t19))
+            + (_p[(5, 5)] + (_t18 * _p[(4, 5)] + _p[(3, 5)] * _t19))
+            + dt * (x[3] * (q.gyro_noise[1] * x[3]) + x[4] * (x[4] * q.gyro_noise[0]));
         for i in 0..6 {
             for j in 0..i {
                 cov[(i, j)] = cov[(j, i)];
@@ -589,7 +582,7 @@ Total ops: 5*/
     ) -> ::nav_runtime::nalgebra::SVector<f64, 2> {
         let mut out = ::nav_runtime::nalgebra::SVector::<f64, 2>::zeros();
         out[0] = x[0];
-        out[1] = x[5] * x[5] + (x[3] * x[3] + x[4] * x[4]);
+        out[1] = x[4] * x[4] + x[3] * x[3] + x[5] * x[5];
         out
     }
     /**`H = dh/dx`.
@@ -603,9 +596,9 @@ Total ops: 3*/
     ) -> ::nav_runtime::nalgebra::SMatrix<f64, 2, 6> {
         let mut out = ::nav_runtime::nalgebra::SMatrix::<f64, 2, 6>::zeros();
         out[(0, 0)] = 1.0;
-        out[(1, 3)] = x[3] + x[3];
-        out[(1, 4)] = x[4] + x[4];
-        out[(1, 5)] = x[5] + x[5];
+        out[(1, 3)] = 2.0 * x[3];
+        out[(1, 4)] = 2.0 * x[4];
+        out[(1, 5)] = 2.0 * x[5];
         out
     }
     /**`(h, P H^T, H P H^T)` from the upper triangle of `P` and the sparsity of `H`.
@@ -622,24 +615,24 @@ Total ops: 43*/
         ::nav_runtime::nalgebra::SMatrix<f64, 6, 2>,
         ::nav_runtime::nalgebra::SMatrix<f64, 2, 2>,
     ) {
-        let _t0 = x[5] + x[5];
-        let _t1 = x[3] + x[3];
-        let _t2 = x[4] + x[4];
-        let _t3 = cov[(0, 5)] * _t0 + (cov[(0, 3)] * _t1 + cov[(0, 4)] * _t2);
-        let _t4 = _t0 * cov[(3, 5)] + (_t1 * cov[(3, 3)] + _t2 * cov[(3, 4)]);
-        let _t5 = _t0 * cov[(4, 5)] + (_t1 * cov[(3, 4)] + _t2 * cov[(4, 4)]);
-        let _t6 = _t0 * cov[(5, 5)] + (_t1 * cov[(3, 5)] + _t2 * cov[(4, 5)]);
+        let _t0 = x[4] * 2.0;
+        let _t1 = x[3] * 2.0;
+        let _t2 = x[5] * 2.0;
+        let _t3 = _t0 * cov[(0, 4)] + _t1 * cov[(0, 3)] + _t2 * cov[(0, 5)];
+        let _t4 = _t0 * cov[(3, 4)] + _t1 * cov[(3, 3)] + _t2 * cov[(3, 5)];
+        let _t5 = _t0 * cov[(4, 4)] + _t1 * cov[(3, 4)] + _t2 * cov[(4, 5)];
+        let _t6 = _t0 * cov[(4, 5)] + _t1 * cov[(3, 5)] + _t2 * cov[(5, 5)];
         let mut h = ::nav_runtime::nalgebra::SVector::<f64, 2>::zeros();
         let mut pht = ::nav_runtime::nalgebra::SMatrix::<f64, 6, 2>::zeros();
         let mut s = ::nav_runtime::nalgebra::SMatrix::<f64, 2, 2>::zeros();
         h[0] = x[0];
-        h[1] = x[5] * x[5] + (x[3] * x[3] + x[4] * x[4]);
+        h[1] = x[4] * x[4] + x[3] * x[3] + x[5] * x[5];
         pht[(0, 0)] = cov[(0, 0)];
         pht[(0, 1)] = _t3;
         pht[(1, 0)] = cov[(0, 1)];
-        pht[(1, 1)] = _t0 * cov[(1, 5)] + (_t1 * cov[(1, 3)] + _t2 * cov[(1, 4)]);
+        pht[(1, 1)] = _t0 * cov[(1, 4)] + _t1 * cov[(1, 3)] + _t2 * cov[(1, 5)];
         pht[(2, 0)] = cov[(0, 2)];
-        pht[(2, 1)] = _t0 * cov[(2, 5)] + (_t1 * cov[(2, 3)] + _t2 * cov[(2, 4)]);
+        pht[(2, 1)] = _t0 * cov[(2, 4)] + _t1 * cov[(2, 3)] + _t2 * cov[(2, 5)];
         pht[(3, 0)] = cov[(0, 3)];
         pht[(3, 1)] = _t4;
         pht[(4, 0)] = cov[(0, 4)];
@@ -648,7 +641,7 @@ Total ops: 43*/
         pht[(5, 1)] = _t6;
         s[(0, 0)] = cov[(0, 0)];
         s[(0, 1)] = _t3;
-        s[(1, 1)] = _t0 * _t6 + (_t1 * _t4 + _t2 * _t5);
+        s[(1, 1)] = _t0 * _t5 + _t1 * _t4 + _t2 * _t6;
         for i in 0..2 {
             for j in 0..i {
                 s[(i, j)] = s[(j, i)];
@@ -701,7 +694,7 @@ Total ops: 5*/
         out[0] = x[0];
         out[1] = x[1];
         out[2] = x[2];
-        out[3] = x[5] * x[5] + (x[3] * x[3] + x[4] * x[4]);
+        out[3] = x[4] * x[4] + x[3] * x[3] + x[5] * x[5];
         out
     }
     /**`H = dh/dx`.
@@ -717,9 +710,9 @@ Total ops: 3*/
         out[(0, 0)] = 1.0;
         out[(1, 1)] = 1.0;
         out[(2, 2)] = 1.0;
-        out[(3, 3)] = x[3] + x[3];
-        out[(3, 4)] = x[4] + x[4];
-        out[(3, 5)] = x[5] + x[5];
+        out[(3, 3)] = 2.0 * x[3];
+        out[(3, 4)] = 2.0 * x[4];
+        out[(3, 5)] = 2.0 * x[5];
         out
     }
     /**`(h, P H^T, H P H^T)` from the upper triangle of `P` and the sparsity of `H`.
@@ -736,22 +729,22 @@ Total ops: 43*/
         ::nav_runtime::nalgebra::SMatrix<f64, 6, 4>,
         ::nav_runtime::nalgebra::SMatrix<f64, 4, 4>,
     ) {
-        let _t0 = x[5] + x[5];
-        let _t1 = x[3] + x[3];
-        let _t2 = x[4] + x[4];
-        let _t3 = cov[(0, 5)] * _t0 + (cov[(0, 3)] * _t1 + cov[(0, 4)] * _t2);
-        let _t4 = _t0 * cov[(1, 5)] + (_t1 * cov[(1, 3)] + _t2 * cov[(1, 4)]);
-        let _t5 = _t0 * cov[(2, 5)] + (_t1 * cov[(2, 3)] + _t2 * cov[(2, 4)]);
-        let _t6 = _t0 * cov[(3, 5)] + (_t1 * cov[(3, 3)] + _t2 * cov[(3, 4)]);
-        let _t7 = _t0 * cov[(4, 5)] + (_t1 * cov[(3, 4)] + _t2 * cov[(4, 4)]);
-        let _t8 = _t0 * cov[(5, 5)] + (_t1 * cov[(3, 5)] + _t2 * cov[(4, 5)]);
+        let _t0 = x[4] * 2.0;
+        let _t1 = x[3] * 2.0;
+        let _t2 = x[5] * 2.0;
+        let _t3 = _t0 * cov[(0, 4)] + _t1 * cov[(0, 3)] + _t2 * cov[(0, 5)];
+        let _t4 = _t0 * cov[(1, 4)] + _t1 * cov[(1, 3)] + _t2 * cov[(1, 5)];
+        let _t5 = _t0 * cov[(2, 4)] + _t1 * cov[(2, 3)] + _t2 * cov[(2, 5)];
+        let _t6 = _t0 * cov[(3, 4)] + _t1 * cov[(3, 3)] + _t2 * cov[(3, 5)];
+        let _t7 = _t0 * cov[(4, 4)] + _t1 * cov[(3, 4)] + _t2 * cov[(4, 5)];
+        let _t8 = _t0 * cov[(4, 5)] + _t1 * cov[(3, 5)] + _t2 * cov[(5, 5)];
         let mut h = ::nav_runtime::nalgebra::SVector::<f64, 4>::zeros();
         let mut pht = ::nav_runtime::nalgebra::SMatrix::<f64, 6, 4>::zeros();
         let mut s = ::nav_runtime::nalgebra::SMatrix::<f64, 4, 4>::zeros();
         h[0] = x[0];
         h[1] = x[1];
         h[2] = x[2];
-        h[3] = x[5] * x[5] + (x[3] * x[3] + x[4] * x[4]);
+        h[3] = x[4] * x[4] + x[3] * x[3] + x[5] * x[5];
         pht[(0, 0)] = cov[(0, 0)];
         pht[(0, 1)] = cov[(0, 1)];
         pht[(0, 2)] = cov[(0, 2)];
@@ -785,7 +778,7 @@ Total ops: 43*/
         s[(1, 3)] = _t4;
         s[(2, 2)] = cov[(2, 2)];
         s[(2, 3)] = _t5;
-        s[(3, 3)] = _t0 * _t8 + (_t1 * _t6 + _t2 * _t7);
+        s[(3, 3)] = _t0 * _t7 + _t1 * _t6 + _t2 * _t8;
         for i in 0..4 {
             for j in 0..i {
                 s[(i, j)] = s[(j, i)];

@@ -4,10 +4,10 @@
 //
 // Op counts:
 //   Sdins25::OPS_TRANSITION = 251
-//   Sdins25::OPS_JACOBIAN = 248
+//   Sdins25::OPS_JACOBIAN = 246
 //   Sdins25::OPS_NOISE_JACOBIAN = 45
 //   Sdins25::OPS_PROCESS_NOISE = 126
-//   Sdins25::OPS_PROPAGATE_COVARIANCE = (391
+//   Sdins25::OPS_PROPAGATE_COVARIANCE = (368
 //   Sdins25::OPS_DERIVATIVE = 234
 //   Sdins25Depth::OPS_PREDICT = 1
 //   Sdins25Depth::OPS_JACOBIAN = 0
@@ -423,13 +423,13 @@ impl Sdins25 {
     /// Operations in `transition`.
     pub const OPS_TRANSITION: usize = 251;
     /// Operations in `jacobian`.
-    pub const OPS_JACOBIAN: usize = 248;
+    pub const OPS_JACOBIAN: usize = 246;
     /// Operations in [`Self::noise_jacobian`].
     pub const OPS_NOISE_JACOBIAN: usize = 45;
     /// Operations in `process_noise`.
     pub const OPS_PROCESS_NOISE: usize = 126;
     /// Operations in `propagate_covariance`.
-    pub const OPS_PROPAGATE_COVARIANCE: usize = (391
+    pub const OPS_PROPAGATE_COVARIANCE: usize = (368
         + Self::PROPAGATION_STRUCTURE.ops(25));
     ///Structure of `Phi` (`I + F dt`) and `Qd` for the covariance propagation: rows [0, 1, 2, 3, 4, 5, 6, 7, 8] change, the others are unit rows.
     pub const PROPAGATION_STRUCTURE: ::nav_runtime::propagation::Structure<'static> = ::nav_runtime::propagation::Structure {
@@ -466,103 +466,92 @@ Total ops: 234*/
         u: &Sdins25Input,
         p: &Sdins25Params,
     ) -> ::nav_runtime::nalgebra::SVector<f64, 25> {
-        let (_t0, _t11) = ::nav_runtime::math::sin_cos(u.latitude);
+        let (_t0, _t13) = ::nav_runtime::math::sin_cos(u.latitude);
         let _t1 = 1.0 - _t0 * (0.0066943799901413165 * _t0);
         let _t2 = ::nav_runtime::math::sqrt(_t1);
         let _t3 = u.velocity[0] / (u.height + 6335439.3272928195 / (_t1 * _t2));
-        let _t4 = u.velocity[0] - x[3];
-        let _t5 = u.height - x[2];
-        let _t6 = u.latitude - x[0];
-        let (_t7, _t15) = ::nav_runtime::math::sin_cos(_t6);
-        let _t8 = 1.0 - _t7 * (0.0066943799901413165 * _t7);
-        let _t9 = ::nav_runtime::math::sqrt(_t8);
-        let _t10 = 1.0 / (_t5 + 6335439.3272928195 / (_t8 * _t9));
-        let _t12 = 1.0 / _t2;
-        let _t13 = u.height + 6378137.0 * _t12;
+        let _t4 = u.latitude - x[0];
+        let (_t5, _t17) = ::nav_runtime::math::sin_cos(_t4);
+        let _t6 = 1.0 - _t5 * (_t5 * 0.0066943799901413165);
+        let _t7 = ::nav_runtime::math::sqrt(_t6);
+        let _t8 = u.height - x[2];
+        let _t9 = 1.0 / (6335439.3272928195 / (_t6 * _t7) + _t8);
+        let _t10 = u.velocity[0] - x[3];
+        let _t11 = 1.0 / _t2;
+        let _t12 = u.height + 6378137.0 * _t11;
         let _t14 = u.velocity[1] - x[4];
-        let _t16 = 1.0 / _t9;
-        let _t17 = _t5 + 6378137.0 * _t16;
+        let _t15 = 1.0 / _t7;
+        let _t16 = _t8 + _t15 * 6378137.0;
         let _t18 = u.velocity[2] - x[5];
-        let _t19 = 1.0 / _t13;
-        let _t20 = u.velocity[1] * (_t0 / _t11) * _t19;
-        let _t21 = _t0 * 7.292115e-5;
-        let _t22 = _t20 + 2.0 * _t21;
-        let _t23 = u.specific_force[2] - x[11];
+        let _t19 = _t0 * 7.292115e-5;
+        let _t20 = 1.0 / _t12;
+        let _t21 = _t20 * (u.velocity[1] * (_t0 / _t13));
+        let _t22 = 2.0 * _t19 + _t21;
+        let _t23 = u.specific_force[1] - x[10];
         let _t24 = u.specific_force[0] - x[9];
-        let _t25 = u.specific_force[1] - x[10];
-        let _t26 = _t10 * (x[3] - u.velocity[0]);
-        let _t27 = 1.0 / _t17;
-        let _t28 = (x[4] - u.velocity[1]) * (_t7 / _t15) * _t27;
-        let _t29 = _t7 * 7.292115e-5;
-        let _t30 = _t28 - 2.0 * _t29;
-        let _t31 = u.velocity[1] * _t19;
-        let _t32 = _t11 * 7.292115e-5;
-        let _t33 = _t31 + 2.0 * _t32;
-        let _t34 = _t14 * _t27;
-        let _t35 = _t15 * 7.292115e-5;
-        let _t36 = _t34 + 2.0 * _t35;
-        let _t37 = _t31 + _t32;
-        let _t38 = _t20 + _t21;
+        let _t25 = u.specific_force[2] - x[11];
+        let _t26 = _t9 * (x[3] - u.velocity[0]);
+        let _t27 = 1.0 / _t16;
+        let _t28 = _t27 * (_t5 / _t17 * (x[4] - u.velocity[1]));
+        let _t29 = _t5 * 7.292115e-5;
+        let _t30 = _t28 - _t29 * 2.0;
+        let _t31 = _t13 * 7.292115e-5;
+        let _t32 = u.velocity[1] * _t20;
+        let _t33 = 2.0 * _t31 + _t32;
+        let _t34 = _t17 * 7.292115e-5;
+        let _t35 = _t14 * _t27;
+        let _t36 = 2.0 * _t34 + _t35;
+        let _t37 = _t19 + _t21;
+        let _t38 = _t31 + _t32;
         let mut out = ::nav_runtime::nalgebra::SVector::<f64, 25>::zeros();
-        out[0] = _t3 - _t4 * _t10;
-        out[1] = u.velocity[1] / (_t11 * _t13) - _t14 / (_t15 * _t17);
+        out[0] = _t3 - _t9 * _t10;
+        out[1] = u.velocity[1] / (_t12 * _t13) - _t14 / (_t16 * _t17);
         out[2] = _t18 - u.velocity[2];
-        out[3] = u.c_bn[(0, 2)] * u.specific_force[2]
-            + (u.c_bn[(0, 0)] * u.specific_force[0]
-                + u.c_bn[(0, 1)] * u.specific_force[1])
+        out[3] = u.specific_force[1] * u.c_bn[(0, 1)]
+            + u.specific_force[0] * u.c_bn[(0, 0)] + u.specific_force[2] * u.c_bn[(0, 2)]
             - (u.velocity[1] * _t22 - _t3 * u.velocity[2])
-            - ((u.c_bn[(0, 2)] + (u.c_bn[(2, 2)] * x[7] - u.c_bn[(1, 2)] * x[8])) * _t23
-                + ((u.c_bn[(0, 0)] + (x[7] * u.c_bn[(2, 0)] - x[8] * u.c_bn[(1, 0)]))
-                    * _t24
-                    + (u.c_bn[(0, 1)] + (x[7] * u.c_bn[(2, 1)] - x[8] * u.c_bn[(1, 1)]))
-                        * _t25) - (_t18 * _t26 - _t14 * _t30));
-        out[4] = u.c_bn[(1, 2)] * u.specific_force[2]
-            + (u.c_bn[(1, 0)] * u.specific_force[0]
-                + u.c_bn[(1, 1)] * u.specific_force[1])
-            + (u.velocity[0] * _t22 + u.velocity[2] * _t33)
-            - (_t23 * (u.c_bn[(1, 2)] + (u.c_bn[(0, 2)] * x[8] - u.c_bn[(2, 2)] * x[6]))
-                + (_t24
+            - (_t23 * (u.c_bn[(2, 1)] * x[7] - u.c_bn[(1, 1)] * x[8] + u.c_bn[(0, 1)])
+                + _t24 * (x[7] * u.c_bn[(2, 0)] - x[8] * u.c_bn[(1, 0)] + u.c_bn[(0, 0)])
+                + _t25 * (x[7] * u.c_bn[(2, 2)] - x[8] * u.c_bn[(1, 2)] + u.c_bn[(0, 2)])
+                - (_t18 * _t26 - _t14 * _t30));
+        out[4] = u.velocity[2] * _t33 + u.velocity[0] * _t22
+            + (u.specific_force[1] * u.c_bn[(1, 1)]
+                + u.specific_force[0] * u.c_bn[(1, 0)]
+                + u.specific_force[2] * u.c_bn[(1, 2)])
+            - (_t23 * (u.c_bn[(1, 1)] + (x[8] * u.c_bn[(0, 1)] - u.c_bn[(2, 1)] * x[6]))
+                + _t24
                     * (u.c_bn[(1, 0)] + (x[8] * u.c_bn[(0, 0)] - u.c_bn[(2, 0)] * x[6]))
-                    + _t25
-                        * (u.c_bn[(1, 1)]
-                            + (x[8] * u.c_bn[(0, 1)] - u.c_bn[(2, 1)] * x[6])))
-                - (_t4 * _t30 - _t18 * _t36));
-        out[5] = _t12 * (9.7803253359 * (1.0 + _t0 * (_t0 * 0.00193185265241)))
-            * (1.0
-                - 1.567855942887398e-7 * (u.height * 2.0)
-                    * (1.00680259666783 - _t0 * (_t0 * 0.0067056213295))
-                + 2.458172257647332e-14 * (u.height * (u.height * 3.0)))
-            + (u.c_bn[(2, 2)] * u.specific_force[2]
-                + (u.c_bn[(2, 0)] * u.specific_force[0]
-                    + u.c_bn[(2, 1)] * u.specific_force[1])
-                - (u.velocity[1] * _t33 + u.velocity[0] * _t3))
-            - (_t16 * (9.7803253359 * (1.0 + _t7 * (_t7 * 0.00193185265241)))
-                * (1.0
-                    - _t5 * 2.0 * 1.567855942887398e-7
-                        * (1.00680259666783 - _t7 * (_t7 * 0.0067056213295))
-                    + _t5 * (_t5 * 3.0) * 2.458172257647332e-14)
-                + (_t23
-                    * (u.c_bn[(2, 2)] + (u.c_bn[(1, 2)] * x[6] - u.c_bn[(0, 2)] * x[7]))
-                    + (_t24
-                        * (u.c_bn[(2, 0)]
-                            + (u.c_bn[(1, 0)] * x[6] - x[7] * u.c_bn[(0, 0)]))
-                        + _t25
-                            * (u.c_bn[(2, 1)]
-                                + (u.c_bn[(1, 1)] * x[6] - x[7] * u.c_bn[(0, 1)])))
-                    - (_t14 * _t36 - _t4 * _t26)));
-        out[6] = _t37
-            + (_t3 * x[8] - x[7] * _t38
-                - (u.c_bn[(0, 2)] * x[14]
-                    + (u.c_bn[(0, 0)] * x[12] + u.c_bn[(0, 1)] * x[13])))
-            - (_t34 + _t35);
-        out[7] = x[6] * _t38 + x[8] * _t37
-            - (u.c_bn[(1, 2)] * x[14]
-                + (u.c_bn[(1, 0)] * x[12] + u.c_bn[(1, 1)] * x[13])) - _t3 - _t26;
-        out[8] = -(_t28 - _t29
-            + (_t38
-                + (x[7] * _t37 + _t3 * x[6]
-                    + (u.c_bn[(2, 2)] * x[14]
-                        + (u.c_bn[(2, 0)] * x[12] + u.c_bn[(2, 1)] * x[13])))));
+                + _t25
+                    * (u.c_bn[(1, 2)] + (x[8] * u.c_bn[(0, 2)] - u.c_bn[(2, 2)] * x[6]))
+                - (_t10 * _t30 - _t18 * _t36));
+        out[5] = u.specific_force[1] * u.c_bn[(2, 1)]
+            + u.specific_force[0] * u.c_bn[(2, 0)] + u.specific_force[2] * u.c_bn[(2, 2)]
+            - (u.velocity[0] * _t3 + u.velocity[1] * _t33)
+            + (2.458172257647332e-14 * (u.height * (u.height * 3.0))
+                + (1.0
+                    - (1.00680259666783 - _t0 * (_t0 * 0.0067056213295))
+                        * (1.567855942887398e-7 * (u.height * 2.0))))
+                * (_t11 * (9.7803253359 * (1.0 + _t0 * (_t0 * 0.00193185265241))))
+            - (_t23 * (u.c_bn[(2, 1)] + (u.c_bn[(1, 1)] * x[6] - x[7] * u.c_bn[(0, 1)]))
+                + _t24
+                    * (u.c_bn[(2, 0)] + (u.c_bn[(1, 0)] * x[6] - x[7] * u.c_bn[(0, 0)]))
+                + _t25
+                    * (u.c_bn[(2, 2)] + (u.c_bn[(1, 2)] * x[6] - x[7] * u.c_bn[(0, 2)]))
+                - (_t14 * _t36 - _t10 * _t26)
+                + (2.458172257647332e-14 * (_t8 * (_t8 * 3.0))
+                    + (1.0
+                        - (1.00680259666783 - _t5 * (_t5 * 0.0067056213295))
+                            * (1.567855942887398e-7 * (_t8 * 2.0))))
+                    * (_t15 * ((1.0 + _t5 * (_t5 * 0.00193185265241)) * 9.7803253359)));
+        out[6] = _t3 * x[8] - x[7] * _t37
+            - (u.c_bn[(0, 1)] * x[13] + u.c_bn[(0, 0)] * x[12] + u.c_bn[(0, 2)] * x[14])
+            + _t38 - (_t34 + _t35);
+        out[7] = x[8] * _t38 + x[6] * _t37
+            - (u.c_bn[(1, 1)] * x[13] + u.c_bn[(1, 0)] * x[12] + u.c_bn[(1, 2)] * x[14])
+            - _t3 - _t26;
+        out[8] = -(_t37
+            + (u.c_bn[(2, 1)] * x[13] + u.c_bn[(2, 0)] * x[12] + u.c_bn[(2, 2)] * x[14]
+                + (_t3 * x[6] + x[7] * _t38)) + (_t28 - _t29));
         out
     }
     /**`f(x, u, p, w)` with an explicit noise sample `w` (`dt` is unused).
@@ -575,104 +564,96 @@ Total ops: 240*/
         w: &::nav_runtime::nalgebra::SVector<f64, 6>,
         dt: f64,
     ) -> ::nav_runtime::nalgebra::SVector<f64, 25> {
-        let (_t0, _t11) = ::nav_runtime::math::sin_cos(u.latitude);
+        let (_t0, _t13) = ::nav_runtime::math::sin_cos(u.latitude);
         let _t1 = 1.0 - _t0 * (0.0066943799901413165 * _t0);
         let _t2 = ::nav_runtime::math::sqrt(_t1);
         let _t3 = u.velocity[0] / (u.height + 6335439.3272928195 / (_t1 * _t2));
-        let _t4 = u.velocity[0] - x[3];
-        let _t5 = u.height - x[2];
-        let _t6 = u.latitude - x[0];
-        let (_t7, _t15) = ::nav_runtime::math::sin_cos(_t6);
-        let _t8 = 1.0 - _t7 * (0.0066943799901413165 * _t7);
-        let _t9 = ::nav_runtime::math::sqrt(_t8);
-        let _t10 = 1.0 / (_t5 + 6335439.3272928195 / (_t8 * _t9));
-        let _t12 = 1.0 / _t2;
-        let _t13 = u.height + 6378137.0 * _t12;
+        let _t4 = u.latitude - x[0];
+        let (_t5, _t17) = ::nav_runtime::math::sin_cos(_t4);
+        let _t6 = 1.0 - _t5 * (_t5 * 0.0066943799901413165);
+        let _t7 = ::nav_runtime::math::sqrt(_t6);
+        let _t8 = u.height - x[2];
+        let _t9 = 1.0 / (6335439.3272928195 / (_t6 * _t7) + _t8);
+        let _t10 = u.velocity[0] - x[3];
+        let _t11 = 1.0 / _t2;
+        let _t12 = u.height + 6378137.0 * _t11;
         let _t14 = u.velocity[1] - x[4];
-        let _t16 = 1.0 / _t9;
-        let _t17 = _t5 + 6378137.0 * _t16;
+        let _t15 = 1.0 / _t7;
+        let _t16 = _t8 + _t15 * 6378137.0;
         let _t18 = u.velocity[2] - x[5];
-        let _t19 = 1.0 / _t13;
-        let _t20 = u.velocity[1] * (_t0 / _t11) * _t19;
-        let _t21 = _t0 * 7.292115e-5;
-        let _t22 = _t20 + 2.0 * _t21;
-        let _t23 = u.specific_force[2] - x[11] - w[2];
+        let _t19 = _t0 * 7.292115e-5;
+        let _t20 = 1.0 / _t12;
+        let _t21 = _t20 * (u.velocity[1] * (_t0 / _t13));
+        let _t22 = 2.0 * _t19 + _t21;
+        let _t23 = u.specific_force[1] - x[10] - w[1];
         let _t24 = u.specific_force[0] - x[9] - w[0];
-        let _t25 = u.specific_force[1] - x[10] - w[1];
-        let _t26 = _t10 * (x[3] - u.velocity[0]);
-        let _t27 = 1.0 / _t17;
-        let _t28 = (x[4] - u.velocity[1]) * (_t7 / _t15) * _t27;
-        let _t29 = _t7 * 7.292115e-5;
-        let _t30 = _t28 - 2.0 * _t29;
-        let _t31 = u.velocity[1] * _t19;
-        let _t32 = _t11 * 7.292115e-5;
-        let _t33 = _t31 + 2.0 * _t32;
-        let _t34 = _t14 * _t27;
-        let _t35 = _t15 * 7.292115e-5;
-        let _t36 = _t34 + 2.0 * _t35;
-        let _t37 = _t31 + _t32;
-        let _t38 = _t20 + _t21;
-        let _t39 = x[14] + w[5];
-        let _t40 = x[12] + w[3];
-        let _t41 = x[13] + w[4];
+        let _t25 = u.specific_force[2] - x[11] - w[2];
+        let _t26 = _t9 * (x[3] - u.velocity[0]);
+        let _t27 = 1.0 / _t16;
+        let _t28 = _t27 * (_t5 / _t17 * (x[4] - u.velocity[1]));
+        let _t29 = _t5 * 7.292115e-5;
+        let _t30 = _t28 - _t29 * 2.0;
+        let _t31 = _t13 * 7.292115e-5;
+        let _t32 = u.velocity[1] * _t20;
+        let _t33 = 2.0 * _t31 + _t32;
+        let _t34 = _t17 * 7.292115e-5;
+        let _t35 = _t14 * _t27;
+        let _t36 = 2.0 * _t34 + _t35;
+        let _t37 = _t19 + _t21;
+        let _t38 = w[4] + x[13];
+        let _t39 = w[3] + x[12];
+        let _t40 = w[5] + x[14];
+        let _t41 = _t31 + _t32;
         let mut out = ::nav_runtime::nalgebra::SVector::<f64, 25>::zeros();
-        out[0] = _t3 - _t4 * _t10;
-        out[1] = u.velocity[1] / (_t11 * _t13) - _t14 / (_t15 * _t17);
+        out[0] = _t3 - _t9 * _t10;
+        out[1] = u.velocity[1] / (_t12 * _t13) - _t14 / (_t16 * _t17);
         out[2] = _t18 - u.velocity[2];
-        out[3] = u.c_bn[(0, 2)] * u.specific_force[2]
-            + (u.c_bn[(0, 0)] * u.specific_force[0]
-                + u.c_bn[(0, 1)] * u.specific_force[1])
+        out[3] = u.specific_force[1] * u.c_bn[(0, 1)]
+            + u.specific_force[0] * u.c_bn[(0, 0)] + u.specific_force[2] * u.c_bn[(0, 2)]
             - (u.velocity[1] * _t22 - _t3 * u.velocity[2])
-            - ((u.c_bn[(0, 2)] + (u.c_bn[(2, 2)] * x[7] - u.c_bn[(1, 2)] * x[8])) * _t23
-                + ((u.c_bn[(0, 0)] + (x[7] * u.c_bn[(2, 0)] - x[8] * u.c_bn[(1, 0)]))
-                    * _t24
-                    + (u.c_bn[(0, 1)] + (x[7] * u.c_bn[(2, 1)] - x[8] * u.c_bn[(1, 1)]))
-                        * _t25) - (_t18 * _t26 - _t14 * _t30));
-        out[4] = u.c_bn[(1, 2)] * u.specific_force[2]
-            + (u.c_bn[(1, 0)] * u.specific_force[0]
-                + u.c_bn[(1, 1)] * u.specific_force[1])
-            + (u.velocity[0] * _t22 + u.velocity[2] * _t33)
-            - (_t23 * (u.c_bn[(1, 2)] + (u.c_bn[(0, 2)] * x[8] - u.c_bn[(2, 2)] * x[6]))
-                + (_t24
+            - (_t23 * (u.c_bn[(2, 1)] * x[7] - u.c_bn[(1, 1)] * x[8] + u.c_bn[(0, 1)])
+                + _t24 * (x[7] * u.c_bn[(2, 0)] - x[8] * u.c_bn[(1, 0)] + u.c_bn[(0, 0)])
+                + _t25 * (x[7] * u.c_bn[(2, 2)] - x[8] * u.c_bn[(1, 2)] + u.c_bn[(0, 2)])
+                - (_t18 * _t26 - _t14 * _t30));
+        out[4] = u.velocity[2] * _t33 + u.velocity[0] * _t22
+            + (u.specific_force[1] * u.c_bn[(1, 1)]
+                + u.specific_force[0] * u.c_bn[(1, 0)]
+                + u.specific_force[2] * u.c_bn[(1, 2)])
+            - (_t23 * (u.c_bn[(1, 1)] + (x[8] * u.c_bn[(0, 1)] - u.c_bn[(2, 1)] * x[6]))
+                + _t24
                     * (u.c_bn[(1, 0)] + (x[8] * u.c_bn[(0, 0)] - u.c_bn[(2, 0)] * x[6]))
-                    + _t25
-                        * (u.c_bn[(1, 1)]
-                            + (x[8] * u.c_bn[(0, 1)] - u.c_bn[(2, 1)] * x[6])))
-                - (_t4 * _t30 - _t18 * _t36));
-        out[5] = _t12 * (9.7803253359 * (1.0 + _t0 * (_t0 * 0.00193185265241)))
-            * (1.0
-                - 1.567855942887398e-7 * (u.height * 2.0)
-                    * (1.00680259666783 - _t0 * (_t0 * 0.0067056213295))
-                + 2.458172257647332e-14 * (u.height * (u.height * 3.0)))
-            + (u.c_bn[(2, 2)] * u.specific_force[2]
-                + (u.c_bn[(2, 0)] * u.specific_force[0]
-                    + u.c_bn[(2, 1)] * u.specific_force[1])
-                - (u.velocity[1] * _t33 + u.velocity[0] * _t3))
-            - (_t16 * (9.7803253359 * (1.0 + _t7 * (_t7 * 0.00193185265241)))
-                * (1.0
-                    - _t5 * 2.0 * 1.567855942887398e-7
-                        * (1.00680259666783 - _t7 * (_t7 * 0.0067056213295))
-                    + _t5 * (_t5 * 3.0) * 2.458172257647332e-14)
-                + (_t23
-                    * (u.c_bn[(2, 2)] + (u.c_bn[(1, 2)] * x[6] - u.c_bn[(0, 2)] * x[7]))
-                    + (_t24
-                        * (u.c_bn[(2, 0)]
-                            + (u.c_bn[(1, 0)] * x[6] - x[7] * u.c_bn[(0, 0)]))
-                        + _t25
-                            * (u.c_bn[(2, 1)]
-                                + (u.c_bn[(1, 1)] * x[6] - x[7] * u.c_bn[(0, 1)])))
-                    - (_t14 * _t36 - _t4 * _t26)));
-        out[6] = _t37
-            + (_t3 * x[8] - x[7] * _t38
-                - (u.c_bn[(0, 2)] * _t39
-                    + (u.c_bn[(0, 0)] * _t40 + u.c_bn[(0, 1)] * _t41))) - (_t34 + _t35);
-        out[7] = x[6] * _t38 + x[8] * _t37
-            - (u.c_bn[(1, 2)] * _t39 + (u.c_bn[(1, 0)] * _t40 + u.c_bn[(1, 1)] * _t41))
+                + _t25
+                    * (u.c_bn[(1, 2)] + (x[8] * u.c_bn[(0, 2)] - u.c_bn[(2, 2)] * x[6]))
+                - (_t10 * _t30 - _t18 * _t36));
+        out[5] = u.specific_force[1] * u.c_bn[(2, 1)]
+            + u.specific_force[0] * u.c_bn[(2, 0)] + u.specific_force[2] * u.c_bn[(2, 2)]
+            - (u.velocity[0] * _t3 + u.velocity[1] * _t33)
+            + (2.458172257647332e-14 * (u.height * (u.height * 3.0))
+                + (1.0
+                    - (1.00680259666783 - _t0 * (_t0 * 0.0067056213295))
+                        * (1.567855942887398e-7 * (u.height * 2.0))))
+                * (_t11 * (9.7803253359 * (1.0 + _t0 * (_t0 * 0.00193185265241))))
+            - (_t23 * (u.c_bn[(2, 1)] + (u.c_bn[(1, 1)] * x[6] - x[7] * u.c_bn[(0, 1)]))
+                + _t24
+                    * (u.c_bn[(2, 0)] + (u.c_bn[(1, 0)] * x[6] - x[7] * u.c_bn[(0, 0)]))
+                + _t25
+                    * (u.c_bn[(2, 2)] + (u.c_bn[(1, 2)] * x[6] - x[7] * u.c_bn[(0, 2)]))
+                - (_t14 * _t36 - _t10 * _t26)
+                + (2.458172257647332e-14 * (_t8 * (_t8 * 3.0))
+                    + (1.0
+                        - (1.00680259666783 - _t5 * (_t5 * 0.0067056213295))
+                            * (1.567855942887398e-7 * (_t8 * 2.0))))
+                    * (_t15 * ((1.0 + _t5 * (_t5 * 0.00193185265241)) * 9.7803253359)));
+        out[6] = _t3 * x[8] - x[7] * _t37
+            - (u.c_bn[(0, 1)] * _t38 + u.c_bn[(0, 0)] * _t39 + u.c_bn[(0, 2)] * _t40)
+            + _t41 - (_t34 + _t35);
+        out[7] = x[8] * _t41 + x[6] * _t37
+            - (u.c_bn[(1, 1)] * _t38 + u.c_bn[(1, 0)] * _t39 + u.c_bn[(1, 2)] * _t40)
             - _t3 - _t26;
-        out[8] = -(_t38
-            + (x[7] * _t37 + _t3 * x[6]
-                + (u.c_bn[(2, 2)] * _t39
-                    + (u.c_bn[(2, 0)] * _t40 + u.c_bn[(2, 1)] * _t41))) + (_t28 - _t29));
+        out[8] = -(_t28 - _t29
+            + (_t37
+                + (u.c_bn[(2, 1)] * _t38 + u.c_bn[(2, 0)] * _t39 + u.c_bn[(2, 2)] * _t40
+                    + (_t3 * x[6] + x[7] * _t41))));
         out
     }
     /**The noise Jacobian `G = df/dw` at `w = 0` (N x NW, noise scalars in declaration order).
@@ -685,13 +666,13 @@ Total ops: 45*/
         dt: f64,
     ) -> ::nav_runtime::nalgebra::SMatrix<f64, 25, 6> {
         let mut out = ::nav_runtime::nalgebra::SMatrix::<f64, 25, 6>::zeros();
-        out[(3, 0)] = u.c_bn[(0, 0)] + (x[7] * u.c_bn[(2, 0)] - x[8] * u.c_bn[(1, 0)]);
-        out[(3, 1)] = u.c_bn[(0, 1)] + (x[7] * u.c_bn[(2, 1)] - x[8] * u.c_bn[(1, 1)]);
-        out[(3, 2)] = u.c_bn[(0, 2)] + (x[7] * u.c_bn[(2, 2)] - x[8] * u.c_bn[(1, 2)]);
-        out[(4, 0)] = u.c_bn[(1, 0)] + (u.c_bn[(0, 0)] * x[8] - u.c_bn[(2, 0)] * x[6]);
+        out[(3, 0)] = u.c_bn[(2, 0)] * x[7] - u.c_bn[(1, 0)] * x[8] + u.c_bn[(0, 0)];
+        out[(3, 1)] = x[7] * u.c_bn[(2, 1)] - x[8] * u.c_bn[(1, 1)] + u.c_bn[(0, 1)];
+        out[(3, 2)] = x[7] * u.c_bn[(2, 2)] - x[8] * u.c_bn[(1, 2)] + u.c_bn[(0, 2)];
+        out[(4, 0)] = u.c_bn[(1, 0)] + (x[8] * u.c_bn[(0, 0)] - u.c_bn[(2, 0)] * x[6]);
         out[(4, 1)] = u.c_bn[(1, 1)] + (x[8] * u.c_bn[(0, 1)] - u.c_bn[(2, 1)] * x[6]);
         out[(4, 2)] = u.c_bn[(1, 2)] + (x[8] * u.c_bn[(0, 2)] - u.c_bn[(2, 2)] * x[6]);
-        out[(5, 0)] = u.c_bn[(2, 0)] + (u.c_bn[(1, 0)] * x[6] - u.c_bn[(0, 0)] * x[7]);
+        out[(5, 0)] = u.c_bn[(2, 0)] + (u.c_bn[(1, 0)] * x[6] - x[7] * u.c_bn[(0, 0)]);
         out[(5, 1)] = u.c_bn[(2, 1)] + (u.c_bn[(1, 1)] * x[6] - x[7] * u.c_bn[(0, 1)]);
         out[(5, 2)] = u.c_bn[(2, 2)] + (u.c_bn[(1, 2)] * x[6] - x[7] * u.c_bn[(0, 2)]);
         out[(6, 3)] = -u.c_bn[(0, 0)];
@@ -868,8 +849,8 @@ impl ::nav_runtime::model::Model<25, f64> for Sdins25 {
             false, false, false,
         ],
     ];
-    const OPS_PROPAGATE_COVARIANCE: usize = (391 + Self::PROPAGATION_STRUCTURE.ops(25));
-    const OPS_JACOBIAN: usize = 248;
+    const OPS_PROPAGATE_COVARIANCE: usize = (368 + Self::PROPAGATION_STRUCTURE.ops(25));
+    const OPS_JACOBIAN: usize = 246;
     const ZERO_IS_FIXED: bool = true;
     /**One Euler step `x + f(x, u, p) dt`.
 
@@ -880,122 +861,123 @@ Total ops: 251*/
         p: &Sdins25Params,
         dt: f64,
     ) -> ::nav_runtime::nalgebra::SVector<f64, 25> {
-        let (_t0, _t11) = ::nav_runtime::math::sin_cos(u.latitude);
+        let (_t0, _t13) = ::nav_runtime::math::sin_cos(u.latitude);
         let _t1 = 1.0 - _t0 * (0.0066943799901413165 * _t0);
         let _t2 = ::nav_runtime::math::sqrt(_t1);
         let _t3 = u.velocity[0] / (u.height + 6335439.3272928195 / (_t1 * _t2));
-        let _t4 = u.velocity[0] - x[3];
-        let _t5 = u.height - x[2];
-        let _t6 = u.latitude - x[0];
-        let (_t7, _t15) = ::nav_runtime::math::sin_cos(_t6);
-        let _t8 = 1.0 - _t7 * (0.0066943799901413165 * _t7);
-        let _t9 = ::nav_runtime::math::sqrt(_t8);
-        let _t10 = 1.0 / (_t5 + 6335439.3272928195 / (_t8 * _t9));
-        let _t12 = 1.0 / _t2;
-        let _t13 = u.height + 6378137.0 * _t12;
+        let _t4 = u.latitude - x[0];
+        let (_t5, _t17) = ::nav_runtime::math::sin_cos(_t4);
+        let _t6 = 1.0 - _t5 * (_t5 * 0.0066943799901413165);
+        let _t7 = ::nav_runtime::math::sqrt(_t6);
+        let _t8 = u.height - x[2];
+        let _t9 = 1.0 / (6335439.3272928195 / (_t6 * _t7) + _t8);
+        let _t10 = u.velocity[0] - x[3];
+        let _t11 = 1.0 / _t2;
+        let _t12 = u.height + 6378137.0 * _t11;
         let _t14 = u.velocity[1] - x[4];
-        let _t16 = 1.0 / _t9;
-        let _t17 = _t5 + 6378137.0 * _t16;
+        let _t15 = 1.0 / _t7;
+        let _t16 = _t8 + _t15 * 6378137.0;
         let _t18 = u.velocity[2] - x[5];
-        let _t19 = 1.0 / _t13;
-        let _t20 = u.velocity[1] * (_t0 / _t11) * _t19;
-        let _t21 = _t0 * 7.292115e-5;
-        let _t22 = _t20 + 2.0 * _t21;
-        let _t23 = u.specific_force[2] - x[11];
+        let _t19 = _t0 * 7.292115e-5;
+        let _t20 = 1.0 / _t12;
+        let _t21 = _t20 * (u.velocity[1] * (_t0 / _t13));
+        let _t22 = 2.0 * _t19 + _t21;
+        let _t23 = u.specific_force[1] - x[10];
         let _t24 = u.specific_force[0] - x[9];
-        let _t25 = u.specific_force[1] - x[10];
-        let _t26 = _t10 * (x[3] - u.velocity[0]);
-        let _t27 = 1.0 / _t17;
-        let _t28 = (x[4] - u.velocity[1]) * (_t7 / _t15) * _t27;
-        let _t29 = _t7 * 7.292115e-5;
-        let _t30 = _t28 - 2.0 * _t29;
-        let _t31 = u.velocity[1] * _t19;
-        let _t32 = _t11 * 7.292115e-5;
-        let _t33 = _t31 + 2.0 * _t32;
-        let _t34 = _t14 * _t27;
-        let _t35 = _t15 * 7.292115e-5;
-        let _t36 = _t34 + 2.0 * _t35;
-        let _t37 = _t31 + _t32;
-        let _t38 = _t20 + _t21;
+        let _t25 = u.specific_force[2] - x[11];
+        let _t26 = _t9 * (x[3] - u.velocity[0]);
+        let _t27 = 1.0 / _t16;
+        let _t28 = _t27 * (_t5 / _t17 * (x[4] - u.velocity[1]));
+        let _t29 = _t5 * 7.292115e-5;
+        let _t30 = _t28 - _t29 * 2.0;
+        let _t31 = _t13 * 7.292115e-5;
+        let _t32 = u.velocity[1] * _t20;
+        let _t33 = 2.0 * _t31 + _t32;
+        let _t34 = _t17 * 7.292115e-5;
+        let _t35 = _t14 * _t27;
+        let _t36 = 2.0 * _t34 + _t35;
+        let _t37 = _t19 + _t21;
+        let _t38 = _t31 + _t32;
         let mut out = ::nav_runtime::nalgebra::SVector::<f64, 25>::zeros();
-        out[0] = x[0] + (_t3 - _t4 * _t10) * dt;
-        out[1] = x[1] + dt * (u.velocity[1] / (_t11 * _t13) - _t14 / (_t15 * _t17));
+        out[0] = x[0] + dt * (_t3 - _t9 * _t10);
+        out[1] = dt * (u.velocity[1] / (_t12 * _t13) - _t14 / (_t16 * _t17)) + x[1];
         out[2] = x[2] + dt * (_t18 - u.velocity[2]);
         out[3] = x[3]
             + dt
-                * (u.c_bn[(0, 2)] * u.specific_force[2]
-                    + (u.c_bn[(0, 0)] * u.specific_force[0]
-                        + u.c_bn[(0, 1)] * u.specific_force[1])
+                * (u.specific_force[1] * u.c_bn[(0, 1)]
+                    + u.specific_force[0] * u.c_bn[(0, 0)]
+                    + u.specific_force[2] * u.c_bn[(0, 2)]
                     - (u.velocity[1] * _t22 - _t3 * u.velocity[2])
-                    - ((u.c_bn[(0, 2)] + (u.c_bn[(2, 2)] * x[7] - u.c_bn[(1, 2)] * x[8]))
-                        * _t23
-                        + ((u.c_bn[(0, 0)]
-                            + (x[7] * u.c_bn[(2, 0)] - x[8] * u.c_bn[(1, 0)])) * _t24
-                            + (u.c_bn[(0, 1)]
-                                + (x[7] * u.c_bn[(2, 1)] - x[8] * u.c_bn[(1, 1)])) * _t25)
-                        - (_t18 * _t26 - _t14 * _t30)));
+                    - (_t23
+                        * (u.c_bn[(2, 1)] * x[7] - u.c_bn[(1, 1)] * x[8]
+                            + u.c_bn[(0, 1)])
+                        + _t24
+                            * (x[7] * u.c_bn[(2, 0)] - x[8] * u.c_bn[(1, 0)]
+                                + u.c_bn[(0, 0)])
+                        + _t25
+                            * (x[7] * u.c_bn[(2, 2)] - x[8] * u.c_bn[(1, 2)]
+                                + u.c_bn[(0, 2)]) - (_t18 * _t26 - _t14 * _t30)));
         out[4] = x[4]
             + dt
-                * (u.c_bn[(1, 2)] * u.specific_force[2]
-                    + (u.c_bn[(1, 0)] * u.specific_force[0]
-                        + u.c_bn[(1, 1)] * u.specific_force[1])
-                    + (u.velocity[0] * _t22 + u.velocity[2] * _t33)
+                * (u.velocity[2] * _t33 + u.velocity[0] * _t22
+                    + (u.specific_force[1] * u.c_bn[(1, 1)]
+                        + u.specific_force[0] * u.c_bn[(1, 0)]
+                        + u.specific_force[2] * u.c_bn[(1, 2)])
                     - (_t23
-                        * (u.c_bn[(1, 2)]
-                            + (u.c_bn[(0, 2)] * x[8] - u.c_bn[(2, 2)] * x[6]))
-                        + (_t24
+                        * (u.c_bn[(1, 1)]
+                            + (x[8] * u.c_bn[(0, 1)] - u.c_bn[(2, 1)] * x[6]))
+                        + _t24
                             * (u.c_bn[(1, 0)]
                                 + (x[8] * u.c_bn[(0, 0)] - u.c_bn[(2, 0)] * x[6]))
-                            + _t25
-                                * (u.c_bn[(1, 1)]
-                                    + (x[8] * u.c_bn[(0, 1)] - u.c_bn[(2, 1)] * x[6])))
-                        - (_t4 * _t30 - _t18 * _t36)));
+                        + _t25
+                            * (u.c_bn[(1, 2)]
+                                + (x[8] * u.c_bn[(0, 2)] - u.c_bn[(2, 2)] * x[6]))
+                        - (_t10 * _t30 - _t18 * _t36)));
         out[5] = x[5]
             + dt
-                * (_t12 * (9.7803253359 * (1.0 + _t0 * (_t0 * 0.00193185265241)))
-                    * (1.0
-                        - 1.567855942887398e-7 * (u.height * 2.0)
-                            * (1.00680259666783 - _t0 * (_t0 * 0.0067056213295))
-                        + 2.458172257647332e-14 * (u.height * (u.height * 3.0)))
-                    + (u.c_bn[(2, 2)] * u.specific_force[2]
-                        + (u.c_bn[(2, 0)] * u.specific_force[0]
-                            + u.c_bn[(2, 1)] * u.specific_force[1])
-                        - (u.velocity[1] * _t33 + u.velocity[0] * _t3))
-                    - (_t16 * (9.7803253359 * (1.0 + _t7 * (_t7 * 0.00193185265241)))
-                        * (1.0
-                            - _t5 * 2.0 * 1.567855942887398e-7
-                                * (1.00680259666783 - _t7 * (_t7 * 0.0067056213295))
-                            + _t5 * (_t5 * 3.0) * 2.458172257647332e-14)
-                        + (_t23
+                * (u.specific_force[1] * u.c_bn[(2, 1)]
+                    + u.specific_force[0] * u.c_bn[(2, 0)]
+                    + u.specific_force[2] * u.c_bn[(2, 2)]
+                    - (u.velocity[0] * _t3 + u.velocity[1] * _t33)
+                    + (2.458172257647332e-14 * (u.height * (u.height * 3.0))
+                        + (1.0
+                            - (1.00680259666783 - _t0 * (_t0 * 0.0067056213295))
+                                * (1.567855942887398e-7 * (u.height * 2.0))))
+                        * (_t11
+                            * (9.7803253359 * (1.0 + _t0 * (_t0 * 0.00193185265241))))
+                    - (_t23
+                        * (u.c_bn[(2, 1)]
+                            + (u.c_bn[(1, 1)] * x[6] - x[7] * u.c_bn[(0, 1)]))
+                        + _t24
+                            * (u.c_bn[(2, 0)]
+                                + (u.c_bn[(1, 0)] * x[6] - x[7] * u.c_bn[(0, 0)]))
+                        + _t25
                             * (u.c_bn[(2, 2)]
-                                + (u.c_bn[(1, 2)] * x[6] - u.c_bn[(0, 2)] * x[7]))
-                            + (_t24
-                                * (u.c_bn[(2, 0)]
-                                    + (u.c_bn[(1, 0)] * x[6] - x[7] * u.c_bn[(0, 0)]))
-                                + _t25
-                                    * (u.c_bn[(2, 1)]
-                                        + (u.c_bn[(1, 1)] * x[6] - x[7] * u.c_bn[(0, 1)])))
-                            - (_t14 * _t36 - _t4 * _t26))));
+                                + (u.c_bn[(1, 2)] * x[6] - x[7] * u.c_bn[(0, 2)]))
+                        - (_t14 * _t36 - _t10 * _t26)
+                        + (2.458172257647332e-14 * (_t8 * (_t8 * 3.0))
+                            + (1.0
+                                - (1.00680259666783 - _t5 * (_t5 * 0.0067056213295))
+                                    * (1.567855942887398e-7 * (_t8 * 2.0))))
+                            * (_t15
+                                * ((1.0 + _t5 * (_t5 * 0.00193185265241))
+                                    * 9.7803253359))));
         out[6] = x[6]
             + dt
-                * (_t37
-                    + (_t3 * x[8] - x[7] * _t38
-                        - (u.c_bn[(0, 2)] * x[14]
-                            + (u.c_bn[(0, 0)] * x[12] + u.c_bn[(0, 1)] * x[13])))
-                    - (_t34 + _t35));
+                * (_t3 * x[8] - x[7] * _t37
+                    - (u.c_bn[(0, 1)] * x[13] + u.c_bn[(0, 0)] * x[12]
+                        + u.c_bn[(0, 2)] * x[14]) + _t38 - (_t34 + _t35));
         out[7] = x[7]
             + dt
-                * (x[6] * _t38 + x[8] * _t37
-                    - (u.c_bn[(1, 2)] * x[14]
-                        + (u.c_bn[(1, 0)] * x[12] + u.c_bn[(1, 1)] * x[13])) - _t3
-                    - _t26);
+                * (x[8] * _t38 + x[6] * _t37
+                    - (u.c_bn[(1, 1)] * x[13] + u.c_bn[(1, 0)] * x[12]
+                        + u.c_bn[(1, 2)] * x[14]) - _t3 - _t26);
         out[8] = x[8]
             - dt
-                * (_t28 - _t29
-                    + (_t38
-                        + (x[7] * _t37 + _t3 * x[6]
-                            + (u.c_bn[(2, 2)] * x[14]
-                                + (u.c_bn[(2, 0)] * x[12] + u.c_bn[(2, 1)] * x[13])))));
+                * (_t37
+                    + (u.c_bn[(2, 1)] * x[13] + u.c_bn[(2, 0)] * x[12]
+                        + u.c_bn[(2, 2)] * x[14] + (_t3 * x[6] + x[7] * _t38))
+                    + (_t28 - _t29));
         out[9] = x[9];
         out[10] = x[10];
         out[11] = x[11];
@@ -1016,143 +998,141 @@ Total ops: 251*/
     }
     /**`F = df/dx` at `w = 0` (`dt` is unused).
 
-Total ops: 248*/
+Total ops: 246*/
     fn jacobian(
         x: &::nav_runtime::nalgebra::SVector<f64, 25>,
         u: &Sdins25Input,
         p: &Sdins25Params,
         dt: f64,
     ) -> ::nav_runtime::nalgebra::SMatrix<f64, 25, 25> {
-        let _t0 = u.height - x[2];
-        let _t1 = u.latitude - x[0];
-        let (_t2, _t11) = ::nav_runtime::math::sin_cos(_t1);
-        let _t3 = 0.0066943799901413165 * _t2;
-        let _t4 = 1.0 - _t2 * _t3;
-        let _t5 = ::nav_runtime::math::sqrt(_t4);
-        let _t6 = 1.0 / (_t4 * _t5);
-        let _t7 = 6335439.3272928195 * _t6;
-        let _t8 = 1.0 / (_t0 + _t7);
-        let _t9 = u.velocity[0] - x[3];
-        let _t10 = _t9 * _t8;
-        let _t12 = _t3 * _t11 + _t2 * (0.0066943799901413165 * _t11);
-        let _t13 = 1.0 / _t5;
-        let _t14 = _t12 * (0.5 * _t13);
-        let _t15 = _t6 * (_t7 * (_t5 * _t12 + _t4 * _t14));
-        let _t16 = _t13 * 6378137.0;
-        let _t17 = _t0 + _t16;
-        let _t18 = 1.0 / (_t11 * _t17);
-        let _t19 = u.velocity[1] - x[4];
-        let _t20 = _t19 * _t18;
-        let _t21 = _t13 * (_t14 * _t16);
-        let _t22 = u.velocity[2] - x[5];
+        let _t0 = u.latitude - x[0];
+        let (_t1, _t11) = ::nav_runtime::math::sin_cos(_t0);
+        let _t2 = _t1 * 0.0066943799901413165;
+        let _t3 = 1.0 - _t1 * _t2;
+        let _t4 = ::nav_runtime::math::sqrt(_t3);
+        let _t5 = 1.0 / (_t3 * _t4);
+        let _t6 = _t5 * 6335439.3272928195;
+        let _t7 = u.height - x[2];
+        let _t8 = 1.0 / (_t6 + _t7);
+        let _t9 = -_t8;
+        let _t10 = 1.0 / _t4;
+        let _t12 = _t1 * (0.0066943799901413165 * _t11) + _t2 * _t11;
+        let _t13 = _t10 * 0.5 * _t12;
+        let _t14 = _t5 * ((_t3 * _t13 + _t4 * _t12) * _t6);
+        let _t15 = u.velocity[0] - x[3];
+        let _t16 = _t8 * _t15;
+        let _t17 = _t10 * 6378137.0;
+        let _t18 = _t7 + _t17;
+        let _t19 = 1.0 / (_t11 * _t18);
+        let _t20 = _t10 * (_t13 * _t17);
+        let _t21 = u.velocity[1] - x[4];
+        let _t22 = _t19 * _t21;
         let _t23 = _t8 * (x[3] - u.velocity[0]);
-        let _t24 = _t8 * (_t15 * _t23);
-        let _t25 = _t11 * 7.292115e-5;
-        let _t26 = 2.0 * _t25;
-        let _t27 = 1.0 / _t17;
+        let _t24 = _t8 * (_t14 * _t23);
+        let _t25 = u.velocity[2] - x[5];
+        let _t26 = 1.0 / _t18;
+        let _t27 = _t1 / _t11;
         let _t28 = x[4] - u.velocity[1];
-        let _t29 = _t2 / _t11;
-        let _t30 = _t28 * _t29 * _t27;
-        let _t31 = _t27 * (_t21 * _t30 - _t28 * (1.0 + _t29 * _t29));
-        let _t32 = _t26 + _t31;
-        let _t33 = _t8 * _t23;
-        let _t34 = _t27 * _t30;
-        let _t35 = _t2 * 7.292115e-5;
-        let _t36 = 2.0 * _t35;
-        let _t37 = _t36 - _t30;
-        let _t38 = _t29 * _t27;
-        let _t39 = u.specific_force[2] - x[11];
-        let _t40 = u.specific_force[0] - x[9];
-        let _t41 = u.specific_force[1] - x[10];
-        let _t42 = u.c_bn[(2, 2)] * _t39
-            + (u.c_bn[(2, 0)] * _t40 + u.c_bn[(2, 1)] * _t41);
-        let _t43 = _t39 * u.c_bn[(1, 2)]
-            + (_t40 * u.c_bn[(1, 0)] + _t41 * u.c_bn[(1, 1)]);
-        let _t44 = _t19 * _t27;
-        let _t45 = _t27 * (_t21 * _t44);
-        let _t46 = _t36 + _t45;
-        let _t47 = _t27 * _t44;
-        let _t48 = _t26 + _t44;
-        let _t49 = _t39 * u.c_bn[(0, 2)]
-            + (_t40 * u.c_bn[(0, 0)] + _t41 * u.c_bn[(0, 1)]);
-        let _t50 = _t2 * 0.0067056213295;
-        let _t51 = 1.00680259666783 - _t2 * _t50;
-        let _t52 = _t0 * 2.0 * 1.567855942887398e-7;
-        let _t53 = _t0 * 3.0;
-        let _t54 = _t2 * 0.00193185265241;
-        let _t55 = _t13 * (9.7803253359 * (1.0 + _t2 * _t54));
-        let (_t56, _t57) = ::nav_runtime::math::sin_cos(u.latitude);
-        let _t58 = 1.0 - _t56 * (0.0066943799901413165 * _t56);
+        let _t29 = _t26 * (_t27 * _t28);
+        let _t30 = _t26 * (_t20 * _t29 - (1.0 + _t27 * _t27) * _t28);
+        let _t31 = _t11 * 7.292115e-5;
+        let _t32 = _t31 * 2.0;
+        let _t33 = _t30 + _t32;
+        let _t34 = _t8 * _t23;
+        let _t35 = _t26 * _t29;
+        let _t36 = _t27 * _t26;
+        let _t37 = _t1 * 7.292115e-5;
+        let _t38 = 2.0 * _t37;
+        let _t39 = _t38 - _t29;
+        let _t40 = u.specific_force[1] - x[10];
+        let _t41 = u.specific_force[0] - x[9];
+        let _t42 = u.specific_force[2] - x[11];
+        let _t43 = _t40 * u.c_bn[(2, 1)] + _t41 * u.c_bn[(2, 0)] + _t42 * u.c_bn[(2, 2)];
+        let _t44 = _t40 * u.c_bn[(1, 1)] + _t41 * u.c_bn[(1, 0)] + _t42 * u.c_bn[(1, 2)];
+        let _t45 = _t21 * _t26;
+        let _t46 = _t26 * (_t20 * _t45);
+        let _t47 = _t38 + _t46;
+        let _t48 = _t26 * _t45;
+        let _t49 = _t32 + _t45;
+        let _t50 = _t40 * u.c_bn[(0, 1)] + _t41 * u.c_bn[(0, 0)] + _t42 * u.c_bn[(0, 2)];
+        let _t51 = _t1 * 0.0067056213295;
+        let _t52 = 1.567855942887398e-7 * (_t7 * 2.0);
+        let _t53 = _t1 * 0.00193185265241;
+        let _t54 = _t10 * ((1.0 + _t1 * _t53) * 9.7803253359);
+        let _t55 = _t7 * 3.0;
+        let _t56 = 1.00680259666783 - _t1 * _t51;
+        let (_t57, _t61) = ::nav_runtime::math::sin_cos(u.latitude);
+        let _t58 = 1.0 - _t57 * (0.0066943799901413165 * _t57);
         let _t59 = ::nav_runtime::math::sqrt(_t58);
         let _t60 = 1.0 / (u.height + 6378137.0 / _t59);
-        let _t61 = 7.292115e-5 * _t56 + u.velocity[1] * (_t56 / _t57) * _t60;
-        let _t62 = u.velocity[0] / (u.height + 6335439.3272928195 / (_t58 * _t59));
-        let _t63 = 7.292115e-5 * _t57 + u.velocity[1] * _t60;
+        let _t62 = _t60 * (u.velocity[1] * (_t57 / _t61)) + 7.292115e-5 * _t57;
+        let _t63 = u.velocity[0] / (u.height + 6335439.3272928195 / (_t58 * _t59));
+        let _t64 = u.velocity[1] * _t60 + 7.292115e-5 * _t61;
         let mut out = ::nav_runtime::nalgebra::SMatrix::<f64, 25, 25>::zeros();
-        out[(0, 0)] = -(_t8 * (_t10 * _t15));
-        out[(0, 2)] = -(_t8 * _t10);
+        out[(0, 0)] = _t9 * (_t14 * _t16);
+        out[(0, 2)] = _t9 * _t16;
         out[(0, 3)] = _t8;
-        out[(1, 0)] = _t18 * (_t20 * (_t2 * _t17 - _t11 * _t21));
-        out[(1, 2)] = -(_t18 * (_t11 * _t20));
-        out[(1, 4)] = _t18;
+        out[(1, 0)] = _t19 * ((_t1 * _t18 - _t11 * _t20) * _t22);
+        out[(1, 2)] = -(_t19 * (_t11 * _t22));
+        out[(1, 4)] = _t19;
         out[(2, 5)] = -1.0;
-        out[(3, 0)] = _t22 * _t24 - _t19 * _t32;
-        out[(3, 2)] = _t22 * _t33 - _t19 * _t34;
-        out[(3, 3)] = _t8 * _t22;
-        out[(3, 4)] = -(_t37 + _t19 * _t38);
+        out[(3, 0)] = _t24 * _t25 - _t21 * _t33;
+        out[(3, 2)] = _t25 * _t34 - _t21 * _t35;
+        out[(3, 3)] = _t8 * _t25;
+        out[(3, 4)] = -(_t21 * _t36 + _t39);
         out[(3, 5)] = -_t23;
-        out[(3, 7)] = -_t42;
-        out[(3, 8)] = _t43;
-        out[(3, 9)] = u.c_bn[(0, 0)] + (u.c_bn[(2, 0)] * x[7] - u.c_bn[(1, 0)] * x[8]);
-        out[(3, 10)] = u.c_bn[(0, 1)] + (u.c_bn[(2, 1)] * x[7] - u.c_bn[(1, 1)] * x[8]);
-        out[(3, 11)] = u.c_bn[(0, 2)] + (u.c_bn[(2, 2)] * x[7] - u.c_bn[(1, 2)] * x[8]);
-        out[(4, 0)] = _t9 * _t32 - _t22 * _t46;
-        out[(4, 2)] = _t9 * _t34 - _t22 * _t47;
-        out[(4, 3)] = _t37;
-        out[(4, 4)] = _t9 * _t38 + _t27 * _t22;
-        out[(4, 5)] = _t48;
-        out[(4, 6)] = _t42;
-        out[(4, 8)] = -_t49;
-        out[(4, 9)] = u.c_bn[(1, 0)] + (u.c_bn[(0, 0)] * x[8] - u.c_bn[(2, 0)] * x[6]);
+        out[(3, 7)] = -_t43;
+        out[(3, 8)] = _t44;
+        out[(3, 9)] = u.c_bn[(2, 0)] * x[7] - u.c_bn[(1, 0)] * x[8] + u.c_bn[(0, 0)];
+        out[(3, 10)] = u.c_bn[(2, 1)] * x[7] - u.c_bn[(1, 1)] * x[8] + u.c_bn[(0, 1)];
+        out[(3, 11)] = u.c_bn[(2, 2)] * x[7] - u.c_bn[(1, 2)] * x[8] + u.c_bn[(0, 2)];
+        out[(4, 0)] = _t15 * _t33 - _t25 * _t47;
+        out[(4, 2)] = _t15 * _t35 - _t25 * _t48;
+        out[(4, 3)] = _t39;
+        out[(4, 4)] = _t26 * _t25 + _t15 * _t36;
+        out[(4, 5)] = _t49;
+        out[(4, 6)] = _t43;
+        out[(4, 8)] = -_t50;
+        out[(4, 9)] = u.c_bn[(1, 0)] + (x[8] * u.c_bn[(0, 0)] - u.c_bn[(2, 0)] * x[6]);
         out[(4, 10)] = u.c_bn[(1, 1)] + (x[8] * u.c_bn[(0, 1)] - u.c_bn[(2, 1)] * x[6]);
         out[(4, 11)] = u.c_bn[(1, 2)] + (x[8] * u.c_bn[(0, 2)] - u.c_bn[(2, 2)] * x[6]);
-        out[(5, 0)] = (1.0 - _t51 * _t52 + _t0 * _t53 * 2.458172257647332e-14)
-            * (_t13
-                * ((_t11 * _t54 + _t2 * (_t11 * 0.00193185265241)) * 9.7803253359
-                    + _t14 * _t55))
-            + _t55 * (_t52 * (_t11 * _t50 + _t2 * (_t11 * 0.0067056213295)))
-            - (_t9 * _t24 - _t19 * _t46);
-        out[(5, 2)] = -(_t55
-            * (_t51 * 3.135711885774796e-7 - 2.458172257647332e-14 * (_t53 + _t53))
-            + (_t9 * _t33 - _t19 * _t47));
-        out[(5, 3)] = _t23 - _t10;
-        out[(5, 4)] = -(_t44 + _t48);
-        out[(5, 6)] = -_t43;
-        out[(5, 7)] = _t49;
-        out[(5, 9)] = u.c_bn[(2, 0)] + (u.c_bn[(1, 0)] * x[6] - u.c_bn[(0, 0)] * x[7]);
+        out[(5, 0)] = (_t1 * (_t11 * 0.0067056213295) + _t11 * _t51) * _t52 * _t54
+            + _t10
+                * (_t13 * _t54
+                    + 9.7803253359 * (_t1 * (_t11 * 0.00193185265241) + _t11 * _t53))
+                * (2.458172257647332e-14 * (_t7 * _t55) + (1.0 - _t52 * _t56))
+            - (_t15 * _t24 - _t21 * _t47);
+        out[(5, 2)] = -(_t15 * _t34 - _t21 * _t48
+            + _t54
+                * (_t56 * 3.135711885774796e-7 - 2.458172257647332e-14 * (2.0 * _t55)));
+        out[(5, 3)] = _t23 - _t16;
+        out[(5, 4)] = -(_t45 + _t49);
+        out[(5, 6)] = -_t44;
+        out[(5, 7)] = _t50;
+        out[(5, 9)] = u.c_bn[(2, 0)] + (u.c_bn[(1, 0)] * x[6] - x[7] * u.c_bn[(0, 0)]);
         out[(5, 10)] = u.c_bn[(2, 1)] + (u.c_bn[(1, 1)] * x[6] - x[7] * u.c_bn[(0, 1)]);
         out[(5, 11)] = u.c_bn[(2, 2)] + (u.c_bn[(1, 2)] * x[6] - x[7] * u.c_bn[(0, 2)]);
-        out[(6, 0)] = -(_t35 + _t45);
-        out[(6, 2)] = -_t47;
-        out[(6, 4)] = _t27;
-        out[(6, 7)] = -_t61;
-        out[(6, 8)] = _t62;
+        out[(6, 0)] = -(_t37 + _t46);
+        out[(6, 2)] = -_t48;
+        out[(6, 4)] = _t26;
+        out[(6, 7)] = -_t62;
+        out[(6, 8)] = _t63;
         out[(6, 12)] = -u.c_bn[(0, 0)];
         out[(6, 13)] = -u.c_bn[(0, 1)];
         out[(6, 14)] = -u.c_bn[(0, 2)];
         out[(7, 0)] = -_t24;
-        out[(7, 2)] = -_t33;
-        out[(7, 3)] = -_t8;
-        out[(7, 6)] = _t61;
-        out[(7, 8)] = _t63;
+        out[(7, 2)] = -_t34;
+        out[(7, 3)] = _t9;
+        out[(7, 6)] = _t62;
+        out[(7, 8)] = _t64;
         out[(7, 12)] = -u.c_bn[(1, 0)];
         out[(7, 13)] = -u.c_bn[(1, 1)];
         out[(7, 14)] = -u.c_bn[(1, 2)];
-        out[(8, 0)] = -(_t25 + _t31);
-        out[(8, 2)] = -_t34;
-        out[(8, 4)] = -_t38;
-        out[(8, 6)] = -_t62;
-        out[(8, 7)] = -_t63;
+        out[(8, 0)] = -(_t30 + _t31);
+        out[(8, 2)] = -_t35;
+        out[(8, 4)] = -_t36;
+        out[(8, 6)] = -_t63;
+        out[(8, 7)] = -_t64;
         out[(8, 12)] = -u.c_bn[(2, 0)];
         out[(8, 13)] = -u.c_bn[(2, 1)];
         out[(8, 14)] = -u.c_bn[(2, 2)];
@@ -1168,50 +1148,50 @@ Total ops: 126*/
         q: &Sdins25Noise,
         dt: f64,
     ) -> ::nav_runtime::nalgebra::SMatrix<f64, 25, 25> {
-        let _t0 = u.c_bn[(0, 2)] + (u.c_bn[(2, 2)] * x[7] - u.c_bn[(1, 2)] * x[8]);
-        let _t1 = _t0 * q.accel_noise[2];
-        let _t2 = u.c_bn[(0, 0)] + (x[7] * u.c_bn[(2, 0)] - x[8] * u.c_bn[(1, 0)]);
-        let _t3 = _t2 * q.accel_noise[0];
-        let _t4 = u.c_bn[(0, 1)] + (x[7] * u.c_bn[(2, 1)] - x[8] * u.c_bn[(1, 1)]);
-        let _t5 = _t4 * q.accel_noise[1];
-        let _t6 = u.c_bn[(1, 2)] + (u.c_bn[(0, 2)] * x[8] - u.c_bn[(2, 2)] * x[6]);
+        let _t0 = u.c_bn[(2, 1)] * x[7] - u.c_bn[(1, 1)] * x[8] + u.c_bn[(0, 1)];
+        let _t1 = q.accel_noise[1] * _t0;
+        let _t2 = x[7] * u.c_bn[(2, 0)] - x[8] * u.c_bn[(1, 0)] + u.c_bn[(0, 0)];
+        let _t3 = q.accel_noise[0] * _t2;
+        let _t4 = x[7] * u.c_bn[(2, 2)] - x[8] * u.c_bn[(1, 2)] + u.c_bn[(0, 2)];
+        let _t5 = q.accel_noise[2] * _t4;
+        let _t6 = u.c_bn[(1, 1)] + (x[8] * u.c_bn[(0, 1)] - u.c_bn[(2, 1)] * x[6]);
         let _t7 = u.c_bn[(1, 0)] + (x[8] * u.c_bn[(0, 0)] - u.c_bn[(2, 0)] * x[6]);
-        let _t8 = u.c_bn[(1, 1)] + (x[8] * u.c_bn[(0, 1)] - u.c_bn[(2, 1)] * x[6]);
-        let _t9 = u.c_bn[(2, 2)] + (u.c_bn[(1, 2)] * x[6] - u.c_bn[(0, 2)] * x[7]);
+        let _t8 = u.c_bn[(1, 2)] + (x[8] * u.c_bn[(0, 2)] - u.c_bn[(2, 2)] * x[6]);
+        let _t9 = u.c_bn[(2, 1)] + (u.c_bn[(1, 1)] * x[6] - x[7] * u.c_bn[(0, 1)]);
         let _t10 = u.c_bn[(2, 0)] + (u.c_bn[(1, 0)] * x[6] - x[7] * u.c_bn[(0, 0)]);
-        let _t11 = u.c_bn[(2, 1)] + (u.c_bn[(1, 1)] * x[6] - x[7] * u.c_bn[(0, 1)]);
-        let _t12 = q.accel_noise[2] * _t6;
+        let _t11 = u.c_bn[(2, 2)] + (u.c_bn[(1, 2)] * x[6] - x[7] * u.c_bn[(0, 2)]);
+        let _t12 = q.accel_noise[1] * _t6;
         let _t13 = q.accel_noise[0] * _t7;
-        let _t14 = q.accel_noise[1] * _t8;
-        let _t15 = u.c_bn[(0, 2)] * q.gyro_noise[2];
+        let _t14 = q.accel_noise[2] * _t8;
+        let _t15 = u.c_bn[(0, 1)] * q.gyro_noise[1];
         let _t16 = u.c_bn[(0, 0)] * q.gyro_noise[0];
-        let _t17 = u.c_bn[(0, 1)] * q.gyro_noise[1];
-        let _t18 = u.c_bn[(1, 2)] * q.gyro_noise[2];
+        let _t17 = u.c_bn[(0, 2)] * q.gyro_noise[2];
+        let _t18 = u.c_bn[(1, 1)] * q.gyro_noise[1];
         let _t19 = u.c_bn[(1, 0)] * q.gyro_noise[0];
-        let _t20 = u.c_bn[(1, 1)] * q.gyro_noise[1];
+        let _t20 = u.c_bn[(1, 2)] * q.gyro_noise[2];
         let mut out = ::nav_runtime::nalgebra::SMatrix::<f64, 25, 25>::zeros();
-        out[(3, 3)] = dt * (_t0 * _t1 + (_t2 * _t3 + _t4 * _t5));
-        out[(3, 4)] = dt * (_t1 * _t6 + (_t3 * _t7 + _t5 * _t8));
-        out[(3, 5)] = dt * (_t1 * _t9 + (_t3 * _t10 + _t5 * _t11));
-        out[(4, 4)] = dt * (_t6 * _t12 + (_t7 * _t13 + _t8 * _t14));
-        out[(4, 5)] = dt * (_t9 * _t12 + (_t10 * _t13 + _t11 * _t14));
+        out[(3, 3)] = (_t0 * _t1 + _t2 * _t3 + _t4 * _t5) * dt;
+        out[(3, 4)] = dt * (_t1 * _t6 + _t3 * _t7 + _t5 * _t8);
+        out[(3, 5)] = dt * (_t1 * _t9 + _t3 * _t10 + _t5 * _t11);
+        out[(4, 4)] = dt * (_t6 * _t12 + _t7 * _t13 + _t8 * _t14);
+        out[(4, 5)] = dt * (_t9 * _t12 + _t10 * _t13 + _t11 * _t14);
         out[(5, 5)] = dt
-            * (_t9 * (q.accel_noise[2] * _t9)
-                + (_t10 * (q.accel_noise[0] * _t10) + _t11 * (q.accel_noise[1] * _t11)));
+            * (_t9 * (q.accel_noise[1] * _t9) + _t10 * (q.accel_noise[0] * _t10)
+                + _t11 * (q.accel_noise[2] * _t11));
         out[(6, 6)] = dt
-            * (u.c_bn[(0, 2)] * _t15 + (u.c_bn[(0, 0)] * _t16 + u.c_bn[(0, 1)] * _t17));
+            * (u.c_bn[(0, 1)] * _t15 + u.c_bn[(0, 0)] * _t16 + u.c_bn[(0, 2)] * _t17);
         out[(6, 7)] = dt
-            * (u.c_bn[(1, 2)] * _t15 + (u.c_bn[(1, 0)] * _t16 + u.c_bn[(1, 1)] * _t17));
+            * (u.c_bn[(1, 1)] * _t15 + u.c_bn[(1, 0)] * _t16 + u.c_bn[(1, 2)] * _t17);
         out[(6, 8)] = dt
-            * (u.c_bn[(2, 2)] * _t15 + (u.c_bn[(2, 0)] * _t16 + u.c_bn[(2, 1)] * _t17));
+            * (u.c_bn[(2, 1)] * _t15 + u.c_bn[(2, 0)] * _t16 + u.c_bn[(2, 2)] * _t17);
         out[(7, 7)] = dt
-            * (u.c_bn[(1, 2)] * _t18 + (u.c_bn[(1, 0)] * _t19 + u.c_bn[(1, 1)] * _t20));
+            * (u.c_bn[(1, 1)] * _t18 + u.c_bn[(1, 0)] * _t19 + u.c_bn[(1, 2)] * _t20);
         out[(7, 8)] = dt
-            * (u.c_bn[(2, 2)] * _t18 + (u.c_bn[(2, 0)] * _t19 + u.c_bn[(2, 1)] * _t20));
+            * (u.c_bn[(2, 1)] * _t18 + u.c_bn[(2, 0)] * _t19 + u.c_bn[(2, 2)] * _t20);
         out[(8, 8)] = dt
-            * (u.c_bn[(2, 2)] * (u.c_bn[(2, 2)] * q.gyro_noise[2])
-                + (u.c_bn[(2, 0)] * (u.c_bn[(2, 0)] * q.gyro_noise[0])
-                    + u.c_bn[(2, 1)] * (u.c_bn[(2, 1)] * q.gyro_noise[1])));
+            * (u.c_bn[(2, 1)] * (u.c_bn[(2, 1)] * q.gyro_noise[1])
+                + u.c_bn[(2, 0)] * (u.c_bn[(2, 0)] * q.gyro_noise[0])
+                + u.c_bn[(2, 2)] * (u.c_bn[(2, 2)] * q.gyro_noise[2]));
         for i in 0..25 {
             for j in 0..i {
                 out[(i, j)] = out[(j, i)];
@@ -1219,7 +1199,7 @@ Total ops: 126*/
         }
         out
     }
-    ///`P <- Phi P Phi^T + Qd`: the 60 nonzero coefficients of `Phi` in its 9 changed rows and the 12 nonzeros of `Qd` (391 ops), then `nav_runtime::propagation::propagate` over [`Self::PROPAGATION_STRUCTURE`]. `P` must be symmetric; the result is exactly symmetric.
+    ///`P <- Phi P Phi^T + Qd`: the 60 nonzero coefficients of `Phi` in its 9 changed rows and the 12 nonzeros of `Qd` (368 ops), then `nav_runtime::propagation::propagate` over [`Self::PROPAGATION_STRUCTURE`]. `P` must be symmetric; the result is exactly symmetric.
     fn propagate_covariance(
         cov: &mut ::nav_runtime::nalgebra::SMatrix<f64, 25, 25>,
         x: &::nav_runtime::nalgebra::SVector<f64, 25>,
@@ -1245,165 +1225,167 @@ Total ops: 126*/
         dt: f64,
         observe: F,
     ) {
-        let _t0 = u.height - x[2];
+        let _t0 = -dt;
         let _t1 = u.latitude - x[0];
         let (_t2, _t11) = ::nav_runtime::math::sin_cos(_t1);
-        let _t3 = 0.0066943799901413165 * _t2;
+        let _t3 = _t2 * 0.0066943799901413165;
         let _t4 = 1.0 - _t2 * _t3;
         let _t5 = ::nav_runtime::math::sqrt(_t4);
         let _t6 = 1.0 / (_t4 * _t5);
-        let _t7 = 6335439.3272928195 * _t6;
-        let _t8 = 1.0 / (_t0 + _t7);
-        let _t9 = u.velocity[0] - x[3];
-        let _t10 = _t9 * _t8;
-        let _t12 = _t3 * _t11 + _t2 * (0.0066943799901413165 * _t11);
-        let _t13 = 1.0 / _t5;
-        let _t14 = _t12 * (0.5 * _t13);
-        let _t15 = _t6 * (_t7 * (_t5 * _t12 + _t4 * _t14));
-        let _t16 = dt * _t8;
-        let _t17 = _t13 * 6378137.0;
-        let _t18 = _t0 + _t17;
-        let _t19 = 1.0 / (_t11 * _t18);
-        let _t20 = u.velocity[1] - x[4];
-        let _t21 = _t20 * _t19;
-        let _t22 = _t13 * (_t14 * _t17);
-        let _t23 = u.velocity[2] - x[5];
-        let _t24 = _t8 * (x[3] - u.velocity[0]);
-        let _t25 = _t8 * (_t15 * _t24);
-        let _t26 = _t11 * 7.292115e-5;
-        let _t27 = 2.0 * _t26;
-        let _t28 = 1.0 / _t18;
+        let _t7 = _t6 * 6335439.3272928195;
+        let _t8 = u.height - x[2];
+        let _t9 = 1.0 / (_t7 + _t8);
+        let _t10 = 1.0 / _t5;
+        let _t12 = _t2 * (0.0066943799901413165 * _t11) + _t3 * _t11;
+        let _t13 = _t10 * 0.5 * _t12;
+        let _t14 = _t6 * ((_t4 * _t13 + _t5 * _t12) * _t7);
+        let _t15 = u.velocity[0] - x[3];
+        let _t16 = _t9 * _t15;
+        let _t17 = _t9 * dt;
+        let _t18 = _t10 * 6378137.0;
+        let _t19 = _t8 + _t18;
+        let _t20 = 1.0 / (_t11 * _t19);
+        let _t21 = _t10 * (_t13 * _t18);
+        let _t22 = u.velocity[1] - x[4];
+        let _t23 = _t20 * _t22;
+        let _t24 = _t9 * (x[3] - u.velocity[0]);
+        let _t25 = _t9 * (_t14 * _t24);
+        let _t26 = u.velocity[2] - x[5];
+        let _t27 = 1.0 / _t19;
+        let _t28 = _t2 / _t11;
         let _t29 = x[4] - u.velocity[1];
-        let _t30 = _t2 / _t11;
-        let _t31 = _t29 * _t30 * _t28;
-        let _t32 = _t28 * (_t22 * _t31 - _t29 * (1.0 + _t30 * _t30));
-        let _t33 = _t27 + _t32;
-        let _t34 = _t8 * _t24;
-        let _t35 = _t28 * _t31;
-        let _t36 = _t2 * 7.292115e-5;
-        let _t37 = 2.0 * _t36;
-        let _t38 = _t37 - _t31;
-        let _t39 = _t30 * _t28;
-        let _t40 = u.specific_force[2] - x[11];
-        let _t41 = u.specific_force[0] - x[9];
-        let _t42 = u.specific_force[1] - x[10];
-        let _t43 = dt
-            * (u.c_bn[(2, 2)] * _t40 + (u.c_bn[(2, 0)] * _t41 + u.c_bn[(2, 1)] * _t42));
+        let _t30 = _t27 * (_t28 * _t29);
+        let _t31 = _t27 * (_t21 * _t30 - (1.0 + _t28 * _t28) * _t29);
+        let _t32 = _t11 * 7.292115e-5;
+        let _t33 = _t32 * 2.0;
+        let _t34 = _t31 + _t33;
+        let _t35 = _t9 * _t24;
+        let _t36 = _t27 * _t30;
+        let _t37 = _t28 * _t27;
+        let _t38 = _t2 * 7.292115e-5;
+        let _t39 = 2.0 * _t38;
+        let _t40 = _t39 - _t30;
+        let _t41 = u.specific_force[1] - x[10];
+        let _t42 = u.specific_force[0] - x[9];
+        let _t43 = u.specific_force[2] - x[11];
         let _t44 = dt
-            * (_t40 * u.c_bn[(1, 2)] + (_t41 * u.c_bn[(1, 0)] + _t42 * u.c_bn[(1, 1)]));
-        let _t45 = u.c_bn[(0, 0)] + (u.c_bn[(2, 0)] * x[7] - u.c_bn[(1, 0)] * x[8]);
-        let _t46 = u.c_bn[(0, 1)] + (u.c_bn[(2, 1)] * x[7] - u.c_bn[(1, 1)] * x[8]);
-        let _t47 = u.c_bn[(0, 2)] + (u.c_bn[(2, 2)] * x[7] - u.c_bn[(1, 2)] * x[8]);
-        let _t48 = _t20 * _t28;
-        let _t49 = _t28 * (_t22 * _t48);
-        let _t50 = _t37 + _t49;
-        let _t51 = _t28 * _t48;
-        let _t52 = _t27 + _t48;
-        let _t53 = dt
-            * (_t40 * u.c_bn[(0, 2)] + (_t41 * u.c_bn[(0, 0)] + _t42 * u.c_bn[(0, 1)]));
-        let _t54 = u.c_bn[(1, 0)] + (u.c_bn[(0, 0)] * x[8] - u.c_bn[(2, 0)] * x[6]);
-        let _t55 = u.c_bn[(1, 1)] + (x[8] * u.c_bn[(0, 1)] - u.c_bn[(2, 1)] * x[6]);
-        let _t56 = u.c_bn[(1, 2)] + (x[8] * u.c_bn[(0, 2)] - u.c_bn[(2, 2)] * x[6]);
-        let _t57 = _t2 * 0.0067056213295;
-        let _t58 = 1.00680259666783 - _t2 * _t57;
-        let _t59 = _t0 * 2.0 * 1.567855942887398e-7;
-        let _t60 = _t0 * 3.0;
-        let _t61 = _t2 * 0.00193185265241;
-        let _t62 = _t13 * (9.7803253359 * (1.0 + _t2 * _t61));
-        let _t63 = u.c_bn[(2, 0)] + (u.c_bn[(1, 0)] * x[6] - u.c_bn[(0, 0)] * x[7]);
-        let _t64 = u.c_bn[(2, 1)] + (u.c_bn[(1, 1)] * x[6] - x[7] * u.c_bn[(0, 1)]);
-        let _t65 = u.c_bn[(2, 2)] + (u.c_bn[(1, 2)] * x[6] - x[7] * u.c_bn[(0, 2)]);
-        let (_t66, _t67) = ::nav_runtime::math::sin_cos(u.latitude);
-        let _t68 = 1.0 - _t66 * (0.0066943799901413165 * _t66);
+            * (_t41 * u.c_bn[(2, 1)] + _t42 * u.c_bn[(2, 0)] + _t43 * u.c_bn[(2, 2)]);
+        let _t45 = dt
+            * (_t41 * u.c_bn[(1, 1)] + _t42 * u.c_bn[(1, 0)] + _t43 * u.c_bn[(1, 2)]);
+        let _t46 = u.c_bn[(2, 0)] * x[7] - u.c_bn[(1, 0)] * x[8] + u.c_bn[(0, 0)];
+        let _t47 = u.c_bn[(2, 1)] * x[7] - u.c_bn[(1, 1)] * x[8] + u.c_bn[(0, 1)];
+        let _t48 = u.c_bn[(2, 2)] * x[7] - u.c_bn[(1, 2)] * x[8] + u.c_bn[(0, 2)];
+        let _t49 = _t22 * _t27;
+        let _t50 = _t27 * (_t21 * _t49);
+        let _t51 = _t39 + _t50;
+        let _t52 = _t27 * _t49;
+        let _t53 = _t33 + _t49;
+        let _t54 = dt
+            * (_t41 * u.c_bn[(0, 1)] + _t42 * u.c_bn[(0, 0)] + _t43 * u.c_bn[(0, 2)]);
+        let _t55 = u.c_bn[(1, 0)] + (x[8] * u.c_bn[(0, 0)] - u.c_bn[(2, 0)] * x[6]);
+        let _t56 = u.c_bn[(1, 1)] + (x[8] * u.c_bn[(0, 1)] - u.c_bn[(2, 1)] * x[6]);
+        let _t57 = u.c_bn[(1, 2)] + (x[8] * u.c_bn[(0, 2)] - u.c_bn[(2, 2)] * x[6]);
+        let _t58 = _t2 * 0.0067056213295;
+        let _t59 = 1.567855942887398e-7 * (_t8 * 2.0);
+        let _t60 = _t2 * 0.00193185265241;
+        let _t61 = _t10 * ((1.0 + _t2 * _t60) * 9.7803253359);
+        let _t62 = _t8 * 3.0;
+        let _t63 = 1.00680259666783 - _t2 * _t58;
+        let _t64 = u.c_bn[(2, 0)] + (u.c_bn[(1, 0)] * x[6] - x[7] * u.c_bn[(0, 0)]);
+        let _t65 = u.c_bn[(2, 1)] + (u.c_bn[(1, 1)] * x[6] - x[7] * u.c_bn[(0, 1)]);
+        let _t66 = u.c_bn[(2, 2)] + (u.c_bn[(1, 2)] * x[6] - x[7] * u.c_bn[(0, 2)]);
+        let (_t67, _t71) = ::nav_runtime::math::sin_cos(u.latitude);
+        let _t68 = 1.0 - _t67 * (0.0066943799901413165 * _t67);
         let _t69 = ::nav_runtime::math::sqrt(_t68);
         let _t70 = 1.0 / (u.height + 6378137.0 / _t69);
-        let _t71 = dt * (7.292115e-5 * _t66 + u.velocity[1] * (_t66 / _t67) * _t70);
-        let _t72 = dt
+        let _t72 = dt * (_t70 * (u.velocity[1] * (_t67 / _t71)) + 7.292115e-5 * _t67);
+        let _t73 = dt
             * (u.velocity[0] / (u.height + 6335439.3272928195 / (_t68 * _t69)));
-        let _t73 = dt * (7.292115e-5 * _t67 + u.velocity[1] * _t70);
-        let _t74 = _t47 * q.accel_noise[2];
-        let _t75 = _t45 * q.accel_noise[0];
-        let _t76 = _t46 * q.accel_noise[1];
-        let _t77 = _t56 * q.accel_noise[2];
-        let _t78 = _t54 * q.accel_noise[0];
-        let _t79 = _t55 * q.accel_noise[1];
-        let _t80 = u.c_bn[(0, 2)] * q.gyro_noise[2];
-        let _t81 = u.c_bn[(0, 0)] * q.gyro_noise[0];
-        let _t82 = u.c_bn[(0, 1)] * q.gyro_noise[1];
-        let _t83 = u.c_bn[(1, 2)] * q.gyro_noise[2];
-        let _t84 = u.c_bn[(1, 0)] * q.gyro_noise[0];
-        let _t85 = u.c_bn[(1, 1)] * q.gyro_noise[1];
+        let _t74 = dt * (u.velocity[1] * _t70 + 7.292115e-5 * _t71);
+        let _t75 = _t47 * q.accel_noise[1];
+        let _t76 = _t46 * q.accel_noise[0];
+        let _t77 = _t48 * q.accel_noise[2];
+        let _t78 = _t56 * q.accel_noise[1];
+        let _t79 = _t55 * q.accel_noise[0];
+        let _t80 = _t57 * q.accel_noise[2];
+        let _t81 = u.c_bn[(0, 1)] * q.gyro_noise[1];
+        let _t82 = u.c_bn[(0, 0)] * q.gyro_noise[0];
+        let _t83 = u.c_bn[(0, 2)] * q.gyro_noise[2];
+        let _t84 = u.c_bn[(1, 1)] * q.gyro_noise[1];
+        let _t85 = u.c_bn[(1, 0)] * q.gyro_noise[0];
+        let _t86 = u.c_bn[(1, 2)] * q.gyro_noise[2];
         let coefficients = [
-            -(dt * (_t8 * (_t10 * _t15))),
-            -(dt * (_t8 * _t10)),
-            _t16,
-            dt * (_t19 * (_t21 * (_t2 * _t18 - _t11 * _t22))),
-            -(dt * (_t19 * (_t11 * _t21))),
-            dt * _t19,
-            -dt,
-            dt * (_t23 * _t25 - _t20 * _t33),
-            dt * (_t23 * _t34 - _t20 * _t35),
-            dt * (_t8 * _t23),
-            -(dt * (_t38 + _t20 * _t39)),
-            -(dt * _t24),
-            -_t43,
-            _t44,
-            dt * _t45,
+            _t0 * (_t9 * (_t14 * _t16)),
+            _t0 * (_t9 * _t16),
+            _t17,
+            dt * (_t20 * ((_t2 * _t19 - _t11 * _t21) * _t23)),
+            _t0 * (_t20 * (_t11 * _t23)),
+            dt * _t20,
+            _t0,
+            dt * (_t25 * _t26 - _t22 * _t34),
+            dt * (_t26 * _t35 - _t22 * _t36),
+            dt * (_t9 * _t26),
+            _t0 * (_t22 * _t37 + _t40),
+            _t0 * _t24,
+            -_t44,
+            _t45,
             dt * _t46,
             dt * _t47,
-            dt * (_t9 * _t33 - _t23 * _t50),
-            dt * (_t9 * _t35 - _t23 * _t51),
-            dt * _t38,
-            dt * (_t9 * _t39 + _t28 * _t23),
-            dt * _t52,
-            _t43,
-            -_t53,
-            dt * _t54,
+            dt * _t48,
+            dt * (_t15 * _t34 - _t26 * _t51),
+            dt * (_t15 * _t36 - _t26 * _t52),
+            dt * _t40,
+            dt * (_t27 * _t26 + _t15 * _t37),
+            dt * _t53,
+            _t44,
+            -_t54,
             dt * _t55,
             dt * _t56,
+            dt * _t57,
             dt
-                * ((1.0 - _t58 * _t59 + _t0 * _t60 * 2.458172257647332e-14)
-                    * (_t13
-                        * ((_t11 * _t61 + _t2 * (_t11 * 0.00193185265241)) * 9.7803253359
-                            + _t14 * _t62))
-                    + _t62 * (_t59 * (_t11 * _t57 + _t2 * (_t11 * 0.0067056213295)))
-                    - (_t9 * _t25 - _t20 * _t50)),
-            -(dt
-                * (_t62
-                    * (_t58 * 3.135711885774796e-7
-                        - 2.458172257647332e-14 * (_t60 + _t60))
-                    + (_t9 * _t34 - _t20 * _t51))),
-            dt * (_t24 - _t10),
-            -(dt * (_t48 + _t52)),
-            -_t44,
-            _t53,
-            dt * _t63,
+                * ((_t2 * (_t11 * 0.0067056213295) + _t11 * _t58) * _t59 * _t61
+                    + _t10
+                        * (_t13 * _t61
+                            + 9.7803253359
+                                * (_t2 * (_t11 * 0.00193185265241) + _t11 * _t60))
+                        * (2.458172257647332e-14 * (_t8 * _t62) + (1.0 - _t59 * _t63))
+                    - (_t15 * _t25 - _t22 * _t51)),
+            _t0
+                * (_t15 * _t35 - _t22 * _t52
+                    + _t61
+                        * (_t63 * 3.135711885774796e-7
+                            - 2.458172257647332e-14 * (2.0 * _t62))),
+            dt * (_t24 - _t16),
+            _t0 * (_t49 + _t53),
+            -_t45,
+            _t54,
             dt * _t64,
             dt * _t65,
-            -(dt * (_t36 + _t49)),
-            -(dt * _t51),
-            dt * _t28,
-            -_t71,
-            _t72,
-            -(dt * u.c_bn[(0, 0)]),
-            -(dt * u.c_bn[(0, 1)]),
-            -(dt * u.c_bn[(0, 2)]),
-            -(dt * _t25),
-            -(dt * _t34),
-            -_t16,
-            _t71,
-            _t73,
-            -(dt * u.c_bn[(1, 0)]),
-            -(dt * u.c_bn[(1, 1)]),
-            -(dt * u.c_bn[(1, 2)]),
-            -(dt * (_t26 + _t32)),
-            -(dt * _t35),
-            -(dt * _t39),
+            dt * _t66,
+            _t0 * (_t38 + _t50),
+            _t0 * _t52,
+            dt * _t27,
             -_t72,
+            _t73,
+            _t0 * u.c_bn[(0, 0)],
+            _t0 * u.c_bn[(0, 1)],
+            _t0 * u.c_bn[(0, 2)],
+            _t0 * _t25,
+            _t0 * _t35,
+            -_t17,
+            _t72,
+            _t74,
+            _t0 * u.c_bn[(1, 0)],
+            _t0 * u.c_bn[(1, 1)],
+            _t0 * u.c_bn[(1, 2)],
+            _t0 * (_t31 + _t32),
+            _t0 * _t36,
+            _t0 * _t37,
             -_t73,
-            -(dt * u.c_bn[(2, 0)]),
-            -(dt * u.c_bn[(2, 1)]),
-            -(dt * u.c_bn[(2, 2)]),
+            -_t74,
+            _t0 * u.c_bn[(2, 0)],
+            _t0 * u.c_bn[(2, 1)],
+            _t0 * u.c_bn[(2, 2)],
         ];
         observe(&coefficients);
         ::nav_runtime::propagation::propagate::<
@@ -1415,34 +1397,34 @@ Total ops: 126*/
             &Self::PROPAGATION_STRUCTURE,
             &coefficients,
             &[
-                dt * (_t47 * _t74 + (_t45 * _t75 + _t46 * _t76)),
-                dt * (_t56 * _t74 + (_t54 * _t75 + _t55 * _t76)),
-                dt * (_t65 * _t74 + (_t63 * _t75 + _t64 * _t76)),
-                dt * (_t56 * _t77 + (_t54 * _t78 + _t55 * _t79)),
-                dt * (_t65 * _t77 + (_t63 * _t78 + _t64 * _t79)),
+                dt * (_t47 * _t75 + _t46 * _t76 + _t48 * _t77),
+                dt * (_t56 * _t75 + _t55 * _t76 + _t57 * _t77),
+                dt * (_t65 * _t75 + _t64 * _t76 + _t66 * _t77),
+                dt * (_t56 * _t78 + _t55 * _t79 + _t57 * _t80),
+                dt * (_t65 * _t78 + _t64 * _t79 + _t66 * _t80),
                 dt
-                    * (_t65 * (_t65 * q.accel_noise[2])
-                        + (_t63 * (_t63 * q.accel_noise[0])
-                            + _t64 * (_t64 * q.accel_noise[1]))),
+                    * (_t65 * (_t65 * q.accel_noise[1])
+                        + _t64 * (_t64 * q.accel_noise[0])
+                        + _t66 * (_t66 * q.accel_noise[2])),
                 dt
-                    * (u.c_bn[(0, 2)] * _t80
-                        + (u.c_bn[(0, 0)] * _t81 + u.c_bn[(0, 1)] * _t82)),
+                    * (u.c_bn[(0, 1)] * _t81 + u.c_bn[(0, 0)] * _t82
+                        + u.c_bn[(0, 2)] * _t83),
                 dt
-                    * (u.c_bn[(1, 2)] * _t80
-                        + (u.c_bn[(1, 0)] * _t81 + u.c_bn[(1, 1)] * _t82)),
+                    * (u.c_bn[(1, 1)] * _t81 + u.c_bn[(1, 0)] * _t82
+                        + u.c_bn[(1, 2)] * _t83),
                 dt
-                    * (u.c_bn[(2, 2)] * _t80
-                        + (u.c_bn[(2, 0)] * _t81 + u.c_bn[(2, 1)] * _t82)),
+                    * (u.c_bn[(2, 1)] * _t81 + u.c_bn[(2, 0)] * _t82
+                        + u.c_bn[(2, 2)] * _t83),
                 dt
-                    * (u.c_bn[(1, 2)] * _t83
-                        + (u.c_bn[(1, 0)] * _t84 + u.c_bn[(1, 1)] * _t85)),
+                    * (u.c_bn[(1, 1)] * _t84 + u.c_bn[(1, 0)] * _t85
+                        + u.c_bn[(1, 2)] * _t86),
                 dt
-                    * (u.c_bn[(2, 2)] * _t83
-                        + (u.c_bn[(2, 0)] * _t84 + u.c_bn[(2, 1)] * _t85)),
+                    * (u.c_bn[(2, 1)] * _t84 + u.c_bn[(2, 0)] * _t85
+                        + u.c_bn[(2, 2)] * _t86),
                 dt
-                    * (u.c_bn[(2, 2)] * (u.c_bn[(2, 2)] * q.gyro_noise[2])
-                        + (u.c_bn[(2, 0)] * (u.c_bn[(2, 0)] * q.gyro_noise[0])
-                            + u.c_bn[(2, 1)] * (u.c_bn[(2, 1)] * q.gyro_noise[1]))),
+                    * (u.c_bn[(2, 1)] * (u.c_bn[(2, 1)] * q.gyro_noise[1])
+                        + u.c_bn[(2, 0)] * (u.c_bn[(2, 0)] * q.gyro_noise[0])
+                        + u.c_bn[(2, 2)] * (u.c_bn[(2, 2)] * q.gyro_noise[2])),
             ],
         );
     }
@@ -1611,36 +1593,28 @@ Total ops: 75*/
         p: &Sdins25Params,
         aux: &(),
     ) -> ::nav_runtime::nalgebra::SVector<f64, 3> {
-        let _t0 = u.velocity[2] - x[5];
+        let _t0 = u.velocity[1] - x[4];
         let _t1 = u.velocity[0] - x[3];
-        let _t2 = u.velocity[1] - x[4];
-        let _t3 = x[20]
-            + ((u.c_bn[(1, 2)] * x[6] - u.c_bn[(0, 2)] * x[7] + u.c_bn[(2, 2)]) * _t0
-                + ((u.c_bn[(0, 2)] + (x[7] * u.c_bn[(2, 2)] - u.c_bn[(1, 2)] * x[8]))
-                    * _t1
-                    + (u.c_bn[(1, 2)] + (u.c_bn[(0, 2)] * x[8] - x[6] * u.c_bn[(2, 2)]))
-                        * _t2));
-        let _t4 = x[18]
-            + (_t0 * (x[6] * u.c_bn[(1, 0)] - x[7] * u.c_bn[(0, 0)] + u.c_bn[(2, 0)])
-                + (_t1
-                    * (u.c_bn[(0, 0)] + (x[7] * u.c_bn[(2, 0)] - x[8] * u.c_bn[(1, 0)]))
-                    + _t2
-                        * (u.c_bn[(1, 0)]
-                            + (x[8] * u.c_bn[(0, 0)] - x[6] * u.c_bn[(2, 0)]))));
-        let _t5 = x[19]
-            + (_t0 * (x[6] * u.c_bn[(1, 1)] - x[7] * u.c_bn[(0, 1)] + u.c_bn[(2, 1)])
-                + (_t1
-                    * (u.c_bn[(0, 1)] + (x[7] * u.c_bn[(2, 1)] - x[8] * u.c_bn[(1, 1)]))
-                    + _t2
-                        * (u.c_bn[(1, 1)]
-                            + (x[8] * u.c_bn[(0, 1)] - x[6] * u.c_bn[(2, 1)]))));
+        let _t2 = u.velocity[2] - x[5];
+        let _t3 = (u.c_bn[(0, 1)] * x[8] - u.c_bn[(2, 1)] * x[6] + u.c_bn[(1, 1)]) * _t0
+            + (u.c_bn[(0, 1)] + (u.c_bn[(2, 1)] * x[7] - x[8] * u.c_bn[(1, 1)])) * _t1
+            + (u.c_bn[(2, 1)] + (x[6] * u.c_bn[(1, 1)] - u.c_bn[(0, 1)] * x[7])) * _t2
+            + x[19];
+        let _t4 = _t0 * (x[8] * u.c_bn[(0, 0)] - x[6] * u.c_bn[(2, 0)] + u.c_bn[(1, 0)])
+            + _t1 * (u.c_bn[(0, 0)] + (x[7] * u.c_bn[(2, 0)] - x[8] * u.c_bn[(1, 0)]))
+            + _t2 * (u.c_bn[(2, 0)] + (x[6] * u.c_bn[(1, 0)] - x[7] * u.c_bn[(0, 0)]))
+            + x[18];
+        let _t5 = _t0 * (x[8] * u.c_bn[(0, 2)] - x[6] * u.c_bn[(2, 2)] + u.c_bn[(1, 2)])
+            + _t1 * (u.c_bn[(0, 2)] + (x[7] * u.c_bn[(2, 2)] - x[8] * u.c_bn[(1, 2)]))
+            + _t2 * (u.c_bn[(2, 2)] + (x[6] * u.c_bn[(1, 2)] - x[7] * u.c_bn[(0, 2)]))
+            + x[20];
         let mut out = ::nav_runtime::nalgebra::SVector::<f64, 3>::zeros();
         out[0] = u.velocity[0]
-            - (u.c_bn[(0, 2)] * _t3 + (u.c_bn[(0, 0)] * _t4 + u.c_bn[(0, 1)] * _t5));
+            - (u.c_bn[(0, 1)] * _t3 + u.c_bn[(0, 0)] * _t4 + u.c_bn[(0, 2)] * _t5);
         out[1] = u.velocity[1]
-            - (u.c_bn[(1, 2)] * _t3 + (u.c_bn[(1, 0)] * _t4 + u.c_bn[(1, 1)] * _t5));
+            - (u.c_bn[(1, 1)] * _t3 + u.c_bn[(1, 0)] * _t4 + u.c_bn[(1, 2)] * _t5);
         out[2] = u.velocity[2]
-            - (u.c_bn[(2, 2)] * _t3 + (u.c_bn[(2, 0)] * _t4 + u.c_bn[(2, 1)] * _t5));
+            - (u.c_bn[(2, 1)] * _t3 + u.c_bn[(2, 0)] * _t4 + u.c_bn[(2, 2)] * _t5);
         out
     }
     /**`H = dh/dx`.
@@ -1652,70 +1626,61 @@ Total ops: 174*/
         p: &Sdins25Params,
         aux: &(),
     ) -> ::nav_runtime::nalgebra::SMatrix<f64, 3, 25> {
-        let _t0 = u.c_bn[(0, 2)] + (u.c_bn[(2, 2)] * x[7] - u.c_bn[(1, 2)] * x[8]);
-        let _t1 = u.c_bn[(0, 0)] + (x[7] * u.c_bn[(2, 0)] - x[8] * u.c_bn[(1, 0)]);
-        let _t2 = u.c_bn[(0, 1)] + (x[7] * u.c_bn[(2, 1)] - x[8] * u.c_bn[(1, 1)]);
-        let _t3 = u.c_bn[(1, 2)] + (u.c_bn[(0, 2)] * x[8] - u.c_bn[(2, 2)] * x[6]);
+        let _t0 = u.c_bn[(2, 1)] * x[7] - u.c_bn[(1, 1)] * x[8] + u.c_bn[(0, 1)];
+        let _t1 = x[7] * u.c_bn[(2, 0)] - x[8] * u.c_bn[(1, 0)] + u.c_bn[(0, 0)];
+        let _t2 = x[7] * u.c_bn[(2, 2)] - x[8] * u.c_bn[(1, 2)] + u.c_bn[(0, 2)];
+        let _t3 = u.c_bn[(1, 1)] + (x[8] * u.c_bn[(0, 1)] - u.c_bn[(2, 1)] * x[6]);
         let _t4 = u.c_bn[(1, 0)] + (x[8] * u.c_bn[(0, 0)] - u.c_bn[(2, 0)] * x[6]);
-        let _t5 = u.c_bn[(1, 1)] + (x[8] * u.c_bn[(0, 1)] - u.c_bn[(2, 1)] * x[6]);
-        let _t6 = u.c_bn[(2, 2)] + (u.c_bn[(1, 2)] * x[6] - u.c_bn[(0, 2)] * x[7]);
+        let _t5 = u.c_bn[(1, 2)] + (x[8] * u.c_bn[(0, 2)] - u.c_bn[(2, 2)] * x[6]);
+        let _t6 = u.c_bn[(2, 1)] + (u.c_bn[(1, 1)] * x[6] - x[7] * u.c_bn[(0, 1)]);
         let _t7 = u.c_bn[(2, 0)] + (u.c_bn[(1, 0)] * x[6] - x[7] * u.c_bn[(0, 0)]);
-        let _t8 = u.c_bn[(2, 1)] + (u.c_bn[(1, 1)] * x[6] - x[7] * u.c_bn[(0, 1)]);
+        let _t8 = u.c_bn[(2, 2)] + (u.c_bn[(1, 2)] * x[6] - x[7] * u.c_bn[(0, 2)]);
         let _t9 = u.velocity[2] - x[5];
         let _t10 = u.velocity[1] - x[4];
-        let _t11 = u.c_bn[(1, 2)] * _t9 - u.c_bn[(2, 2)] * _t10;
+        let _t11 = u.c_bn[(1, 1)] * _t9 - u.c_bn[(2, 1)] * _t10;
         let _t12 = u.c_bn[(1, 0)] * _t9 - u.c_bn[(2, 0)] * _t10;
-        let _t13 = u.c_bn[(1, 1)] * _t9 - u.c_bn[(2, 1)] * _t10;
+        let _t13 = u.c_bn[(1, 2)] * _t9 - u.c_bn[(2, 2)] * _t10;
         let _t14 = u.velocity[0] - x[3];
-        let _t15 = u.c_bn[(2, 2)] * _t14 - u.c_bn[(0, 2)] * _t9;
+        let _t15 = u.c_bn[(2, 1)] * _t14 - u.c_bn[(0, 1)] * _t9;
         let _t16 = u.c_bn[(2, 0)] * _t14 - u.c_bn[(0, 0)] * _t9;
-        let _t17 = u.c_bn[(2, 1)] * _t14 - u.c_bn[(0, 1)] * _t9;
-        let _t18 = u.c_bn[(0, 2)] * _t10 - u.c_bn[(1, 2)] * _t14;
+        let _t17 = u.c_bn[(2, 2)] * _t14 - u.c_bn[(0, 2)] * _t9;
+        let _t18 = u.c_bn[(0, 1)] * _t10 - u.c_bn[(1, 1)] * _t14;
         let _t19 = u.c_bn[(0, 0)] * _t10 - u.c_bn[(1, 0)] * _t14;
-        let _t20 = u.c_bn[(0, 1)] * _t10 - u.c_bn[(1, 1)] * _t14;
+        let _t20 = u.c_bn[(0, 2)] * _t10 - u.c_bn[(1, 2)] * _t14;
         let mut out = ::nav_runtime::nalgebra::SMatrix::<f64, 3, 25>::zeros();
-        out[(0, 3)] = u.c_bn[(0, 2)] * _t0
-            + (u.c_bn[(0, 0)] * _t1 + u.c_bn[(0, 1)] * _t2);
-        out[(0, 4)] = u.c_bn[(0, 2)] * _t3
-            + (u.c_bn[(0, 0)] * _t4 + u.c_bn[(0, 1)] * _t5);
-        out[(0, 5)] = u.c_bn[(0, 2)] * _t6
-            + (u.c_bn[(0, 0)] * _t7 + u.c_bn[(0, 1)] * _t8);
-        out[(0, 6)] = -(u.c_bn[(0, 2)] * _t11
-            + (u.c_bn[(0, 0)] * _t12 + u.c_bn[(0, 1)] * _t13));
-        out[(0, 7)] = -(u.c_bn[(0, 2)] * _t15
-            + (u.c_bn[(0, 0)] * _t16 + u.c_bn[(0, 1)] * _t17));
-        out[(0, 8)] = -(u.c_bn[(0, 2)] * _t18
-            + (u.c_bn[(0, 0)] * _t19 + u.c_bn[(0, 1)] * _t20));
+        out[(0, 3)] = u.c_bn[(0, 1)] * _t0 + u.c_bn[(0, 0)] * _t1 + u.c_bn[(0, 2)] * _t2;
+        out[(0, 4)] = u.c_bn[(0, 1)] * _t3 + u.c_bn[(0, 0)] * _t4 + u.c_bn[(0, 2)] * _t5;
+        out[(0, 5)] = u.c_bn[(0, 1)] * _t6 + u.c_bn[(0, 0)] * _t7 + u.c_bn[(0, 2)] * _t8;
+        out[(0, 6)] = -(u.c_bn[(0, 1)] * _t11 + u.c_bn[(0, 0)] * _t12
+            + u.c_bn[(0, 2)] * _t13);
+        out[(0, 7)] = -(u.c_bn[(0, 1)] * _t15 + u.c_bn[(0, 0)] * _t16
+            + u.c_bn[(0, 2)] * _t17);
+        out[(0, 8)] = -(u.c_bn[(0, 1)] * _t18 + u.c_bn[(0, 0)] * _t19
+            + u.c_bn[(0, 2)] * _t20);
         out[(0, 18)] = -u.c_bn[(0, 0)];
         out[(0, 19)] = -u.c_bn[(0, 1)];
         out[(0, 20)] = -u.c_bn[(0, 2)];
-        out[(1, 3)] = u.c_bn[(1, 2)] * _t0
-            + (u.c_bn[(1, 0)] * _t1 + u.c_bn[(1, 1)] * _t2);
-        out[(1, 4)] = u.c_bn[(1, 2)] * _t3
-            + (u.c_bn[(1, 0)] * _t4 + u.c_bn[(1, 1)] * _t5);
-        out[(1, 5)] = u.c_bn[(1, 2)] * _t6
-            + (u.c_bn[(1, 0)] * _t7 + u.c_bn[(1, 1)] * _t8);
-        out[(1, 6)] = -(u.c_bn[(1, 2)] * _t11
-            + (u.c_bn[(1, 0)] * _t12 + u.c_bn[(1, 1)] * _t13));
-        out[(1, 7)] = -(u.c_bn[(1, 2)] * _t15
-            + (u.c_bn[(1, 0)] * _t16 + u.c_bn[(1, 1)] * _t17));
-        out[(1, 8)] = -(u.c_bn[(1, 2)] * _t18
-            + (u.c_bn[(1, 0)] * _t19 + u.c_bn[(1, 1)] * _t20));
+        out[(1, 3)] = u.c_bn[(1, 1)] * _t0 + u.c_bn[(1, 0)] * _t1 + u.c_bn[(1, 2)] * _t2;
+        out[(1, 4)] = u.c_bn[(1, 1)] * _t3 + u.c_bn[(1, 0)] * _t4 + u.c_bn[(1, 2)] * _t5;
+        out[(1, 5)] = u.c_bn[(1, 1)] * _t6 + u.c_bn[(1, 0)] * _t7 + u.c_bn[(1, 2)] * _t8;
+        out[(1, 6)] = -(u.c_bn[(1, 1)] * _t11 + u.c_bn[(1, 0)] * _t12
+            + u.c_bn[(1, 2)] * _t13);
+        out[(1, 7)] = -(u.c_bn[(1, 1)] * _t15 + u.c_bn[(1, 0)] * _t16
+            + u.c_bn[(1, 2)] * _t17);
+        out[(1, 8)] = -(u.c_bn[(1, 1)] * _t18 + u.c_bn[(1, 0)] * _t19
+            + u.c_bn[(1, 2)] * _t20);
         out[(1, 18)] = -u.c_bn[(1, 0)];
         out[(1, 19)] = -u.c_bn[(1, 1)];
         out[(1, 20)] = -u.c_bn[(1, 2)];
-        out[(2, 3)] = u.c_bn[(2, 2)] * _t0
-            + (u.c_bn[(2, 0)] * _t1 + u.c_bn[(2, 1)] * _t2);
-        out[(2, 4)] = u.c_bn[(2, 2)] * _t3
-            + (u.c_bn[(2, 0)] * _t4 + u.c_bn[(2, 1)] * _t5);
-        out[(2, 5)] = u.c_bn[(2, 2)] * _t6
-            + (u.c_bn[(2, 0)] * _t7 + u.c_bn[(2, 1)] * _t8);
-        out[(2, 6)] = -(u.c_bn[(2, 2)] * _t11
-            + (u.c_bn[(2, 0)] * _t12 + u.c_bn[(2, 1)] * _t13));
-        out[(2, 7)] = -(u.c_bn[(2, 2)] * _t15
-            + (u.c_bn[(2, 0)] * _t16 + u.c_bn[(2, 1)] * _t17));
-        out[(2, 8)] = -(u.c_bn[(2, 2)] * _t18
-            + (u.c_bn[(2, 0)] * _t19 + u.c_bn[(2, 1)] * _t20));
+        out[(2, 3)] = u.c_bn[(2, 1)] * _t0 + u.c_bn[(2, 0)] * _t1 + u.c_bn[(2, 2)] * _t2;
+        out[(2, 4)] = u.c_bn[(2, 1)] * _t3 + u.c_bn[(2, 0)] * _t4 + u.c_bn[(2, 2)] * _t5;
+        out[(2, 5)] = u.c_bn[(2, 1)] * _t6 + u.c_bn[(2, 0)] * _t7 + u.c_bn[(2, 2)] * _t8;
+        out[(2, 6)] = -(u.c_bn[(2, 1)] * _t11 + u.c_bn[(2, 0)] * _t12
+            + u.c_bn[(2, 2)] * _t13);
+        out[(2, 7)] = -(u.c_bn[(2, 1)] * _t15 + u.c_bn[(2, 0)] * _t16
+            + u.c_bn[(2, 2)] * _t17);
+        out[(2, 8)] = -(u.c_bn[(2, 1)] * _t18 + u.c_bn[(2, 0)] * _t19
+            + u.c_bn[(2, 2)] * _t20);
         out[(2, 18)] = -u.c_bn[(2, 0)];
         out[(2, 19)] = -u.c_bn[(2, 1)];
         out[(2, 20)] = -u.c_bn[(2, 2)];
@@ -1735,162 +1700,153 @@ Total ops: 1569*/
         ::nav_runtime::nalgebra::SMatrix<f64, 25, 3>,
         ::nav_runtime::nalgebra::SMatrix<f64, 3, 3>,
     ) {
-        let _t0 = u.c_bn[(1, 2)] * x[6] - u.c_bn[(0, 2)] * x[7] + u.c_bn[(2, 2)];
-        let _t1 = u.velocity[2] - x[5];
-        let _t2 = u.c_bn[(0, 2)] + (x[7] * u.c_bn[(2, 2)] - u.c_bn[(1, 2)] * x[8]);
+        let _t0 = u.c_bn[(0, 1)] * x[8] - u.c_bn[(2, 1)] * x[6] + u.c_bn[(1, 1)];
+        let _t1 = u.velocity[1] - x[4];
+        let _t2 = u.c_bn[(0, 1)] + (u.c_bn[(2, 1)] * x[7] - x[8] * u.c_bn[(1, 1)]);
         let _t3 = u.velocity[0] - x[3];
-        let _t4 = u.c_bn[(1, 2)] + (u.c_bn[(0, 2)] * x[8] - x[6] * u.c_bn[(2, 2)]);
-        let _t5 = u.velocity[1] - x[4];
-        let _t6 = x[20] + (_t0 * _t1 + (_t2 * _t3 + _t4 * _t5));
-        let _t7 = x[6] * u.c_bn[(1, 0)] - x[7] * u.c_bn[(0, 0)] + u.c_bn[(2, 0)];
+        let _t4 = u.c_bn[(2, 1)] + (x[6] * u.c_bn[(1, 1)] - u.c_bn[(0, 1)] * x[7]);
+        let _t5 = u.velocity[2] - x[5];
+        let _t6 = _t0 * _t1 + _t2 * _t3 + _t4 * _t5 + x[19];
+        let _t7 = x[8] * u.c_bn[(0, 0)] - x[6] * u.c_bn[(2, 0)] + u.c_bn[(1, 0)];
         let _t8 = u.c_bn[(0, 0)] + (x[7] * u.c_bn[(2, 0)] - x[8] * u.c_bn[(1, 0)]);
-        let _t9 = u.c_bn[(1, 0)] + (x[8] * u.c_bn[(0, 0)] - x[6] * u.c_bn[(2, 0)]);
-        let _t10 = x[18] + (_t1 * _t7 + (_t3 * _t8 + _t5 * _t9));
-        let _t11 = x[6] * u.c_bn[(1, 1)] - x[7] * u.c_bn[(0, 1)] + u.c_bn[(2, 1)];
-        let _t12 = u.c_bn[(0, 1)] + (x[7] * u.c_bn[(2, 1)] - x[8] * u.c_bn[(1, 1)]);
-        let _t13 = u.c_bn[(1, 1)] + (x[8] * u.c_bn[(0, 1)] - x[6] * u.c_bn[(2, 1)]);
-        let _t14 = x[19] + (_t1 * _t11 + (_t3 * _t12 + _t5 * _t13));
-        let _t15 = u.c_bn[(0, 2)] * _t0 + (u.c_bn[(0, 0)] * _t7 + u.c_bn[(0, 1)] * _t11);
-        let _t16 = u.c_bn[(0, 2)] * _t2 + (u.c_bn[(0, 0)] * _t8 + u.c_bn[(0, 1)] * _t12);
-        let _t17 = u.c_bn[(0, 2)] * _t4 + (u.c_bn[(0, 0)] * _t9 + u.c_bn[(0, 1)] * _t13);
-        let _t18 = u.c_bn[(1, 2)] * _t1 - u.c_bn[(2, 2)] * _t5;
-        let _t19 = _t1 * u.c_bn[(1, 0)] - _t5 * u.c_bn[(2, 0)];
-        let _t20 = _t1 * u.c_bn[(1, 1)] - _t5 * u.c_bn[(2, 1)];
-        let _t21 = u.c_bn[(0, 2)] * _t18
-            + (u.c_bn[(0, 0)] * _t19 + u.c_bn[(0, 1)] * _t20);
-        let _t22 = u.c_bn[(2, 2)] * _t3 - u.c_bn[(0, 2)] * _t1;
-        let _t23 = _t3 * u.c_bn[(2, 0)] - _t1 * u.c_bn[(0, 0)];
-        let _t24 = _t3 * u.c_bn[(2, 1)] - _t1 * u.c_bn[(0, 1)];
-        let _t25 = u.c_bn[(0, 2)] * _t22
-            + (u.c_bn[(0, 0)] * _t23 + u.c_bn[(0, 1)] * _t24);
-        let _t26 = u.c_bn[(0, 2)] * _t5 - u.c_bn[(1, 2)] * _t3;
-        let _t27 = _t5 * u.c_bn[(0, 0)] - _t3 * u.c_bn[(1, 0)];
-        let _t28 = _t5 * u.c_bn[(0, 1)] - _t3 * u.c_bn[(1, 1)];
-        let _t29 = u.c_bn[(0, 2)] * _t26
-            + (u.c_bn[(0, 0)] * _t27 + u.c_bn[(0, 1)] * _t28);
-        let _t30 = u.c_bn[(1, 2)] * _t0 + (u.c_bn[(1, 0)] * _t7 + u.c_bn[(1, 1)] * _t11);
-        let _t31 = u.c_bn[(1, 2)] * _t2 + (u.c_bn[(1, 0)] * _t8 + u.c_bn[(1, 1)] * _t12);
-        let _t32 = u.c_bn[(1, 2)] * _t4 + (u.c_bn[(1, 0)] * _t9 + u.c_bn[(1, 1)] * _t13);
-        let _t33 = u.c_bn[(1, 2)] * _t18
-            + (u.c_bn[(1, 0)] * _t19 + u.c_bn[(1, 1)] * _t20);
-        let _t34 = u.c_bn[(1, 2)] * _t22
-            + (u.c_bn[(1, 0)] * _t23 + u.c_bn[(1, 1)] * _t24);
-        let _t35 = u.c_bn[(1, 2)] * _t26
-            + (u.c_bn[(1, 0)] * _t27 + u.c_bn[(1, 1)] * _t28);
-        let _t36 = u.c_bn[(2, 2)] * _t0 + (u.c_bn[(2, 0)] * _t7 + u.c_bn[(2, 1)] * _t11);
-        let _t37 = u.c_bn[(2, 2)] * _t2 + (u.c_bn[(2, 0)] * _t8 + u.c_bn[(2, 1)] * _t12);
-        let _t38 = u.c_bn[(2, 2)] * _t4 + (u.c_bn[(2, 0)] * _t9 + u.c_bn[(2, 1)] * _t13);
-        let _t39 = u.c_bn[(2, 2)] * _t18
-            + (u.c_bn[(2, 0)] * _t19 + u.c_bn[(2, 1)] * _t20);
-        let _t40 = u.c_bn[(2, 2)] * _t22
-            + (u.c_bn[(2, 0)] * _t23 + u.c_bn[(2, 1)] * _t24);
-        let _t41 = u.c_bn[(2, 2)] * _t26
-            + (u.c_bn[(2, 0)] * _t27 + u.c_bn[(2, 1)] * _t28);
-        let _t42 = _t15 * cov[(3, 5)] + (_t16 * cov[(3, 3)] + _t17 * cov[(3, 4)])
+        let _t9 = u.c_bn[(2, 0)] + (x[6] * u.c_bn[(1, 0)] - x[7] * u.c_bn[(0, 0)]);
+        let _t10 = _t1 * _t7 + _t3 * _t8 + _t5 * _t9 + x[18];
+        let _t11 = x[8] * u.c_bn[(0, 2)] - x[6] * u.c_bn[(2, 2)] + u.c_bn[(1, 2)];
+        let _t12 = u.c_bn[(0, 2)] + (x[7] * u.c_bn[(2, 2)] - x[8] * u.c_bn[(1, 2)]);
+        let _t13 = u.c_bn[(2, 2)] + (x[6] * u.c_bn[(1, 2)] - x[7] * u.c_bn[(0, 2)]);
+        let _t14 = _t1 * _t11 + _t3 * _t12 + _t5 * _t13 + x[20];
+        let _t15 = u.c_bn[(0, 1)] * _t0 + u.c_bn[(0, 0)] * _t7 + u.c_bn[(0, 2)] * _t11;
+        let _t16 = u.c_bn[(0, 1)] * _t2 + u.c_bn[(0, 0)] * _t8 + u.c_bn[(0, 2)] * _t12;
+        let _t17 = u.c_bn[(0, 1)] * _t4 + u.c_bn[(0, 0)] * _t9 + u.c_bn[(0, 2)] * _t13;
+        let _t18 = u.c_bn[(1, 1)] * _t5 - u.c_bn[(2, 1)] * _t1;
+        let _t19 = _t5 * u.c_bn[(1, 0)] - _t1 * u.c_bn[(2, 0)];
+        let _t20 = _t5 * u.c_bn[(1, 2)] - _t1 * u.c_bn[(2, 2)];
+        let _t21 = u.c_bn[(0, 1)] * _t18 + u.c_bn[(0, 0)] * _t19 + u.c_bn[(0, 2)] * _t20;
+        let _t22 = u.c_bn[(2, 1)] * _t3 - u.c_bn[(0, 1)] * _t5;
+        let _t23 = _t3 * u.c_bn[(2, 0)] - _t5 * u.c_bn[(0, 0)];
+        let _t24 = _t3 * u.c_bn[(2, 2)] - _t5 * u.c_bn[(0, 2)];
+        let _t25 = u.c_bn[(0, 1)] * _t22 + u.c_bn[(0, 0)] * _t23 + u.c_bn[(0, 2)] * _t24;
+        let _t26 = u.c_bn[(0, 1)] * _t1 - u.c_bn[(1, 1)] * _t3;
+        let _t27 = _t1 * u.c_bn[(0, 0)] - _t3 * u.c_bn[(1, 0)];
+        let _t28 = _t1 * u.c_bn[(0, 2)] - _t3 * u.c_bn[(1, 2)];
+        let _t29 = u.c_bn[(0, 1)] * _t26 + u.c_bn[(0, 0)] * _t27 + u.c_bn[(0, 2)] * _t28;
+        let _t30 = u.c_bn[(1, 1)] * _t0 + u.c_bn[(1, 0)] * _t7 + u.c_bn[(1, 2)] * _t11;
+        let _t31 = u.c_bn[(1, 1)] * _t2 + u.c_bn[(1, 0)] * _t8 + u.c_bn[(1, 2)] * _t12;
+        let _t32 = u.c_bn[(1, 1)] * _t4 + u.c_bn[(1, 0)] * _t9 + u.c_bn[(1, 2)] * _t13;
+        let _t33 = u.c_bn[(1, 1)] * _t18 + u.c_bn[(1, 0)] * _t19 + u.c_bn[(1, 2)] * _t20;
+        let _t34 = u.c_bn[(1, 1)] * _t22 + u.c_bn[(1, 0)] * _t23 + u.c_bn[(1, 2)] * _t24;
+        let _t35 = u.c_bn[(1, 1)] * _t26 + u.c_bn[(1, 0)] * _t27 + u.c_bn[(1, 2)] * _t28;
+        let _t36 = u.c_bn[(2, 1)] * _t0 + u.c_bn[(2, 0)] * _t7 + u.c_bn[(2, 2)] * _t11;
+        let _t37 = u.c_bn[(2, 1)] * _t2 + u.c_bn[(2, 0)] * _t8 + u.c_bn[(2, 2)] * _t12;
+        let _t38 = u.c_bn[(2, 1)] * _t4 + u.c_bn[(2, 0)] * _t9 + u.c_bn[(2, 2)] * _t13;
+        let _t39 = u.c_bn[(2, 1)] * _t18 + u.c_bn[(2, 0)] * _t19 + u.c_bn[(2, 2)] * _t20;
+        let _t40 = u.c_bn[(2, 1)] * _t22 + u.c_bn[(2, 0)] * _t23 + u.c_bn[(2, 2)] * _t24;
+        let _t41 = u.c_bn[(2, 1)] * _t26 + u.c_bn[(2, 0)] * _t27 + u.c_bn[(2, 2)] * _t28;
+        let _t42 = _t15 * cov[(3, 4)] + _t16 * cov[(3, 3)] + _t17 * cov[(3, 5)]
             - _t21 * cov[(3, 6)] - _t25 * cov[(3, 7)] - _t29 * cov[(3, 8)]
             - u.c_bn[(0, 0)] * cov[(3, 18)] - u.c_bn[(0, 1)] * cov[(3, 19)]
             - u.c_bn[(0, 2)] * cov[(3, 20)];
-        let _t43 = _t30 * cov[(3, 5)] + (_t31 * cov[(3, 3)] + _t32 * cov[(3, 4)])
+        let _t43 = _t30 * cov[(3, 4)] + _t31 * cov[(3, 3)] + _t32 * cov[(3, 5)]
             - _t33 * cov[(3, 6)] - _t34 * cov[(3, 7)] - _t35 * cov[(3, 8)]
             - u.c_bn[(1, 0)] * cov[(3, 18)] - u.c_bn[(1, 1)] * cov[(3, 19)]
             - u.c_bn[(1, 2)] * cov[(3, 20)];
-        let _t44 = _t36 * cov[(3, 5)] + (_t37 * cov[(3, 3)] + _t38 * cov[(3, 4)])
+        let _t44 = _t36 * cov[(3, 4)] + _t37 * cov[(3, 3)] + _t38 * cov[(3, 5)]
             - _t39 * cov[(3, 6)] - _t40 * cov[(3, 7)] - _t41 * cov[(3, 8)]
             - u.c_bn[(2, 0)] * cov[(3, 18)] - u.c_bn[(2, 1)] * cov[(3, 19)]
             - u.c_bn[(2, 2)] * cov[(3, 20)];
-        let _t45 = _t15 * cov[(4, 5)] + (_t16 * cov[(3, 4)] + _t17 * cov[(4, 4)])
+        let _t45 = _t15 * cov[(4, 4)] + _t16 * cov[(3, 4)] + _t17 * cov[(4, 5)]
             - _t21 * cov[(4, 6)] - _t25 * cov[(4, 7)] - _t29 * cov[(4, 8)]
             - u.c_bn[(0, 0)] * cov[(4, 18)] - u.c_bn[(0, 1)] * cov[(4, 19)]
             - u.c_bn[(0, 2)] * cov[(4, 20)];
-        let _t46 = _t30 * cov[(4, 5)] + (_t31 * cov[(3, 4)] + _t32 * cov[(4, 4)])
+        let _t46 = _t30 * cov[(4, 4)] + _t31 * cov[(3, 4)] + _t32 * cov[(4, 5)]
             - _t33 * cov[(4, 6)] - _t34 * cov[(4, 7)] - _t35 * cov[(4, 8)]
             - u.c_bn[(1, 0)] * cov[(4, 18)] - u.c_bn[(1, 1)] * cov[(4, 19)]
             - u.c_bn[(1, 2)] * cov[(4, 20)];
-        let _t47 = _t36 * cov[(4, 5)] + (_t37 * cov[(3, 4)] + _t38 * cov[(4, 4)])
+        let _t47 = _t36 * cov[(4, 4)] + _t37 * cov[(3, 4)] + _t38 * cov[(4, 5)]
             - _t39 * cov[(4, 6)] - _t40 * cov[(4, 7)] - _t41 * cov[(4, 8)]
             - u.c_bn[(2, 0)] * cov[(4, 18)] - u.c_bn[(2, 1)] * cov[(4, 19)]
             - u.c_bn[(2, 2)] * cov[(4, 20)];
-        let _t48 = _t15 * cov[(5, 5)] + (_t16 * cov[(3, 5)] + _t17 * cov[(4, 5)])
+        let _t48 = _t15 * cov[(4, 5)] + _t16 * cov[(3, 5)] + _t17 * cov[(5, 5)]
             - _t21 * cov[(5, 6)] - _t25 * cov[(5, 7)] - _t29 * cov[(5, 8)]
             - u.c_bn[(0, 0)] * cov[(5, 18)] - u.c_bn[(0, 1)] * cov[(5, 19)]
             - u.c_bn[(0, 2)] * cov[(5, 20)];
-        let _t49 = _t30 * cov[(5, 5)] + (_t31 * cov[(3, 5)] + _t32 * cov[(4, 5)])
+        let _t49 = _t30 * cov[(4, 5)] + _t31 * cov[(3, 5)] + _t32 * cov[(5, 5)]
             - _t33 * cov[(5, 6)] - _t34 * cov[(5, 7)] - _t35 * cov[(5, 8)]
             - u.c_bn[(1, 0)] * cov[(5, 18)] - u.c_bn[(1, 1)] * cov[(5, 19)]
             - u.c_bn[(1, 2)] * cov[(5, 20)];
-        let _t50 = _t36 * cov[(5, 5)] + (_t37 * cov[(3, 5)] + _t38 * cov[(4, 5)])
+        let _t50 = _t36 * cov[(4, 5)] + _t37 * cov[(3, 5)] + _t38 * cov[(5, 5)]
             - _t39 * cov[(5, 6)] - _t40 * cov[(5, 7)] - _t41 * cov[(5, 8)]
             - u.c_bn[(2, 0)] * cov[(5, 18)] - u.c_bn[(2, 1)] * cov[(5, 19)]
             - u.c_bn[(2, 2)] * cov[(5, 20)];
-        let _t51 = _t15 * cov[(5, 6)] + (_t16 * cov[(3, 6)] + _t17 * cov[(4, 6)])
+        let _t51 = _t15 * cov[(4, 6)] + _t16 * cov[(3, 6)] + _t17 * cov[(5, 6)]
             - _t21 * cov[(6, 6)] - _t25 * cov[(6, 7)] - _t29 * cov[(6, 8)]
             - u.c_bn[(0, 0)] * cov[(6, 18)] - u.c_bn[(0, 1)] * cov[(6, 19)]
             - u.c_bn[(0, 2)] * cov[(6, 20)];
-        let _t52 = _t30 * cov[(5, 6)] + (_t31 * cov[(3, 6)] + _t32 * cov[(4, 6)])
+        let _t52 = _t30 * cov[(4, 6)] + _t31 * cov[(3, 6)] + _t32 * cov[(5, 6)]
             - _t33 * cov[(6, 6)] - _t34 * cov[(6, 7)] - _t35 * cov[(6, 8)]
             - u.c_bn[(1, 0)] * cov[(6, 18)] - u.c_bn[(1, 1)] * cov[(6, 19)]
             - u.c_bn[(1, 2)] * cov[(6, 20)];
-        let _t53 = _t36 * cov[(5, 6)] + (_t37 * cov[(3, 6)] + _t38 * cov[(4, 6)])
+        let _t53 = _t36 * cov[(4, 6)] + _t37 * cov[(3, 6)] + _t38 * cov[(5, 6)]
             - _t39 * cov[(6, 6)] - _t40 * cov[(6, 7)] - _t41 * cov[(6, 8)]
             - u.c_bn[(2, 0)] * cov[(6, 18)] - u.c_bn[(2, 1)] * cov[(6, 19)]
             - u.c_bn[(2, 2)] * cov[(6, 20)];
-        let _t54 = _t15 * cov[(5, 7)] + (_t16 * cov[(3, 7)] + _t17 * cov[(4, 7)])
+        let _t54 = _t15 * cov[(4, 7)] + _t16 * cov[(3, 7)] + _t17 * cov[(5, 7)]
             - _t21 * cov[(6, 7)] - _t25 * cov[(7, 7)] - _t29 * cov[(7, 8)]
             - u.c_bn[(0, 0)] * cov[(7, 18)] - u.c_bn[(0, 1)] * cov[(7, 19)]
             - u.c_bn[(0, 2)] * cov[(7, 20)];
-        let _t55 = _t30 * cov[(5, 7)] + (_t31 * cov[(3, 7)] + _t32 * cov[(4, 7)])
+        let _t55 = _t30 * cov[(4, 7)] + _t31 * cov[(3, 7)] + _t32 * cov[(5, 7)]
             - _t33 * cov[(6, 7)] - _t34 * cov[(7, 7)] - _t35 * cov[(7, 8)]
             - u.c_bn[(1, 0)] * cov[(7, 18)] - u.c_bn[(1, 1)] * cov[(7, 19)]
             - u.c_bn[(1, 2)] * cov[(7, 20)];
-        let _t56 = _t36 * cov[(5, 7)] + (_t37 * cov[(3, 7)] + _t38 * cov[(4, 7)])
+        let _t56 = _t36 * cov[(4, 7)] + _t37 * cov[(3, 7)] + _t38 * cov[(5, 7)]
             - _t39 * cov[(6, 7)] - _t40 * cov[(7, 7)] - _t41 * cov[(7, 8)]
             - u.c_bn[(2, 0)] * cov[(7, 18)] - u.c_bn[(2, 1)] * cov[(7, 19)]
             - u.c_bn[(2, 2)] * cov[(7, 20)];
-        let _t57 = _t15 * cov[(5, 8)] + (_t16 * cov[(3, 8)] + _t17 * cov[(4, 8)])
+        let _t57 = _t15 * cov[(4, 8)] + _t16 * cov[(3, 8)] + _t17 * cov[(5, 8)]
             - _t21 * cov[(6, 8)] - _t25 * cov[(7, 8)] - _t29 * cov[(8, 8)]
             - u.c_bn[(0, 0)] * cov[(8, 18)] - u.c_bn[(0, 1)] * cov[(8, 19)]
             - u.c_bn[(0, 2)] * cov[(8, 20)];
-        let _t58 = _t30 * cov[(5, 8)] + (_t31 * cov[(3, 8)] + _t32 * cov[(4, 8)])
+        let _t58 = _t30 * cov[(4, 8)] + _t31 * cov[(3, 8)] + _t32 * cov[(5, 8)]
             - _t33 * cov[(6, 8)] - _t34 * cov[(7, 8)] - _t35 * cov[(8, 8)]
             - u.c_bn[(1, 0)] * cov[(8, 18)] - u.c_bn[(1, 1)] * cov[(8, 19)]
             - u.c_bn[(1, 2)] * cov[(8, 20)];
-        let _t59 = _t36 * cov[(5, 8)] + (_t37 * cov[(3, 8)] + _t38 * cov[(4, 8)])
+        let _t59 = _t36 * cov[(4, 8)] + _t37 * cov[(3, 8)] + _t38 * cov[(5, 8)]
             - _t39 * cov[(6, 8)] - _t40 * cov[(7, 8)] - _t41 * cov[(8, 8)]
             - u.c_bn[(2, 0)] * cov[(8, 18)] - u.c_bn[(2, 1)] * cov[(8, 19)]
             - u.c_bn[(2, 2)] * cov[(8, 20)];
-        let _t60 = _t15 * cov[(5, 18)] + (_t16 * cov[(3, 18)] + _t17 * cov[(4, 18)])
+        let _t60 = _t15 * cov[(4, 18)] + _t16 * cov[(3, 18)] + _t17 * cov[(5, 18)]
             - _t21 * cov[(6, 18)] - _t25 * cov[(7, 18)] - _t29 * cov[(8, 18)]
             - u.c_bn[(0, 0)] * cov[(18, 18)] - u.c_bn[(0, 1)] * cov[(18, 19)]
             - u.c_bn[(0, 2)] * cov[(18, 20)];
-        let _t61 = _t30 * cov[(5, 18)] + (_t31 * cov[(3, 18)] + _t32 * cov[(4, 18)])
+        let _t61 = _t30 * cov[(4, 18)] + _t31 * cov[(3, 18)] + _t32 * cov[(5, 18)]
             - _t33 * cov[(6, 18)] - _t34 * cov[(7, 18)] - _t35 * cov[(8, 18)]
             - u.c_bn[(1, 0)] * cov[(18, 18)] - u.c_bn[(1, 1)] * cov[(18, 19)]
             - u.c_bn[(1, 2)] * cov[(18, 20)];
-        let _t62 = _t36 * cov[(5, 18)] + (_t37 * cov[(3, 18)] + _t38 * cov[(4, 18)])
+        let _t62 = _t36 * cov[(4, 18)] + _t37 * cov[(3, 18)] + _t38 * cov[(5, 18)]
             - _t39 * cov[(6, 18)] - _t40 * cov[(7, 18)] - _t41 * cov[(8, 18)]
             - u.c_bn[(2, 0)] * cov[(18, 18)] - u.c_bn[(2, 1)] * cov[(18, 19)]
             - u.c_bn[(2, 2)] * cov[(18, 20)];
-        let _t63 = _t15 * cov[(5, 19)] + (_t16 * cov[(3, 19)] + _t17 * cov[(4, 19)])
+        let _t63 = _t15 * cov[(4, 19)] + _t16 * cov[(3, 19)] + _t17 * cov[(5, 19)]
             - _t21 * cov[(6, 19)] - _t25 * cov[(7, 19)] - _t29 * cov[(8, 19)]
             - u.c_bn[(0, 0)] * cov[(18, 19)] - u.c_bn[(0, 1)] * cov[(19, 19)]
             - u.c_bn[(0, 2)] * cov[(19, 20)];
-        let _t64 = _t30 * cov[(5, 19)] + (_t31 * cov[(3, 19)] + _t32 * cov[(4, 19)])
+        let _t64 = _t30 * cov[(4, 19)] + _t31 * cov[(3, 19)] + _t32 * cov[(5, 19)]
             - _t33 * cov[(6, 19)] - _t34 * cov[(7, 19)] - _t35 * cov[(8, 19)]
             - u.c_bn[(1, 0)] * cov[(18, 19)] - u.c_bn[(1, 1)] * cov[(19, 19)]
             - u.c_bn[(1, 2)] * cov[(19, 20)];
-        let _t65 = _t36 * cov[(5, 19)] + (_t37 * cov[(3, 19)] + _t38 * cov[(4, 19)])
+        let _t65 = _t36 * cov[(4, 19)] + _t37 * cov[(3, 19)] + _t38 * cov[(5, 19)]
             - _t39 * cov[(6, 19)] - _t40 * cov[(7, 19)] - _t41 * cov[(8, 19)]
             - u.c_bn[(2, 0)] * cov[(18, 19)] - u.c_bn[(2, 1)] * cov[(19, 19)]
             - u.c_bn[(2, 2)] * cov[(19, 20)];
-        let _t66 = _t15 * cov[(5, 20)] + (_t16 * cov[(3, 20)] + _t17 * cov[(4, 20)])
+        let _t66 = _t15 * cov[(4, 20)] + _t16 * cov[(3, 20)] + _t17 * cov[(5, 20)]
             - _t21 * cov[(6, 20)] - _t25 * cov[(7, 20)] - _t29 * cov[(8, 20)]
             - u.c_bn[(0, 0)] * cov[(18, 20)] - u.c_bn[(0, 1)] * cov[(19, 20)]
             - u.c_bn[(0, 2)] * cov[(20, 20)];
-        let _t67 = _t30 * cov[(5, 20)] + (_t31 * cov[(3, 20)] + _t32 * cov[(4, 20)])
+        let _t67 = _t30 * cov[(4, 20)] + _t31 * cov[(3, 20)] + _t32 * cov[(5, 20)]
             - _t33 * cov[(6, 20)] - _t34 * cov[(7, 20)] - _t35 * cov[(8, 20)]
             - u.c_bn[(1, 0)] * cov[(18, 20)] - u.c_bn[(1, 1)] * cov[(19, 20)]
             - u.c_bn[(1, 2)] * cov[(20, 20)];
-        let _t68 = _t36 * cov[(5, 20)] + (_t37 * cov[(3, 20)] + _t38 * cov[(4, 20)])
+        let _t68 = _t36 * cov[(4, 20)] + _t37 * cov[(3, 20)] + _t38 * cov[(5, 20)]
             - _t39 * cov[(6, 20)] - _t40 * cov[(7, 20)] - _t41 * cov[(8, 20)]
             - u.c_bn[(2, 0)] * cov[(18, 20)] - u.c_bn[(2, 1)] * cov[(19, 20)]
             - u.c_bn[(2, 2)] * cov[(20, 20)];
@@ -1898,44 +1854,44 @@ Total ops: 1569*/
         let mut pht = ::nav_runtime::nalgebra::SMatrix::<f64, 25, 3>::zeros();
         let mut s = ::nav_runtime::nalgebra::SMatrix::<f64, 3, 3>::zeros();
         h[0] = u.velocity[0]
-            - (u.c_bn[(0, 2)] * _t6 + (u.c_bn[(0, 0)] * _t10 + u.c_bn[(0, 1)] * _t14));
+            - (u.c_bn[(0, 1)] * _t6 + u.c_bn[(0, 0)] * _t10 + u.c_bn[(0, 2)] * _t14);
         h[1] = u.velocity[1]
-            - (u.c_bn[(1, 2)] * _t6 + (u.c_bn[(1, 0)] * _t10 + u.c_bn[(1, 1)] * _t14));
+            - (u.c_bn[(1, 1)] * _t6 + u.c_bn[(1, 0)] * _t10 + u.c_bn[(1, 2)] * _t14);
         h[2] = u.velocity[2]
-            - (u.c_bn[(2, 2)] * _t6 + (u.c_bn[(2, 0)] * _t10 + u.c_bn[(2, 1)] * _t14));
-        pht[(0, 0)] = _t15 * cov[(0, 5)] + (_t16 * cov[(0, 3)] + _t17 * cov[(0, 4)])
-            - _t21 * cov[(0, 6)] - _t25 * cov[(0, 7)] - _t29 * cov[(0, 8)]
+            - (u.c_bn[(2, 1)] * _t6 + u.c_bn[(2, 0)] * _t10 + u.c_bn[(2, 2)] * _t14);
+        pht[(0, 0)] = cov[(0, 4)] * _t15 + cov[(0, 3)] * _t16 + cov[(0, 5)] * _t17
+            - cov[(0, 6)] * _t21 - cov[(0, 7)] * _t25 - cov[(0, 8)] * _t29
             - u.c_bn[(0, 0)] * cov[(0, 18)] - u.c_bn[(0, 1)] * cov[(0, 19)]
             - u.c_bn[(0, 2)] * cov[(0, 20)];
-        pht[(0, 1)] = cov[(0, 5)] * _t30 + (cov[(0, 3)] * _t31 + cov[(0, 4)] * _t32)
+        pht[(0, 1)] = cov[(0, 4)] * _t30 + cov[(0, 3)] * _t31 + cov[(0, 5)] * _t32
             - cov[(0, 6)] * _t33 - cov[(0, 7)] * _t34 - cov[(0, 8)] * _t35
             - u.c_bn[(1, 0)] * cov[(0, 18)] - u.c_bn[(1, 1)] * cov[(0, 19)]
             - u.c_bn[(1, 2)] * cov[(0, 20)];
-        pht[(0, 2)] = cov[(0, 5)] * _t36 + (cov[(0, 3)] * _t37 + cov[(0, 4)] * _t38)
+        pht[(0, 2)] = cov[(0, 4)] * _t36 + cov[(0, 3)] * _t37 + cov[(0, 5)] * _t38
             - cov[(0, 6)] * _t39 - cov[(0, 7)] * _t40 - cov[(0, 8)] * _t41
             - u.c_bn[(2, 0)] * cov[(0, 18)] - u.c_bn[(2, 1)] * cov[(0, 19)]
             - u.c_bn[(2, 2)] * cov[(0, 20)];
-        pht[(1, 0)] = _t15 * cov[(1, 5)] + (_t16 * cov[(1, 3)] + _t17 * cov[(1, 4)])
+        pht[(1, 0)] = _t15 * cov[(1, 4)] + _t16 * cov[(1, 3)] + _t17 * cov[(1, 5)]
             - _t21 * cov[(1, 6)] - _t25 * cov[(1, 7)] - _t29 * cov[(1, 8)]
             - u.c_bn[(0, 0)] * cov[(1, 18)] - u.c_bn[(0, 1)] * cov[(1, 19)]
             - u.c_bn[(0, 2)] * cov[(1, 20)];
-        pht[(1, 1)] = _t30 * cov[(1, 5)] + (_t31 * cov[(1, 3)] + _t32 * cov[(1, 4)])
+        pht[(1, 1)] = _t30 * cov[(1, 4)] + _t31 * cov[(1, 3)] + _t32 * cov[(1, 5)]
             - _t33 * cov[(1, 6)] - _t34 * cov[(1, 7)] - _t35 * cov[(1, 8)]
             - u.c_bn[(1, 0)] * cov[(1, 18)] - u.c_bn[(1, 1)] * cov[(1, 19)]
             - u.c_bn[(1, 2)] * cov[(1, 20)];
-        pht[(1, 2)] = _t36 * cov[(1, 5)] + (_t37 * cov[(1, 3)] + _t38 * cov[(1, 4)])
+        pht[(1, 2)] = _t36 * cov[(1, 4)] + _t37 * cov[(1, 3)] + _t38 * cov[(1, 5)]
             - _t39 * cov[(1, 6)] - _t40 * cov[(1, 7)] - _t41 * cov[(1, 8)]
             - u.c_bn[(2, 0)] * cov[(1, 18)] - u.c_bn[(2, 1)] * cov[(1, 19)]
             - u.c_bn[(2, 2)] * cov[(1, 20)];
-        pht[(2, 0)] = _t15 * cov[(2, 5)] + (_t16 * cov[(2, 3)] + _t17 * cov[(2, 4)])
+        pht[(2, 0)] = _t15 * cov[(2, 4)] + _t16 * cov[(2, 3)] + _t17 * cov[(2, 5)]
             - _t21 * cov[(2, 6)] - _t25 * cov[(2, 7)] - _t29 * cov[(2, 8)]
             - u.c_bn[(0, 0)] * cov[(2, 18)] - u.c_bn[(0, 1)] * cov[(2, 19)]
             - u.c_bn[(0, 2)] * cov[(2, 20)];
-        pht[(2, 1)] = _t30 * cov[(2, 5)] + (_t31 * cov[(2, 3)] + _t32 * cov[(2, 4)])
+        pht[(2, 1)] = _t30 * cov[(2, 4)] + _t31 * cov[(2, 3)] + _t32 * cov[(2, 5)]
             - _t33 * cov[(2, 6)] - _t34 * cov[(2, 7)] - _t35 * cov[(2, 8)]
             - u.c_bn[(1, 0)] * cov[(2, 18)] - u.c_bn[(1, 1)] * cov[(2, 19)]
             - u.c_bn[(1, 2)] * cov[(2, 20)];
-        pht[(2, 2)] = _t36 * cov[(2, 5)] + (_t37 * cov[(2, 3)] + _t38 * cov[(2, 4)])
+        pht[(2, 2)] = _t36 * cov[(2, 4)] + _t37 * cov[(2, 3)] + _t38 * cov[(2, 5)]
             - _t39 * cov[(2, 6)] - _t40 * cov[(2, 7)] - _t41 * cov[(2, 8)]
             - u.c_bn[(2, 0)] * cov[(2, 18)] - u.c_bn[(2, 1)] * cov[(2, 19)]
             - u.c_bn[(2, 2)] * cov[(2, 20)];
@@ -1957,111 +1913,111 @@ Total ops: 1569*/
         pht[(8, 0)] = _t57;
         pht[(8, 1)] = _t58;
         pht[(8, 2)] = _t59;
-        pht[(9, 0)] = _t15 * cov[(5, 9)] + (_t16 * cov[(3, 9)] + _t17 * cov[(4, 9)])
+        pht[(9, 0)] = _t15 * cov[(4, 9)] + _t16 * cov[(3, 9)] + _t17 * cov[(5, 9)]
             - _t21 * cov[(6, 9)] - _t25 * cov[(7, 9)] - _t29 * cov[(8, 9)]
             - u.c_bn[(0, 0)] * cov[(9, 18)] - u.c_bn[(0, 1)] * cov[(9, 19)]
             - u.c_bn[(0, 2)] * cov[(9, 20)];
-        pht[(9, 1)] = _t30 * cov[(5, 9)] + (_t31 * cov[(3, 9)] + _t32 * cov[(4, 9)])
+        pht[(9, 1)] = _t30 * cov[(4, 9)] + _t31 * cov[(3, 9)] + _t32 * cov[(5, 9)]
             - _t33 * cov[(6, 9)] - _t34 * cov[(7, 9)] - _t35 * cov[(8, 9)]
             - u.c_bn[(1, 0)] * cov[(9, 18)] - u.c_bn[(1, 1)] * cov[(9, 19)]
             - u.c_bn[(1, 2)] * cov[(9, 20)];
-        pht[(9, 2)] = _t36 * cov[(5, 9)] + (_t37 * cov[(3, 9)] + _t38 * cov[(4, 9)])
+        pht[(9, 2)] = _t36 * cov[(4, 9)] + _t37 * cov[(3, 9)] + _t38 * cov[(5, 9)]
             - _t39 * cov[(6, 9)] - _t40 * cov[(7, 9)] - _t41 * cov[(8, 9)]
             - u.c_bn[(2, 0)] * cov[(9, 18)] - u.c_bn[(2, 1)] * cov[(9, 19)]
             - u.c_bn[(2, 2)] * cov[(9, 20)];
-        pht[(10, 0)] = _t15 * cov[(5, 10)] + (_t16 * cov[(3, 10)] + _t17 * cov[(4, 10)])
+        pht[(10, 0)] = _t15 * cov[(4, 10)] + _t16 * cov[(3, 10)] + _t17 * cov[(5, 10)]
             - _t21 * cov[(6, 10)] - _t25 * cov[(7, 10)] - _t29 * cov[(8, 10)]
             - u.c_bn[(0, 0)] * cov[(10, 18)] - u.c_bn[(0, 1)] * cov[(10, 19)]
             - u.c_bn[(0, 2)] * cov[(10, 20)];
-        pht[(10, 1)] = _t30 * cov[(5, 10)] + (_t31 * cov[(3, 10)] + _t32 * cov[(4, 10)])
+        pht[(10, 1)] = _t30 * cov[(4, 10)] + _t31 * cov[(3, 10)] + _t32 * cov[(5, 10)]
             - _t33 * cov[(6, 10)] - _t34 * cov[(7, 10)] - _t35 * cov[(8, 10)]
             - u.c_bn[(1, 0)] * cov[(10, 18)] - u.c_bn[(1, 1)] * cov[(10, 19)]
             - u.c_bn[(1, 2)] * cov[(10, 20)];
-        pht[(10, 2)] = _t36 * cov[(5, 10)] + (_t37 * cov[(3, 10)] + _t38 * cov[(4, 10)])
+        pht[(10, 2)] = _t36 * cov[(4, 10)] + _t37 * cov[(3, 10)] + _t38 * cov[(5, 10)]
             - _t39 * cov[(6, 10)] - _t40 * cov[(7, 10)] - _t41 * cov[(8, 10)]
             - u.c_bn[(2, 0)] * cov[(10, 18)] - u.c_bn[(2, 1)] * cov[(10, 19)]
             - u.c_bn[(2, 2)] * cov[(10, 20)];
-        pht[(11, 0)] = _t15 * cov[(5, 11)] + (_t16 * cov[(3, 11)] + _t17 * cov[(4, 11)])
+        pht[(11, 0)] = _t15 * cov[(4, 11)] + _t16 * cov[(3, 11)] + _t17 * cov[(5, 11)]
             - _t21 * cov[(6, 11)] - _t25 * cov[(7, 11)] - _t29 * cov[(8, 11)]
             - u.c_bn[(0, 0)] * cov[(11, 18)] - u.c_bn[(0, 1)] * cov[(11, 19)]
             - u.c_bn[(0, 2)] * cov[(11, 20)];
-        pht[(11, 1)] = _t30 * cov[(5, 11)] + (_t31 * cov[(3, 11)] + _t32 * cov[(4, 11)])
+        pht[(11, 1)] = _t30 * cov[(4, 11)] + _t31 * cov[(3, 11)] + _t32 * cov[(5, 11)]
             - _t33 * cov[(6, 11)] - _t34 * cov[(7, 11)] - _t35 * cov[(8, 11)]
             - u.c_bn[(1, 0)] * cov[(11, 18)] - u.c_bn[(1, 1)] * cov[(11, 19)]
             - u.c_bn[(1, 2)] * cov[(11, 20)];
-        pht[(11, 2)] = _t36 * cov[(5, 11)] + (_t37 * cov[(3, 11)] + _t38 * cov[(4, 11)])
+        pht[(11, 2)] = _t36 * cov[(4, 11)] + _t37 * cov[(3, 11)] + _t38 * cov[(5, 11)]
             - _t39 * cov[(6, 11)] - _t40 * cov[(7, 11)] - _t41 * cov[(8, 11)]
             - u.c_bn[(2, 0)] * cov[(11, 18)] - u.c_bn[(2, 1)] * cov[(11, 19)]
             - u.c_bn[(2, 2)] * cov[(11, 20)];
-        pht[(12, 0)] = _t15 * cov[(5, 12)] + (_t16 * cov[(3, 12)] + _t17 * cov[(4, 12)])
+        pht[(12, 0)] = _t15 * cov[(4, 12)] + _t16 * cov[(3, 12)] + _t17 * cov[(5, 12)]
             - _t21 * cov[(6, 12)] - _t25 * cov[(7, 12)] - _t29 * cov[(8, 12)]
             - u.c_bn[(0, 0)] * cov[(12, 18)] - u.c_bn[(0, 1)] * cov[(12, 19)]
             - u.c_bn[(0, 2)] * cov[(12, 20)];
-        pht[(12, 1)] = _t30 * cov[(5, 12)] + (_t31 * cov[(3, 12)] + _t32 * cov[(4, 12)])
+        pht[(12, 1)] = _t30 * cov[(4, 12)] + _t31 * cov[(3, 12)] + _t32 * cov[(5, 12)]
             - _t33 * cov[(6, 12)] - _t34 * cov[(7, 12)] - _t35 * cov[(8, 12)]
             - u.c_bn[(1, 0)] * cov[(12, 18)] - u.c_bn[(1, 1)] * cov[(12, 19)]
             - u.c_bn[(1, 2)] * cov[(12, 20)];
-        pht[(12, 2)] = _t36 * cov[(5, 12)] + (_t37 * cov[(3, 12)] + _t38 * cov[(4, 12)])
+        pht[(12, 2)] = _t36 * cov[(4, 12)] + _t37 * cov[(3, 12)] + _t38 * cov[(5, 12)]
             - _t39 * cov[(6, 12)] - _t40 * cov[(7, 12)] - _t41 * cov[(8, 12)]
             - u.c_bn[(2, 0)] * cov[(12, 18)] - u.c_bn[(2, 1)] * cov[(12, 19)]
             - u.c_bn[(2, 2)] * cov[(12, 20)];
-        pht[(13, 0)] = _t15 * cov[(5, 13)] + (_t16 * cov[(3, 13)] + _t17 * cov[(4, 13)])
+        pht[(13, 0)] = _t15 * cov[(4, 13)] + _t16 * cov[(3, 13)] + _t17 * cov[(5, 13)]
             - _t21 * cov[(6, 13)] - _t25 * cov[(7, 13)] - _t29 * cov[(8, 13)]
             - u.c_bn[(0, 0)] * cov[(13, 18)] - u.c_bn[(0, 1)] * cov[(13, 19)]
             - u.c_bn[(0, 2)] * cov[(13, 20)];
-        pht[(13, 1)] = _t30 * cov[(5, 13)] + (_t31 * cov[(3, 13)] + _t32 * cov[(4, 13)])
+        pht[(13, 1)] = _t30 * cov[(4, 13)] + _t31 * cov[(3, 13)] + _t32 * cov[(5, 13)]
             - _t33 * cov[(6, 13)] - _t34 * cov[(7, 13)] - _t35 * cov[(8, 13)]
             - u.c_bn[(1, 0)] * cov[(13, 18)] - u.c_bn[(1, 1)] * cov[(13, 19)]
             - u.c_bn[(1, 2)] * cov[(13, 20)];
-        pht[(13, 2)] = _t36 * cov[(5, 13)] + (_t37 * cov[(3, 13)] + _t38 * cov[(4, 13)])
+        pht[(13, 2)] = _t36 * cov[(4, 13)] + _t37 * cov[(3, 13)] + _t38 * cov[(5, 13)]
             - _t39 * cov[(6, 13)] - _t40 * cov[(7, 13)] - _t41 * cov[(8, 13)]
             - u.c_bn[(2, 0)] * cov[(13, 18)] - u.c_bn[(2, 1)] * cov[(13, 19)]
             - u.c_bn[(2, 2)] * cov[(13, 20)];
-        pht[(14, 0)] = _t15 * cov[(5, 14)] + (_t16 * cov[(3, 14)] + _t17 * cov[(4, 14)])
+        pht[(14, 0)] = _t15 * cov[(4, 14)] + _t16 * cov[(3, 14)] + _t17 * cov[(5, 14)]
             - _t21 * cov[(6, 14)] - _t25 * cov[(7, 14)] - _t29 * cov[(8, 14)]
             - u.c_bn[(0, 0)] * cov[(14, 18)] - u.c_bn[(0, 1)] * cov[(14, 19)]
             - u.c_bn[(0, 2)] * cov[(14, 20)];
-        pht[(14, 1)] = _t30 * cov[(5, 14)] + (_t31 * cov[(3, 14)] + _t32 * cov[(4, 14)])
+        pht[(14, 1)] = _t30 * cov[(4, 14)] + _t31 * cov[(3, 14)] + _t32 * cov[(5, 14)]
             - _t33 * cov[(6, 14)] - _t34 * cov[(7, 14)] - _t35 * cov[(8, 14)]
             - u.c_bn[(1, 0)] * cov[(14, 18)] - u.c_bn[(1, 1)] * cov[(14, 19)]
             - u.c_bn[(1, 2)] * cov[(14, 20)];
-        pht[(14, 2)] = _t36 * cov[(5, 14)] + (_t37 * cov[(3, 14)] + _t38 * cov[(4, 14)])
+        pht[(14, 2)] = _t36 * cov[(4, 14)] + _t37 * cov[(3, 14)] + _t38 * cov[(5, 14)]
             - _t39 * cov[(6, 14)] - _t40 * cov[(7, 14)] - _t41 * cov[(8, 14)]
             - u.c_bn[(2, 0)] * cov[(14, 18)] - u.c_bn[(2, 1)] * cov[(14, 19)]
             - u.c_bn[(2, 2)] * cov[(14, 20)];
-        pht[(15, 0)] = _t15 * cov[(5, 15)] + (_t16 * cov[(3, 15)] + _t17 * cov[(4, 15)])
+        pht[(15, 0)] = _t15 * cov[(4, 15)] + _t16 * cov[(3, 15)] + _t17 * cov[(5, 15)]
             - _t21 * cov[(6, 15)] - _t25 * cov[(7, 15)] - _t29 * cov[(8, 15)]
             - u.c_bn[(0, 0)] * cov[(15, 18)] - u.c_bn[(0, 1)] * cov[(15, 19)]
             - u.c_bn[(0, 2)] * cov[(15, 20)];
-        pht[(15, 1)] = _t30 * cov[(5, 15)] + (_t31 * cov[(3, 15)] + _t32 * cov[(4, 15)])
+        pht[(15, 1)] = _t30 * cov[(4, 15)] + _t31 * cov[(3, 15)] + _t32 * cov[(5, 15)]
             - _t33 * cov[(6, 15)] - _t34 * cov[(7, 15)] - _t35 * cov[(8, 15)]
             - u.c_bn[(1, 0)] * cov[(15, 18)] - u.c_bn[(1, 1)] * cov[(15, 19)]
             - u.c_bn[(1, 2)] * cov[(15, 20)];
-        pht[(15, 2)] = _t36 * cov[(5, 15)] + (_t37 * cov[(3, 15)] + _t38 * cov[(4, 15)])
+        pht[(15, 2)] = _t36 * cov[(4, 15)] + _t37 * cov[(3, 15)] + _t38 * cov[(5, 15)]
             - _t39 * cov[(6, 15)] - _t40 * cov[(7, 15)] - _t41 * cov[(8, 15)]
             - u.c_bn[(2, 0)] * cov[(15, 18)] - u.c_bn[(2, 1)] * cov[(15, 19)]
             - u.c_bn[(2, 2)] * cov[(15, 20)];
-        pht[(16, 0)] = _t15 * cov[(5, 16)] + (_t16 * cov[(3, 16)] + _t17 * cov[(4, 16)])
+        pht[(16, 0)] = _t15 * cov[(4, 16)] + _t16 * cov[(3, 16)] + _t17 * cov[(5, 16)]
             - _t21 * cov[(6, 16)] - _t25 * cov[(7, 16)] - _t29 * cov[(8, 16)]
             - u.c_bn[(0, 0)] * cov[(16, 18)] - u.c_bn[(0, 1)] * cov[(16, 19)]
             - u.c_bn[(0, 2)] * cov[(16, 20)];
-        pht[(16, 1)] = _t30 * cov[(5, 16)] + (_t31 * cov[(3, 16)] + _t32 * cov[(4, 16)])
+        pht[(16, 1)] = _t30 * cov[(4, 16)] + _t31 * cov[(3, 16)] + _t32 * cov[(5, 16)]
             - _t33 * cov[(6, 16)] - _t34 * cov[(7, 16)] - _t35 * cov[(8, 16)]
             - u.c_bn[(1, 0)] * cov[(16, 18)] - u.c_bn[(1, 1)] * cov[(16, 19)]
             - u.c_bn[(1, 2)] * cov[(16, 20)];
-        pht[(16, 2)] = _t36 * cov[(5, 16)] + (_t37 * cov[(3, 16)] + _t38 * cov[(4, 16)])
+        pht[(16, 2)] = _t36 * cov[(4, 16)] + _t37 * cov[(3, 16)] + _t38 * cov[(5, 16)]
             - _t39 * cov[(6, 16)] - _t40 * cov[(7, 16)] - _t41 * cov[(8, 16)]
             - u.c_bn[(2, 0)] * cov[(16, 18)] - u.c_bn[(2, 1)] * cov[(16, 19)]
             - u.c_bn[(2, 2)] * cov[(16, 20)];
-        pht[(17, 0)] = _t15 * cov[(5, 17)] + (_t16 * cov[(3, 17)] + _t17 * cov[(4, 17)])
+        pht[(17, 0)] = _t15 * cov[(4, 17)] + _t16 * cov[(3, 17)] + _t17 * cov[(5, 17)]
             - _t21 * cov[(6, 17)] - _t25 * cov[(7, 17)] - _t29 * cov[(8, 17)]
             - u.c_bn[(0, 0)] * cov[(17, 18)] - u.c_bn[(0, 1)] * cov[(17, 19)]
             - u.c_bn[(0, 2)] * cov[(17, 20)];
-        pht[(17, 1)] = _t30 * cov[(5, 17)] + (_t31 * cov[(3, 17)] + _t32 * cov[(4, 17)])
+        pht[(17, 1)] = _t30 * cov[(4, 17)] + _t31 * cov[(3, 17)] + _t32 * cov[(5, 17)]
             - _t33 * cov[(6, 17)] - _t34 * cov[(7, 17)] - _t35 * cov[(8, 17)]
             - u.c_bn[(1, 0)] * cov[(17, 18)] - u.c_bn[(1, 1)] * cov[(17, 19)]
             - u.c_bn[(1, 2)] * cov[(17, 20)];
-        pht[(17, 2)] = _t36 * cov[(5, 17)] + (_t37 * cov[(3, 17)] + _t38 * cov[(4, 17)])
+        pht[(17, 2)] = _t36 * cov[(4, 17)] + _t37 * cov[(3, 17)] + _t38 * cov[(5, 17)]
             - _t39 * cov[(6, 17)] - _t40 * cov[(7, 17)] - _t41 * cov[(8, 17)]
             - u.c_bn[(2, 0)] * cov[(17, 18)] - u.c_bn[(2, 1)] * cov[(17, 19)]
             - u.c_bn[(2, 2)] * cov[(17, 20)];
@@ -2074,70 +2030,70 @@ Total ops: 1569*/
         pht[(20, 0)] = _t66;
         pht[(20, 1)] = _t67;
         pht[(20, 2)] = _t68;
-        pht[(21, 0)] = _t15 * cov[(5, 21)] + (_t16 * cov[(3, 21)] + _t17 * cov[(4, 21)])
+        pht[(21, 0)] = _t15 * cov[(4, 21)] + _t16 * cov[(3, 21)] + _t17 * cov[(5, 21)]
             - _t21 * cov[(6, 21)] - _t25 * cov[(7, 21)] - _t29 * cov[(8, 21)]
             - u.c_bn[(0, 0)] * cov[(18, 21)] - u.c_bn[(0, 1)] * cov[(19, 21)]
             - u.c_bn[(0, 2)] * cov[(20, 21)];
-        pht[(21, 1)] = _t30 * cov[(5, 21)] + (_t31 * cov[(3, 21)] + _t32 * cov[(4, 21)])
+        pht[(21, 1)] = _t30 * cov[(4, 21)] + _t31 * cov[(3, 21)] + _t32 * cov[(5, 21)]
             - _t33 * cov[(6, 21)] - _t34 * cov[(7, 21)] - _t35 * cov[(8, 21)]
             - u.c_bn[(1, 0)] * cov[(18, 21)] - u.c_bn[(1, 1)] * cov[(19, 21)]
             - u.c_bn[(1, 2)] * cov[(20, 21)];
-        pht[(21, 2)] = _t36 * cov[(5, 21)] + (_t37 * cov[(3, 21)] + _t38 * cov[(4, 21)])
+        pht[(21, 2)] = _t36 * cov[(4, 21)] + _t37 * cov[(3, 21)] + _t38 * cov[(5, 21)]
             - _t39 * cov[(6, 21)] - _t40 * cov[(7, 21)] - _t41 * cov[(8, 21)]
             - u.c_bn[(2, 0)] * cov[(18, 21)] - u.c_bn[(2, 1)] * cov[(19, 21)]
             - u.c_bn[(2, 2)] * cov[(20, 21)];
-        pht[(22, 0)] = _t15 * cov[(5, 22)] + (_t16 * cov[(3, 22)] + _t17 * cov[(4, 22)])
+        pht[(22, 0)] = _t15 * cov[(4, 22)] + _t16 * cov[(3, 22)] + _t17 * cov[(5, 22)]
             - _t21 * cov[(6, 22)] - _t25 * cov[(7, 22)] - _t29 * cov[(8, 22)]
             - u.c_bn[(0, 0)] * cov[(18, 22)] - u.c_bn[(0, 1)] * cov[(19, 22)]
             - u.c_bn[(0, 2)] * cov[(20, 22)];
-        pht[(22, 1)] = _t30 * cov[(5, 22)] + (_t31 * cov[(3, 22)] + _t32 * cov[(4, 22)])
+        pht[(22, 1)] = _t30 * cov[(4, 22)] + _t31 * cov[(3, 22)] + _t32 * cov[(5, 22)]
             - _t33 * cov[(6, 22)] - _t34 * cov[(7, 22)] - _t35 * cov[(8, 22)]
             - u.c_bn[(1, 0)] * cov[(18, 22)] - u.c_bn[(1, 1)] * cov[(19, 22)]
             - u.c_bn[(1, 2)] * cov[(20, 22)];
-        pht[(22, 2)] = _t36 * cov[(5, 22)] + (_t37 * cov[(3, 22)] + _t38 * cov[(4, 22)])
+        pht[(22, 2)] = _t36 * cov[(4, 22)] + _t37 * cov[(3, 22)] + _t38 * cov[(5, 22)]
             - _t39 * cov[(6, 22)] - _t40 * cov[(7, 22)] - _t41 * cov[(8, 22)]
             - u.c_bn[(2, 0)] * cov[(18, 22)] - u.c_bn[(2, 1)] * cov[(19, 22)]
             - u.c_bn[(2, 2)] * cov[(20, 22)];
-        pht[(23, 0)] = _t15 * cov[(5, 23)] + (_t16 * cov[(3, 23)] + _t17 * cov[(4, 23)])
+        pht[(23, 0)] = _t15 * cov[(4, 23)] + _t16 * cov[(3, 23)] + _t17 * cov[(5, 23)]
             - _t21 * cov[(6, 23)] - _t25 * cov[(7, 23)] - _t29 * cov[(8, 23)]
             - u.c_bn[(0, 0)] * cov[(18, 23)] - u.c_bn[(0, 1)] * cov[(19, 23)]
             - u.c_bn[(0, 2)] * cov[(20, 23)];
-        pht[(23, 1)] = _t30 * cov[(5, 23)] + (_t31 * cov[(3, 23)] + _t32 * cov[(4, 23)])
+        pht[(23, 1)] = _t30 * cov[(4, 23)] + _t31 * cov[(3, 23)] + _t32 * cov[(5, 23)]
             - _t33 * cov[(6, 23)] - _t34 * cov[(7, 23)] - _t35 * cov[(8, 23)]
             - u.c_bn[(1, 0)] * cov[(18, 23)] - u.c_bn[(1, 1)] * cov[(19, 23)]
             - u.c_bn[(1, 2)] * cov[(20, 23)];
-        pht[(23, 2)] = _t36 * cov[(5, 23)] + (_t37 * cov[(3, 23)] + _t38 * cov[(4, 23)])
+        pht[(23, 2)] = _t36 * cov[(4, 23)] + _t37 * cov[(3, 23)] + _t38 * cov[(5, 23)]
             - _t39 * cov[(6, 23)] - _t40 * cov[(7, 23)] - _t41 * cov[(8, 23)]
             - u.c_bn[(2, 0)] * cov[(18, 23)] - u.c_bn[(2, 1)] * cov[(19, 23)]
             - u.c_bn[(2, 2)] * cov[(20, 23)];
-        pht[(24, 0)] = _t15 * cov[(5, 24)] + (_t16 * cov[(3, 24)] + _t17 * cov[(4, 24)])
+        pht[(24, 0)] = _t15 * cov[(4, 24)] + _t16 * cov[(3, 24)] + _t17 * cov[(5, 24)]
             - _t21 * cov[(6, 24)] - _t25 * cov[(7, 24)] - _t29 * cov[(8, 24)]
             - u.c_bn[(0, 0)] * cov[(18, 24)] - u.c_bn[(0, 1)] * cov[(19, 24)]
             - u.c_bn[(0, 2)] * cov[(20, 24)];
-        pht[(24, 1)] = _t30 * cov[(5, 24)] + (_t31 * cov[(3, 24)] + _t32 * cov[(4, 24)])
+        pht[(24, 1)] = _t30 * cov[(4, 24)] + _t31 * cov[(3, 24)] + _t32 * cov[(5, 24)]
             - _t33 * cov[(6, 24)] - _t34 * cov[(7, 24)] - _t35 * cov[(8, 24)]
             - u.c_bn[(1, 0)] * cov[(18, 24)] - u.c_bn[(1, 1)] * cov[(19, 24)]
             - u.c_bn[(1, 2)] * cov[(20, 24)];
-        pht[(24, 2)] = _t36 * cov[(5, 24)] + (_t37 * cov[(3, 24)] + _t38 * cov[(4, 24)])
+        pht[(24, 2)] = _t36 * cov[(4, 24)] + _t37 * cov[(3, 24)] + _t38 * cov[(5, 24)]
             - _t39 * cov[(6, 24)] - _t40 * cov[(7, 24)] - _t41 * cov[(8, 24)]
             - u.c_bn[(2, 0)] * cov[(18, 24)] - u.c_bn[(2, 1)] * cov[(19, 24)]
             - u.c_bn[(2, 2)] * cov[(20, 24)];
-        s[(0, 0)] = _t15 * _t48 + (_t16 * _t42 + _t17 * _t45) - _t21 * _t51 - _t25 * _t54
+        s[(0, 0)] = _t15 * _t45 + _t16 * _t42 + _t17 * _t48 - _t21 * _t51 - _t25 * _t54
             - _t29 * _t57 - u.c_bn[(0, 0)] * _t60 - u.c_bn[(0, 1)] * _t63
             - u.c_bn[(0, 2)] * _t66;
-        s[(0, 1)] = _t15 * _t49 + (_t16 * _t43 + _t17 * _t46) - _t21 * _t52 - _t25 * _t55
+        s[(0, 1)] = _t15 * _t46 + _t16 * _t43 + _t17 * _t49 - _t21 * _t52 - _t25 * _t55
             - _t29 * _t58 - u.c_bn[(0, 0)] * _t61 - u.c_bn[(0, 1)] * _t64
             - u.c_bn[(0, 2)] * _t67;
-        s[(0, 2)] = _t15 * _t50 + (_t16 * _t44 + _t17 * _t47) - _t21 * _t53 - _t25 * _t56
+        s[(0, 2)] = _t15 * _t47 + _t16 * _t44 + _t17 * _t50 - _t21 * _t53 - _t25 * _t56
             - _t29 * _t59 - u.c_bn[(0, 0)] * _t62 - u.c_bn[(0, 1)] * _t65
             - u.c_bn[(0, 2)] * _t68;
-        s[(1, 1)] = _t30 * _t49 + (_t31 * _t43 + _t32 * _t46) - _t33 * _t52 - _t34 * _t55
+        s[(1, 1)] = _t30 * _t46 + _t31 * _t43 + _t32 * _t49 - _t33 * _t52 - _t34 * _t55
             - _t35 * _t58 - u.c_bn[(1, 0)] * _t61 - u.c_bn[(1, 1)] * _t64
             - u.c_bn[(1, 2)] * _t67;
-        s[(1, 2)] = _t30 * _t50 + (_t31 * _t44 + _t32 * _t47) - _t33 * _t53 - _t34 * _t56
+        s[(1, 2)] = _t30 * _t47 + _t31 * _t44 + _t32 * _t50 - _t33 * _t53 - _t34 * _t56
             - _t35 * _t59 - u.c_bn[(1, 0)] * _t62 - u.c_bn[(1, 1)] * _t65
             - u.c_bn[(1, 2)] * _t68;
-        s[(2, 2)] = _t36 * _t50 + (_t37 * _t44 + _t38 * _t47) - _t39 * _t53 - _t40 * _t56
+        s[(2, 2)] = _t36 * _t47 + _t37 * _t44 + _t38 * _t50 - _t39 * _t53 - _t40 * _t56
             - _t41 * _t59 - u.c_bn[(2, 0)] * _t62 - u.c_bn[(2, 1)] * _t65
             - u.c_bn[(2, 2)] * _t68;
         for i in 0..3 {
@@ -2190,7 +2146,7 @@ Total ops: 2*/
         aux: &(),
     ) -> ::nav_runtime::nalgebra::SVector<f64, 1> {
         let mut out = ::nav_runtime::nalgebra::SVector::<f64, 1>::zeros();
-        out[0] = -(x[8] + x[21]);
+        out[0] = -(x[21] + x[8]);
         out
     }
     /**`H = dh/dx`.
@@ -2221,37 +2177,37 @@ Total ops: 53*/
         ::nav_runtime::nalgebra::SMatrix<f64, 25, 1>,
         ::nav_runtime::nalgebra::SMatrix<f64, 1, 1>,
     ) {
-        let _t0 = cov[(8, 8)] + cov[(8, 21)];
+        let _t0 = cov[(8, 21)] + cov[(8, 8)];
         let _t1 = cov[(8, 21)] + cov[(21, 21)];
         let mut h = ::nav_runtime::nalgebra::SVector::<f64, 1>::zeros();
         let mut pht = ::nav_runtime::nalgebra::SMatrix::<f64, 25, 1>::zeros();
         let mut s = ::nav_runtime::nalgebra::SMatrix::<f64, 1, 1>::zeros();
-        h[0] = -(x[8] + x[21]);
-        pht[(0, 0)] = -(cov[(0, 8)] + cov[(0, 21)]);
-        pht[(1, 0)] = -(cov[(1, 8)] + cov[(1, 21)]);
-        pht[(2, 0)] = -(cov[(2, 8)] + cov[(2, 21)]);
-        pht[(3, 0)] = -(cov[(3, 8)] + cov[(3, 21)]);
-        pht[(4, 0)] = -(cov[(4, 8)] + cov[(4, 21)]);
-        pht[(5, 0)] = -(cov[(5, 8)] + cov[(5, 21)]);
-        pht[(6, 0)] = -(cov[(6, 8)] + cov[(6, 21)]);
-        pht[(7, 0)] = -(cov[(7, 8)] + cov[(7, 21)]);
+        h[0] = -(x[21] + x[8]);
+        pht[(0, 0)] = -(cov[(0, 21)] + cov[(0, 8)]);
+        pht[(1, 0)] = -(cov[(1, 21)] + cov[(1, 8)]);
+        pht[(2, 0)] = -(cov[(2, 21)] + cov[(2, 8)]);
+        pht[(3, 0)] = -(cov[(3, 21)] + cov[(3, 8)]);
+        pht[(4, 0)] = -(cov[(4, 21)] + cov[(4, 8)]);
+        pht[(5, 0)] = -(cov[(5, 21)] + cov[(5, 8)]);
+        pht[(6, 0)] = -(cov[(6, 21)] + cov[(6, 8)]);
+        pht[(7, 0)] = -(cov[(7, 21)] + cov[(7, 8)]);
         pht[(8, 0)] = -_t0;
-        pht[(9, 0)] = -(cov[(8, 9)] + cov[(9, 21)]);
-        pht[(10, 0)] = -(cov[(8, 10)] + cov[(10, 21)]);
-        pht[(11, 0)] = -(cov[(8, 11)] + cov[(11, 21)]);
-        pht[(12, 0)] = -(cov[(8, 12)] + cov[(12, 21)]);
-        pht[(13, 0)] = -(cov[(8, 13)] + cov[(13, 21)]);
-        pht[(14, 0)] = -(cov[(8, 14)] + cov[(14, 21)]);
-        pht[(15, 0)] = -(cov[(8, 15)] + cov[(15, 21)]);
-        pht[(16, 0)] = -(cov[(8, 16)] + cov[(16, 21)]);
-        pht[(17, 0)] = -(cov[(8, 17)] + cov[(17, 21)]);
-        pht[(18, 0)] = -(cov[(8, 18)] + cov[(18, 21)]);
-        pht[(19, 0)] = -(cov[(8, 19)] + cov[(19, 21)]);
-        pht[(20, 0)] = -(cov[(8, 20)] + cov[(20, 21)]);
+        pht[(9, 0)] = -(cov[(9, 21)] + cov[(8, 9)]);
+        pht[(10, 0)] = -(cov[(10, 21)] + cov[(8, 10)]);
+        pht[(11, 0)] = -(cov[(11, 21)] + cov[(8, 11)]);
+        pht[(12, 0)] = -(cov[(12, 21)] + cov[(8, 12)]);
+        pht[(13, 0)] = -(cov[(13, 21)] + cov[(8, 13)]);
+        pht[(14, 0)] = -(cov[(14, 21)] + cov[(8, 14)]);
+        pht[(15, 0)] = -(cov[(15, 21)] + cov[(8, 15)]);
+        pht[(16, 0)] = -(cov[(16, 21)] + cov[(8, 16)]);
+        pht[(17, 0)] = -(cov[(17, 21)] + cov[(8, 17)]);
+        pht[(18, 0)] = -(cov[(18, 21)] + cov[(8, 18)]);
+        pht[(19, 0)] = -(cov[(19, 21)] + cov[(8, 19)]);
+        pht[(20, 0)] = -(cov[(20, 21)] + cov[(8, 20)]);
         pht[(21, 0)] = -_t1;
-        pht[(22, 0)] = -(cov[(8, 22)] + cov[(21, 22)]);
-        pht[(23, 0)] = -(cov[(8, 23)] + cov[(21, 23)]);
-        pht[(24, 0)] = -(cov[(8, 24)] + cov[(21, 24)]);
+        pht[(22, 0)] = -(cov[(21, 22)] + cov[(8, 22)]);
+        pht[(23, 0)] = -(cov[(21, 23)] + cov[(8, 23)]);
+        pht[(24, 0)] = -(cov[(21, 24)] + cov[(8, 24)]);
         s[(0, 0)] = _t0 + _t1;
         for i in 0..1 {
             for j in 0..i {
@@ -2306,8 +2262,8 @@ Total ops: 12*/
         let mut out = ::nav_runtime::nalgebra::SVector::<f64, 1>::zeros();
         out[0] = ::nav_runtime::math::atan2(u.c_bn[(1, 0)], u.c_bn[(0, 0)])
             - ::nav_runtime::math::atan2(
-                u.c_bn[(1, 0)] + (u.c_bn[(0, 0)] * x[8] - u.c_bn[(2, 0)] * x[6]),
-                u.c_bn[(0, 0)] + (x[7] * u.c_bn[(2, 0)] - x[8] * u.c_bn[(1, 0)]),
+                u.c_bn[(1, 0)] + (x[8] * u.c_bn[(0, 0)] - u.c_bn[(2, 0)] * x[6]),
+                u.c_bn[(2, 0)] * x[7] - u.c_bn[(1, 0)] * x[8] + u.c_bn[(0, 0)],
             ) - x[21];
         out
     }
@@ -2320,13 +2276,13 @@ Total ops: 21*/
         p: &Sdins25Params,
         aux: &(),
     ) -> ::nav_runtime::nalgebra::SMatrix<f64, 1, 25> {
-        let _t0 = x[7] * u.c_bn[(2, 0)] - u.c_bn[(1, 0)] * x[8] + u.c_bn[(0, 0)];
-        let _t1 = u.c_bn[(1, 0)] + (x[8] * u.c_bn[(0, 0)] - u.c_bn[(2, 0)] * x[6]);
+        let _t0 = u.c_bn[(0, 0)] * x[8] - x[6] * u.c_bn[(2, 0)] + u.c_bn[(1, 0)];
+        let _t1 = u.c_bn[(0, 0)] + (u.c_bn[(2, 0)] * x[7] - x[8] * u.c_bn[(1, 0)]);
         let _t2 = 1.0 / (_t0 * _t0 + _t1 * _t1);
         let mut out = ::nav_runtime::nalgebra::SMatrix::<f64, 1, 25>::zeros();
-        out[(0, 6)] = u.c_bn[(2, 0)] * _t0 * _t2;
-        out[(0, 7)] = _t2 * (u.c_bn[(2, 0)] * _t1);
-        out[(0, 8)] = -(_t2 * (u.c_bn[(0, 0)] * _t0 + u.c_bn[(1, 0)] * _t1));
+        out[(0, 6)] = _t2 * (u.c_bn[(2, 0)] * _t1);
+        out[(0, 7)] = _t2 * (u.c_bn[(2, 0)] * _t0);
+        out[(0, 8)] = -(_t2 * (u.c_bn[(1, 0)] * _t0 + u.c_bn[(0, 0)] * _t1));
         out[(0, 21)] = -1.0;
         out
     }
@@ -2344,71 +2300,71 @@ Total ops: 181*/
         ::nav_runtime::nalgebra::SMatrix<f64, 25, 1>,
         ::nav_runtime::nalgebra::SMatrix<f64, 1, 1>,
     ) {
-        let _t0 = u.c_bn[(1, 0)] + (u.c_bn[(0, 0)] * x[8] - u.c_bn[(2, 0)] * x[6]);
-        let _t1 = u.c_bn[(0, 0)] + (x[7] * u.c_bn[(2, 0)] - x[8] * u.c_bn[(1, 0)]);
-        let _t2 = 1.0 / (_t1 * _t1 + _t0 * _t0);
-        let _t3 = _t2 * (u.c_bn[(2, 0)] * _t1);
-        let _t4 = _t2 * (u.c_bn[(2, 0)] * _t0);
-        let _t5 = (u.c_bn[(0, 0)] * _t1 + u.c_bn[(1, 0)] * _t0) * _t2;
-        let _t6 = _t3 * cov[(6, 6)] + _t4 * cov[(6, 7)] - _t5 * cov[(6, 8)]
+        let _t0 = u.c_bn[(1, 0)] + (x[8] * u.c_bn[(0, 0)] - u.c_bn[(2, 0)] * x[6]);
+        let _t1 = u.c_bn[(2, 0)] * x[7] - u.c_bn[(1, 0)] * x[8] + u.c_bn[(0, 0)];
+        let _t2 = 1.0 / (_t0 * _t0 + _t1 * _t1);
+        let _t3 = _t2 * (u.c_bn[(2, 0)] * _t0);
+        let _t4 = _t2 * (u.c_bn[(2, 0)] * _t1);
+        let _t5 = _t2 * (u.c_bn[(1, 0)] * _t0 + u.c_bn[(0, 0)] * _t1);
+        let _t6 = _t3 * cov[(6, 7)] + _t4 * cov[(6, 6)] - _t5 * cov[(6, 8)]
             - cov[(6, 21)];
-        let _t7 = _t3 * cov[(6, 7)] + _t4 * cov[(7, 7)] - _t5 * cov[(7, 8)]
+        let _t7 = _t3 * cov[(7, 7)] + _t4 * cov[(6, 7)] - _t5 * cov[(7, 8)]
             - cov[(7, 21)];
-        let _t8 = _t3 * cov[(6, 8)] + _t4 * cov[(7, 8)] - _t5 * cov[(8, 8)]
+        let _t8 = _t3 * cov[(7, 8)] + _t4 * cov[(6, 8)] - _t5 * cov[(8, 8)]
             - cov[(8, 21)];
-        let _t9 = _t3 * cov[(6, 21)] + _t4 * cov[(7, 21)] - _t5 * cov[(8, 21)];
+        let _t9 = _t3 * cov[(7, 21)] + _t4 * cov[(6, 21)] - _t5 * cov[(8, 21)];
         let mut h = ::nav_runtime::nalgebra::SVector::<f64, 1>::zeros();
         let mut pht = ::nav_runtime::nalgebra::SMatrix::<f64, 25, 1>::zeros();
         let mut s = ::nav_runtime::nalgebra::SMatrix::<f64, 1, 1>::zeros();
         h[0] = ::nav_runtime::math::atan2(u.c_bn[(1, 0)], u.c_bn[(0, 0)])
             - ::nav_runtime::math::atan2(_t0, _t1) - x[21];
-        pht[(0, 0)] = cov[(0, 6)] * _t3 + cov[(0, 7)] * _t4 - cov[(0, 8)] * _t5
+        pht[(0, 0)] = _t3 * cov[(0, 7)] + _t4 * cov[(0, 6)] - _t5 * cov[(0, 8)]
             - cov[(0, 21)];
-        pht[(1, 0)] = _t3 * cov[(1, 6)] + _t4 * cov[(1, 7)] - _t5 * cov[(1, 8)]
+        pht[(1, 0)] = _t3 * cov[(1, 7)] + _t4 * cov[(1, 6)] - _t5 * cov[(1, 8)]
             - cov[(1, 21)];
-        pht[(2, 0)] = _t3 * cov[(2, 6)] + _t4 * cov[(2, 7)] - _t5 * cov[(2, 8)]
+        pht[(2, 0)] = _t3 * cov[(2, 7)] + _t4 * cov[(2, 6)] - _t5 * cov[(2, 8)]
             - cov[(2, 21)];
-        pht[(3, 0)] = _t3 * cov[(3, 6)] + _t4 * cov[(3, 7)] - _t5 * cov[(3, 8)]
+        pht[(3, 0)] = _t3 * cov[(3, 7)] + _t4 * cov[(3, 6)] - _t5 * cov[(3, 8)]
             - cov[(3, 21)];
-        pht[(4, 0)] = _t3 * cov[(4, 6)] + _t4 * cov[(4, 7)] - _t5 * cov[(4, 8)]
+        pht[(4, 0)] = _t3 * cov[(4, 7)] + _t4 * cov[(4, 6)] - _t5 * cov[(4, 8)]
             - cov[(4, 21)];
-        pht[(5, 0)] = _t3 * cov[(5, 6)] + _t4 * cov[(5, 7)] - _t5 * cov[(5, 8)]
+        pht[(5, 0)] = _t3 * cov[(5, 7)] + _t4 * cov[(5, 6)] - _t5 * cov[(5, 8)]
             - cov[(5, 21)];
         pht[(6, 0)] = _t6;
         pht[(7, 0)] = _t7;
         pht[(8, 0)] = _t8;
-        pht[(9, 0)] = _t3 * cov[(6, 9)] + _t4 * cov[(7, 9)] - _t5 * cov[(8, 9)]
+        pht[(9, 0)] = _t3 * cov[(7, 9)] + _t4 * cov[(6, 9)] - _t5 * cov[(8, 9)]
             - cov[(9, 21)];
-        pht[(10, 0)] = _t3 * cov[(6, 10)] + _t4 * cov[(7, 10)] - _t5 * cov[(8, 10)]
+        pht[(10, 0)] = _t3 * cov[(7, 10)] + _t4 * cov[(6, 10)] - _t5 * cov[(8, 10)]
             - cov[(10, 21)];
-        pht[(11, 0)] = _t3 * cov[(6, 11)] + _t4 * cov[(7, 11)] - _t5 * cov[(8, 11)]
+        pht[(11, 0)] = _t3 * cov[(7, 11)] + _t4 * cov[(6, 11)] - _t5 * cov[(8, 11)]
             - cov[(11, 21)];
-        pht[(12, 0)] = _t3 * cov[(6, 12)] + _t4 * cov[(7, 12)] - _t5 * cov[(8, 12)]
+        pht[(12, 0)] = _t3 * cov[(7, 12)] + _t4 * cov[(6, 12)] - _t5 * cov[(8, 12)]
             - cov[(12, 21)];
-        pht[(13, 0)] = _t3 * cov[(6, 13)] + _t4 * cov[(7, 13)] - _t5 * cov[(8, 13)]
+        pht[(13, 0)] = _t3 * cov[(7, 13)] + _t4 * cov[(6, 13)] - _t5 * cov[(8, 13)]
             - cov[(13, 21)];
-        pht[(14, 0)] = _t3 * cov[(6, 14)] + _t4 * cov[(7, 14)] - _t5 * cov[(8, 14)]
+        pht[(14, 0)] = _t3 * cov[(7, 14)] + _t4 * cov[(6, 14)] - _t5 * cov[(8, 14)]
             - cov[(14, 21)];
-        pht[(15, 0)] = _t3 * cov[(6, 15)] + _t4 * cov[(7, 15)] - _t5 * cov[(8, 15)]
+        pht[(15, 0)] = _t3 * cov[(7, 15)] + _t4 * cov[(6, 15)] - _t5 * cov[(8, 15)]
             - cov[(15, 21)];
-        pht[(16, 0)] = _t3 * cov[(6, 16)] + _t4 * cov[(7, 16)] - _t5 * cov[(8, 16)]
+        pht[(16, 0)] = _t3 * cov[(7, 16)] + _t4 * cov[(6, 16)] - _t5 * cov[(8, 16)]
             - cov[(16, 21)];
-        pht[(17, 0)] = _t3 * cov[(6, 17)] + _t4 * cov[(7, 17)] - _t5 * cov[(8, 17)]
+        pht[(17, 0)] = _t3 * cov[(7, 17)] + _t4 * cov[(6, 17)] - _t5 * cov[(8, 17)]
             - cov[(17, 21)];
-        pht[(18, 0)] = _t3 * cov[(6, 18)] + _t4 * cov[(7, 18)] - _t5 * cov[(8, 18)]
+        pht[(18, 0)] = _t3 * cov[(7, 18)] + _t4 * cov[(6, 18)] - _t5 * cov[(8, 18)]
             - cov[(18, 21)];
-        pht[(19, 0)] = _t3 * cov[(6, 19)] + _t4 * cov[(7, 19)] - _t5 * cov[(8, 19)]
+        pht[(19, 0)] = _t3 * cov[(7, 19)] + _t4 * cov[(6, 19)] - _t5 * cov[(8, 19)]
             - cov[(19, 21)];
-        pht[(20, 0)] = _t3 * cov[(6, 20)] + _t4 * cov[(7, 20)] - _t5 * cov[(8, 20)]
+        pht[(20, 0)] = _t3 * cov[(7, 20)] + _t4 * cov[(6, 20)] - _t5 * cov[(8, 20)]
             - cov[(20, 21)];
         pht[(21, 0)] = _t9 - cov[(21, 21)];
-        pht[(22, 0)] = _t3 * cov[(6, 22)] + _t4 * cov[(7, 22)] - _t5 * cov[(8, 22)]
+        pht[(22, 0)] = _t3 * cov[(7, 22)] + _t4 * cov[(6, 22)] - _t5 * cov[(8, 22)]
             - cov[(21, 22)];
-        pht[(23, 0)] = _t3 * cov[(6, 23)] + _t4 * cov[(7, 23)] - _t5 * cov[(8, 23)]
+        pht[(23, 0)] = _t3 * cov[(7, 23)] + _t4 * cov[(6, 23)] - _t5 * cov[(8, 23)]
             - cov[(21, 23)];
-        pht[(24, 0)] = _t3 * cov[(6, 24)] + _t4 * cov[(7, 24)] - _t5 * cov[(8, 24)]
+        pht[(24, 0)] = _t3 * cov[(7, 24)] + _t4 * cov[(6, 24)] - _t5 * cov[(8, 24)]
             - cov[(21, 24)];
-        s[(0, 0)] = cov[(21, 21)] - _t9 + (_t3 * _t6 + _t4 * _t7 - _t5 * _t8);
+        s[(0, 0)] = _t3 * _t7 + _t4 * _t6 - _t5 * _t8 + (cov[(21, 21)] - _t9);
         for i in 0..1 {
             for j in 0..i {
                 s[(i, j)] = s[(j, i)];
@@ -2465,12 +2421,12 @@ Total ops: 24*/
         aux: &Sdins25UsblAux,
     ) -> ::nav_runtime::nalgebra::SVector<f64, 2> {
         let (_t0, _t3) = ::nav_runtime::math::sin_cos(u.latitude);
-        let _t1 = 1.0 - _t0 * (0.0066943799901413165 * _t0);
+        let _t1 = 1.0 - _t0 * (_t0 * 0.0066943799901413165);
         let _t2 = ::nav_runtime::math::sqrt(_t1);
         let mut out = ::nav_runtime::nalgebra::SVector::<f64, 2>::zeros();
-        out[0] = x[0] * (u.height + 6335439.3272928195 / (_t1 * _t2)) - x[15]
-            - (x[23] * aux.relative_position[2] - x[24] * aux.relative_position[1]);
-        out[1] = x[1] * (_t3 * (u.height + 6378137.0 / _t2)) - x[16]
+        out[0] = (6335439.3272928195 / (_t1 * _t2) + u.height) * x[0] - x[15]
+            - (aux.relative_position[2] * x[23] - aux.relative_position[1] * x[24]);
+        out[1] = (u.height + 6378137.0 / _t2) * _t3 * x[1] - x[16]
             - (x[24] * aux.relative_position[0] - aux.relative_position[2] * x[22]);
         out
     }
@@ -2484,14 +2440,14 @@ Total ops: 14*/
         aux: &Sdins25UsblAux,
     ) -> ::nav_runtime::nalgebra::SMatrix<f64, 2, 25> {
         let (_t0, _t3) = ::nav_runtime::math::sin_cos(u.latitude);
-        let _t1 = 1.0 - _t0 * (0.0066943799901413165 * _t0);
+        let _t1 = 1.0 - _t0 * (_t0 * 0.0066943799901413165);
         let _t2 = ::nav_runtime::math::sqrt(_t1);
         let mut out = ::nav_runtime::nalgebra::SMatrix::<f64, 2, 25>::zeros();
-        out[(0, 0)] = u.height + 6335439.3272928195 / (_t1 * _t2);
+        out[(0, 0)] = 6335439.3272928195 / (_t1 * _t2) + u.height;
         out[(0, 15)] = -1.0;
         out[(0, 23)] = -aux.relative_position[2];
         out[(0, 24)] = aux.relative_position[1];
-        out[(1, 1)] = _t3 * (u.height + 6378137.0 / _t2);
+        out[(1, 1)] = (u.height + 6378137.0 / _t2) * _t3;
         out[(1, 16)] = -1.0;
         out[(1, 22)] = aux.relative_position[2];
         out[(1, 24)] = -aux.relative_position[0];
@@ -2512,182 +2468,182 @@ Total ops: 343*/
         ::nav_runtime::nalgebra::SMatrix<f64, 2, 2>,
     ) {
         let (_t0, _t4) = ::nav_runtime::math::sin_cos(u.latitude);
-        let _t1 = 1.0 - _t0 * (0.0066943799901413165 * _t0);
+        let _t1 = 1.0 - _t0 * (_t0 * 0.0066943799901413165);
         let _t2 = ::nav_runtime::math::sqrt(_t1);
-        let _t3 = u.height + 6335439.3272928195 / (_t1 * _t2);
-        let _t5 = _t4 * (u.height + 6378137.0 / _t2);
-        let _t6 = aux.relative_position[1] * cov[(0, 24)]
-            + (_t3 * cov[(0, 0)] - cov[(0, 15)]
-                - aux.relative_position[2] * cov[(0, 23)]);
-        let _t7 = aux.relative_position[2] * cov[(0, 22)]
-            + (_t5 * cov[(0, 1)] - cov[(0, 16)])
+        let _t3 = 6335439.3272928195 / (_t1 * _t2) + u.height;
+        let _t5 = (u.height + 6378137.0 / _t2) * _t4;
+        let _t6 = _t3 * cov[(0, 0)] - cov[(0, 15)]
+            - aux.relative_position[2] * cov[(0, 23)]
+            + aux.relative_position[1] * cov[(0, 24)];
+        let _t7 = _t5 * cov[(0, 1)] - cov[(0, 16)]
+            + aux.relative_position[2] * cov[(0, 22)]
             - aux.relative_position[0] * cov[(0, 24)];
-        let _t8 = aux.relative_position[2] * cov[(1, 22)]
-            + (_t5 * cov[(1, 1)] - cov[(1, 16)])
+        let _t8 = _t5 * cov[(1, 1)] - cov[(1, 16)]
+            + aux.relative_position[2] * cov[(1, 22)]
             - aux.relative_position[0] * cov[(1, 24)];
-        let _t9 = aux.relative_position[1] * cov[(15, 24)]
-            + (_t3 * cov[(0, 15)] - cov[(15, 15)]
-                - aux.relative_position[2] * cov[(15, 23)]);
-        let _t10 = aux.relative_position[2] * cov[(15, 22)]
-            + (_t5 * cov[(1, 15)] - cov[(15, 16)]);
+        let _t9 = _t3 * cov[(0, 15)] - cov[(15, 15)]
+            - aux.relative_position[2] * cov[(15, 23)]
+            + aux.relative_position[1] * cov[(15, 24)];
+        let _t10 = _t5 * cov[(1, 15)] - cov[(15, 16)]
+            + aux.relative_position[2] * cov[(15, 22)];
         let _t11 = aux.relative_position[0] * cov[(15, 24)];
-        let _t12 = aux.relative_position[2] * cov[(16, 22)]
-            + (_t5 * cov[(1, 16)] - cov[(16, 16)]);
+        let _t12 = _t5 * cov[(1, 16)] - cov[(16, 16)]
+            + aux.relative_position[2] * cov[(16, 22)];
         let _t13 = aux.relative_position[0] * cov[(16, 24)];
         let _t14 = aux.relative_position[2] * cov[(22, 23)];
-        let _t15 = aux.relative_position[2] * cov[(22, 22)]
-            + (_t5 * cov[(1, 22)] - cov[(16, 22)])
+        let _t15 = _t5 * cov[(1, 22)] - cov[(16, 22)]
+            + aux.relative_position[2] * cov[(22, 22)]
             - aux.relative_position[0] * cov[(22, 24)];
-        let _t16 = aux.relative_position[1] * cov[(23, 24)]
-            + (_t3 * cov[(0, 23)] - cov[(15, 23)]
-                - aux.relative_position[2] * cov[(23, 23)]);
+        let _t16 = _t3 * cov[(0, 23)] - cov[(15, 23)]
+            - aux.relative_position[2] * cov[(23, 23)]
+            + aux.relative_position[1] * cov[(23, 24)];
         let _t17 = _t14 + (_t5 * cov[(1, 23)] - cov[(16, 23)])
             - aux.relative_position[0] * cov[(23, 24)];
-        let _t18 = aux.relative_position[1] * cov[(24, 24)]
-            + (_t3 * cov[(0, 24)] - cov[(15, 24)]
-                - aux.relative_position[2] * cov[(23, 24)]);
-        let _t19 = aux.relative_position[2] * cov[(22, 24)]
-            + (_t5 * cov[(1, 24)] - cov[(16, 24)])
+        let _t18 = _t3 * cov[(0, 24)] - cov[(15, 24)]
+            - aux.relative_position[2] * cov[(23, 24)]
+            + aux.relative_position[1] * cov[(24, 24)];
+        let _t19 = _t5 * cov[(1, 24)] - cov[(16, 24)]
+            + aux.relative_position[2] * cov[(22, 24)]
             - aux.relative_position[0] * cov[(24, 24)];
         let mut h = ::nav_runtime::nalgebra::SVector::<f64, 2>::zeros();
         let mut pht = ::nav_runtime::nalgebra::SMatrix::<f64, 25, 2>::zeros();
         let mut s = ::nav_runtime::nalgebra::SMatrix::<f64, 2, 2>::zeros();
-        h[0] = x[0] * _t3 - x[15]
-            - (x[23] * aux.relative_position[2] - x[24] * aux.relative_position[1]);
-        h[1] = x[1] * _t5 - x[16]
+        h[0] = _t3 * x[0] - x[15]
+            - (aux.relative_position[2] * x[23] - aux.relative_position[1] * x[24]);
+        h[1] = _t5 * x[1] - x[16]
             - (x[24] * aux.relative_position[0] - aux.relative_position[2] * x[22]);
         pht[(0, 0)] = _t6;
         pht[(0, 1)] = _t7;
-        pht[(1, 0)] = aux.relative_position[1] * cov[(1, 24)]
-            + (_t3 * cov[(0, 1)] - cov[(1, 15)]
-                - aux.relative_position[2] * cov[(1, 23)]);
+        pht[(1, 0)] = _t3 * cov[(0, 1)] - cov[(1, 15)]
+            - aux.relative_position[2] * cov[(1, 23)]
+            + aux.relative_position[1] * cov[(1, 24)];
         pht[(1, 1)] = _t8;
-        pht[(2, 0)] = aux.relative_position[1] * cov[(2, 24)]
-            + (_t3 * cov[(0, 2)] - cov[(2, 15)]
-                - aux.relative_position[2] * cov[(2, 23)]);
-        pht[(2, 1)] = aux.relative_position[2] * cov[(2, 22)]
-            + (_t5 * cov[(1, 2)] - cov[(2, 16)])
+        pht[(2, 0)] = _t3 * cov[(0, 2)] - cov[(2, 15)]
+            - aux.relative_position[2] * cov[(2, 23)]
+            + aux.relative_position[1] * cov[(2, 24)];
+        pht[(2, 1)] = _t5 * cov[(1, 2)] - cov[(2, 16)]
+            + aux.relative_position[2] * cov[(2, 22)]
             - aux.relative_position[0] * cov[(2, 24)];
-        pht[(3, 0)] = aux.relative_position[1] * cov[(3, 24)]
-            + (_t3 * cov[(0, 3)] - cov[(3, 15)]
-                - aux.relative_position[2] * cov[(3, 23)]);
-        pht[(3, 1)] = aux.relative_position[2] * cov[(3, 22)]
-            + (_t5 * cov[(1, 3)] - cov[(3, 16)])
+        pht[(3, 0)] = _t3 * cov[(0, 3)] - cov[(3, 15)]
+            - aux.relative_position[2] * cov[(3, 23)]
+            + aux.relative_position[1] * cov[(3, 24)];
+        pht[(3, 1)] = _t5 * cov[(1, 3)] - cov[(3, 16)]
+            + aux.relative_position[2] * cov[(3, 22)]
             - aux.relative_position[0] * cov[(3, 24)];
-        pht[(4, 0)] = aux.relative_position[1] * cov[(4, 24)]
-            + (_t3 * cov[(0, 4)] - cov[(4, 15)]
-                - aux.relative_position[2] * cov[(4, 23)]);
-        pht[(4, 1)] = aux.relative_position[2] * cov[(4, 22)]
-            + (_t5 * cov[(1, 4)] - cov[(4, 16)])
+        pht[(4, 0)] = _t3 * cov[(0, 4)] - cov[(4, 15)]
+            - aux.relative_position[2] * cov[(4, 23)]
+            + aux.relative_position[1] * cov[(4, 24)];
+        pht[(4, 1)] = _t5 * cov[(1, 4)] - cov[(4, 16)]
+            + aux.relative_position[2] * cov[(4, 22)]
             - aux.relative_position[0] * cov[(4, 24)];
-        pht[(5, 0)] = aux.relative_position[1] * cov[(5, 24)]
-            + (_t3 * cov[(0, 5)] - cov[(5, 15)]
-                - aux.relative_position[2] * cov[(5, 23)]);
-        pht[(5, 1)] = aux.relative_position[2] * cov[(5, 22)]
-            + (_t5 * cov[(1, 5)] - cov[(5, 16)])
+        pht[(5, 0)] = _t3 * cov[(0, 5)] - cov[(5, 15)]
+            - aux.relative_position[2] * cov[(5, 23)]
+            + aux.relative_position[1] * cov[(5, 24)];
+        pht[(5, 1)] = _t5 * cov[(1, 5)] - cov[(5, 16)]
+            + aux.relative_position[2] * cov[(5, 22)]
             - aux.relative_position[0] * cov[(5, 24)];
-        pht[(6, 0)] = aux.relative_position[1] * cov[(6, 24)]
-            + (_t3 * cov[(0, 6)] - cov[(6, 15)]
-                - aux.relative_position[2] * cov[(6, 23)]);
-        pht[(6, 1)] = aux.relative_position[2] * cov[(6, 22)]
-            + (_t5 * cov[(1, 6)] - cov[(6, 16)])
+        pht[(6, 0)] = _t3 * cov[(0, 6)] - cov[(6, 15)]
+            - aux.relative_position[2] * cov[(6, 23)]
+            + aux.relative_position[1] * cov[(6, 24)];
+        pht[(6, 1)] = _t5 * cov[(1, 6)] - cov[(6, 16)]
+            + aux.relative_position[2] * cov[(6, 22)]
             - aux.relative_position[0] * cov[(6, 24)];
-        pht[(7, 0)] = aux.relative_position[1] * cov[(7, 24)]
-            + (_t3 * cov[(0, 7)] - cov[(7, 15)]
-                - aux.relative_position[2] * cov[(7, 23)]);
-        pht[(7, 1)] = aux.relative_position[2] * cov[(7, 22)]
-            + (_t5 * cov[(1, 7)] - cov[(7, 16)])
+        pht[(7, 0)] = _t3 * cov[(0, 7)] - cov[(7, 15)]
+            - aux.relative_position[2] * cov[(7, 23)]
+            + aux.relative_position[1] * cov[(7, 24)];
+        pht[(7, 1)] = _t5 * cov[(1, 7)] - cov[(7, 16)]
+            + aux.relative_position[2] * cov[(7, 22)]
             - aux.relative_position[0] * cov[(7, 24)];
-        pht[(8, 0)] = aux.relative_position[1] * cov[(8, 24)]
-            + (_t3 * cov[(0, 8)] - cov[(8, 15)]
-                - aux.relative_position[2] * cov[(8, 23)]);
-        pht[(8, 1)] = aux.relative_position[2] * cov[(8, 22)]
-            + (_t5 * cov[(1, 8)] - cov[(8, 16)])
+        pht[(8, 0)] = _t3 * cov[(0, 8)] - cov[(8, 15)]
+            - aux.relative_position[2] * cov[(8, 23)]
+            + aux.relative_position[1] * cov[(8, 24)];
+        pht[(8, 1)] = _t5 * cov[(1, 8)] - cov[(8, 16)]
+            + aux.relative_position[2] * cov[(8, 22)]
             - aux.relative_position[0] * cov[(8, 24)];
-        pht[(9, 0)] = aux.relative_position[1] * cov[(9, 24)]
-            + (_t3 * cov[(0, 9)] - cov[(9, 15)]
-                - aux.relative_position[2] * cov[(9, 23)]);
-        pht[(9, 1)] = aux.relative_position[2] * cov[(9, 22)]
-            + (_t5 * cov[(1, 9)] - cov[(9, 16)])
+        pht[(9, 0)] = _t3 * cov[(0, 9)] - cov[(9, 15)]
+            - aux.relative_position[2] * cov[(9, 23)]
+            + aux.relative_position[1] * cov[(9, 24)];
+        pht[(9, 1)] = _t5 * cov[(1, 9)] - cov[(9, 16)]
+            + aux.relative_position[2] * cov[(9, 22)]
             - aux.relative_position[0] * cov[(9, 24)];
-        pht[(10, 0)] = aux.relative_position[1] * cov[(10, 24)]
-            + (_t3 * cov[(0, 10)] - cov[(10, 15)]
-                - aux.relative_position[2] * cov[(10, 23)]);
-        pht[(10, 1)] = aux.relative_position[2] * cov[(10, 22)]
-            + (_t5 * cov[(1, 10)] - cov[(10, 16)])
+        pht[(10, 0)] = _t3 * cov[(0, 10)] - cov[(10, 15)]
+            - aux.relative_position[2] * cov[(10, 23)]
+            + aux.relative_position[1] * cov[(10, 24)];
+        pht[(10, 1)] = _t5 * cov[(1, 10)] - cov[(10, 16)]
+            + aux.relative_position[2] * cov[(10, 22)]
             - aux.relative_position[0] * cov[(10, 24)];
-        pht[(11, 0)] = aux.relative_position[1] * cov[(11, 24)]
-            + (_t3 * cov[(0, 11)] - cov[(11, 15)]
-                - aux.relative_position[2] * cov[(11, 23)]);
-        pht[(11, 1)] = aux.relative_position[2] * cov[(11, 22)]
-            + (_t5 * cov[(1, 11)] - cov[(11, 16)])
+        pht[(11, 0)] = _t3 * cov[(0, 11)] - cov[(11, 15)]
+            - aux.relative_position[2] * cov[(11, 23)]
+            + aux.relative_position[1] * cov[(11, 24)];
+        pht[(11, 1)] = _t5 * cov[(1, 11)] - cov[(11, 16)]
+            + aux.relative_position[2] * cov[(11, 22)]
             - aux.relative_position[0] * cov[(11, 24)];
-        pht[(12, 0)] = aux.relative_position[1] * cov[(12, 24)]
-            + (_t3 * cov[(0, 12)] - cov[(12, 15)]
-                - aux.relative_position[2] * cov[(12, 23)]);
-        pht[(12, 1)] = aux.relative_position[2] * cov[(12, 22)]
-            + (_t5 * cov[(1, 12)] - cov[(12, 16)])
+        pht[(12, 0)] = _t3 * cov[(0, 12)] - cov[(12, 15)]
+            - aux.relative_position[2] * cov[(12, 23)]
+            + aux.relative_position[1] * cov[(12, 24)];
+        pht[(12, 1)] = _t5 * cov[(1, 12)] - cov[(12, 16)]
+            + aux.relative_position[2] * cov[(12, 22)]
             - aux.relative_position[0] * cov[(12, 24)];
-        pht[(13, 0)] = aux.relative_position[1] * cov[(13, 24)]
-            + (_t3 * cov[(0, 13)] - cov[(13, 15)]
-                - aux.relative_position[2] * cov[(13, 23)]);
-        pht[(13, 1)] = aux.relative_position[2] * cov[(13, 22)]
-            + (_t5 * cov[(1, 13)] - cov[(13, 16)])
+        pht[(13, 0)] = _t3 * cov[(0, 13)] - cov[(13, 15)]
+            - aux.relative_position[2] * cov[(13, 23)]
+            + aux.relative_position[1] * cov[(13, 24)];
+        pht[(13, 1)] = _t5 * cov[(1, 13)] - cov[(13, 16)]
+            + aux.relative_position[2] * cov[(13, 22)]
             - aux.relative_position[0] * cov[(13, 24)];
-        pht[(14, 0)] = aux.relative_position[1] * cov[(14, 24)]
-            + (_t3 * cov[(0, 14)] - cov[(14, 15)]
-                - aux.relative_position[2] * cov[(14, 23)]);
-        pht[(14, 1)] = aux.relative_position[2] * cov[(14, 22)]
-            + (_t5 * cov[(1, 14)] - cov[(14, 16)])
+        pht[(14, 0)] = _t3 * cov[(0, 14)] - cov[(14, 15)]
+            - aux.relative_position[2] * cov[(14, 23)]
+            + aux.relative_position[1] * cov[(14, 24)];
+        pht[(14, 1)] = _t5 * cov[(1, 14)] - cov[(14, 16)]
+            + aux.relative_position[2] * cov[(14, 22)]
             - aux.relative_position[0] * cov[(14, 24)];
         pht[(15, 0)] = _t9;
         pht[(15, 1)] = _t10 - _t11;
-        pht[(16, 0)] = aux.relative_position[1] * cov[(16, 24)]
-            + (_t3 * cov[(0, 16)] - cov[(15, 16)]
-                - aux.relative_position[2] * cov[(16, 23)]);
+        pht[(16, 0)] = _t3 * cov[(0, 16)] - cov[(15, 16)]
+            - aux.relative_position[2] * cov[(16, 23)]
+            + aux.relative_position[1] * cov[(16, 24)];
         pht[(16, 1)] = _t12 - _t13;
-        pht[(17, 0)] = aux.relative_position[1] * cov[(17, 24)]
-            + (_t3 * cov[(0, 17)] - cov[(15, 17)]
-                - aux.relative_position[2] * cov[(17, 23)]);
-        pht[(17, 1)] = aux.relative_position[2] * cov[(17, 22)]
-            + (_t5 * cov[(1, 17)] - cov[(16, 17)])
+        pht[(17, 0)] = _t3 * cov[(0, 17)] - cov[(15, 17)]
+            - aux.relative_position[2] * cov[(17, 23)]
+            + aux.relative_position[1] * cov[(17, 24)];
+        pht[(17, 1)] = _t5 * cov[(1, 17)] - cov[(16, 17)]
+            + aux.relative_position[2] * cov[(17, 22)]
             - aux.relative_position[0] * cov[(17, 24)];
-        pht[(18, 0)] = aux.relative_position[1] * cov[(18, 24)]
-            + (_t3 * cov[(0, 18)] - cov[(15, 18)]
-                - aux.relative_position[2] * cov[(18, 23)]);
-        pht[(18, 1)] = aux.relative_position[2] * cov[(18, 22)]
-            + (_t5 * cov[(1, 18)] - cov[(16, 18)])
+        pht[(18, 0)] = _t3 * cov[(0, 18)] - cov[(15, 18)]
+            - aux.relative_position[2] * cov[(18, 23)]
+            + aux.relative_position[1] * cov[(18, 24)];
+        pht[(18, 1)] = _t5 * cov[(1, 18)] - cov[(16, 18)]
+            + aux.relative_position[2] * cov[(18, 22)]
             - aux.relative_position[0] * cov[(18, 24)];
-        pht[(19, 0)] = aux.relative_position[1] * cov[(19, 24)]
-            + (_t3 * cov[(0, 19)] - cov[(15, 19)]
-                - aux.relative_position[2] * cov[(19, 23)]);
-        pht[(19, 1)] = aux.relative_position[2] * cov[(19, 22)]
-            + (_t5 * cov[(1, 19)] - cov[(16, 19)])
+        pht[(19, 0)] = _t3 * cov[(0, 19)] - cov[(15, 19)]
+            - aux.relative_position[2] * cov[(19, 23)]
+            + aux.relative_position[1] * cov[(19, 24)];
+        pht[(19, 1)] = _t5 * cov[(1, 19)] - cov[(16, 19)]
+            + aux.relative_position[2] * cov[(19, 22)]
             - aux.relative_position[0] * cov[(19, 24)];
-        pht[(20, 0)] = aux.relative_position[1] * cov[(20, 24)]
-            + (_t3 * cov[(0, 20)] - cov[(15, 20)]
-                - aux.relative_position[2] * cov[(20, 23)]);
-        pht[(20, 1)] = aux.relative_position[2] * cov[(20, 22)]
-            + (_t5 * cov[(1, 20)] - cov[(16, 20)])
+        pht[(20, 0)] = _t3 * cov[(0, 20)] - cov[(15, 20)]
+            - aux.relative_position[2] * cov[(20, 23)]
+            + aux.relative_position[1] * cov[(20, 24)];
+        pht[(20, 1)] = _t5 * cov[(1, 20)] - cov[(16, 20)]
+            + aux.relative_position[2] * cov[(20, 22)]
             - aux.relative_position[0] * cov[(20, 24)];
-        pht[(21, 0)] = aux.relative_position[1] * cov[(21, 24)]
-            + (_t3 * cov[(0, 21)] - cov[(15, 21)]
-                - aux.relative_position[2] * cov[(21, 23)]);
-        pht[(21, 1)] = aux.relative_position[2] * cov[(21, 22)]
-            + (_t5 * cov[(1, 21)] - cov[(16, 21)])
+        pht[(21, 0)] = _t3 * cov[(0, 21)] - cov[(15, 21)]
+            - aux.relative_position[2] * cov[(21, 23)]
+            + aux.relative_position[1] * cov[(21, 24)];
+        pht[(21, 1)] = _t5 * cov[(1, 21)] - cov[(16, 21)]
+            + aux.relative_position[2] * cov[(21, 22)]
             - aux.relative_position[0] * cov[(21, 24)];
-        pht[(22, 0)] = aux.relative_position[1] * cov[(22, 24)]
-            + (_t3 * cov[(0, 22)] - cov[(15, 22)] - _t14);
+        pht[(22, 0)] = _t3 * cov[(0, 22)] - cov[(15, 22)] - _t14
+            + aux.relative_position[1] * cov[(22, 24)];
         pht[(22, 1)] = _t15;
         pht[(23, 0)] = _t16;
         pht[(23, 1)] = _t17;
         pht[(24, 0)] = _t18;
         pht[(24, 1)] = _t19;
-        s[(0, 0)] = aux.relative_position[1] * _t18
-            + (_t3 * _t6 - _t9 - aux.relative_position[2] * _t16);
-        s[(0, 1)] = aux.relative_position[1] * _t19
-            + (_t3 * _t7 + (_t11 - _t10) - aux.relative_position[2] * _t17);
-        s[(1, 1)] = aux.relative_position[2] * _t15 + (_t5 * _t8 + (_t13 - _t12))
+        s[(0, 0)] = _t3 * _t6 - _t9 - aux.relative_position[2] * _t16
+            + aux.relative_position[1] * _t18;
+        s[(0, 1)] = _t11 - _t10 + _t3 * _t7 - aux.relative_position[2] * _t17
+            + aux.relative_position[1] * _t19;
+        s[(1, 1)] = _t13 - _t12 + _t5 * _t8 + aux.relative_position[2] * _t15
             - aux.relative_position[0] * _t19;
         for i in 0..2 {
             for j in 0..i {

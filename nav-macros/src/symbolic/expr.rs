@@ -287,6 +287,12 @@ impl Graph {
         if let Node::Neg(c) = self.node(a) {
             return self.sub(b, c);
         }
+        if a == b {
+            // `a + a = 2 a` exactly; as a product it meets other constant
+            // factors (`2 (x + x)` from differentiating `x^2` becomes `4 x`).
+            let two = self.constant(2.0);
+            return self.mul(two, a);
+        }
         let (a, b) = if a <= b { (a, b) } else { (b, a) };
         self.intern(Node::Add(a, b))
     }
@@ -357,7 +363,36 @@ impl Graph {
             let m = self.mul(a, pos);
             return self.neg(m);
         }
+        // Powers of two scale exactly: `c1 (c2 x) = (c1 c2) x` bit for bit.
+        for (c, other) in [(a, b), (b, a)] {
+            let (Some(c1), Node::Mul(p, q)) = (self.power_of_two(c), self.node(other)) else {
+                continue;
+            };
+            for (k, x) in [(p, q), (q, p)] {
+                if let Some(c2) = self.power_of_two(k) {
+                    let c = self.constant(c1 * c2);
+                    if self.power_of_two(c).is_some() {
+                        return self.mul(c, x);
+                    }
+                }
+            }
+        }
         let (a, b) = if a <= b { (a, b) } else { (b, a) };
+        self.intern(Node::Mul(a, b))
+    }
+
+    /// The value of a constant that is a positive power of two with a normal
+    /// product range (multiplying by it never rounds).
+    pub fn power_of_two(&self, id: Id) -> Option<f64> {
+        self.as_const(id)
+            .filter(|c| *c > 0.0 && c.is_normal() && c.to_bits() & ((1u64 << 52) - 1) == 0)
+    }
+
+    /// `a b` as given, without the sign normalization of [`Graph::mul`]
+    /// (which pulls a negated operand out as `-(a b)`): for the last rewrite
+    /// of a generated function, where `(-a) b` shares one negation among
+    /// several products.
+    pub fn product_as_is(&mut self, a: Id, b: Id) -> Id {
         self.intern(Node::Mul(a, b))
     }
 
@@ -655,9 +690,55 @@ mod tests {
             ("sin(0)", g.call(Func::Sin, zero), zero),
             ("cos(0)", g.call(Func::Cos, zero), one),
             ("abs(-x)", g.call(Func::Abs, nx), g.call(Func::Abs, x)),
+            ("x + x == 2 x", g.add(x, x), g.mul(two, x)),
+            (
+                "2 (x + x) == 4 x",
+                {
+                    let s = g.add(x, x);
+                    g.mul(two, s)
+                },
+                {
+                    let four = g.constant(4.0);
+                    g.mul(x, four)
+                },
+            ),
+            (
+                "(x 0.5) 2 == x",
+                {
+                    let half = g.constant(0.5);
+                    let h = g.mul(x, half);
+                    g.mul(h, two)
+                },
+                x,
+            ),
         ];
         for (name, got, want) in cases {
             assert_eq!(got, want, "{name}");
+        }
+    }
+
+    #[test]
+    fn only_powers_of_two_are_folded_across_products() {
+        // `3 (2 x)` would round differently from `6 x`: kept as two products.
+        let mut g = Graph::new();
+        let (x, _) = xy(&mut g);
+        let (two, three) = (g.constant(2.0), g.constant(3.0));
+        let two_x = g.mul(two, x);
+        let product = g.mul(three, two_x);
+        assert_eq!(
+            g.node(product),
+            Node::Mul(three.min(two_x), three.max(two_x))
+        );
+        for (c, power) in [
+            (2.0, true),
+            (0.25, true),
+            (1.0, true),
+            (3.0, false),
+            (-2.0, false),
+            (f64::MIN_POSITIVE / 2.0, false),
+        ] {
+            let id = g.constant(c);
+            assert_eq!(g.power_of_two(id).is_some(), power, "{c}");
         }
     }
 

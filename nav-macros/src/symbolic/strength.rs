@@ -34,7 +34,7 @@ pub fn reduce(source: &Graph, roots: &[Id]) -> (Graph, Vec<Id>) {
             _ => None,
         })
         .collect();
-    let (first, roots) = copy(source, roots, |g, node, kids| match node {
+    let (first, roots) = copy(source, roots, |g, _, node, kids| match node {
         Node::Call(Func::Tan, a) if trig_arguments.contains(&a) => {
             let sin = g.call(Func::Sin, kids[0]);
             let cos = g.call(Func::Cos, kids[0]);
@@ -50,7 +50,7 @@ pub fn reduce(source: &Graph, roots: &[Id]) -> (Graph, Vec<Id>) {
             *divisions.entry(b).or_default() += 1;
         }
     }
-    copy(&first, &roots, |g, node, kids| match node {
+    let (second, roots) = copy(&first, &roots, |g, _, node, kids| match node {
         Node::Div(_, b) => {
             let reciprocal = match first.as_const(b) {
                 Some(c) => Some(1.0 / c)
@@ -65,6 +65,107 @@ pub fn reduce(source: &Graph, roots: &[Id]) -> (Graph, Vec<Id>) {
             }
         }
         _ => g.rebuild(node, kids),
+    });
+    signs_and_scales(&second, &roots)
+}
+
+/// Pass 3, the last (its products are built as they are, not normalized):
+///
+/// - `-(a b)`, the product used only there, becomes `(-c) b` for a constant
+///   factor `c` (the negation is free), and `(-a) b` when `a` is a factor
+///   of two or more such products (one negation for all: `-(dt R_ij)` over
+///   nine `R_ij` is nine products and one negation, not eighteen operations);
+/// - `c (a b)` with `c` a power of two, the product used only there, becomes
+///   `(c a) b` when `c a` is computed anyway (`2 (x y)` next to `2 x`).
+///
+/// Both are exact: negation never rounds and scaling by a power of two
+/// commutes with rounding (outside the subnormal range).
+fn signs_and_scales(source: &Graph, roots: &[Id]) -> (Graph, Vec<Id>) {
+    let reach = source.reachable(roots);
+    let mut uses = vec![0u32; source.len()];
+    for id in roots
+        .iter()
+        .copied()
+        .chain(reach.iter().flat_map(|&id| source.node(id).children()))
+    {
+        uses[id.0 as usize] += 1;
+    }
+    let reached: HashSet<Id> = reach.iter().copied().collect();
+    // The operands of a product used once, by its only user.
+    let single_product = |m: Id| match source.node(m) {
+        Node::Mul(a, b) if uses[m.0 as usize] == 1 => Some((a, b)),
+        _ => None,
+    };
+    let mut negated: HashMap<Id, u32> = HashMap::new();
+    for &id in &reach {
+        if let Some((a, b)) = match source.node(id) {
+            Node::Neg(m) => single_product(m),
+            _ => None,
+        } {
+            *negated.entry(a).or_default() += 1;
+            if b != a {
+                *negated.entry(b).or_default() += 1;
+            }
+        }
+    }
+    let product = |x: Id, y: Id| {
+        source
+            .find(Node::Mul(x, y))
+            .or_else(|| source.find(Node::Mul(y, x)))
+            .filter(|m| reached.contains(m))
+    };
+    // New ids of the copied operation nodes (leaves are interned again).
+    let mut made: HashMap<Id, Id> = HashMap::new();
+    let new = |g: &mut Graph, made: &HashMap<Id, Id>, old: Id| match source.node(old) {
+        Node::Const(bits) => g.constant(f64::from_bits(bits)),
+        Node::Sym(s) => g.sym(s),
+        _ => made[&old],
+    };
+    copy(source, roots, |g, id, node, kids| {
+        let out = match node {
+            Node::Neg(m) if single_product(m).is_some() => {
+                let (a, b) = single_product(m).expect("checked");
+                let count = |f: Id| negated.get(&f).copied().unwrap_or(0);
+                if let Some(c) = source.as_const(a) {
+                    let (c, b) = (g.constant(-c), new(g, &made, b));
+                    g.product_as_is(c, b)
+                } else if let Some(c) = source.as_const(b) {
+                    let (c, a) = (g.constant(-c), new(g, &made, a));
+                    g.product_as_is(c, a)
+                } else if count(a).max(count(b)) >= 2 {
+                    let (f, other) = if count(a) >= count(b) { (a, b) } else { (b, a) };
+                    let f = new(g, &made, f);
+                    let negated = g.neg(f);
+                    let other = new(g, &made, other);
+                    g.product_as_is(negated, other)
+                } else {
+                    g.rebuild(node, kids)
+                }
+            }
+            Node::Mul(x, y) => {
+                let scaled = [(x, y), (y, x)].into_iter().find_map(|(c, m)| {
+                    source.power_of_two(c)?;
+                    let (a, b) = single_product(m)?;
+                    [(a, b), (b, a)]
+                        .into_iter()
+                        .find(|&(a, _)| product(c, a).is_some())
+                        .map(|(a, b)| (c, a, b))
+                });
+                match scaled {
+                    // `c a` may not be copied yet: built from its operands
+                    // (the same node as its own copy will be).
+                    Some((c, a, b)) => {
+                        let (c, a, b) = (new(g, &made, c), new(g, &made, a), new(g, &made, b));
+                        let ca = g.mul(c, a);
+                        g.mul(ca, b)
+                    }
+                    None => g.rebuild(node, kids),
+                }
+            }
+            _ => g.rebuild(node, kids),
+        };
+        made.insert(id, out);
+        out
     })
 }
 
@@ -73,7 +174,7 @@ pub fn reduce(source: &Graph, roots: &[Id]) -> (Graph, Vec<Id>) {
 fn copy(
     source: &Graph,
     roots: &[Id],
-    mut build: impl FnMut(&mut Graph, Node, &[Id]) -> Id,
+    mut build: impl FnMut(&mut Graph, Id, Node, &[Id]) -> Id,
 ) -> (Graph, Vec<Id>) {
     let mut g = Graph::new();
     let mut new_id: Vec<Option<Id>> = vec![None; source.len()];
@@ -93,7 +194,7 @@ fn copy(
                         .children()
                         .map(|c| id_in(&new_id, c).expect("children are copied first"))
                         .collect();
-                    build(&mut g, node, &kids)
+                    build(&mut g, id, node, &kids)
                 }
                 _ => {
                     stack.push((id, true));
@@ -198,6 +299,65 @@ mod tests {
         assert_eq!(count(&h, &reduced, is_tan), 1);
         assert!(matches!(h.node(reduced[1]), Node::Div(..)));
         assert_same_values((&g, &roots), (&h, &reduced));
+    }
+
+    /// Operations reachable from `roots`.
+    fn ops(g: &Graph, roots: &[Id]) -> usize {
+        crate::symbolic::ops::count(g, roots)
+    }
+
+    #[test]
+    fn negated_products_share_one_negation() {
+        let mut g = Graph::new();
+        let (x, y, z) = symbols(&mut g);
+        let dt = g.sym(Sym::Dt);
+        let products = [x, y, z].map(|v| {
+            let m = g.mul(dt, v);
+            g.neg(m)
+        });
+        // -(x y): no factor shared with another negated product, kept.
+        let xy = g.mul(x, y);
+        let alone = g.neg(xy);
+        // -(2 z): the constant takes the sign.
+        let two = g.constant(2.0);
+        let two_z = g.mul(two, z);
+        let constant = g.neg(two_z);
+        let roots = [products[0], products[1], products[2], alone, constant];
+        let (h, reduced) = reduce(&g, &roots);
+        assert_eq!(ops(&g, &roots), 10);
+        // 3 products and -dt, -(x y) as before, (-2) z.
+        assert_eq!(ops(&h, &reduced), 7);
+        let is_neg = |n: Node| matches!(n, Node::Neg(_));
+        assert_eq!(count(&h, &reduced, is_neg), 2, "-dt and -(x y)");
+        assert_same_values((&g, &roots), (&h, &reduced));
+        let env = |s: Sym| match s {
+            Sym::Dt => 0.01,
+            s => env(s),
+        };
+        for (&a, &b) in roots.iter().zip(&reduced) {
+            assert_eq!(g.eval(a, &env).to_bits(), h.eval(b, &env).to_bits());
+        }
+    }
+
+    #[test]
+    fn a_doubled_factor_computed_anyway_is_reused() {
+        let mut g = Graph::new();
+        let (x, y, z) = symbols(&mut g);
+        let two = g.constant(2.0);
+        let two_x = g.mul(two, x);
+        let a = g.mul(two_x, z); // 2x is needed anyway
+        let xy = g.mul(x, y);
+        let b = g.mul(two, xy); // 2 (x y) becomes (2 x) y
+        let yz = g.mul(y, z);
+        let c = g.mul(two, yz); // neither 2 y nor 2 z is computed: kept
+        let roots = [a, b, c];
+        let (h, reduced) = reduce(&g, &roots);
+        assert_eq!(ops(&g, &roots), 6);
+        assert_eq!(ops(&h, &reduced), 5);
+        let before = |s: Sym| env(s);
+        for (&r, &s) in roots.iter().zip(&reduced) {
+            assert_eq!(g.eval(r, &before).to_bits(), h.eval(s, &before).to_bits());
+        }
     }
 
     #[test]
