@@ -76,16 +76,15 @@ pub struct InsNominal<V, const N: usize> {
     vehicle: PhantomData<fn() -> V>,
 }
 
+// By hand: a derive would ask `V: Copy` of the vehicle marker. A copy is
+// one block move (the error-state filter keeps one before every step).
 impl<V, const N: usize> Clone for InsNominal<V, N> {
     fn clone(&self) -> Self {
-        Self {
-            ins: self.ins.clone(),
-            layout: self.layout,
-            vehicle: PhantomData,
-            ..*self
-        }
+        *self
     }
 }
+
+impl<V, const N: usize> Copy for InsNominal<V, N> {}
 
 impl<V, const N: usize> core::fmt::Debug for InsNominal<V, N> {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {

@@ -643,7 +643,11 @@ pub enum RateSamples {
 ///
 /// IMU inputs must already be corrected for estimated sensor errors (biases);
 /// that is the error-state filter's job.
-#[derive(Clone, Debug)]
+///
+/// `Copy` (a few hundred bytes, no heap): an error-state filter keeps the
+/// nominal solution before each step to put back if the step fails, and a
+/// copy is the cheapest way to keep it.
+#[derive(Clone, Copy, Debug)]
 pub struct Strapdown {
     /// The current nominal state.
     pub state: NavState,
