@@ -381,9 +381,10 @@ impl Model<2> for Dcv {
     }
 }
 
-/// States (a, b, c, d): `a' = f00 a + f01 b`, `c' = f22 c + f23 d`, `b' = w1`,
-/// `c` also driven by `w2`; `d` constant. Changed rows 0 and 2; `Qd` at
-/// `(1, 1)` (outside them) and `(2, 2)`.
+/// States (a, b, c, d): `a' = f00 a + f01 b`, `c' = f22 c + f23 d`,
+/// `b' = d' = w1`, `c` also driven by `w2`. Changed rows 0 and 2; `Qd` at
+/// `(1, 1)`, `(1, 3)`, `(3, 3)` (outside them, one off the diagonal) and
+/// `(2, 2)`.
 pub struct Rows;
 
 impl Rows {
@@ -420,7 +421,7 @@ impl Model<4> for Rows {
             rows: &[0, 2],
             start: &[0, 2, 4],
             columns: &[0, 1, 2, 3],
-            noise: &[(1, 1), (2, 2)],
+            noise: &[(1, 1), (1, 3), (2, 2), (3, 3)],
         });
 
     fn transition(x: &SVector<f64, 4>, u: &RowsInput, _: &(), dt: f64) -> SVector<f64, 4> {
@@ -438,7 +439,13 @@ impl Model<4> for Rows {
         q: &RowsNoise,
         dt: f64,
     ) -> SMatrix<f64, 4, 4> {
-        SMatrix::<f64, 4, 4>::from_diagonal(&SVector::<f64, 4>::new(0.0, q.q1 * dt, q.q2 * dt, 0.0))
+        let (q1, q2) = (q.q1 * dt, q.q2 * dt);
+        SMatrix::<f64, 4, 4>::from_row_slice(&[
+            0.0, 0.0, 0.0, 0.0, //
+            0.0, q1, 0.0, q1, //
+            0.0, 0.0, q2, 0.0, //
+            0.0, q1, 0.0, q1,
+        ])
     }
 
     fn propagate_covariance(
@@ -468,7 +475,7 @@ impl Model<4> for Rows {
             cov,
             &structure,
             &coefficients,
-            &[q.q1 * dt, q.q2 * dt],
+            &[q.q1 * dt, q.q1 * dt, q.q2 * dt, q.q1 * dt],
         );
     }
 }

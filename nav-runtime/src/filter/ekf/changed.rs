@@ -89,12 +89,20 @@ fn consecutive_rows<'p, T: Real, const N: usize>(
         .get(first * N..(first + structure.rows.len()) * N)
 }
 
-/// `true` for a `Qd` position outside the changed rows and columns (the
-/// others are saved and checked with their rows).
+/// The `Qd` positions outside the changed rows and columns, in the order of
+/// their slots in the saved entries (the others are saved and checked with
+/// their rows).
 #[inline(always)]
-fn outside<const N: usize>(changed: &ChangedEntries<N>, (i, j): (usize, usize)) -> bool {
+fn outside<'s, const N: usize>(
+    structure: &Structure<'s>,
+    changed: &'s ChangedEntries<N>,
+) -> impl Iterator<Item = (usize, usize)> + 's {
     let changed_row = |k: usize| changed.rows.get(k).copied().unwrap_or(true);
-    !(changed_row(i) || changed_row(j))
+    structure
+        .noise
+        .iter()
+        .copied()
+        .filter(move |&(i, j)| !(changed_row(i) || changed_row(j)))
 }
 
 /// `P[i, j]` of the column-major storage, `None` outside it (never for a
@@ -140,12 +148,13 @@ fn save_changed_pass<T: Real, const N: usize, const AVX: bool, const FUSED: bool
     if changed.outside_noise == 0 {
         return;
     }
-    let mut slots = rest.as_flattened_mut().iter_mut();
-    for &(i, j) in structure.noise {
-        if outside(changed, (i, j)) {
-            if let (Some(v), Some(value)) = (slots.next(), entry(p, (i, j))) {
-                *v = value;
-            }
+    for (slot, at) in rest
+        .as_flattened_mut()
+        .iter_mut()
+        .zip(outside(structure, changed))
+    {
+        if let Some(value) = entry(p, at) {
+            *slot = value;
         }
     }
 }
@@ -159,15 +168,10 @@ pub(super) fn restore_changed<T: Real, const N: usize>(
 ) {
     let cols = &mut p.data.0;
     let (rows, rest) = saved.split_at(structure.rows.len());
-    let mut slots = rest.as_flattened().iter();
-    for &(i, j) in structure.noise {
-        if outside(changed, (i, j)) {
-            if let Some(&v) = slots.next() {
-                for (c, r) in [(j, i), (i, j)] {
-                    if let Some(x) = cols.get_mut(c).and_then(|column| column.get_mut(r)) {
-                        *x = v;
-                    }
-                }
+    for (&v, (i, j)) in rest.as_flattened().iter().zip(outside(structure, changed)) {
+        for (c, r) in [(j, i), (i, j)] {
+            if let Some(x) = cols.get_mut(c).and_then(|column| column.get_mut(r)) {
+                *x = v;
             }
         }
     }
@@ -193,14 +197,9 @@ pub(super) fn saved_diagonal<T: Real, const N: usize>(
 ) -> SVector<T, N> {
     let mut diagonal = p.diagonal();
     let (rows, rest) = saved.split_at(structure.rows.len());
-    let mut slots = rest.as_flattened().iter();
-    for &(i, j) in structure.noise {
-        if outside(changed, (i, j)) {
-            if let (Some(&v), Some(d)) = (slots.next(), diagonal.get_mut(i)) {
-                if i == j {
-                    *d = v;
-                }
-            }
+    for (&v, (i, j)) in rest.as_flattened().iter().zip(outside(structure, changed)) {
+        if let (true, Some(d)) = (i == j, diagonal.get_mut(i)) {
+            *d = v;
         }
     }
     for (row, &i) in rows.iter().zip(structure.rows) {
@@ -246,11 +245,9 @@ fn changed_are_clean_pass<T: Real, const N: usize, const AVX: bool, const FUSED:
         diagonal_ok &= d > T::zero() && d <= T::MAX;
     }
     if changed.outside_noise > 0 {
-        for &(i, j) in structure.noise {
-            if outside(changed, (i, j)) {
-                let v = entry(p, (i, j)).unwrap_or(T::zero() / T::zero());
-                diagonal_ok &= v.is_finite() && (i != j || v > T::zero());
-            }
+        for (i, j) in outside(structure, changed) {
+            let v = entry(p, (i, j)).unwrap_or(T::zero() / T::zero());
+            diagonal_ok &= v.is_finite() && (i != j || v > T::zero());
         }
     }
     diagonal_ok && acc.iter().fold(T::zero(), |s, a| s + *a).is_finite()

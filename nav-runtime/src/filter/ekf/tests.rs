@@ -842,14 +842,15 @@ fn structured_prediction_equals_the_whole_check() {
             2.0, 0.3, 0.1, 0.0, //
             0.3, p11, 0.0, 0.0, //
             0.1, 0.0, 0.5, 0.0, //
-            0.0, 0.0, 0.0, 0.0, // d: zero variance, never propagated
+            0.0, 0.0, 0.0, 0.0, // d: zero variance at the start
         ]);
         let x0 = SVector::<f64, 4>::new(0.1, -0.2, 0.3, 0.4);
         Ekf::<Rows, 4>::new(x0, p0, (), RowsNoise { q1, q2: 1e-3 }).unwrap()
     };
     // Second case: the Qd entry (1, 1), outside the changed rows,
-    // overflows on every step (its variance repaired each time).
-    for (p11, q1) in [(1.0, 1e-2), (0.95 * f64::MAX, f64::MAX)] {
+    // overflows on every step (its variance repaired each time). The
+    // counts are what both paths must arrive at: refusals, repairs.
+    for (p11, q1, rejected, repairs) in [(1.0, 1e-2, 1, 2), (0.95 * f64::MAX, f64::MAX, 2, 6)] {
         let (mut structured, mut whole) = (start(p11, q1), start(p11, q1));
         for (k, u) in steps.iter().enumerate() {
             let before = structured.covariance().map(f64::to_bits);
@@ -873,6 +874,10 @@ fn structured_prediction_equals_the_whole_check() {
             }
         }
         let counters = structured.counters();
-        assert!(counters.predictions_rejected >= 1 && counters.covariance_repairs >= 3);
+        assert_eq!(
+            (counters.predictions_rejected, counters.covariance_repairs),
+            (rejected, repairs),
+            "q1 {q1:e}"
+        );
     }
 }
