@@ -162,3 +162,94 @@ fn single_precision_agrees() {
         assert!(err < 1e-5, "seed {seed}: f32 differs by {err:e}");
     }
 }
+
+/// A sequential scalar update of state `i` measured with variance `r`, in
+/// Joseph form, in the scalar of the covariance.
+fn update_state<T: nav_runtime::nalgebra::RealField + Copy>(
+    cov: &mut SMatrix<T, 24, 24>,
+    i: usize,
+    r: T,
+) {
+    let k = cov.column(i) / (cov[(i, i)] + r);
+    let mut a = SMatrix::<T, 24, 24>::identity();
+    for row in 0..24 {
+        a[(row, i)] -= k[row];
+    }
+    *cov = a * *cov * a.transpose() + k * k.transpose() * r;
+}
+
+/// The `f32` twin over a minute of flight against the `f64` model: 6,000
+/// covariance steps of 10 ms (PX4's prediction rate) with varying IMU
+/// increments, position and velocity fixed at 5 Hz. Single precision loses
+/// a little of the cross-covariances at every step (docs/language.md,
+/// "Scalar type"); the standard deviations must stay within 0.1 % of the
+/// `f64` ones (measured: 3.3e-5), and no variance may turn non-positive.
+#[test]
+fn single_precision_over_a_minute_of_flight() {
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    let p = point(3);
+    let mut x = p.x;
+    // Level, heading 30 degrees, 5 m/s north.
+    let (s, c) = (15f64.to_radians().sin(), 15f64.to_radians().cos());
+    x.fixed_rows_mut::<4>(0)
+        .copy_from(&SVector::<f64, 4>::new(c, 0.0, 0.0, s));
+    x.fixed_rows_mut::<3>(4)
+        .copy_from(&SVector::<f64, 3>::new(5.0, 0.0, 0.0));
+    let diagonal = [
+        [1e-2; 4].as_slice(),
+        &[0.25; 3],
+        &[1.0; 3],
+        &[1e-6; 3],
+        &[1e-4; 3],
+        &[1e-3; 3],
+        &[1e-3; 3],
+        &[1.0; 2],
+    ]
+    .concat();
+    let mut cov =
+        SMatrix::<f64, 24, 24>::from_diagonal(&SVector::<f64, 24>::from_column_slice(&diagonal));
+    let mut covs = cov.map(|v| v as f32);
+    let q = noise(&p.variances);
+    let qs = <Px4Ekf24Single as Model<24, f32>>::Noise::from_fn(|i| q.get(i));
+    let xs = x.map(|v| v as f32);
+    let mut worst = 0.0f64;
+    for k in 0..6000 {
+        let dt = 0.01;
+        let mut u = |scale: f64| scale * rng.random_range(-1.0..1.0);
+        let step = Step {
+            delta_velocity: [u(0.02), u(0.02), -9.80665 * dt + u(0.01)],
+            delta_velocity_dt: dt,
+            delta_angle: [u(0.002), u(0.002), u(0.002)],
+            delta_angle_dt: dt,
+            gravity: 9.80665,
+        };
+        let (input, par) = inputs(&step);
+        Px4Ekf24::propagate_covariance(&mut cov, &x, &input, &par, &q, dt);
+        let us = <Px4Ekf24Single as Model<24, f32>>::Input::from_fn(|i| input.get(i));
+        let ps = <Px4Ekf24Single as Model<24, f32>>::Params::from_fn(|i| par.get(i));
+        Px4Ekf24Single::propagate_covariance(&mut covs, &xs, &us, &ps, &qs, dt as f32);
+        if k % 20 == 19 {
+            for (i, r) in [
+                (4, 0.09),
+                (5, 0.09),
+                (6, 0.09),
+                (7, 0.25),
+                (8, 0.25),
+                (9, 0.25),
+            ] {
+                update_state(&mut cov, i, r);
+                update_state(&mut covs, i, r as f32);
+            }
+        }
+        for i in 0..24 {
+            let (d, ds) = (cov[(i, i)], f64::from(covs[(i, i)]));
+            assert!(
+                ds > 0.0 && ds.is_finite(),
+                "step {k}: f32 variance {i} is {ds}"
+            );
+            worst = worst.max((ds.sqrt() / d.sqrt() - 1.0).abs());
+        }
+    }
+    eprintln!("f32 standard deviations within {worst:.3e} of f64 over 60 s");
+    assert!(worst < 1e-3, "f32 standard deviations {worst:e} from f64");
+}
