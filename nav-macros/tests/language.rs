@@ -278,6 +278,26 @@ fn declared_manifolds_are_kept_by_the_filter() {
         },
     )
     .unwrap();
+    // The initial state and a replaced one are on the manifold at once: a
+    // heading of 350 degrees is -10, a quaternion of norm 2 a unit one.
+    let mut start = kept.clone();
+    let mut off = x0 * 2.0;
+    off[4] = 350f64.to_radians();
+    for set in [true, false] {
+        let filter = if set {
+            start.set_state(off).unwrap();
+            start.clone()
+        } else {
+            Ekf::<Shared, 5>::new(off, p0, *kept.params(), *kept.noise()).unwrap()
+        };
+        let x = filter.state();
+        assert!(
+            (x[4] - (-10f64).to_radians()).abs() < 1e-12,
+            "heading {}",
+            x[4]
+        );
+        assert!((x.fixed_rows::<4>(0) - q0).norm() < 1e-15, "{x:?}");
+    }
     let dt = 0.1;
     for _ in 0..2000 {
         kept.predict(dt, &SharedInput { gyro }).unwrap();

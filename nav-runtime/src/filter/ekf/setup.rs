@@ -22,7 +22,9 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
     /// state may have zero variance), but such a state's zero variance is
     /// reported as a repair if an update drives it non-positive.
     /// Gating starts at [`Gate::default`] for every sensor, discretization at
-    /// [`Discretization::FirstOrder`], the last input at `Default`.
+    /// [`Discretization::FirstOrder`], the last input at `Default`. `x0` is
+    /// returned to its manifold ([`Model::normalize_state`]: angles wrapped,
+    /// quaternions renormalized) as after every step.
     ///
     /// # Errors
     /// [`SetupError::Invalid`] naming the first problem found.
@@ -44,6 +46,10 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
             });
         }
         check_noise_intensities(&noise)?;
+        // On its manifold from the start, as after every step: a heading of
+        // 350 degrees is reported as -10 from the first estimate on.
+        let mut x0 = x0;
+        Mo::normalize_state(&mut x0);
         Ok(Self {
             x: x0,
             p,
@@ -124,7 +130,8 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
         &self.counters
     }
 
-    /// Replaces the state estimate (e.g. the reset of an error-state filter).
+    /// Replaces the state estimate (e.g. the reset of an error-state filter),
+    /// returned to its manifold ([`Model::normalize_state`]) as after a step.
     ///
     /// # Errors
     /// [`SetupError::Invalid`] if `x` is not finite (state unchanged).
@@ -135,6 +142,7 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
             });
         }
         self.x = x;
+        Mo::normalize_state(&mut self.x);
         Ok(())
     }
 
