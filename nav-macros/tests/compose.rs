@@ -247,3 +247,48 @@ fn block_level_lets_and_functions_compose() {
         "{h}"
     );
 }
+
+mod blocks_named_like_generated_types {
+    // A block named like a type its vehicle generates in the same module:
+    // `model Boat = .. + BoatFix` with `sensor Fix` generates the sensor type
+    // `BoatFix`, and `BoatLog`'s sensor `Log` the type `BoatLog`. The
+    // block's macro and the type must not clash (the block used to import
+    // the type along with its macro: "the name `BoatFix` is defined
+    // multiple times").
+    nav_runtime::model! {
+        pub block BoatCore {
+            states { pos, vel }
+            noise { accel_noise }
+            continuous {
+                d/dt pos = vel;
+                d/dt vel = accel_noise;
+            }
+        }
+
+        /// A position fix; `pub`.
+        pub block BoatFix {
+            needs { pos }
+            sensor Fix: 1 { h = pos; }
+        }
+
+        /// A speed log; private.
+        block BoatLog {
+            needs { vel }
+            sensor Log: 1 { h = vel; }
+        }
+    }
+
+    nav_runtime::model! {
+        pub model Boat = BoatCore + BoatFix + BoatLog;
+    }
+}
+
+#[test]
+fn blocks_may_be_named_like_the_types_their_vehicle_generates() {
+    use blocks_named_like_generated_types::{Boat, BoatFix, BoatLog};
+    let x = SVector::from([3.0, -0.5]);
+    let u = <Boat as Model<2>>::Input::default();
+    let p = <Boat as Model<2>>::Params::default();
+    assert_eq!(BoatFix::predict(&x, &u, &p, &())[0], 3.0);
+    assert_eq!(BoatLog::predict(&x, &u, &p, &())[0], -0.5);
+}

@@ -101,30 +101,58 @@ pub fn check(cx: &Ctxt, decl: &ModelDecl) {
                 match stmt {
                     Stmt::Let { name, .. } => names.declare(cx, name, "a `let` binding"),
                     Stmt::Assign { target, derivative, .. } => {
-                        match (process.kind, derivative) {
-                            (ProcessKind::Discrete, Some(span)) => cx.error_at(
-                                *span,
-                                "`d/dt` is only allowed in a `continuous` section; in `discrete` write `state = ..` \
-                                 (the next value from the previous ones)",
-                            ),
-                            (ProcessKind::Continuous, None) => cx.error_spanned_by(
-                                target,
-                                format!(
-                                    "in a `continuous` section write `d/dt {target} = ..` (or `let {target} = ..` \
-                                     for a local value)"
-                                ),
-                            ),
-                            _ => {}
-                        }
+                        let wrong_form = match (process.kind, derivative) {
+                            (ProcessKind::Discrete, Some(span)) => {
+                                cx.error_at(
+                                    *span,
+                                    "`d/dt` is only allowed in a `continuous` section; in `discrete` write `state = ..` \
+                                     (the next value from the previous ones)",
+                                );
+                                true
+                            }
+                            (ProcessKind::Continuous, None) => {
+                                cx.error_spanned_by(
+                                    target,
+                                    format!(
+                                        "in a `continuous` section write `d/dt {target} = ..` (or `let {target} = ..` \
+                                         for a local value)"
+                                    ),
+                                );
+                                true
+                            }
+                            _ => false,
+                        };
                         let what = if derivative.is_some() { "`d/dt` of" } else { "assignment to" };
                         if !decl.states.iter().any(|s| s.name == *target) {
-                            let states: Vec<String> = decl.states.iter().map(|s| s.name.to_string()).collect();
-                            let mut hint = suggest(&target.to_string(), states.clone());
-                            if hint.is_empty() {
-                                hint = format!("; the states are `{}`", states.join("`, `"));
-                            }
+                            let target_name = target.to_string();
+                            // A declared name of another kind: say what it is
+                            // rather than suggest a state spelled alike.
+                            let hint = match names.kinds.get(&target_name) {
+                                Some(kind) => format!(
+                                    ", but {kind}: only states are assigned in the process section{}",
+                                    match *kind {
+                                        "a parameter" | "an input" => {
+                                            " (declare it under `states { .. }` to estimate it)"
+                                        }
+                                        _ => "",
+                                    }
+                                ),
+                                None => {
+                                    let states: Vec<String> =
+                                        decl.states.iter().map(|s| s.name.to_string()).collect();
+                                    let hint = suggest(&target_name, states.clone());
+                                    if hint.is_empty() {
+                                        format!("; the states are `{}`", states.join("`, `"))
+                                    } else {
+                                        hint
+                                    }
+                                }
+                            };
                             cx.error_spanned_by(target, format!("{what} `{target}`, which is not a state{hint}"));
-                        } else if assigned.insert(target.to_string(), target).is_some() {
+                        } else if !wrong_form && assigned.insert(target.to_string(), target).is_some() {
+                            // A statement of the wrong form was reported
+                            // above; counting it too would add a second,
+                            // misleading error at the same place.
                             cx.error_spanned_by(target, format!("state `{target}` is assigned more than once"));
                         }
                     }
@@ -163,8 +191,9 @@ pub fn check(cx: &Ctxt, decl: &ModelDecl) {
             cx.error_spanned_by(
                 &sensor.name,
                 format!(
-                    "sensor `{name}` has no measurement: add `h = [..];` with {} components",
-                    sensor.dim
+                    "sensor `{name}` has no measurement: add `h = [..];` with {} component{}",
+                    sensor.dim,
+                    if sensor.dim == 1 { "" } else { "s" }
                 ),
             );
         }
@@ -189,8 +218,11 @@ pub fn check(cx: &Ctxt, decl: &ModelDecl) {
                     _ => cx.error_spanned_by(
                         lit,
                         format!(
-                            "angle component out of range: sensor `{name}` has {} outputs",
-                            sensor.dim
+                            "angle component out of range: sensor `{name}` has {}, numbered from 0",
+                            match sensor.dim {
+                                1 => "1 output".to_string(),
+                                m => format!("{m} outputs"),
+                            }
                         ),
                     ),
                 }

@@ -47,13 +47,21 @@ pub fn block(b: &BlockDecl) -> TokenStream {
         Visibility::Inherited => quote!(pub(self)),
         v => quote!(#v),
     };
-    let import = if exported {
-        TokenStream::new()
+    // A block that is not exported is defined under a hidden name and
+    // imported under its own: `use Block;` of a macro named like a type of
+    // the same module (the sensor type `ShipGps` of `model Ship = .. +
+    // ShipGps` with `sensor Gps`) would import the type as well and clash
+    // with it, while `use hidden as Block;` of a name that is only a macro
+    // imports the macro alone.
+    let (macro_name, import) = if exported {
+        (name.clone(), TokenStream::new())
     } else {
-        quote! {
+        let hidden = Ident::new(&format!("__nav_block_{name}"), name.span());
+        let import = quote! {
             #[allow(unused_imports)]
-            #use_vis use #name;
-        }
+            #use_vis use #hidden as #name;
+        };
+        (hidden, import)
     };
     let doc = format!(
         "Model block `{name}`: use it in a composition `model Vehicle = .. + {name} + ..;` \
@@ -65,7 +73,7 @@ pub fn block(b: &BlockDecl) -> TokenStream {
         #[doc = ""]
         #[doc = #doc]
         #[allow(unused_macros, non_snake_case)]
-        macro_rules! #name {
+        macro_rules! #macro_name {
             ($($rest:tt)*) => {
                 ::nav_runtime::model! { @nav_block { #tokens } $($rest)* }
             };

@@ -35,6 +35,7 @@ pub fn lower(cx: &Ctxt, decl: &ModelDecl) -> Option<Lowered> {
             calling: Vec::new(),
             process_lets: &[],
             unknown_hint: decl.unknown_hint,
+            sensors: &decl.sensors,
         };
         for (name, value) in &decl.lets {
             lw.bind_let(name, value);
@@ -73,6 +74,7 @@ pub fn lower(cx: &Ctxt, decl: &ModelDecl) -> Option<Lowered> {
             calling: Vec::new(),
             process_lets: &[],
             unknown_hint: decl.unknown_hint,
+            sensors: &decl.sensors,
         };
         for stmt in &process.stmts {
             match stmt {
@@ -136,6 +138,7 @@ pub fn lower(cx: &Ctxt, decl: &ModelDecl) -> Option<Lowered> {
             calling: Vec::new(),
             process_lets: &process_lets,
             unknown_hint: decl.unknown_hint,
+            sensors: &decl.sensors,
         };
         for (name, value) in &sensor.lets {
             if let Some(val) = lw.expr(value) {
@@ -337,6 +340,8 @@ struct Lowerer<'a> {
     calling: Vec<String>,
     /// Names of the process section's `let`s (for hints in sensors).
     process_lets: &'a [String],
+    /// The model's sensors (for hints about another sensor's `let`s).
+    sensors: &'a [SensorDecl],
     /// Appended to unknown-name errors without a suggestion (blocks: about `needs`).
     unknown_hint: &'static str,
 }
@@ -446,6 +451,19 @@ impl Lowerer<'_> {
                 format!("; the body of model function `{f}` sees only its parameters (pass `{name}` as an argument)")
             } else if self.sensor.is_some() && self.process_lets.contains(&name) {
                 format!("; `{name}` is a `let` of the process section, which sensors do not see (move it to the model level, beside the sections, to share it)")
+            } else if let Some(owner) = self.sensors.iter().find(|s| {
+                !matches!(self.sensor, Some(current) if current.name == s.name)
+                    && s.lets.iter().any(|(n, _)| *n == name)
+            }) {
+                let here = if self.sensor.is_some() {
+                    "other sensors do not see it"
+                } else {
+                    "the process section does not see it"
+                };
+                format!(
+                    "; `{name}` is a `let` of sensor `{}`: {here} (move it to the model level, beside the sections, to share it)",
+                    owner.name
+                )
             } else {
                 let mut cands: Vec<String> = self.scope.names.keys().cloned().collect();
                 cands.sort();

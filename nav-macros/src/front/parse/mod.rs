@@ -382,17 +382,28 @@ fn parse_sections(
                     if let Some(prev) = &decl.process {
                         return Err(syn::Error::new(
                             kw.span(),
-                            format!("a model has one process section; `{}` was already given", prev.keyword),
+                            format!(
+                                "a model has one process section; `{}` was already given",
+                                prev.keyword
+                            ),
                         ));
                     }
-                    let kind = if kw_str == "continuous" { ProcessKind::Continuous } else { ProcessKind::Discrete };
+                    let kind = if kw_str == "continuous" {
+                        ProcessKind::Continuous
+                    } else {
+                        ProcessKind::Discrete
+                    };
                     let inner;
                     braced!(inner in body);
                     let mut stmts = Vec::new();
                     while !inner.is_empty() {
                         stmts.push(inner.parse()?);
                     }
-                    decl.process = Some(Process { kind, keyword: kw, stmts });
+                    decl.process = Some(Process {
+                        kind,
+                        keyword: kw,
+                        stmts,
+                    });
                 }
                 "sensor" => decl.sensors.push(parse_sensor(body, attrs)?),
                 "scalar" if is_block => {
@@ -403,21 +414,38 @@ fn parse_sections(
                     ))
                 }
                 "scalar" => decl.scalar = Scalar::parse_after_keyword(body)?,
-                "needs" => {
-                    return Err(syn::Error::new(
-                        kw.span(),
-                        "`needs { .. }` is a section of blocks (`block Name { .. }`), not of models",
-                    ))
-                }
+                "needs" => return Err(syn::Error::new(
+                    kw.span(),
+                    "`needs { .. }` is a section of blocks (`block Name { .. }`), not of models",
+                )),
                 _ => {
+                    let mut sections = vec![
+                        "states",
+                        "inputs",
+                        "parameters",
+                        "noise",
+                        "continuous",
+                        "discrete",
+                    ];
+                    sections.push(if is_block { "needs" } else { "scalar" });
+                    let hint = crate::front::names::suggest(
+                        &kw_str,
+                        sections
+                            .iter()
+                            .chain(["sensor"].iter())
+                            .map(|s| s.to_string()),
+                    );
+                    let hint = match hint.strip_prefix("; ") {
+                        Some(h) => format!(" ({h})"),
+                        None => String::new(),
+                    };
                     return Err(syn::Error::new(
                         kw.span(),
                         format!(
-                            "unknown section `{kw}`; expected `states`, `inputs`, `parameters`, `noise`, \
-                             `continuous`, `discrete`{} or `sensor`",
-                            if is_block { ", `needs`" } else { "" }
+                            "unknown section `{kw}`{hint}; expected `{}` or `sensor`",
+                            sections.join("`, `")
                         ),
-                    ))
+                    ));
                 }
             }
         }
@@ -531,6 +559,15 @@ fn parse_declarations(input: ParseStream, states: bool) -> syn::Result<Vec<Var>>
                         format!("`{kind}` marks a state (kept on its manifold by the filter); other declarations take a dimension like `3` or `3x3`"),
                     ));
                 }
+                if inner.peek(Token![:]) || inner.peek(LitInt) {
+                    return Err(syn::Error::new(
+                        inner.span(),
+                        format!(
+                            "`{kind}` takes no dimension: an `angle` state is one scalar and a `quaternion` \
+                             state a 4-vector (declare several angles one by one: `roll: angle, pitch: angle`)"
+                        ),
+                    ));
+                }
                 manifold = m;
                 (shape, kind.span())
             } else {
@@ -588,6 +625,15 @@ fn parse_shape(input: ParseStream) -> syn::Result<(Shape, Span)> {
 /// `sensor Name: M { inputs { .. } angles = [..]; let a = ..; h = ..; }`.
 fn parse_sensor(input: ParseStream, attrs: Vec<Attribute>) -> syn::Result<SensorDecl> {
     let name: Ident = input.parse()?;
+    if !input.peek(Token![:]) || !input.peek2(LitInt) {
+        return Err(syn::Error::new(
+            input.span(),
+            format!(
+                "expected `: M` after `sensor {name}`: a sensor declares its number of outputs, \
+                 `sensor {name}: M {{ .. }}`"
+            ),
+        ));
+    }
     input.parse::<Token![:]>()?;
     let dim_lit: LitInt = input.parse()?;
     let dim = dim_lit.base10_parse()?;
