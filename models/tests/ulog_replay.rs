@@ -309,3 +309,28 @@ fn broken_gnss_rows_are_clear_errors() {
         }
     }
 }
+
+/// An aiding file with a header and no rows is not silently absent: each
+/// (model, file) replays with a warning saying that aiding is missing.
+#[test]
+fn header_only_aiding_files_are_warnings() {
+    let tmp = TempDir::new("ulog-header-only");
+    let dir = import(&tmp);
+    let cases: [(&str, &str, &str); 3] = [
+        ("ahrs", "mag.csv", "mag.csv has no rows"),
+        ("gnss-ins", "mag.csv", "mag.csv has no rows"),
+        ("gnss-ins", "baro.csv", "baro.csv has no rows"),
+    ];
+    for (model, file, expected) in cases {
+        let original = std::fs::read_to_string(dir.join(file)).unwrap();
+        let header = original.lines().next().unwrap();
+        std::fs::write(dir.join(file), format!("{header}\n")).unwrap();
+        let v = replay(&dir, model, &[]);
+        std::fs::write(dir.join(file), &original).unwrap();
+        let warnings = v["warnings"].as_array().expect("warnings");
+        assert!(
+            warnings.iter().any(|w| w.to_string().contains(expected)),
+            "{model} {file}: no `{expected}` in {warnings:?}"
+        );
+    }
+}
