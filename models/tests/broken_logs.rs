@@ -586,6 +586,15 @@ fn cases() -> Vec<Case> {
             Here,
         ),
         (
+            "DVL noise sigma 1e-9",
+            "sigmas",
+            |d| meta_key(d, "sensors.dvl", "noise_sigma", "noise_sigma = 1e-9"),
+            SDINS,
+            // The filter gates nearly every DVL row: the run is hardly aided.
+            Warn("suspicious", "rows of dvl.csv were applied"),
+            Here,
+        ),
+        (
             "negative misalignment sigma",
             "sigmas",
             |d| {
@@ -939,6 +948,20 @@ fn cases() -> Vec<Case> {
             |d| cell(d, "dvl.csv", 7, 2, ""),
             LENIENT,
             Warn("skipped_row", "dvl.csv:9"),
+            Here,
+        ),
+        (
+            "DVL never in bottom lock",
+            "rows",
+            |d| {
+                rows(d, "dvl.csv", |_, c| {
+                    c[1].clear();
+                    c[2].clear();
+                    c[3].clear();
+                })
+            },
+            SDINS,
+            Warn("suspicious", "rows of dvl.csv was applied"),
             Here,
         ),
         (

@@ -206,6 +206,10 @@ pub fn replay_source(
         ));
     }
     warnings.extend(run.warnings.iter().cloned());
+    warnings.extend(crate::sdins25::replay_output::unapplied_sensors(
+        &run.health,
+        &run.ignored,
+    ));
     for (name, present) in [
         ("gnss", source.has::<GnssRow>()?),
         ("baro", source.has::<BaroRow>()?),
