@@ -503,7 +503,11 @@ fn model_warning(text: &str) -> Warning {
             Warning::about(WarningKind::PartialScoring, f, text)
         }
         // A sensor whose rows (hardly) corrected the run.
-        Some(f) if text.contains("applied (") || text.contains("has no rows") => {
+        Some(f)
+            if text.contains("applied (")
+                || text.contains("has no rows")
+                || text.contains("mean NEES") =>
+        {
             Warning::about(WarningKind::Suspicious, f, text)
         }
         _ => Warning {

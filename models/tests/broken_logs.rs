@@ -901,6 +901,23 @@ fn cases() -> Vec<Case> {
             Here,
         ),
         (
+            "truth depth sign flipped",
+            "scoring",
+            |d| scale(d, "truth.csv", &[3], -1.0),
+            SDINS,
+            // The depth error is the truth's, not the filter's: said.
+            Warn("suspicious", "mean NEES"),
+            Here,
+        ),
+        (
+            "truth time stamps 5 s late",
+            "clocks",
+            |d| shift_from(d, "truth.csv", 0, 5.0),
+            SDINS,
+            Warn("suspicious", "mean NEES"),
+            Here,
+        ),
+        (
             "truth longer than the IMU",
             "scoring",
             |d| drop_rows(d, "imu.csv", 2000, usize::MAX),

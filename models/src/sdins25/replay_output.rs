@@ -217,6 +217,14 @@ pub(super) fn replay_source<V: InsVehicle<N>, const N: usize>(
     output_of::<V, N>(&run, scored, smoothed, options, out.is_none())
 }
 
+/// Degrees of freedom of the navigation NEES (position, velocity, attitude).
+const NAV_NEES_DOF: f64 = 9.0;
+
+/// A mean NEES above this many times its degrees of freedom is warned: a
+/// consistent filter is near 1, a tuned-down one a few times, a truth of
+/// another sign or convention hundreds of times.
+const NEES_WARN_FACTOR: f64 = 10.0;
+
 /// A warning per sensor whose rows hardly corrected the run: none applied
 /// (a DVL that never had bottom lock, a noise sigma that gates every row),
 /// or more refused (gated, rejected, frozen) than applied. Its health counts
@@ -289,6 +297,17 @@ pub(super) fn output_of<V: InsVehicle<N>, const N: usize>(
             out.metrics.insert(k.into(), Value::from(v));
         }
         out.warnings.extend(s.partial.clone());
+        // Errors far beyond the filter's own sigmas: the RMS errors above
+        // are then those of a truth that does not describe this run (a
+        // sign, unit, convention or clock of truth.csv), not the filter's.
+        if s.nees_mean > NEES_WARN_FACTOR * NAV_NEES_DOF {
+            out.warnings.push(format!(
+                "truth.csv: mean NEES {:.1} over the {NAV_NEES_DOF} navigation states, more than \
+                 {NEES_WARN_FACTOR} times its expectation: the errors are far beyond the \
+                 filter's sigmas (a sign, unit, convention or clock of truth.csv?)",
+                s.nees_mean
+            ));
+        }
     }
     if let Some(s) = &smoothed {
         let errors: Map<String, Value> = ERROR_KEYS
