@@ -502,6 +502,14 @@ fn model_warning(text: &str) -> Warning {
         Some(f) if text.contains("are scored") => {
             Warning::about(WarningKind::PartialScoring, f, text)
         }
+        // A sensor whose rows (hardly) corrected the run.
+        Some(f)
+            if text.contains("applied (")
+                || text.contains("has no rows")
+                || text.contains("mean NEES") =>
+        {
+            Warning::about(WarningKind::Suspicious, f, text)
+        }
         _ => Warning {
             kind: WarningKind::Model,
             file: None,

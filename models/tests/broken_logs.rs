@@ -474,6 +474,22 @@ fn cases() -> Vec<Case> {
             Here,
         ),
         (
+            "[initial_sigma] heading in degrees",
+            "units",
+            |d| meta_key(d, "initial_sigma", "heading", "heading = 5.0"),
+            SDINS,
+            Error(&["meta.toml", "initial_sigma.heading", "degrees?"]),
+            Here,
+        ),
+        (
+            "compass noise sigma in degrees",
+            "units",
+            |d| meta_key(d, "sensors.heading", "noise_sigma", "noise_sigma = 5"),
+            SDINS,
+            Error(&["sensors.heading.noise_sigma", "degrees?"]),
+            Here,
+        ),
+        (
             "[initial] lat in degrees",
             "units",
             |d| meta_key(d, "initial", "lat", "lat = 36.4"),
@@ -551,6 +567,31 @@ fn cases() -> Vec<Case> {
             |d| meta_key(d, "sensors.depth", "noise_sigma", "noise_sigma = nan"),
             SDINS,
             Error(&["sensors.depth.noise_sigma", "non-finite"]),
+            Here,
+        ),
+        (
+            "initial position sigma 1e200",
+            "sigmas",
+            |d| meta_key(d, "initial_sigma", "position", "position = 1e200"),
+            SDINS,
+            Error(&["meta.toml", "initial_sigma.position", "square finite"]),
+            Here,
+        ),
+        (
+            "DVL noise sigma 1e200",
+            "sigmas",
+            |d| meta_key(d, "sensors.dvl", "noise_sigma", "noise_sigma = 1e200"),
+            SDINS,
+            Error(&["sensors.dvl.noise_sigma", "square finite"]),
+            Here,
+        ),
+        (
+            "DVL noise sigma 1e-9",
+            "sigmas",
+            |d| meta_key(d, "sensors.dvl", "noise_sigma", "noise_sigma = 1e-9"),
+            SDINS,
+            // The filter gates nearly every DVL row: the run is hardly aided.
+            Warn("suspicious", "rows of dvl.csv were applied"),
             Here,
         ),
         (
@@ -860,6 +901,23 @@ fn cases() -> Vec<Case> {
             Here,
         ),
         (
+            "truth depth sign flipped",
+            "scoring",
+            |d| scale(d, "truth.csv", &[3], -1.0),
+            SDINS,
+            // The depth error is the truth's, not the filter's: said.
+            Warn("suspicious", "mean NEES"),
+            Here,
+        ),
+        (
+            "truth time stamps 5 s late",
+            "clocks",
+            |d| shift_from(d, "truth.csv", 0, 5.0),
+            SDINS,
+            Warn("suspicious", "mean NEES"),
+            Here,
+        ),
+        (
             "truth longer than the IMU",
             "scoring",
             |d| drop_rows(d, "imu.csv", 2000, usize::MAX),
@@ -910,6 +968,20 @@ fn cases() -> Vec<Case> {
             Here,
         ),
         (
+            "DVL never in bottom lock",
+            "rows",
+            |d| {
+                rows(d, "dvl.csv", |_, c| {
+                    c[1].clear();
+                    c[2].clear();
+                    c[3].clear();
+                })
+            },
+            SDINS,
+            Warn("suspicious", "rows of dvl.csv was applied"),
+            Here,
+        ),
+        (
             "DVL without bottom lock",
             "correct",
             |d| {
@@ -945,6 +1017,14 @@ fn cases() -> Vec<Case> {
             },
             LENIENT,
             Error(&["depth.csv", "does not exist"]),
+            Here,
+        ),
+        (
+            "header-only dvl.csv",
+            "files",
+            |d| std::fs::write(d.join("dvl.csv"), "t,vx,vy,vz\n").unwrap(),
+            SDINS,
+            Warn("suspicious", "dvl.csv has no rows"),
             Here,
         ),
         (

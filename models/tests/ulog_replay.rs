@@ -309,3 +309,44 @@ fn broken_gnss_rows_are_clear_errors() {
         }
     }
 }
+
+/// (model, file, edit of the file, text of the expected warning)
+type WarnCase<'a> = (&'a str, &'a str, &'a dyn Fn(&str) -> String, &'a str);
+
+/// An aiding file with a header and no rows is not silently absent, and a
+/// reference that overlaps little of the run is said: each (model, file,
+/// edit) replays with a warning containing the given text.
+#[test]
+fn missing_aiding_and_partial_references_are_warnings() {
+    let tmp = TempDir::new("ulog-partial");
+    let dir = import(&tmp);
+    let header_only = |text: &str| format!("{}\n", text.lines().next().unwrap());
+    // The reference 15 s late: 6 of the 21 s run compared.
+    let late = |text: &str| {
+        let mut lines = text.lines();
+        let mut out = format!("{}\n", lines.next().unwrap());
+        for l in lines {
+            let (t, rest) = l.split_once(',').unwrap();
+            out.push_str(&format!("{},{rest}\n", t.parse::<f64>().unwrap() + 15.0));
+        }
+        out
+    };
+    let cases: [WarnCase; 5] = [
+        ("ahrs", "mag.csv", &header_only, "mag.csv has no rows"),
+        ("gnss-ins", "mag.csv", &header_only, "mag.csv has no rows"),
+        ("gnss-ins", "baro.csv", &header_only, "baro.csv has no rows"),
+        ("ahrs", "reference.csv", &late, "are scored against it"),
+        ("gnss-ins", "reference.csv", &late, "are scored against it"),
+    ];
+    for (model, file, edit, expected) in cases {
+        let original = std::fs::read_to_string(dir.join(file)).unwrap();
+        std::fs::write(dir.join(file), edit(&original)).unwrap();
+        let v = replay(&dir, model, &[]);
+        std::fs::write(dir.join(file), &original).unwrap();
+        let warnings = v["warnings"].as_array().expect("warnings");
+        assert!(
+            warnings.iter().any(|w| w.to_string().contains(expected)),
+            "{model} {file}: no `{expected}` in {warnings:?}"
+        );
+    }
+}

@@ -310,6 +310,18 @@ fn meta_messages_name_the_likely_cause() {
             "[initial]\nlat = 0.1\nlon = 0.2\ndepth = 3\n[sensors.dvl]\nnoise_sigma = 0\n",
             "must be > 0",
         ),
+        (
+            "[initial]\nlat = 0.1\nlon = 0.2\ndepth = 3\n[initial_sigma]\nposition = 1e200\n",
+            "its square finite",
+        ),
+        (
+            "[initial]\nlat = 0.1\nlon = 0.2\ndepth = 3\n[initial_sigma]\nlevel = 5\n",
+            "degrees?",
+        ),
+        (
+            "[initial]\nlat = 0.1\nlon = 0.2\ndepth = 3\n[sensors.heading]\nnoise_sigma = 10\n",
+            "degrees?",
+        ),
     ] {
         let msg = Meta::parse(text).unwrap_err().to_string();
         assert!(msg.contains(needle), "{text:?}: {msg}");

@@ -7,7 +7,7 @@ use models::leveling::simulation::{self, Biases, Motion};
 use models::leveling::{scenarios, Leveling6Replay};
 use nav_runtime::earth;
 use nav_runtime::imu::MG;
-use nav_runtime::log::{LogDir, Strictness};
+use nav_runtime::log::{LogDir, Strictness, TruthRow};
 use nav_runtime::stats;
 
 fn runs(name: &str, n: u64, options: &RunOptions) -> Vec<RunResult> {
@@ -104,6 +104,43 @@ fn replay_of_a_written_log_detects_rest_and_levels() {
         assert!(e.abs() < 0.07, "{key} = {e}");
     }
     assert_eq!(out.samples, back.imu.len());
+}
+
+/// The final errors of a replay are those at the last truth row with an
+/// estimate: a truth that ends long before the run, or whose rows lie past
+/// the last IMU sample (compared with a stale estimate before), is said.
+#[test]
+fn final_errors_not_at_the_end_of_the_run_are_warned() {
+    let log = simulation::simulate(Motion::Stationary, Biases::OneSigma, 7);
+    let end = log.imu.last().expect("imu").t;
+    let truth = log.truth.clone().expect("truth");
+    let cases: [(&str, Vec<TruthRow>); 2] = [
+        ("first row only", truth[..1].to_vec()),
+        (
+            "rows after the run",
+            std::iter::once(truth[0])
+                .chain(truth[1..].iter().map(|r| TruthRow { t: r.t + end, ..*r }))
+                .collect(),
+        ),
+    ];
+    for (name, rows) in cases {
+        let mut log = log.clone();
+        log.truth = Some(rows);
+        let out = Leveling6Replay
+            .replay(&log, &ReplayOptions::default())
+            .expect("replay");
+        assert!(
+            out.warnings
+                .iter()
+                .any(|w| w.contains("only its rows up to t =") && w.contains("are scored")),
+            "{name}: {:?}",
+            out.warnings
+        );
+    }
+    let out = Leveling6Replay
+        .replay(&log, &ReplayOptions::default())
+        .expect("replay");
+    assert!(out.warnings.is_empty(), "{:?}", out.warnings);
 }
 
 /// Without the upright constraint an initial roll error beyond 90 degrees converges

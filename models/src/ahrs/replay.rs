@@ -136,6 +136,10 @@ fn prepare<'a>(
     });
     if !has_mag {
         warnings.push("the log has no mag.csv: the yaw is not observed (gyro only)".into());
+    } else if !any_mag {
+        // A header only (or every row skipped): as absent, and said.
+        warnings
+            .push("mag.csv has no rows: the yaw is not observed (gyro only), declination 0".into());
     }
     settings.declination = found;
     Ok((settings, imu))

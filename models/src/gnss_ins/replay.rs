@@ -206,13 +206,25 @@ pub fn replay_source(
         ));
     }
     warnings.extend(run.warnings.iter().cloned());
-    for (file, present) in [
-        ("gnss.csv", source.has::<GnssRow>()?),
-        ("baro.csv", source.has::<BaroRow>()?),
-        ("mag.csv", source.has::<MagRow>()?),
+    warnings.extend(crate::sdins25::replay_output::unapplied_sensors(
+        &run.health,
+        &run.ignored,
+    ));
+    for (name, present) in [
+        ("gnss", source.has::<GnssRow>()?),
+        ("baro", source.has::<BaroRow>()?),
+        ("mag", source.has::<MagRow>()?),
     ] {
+        let rows = run
+            .health
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map_or(0, |(_, h)| h.rows);
         if !present {
-            warnings.push(format!("the log has no {file}: that aiding is absent"));
+            warnings.push(format!("the log has no {name}.csv: that aiding is absent"));
+        } else if rows == 0 {
+            // A header only (or every row skipped): as absent, and said.
+            warnings.push(format!("{name}.csv has no rows: that aiding is absent"));
         }
     }
     let m = &mut output.metrics;

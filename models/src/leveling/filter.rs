@@ -386,11 +386,23 @@ pub fn errors_at_truth(run: &LevelingRun, log: &LogDir) -> Vec<(f64, f64, f64)> 
     let Some(truth) = &log.truth else {
         return Vec::new();
     };
+    // A truth row more than one and a half mean IMU periods after the
+    // estimate before it (past the last IMU sample) has no estimate: the
+    // last one compared with a truth minutes later is not an error.
+    let stale = match (run.estimates.first(), run.estimates.last()) {
+        (Some(a), Some(b)) if run.estimates.len() > 1 => {
+            1.5 * (b.t - a.t) / (run.estimates.len() - 1) as f64
+        }
+        _ => 0.0,
+    };
     truth
         .iter()
         .filter_map(|row| {
             let i = run.estimates.partition_point(|e| e.t <= row.t + 1e-9);
             let e = run.estimates.get(i.checked_sub(1)?)?;
+            if row.t - e.t > stale + 1e-9 {
+                return None;
+            }
             Some((
                 row.t,
                 wrap_angle(e.roll - row.roll),

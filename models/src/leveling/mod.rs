@@ -490,7 +490,24 @@ impl ReplayModel for Leveling6Replay {
         };
         out.metrics
             .insert("stationary".into(), Value::from(stationary));
-        if log.truth.is_some() {
+        if let Some(truth) = &log.truth {
+            // The final errors are those at the last truth row with an
+            // estimate: said when that is not the end of the run.
+            let errors = errors_at_truth(&run, log);
+            if let (Some(&(t, _, _)), Some(first), Some(last)) =
+                (errors.last(), run.estimates.first(), run.estimates.last())
+            {
+                let early = last.t - t;
+                if early > (0.05 * (last.t - first.t)).max(1.0) {
+                    out.warnings.push(format!(
+                        "truth.csv: only its rows up to t = {t} s ({} of {}) are scored, {early:.1} s \
+                         before the end of the run (t = {} s): the final errors are not at the end",
+                        errors.len(),
+                        truth.len(),
+                        last.t
+                    ));
+                }
+            }
             let scored = score(0, &run, log, options.keep_series)?;
             for key in ["roll_error_final_deg", "pitch_error_final_deg"] {
                 out.metrics

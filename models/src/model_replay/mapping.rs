@@ -172,6 +172,16 @@ pub fn parse(text: &str, file: &str, declared: &Declared) -> Result<Mapping> {
 
     let params = cx.values(&table, "parameters", declared.params, declared.model)?;
     let noise = cx.values(&table, "noise", declared.noise, declared.model)?;
+    // A noise input is a variance (or a density): never negative. The
+    // filter would refuse it without naming the key.
+    for (i, q) in noise.iter().enumerate() {
+        if *q < 0.0 {
+            return Err(err(
+                &format!("noise.{}", declared.noise[i]),
+                format!("{q} is negative: a noise intensity (variance or density) is >= 0"),
+            ));
+        }
+    }
 
     // [initial]
     let initial = cx.table(&table, "initial")?.ok_or_else(|| {
@@ -190,10 +200,14 @@ pub fn parse(text: &str, file: &str, declared: &Declared) -> Result<Mapping> {
     let state = cx.values(initial, "state", &states, declared.model)?;
     let sigma = cx.values(initial, "sigma", &states, declared.model)?;
     for (i, s) in sigma.iter().enumerate() {
-        if *s < 0.0 {
+        // Its square is the initial variance: it must be finite too.
+        if *s < 0.0 || !(s * s).is_finite() {
             return Err(err(
                 "initial.sigma",
-                format!("`{}`: {s} is not a sigma (finite, >= 0)", states[i]),
+                format!(
+                    "`{}`: {s} is not a sigma (finite, >= 0, its square finite)",
+                    states[i]
+                ),
             ));
         }
     }
@@ -265,10 +279,13 @@ pub fn parse(text: &str, file: &str, declared: &Declared) -> Result<Mapping> {
                 )
             })?;
             let sigma = cx.numbers(&format!("{key}.sigma"), sigma_value, outputs.len())?;
-            if let Some(bad) = sigma.iter().find(|s| **s <= 0.0) {
+            if let Some(bad) = sigma
+                .iter()
+                .find(|s| **s <= 0.0 || !(**s * **s).is_finite())
+            {
                 return Err(err(
                     &format!("{key}.sigma"),
-                    format!("{bad} is not a sigma (finite, > 0)"),
+                    format!("{bad} is not a sigma (finite, > 0, its square finite)"),
                 ));
             }
             let gate = match s.get("gate") {
@@ -559,6 +576,7 @@ impl Cx<'_> {
         owner: &str,
         out: &mut [Option<Cell>],
     ) -> Result<()> {
+        let mut given: Vec<Option<String>> = vec![None; names.len()];
         for (k, v) in table {
             let key = join(section, k);
             let scalars = scalars_of(names, k);
@@ -566,9 +584,33 @@ impl Cx<'_> {
                 return Err(self.unknown(&key, k, names, what, owner));
             }
             for (i, c) in scalars.iter().zip(self.cells(&key, v, scalars.len())?) {
+                self.once(&mut given, *i, names, &key)?;
                 out[*i] = Some(c);
             }
         }
+        Ok(())
+    }
+
+    /// Records that scalar `i` of `names` is given by `key`: a scalar given
+    /// twice (a block and one of its elements, `position` and
+    /// `"position[0]"`) is an error naming both keys, not a silent choice.
+    fn once(
+        &self,
+        given: &mut [Option<String>],
+        i: usize,
+        names: &[&str],
+        key: &str,
+    ) -> Result<()> {
+        if let Some(first) = &given[i] {
+            return Err((self.err)(
+                key,
+                format!(
+                    "`{}` is given twice (by `{first}` and by `{key}`): give it once",
+                    names[i]
+                ),
+            ));
+        }
+        given[i] = Some(key.to_string());
         Ok(())
     }
 
@@ -610,6 +652,7 @@ impl Cx<'_> {
             key.to_string()
         };
         let mut out: Vec<Option<f64>> = vec![None; names.len()];
+        let mut given: Vec<Option<String>> = vec![None; names.len()];
         if let Some(t) = self.table(table, key)? {
             for (k, v) in t {
                 let scalars = scalars_of(names, k);
@@ -625,6 +668,7 @@ impl Cx<'_> {
                     .iter()
                     .zip(self.numbers(&full(k), v, scalars.len())?)
                 {
+                    self.once(&mut given, *i, names, &full(k))?;
                     out[*i] = Some(x);
                 }
             }

@@ -90,7 +90,8 @@ pub struct ModelRun {
     pub sensors: Vec<SensorSummary>,
     /// The final state and sigma, per state scalar.
     pub final_state: Vec<(&'static str, f64, f64)>,
-    /// Against the truth file, when there is one.
+    /// Against the truth file, when there is one and it scored a sample
+    /// (otherwise a warning says so).
     pub truth: Option<TruthScore>,
     /// Covariance repairs of the filter.
     pub covariance_repairs: u64,
@@ -210,17 +211,35 @@ where
     // The first input row at the epoch is the start; one after it is the
     // first interval.
     let record = |v: &[f64]| <M::Input as Record>::from_fn(|i| v[i]);
-    let mut held: Option<(u64, f64, M::Input)> =
-        (first.1 > epoch).then(|| (first.0, first.1, record(inputs.values())));
-    let period = match &held {
-        Some((_, t, _)) => t - epoch,
-        None => match inputs.next_row()? {
-            Some((line, t)) => {
-                held = Some((line, t, record(inputs.values())));
-                t - epoch
-            }
-            None => 0.0,
-        },
+    // The first two intervals are read ahead: the first is checked for a
+    // gap against the second like any other (an `[initial] t` long before
+    // the first row, or a first row long before the rest, would otherwise
+    // be one first-order step and the truth tolerance of its length).
+    let mut ahead: std::collections::VecDeque<(u64, f64, M::Input)> =
+        std::collections::VecDeque::with_capacity(2);
+    if first.1 > epoch {
+        ahead.push_back((first.0, first.1, record(inputs.values())));
+    }
+    while ahead.len() < 2 {
+        match inputs.next_row()? {
+            Some((line, t)) => ahead.push_back((line, t, record(inputs.values()))),
+            None => break,
+        }
+    }
+    let mut times = std::iter::once(epoch).chain(ahead.iter().map(|a| a.1));
+    let mut intervals = Vec::with_capacity(2);
+    let mut previous = times.next().unwrap_or(epoch);
+    for t in times {
+        intervals.push(t - previous);
+        previous = t;
+    }
+    let Some(period) = intervals.iter().copied().reduce(f64::min) else {
+        return Err(ModelReplayError::Setup(format!(
+            "{}:{}: the only input row at or after the initial epoch t = {epoch} s: \
+             nothing to propagate (a replay needs an input row after the epoch)",
+            inputs.file(),
+            first.0
+        )));
     };
 
     let x0 = SVector::<f64, N>::from_iterator(mapping.initial.state.iter().copied());
@@ -344,7 +363,7 @@ where
     let (mut gaps, mut first_gap) = (0u64, None::<String>);
 
     loop {
-        let (line, t, input) = match held.take() {
+        let (line, t, input) = match ahead.pop_front() {
             Some(h) => h,
             None => match inputs.next_row()? {
                 Some((line, t)) => (line, t, record(inputs.values())),
@@ -478,14 +497,14 @@ where
             run.skip_reasons.extend(rows.skipped.iter().cloned());
         }
     }
-    warn_about_result(&mut run, truth.is_some());
+    warn_about_result(&mut run, truth.as_ref().map(|t| t.rows.file()));
     run.runtime_s = start.elapsed().as_secs_f64();
     Ok(run)
 }
 
 /// The warnings a result needs to be read right: a sensor that never
-/// corrected the filter, an NIS far from its expectation, repairs.
-fn warn_about_result(run: &mut ModelRun, has_truth: bool) {
+/// corrected the filter, an NIS or NEES far from its expectation, repairs.
+fn warn_about_result(run: &mut ModelRun, truth_file: Option<&str>) {
     let mut warnings = Vec::new();
     for s in &run.sensors {
         let Some(file) = &s.file else { continue };
@@ -505,6 +524,17 @@ fn warn_about_result(run: &mut ModelRun, has_truth: bool) {
                 format!(
                     "sensor {}: none of its {} rows was applied ({} gated, {} rejected)",
                     s.name, s.rows, s.gated, s.rejected
+                ),
+            ));
+        } else if s.gated + s.rejected > s.accepted {
+            // Most rows refused: the sensor hardly corrected the estimate
+            // (time stamps in another unit, a wrong sigma or column).
+            warnings.push(Warning::about(
+                WarningKind::Suspicious,
+                file,
+                format!(
+                    "sensor {}: only {} of its {} rows were applied ({} gated, {} rejected)",
+                    s.name, s.accepted, s.rows, s.gated, s.rejected
                 ),
             ));
         }
@@ -534,12 +564,30 @@ fn warn_about_result(run: &mut ModelRun, has_truth: bool) {
             ),
         });
     }
-    if has_truth && run.truth.as_ref().is_none_or(|t| t.scored == 0) {
-        warnings.push(Warning::about(
-            WarningKind::PartialScoring,
-            "truth.csv",
-            "the truth file has no row within half an input period of an input sample: nothing is scored",
-        ));
+    if let Some(file) = truth_file {
+        match &run.truth {
+            Some(t) if t.scored > 0 => {
+                // The same rule as the NIS: a filter whose sigmas do not
+                // cover its errors (or far exceed them) gives RMS errors
+                // that its own sigmas do not describe.
+                let dof = t.nees_dof as f64;
+                if t.scored >= 20 && (t.nees_mean > 3.0 * dof || t.nees_mean < dof / 3.0) {
+                    warnings.push(Warning::about(
+                        WarningKind::Suspicious,
+                        file,
+                        format!(
+                            "mean NEES {:.3} for {} scored states over {} samples: the filter's sigmas do not describe its errors against {file}",
+                            t.nees_mean, t.nees_dof, t.scored
+                        ),
+                    ));
+                }
+            }
+            _ => warnings.push(Warning::about(
+                WarningKind::PartialScoring,
+                file,
+                format!("{file} has no row within half an input period of an input sample: nothing is scored"),
+            )),
+        }
     }
     run.warnings.extend(warnings);
 }
@@ -647,9 +695,14 @@ impl<const N: usize> Score<N> {
         self.scored += 1;
     }
 
+    /// The score; `None` without a truth file or when nothing was scored
+    /// (an RMS of zero samples is not a number to print).
     fn finish(self, names: &[&'static str; N]) -> Option<TruthScore> {
         let has = self.has?;
-        let n = self.scored.max(1) as f64;
+        if self.scored == 0 {
+            return None;
+        }
+        let n = self.scored as f64;
         Some(TruthScore {
             scored: self.scored,
             rms: (0..N)

@@ -167,8 +167,9 @@ impl MappedRows {
     /// The next row: `(line, t)`, its values in [`MappedRows::values`].
     ///
     /// # Errors
-    /// A cell that is not a finite number, a row with too few cells, a time
-    /// not after the previous row's (strict reading; lenient reading skips
+    /// A cell that is not a finite number (as read or once converted), a
+    /// row with fewer or more cells than the header, a time not after the
+    /// previous row's (strict reading; lenient reading skips
     /// and counts the row).
     pub fn next_row(&mut self) -> Result<Option<(u64, f64)>, LogError> {
         loop {
@@ -268,7 +269,34 @@ impl MappedRows {
             }
             Ok(v)
         };
-        let t = cell(self.time.0)? * self.time.1;
+        // A row with more cells than the header is not read by position: a
+        // decimal comma (`1,5`) or a shifted column would move every value.
+        if self.record.len() != self.headers.len() {
+            return Err(err(
+                self.record.len().min(self.headers.len()),
+                CsvProblem::ColumnCount {
+                    expected: self.headers.len(),
+                    found: self.record.len(),
+                },
+            ));
+        }
+        // A finite cell can overflow once converted (`1e306` km).
+        let converted = |i: usize, factor: f64| -> Result<f64, LogError> {
+            let v = cell(i)?;
+            let x = v * factor;
+            if x.is_finite() {
+                Ok(x)
+            } else {
+                Err(err(
+                    i,
+                    CsvProblem::OutOfRange {
+                        value: v,
+                        allowed: "finite once converted to the declared unit",
+                    },
+                ))
+            }
+        };
+        let t = converted(self.time.0, self.time.1)?;
         if let Some(previous) = self.previous_t {
             if t < previous {
                 return Err(err(self.time.0, CsvProblem::TimeBackwards { previous, t }));
@@ -279,7 +307,7 @@ impl MappedRows {
         }
         for k in 0..self.cells.len() {
             self.values[k] = match self.cells[k] {
-                Read::Column(i, f) => cell(i)? * f,
+                Read::Column(i, f) => converted(i, f)?,
                 Read::Constant(v) => v,
                 Read::Absent => f64::NAN,
             };

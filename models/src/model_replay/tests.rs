@@ -247,6 +247,52 @@ fn broken_mappings_and_logs_are_errors_naming_the_key() {
             "\n1,NaN",
             &["beacon.csv:3: column `range`"],
         ),
+        // A decimal comma: one cell more than the header, not shifted values.
+        (
+            "gnss.csv",
+            "\n1.5,",
+            "\n1.5,0,",
+            &["gnss.csv:3", "expected 3 columns, found 4"],
+        ),
+        // A finite cell that overflows once converted.
+        (
+            "replay.toml",
+            "file = \"gnss.csv\"",
+            "file = \"gnss.csv\"\ntime = { column = \"t\", scale = 1e308 }",
+            &["gnss.csv:4: column `t`", "finite once converted"],
+        ),
+        (
+            "replay.toml",
+            "position = 0.0",
+            "position = 0.0\n\"position[0]\" = 5.0",
+            &["initial.state.position[0]", "given twice"],
+        ),
+        (
+            "replay.toml",
+            "speed_noise = ",
+            "speed_noise = -",
+            &["noise.speed_noise", "negative"],
+        ),
+        (
+            "replay.toml",
+            "position = 1.0",
+            "position = 1e200",
+            &["initial.sigma", "its square finite"],
+        ),
+        // The first interval is a gap like any other.
+        (
+            "replay.toml",
+            "t = 0.0",
+            "t = -30.0",
+            &["wheels.csv:2", "gap of 30 s"],
+        ),
+        // One input row at the epoch: nothing to propagate.
+        (
+            "replay.toml",
+            "t = 0.0",
+            "t = 200.0",
+            &["wheels.csv:2002", "nothing to propagate"],
+        ),
     ];
     let dir = TempDir::new("broken");
     for (k, (file, from, to, expected)) in cases.iter().enumerate() {
@@ -270,7 +316,8 @@ fn broken_mappings_and_logs_are_errors_naming_the_key() {
 }
 
 /// Lenient reading skips a bad row, counts it and says so; a sensor whose
-/// rows are all refused is a warning, not a silent number.
+/// rows are all refused, and a truth the filter's sigmas do not describe,
+/// are warnings, not silent numbers.
 #[test]
 fn lenient_reading_and_refused_sensors_are_in_the_warnings() {
     let dir = TempDir::new("lenient");
@@ -314,6 +361,74 @@ fn lenient_reading_and_refused_sensors_are_in_the_warnings() {
         run.warnings.iter().any(|w| w
             .message
             .contains("sensor Fix: none of its 200 rows was applied")),
+        "{:?}",
+        run.warnings
+    );
+
+    // A truth heading 0.5 rad off (another convention): the RMS errors are
+    // not the filter's, and the NEES says so.
+    let log = dir.0.join("truth-convention");
+    write_log(&log, 4, SI, DRIVE_STEPS);
+    let path = log.join("truth.csv");
+    let turned: String = std::fs::read_to_string(&path)
+        .unwrap()
+        .lines()
+        .enumerate()
+        .map(|(i, l)| {
+            if i == 0 {
+                format!("{l}\n")
+            } else {
+                let c: Vec<f64> = l.split(',').map(|c| c.parse().unwrap()).collect();
+                format!("{},{},{},{}\n", c[0], c[1], c[2], c[3] + 0.5)
+            }
+        })
+        .collect();
+    std::fs::write(&path, turned).unwrap();
+    let run = rover()
+        .replay(&log, None, &RunOptions::default(), None)
+        .unwrap();
+    assert!(
+        run.warnings.iter().any(|w| w.message.contains("mean NEES")
+            && w.message.contains("for 3 scored states")
+            && w.file.as_deref() == Some("truth.csv")),
+        "{:?}",
+        run.warnings
+    );
+
+    // Fix times read as ms: the fixes crowd the first 0.2 s and most are
+    // gated, which is said.
+    let log = dir.0.join("fix-ms");
+    write_log(&log, 4, SI, DRIVE_STEPS);
+    let path = log.join("replay.toml");
+    let mapping = std::fs::read_to_string(&path).unwrap().replacen(
+        "file = \"gnss.csv\"",
+        "file = \"gnss.csv\"\ntime = { column = \"t\", unit = \"ms\" }",
+        1,
+    );
+    std::fs::write(&path, mapping).unwrap();
+    let run = rover()
+        .replay(&log, None, &RunOptions::default(), None)
+        .unwrap();
+    assert!(
+        run.warnings
+            .iter()
+            .any(|w| w.message.contains("sensor Fix: only")),
+        "{:?}",
+        run.warnings
+    );
+
+    // A header-only truth file: no score of zeros, a warning.
+    let log = dir.0.join("truth-header");
+    write_log(&log, 4, SI, DRIVE_STEPS);
+    std::fs::write(log.join("truth.csv"), "t,position[0],position[1],heading\n").unwrap();
+    let run = rover()
+        .replay(&log, None, &RunOptions::default(), None)
+        .unwrap();
+    assert!(run.truth.is_none());
+    assert!(
+        run.warnings
+            .iter()
+            .any(|w| w.message.contains("nothing is scored")),
         "{:?}",
         run.warnings
     );

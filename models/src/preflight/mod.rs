@@ -387,7 +387,9 @@ impl<'m> Scan<'m> {
         for (has, rows) in has_rows.iter_mut().zip(self.rows) {
             *has = rows > 0;
         }
-        sensor_sections::check(self.meta, has_rows, o.model_files, &mut report);
+        let mut present = [false; 8];
+        present.copy_from_slice(&self.present[..8]);
+        sensor_sections::check(self.meta, present, has_rows, o.model_files, &mut report);
         report
     }
 }

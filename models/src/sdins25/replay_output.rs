@@ -19,7 +19,7 @@ use super::replay_loop::{Every, Listed};
 use super::score::{Keep, Scored, Scorer, COLUMNS, TABLE};
 use super::vehicle::{InsVehicle, Layout};
 use super::{error_values, write_plots, write_smoothed_plot, ERROR_KEYS, SMOOTHED_TABLE};
-use crate::harness::{ReplayOptions, ReplayOutput, RunError};
+use crate::harness::{ReplayOptions, ReplayOutput, RunError, SensorHealth};
 use crate::navigator::Estimate;
 use crate::series::TableWriter;
 
@@ -217,6 +217,47 @@ pub(super) fn replay_source<V: InsVehicle<N>, const N: usize>(
     output_of::<V, N>(&run, scored, smoothed, options, out.is_none())
 }
 
+/// Degrees of freedom of the navigation NEES (position, velocity, attitude).
+const NAV_NEES_DOF: f64 = 9.0;
+
+/// A mean NEES above this many times its degrees of freedom is warned: a
+/// consistent filter is near 1, a tuned-down one a few times, a truth of
+/// another sign or convention hundreds of times.
+const NEES_WARN_FACTOR: f64 = 10.0;
+
+/// A warning per sensor whose rows hardly corrected the run: none applied
+/// (a DVL that never had bottom lock, a noise sigma that gates every row),
+/// or more refused (gated, rejected, frozen) than applied. Its health counts
+/// say so too, but a result that looks aided needs the warning.
+pub(crate) fn unapplied_sensors(
+    health: &[(&'static str, SensorHealth)],
+    ignored: &[&'static str],
+) -> Vec<String> {
+    let mut warnings = Vec::new();
+    for (name, h) in health {
+        if h.rows == 0 || ignored.contains(name) {
+            continue;
+        }
+        let refused = h.gated + h.rejected + h.stuck;
+        let counts = format!(
+            "{} gated, {} rejected, {} frozen, {} skipped",
+            h.gated, h.rejected, h.stuck, h.skipped
+        );
+        if h.accepted == 0 {
+            warnings.push(format!(
+                "sensor {name}: none of the {} rows of {name}.csv was applied ({counts})",
+                h.rows
+            ));
+        } else if refused > h.accepted {
+            warnings.push(format!(
+                "sensor {name}: only {} of the {} rows of {name}.csv were applied ({counts})",
+                h.accepted, h.rows
+            ));
+        }
+    }
+    warnings
+}
+
 /// The replay output of a run: metrics, warnings and (with `tables`) the
 /// error tables.
 pub(super) fn output_of<V: InsVehicle<N>, const N: usize>(
@@ -243,6 +284,8 @@ pub(super) fn output_of<V: InsVehicle<N>, const N: usize>(
         ));
     }
     out.warnings.extend(run.warnings.iter().cloned());
+    out.warnings
+        .extend(unapplied_sensors(&run.health, &run.ignored));
     if let Some(s) = &scored {
         for (k, v) in [
             ("horizontal_error_final_m", s.horizontal_error_final_m),
@@ -254,6 +297,17 @@ pub(super) fn output_of<V: InsVehicle<N>, const N: usize>(
             out.metrics.insert(k.into(), Value::from(v));
         }
         out.warnings.extend(s.partial.clone());
+        // Errors far beyond the filter's own sigmas: the RMS errors above
+        // are then those of a truth that does not describe this run (a
+        // sign, unit, convention or clock of truth.csv), not the filter's.
+        if s.nees_mean > NEES_WARN_FACTOR * NAV_NEES_DOF {
+            out.warnings.push(format!(
+                "truth.csv: mean NEES {:.1} over the {NAV_NEES_DOF} navigation states, more than \
+                 {NEES_WARN_FACTOR} times its expectation: the errors are far beyond the \
+                 filter's sigmas (a sign, unit, convention or clock of truth.csv?)",
+                s.nees_mean
+            ));
+        }
     }
     if let Some(s) = &smoothed {
         let errors: Map<String, Value> = ERROR_KEYS

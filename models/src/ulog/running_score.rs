@@ -137,6 +137,8 @@ pub struct ReferenceScore<'a> {
     position_rows: usize,
     first: Option<f64>,
     last: f64,
+    /// First and last time of the estimates offered.
+    estimates: Option<(f64, f64)>,
     estimate_has_position: bool,
     table: SeriesSink,
 }
@@ -163,6 +165,7 @@ impl<'a> ReferenceScore<'a> {
             position_rows: 0,
             first: None,
             last: 0.0,
+            estimates: None,
             estimate_has_position: false,
             table,
         })
@@ -174,6 +177,10 @@ impl<'a> ReferenceScore<'a> {
     /// A row of `reference.csv` cannot be read, or the table written.
     pub fn push(&mut self, point: EstimatePoint) -> Result<(), RunError> {
         self.estimate_has_position |= point.position.is_some();
+        self.estimates = Some(
+            self.estimates
+                .map_or((point.t, point.t), |(a, _)| (a, point.t)),
+        );
         let groups = &mut self.groups;
         let (attitude, horizontal) = (&mut self.attitude, &mut self.horizontal);
         let (attitude_rows, position_rows) = (&mut self.attitude_rows, &mut self.position_rows);
@@ -238,6 +245,18 @@ impl<'a> ReferenceScore<'a> {
         };
         if let Value::Object(m) = difference.json() {
             metrics.extend(m);
+        }
+        // A reference that overlaps little of the run gives differences of
+        // that part only (a clock offset, a cut file): said.
+        if let Some((a, b)) = self.estimates {
+            let run = b - a;
+            if difference.samples > 0 && difference.scored_seconds < 0.5 * run {
+                warnings.push(format!(
+                    "reference.csv: only {:.1} s of the {run:.1} s run ({} rows) are scored against \
+                     it: the differences are of that part only",
+                    difference.scored_seconds, difference.samples
+                ));
+            }
         }
         if !has_attitude {
             warnings.push("reference.csv has no attitude: no attitude difference".into());

@@ -289,8 +289,8 @@ impl Meta {
                 Some(InitialSigma {
                     position: cx.opt(s, sec, "position", Range::Sigma)?,
                     velocity: cx.opt(s, sec, "velocity", Range::Sigma)?,
-                    level: cx.opt(s, sec, "level", Range::Sigma)?,
-                    heading: cx.opt(s, sec, "heading", Range::Sigma)?,
+                    level: cx.opt(s, sec, "level", Range::AngleSigma)?,
+                    heading: cx.opt(s, sec, "heading", Range::AngleSigma)?,
                 })
             }
         };
@@ -338,8 +338,14 @@ impl Meta {
                 cx.check_keys(t, &sec, &keys)?;
                 if *name == "usbl" {
                     sensors.usbl_misalignment_sigma =
-                        cx.opt(t, &sec, "misalignment_sigma", Range::Sigma)?;
+                        cx.opt(t, &sec, "misalignment_sigma", Range::AngleSigma)?;
                 }
+                // The compass's sigmas are angles (rad), as its file.
+                let (sigma, noise) = if *name == "heading" {
+                    (Range::AngleSigma, Range::AngleNoise)
+                } else {
+                    (Range::Sigma, Range::Noise)
+                };
                 let lever_arm = cx.vec3(t, &sec, "lever_arm", Range::LeverArm)?;
                 let misalignment = cx.vec3(t, &sec, "misalignment", Range::Roll)?;
                 if lever_arm.is_some() || misalignment.is_some() {
@@ -350,8 +356,8 @@ impl Meta {
                     });
                 }
                 let noise = SensorNoise {
-                    bias_sigma: cx.opt(t, &sec, "bias_sigma", Range::Sigma)?.unwrap_or(0.0),
-                    noise_sigma: cx.req(t, &sec, "noise_sigma", Range::Noise)?,
+                    bias_sigma: cx.opt(t, &sec, "bias_sigma", sigma)?.unwrap_or(0.0),
+                    noise_sigma: cx.req(t, &sec, "noise_sigma", noise)?,
                 };
                 let slot = match *name {
                     "dvl" => &mut sensors.dvl,
@@ -519,6 +525,10 @@ enum Range {
     Yaw,
     Sigma,
     Noise,
+    /// The sigma of an angle, rad: at most pi (beyond, degrees).
+    AngleSigma,
+    /// The noise sigma of an angle, rad: above 0, at most pi.
+    AngleNoise,
     LeverArm,
 }
 
@@ -531,8 +541,11 @@ impl Range {
             Range::Lon => v.abs() <= 2.0 * PI,
             Range::Roll => v.abs() <= PI,
             Range::Yaw => v.abs() <= 2.0 * PI,
-            Range::Sigma => v >= 0.0,
-            Range::Noise => v > 0.0,
+            // A sigma is squared into a variance: the square must be finite.
+            Range::Sigma => v >= 0.0 && (v * v).is_finite(),
+            Range::Noise => v > 0.0 && (v * v).is_finite(),
+            Range::AngleSigma => (0.0..=PI).contains(&v),
+            Range::AngleNoise => v > 0.0 && v <= PI,
             Range::LeverArm => v.abs() <= MAX_LEVER_ARM,
         };
         if ok {
@@ -544,9 +557,15 @@ impl Range {
                 Range::Lon => "allowed: |value| <= 2 pi",
                 Range::Roll => "allowed: |value| <= pi",
                 Range::Yaw => "allowed: |value| <= 2 pi; degrees? the format is radians",
-                Range::Sigma => "a sigma must be >= 0",
+                Range::Sigma => "a sigma must be >= 0, its square finite",
                 Range::Noise => {
-                    "a noise sigma must be > 0: zero noise makes the filter trust the sensor exactly"
+                    "a noise sigma must be > 0 (zero noise makes the filter trust the sensor exactly), its square finite"
+                }
+                Range::AngleSigma => {
+                    "an angle's sigma must be in 0..=pi rad; degrees? the format is radians"
+                }
+                Range::AngleNoise => {
+                    "an angle's noise sigma must be > 0 and <= pi rad; degrees? the format is radians"
                 }
                 Range::LeverArm => "allowed: |value| <= 1000 m; millimetres? the format is metres",
             })
