@@ -62,6 +62,8 @@ pub struct SensorSummary {
     pub nis_mean: Option<f64>,
     /// Number of outputs (the NIS's degrees of freedom).
     pub outputs: usize,
+    /// Its gate probability (`None`: no gate).
+    pub gate: Option<f64>,
 }
 
 /// The truth score of a run.
@@ -266,6 +268,7 @@ where
                 name: d.name,
                 file: m.as_ref().map(|m| m.source.file.clone()),
                 outputs: d.outputs,
+                gate: m.as_ref().and_then(|m| m.gate),
                 ..SensorSummary::default()
             }
         })
@@ -404,7 +407,10 @@ where
         if dt > MAX_GAP_PERIODS * shortest {
             let steps = (dt / shortest).ceil();
             let problem = format!(
-                "gap of {dt} s after t = {t_last} s (more than {MAX_GAP_PERIODS} input periods of {shortest} s)"
+                "gap of {} s after t = {} s (more than {MAX_GAP_PERIODS} input periods of {} s)",
+                to_micro(dt),
+                to_micro(t_last),
+                to_micro(shortest)
             );
             if !options.lenient || steps > MAX_GAP_STEPS {
                 return Err(ModelReplayError::Filter {
@@ -538,6 +544,27 @@ fn warn_about_result(run: &mut ModelRun, truth_file: Option<&str>) {
                 ),
             ));
         }
+        // More rows gated than a consistent sensor's gate would refuse (a
+        // lever arm or a sign of the mapping, a sigma too small): tens of
+        // times its share, and at least one in twenty.
+        if let Some(p) = s.gate {
+            let gated = s.gated as f64 / s.rows.max(1) as f64;
+            if s.rows >= 20 && s.gated <= s.accepted && gated > (10.0 * (1.0 - p)).max(0.05) {
+                warnings.push(Warning::about(
+                    WarningKind::Suspicious,
+                    file,
+                    format!(
+                        "sensor {}: {} of its {} rows were gated ({:.1} %), where its gate (p = {p}) \
+                         refuses {:.2} % of a consistent sensor's: a lever arm, sign or sigma of the mapping?",
+                        s.name,
+                        s.gated,
+                        s.rows,
+                        100.0 * gated,
+                        100.0 * (1.0 - p)
+                    ),
+                ));
+            }
+        }
         if let Some(nis) = s.nis_mean {
             let dof = s.outputs as f64;
             if s.accepted >= 20 && (nis > 3.0 * dof || nis < dof / 3.0) {
@@ -545,12 +572,23 @@ fn warn_about_result(run: &mut ModelRun, truth_file: Option<&str>) {
                     WarningKind::Suspicious,
                     file,
                     format!(
-                        "sensor {}: mean NIS {nis:.3} for {} outputs: its sigma or the process noise does not match the log",
-                        s.name, s.outputs
+                        "sensor {}: mean NIS {nis:.3} for {} output{}: its sigma or the process noise does not match the log",
+                        s.name,
+                        s.outputs,
+                        if s.outputs == 1 { "" } else { "s" }
                     ),
                 ));
             }
         }
+    }
+    // Rows skipped by lenient reading, with their reasons (the first few of
+    // each file; all are counted in `skipped_rows`).
+    for r in &run.skip_reasons {
+        warnings.push(Warning::about(
+            WarningKind::SkippedRow,
+            &r.file,
+            format!("skipped {r}"),
+        ));
     }
     if run.covariance_repairs > 0 {
         warnings.push(Warning {
@@ -590,6 +628,12 @@ fn warn_about_result(run: &mut ModelRun, truth_file: Option<&str>) {
         }
     }
     run.warnings.extend(warnings);
+}
+
+/// A time in a message, rounded to the microsecond (a difference of two
+/// times prints as `4.2`, not `4.199999999999999`).
+fn to_micro(seconds: f64) -> f64 {
+    (seconds * 1e6).round() / 1e6
 }
 
 /// The accepted NIS of the reports, summed per sensor.

@@ -96,10 +96,7 @@ impl MappedRows {
                     file: source.file.clone(),
                     line: 1,
                     column: h.clone(),
-                    problem: CsvProblem::WrongHeader {
-                        expected: expected_header(source),
-                        found: format!("`{h}` twice"),
-                    },
+                    problem: CsvProblem::DuplicateColumn { name: h.clone() },
                 }
                 .into());
             }

@@ -230,6 +230,12 @@ fn broken_mappings_and_logs_are_errors_naming_the_key() {
             &["sensors.Fix.z[1]", "no column `east`"],
         ),
         (
+            "gnss.csv",
+            "t,north,east",
+            "t,north,north",
+            &["gnss.csv:1", "the header names column `north` twice"],
+        ),
+        (
             "wheels.csv",
             "\n0.5,",
             "\n0.5x,",
@@ -334,6 +340,14 @@ fn lenient_reading_and_refused_sensors_are_in_the_warnings() {
     assert_eq!(run.skipped_rows, vec![("gnss.csv".to_string(), 1)]);
     assert_eq!(run.sensors[0].rows, 199);
     assert!(run.skip_reasons[0].to_string().contains("gnss.csv:3"));
+    assert!(
+        run.warnings
+            .iter()
+            .any(|w| w.message.contains("skipped gnss.csv:3")
+                && w.file.as_deref() == Some("gnss.csv")),
+        "{:?}",
+        run.warnings
+    );
 
     // Fixes 100 m off: every one gated, and said.
     let log = dir.0.join("offset");
@@ -361,6 +375,37 @@ fn lenient_reading_and_refused_sensors_are_in_the_warnings() {
         run.warnings.iter().any(|w| w
             .message
             .contains("sensor Fix: none of its 200 rows was applied")),
+        "{:?}",
+        run.warnings
+    );
+
+    // Every fourth fix 100 m off (most still applied): the gated share is
+    // far beyond the gate's, and said.
+    let log = dir.0.join("some-off");
+    write_log(&log, 4, SI, DRIVE_STEPS);
+    let path = log.join("gnss.csv");
+    let shifted: String = std::fs::read_to_string(&path)
+        .unwrap()
+        .lines()
+        .enumerate()
+        .map(|(i, l)| {
+            if i % 4 != 1 {
+                format!("{l}\n")
+            } else {
+                let c: Vec<f64> = l.split(',').map(|c| c.parse().unwrap()).collect();
+                format!("{},{},{}\n", c[0], c[1] + 100.0, c[2])
+            }
+        })
+        .collect();
+    std::fs::write(&path, shifted).unwrap();
+    let run = rover()
+        .replay(&log, None, &RunOptions::default(), None)
+        .unwrap();
+    assert_eq!(run.sensors[0].gated, 50, "{:?}", run.sensors[0]);
+    assert!(
+        run.warnings.iter().any(|w| w
+            .message
+            .contains("sensor Fix: 50 of its 200 rows were gated (25.0 %)")),
         "{:?}",
         run.warnings
     );
@@ -586,7 +631,10 @@ fn an_input_gap_is_refused_or_stepped_and_said() {
         .unwrap_err()
         .to_string();
     assert!(
-        e.contains("wheels.csv:") && e.contains("gap of") && e.contains("--lenient"),
+        e.contains("wheels.csv:")
+            && e.contains("gap of 10 s after t = 30 s")
+            && e.contains("input periods of 0.1 s")
+            && e.contains("--lenient"),
         "{e}"
     );
     let options = RunOptions {

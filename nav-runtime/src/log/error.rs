@@ -47,6 +47,11 @@ pub enum CsvProblem {
         /// This row's time.
         t: f64,
     },
+    /// The header names a column twice (which of the two is meant?).
+    DuplicateColumn {
+        /// The name given twice.
+        name: String,
+    },
     /// `t` equals the previous row's `t`.
     DuplicateTime {
         /// The repeated time.
@@ -92,6 +97,9 @@ impl fmt::Display for CsvProblem {
                 write!(f, "time goes backwards (t = {t} after t = {previous})")
             }
             CsvProblem::DuplicateTime { t } => write!(f, "duplicate timestamp t = {t}"),
+            CsvProblem::DuplicateColumn { name } => {
+                write!(f, "the header names column `{name}` twice")
+            }
             CsvProblem::MissingColumn { key, expected } => write!(
                 f,
                 "missing column (named by `{key}` in meta.toml), expected header `{expected}` in any order"
