@@ -114,25 +114,37 @@ fn final_errors_not_at_the_end_of_the_run_are_warned() {
     let log = simulation::simulate(Motion::Stationary, Biases::OneSigma, 7);
     let end = log.imu.last().expect("imu").t;
     let truth = log.truth.clone().expect("truth");
-    let cases: [(&str, Vec<TruthRow>); 2] = [
-        ("first row only", truth[..1].to_vec()),
+    let scored_early = "only its rows up to t =";
+    let cases: [(&str, Vec<TruthRow>, &str); 3] = [
+        ("first row only", truth[..1].to_vec(), scored_early),
         (
             "rows after the run",
             std::iter::once(truth[0])
                 .chain(truth[1..].iter().map(|r| TruthRow { t: r.t + end, ..*r }))
                 .collect(),
+            scored_early,
+        ),
+        // Another roll convention: the final error is the truth's.
+        (
+            "roll 0.5 rad off",
+            truth
+                .iter()
+                .map(|r| TruthRow {
+                    roll: r.roll + 0.5,
+                    ..*r
+                })
+                .collect(),
+            "of the filter's sigmas",
         ),
     ];
-    for (name, rows) in cases {
+    for (name, rows, said) in cases {
         let mut log = log.clone();
         log.truth = Some(rows);
         let out = Leveling6Replay
             .replay(&log, &ReplayOptions::default())
             .expect("replay");
         assert!(
-            out.warnings
-                .iter()
-                .any(|w| w.contains("only its rows up to t =") && w.contains("are scored")),
+            out.warnings.iter().any(|w| w.contains(said)),
             "{name}: {:?}",
             out.warnings
         );

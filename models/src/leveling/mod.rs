@@ -110,6 +110,10 @@ fn run_one(motion: Motion, seed: u64, options: &RunOptions) -> Result<RunResult,
     Ok(r)
 }
 
+/// A replay's final tilt NEES (2 dof) above this (a hundred sigmas) is
+/// warned.
+const FINAL_NEES_WARN: f64 = 1e4;
+
 /// Prefix of the metrics of the filter with bias states.
 const BIAS_STATES: &str = "accel_bias_states";
 
@@ -494,9 +498,23 @@ impl ReplayModel for Leveling6Replay {
             // The final errors are those at the last truth row with an
             // estimate: said when that is not the end of the run.
             let errors = errors_at_truth(&run, log);
-            if let (Some(&(t, _, _)), Some(first), Some(last)) =
+            if let (Some(&(t, roll, pitch)), Some(first), Some(last)) =
                 (errors.last(), run.estimates.first(), run.estimates.last())
             {
+                // A final error of a hundred of the filter's sigmas is not
+                // the filter's (the bias floor of a 1 mg accelerometer at
+                // rest is 28, tilt NEES 806): a truth of another
+                // convention, offset or clock.
+                let nees = tilt_nees(roll, pitch, last);
+                if nees > FINAL_NEES_WARN {
+                    out.warnings.push(format!(
+                        "truth.csv: the final tilt error, {:.3} deg at t = {t} s, is {:.0} of the \
+                         filter's sigmas (tilt NEES {nees:.0}): a truth of another convention, offset \
+                         or clock, or an error the filter does not model",
+                        roll.hypot(pitch).to_degrees(),
+                        nees.sqrt()
+                    ));
+                }
                 let early = last.t - t;
                 if early > (0.05 * (last.t - first.t)).max(1.0) {
                     out.warnings.push(format!(
