@@ -3,9 +3,10 @@
 //! write (with the truth), in several units and column orders, and broken
 //! in the ways users break them.
 
-use super::{angle_states, quaternion_blocks, ModelReplay, ModelReplayError, RunOptions};
+use super::{angle_states, quaternion_blocks, ModelReplay, ModelReplayError, ModelRun, RunOptions};
 use crate::harness::TempDir;
 use crate::vehicles::rover::{rover_replay as rover, write_log, LogStyle, Rover, DRIVE_STEPS};
+use std::path::Path;
 
 const SI: LogStyle = LogStyle {
     other_units: false,
@@ -349,134 +350,108 @@ fn lenient_reading_and_refused_sensors_are_in_the_warnings() {
         run.warnings
     );
 
-    // Fixes 100 m off: every one gated, and said.
-    let log = dir.0.join("offset");
-    write_log(&log, 4, SI, DRIVE_STEPS);
-    let path = log.join("gnss.csv");
-    let shifted: String = std::fs::read_to_string(&path)
-        .unwrap()
-        .lines()
-        .enumerate()
-        .map(|(i, l)| {
-            if i == 0 {
-                format!("{l}\n")
-            } else {
-                let c: Vec<f64> = l.split(',').map(|c| c.parse().unwrap()).collect();
-                format!("{},{},{}\n", c[0], c[1] + 100.0, c[2])
-            }
-        })
-        .collect();
-    std::fs::write(&path, shifted).unwrap();
-    let run = rover()
-        .replay(&log, None, &RunOptions::default(), None)
-        .unwrap();
-    assert_eq!(run.sensors[0].accepted, 0);
-    assert!(
-        run.warnings.iter().any(|w| w
-            .message
-            .contains("sensor Fix: none of its 200 rows was applied")),
-        "{:?}",
-        run.warnings
-    );
+    // (case, what is done to the log, the file and the words of the warning,
+    // what else must hold)
+    type Edit = fn(&Path);
+    type Holds = fn(&ModelRun) -> bool;
+    let cases: [(&str, Edit, &str, &[&str], Holds); 5] = [
+        (
+            // Fixes 100 m off: every one gated.
+            "offset",
+            |log| edit_rows(&log.join("gnss.csv"), |_, c| c[1] += 100.0),
+            "gnss.csv",
+            &["sensor Fix: none of its 200 rows was applied"],
+            |run| run.sensors[0].accepted == 0,
+        ),
+        (
+            // Every fourth fix 100 m off: most still applied, the gated
+            // share far beyond the gate's.
+            "some-off",
+            |log| {
+                edit_rows(&log.join("gnss.csv"), |row, c| {
+                    if row % 4 == 1 {
+                        c[1] += 100.0;
+                    }
+                })
+            },
+            "gnss.csv",
+            &["sensor Fix: 50 of its 200 rows were gated (25.0 %)"],
+            |run| run.sensors[0].gated == 50,
+        ),
+        (
+            // A truth heading 0.5 rad off (another convention): the RMS
+            // errors are not the filter's, and the NEES says so.
+            "truth-convention",
+            |log| edit_rows(&log.join("truth.csv"), |_, c| c[3] += 0.5),
+            "truth.csv",
+            &["mean NEES", "for 3 scored states"],
+            |_| true,
+        ),
+        (
+            // Fix times read as ms: the fixes crowd the first 0.2 s and
+            // most are gated.
+            "fix-ms",
+            |log| {
+                let path = log.join("replay.toml");
+                let mapping = std::fs::read_to_string(&path).unwrap().replacen(
+                    "file = \"gnss.csv\"",
+                    "file = \"gnss.csv\"\ntime = { column = \"t\", unit = \"ms\" }",
+                    1,
+                );
+                std::fs::write(&path, mapping).unwrap();
+            },
+            "gnss.csv",
+            &["sensor Fix: only"],
+            |_| true,
+        ),
+        (
+            // A header-only truth file: no score of zeros.
+            "truth-header",
+            |log| {
+                std::fs::write(log.join("truth.csv"), "t,position[0],position[1],heading\n")
+                    .unwrap()
+            },
+            "truth.csv",
+            &["nothing is scored"],
+            |run| run.truth.is_none(),
+        ),
+    ];
+    for (name, edit, file, said, holds) in cases {
+        let log = dir.0.join(name);
+        write_log(&log, 4, SI, DRIVE_STEPS);
+        edit(&log);
+        let run = rover()
+            .replay(&log, None, &RunOptions::default(), None)
+            .unwrap();
+        assert!(holds(&run), "{name}: {:?}", run.sensors);
+        assert!(
+            run.warnings
+                .iter()
+                .any(|w| w.file.as_deref() == Some(file)
+                    && said.iter().all(|s| w.message.contains(s))),
+            "{name}: {:?}",
+            run.warnings
+        );
+    }
+}
 
-    // Every fourth fix 100 m off (most still applied): the gated share is
-    // far beyond the gate's, and said.
-    let log = dir.0.join("some-off");
-    write_log(&log, 4, SI, DRIVE_STEPS);
-    let path = log.join("gnss.csv");
-    let shifted: String = std::fs::read_to_string(&path)
-        .unwrap()
-        .lines()
-        .enumerate()
-        .map(|(i, l)| {
-            if i % 4 != 1 {
-                format!("{l}\n")
-            } else {
-                let c: Vec<f64> = l.split(',').map(|c| c.parse().unwrap()).collect();
-                format!("{},{},{}\n", c[0], c[1] + 100.0, c[2])
-            }
-        })
-        .collect();
-    std::fs::write(&path, shifted).unwrap();
-    let run = rover()
-        .replay(&log, None, &RunOptions::default(), None)
-        .unwrap();
-    assert_eq!(run.sensors[0].gated, 50, "{:?}", run.sensors[0]);
-    assert!(
-        run.warnings.iter().any(|w| w
-            .message
-            .contains("sensor Fix: 50 of its 200 rows were gated (25.0 %)")),
-        "{:?}",
-        run.warnings
-    );
-
-    // A truth heading 0.5 rad off (another convention): the RMS errors are
-    // not the filter's, and the NEES says so.
-    let log = dir.0.join("truth-convention");
-    write_log(&log, 4, SI, DRIVE_STEPS);
-    let path = log.join("truth.csv");
-    let turned: String = std::fs::read_to_string(&path)
-        .unwrap()
-        .lines()
-        .enumerate()
-        .map(|(i, l)| {
-            if i == 0 {
-                format!("{l}\n")
-            } else {
-                let c: Vec<f64> = l.split(',').map(|c| c.parse().unwrap()).collect();
-                format!("{},{},{},{}\n", c[0], c[1], c[2], c[3] + 0.5)
-            }
-        })
-        .collect();
-    std::fs::write(&path, turned).unwrap();
-    let run = rover()
-        .replay(&log, None, &RunOptions::default(), None)
-        .unwrap();
-    assert!(
-        run.warnings.iter().any(|w| w.message.contains("mean NEES")
-            && w.message.contains("for 3 scored states")
-            && w.file.as_deref() == Some("truth.csv")),
-        "{:?}",
-        run.warnings
-    );
-
-    // Fix times read as ms: the fixes crowd the first 0.2 s and most are
-    // gated, which is said.
-    let log = dir.0.join("fix-ms");
-    write_log(&log, 4, SI, DRIVE_STEPS);
-    let path = log.join("replay.toml");
-    let mapping = std::fs::read_to_string(&path).unwrap().replacen(
-        "file = \"gnss.csv\"",
-        "file = \"gnss.csv\"\ntime = { column = \"t\", unit = \"ms\" }",
-        1,
-    );
-    std::fs::write(&path, mapping).unwrap();
-    let run = rover()
-        .replay(&log, None, &RunOptions::default(), None)
-        .unwrap();
-    assert!(
-        run.warnings
-            .iter()
-            .any(|w| w.message.contains("sensor Fix: only")),
-        "{:?}",
-        run.warnings
-    );
-
-    // A header-only truth file: no score of zeros, a warning.
-    let log = dir.0.join("truth-header");
-    write_log(&log, 4, SI, DRIVE_STEPS);
-    std::fs::write(log.join("truth.csv"), "t,position[0],position[1],heading\n").unwrap();
-    let run = rover()
-        .replay(&log, None, &RunOptions::default(), None)
-        .unwrap();
-    assert!(run.truth.is_none());
-    assert!(
-        run.warnings
-            .iter()
-            .any(|w| w.message.contains("nothing is scored")),
-        "{:?}",
-        run.warnings
-    );
+/// Rewrites the data rows of a CSV file of numbers: `edit(row, values)`,
+/// rows counted from 1 (the header is row 0 and kept).
+fn edit_rows(path: &Path, edit: impl Fn(usize, &mut [f64])) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut out = String::new();
+    for (row, line) in text.lines().enumerate() {
+        if row == 0 {
+            out.push_str(line);
+        } else {
+            let mut values: Vec<f64> = line.split(',').map(|c| c.parse().unwrap()).collect();
+            edit(row, &mut values);
+            let cells: Vec<String> = values.iter().map(f64::to_string).collect();
+            out.push_str(&cells.join(","));
+        }
+        out.push('\n');
+    }
+    std::fs::write(path, out).unwrap();
 }
 
 /// A sensor the mapping does not feed, and sensor rows before the epoch,
