@@ -506,7 +506,8 @@ fn model_warning(text: &str) -> Warning {
         Some(f)
             if text.contains("applied (")
                 || text.contains("has no rows")
-                || text.contains("mean NEES") =>
+                || text.contains("mean NEES")
+                || text.contains("of the filter's sigmas") =>
         {
             Warning::about(WarningKind::Suspicious, f, text)
         }
@@ -791,4 +792,45 @@ pub(crate) fn parse_failure(e: clap::Error) -> ExitCode {
     let body = body.strip_prefix("error:").unwrap_or(&body).trim();
     eprintln!("error: {body}");
     ExitCode::from(2)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The notes of the replay models become warnings of the right kind
+    /// naming their file (the JSON's `kind` and `file`).
+    #[test]
+    fn model_notes_become_warnings_naming_their_file() {
+        let cases: &[(&str, &str, Option<&str>)] = &[
+            ("mag.csv is not used by this model", "unused_file", Some("mag.csv")),
+            (
+                "truth.csv: only its rows up to t = 3 s (3 of 9) are scored, 57.0 s before the end",
+                "partial_scoring",
+                Some("truth.csv"),
+            ),
+            (
+                "dvl.csv: none of its 120 rows was applied (120 gated, 0 rejected)",
+                "suspicious",
+                Some("dvl.csv"),
+            ),
+            (
+                "truth.csv: mean NEES 585.0 over the 9 navigation states, more than 10 times",
+                "suspicious",
+                Some("truth.csv"),
+            ),
+            (
+                "truth.csv: the final tilt error, 28.648 deg at t = 30 s, is 10006 of the filter's \
+                 sigmas (tilt NEES 100115513)",
+                "suspicious",
+                Some("truth.csv"),
+            ),
+            ("the filter repaired its covariance 2 time(s)", "model", None),
+        ];
+        for &(text, kind, file) in cases {
+            let w = model_warning(text);
+            assert_eq!((w.kind.as_str(), w.file.as_deref()), (kind, file), "{text}");
+            assert_eq!(w.message, text);
+        }
+    }
 }
