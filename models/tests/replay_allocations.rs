@@ -9,46 +9,13 @@
 //! the scheduler, the reports of the step that applies it, the read-ahead of
 //! the rows; see docs/performance-replay.md).
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-
 use models::cli::find_scenario;
 use models::harness::RunOptions;
 use models::sdins25::filter::{run, FilterOptions};
 use nav_runtime::log::LogDir;
 
-struct Counting;
-
-static COUNTING: AtomicBool = AtomicBool::new(false);
-static COUNT: AtomicUsize = AtomicUsize::new(0);
-
-fn note() {
-    if COUNTING.load(Ordering::Relaxed) {
-        COUNT.fetch_add(1, Ordering::Relaxed);
-    }
-}
-
-// SAFETY: forwards every call unchanged to the system allocator.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        note();
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
-        note();
-        unsafe { System.alloc_zeroed(layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        note();
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
+#[path = "../../nav-runtime/tests/support/counting_allocator.rs"]
+mod counting_allocator;
 
 /// The first `seconds` of the simulated log, its aiding rows kept up to
 /// `aiding_until` seconds from the start.
@@ -74,12 +41,8 @@ fn log(seconds: f64, aiding_until: f64) -> LogDir {
 
 /// Allocations of one replay of `log`, and its IMU samples.
 fn allocations(log: &LogDir) -> (usize, usize) {
-    COUNT.store(0, Ordering::Relaxed);
-    COUNTING.store(true, Ordering::Relaxed);
-    let out = run(log, &FilterOptions::default(), &[]);
-    COUNTING.store(false, Ordering::Relaxed);
-    let samples = out.expect("the replay succeeds").samples;
-    (COUNT.load(Ordering::Relaxed), samples)
+    let (count, out) = counting_allocator::allocations(|| run(log, &FilterOptions::default(), &[]));
+    (count, out.expect("the replay succeeds").samples)
 }
 
 #[test]

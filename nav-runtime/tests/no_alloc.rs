@@ -6,9 +6,6 @@
 //! updates, gated, refused and error-state updates, and an error-state filter
 //! recording for the smoother) must make none.
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
-
 use nav_runtime::ekf::{Discretization, Ekf};
 use nav_runtime::error_state::{ErrorStateFilter, NominalState};
 use nav_runtime::gate::Gate;
@@ -17,50 +14,12 @@ use nav_runtime::nalgebra::{SMatrix, SVector};
 use nav_runtime::propagation::{propagate, Structure};
 use nav_runtime::smoother::EpochFile;
 
-struct Counting;
-
-thread_local! {
-    static ACTIVE: Cell<bool> = const { Cell::new(false) };
-    static COUNT: Cell<usize> = const { Cell::new(0) };
-}
-
-fn note() {
-    let _ = ACTIVE.try_with(|active| {
-        if active.get() {
-            let _ = COUNT.try_with(|c| c.set(c.get() + 1));
-        }
-    });
-}
-
-// SAFETY: forwards every call unchanged to the system allocator.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        note();
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
-        note();
-        unsafe { System.alloc_zeroed(layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        note();
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
+#[path = "support/counting_allocator.rs"]
+mod counting_allocator;
 
 /// Number of allocations made by the current thread while running `f`.
 fn allocations(f: impl FnOnce()) -> usize {
-    COUNT.with(|c| c.set(0));
-    ACTIVE.with(|a| a.set(true));
-    f();
-    ACTIVE.with(|a| a.set(false));
-    COUNT.with(|c| c.get())
+    counting_allocator::allocations(f).0
 }
 
 /// Records of named scalars, written by hand as generated code would be.
