@@ -17,9 +17,9 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use models::cli::{find_replay_model, find_scenario};
 use models::harness::{ReplayModel, ReplayOptions, RunOptions};
-use models::preflight::{self, check_alongside, PreflightOptions};
+use models::registry::{find_replay_model, find_scenario};
+use nav_replay::preflight::{self, check_alongside, PreflightOptions};
 use nav_runtime::log::{LogDir, LogFiles, Strictness};
 
 /// The baseline: read whole, check, replay.

@@ -25,8 +25,8 @@ use std::time::{Duration, Instant};
 
 use common::*;
 use criterion::{criterion_group, criterion_main, Criterion};
-use models::cli::find_scenario;
 use models::harness::RunOptions;
+use models::registry::find_scenario;
 use models::sdins25::filter::{run, FilterOptions};
 use models::sdins25::model::Sdins25;
 use nav_runtime::log::LogDir;

@@ -34,14 +34,14 @@ fn main() -> ExitCode {
             }
             // Replayed by `gnss-ins` as `navsim replay OUT_DIR --model
             // gnss-ins --json` does (`--model ahrs` is the attitude-only one).
-            let model = match models::cli::find_replay_model("gnss-ins") {
+            let model = match models::registry::find_replay_model("gnss-ins") {
                 Ok(m) => m,
                 Err(e) => {
                     eprintln!("error: {e}");
                     return ExitCode::FAILURE;
                 }
             };
-            let args = models::cli::ReplayArgs {
+            let args = nav_replay::program::ReplayArgs {
                 dir: out.clone(),
                 model: "gnss-ins".into(),
                 out: None,
@@ -52,7 +52,7 @@ fn main() -> ExitCode {
                 smooth: false,
             };
             println!("navsim replay {} --model gnss-ins --json:", out.display());
-            match models::cli::replay_with(model.as_ref(), &args) {
+            match nav_replay::program::replay_with(model.as_ref(), &args) {
                 Ok(()) => ExitCode::SUCCESS,
                 Err(e) => {
                     eprintln!("error: {e}");

@@ -10,8 +10,8 @@
 //! cargo run --release -p models --example replay_model -- check models/tests/fixtures/rover
 //! ```
 
-use models::model_replay::ModelReplay;
 use models::vehicles::rover::{Rover, RoverFix, RoverLandmarkRange, RoverRangeBearing};
+use nav_replay::model_replay::ModelReplay;
 
 fn main() -> std::process::ExitCode {
     ModelReplay::<Rover, 3>::new("rover")

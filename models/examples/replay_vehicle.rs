@@ -9,13 +9,13 @@
 //! ```
 //!
 //! A vehicle of a user's crate is registered the same way: an `InsVehicle`
-//! impl naming its sensors ([`models::navigator::InsVehicle`]), then this
+//! impl naming its sensors ([`nav_ins::InsVehicle`]), then this
 //! `main`.
 
 use std::process::ExitCode;
 
-use models::replay::replay_main;
 use models::vehicles::pressure_auv::PressureAuv;
+use nav_replay::program::replay_main;
 
 fn main() -> ExitCode {
     replay_main::<PressureAuv, 20>()

@@ -9,8 +9,8 @@
 //! the scheduler, the reports of the step that applies it, the read-ahead of
 //! the rows; see docs/performance-replay.md).
 
-use models::cli::find_scenario;
 use models::harness::RunOptions;
+use models::registry::find_scenario;
 use models::sdins25::filter::{run, FilterOptions};
 use nav_runtime::log::LogDir;
 

@@ -16,3 +16,13 @@ pub mod guide_declaring_a_model {}
 #[allow(clippy::doc_lazy_continuation, clippy::doc_overindented_list_items)]
 #[doc = include_str!("../../docs/guide/building-a-vehicle.md")]
 pub mod guide_building_a_vehicle {}
+
+/// `docs/pipeline.md`.
+#[allow(clippy::doc_lazy_continuation, clippy::doc_overindented_list_items)]
+#[doc = include_str!("../../docs/pipeline.md")]
+pub mod pipeline {}
+
+/// `docs/model-replay.md`.
+#[allow(clippy::doc_lazy_continuation, clippy::doc_overindented_list_items)]
+#[doc = include_str!("../../docs/model-replay.md")]
+pub mod model_replay {}

@@ -1,8 +1,8 @@
 //! In-process tests of the Monte Carlo plumbing (registries, shards, merge).
 
-use models::cli::{find_replay_model, find_scenario, replay_models, scenarios};
 use models::demo;
 use models::harness::*;
+use models::registry::{find_replay_model, find_scenario, replay_models, scenarios};
 use nav_runtime::log::{LogDir, Strictness};
 
 #[test]
@@ -25,7 +25,7 @@ fn registry_names_are_unique_and_valid() {
     assert!(find_replay_model("nope").is_err());
     assert!(ss
         .iter()
-        .any(|s| s.name() == models::cli::default_scenario()));
+        .any(|s| s.name() == models::registry::default_scenario()));
 }
 
 #[test]

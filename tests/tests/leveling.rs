@@ -144,7 +144,7 @@ fn final_errors_not_at_the_end_of_the_run_are_warned() {
             .replay(&log, &ReplayOptions::default())
             .expect("replay");
         assert!(
-            out.warnings.iter().any(|w| w.contains(said)),
+            out.warnings.iter().any(|w| w.message.contains(said)),
             "{name}: {:?}",
             out.warnings
         );

@@ -7,8 +7,8 @@
 //! MARKER-9 with fixes every few seconds and a 0.01 m/s DVL keeps the estimate
 //! within about 0.1 m, so estimated and true RMS differ by less than that.
 
-use models::cli::find_scenario;
 use models::harness::RunOptions;
+use models::registry::find_scenario;
 
 #[test]
 fn marker_path_two_seeds() {

@@ -2,7 +2,7 @@
 //! (`docs/ulog.md`, "The `ahrs` model"). The declaration is in [`model`].
 
 pub mod gravity_window;
-pub mod heading;
+pub use nav_ins::heading;
 pub mod measurement;
 pub mod model;
 pub mod nominal;

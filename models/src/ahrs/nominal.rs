@@ -8,7 +8,7 @@ use nav_runtime::error_state::{ErrorStateFilter, Mechanization, NominalState};
 use nav_runtime::nalgebra::{Matrix3, SVector, Vector3};
 
 use super::model::{Ahrs, AhrsInput};
-use crate::navigator::ImuSample;
+use nav_ins::ImuSample;
 
 /// The error-state filter of the `ahrs` model.
 pub type AhrsFilter = ErrorStateFilter<Ahrs, AhrsNominal, 6>;

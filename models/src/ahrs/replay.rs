@@ -15,6 +15,7 @@ use std::time::{Duration, Instant};
 
 use nav_runtime::log::{
     Event, ImuRow, LogDir, LogFiles, LogSource, MagRow, Prefetched, ReferenceRow, TruthRow,
+    Warning, WarningKind,
 };
 use nav_runtime::nalgebra::Vector3;
 use serde_json::{json, Value};
@@ -24,12 +25,12 @@ use super::outputs::{write_outputs, write_plots};
 use super::settings::AhrsSettings;
 use super::stream::{AhrsStream, ImuStep};
 use crate::harness::{ReplayModel, ReplayOptions, ReplayOutput, RunError, RunHealth};
-use crate::navigator::ImuSample;
 use crate::sdins25::filter::{median_period, PERIOD_INTERVALS};
-use crate::series::SeriesSink;
 use crate::ulog::reference::EstimatePoint;
 use crate::ulog::replay::{declination, rpy_json, DECLINATION_WINDOW_S};
 use crate::ulog::running_score::{ReferenceScore, TruthScore, REFERENCE_COLUMNS, TRUTH_COLUMNS};
+use nav_ins::ImuSample;
+use nav_replay::output::series::SeriesSink;
 
 /// `navsim replay --model ahrs`.
 pub const NAME: &str = "ahrs";
@@ -92,7 +93,7 @@ impl ReplayModel for AhrsReplay {
 /// kept, to be streamed from its start.
 fn prepare<'a>(
     source: &LogSource<'a>,
-    warnings: &mut Vec<String>,
+    warnings: &mut Vec<Warning>,
 ) -> Result<(AhrsSettings, Prefetched<'a, ImuRow>), RunError> {
     let meta = source.meta();
     let attitude = meta.initial.attitude()?;
@@ -128,18 +129,25 @@ fn prepare<'a>(
     }
     let (found, _samples) = declination(&near, t0, attitude).unwrap_or_else(|| {
         if any_mag {
-            warnings.push(
-                "mag.csv: no sample within 1 s of the initial estimate: declination 0".into(),
-            );
+            warnings.push(Warning::about(
+                WarningKind::Model,
+                "mag.csv",
+                "mag.csv: no sample within 1 s of the initial estimate: declination 0",
+            ));
         }
         (0.0, 0)
     });
     if !has_mag {
-        warnings.push("the log has no mag.csv: the yaw is not observed (gyro only)".into());
+        warnings.push(nav_replay::model_note(
+            "the log has no mag.csv: the yaw is not observed (gyro only)",
+        ));
     } else if !any_mag {
         // A header only (or every row skipped): as absent, and said.
-        warnings
-            .push("mag.csv has no rows: the yaw is not observed (gyro only), declination 0".into());
+        warnings.push(Warning::about(
+            WarningKind::Suspicious,
+            "mag.csv",
+            "mag.csv has no rows: the yaw is not observed (gyro only), declination 0",
+        ));
     }
     settings.declination = found;
     Ok((settings, imu))
@@ -268,9 +276,13 @@ pub fn replay_source(
     };
     for (file, rows) in [("baro.csv", baro_rows), ("gnss.csv", gnss_rows)] {
         if rows > 0 {
-            output.warnings.push(format!(
-                "model {NAME} has no {} sensor: the {rows} rows of {file} are not used",
-                &file[..file.len() - 4]
+            output.warnings.push(Warning::about(
+                WarningKind::UnusedFile,
+                file,
+                format!(
+                    "model {NAME} has no {} sensor: the {rows} rows of {file} are not used",
+                    &file[..file.len() - 4]
+                ),
             ));
         }
     }
@@ -289,9 +301,11 @@ pub fn replay_source(
                 m.insert("scored_seconds".into(), Value::from(score.scored_seconds));
                 tables.extend(score.table);
             }
-            None => output
-                .warnings
-                .push("truth.csv and the estimate do not overlap: nothing scored".into()),
+            None => output.warnings.push(Warning::about(
+                WarningKind::Suspicious,
+                "truth.csv",
+                "truth.csv and the estimate do not overlap: nothing scored",
+            )),
         }
     }
     m.insert(

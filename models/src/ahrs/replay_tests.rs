@@ -177,7 +177,9 @@ fn broken_logs_are_refused_or_warned_about() {
     std::fs::remove_file(no_mag.join("mag.csv")).unwrap();
     let out = streamed(&no_mag, Strictness::Strict).expect("gyro only");
     assert!(
-        out.warnings.iter().any(|w| w.contains("no mag.csv")),
+        out.warnings
+            .iter()
+            .any(|w| w.message.contains("no mag.csv")),
         "{:?}",
         out.warnings
     );

@@ -6,7 +6,7 @@
 use nav_runtime::attitude::Euler;
 use nav_runtime::earth::normal_gravity;
 use nav_runtime::ekf::Ekf;
-use nav_runtime::log::Meta;
+use nav_runtime::log::{Meta, Warning};
 use nav_runtime::nalgebra::{SMatrix, SVector, Vector3};
 
 use super::model::{Ahrs, AhrsNoise, AhrsParams};
@@ -61,15 +61,18 @@ impl AhrsSettings {
     ///
     /// # Errors
     /// No initial attitude in `meta.toml`.
-    pub fn of(meta: &Meta, imu_period: f64, warnings: &mut Vec<String>) -> Result<Self, RunError> {
+    pub fn of(meta: &Meta, imu_period: f64, warnings: &mut Vec<Warning>) -> Result<Self, RunError> {
         let init = &meta.initial;
         let attitude = init.attitude()?;
         let imu = meta.sensors.imu;
         let mag_sigma = match meta.sensors.mag {
             Some(n) => n.noise_sigma,
             None => {
-                warnings.push(format!(
-                    "meta.toml has no [sensors.mag]: magnetometer noise {MAG_NOISE_DEFAULT} gauss (PX4's default)"
+                warnings.push(nav_replay::missing_section(
+                    "mag",
+                    format!(
+                        "meta.toml has no [sensors.mag]: magnetometer noise {MAG_NOISE_DEFAULT} gauss (PX4's default)"
+                    ),
                 ));
                 MAG_NOISE_DEFAULT
             }

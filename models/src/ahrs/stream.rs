@@ -22,7 +22,7 @@ use super::measurement::{gravity_measurement, heading_measurement};
 use super::nominal::AhrsFilter;
 use super::settings::AhrsSettings;
 use crate::harness::{RunError, SensorHealth};
-use crate::navigator::ImuSample;
+use nav_ins::ImuSample;
 
 /// A mean specific force further than this from gravity is an acceleration:
 /// the gravity measurement is skipped, m/s^2.

@@ -7,7 +7,7 @@ use nav_runtime::nalgebra::{Matrix3, Vector3};
 
 use super::*;
 use crate::ahrs::nominal::AhrsNominal;
-use crate::navigator::ImuSample;
+use nav_ins::ImuSample;
 
 const RATE_HZ: f64 = 100.0;
 /// Earth field (NED, gauss) of the synthetic rows: no declination.

@@ -1,9 +1,8 @@
 //! `gnss-ins`: the INS error-state core aided by a GNSS position fix, a
 //! barometer and a magnetic heading (`docs/ulog.md`, "The `gnss-ins` model").
-//! The declaration is in [`model`], its two sensor blocks in [`blocks`], the
+//! The declaration is in [`model`], its two sensor blocks (`Barometer`, `MagneticHeading`) in `nav_blocks`, the
 //! replay in [`replay`] with its running scores in [`scores`].
 
-pub mod blocks;
 pub mod model;
 pub mod replay;
 pub mod scores;
@@ -11,7 +10,7 @@ pub mod scores;
 pub use model::{GnssIns, GnssInsBarometer, GnssInsGnssFix, GnssInsMagneticHeading};
 pub use replay::GnssInsReplay;
 
-use crate::navigator::{Absent, InitialSigma, InsVehicle};
+use nav_ins::{Absent, InitialSigma, InsVehicle};
 
 /// `gnss-ins` is replayed by the shared loop with its GNSS, barometer and
 /// magnetometer slots.
@@ -48,9 +47,9 @@ mod tests {
 
     #[test]
     fn the_vehicle_fits_the_replay_loop() {
-        let l = crate::navigator::vehicle::Layout::of::<GnssIns, 16>().unwrap();
+        let l = nav_ins::vehicle::Layout::of::<GnssIns, 16>().unwrap();
         assert_eq!(l.baro_bias, Some(15));
-        let p = crate::navigator::vehicle::Present::of::<GnssIns, 16>();
+        let p = nav_ins::vehicle::Present::of::<GnssIns, 16>();
         assert!(p.gnss && p.baro && p.mag && !p.depth && !p.usbl);
     }
 

@@ -1,8 +1,7 @@
 //! The `gnss-ins` declaration: the standard INS core and GNSS fix blocks plus
-//! [`super::blocks`]' barometer and magnetic heading: 16 states.
+//! the barometer and magnetic heading blocks: 16 states.
 
-use super::blocks::{Barometer, MagneticHeading};
-use nav_blocks::{GnssFix, InsCore};
+use nav_blocks::{Barometer, GnssFix, InsCore, MagneticHeading};
 
 nav_runtime::model! {
     /// INS core (15 states) + GNSS position fix + barometer bias (16 states).

@@ -21,7 +21,8 @@
 use std::path::Path;
 
 use nav_runtime::log::{
-    BaroRow, GnssRow, LogDir, LogFiles, LogSource, MagRow, RowSource, TruthRow,
+    BaroRow, GnssRow, LogDir, LogFiles, LogSource, MagRow, RowSource, TruthRow, Warning,
+    WarningKind,
 };
 use serde_json::{json, Value};
 
@@ -30,11 +31,11 @@ use super::scores::RunningScores;
 pub use super::scores::TRUTH_DATUM_GAP_M;
 use crate::ahrs::outputs::{write_outputs, write_plots};
 use crate::harness::{ReplayModel, ReplayOptions, ReplayOutput, RunError, RunHealth};
-use crate::navigator::Estimate;
 use crate::sdins25::filter::{replay_vehicle, FilterOptions, LENIENT_IMU_STEP_PERIODS};
 use crate::sdins25::replay_loop::{EachSample, Listed};
-use crate::series::SeriesSink;
 use crate::ulog::reference::EstimatePoint;
+use nav_ins::Estimate;
+use nav_replay::output::series::SeriesSink;
 
 /// `navsim replay --model gnss-ins`.
 pub const NAME: &str = "gnss-ins";
@@ -201,8 +202,11 @@ pub fn replay_source(
             .iter()
             .find(|(n, _)| n == name)
             .map_or(0, |(_, h)| h.rows);
-        warnings.push(format!(
-            "model {NAME} has no {name} sensor: the {rows} rows of {name}.csv are not used"
+        let file = format!("{name}.csv");
+        warnings.push(Warning::about(
+            WarningKind::UnusedFile,
+            &file,
+            format!("model {NAME} has no {name} sensor: the {rows} rows of {file} are not used"),
         ));
     }
     warnings.extend(run.warnings.iter().cloned());
@@ -221,10 +225,17 @@ pub fn replay_source(
             .find(|(n, _)| *n == name)
             .map_or(0, |(_, h)| h.rows);
         if !present {
-            warnings.push(format!("the log has no {name}.csv: that aiding is absent"));
+            warnings.push(nav_replay::model_note(format!(
+                "the log has no {name}.csv: that aiding is absent"
+            )));
         } else if rows == 0 {
             // A header only (or every row skipped): as absent, and said.
-            warnings.push(format!("{name}.csv has no rows: that aiding is absent"));
+            let file = format!("{name}.csv");
+            warnings.push(Warning::about(
+                WarningKind::Suspicious,
+                &file,
+                format!("{file} has no rows: that aiding is absent"),
+            ));
         }
     }
     let m = &mut output.metrics;

@@ -7,7 +7,7 @@
 
 use std::path::{Path, PathBuf};
 
-use nav_runtime::log::{LogFiles, Strictness};
+use nav_runtime::log::{LogFiles, Strictness, Warning, WarningKind};
 use serde_json::{Map, Value};
 
 use super::*;
@@ -85,7 +85,7 @@ fn streamed_with(
 /// then compared with the files read whole. Returns the score keys, the
 /// scoring warnings and the tables (truth errors, attitude errors,
 /// reference differences).
-fn whole_series(log: &LogDir) -> (Map<String, Value>, Vec<String>, Vec<RunTable>) {
+fn whole_series(log: &LogDir) -> (Map<String, Value>, Vec<Warning>, Vec<RunTable>) {
     enum At {
         Sample,
         Truth(usize),
@@ -136,7 +136,10 @@ fn whole_series(log: &LogDir) -> (Map<String, Value>, Vec<String>, Vec<RunTable>
     ] {
         metrics.insert(k.into(), Value::from(v));
     }
-    warnings.extend(s.partial);
+    warnings.extend(
+        s.partial
+            .map(|p| Warning::about(WarningKind::PartialScoring, "truth.csv", p)),
+    );
     tables.push(s.table);
     let (rms, _, table) = attitude_errors(truth, &points).expect("attitude scored");
     metrics.insert("attitude_error_rms_deg".into(), rpy_json(rms));
@@ -256,7 +259,7 @@ fn written_series_are_every_row_and_the_plots() {
 }
 
 fn has_warning(out: &ReplayOutput, text: &str) -> bool {
-    out.warnings.iter().any(|w| w.contains(text))
+    out.warnings.iter().any(|w| w.message.contains(text))
 }
 
 #[test]

@@ -12,18 +12,18 @@
 
 use std::path::Path;
 
-use nav_runtime::log::{LogSource, ReferenceRow, TruthRow};
+use nav_runtime::log::{LogSource, ReferenceRow, TruthRow, Warning, WarningKind};
 use serde_json::{Map, Value};
 
 use crate::harness::{RunError, RunTable};
-use crate::navigator::Estimate;
 use crate::sdins25::score::{
     Keep, ScoreError, Scorer, COLUMNS as ERRORS_COLUMNS, TABLE as ERRORS_TABLE,
 };
-use crate::series::{SeriesSink, TableWriter};
 use crate::ulog::reference::EstimatePoint;
 use crate::ulog::replay::rpy_json;
 use crate::ulog::running_score::{ReferenceScore, TruthScore, REFERENCE_COLUMNS, TRUTH_COLUMNS};
+use nav_ins::Estimate;
+use nav_replay::output::series::{SeriesSink, TableWriter};
 
 /// A truth height this far from the initial height is on another datum, m.
 pub const TRUTH_DATUM_GAP_M: f64 = 100.0;
@@ -183,14 +183,17 @@ impl<'a> RunningScores<'a> {
         self,
         imu_span: Option<(f64, f64)>,
         metrics: &mut Map<String, Value>,
-        warnings: &mut Vec<String>,
+        warnings: &mut Vec<Warning>,
     ) -> Result<ScoreTables, RunError> {
         let reference = match self.reference {
             Some(r) => r.finish(metrics, warnings)?,
             None => None,
         };
         let mut truth = Vec::new();
-        warnings.extend(self.datum);
+        warnings.extend(
+            self.datum
+                .map(|d| Warning::about(WarningKind::Suspicious, "truth.csv", d)),
+        );
         let scored = match self.errors {
             Some(Errors::Scoring(scorer)) => Some(scorer.finish(imu_span)),
             Some(Errors::Stopped(e)) => Some(Err(e)),
@@ -207,7 +210,10 @@ impl<'a> RunningScores<'a> {
                 ] {
                     metrics.insert(k.into(), Value::from(v));
                 }
-                warnings.extend(s.partial);
+                warnings.extend(
+                    s.partial
+                        .map(|p| Warning::about(WarningKind::PartialScoring, "truth.csv", p)),
+                );
                 if self.keep_errors_table {
                     truth.push(s.table);
                 }
@@ -217,7 +223,11 @@ impl<'a> RunningScores<'a> {
                     "writing the error table: {reason}"
                 )))
             }
-            Some(Err(e)) => warnings.push(format!("not scored against truth: {e}")),
+            Some(Err(e)) => warnings.push(Warning::about(
+                WarningKind::Suspicious,
+                "truth.csv",
+                format!("not scored against truth: {e}"),
+            )),
             None => {}
         }
         if let Some(t) = self.attitude {

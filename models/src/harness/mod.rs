@@ -1,20 +1,20 @@
-//! The harness every estimator runs in: the scenario and replay-model
-//! traits, run results and errors, the Monte Carlo driver, shards and merge,
-//! the JSON report and the plots.
+//! The harness every estimator of this crate runs in: the scenario trait,
+//! the Monte Carlo driver, shards and merge. Run results, replay models,
+//! the JSON report and the plots are the replay library's
+//! (`nav_replay`), re-exported here for the scenarios.
 //!
 //! # Adding a scenario
-//! Implement [`Scenario`] and add one line to [`crate::cli::scenarios`]. A run is a
+//! Implement [`Scenario`] and add one line to `navsim`'s registry. A run is a
 //! pure function of its seed and [`RunOptions`] ([`Scenario::run_one`]); the driver
 //! runs seeds `seed, seed + 1, ..., seed + runs - 1` in parallel and hands the results
 //! to [`Scenario::summarize`] **in seed order**, so the JSON does not depend on the
 //! number of threads or on how the seeds were split into shards.
 //!
 //! # Adding a replay model
-//! Implement [`ReplayModel`] and add one line to [`crate::cli::replay_models`].
-//! A vehicle made of the INS core block and any of the depth, DVL, compass and
-//! USBL blocks needs no `ReplayModel` of its own: implement
-//! [`crate::navigator::InsVehicle`] for it (which generated sensor reads
-//! which log file) and register `crate::sdins25::InsReplay::<Vehicle, N>::new()`.
+//! Implement [`ReplayModel`] and add one line to `navsim`'s registry. A
+//! vehicle made of the INS core block and its sensor blocks needs no
+//! `ReplayModel` of its own: implement [`nav_ins::InsVehicle`] for it and
+//! register `nav_replay::ins::InsReplay::<Vehicle, N>::new()`.
 //!
 //! # Shards
 //! `--shard K/N` runs the seed indices `i` (0-based) with `i % N == K - 1` and writes a
@@ -23,25 +23,44 @@
 //! and gives back the results in seed order, from which [`summary_json`] builds the
 //! same JSON the unsharded run prints.
 
-mod error;
-mod health;
-pub mod plot;
-mod replay;
-pub mod report;
-mod run;
+mod driver;
 mod scenario;
 mod shard;
-#[cfg(test)]
-mod temp_dir;
 
-pub use error::RunError;
-pub use health::{RunHealth, SensorHealth};
-pub use replay::{ReplayModel, ReplayOptions, ReplayOutput};
-pub use run::{
-    metric_values, progress_bar, run_seeds, summary_json, write_run_tables, ProgressBar,
-    RunOptions, RunResult, RunTable,
+pub use driver::{run_seeds, summary_json, RunOptions};
+pub use nav_replay::output::{plot, report};
+#[cfg(test)]
+pub(crate) use nav_replay::temp_dir::TempDir;
+pub use nav_replay::{
+    metric_values, progress_bar, write_run_tables, ProgressBar, ReplayModel, ReplayOptions,
+    ReplayOutput, RunError, RunHealth, RunResult, RunTable, SensorHealth,
 };
 pub use scenario::Scenario;
 pub use shard::{find_shard_files, merge_shards, seeds, Merged, Shard, ShardFile, SHARD_FORMAT};
+
 #[cfg(test)]
-pub(crate) use temp_dir::TempDir;
+mod tests {
+    use super::{RunHealth, RunResult, SensorHealth};
+
+    fn counts(accepted: u64) -> SensorHealth {
+        SensorHealth {
+            accepted,
+            ..SensorHealth::default()
+        }
+    }
+
+    /// A run's health survives a shard file (JSON) unchanged.
+    #[test]
+    fn health_travels_through_shard_files() {
+        let mut r = RunResult::new(7).with_metric("x", 1.5);
+        r.health = RunHealth {
+            sensors: vec![("dvl".into(), counts(3))],
+            covariance_repairs: 2,
+            replays: Some(9),
+            imu_gaps: None,
+        };
+        let text = serde_json::to_string(&r).unwrap();
+        let back: RunResult = serde_json::from_str(&text).unwrap();
+        assert_eq!(back, r);
+    }
+}

@@ -12,7 +12,7 @@ use crate::harness::{
 };
 use filter::{errors_at_truth, LevelingOptions, Tuning};
 use nav_runtime::imu::{ImuSpec, MG};
-use nav_runtime::log::LogDir;
+use nav_runtime::log::{LogDir, Warning, WarningKind};
 use nav_runtime::nalgebra::{Matrix2, Vector2};
 use nav_runtime::sensors::{derive_seed, normal};
 use nav_runtime::stats;
@@ -507,22 +507,31 @@ impl ReplayModel for Leveling6Replay {
                 // convention, offset or clock.
                 let nees = tilt_nees(roll, pitch, last);
                 if nees > FINAL_NEES_WARN {
-                    out.warnings.push(format!(
-                        "truth.csv: the final tilt error, {:.3} deg at t = {t} s, is {:.0} of the \
-                         filter's sigmas (tilt NEES {nees:.0}): a truth of another convention, offset \
-                         or clock, or an error the filter does not model",
-                        roll.hypot(pitch).to_degrees(),
-                        nees.sqrt()
+                    out.warnings.push(Warning::about(
+                        WarningKind::Suspicious,
+                        "truth.csv",
+                        format!(
+                            "truth.csv: the final tilt error, {:.3} deg at t = {t} s, is {:.0} of \
+                             the filter's sigmas (tilt NEES {nees:.0}): a truth of another \
+                             convention, offset or clock, or an error the filter does not model",
+                            roll.hypot(pitch).to_degrees(),
+                            nees.sqrt()
+                        ),
                     ));
                 }
                 let early = last.t - t;
                 if early > (0.05 * (last.t - first.t)).max(1.0) {
-                    out.warnings.push(format!(
-                        "truth.csv: only its rows up to t = {t} s ({} of {}) are scored, {early:.1} s \
-                         before the end of the run (t = {} s): the final errors are not at the end",
-                        errors.len(),
-                        truth.len(),
-                        last.t
+                    out.warnings.push(Warning::about(
+                        WarningKind::PartialScoring,
+                        "truth.csv",
+                        format!(
+                            "truth.csv: only its rows up to t = {t} s ({} of {}) are scored, \
+                             {early:.1} s before the end of the run (t = {} s): the final errors \
+                             are not at the end",
+                            errors.len(),
+                            truth.len(),
+                            last.t
+                        ),
                     ));
                 }
             }

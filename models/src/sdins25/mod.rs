@@ -6,35 +6,32 @@
 //! score against truth.csv, so `navsim simulate` followed by `navsim replay
 //! --model sdins25` reproduces `navsim scenario` exactly.
 
-mod aiding;
 pub mod faults;
 pub mod filter;
-pub mod lockout;
 pub mod model;
-pub mod replay_loop;
-pub mod replay_output;
-pub mod score;
 pub mod simulation;
 pub mod soak;
-pub use crate::navigator::vehicle;
+pub use nav_ins::{lockout, vehicle};
+pub use nav_replay::ins::{
+    error_values, metrics, output as replay_output, replay_loop, run_and_score_vehicle, score,
+    score_smoothed, write_plots, write_smoothed_plot, InsReplay, ERROR_KEYS, SMOOTHED_TABLE,
+};
 
 #[cfg(test)]
 mod model_tests;
 
-use std::marker::PhantomData;
 use std::path::Path;
 
-use nav_runtime::log::{LogDir, LogFiles, LogSource};
+use nav_runtime::log::LogDir;
 use nav_runtime::stats;
 use serde_json::{json, Map, Value};
 
-use crate::harness::plot::{self, Line};
+use crate::harness::plot;
 use crate::harness::report::summary_of;
 use crate::harness::{
-    metric_values, ReplayModel, ReplayOptions, ReplayOutput, RunError, RunHealth, RunOptions,
-    RunResult, RunTable, Scenario,
+    metric_values, RunError, RunHealth, RunOptions, RunResult, RunTable, Scenario,
 };
-use filter::{FilterOptions, InsRun, Sdins25Run};
+use filter::{FilterOptions, Sdins25Run};
 use score::{nees_band_95, Scored, NEES_DOF};
 use simulation::SimConfig;
 use vehicle::InsVehicle;
@@ -111,99 +108,6 @@ pub fn run_and_score(
     compass_bias: Option<f64>,
 ) -> Result<(Sdins25Run, Option<Scored>), RunError> {
     run_and_score_vehicle::<Sdins25, 25>(log, options, compass_bias)
-}
-
-/// Runs the filter of vehicle `V` over `log` with estimates at the truth
-/// times and scores it (without truth no estimates are kept: nothing is
-/// sized by the log's time span). `compass_bias`: the true compass bias,
-/// when known, for the bias-estimation columns.
-pub fn run_and_score_vehicle<V: InsVehicle<N>, const N: usize>(
-    log: &LogDir,
-    options: &FilterOptions,
-    compass_bias: Option<f64>,
-) -> Result<(InsRun<V, N>, Option<Scored>), RunError> {
-    let times: Vec<f64> = log
-        .truth
-        .as_ref()
-        .map_or_else(Vec::new, |t| t.iter().map(|r| r.t).collect());
-    let run = filter::run_vehicle::<V, N>(log, options, &times)?;
-    let scored = log
-        .truth
-        .as_ref()
-        .map(|t| score::score(&run.estimates, t, compass_bias, log.imu_time_span()))
-        .transpose()
-        .map_err(|e| RunError::Invalid(e.to_string()))?;
-    Ok((run, scored))
-}
-
-/// The smoothed estimates of `run` (recorded with [`FilterOptions::smooth`])
-/// scored against the truth of `log`, as [`run_and_score_vehicle`] scores the
-/// forward ones.
-pub fn score_smoothed<V: InsVehicle<N>, const N: usize>(
-    run: &InsRun<V, N>,
-    log: &LogDir,
-    compass_bias: Option<f64>,
-) -> Result<Option<Scored>, RunError> {
-    let (Some(truth), Some(smoothed)) = (log.truth.as_ref(), run.smoothed.as_ref()) else {
-        return Ok(None);
-    };
-    let mut s = score::score(smoothed, truth, compass_bias, log.imu_time_span())
-        .map_err(|e| RunError::Invalid(format!("smoothed run: {e}")))?;
-    s.table.name = SMOOTHED_TABLE.to_string();
-    Ok(Some(s))
-}
-
-/// Name of the smoothed error table (same columns as [`score::TABLE`]).
-pub const SMOOTHED_TABLE: &str = "smoothed_errors";
-
-/// The error keys of a scored run, reported forward and (under `smoothed`)
-/// smoothed.
-pub(crate) const ERROR_KEYS: [&str; 4] = [
-    "horizontal_error_final_m",
-    "horizontal_error_rms_m",
-    "depth_error_rms_m",
-    "nees_mean",
-];
-
-pub(crate) fn error_values(s: &Scored) -> [f64; 4] {
-    [
-        s.horizontal_error_final_m,
-        s.horizontal_error_rms_m,
-        s.depth_error_rms_m,
-        s.nees_mean,
-    ]
-}
-
-/// The metrics of a run (scored when truth exists).
-pub(crate) fn metrics<V: InsVehicle<N>, const N: usize>(
-    run: &InsRun<V, N>,
-    scored: Option<&Scored>,
-) -> Vec<(String, f64)> {
-    let mut m = vec![
-        ("samples".to_string(), run.samples as f64),
-        ("runtime_s".to_string(), run.runtime_s),
-    ];
-    if let Some(s) = scored {
-        m.extend([
-            (
-                "horizontal_error_final_m".into(),
-                s.horizontal_error_final_m,
-            ),
-            ("horizontal_error_rms_m".into(), s.horizontal_error_rms_m),
-            ("depth_error_rms_m".into(), s.depth_error_rms_m),
-            ("nees_mean".into(), s.nees_mean),
-            ("scored_seconds".into(), s.scored_seconds),
-            (
-                "compass_bias_error_final_deg".into(),
-                s.compass_bias_error_final_deg,
-            ),
-            (
-                "compass_bias_sigma_final_deg".into(),
-                s.compass_bias_sigma_final_deg,
-            ),
-        ]);
-    }
-    m
 }
 
 /// One scenario run: simulate, filter over the log, score.
@@ -397,131 +301,8 @@ impl Scenario for LawnMower {
     }
 }
 
-/// Horizontal error of the forward and the smoothed estimates with their
-/// 1-sigma bands (`<prefix>-smoothed-horizontal.svg`), when `tables` holds
-/// both error tables; nothing otherwise.
-pub fn write_smoothed_plot(
-    name: &str,
-    prefix: &str,
-    tables: &[RunTable],
-    dir: &Path,
-) -> Result<(), RunError> {
-    let find = |n: &str| tables.iter().find(|t| t.name == n);
-    let (Some(forward), Some(smoothed)) = (find(score::TABLE), find(SMOOTHED_TABLE)) else {
-        return Ok(());
-    };
-    let horizontal = |t: &RunTable, a: &str, b: &str| -> Vec<f64> {
-        t.column(a)
-            .iter()
-            .zip(t.column(b))
-            .map(|(x, y)| x.hypot(y))
-            .collect()
-    };
-    let time = forward.column("t");
-    let (fe, fs) = (
-        horizontal(forward, "err_n", "err_e"),
-        horizontal(forward, "sig_n", "sig_e"),
-    );
-    let (se, ss) = (
-        horizontal(smoothed, "err_n", "err_e"),
-        horizontal(smoothed, "sig_n", "sig_e"),
-    );
-    let line = |label, y| Line { label, x: &time, y };
-    plot::lines(
-        &dir.join(format!("{prefix}-smoothed-horizontal.svg")),
-        &format!("{name}: horizontal error, forward and smoothed, with 1-sigma"),
-        "t [s]",
-        "horizontal error [m]",
-        &[
-            line("forward error", &fe),
-            line("forward 1-sigma", &fs),
-            line("smoothed error", &se),
-            line("smoothed 1-sigma", &ss),
-        ],
-    )
-}
-
 /// Runs whose plots `--out` draws (every run's CSV is written).
 pub const PLOTTED_RUNS: usize = 5;
-
-/// Track, position / velocity / attitude errors with their `±3 sigma` bounds
-/// and the NEES with its 95 % band, from one run's table.
-pub fn write_plots(name: &str, prefix: &str, t: &RunTable, dir: &Path) -> Result<(), RunError> {
-    let time = t.column("t");
-    let file = |s: &str| dir.join(format!("{prefix}-{s}.svg"));
-    let (tn, te, en, ee) = (
-        t.column("true_n"),
-        t.column("true_e"),
-        t.column("est_n"),
-        t.column("est_e"),
-    );
-    plot::tracks(
-        &file("track"),
-        &format!("{name} {prefix}: horizontal track"),
-        "east [m]",
-        "north [m]",
-        &[
-            Line {
-                label: "truth",
-                x: &te,
-                y: &tn,
-            },
-            Line {
-                label: "estimate",
-                x: &ee,
-                y: &en,
-            },
-        ],
-    )?;
-    let groups = [
-        (
-            "position",
-            "m",
-            ["n", "e", "d"],
-            ["north", "east", "down"],
-            "",
-        ),
-        (
-            "velocity",
-            "m/s",
-            ["vn", "ve", "vd"],
-            ["north", "east", "down"],
-            "",
-        ),
-        (
-            "attitude",
-            "deg",
-            ["roll", "pitch", "yaw"],
-            ["roll", "pitch", "yaw"],
-            "_deg",
-        ),
-    ];
-    for (group, unit, keys, labels, suffix) in groups {
-        for (k, label) in keys.iter().zip(labels) {
-            let e = t.column(&format!("err_{k}{suffix}"));
-            let s = t.column(&format!("sig_{k}{suffix}"));
-            plot::error_with_sigma(
-                &file(&format!("{group}-{label}")),
-                &format!("{name} {prefix}: {group} error, {label}, with ±3 sigma"),
-                &format!("{label} error [{unit}]"),
-                &time,
-                &e,
-                &s,
-            )?;
-        }
-    }
-    let band = (
-        nav_runtime::gate::chi_square_quantile(0.025, NEES_DOF).unwrap_or(f64::NAN),
-        nav_runtime::gate::chi_square_quantile(0.975, NEES_DOF).unwrap_or(f64::NAN),
-    );
-    plot::nees(
-        &file("nees"),
-        &format!("{name} {prefix}: NEES of the 9 navigation states (95 % band, 9 dof)"),
-        &time,
-        &t.column("nees"),
-        Some(band),
-    )
-}
 
 /// The NEES averaged over runs at each time, with the 95 % band of the ensemble.
 fn write_ensemble_nees(name: &str, runs: &[RunResult], dir: &Path) -> Result<(), RunError> {
@@ -565,101 +346,5 @@ fn write_ensemble_nees(name: &str, runs: &[RunResult], dir: &Path) -> Result<(),
 /// Index of the `nees` column in [`score::COLUMNS`].
 const COLUMNS_NEES: usize = 19;
 
-/// `navsim replay DIR --model <V::REPLAY_NAME>`: the filter of vehicle `V`
-/// (`N` states) over a log, scored against `truth.csv` when present. One line
-/// in [`crate::cli::replay_models`] registers a vehicle:
-/// `Box::new(InsReplay::<Sdins20, 20>::new())`.
-pub struct InsReplay<V, const N: usize>(PhantomData<fn() -> V>);
-
-impl<V, const N: usize> InsReplay<V, N> {
-    /// The replay model of `V`.
-    pub const fn new() -> Self {
-        Self(PhantomData)
-    }
-}
-
-impl<V, const N: usize> Default for InsReplay<V, N> {
-    fn default() -> Self {
-        Self::new()
-    }
-}
-
-impl<V, const N: usize> Clone for InsReplay<V, N> {
-    fn clone(&self) -> Self {
-        *self
-    }
-}
-
-impl<V, const N: usize> Copy for InsReplay<V, N> {}
-
-impl<V: InsVehicle<N>, const N: usize> std::fmt::Debug for InsReplay<V, N> {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "InsReplay<{}>", V::NAME)
-    }
-}
-
 /// `navsim replay DIR --model sdins25`.
 pub type Sdins25Replay = InsReplay<Sdins25, 25>;
-
-impl<V: InsVehicle<N>, const N: usize> ReplayModel for InsReplay<V, N> {
-    fn name(&self) -> &'static str {
-        V::REPLAY_NAME
-    }
-    fn description(&self) -> &'static str {
-        V::DESCRIPTION
-    }
-    fn log_files(&self) -> Option<&'static [&'static str]> {
-        // Aiding files of sensors `V` lacks are reported by the replay itself.
-        // The echo sounder's altitude gates the DVL (above its range).
-        let p = vehicle::Present::of::<V, N>();
-        if p.gnss || p.baro || p.mag {
-            return Some(&[
-                "imu.csv",
-                "dvl.csv",
-                "depth.csv",
-                "heading.csv",
-                "usbl.csv",
-                "altitude.csv",
-                "gnss.csv",
-                "baro.csv",
-                "mag.csv",
-                "truth.csv",
-            ]);
-        }
-        Some(&[
-            "imu.csv",
-            "dvl.csv",
-            "depth.csv",
-            "heading.csv",
-            "usbl.csv",
-            "altitude.csv",
-            "truth.csv",
-        ])
-    }
-    fn replay(&self, log: &LogDir, options: &ReplayOptions) -> Result<ReplayOutput, RunError> {
-        replay_output::replay_source::<V, N>(&LogSource::Memory(log), options, None)
-    }
-    fn replay_files(
-        &self,
-        files: &LogFiles,
-        options: &ReplayOptions,
-        out: Option<&Path>,
-    ) -> Result<ReplayOutput, RunError> {
-        replay_output::replay_source::<V, N>(&LogSource::Files(files), options, out)
-    }
-    fn shares_imu(&self) -> bool {
-        true
-    }
-    fn can_smooth(&self) -> bool {
-        true
-    }
-    fn write_outputs(&self, output: &ReplayOutput, dir: &Path) -> Result<(), RunError> {
-        for t in &output.tables {
-            t.write_csv(&dir.join(format!("{}.csv", t.name)))?;
-            if t.name == score::TABLE {
-                write_plots(V::REPLAY_NAME, "replay", t, dir)?;
-            }
-        }
-        write_smoothed_plot(V::REPLAY_NAME, "replay", &output.tables, dir)
-    }
-}

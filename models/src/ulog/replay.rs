@@ -3,18 +3,15 @@
 //! `reference.csv` (PX4's own estimate) and the scoring against `truth.csv`.
 
 use nav_runtime::ekf::{FilterError, UpdateReport};
-use nav_runtime::log::{LogDir, MagRow, ReferenceRow, TruthRow};
+use nav_runtime::log::{LogDir, MagRow, ReferenceRow, TruthRow, Warning, WarningKind};
 use serde_json::{json, Map, Value};
 
 use super::reference::{EstimatePoint, Reference};
 use super::running_score::{REFERENCE_COLUMNS, TRUTH_COLUMNS};
-use crate::ahrs::declination_from;
 use crate::harness::RunTable;
-use crate::navigator::SensorHealth;
+use nav_ins::SensorHealth;
 
-/// Magnetometer samples averaged for the declination: those within this
-/// time of the initial estimate, s.
-pub const DECLINATION_WINDOW_S: f64 = 1.0;
+pub use nav_ins::heading::DECLINATION_WINDOW_S;
 
 /// Counts of one sensor, updated from each update's outcome.
 pub fn count<const M: usize>(
@@ -37,26 +34,9 @@ pub fn count<const M: usize>(
     }
 }
 
-/// The magnetic declination (rad, east positive) that makes the
-/// magnetometer agree with the initial attitude: the circular mean of
-/// [`declination_from`] over the samples within [`DECLINATION_WINDOW_S`] of
-/// `t0` (PX4 logs its declination only as a parameter that SITL leaves at
-/// its default, so the field's direction is taken from the log itself).
-/// `None` without a usable sample.
+/// [`nav_ins::heading::mean_declination`] of the magnetometer rows `mag`.
 pub fn declination(mag: &[MagRow], t0: f64, attitude: [f64; 3]) -> Option<(f64, usize)> {
-    let (mut s, mut c, mut n) = (0.0, 0.0, 0usize);
-    for m in mag
-        .iter()
-        .filter(|m| m.t >= t0 - DECLINATION_WINDOW_S && m.t <= t0 + DECLINATION_WINDOW_S)
-    {
-        if let Some(d) = declination_from([m.mx, m.my, m.mz], attitude[0], attitude[1], attitude[2])
-        {
-            s += d.sin();
-            c += d.cos();
-            n += 1;
-        }
-    }
-    (n > 0).then(|| (s.atan2(c), n))
+    nav_ins::heading::mean_declination(mag.iter().map(|m| (m.t, [m.mx, m.my, m.mz])), t0, attitude)
 }
 
 /// `reference.csv` of `log` as a [`Reference`]: a group (position,
@@ -204,7 +184,7 @@ pub fn reference_metrics(
     log: &LogDir,
     points: &[EstimatePoint],
     metrics: &mut Map<String, Value>,
-    warnings: &mut Vec<String>,
+    warnings: &mut Vec<Warning>,
 ) -> Option<RunTable> {
     let rows = log.reference.as_deref()?;
     let reference = reference(rows);
@@ -213,14 +193,19 @@ pub fn reference_metrics(
         metrics.extend(m);
     }
     if reference.attitude.is_none() {
-        warnings.push("reference.csv has no attitude: no attitude difference".into());
+        warnings.push(Warning::about(
+            WarningKind::Model,
+            "reference.csv",
+            "reference.csv has no attitude: no attitude difference",
+        ));
     }
     if reference.position.is_none() && points.iter().any(|p| p.position.is_some()) {
-        warnings.push(
+        warnings.push(Warning::about(
+            WarningKind::Model,
+            "reference.csv",
             "reference.csv has no position (the log has no vehicle_global_position): \
-             no horizontal difference"
-                .into(),
-        );
+             no horizontal difference",
+        ));
     }
     Some(difference_table(&reference, points))
 }

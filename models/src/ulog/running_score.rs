@@ -8,13 +8,13 @@
 //! series; the sums are kept, the rows go to a [`SeriesSink`].
 
 use nav_runtime::earth::{geodetic_error_to_ned, meridian_radius, transverse_radius};
-use nav_runtime::log::{LogError, ReferenceRow, Row, RowSource, TruthRow};
+use nav_runtime::log::{LogError, ReferenceRow, Row, RowSource, TruthRow, Warning, WarningKind};
 use serde_json::{Map, Value};
 
 use super::reference::{EstimatePoint, ReferenceDifference};
 use super::replay::{at, wrap};
 use crate::harness::{RunError, RunTable};
-use crate::series::SeriesSink;
+use nav_replay::output::series::SeriesSink;
 
 /// Columns of the `reference_difference` table.
 pub const REFERENCE_COLUMNS: [&str; 12] = [
@@ -227,7 +227,7 @@ impl<'a> ReferenceScore<'a> {
     pub fn finish(
         mut self,
         metrics: &mut Map<String, Value>,
-        warnings: &mut Vec<String>,
+        warnings: &mut Vec<Warning>,
     ) -> Result<Option<RunTable>, RunError> {
         let groups = &mut self.groups;
         self.rows.finish(&mut |r| groups.see(r))?;
@@ -251,22 +251,31 @@ impl<'a> ReferenceScore<'a> {
         if let Some((a, b)) = self.estimates {
             let run = b - a;
             if difference.samples > 0 && difference.scored_seconds < 0.5 * run {
-                warnings.push(format!(
-                    "reference.csv: only {:.1} s of the {run:.1} s run ({} rows) are scored against \
-                     it: the differences are of that part only",
-                    difference.scored_seconds, difference.samples
+                warnings.push(Warning::about(
+                    WarningKind::PartialScoring,
+                    "reference.csv",
+                    format!(
+                        "reference.csv: only {:.1} s of the {run:.1} s run ({} rows) are scored \
+                         against it: the differences are of that part only",
+                        difference.scored_seconds, difference.samples
+                    ),
                 ));
             }
         }
         if !has_attitude {
-            warnings.push("reference.csv has no attitude: no attitude difference".into());
+            warnings.push(Warning::about(
+                WarningKind::Model,
+                "reference.csv",
+                "reference.csv has no attitude: no attitude difference",
+            ));
         }
         if !has_position && self.estimate_has_position {
-            warnings.push(
+            warnings.push(Warning::about(
+                WarningKind::Model,
+                "reference.csv",
                 "reference.csv has no position (the log has no vehicle_global_position): \
-                 no horizontal difference"
-                    .into(),
-            );
+                 no horizontal difference",
+            ));
         }
         self.table.finish()
     }

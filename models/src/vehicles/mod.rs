@@ -10,7 +10,7 @@
 //!   pressure-sensor block with a lever arm, a vehicle using it, and its filter
 //!   run through [`nav_runtime::ekf::Ekf`].
 //! - [`rover`]: a wheeled rover, not an INS, replayed from a log with
-//!   [`crate::model_replay`].
+//!   [`nav_replay::model_replay`].
 
 pub mod blocks;
 pub mod pressure_auv;

@@ -41,11 +41,11 @@ nav_runtime::model! {
 }
 
 /// Step 4: the vehicle replays logs (`navsim replay DIR --model pressure-auv`,
-/// or its own program with [`crate::replay::replay_main`]): its sensors in the
+/// or its own program with [`nav_replay::program::replay_main`]): its sensors in the
 /// log's slots. `depth.csv` feeds the pressure sensor, whose lever arm comes
 /// from `[sensors.depth] lever_arm`; the GNSS fix has no log file and stays
 /// unused.
-impl crate::navigator::InsVehicle<20> for PressureAuv {
+impl nav_ins::InsVehicle<20> for PressureAuv {
     const REPLAY_NAME: &'static str = "pressure-auv";
     const DESCRIPTION: &'static str = "the walk-through AUV: INS + pressure sensor at a lever arm ([sensors.depth] lever_arm) + DVL + compass";
     const DEPTH_SENSOR: &'static str = "PressureDepth";
@@ -54,10 +54,10 @@ impl crate::navigator::InsVehicle<20> for PressureAuv {
     type Dvl = PressureAuvDvl;
     type Compass = PressureAuvCompass;
     type CompassSmallAngle = PressureAuvCompassSmallAngle;
-    type Usbl = crate::navigator::Absent;
-    type Gnss = crate::navigator::Absent;
-    type Baro = crate::navigator::Absent;
-    type Mag = crate::navigator::Absent;
+    type Usbl = nav_ins::Absent;
+    type Gnss = nav_ins::Absent;
+    type Baro = nav_ins::Absent;
+    type Mag = nav_ins::Absent;
 }
 
 /// Number of states of [`PressureAuv`].

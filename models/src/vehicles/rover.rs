@@ -1,4 +1,4 @@
-//! A vehicle that is not an INS, replayed with [`crate::model_replay`]: a
+//! A vehicle that is not an INS, replayed with [`nav_replay::model_replay`]: a
 //! wheeled rover (position and heading from wheel speed and yaw rate) with a
 //! position fix and a range-bearing sensor to a beacon. The example
 //! `replay_model` is its replay program; [`write_log`] simulates logs for
@@ -11,7 +11,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 
-use crate::model_replay::ModelReplay;
+use nav_replay::model_replay::ModelReplay;
 
 nav_runtime::model! {
     /// A wheeled rover: position and heading from wheel speed and yaw rate.

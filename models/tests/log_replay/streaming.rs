@@ -2,8 +2,8 @@
 //! against the replay of the same log held in memory: the same numbers, and
 //! the same time series, row for row.
 
-use models::cli::find_replay_model;
 use models::harness::ReplayOptions;
+use models::registry::find_replay_model;
 use models::sdins25::soak::{write_log, SoakConfig};
 use nav_runtime::log::{LogDir, LogFiles, Strictness};
 
@@ -128,7 +128,7 @@ fn readings_at_the_start_of_a_midpoint_log_are_used() {
     assert!(
         late.warnings
             .iter()
-            .any(|w| w.contains("before the initial epoch")),
+            .any(|w| w.message.contains("before the initial epoch")),
         "{:?}",
         late.warnings
     );

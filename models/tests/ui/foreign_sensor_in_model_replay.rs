@@ -1,6 +1,6 @@
 // A sensor of another model registered with a model replay does not
 // compile: the cart's position fix is not a sensor of the rover.
-use models::model_replay::ModelReplay;
+use nav_replay::model_replay::ModelReplay;
 use models::vehicles::rover::Rover;
 
 nav_runtime::model! {

@@ -1,5 +1,5 @@
 // A DVL reading pushed under the depth meter's handle does not compile.
-use models::navigator::prelude::*;
+use nav_ins::prelude::*;
 use models::sdins25::Sdins25;
 
 fn main() {

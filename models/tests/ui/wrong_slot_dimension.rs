@@ -1,6 +1,6 @@
 // A one-output sensor (the depth meter) in the three-output GNSS slot of an
 // `InsVehicle` impl does not compile.
-use models::navigator::{Absent, InsVehicle};
+use nav_ins::{Absent, InsVehicle};
 use nav_blocks::{Depth, GnssFix, InsCore};
 
 nav_runtime::model! {

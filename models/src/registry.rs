@@ -1,0 +1,78 @@
+//! Every built-in scenario and replay model of this crate, by name: the
+//! registry `navsim` runs them from. Add new scenarios and models here.
+
+use nav_replay::ins::InsReplay;
+
+use crate::demo;
+use crate::harness::{ReplayModel, RunError, Scenario};
+use crate::vehicles::sdins::{Sdins20, Sdins25Composed};
+
+/// Scenario run by `navsim` without a command (when it is registered).
+pub const DEFAULT_SCENARIO: &str = "lawnmower-dvl";
+/// Scenario run without a command while [`DEFAULT_SCENARIO`] is not registered.
+pub const FALLBACK_SCENARIO: &str = demo::NAME;
+/// First seed when `--seed` is not given.
+pub const DEFAULT_SEED: u64 = 1;
+
+/// Every built-in scenario. Add new scenarios here.
+pub fn scenarios() -> Vec<Box<dyn Scenario>> {
+    let mut all: Vec<Box<dyn Scenario>> = vec![Box::new(demo::ConstantVelocity)];
+    all.extend(
+        crate::leveling::scenarios()
+            .into_iter()
+            .map(|s| Box::new(s) as Box<dyn Scenario>),
+    );
+    all.extend(
+        crate::sdins25::scenarios()
+            .into_iter()
+            .map(|s| Box::new(s) as Box<dyn Scenario>),
+    );
+    all.push(Box::new(crate::marker::MarkerPath));
+    all.push(Box::new(crate::vkf::VkfScenario));
+    all
+}
+
+/// Every replay model. Add new models here.
+pub fn replay_models() -> Vec<Box<dyn ReplayModel>> {
+    vec![
+        Box::new(demo::DepthKf),
+        Box::new(crate::leveling::Leveling6Replay),
+        Box::new(crate::sdins25::Sdins25Replay::new()),
+        Box::new(InsReplay::<Sdins25Composed, 25>::new()),
+        Box::new(InsReplay::<Sdins20, 20>::new()),
+        Box::new(InsReplay::<crate::vehicles::pressure_auv::PressureAuv, 20>::new()),
+        Box::new(crate::ahrs::AhrsReplay),
+        Box::new(crate::gnss_ins::GnssInsReplay),
+    ]
+}
+
+/// The scenario named `name`, or an error listing the valid names.
+pub fn find_scenario(name: &str) -> Result<Box<dyn Scenario>, RunError> {
+    let all = scenarios();
+    let names: Vec<&str> = all.iter().map(|s| s.name()).collect();
+    let valid = names.join(", ");
+    all.into_iter().find(|s| s.name() == name).ok_or_else(|| {
+        RunError::Invalid(format!(
+            "unknown scenario `{name}`; valid scenarios: {valid}"
+        ))
+    })
+}
+
+/// The replay model named `name`, or an error listing the valid names.
+pub fn find_replay_model(name: &str) -> Result<Box<dyn ReplayModel>, RunError> {
+    let all = replay_models();
+    let names: Vec<&str> = all.iter().map(|s| s.name()).collect();
+    let valid = names.join(", ");
+    all.into_iter()
+        .find(|s| s.name() == name)
+        .ok_or_else(|| RunError::Invalid(format!("unknown model `{name}`; valid models: {valid}")))
+}
+
+/// The scenario run without a command.
+pub fn default_scenario() -> &'static str {
+    if scenarios().iter().any(|s| s.name() == DEFAULT_SCENARIO) {
+        DEFAULT_SCENARIO
+    } else {
+        FALLBACK_SCENARIO
+    }
+}

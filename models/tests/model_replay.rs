@@ -1,0 +1,778 @@
+//! The replay of a declared model that is not an INS: a wheeled rover with
+//! a position fix and a range-bearing sensor to a beacon, on logs the tests
+//! write (with the truth), in several units and column orders, and broken
+//! in the ways users break them.
+
+use models::vehicles::rover::{rover_replay as rover, write_log, LogStyle, Rover, DRIVE_STEPS};
+use nav_replay::model_replay::{
+    angle_states, quaternion_blocks, ModelReplay, ModelReplayError, ModelRun, RunOptions,
+};
+use nav_replay::temp_dir::TempDir;
+use std::path::Path;
+
+const SI: LogStyle = LogStyle {
+    other_units: false,
+    shuffled: false,
+};
+
+#[test]
+fn the_heading_is_the_rovers_only_angle_state() {
+    assert_eq!(angle_states::<Rover, 3>(), [false, false, true]);
+}
+
+/// Monte Carlo over 10 seeds: the errors are small against the sensors'
+/// sigmas and the NEES and every sensor's NIS are in their band.
+#[test]
+fn a_rover_replays_consistently_over_seeds() {
+    let dir = TempDir::new("seeds");
+    let mut nis_lm = Vec::new();
+    let (mut nees, mut nis_fix, mut nis_rb, mut rms) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for seed in 0..10 {
+        let log = dir.0.join(format!("seed{seed}"));
+        write_log(&log, seed, SI, DRIVE_STEPS);
+        let run = rover()
+            .replay(&log, None, &RunOptions::default(), None)
+            .unwrap_or_else(|e| panic!("seed {seed}: {e}"));
+        assert_eq!(run.samples, 2000);
+        let truth = run.truth.as_ref().expect("truth scored");
+        assert_eq!(truth.scored, 2001, "every sample has its truth row");
+        assert_eq!(truth.nees_dof, 3);
+        nees.push(truth.nees_mean);
+        let [fix, rb, lm] = [&run.sensors[0], &run.sensors[1], &run.sensors[2]];
+        assert_eq!((fix.rows, rb.rows, lm.rows), (200, 400, 100), "seed {seed}");
+        assert!(
+            fix.accepted >= 198 && rb.accepted >= 396 && lm.accepted >= 99,
+            "seed {seed}: {fix:?} {rb:?} {lm:?}"
+        );
+        nis_fix.push(fix.nis_mean.unwrap());
+        nis_rb.push(rb.nis_mean.unwrap());
+        nis_lm.push(lm.nis_mean.unwrap());
+        let horizontal = truth.rms[0].1.hypot(truth.rms[1].1);
+        rms.push(horizontal);
+        assert!(run.warnings.is_empty(), "seed {seed}: {:?}", run.warnings);
+    }
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    // 10 runs x 2001 epochs, 3 states: the mean NEES of a consistent filter
+    // is 3 (time-correlated epochs: a wide band); each NIS mean 2.
+    assert!((2.0..4.0).contains(&mean(&nees)), "NEES {nees:?}");
+    assert!((1.6..2.4).contains(&mean(&nis_fix)), "fix NIS {nis_fix:?}");
+    assert!(
+        (0.7..1.3).contains(&mean(&nis_lm)),
+        "landmark NIS {nis_lm:?}"
+    );
+    assert!(
+        (1.6..2.4).contains(&mean(&nis_rb)),
+        "range-bearing NIS {nis_rb:?}"
+    );
+    // The fixes alone (0.5 m each axis) would give 0.71 m horizontal; with
+    // the range-bearing and the dead reckoning between them, well below
+    // (measured: 0.145 m).
+    assert!(mean(&rms) < 0.25, "horizontal RMS {rms:?}");
+}
+
+/// The same log in deg/s and ft with its columns shuffled gives the same
+/// estimate to rounding.
+#[test]
+fn units_and_column_order_do_not_change_the_result() {
+    let dir = TempDir::new("units");
+    let mut finals = Vec::new();
+    for (k, style) in [
+        SI,
+        LogStyle {
+            other_units: true,
+            shuffled: false,
+        },
+        LogStyle {
+            other_units: true,
+            shuffled: true,
+        },
+        LogStyle {
+            other_units: false,
+            shuffled: true,
+        },
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let log = dir.0.join(format!("style{k}"));
+        write_log(&log, 7, style, DRIVE_STEPS);
+        let run = rover()
+            .replay(&log, None, &RunOptions::default(), None)
+            .unwrap_or_else(|e| panic!("style {k}: {e}"));
+        finals.push(run.final_state);
+    }
+    for f in &finals[1..] {
+        for ((name, a, sa), (_, b, sb)) in finals[0].iter().zip(f) {
+            assert!(
+                (a - b).abs() < 1e-9 && (sa - sb).abs() < 1e-9,
+                "{name}: {a} vs {b}"
+            );
+        }
+    }
+}
+
+/// The time column's own unit, and `--out`: `estimates.csv` holds a row per
+/// output time with every state and sigma.
+#[test]
+fn estimates_are_written_at_the_output_period() {
+    let dir = TempDir::new("out");
+    let log = dir.0.join("log");
+    write_log(&log, 1, SI, DRIVE_STEPS);
+    let out = dir.0.join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    let options = RunOptions {
+        lenient: false,
+        output_period: 1.0,
+    };
+    let run = rover().replay(&log, None, &options, Some(&out)).unwrap();
+    let text = std::fs::read_to_string(out.join("estimates.csv")).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next(),
+        Some("t,position[0],position[1],heading,sigma_position[0],sigma_position[1],sigma_heading")
+    );
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|c| c.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 201, "t = 0, 1, ..., 200 s");
+    let last = rows.last().unwrap();
+    assert!((last[0] - 200.0).abs() < 1e-9);
+    for (i, (_, v, s)) in run.final_state.iter().enumerate() {
+        assert_eq!((last[1 + i], last[4 + i]), (*v, *s));
+    }
+}
+
+/// Broken mappings and logs: each is an error naming the file and the key
+/// (or line and column), never a panic and never a number.
+#[test]
+fn broken_mappings_and_logs_are_errors_naming_the_key() {
+    // (what to change: (file, from, to), expected parts of the message)
+    let cases: &[(&str, &str, &str, &[&str])] = &[
+        (
+            "replay.toml",
+            "[sensors.Fix]",
+            "[sensors.Fixx]",
+            &["sensors.Fixx", "did you mean `Fix`"],
+        ),
+        (
+            "replay.toml",
+            "z = [\"north\", \"east\"]",
+            "z = [\"north\", \"eats\"]",
+            &[
+                "sensors.Fix.z[1]",
+                "gnss.csv has no column `eats`",
+                "did you mean `east`",
+            ],
+        ),
+        (
+            "replay.toml",
+            "z = [\"north\", \"east\"]",
+            "z = [\"north\"]",
+            &["sensors.Fix.z", "expected 2 columns, found 1"],
+        ),
+        (
+            "replay.toml",
+            "unit = \"deg\"",
+            "unit = \"degree\"",
+            &["initial.state.heading.unit", "unknown unit `degree`"],
+        ),
+        (
+            "replay.toml",
+            "file = \"gnss.csv\"",
+            "file = \"../gnss.csv\"",
+            &["sensors.Fix.file", "would leave the log directory"],
+        ),
+        (
+            "replay.toml",
+            "file = \"gnss.csv\"",
+            "file = \"/etc/passwd\"",
+            &["sensors.Fix.file", "absolute path"],
+        ),
+        (
+            "replay.toml",
+            "beacon = [40, -25]",
+            "",
+            &["parameters", "`beacon[0]`, `beacon[1]`"],
+        ),
+        (
+            "replay.toml",
+            "speed_noise =",
+            "speed_nosie =",
+            &["noise.speed_nosie", "did you mean `speed_noise`"],
+        ),
+        (
+            "replay.toml",
+            "heading = 0.05",
+            "heading = -0.05",
+            &["initial.sigma", "is not a sigma"],
+        ),
+        (
+            "replay.toml",
+            "sigma = 0.5",
+            "sigma = 0.5\ngate = 1.5",
+            &["sensors.Fix.gate", "not a probability"],
+        ),
+        (
+            "replay.toml",
+            "[inputs]",
+            "[input]",
+            &["`input`", "did you mean `inputs`"],
+        ),
+        (
+            "replay.toml",
+            "sigma = 0.5",
+            "sigma = \"half\"",
+            &["sensors.Fix.sigma", "expected a number, found string"],
+        ),
+        ("replay.toml", "[initial]", "[initial\n", &["replay.toml:"]),
+        (
+            "gnss.csv",
+            "t,north,east",
+            "t,north",
+            &["sensors.Fix.z[1]", "no column `east`"],
+        ),
+        (
+            "gnss.csv",
+            "t,north,east",
+            "t,north,north",
+            &["gnss.csv:1", "the header names column `north` twice"],
+        ),
+        (
+            "wheels.csv",
+            "\n0.5,",
+            "\n0.5x,",
+            &["wheels.csv:7: column `t`", "`0.5x` is not a number"],
+        ),
+        (
+            "wheels.csv",
+            "\n0.5,",
+            "\n0.2,",
+            &["wheels.csv:7: column `t`", "time goes backwards"],
+        ),
+        (
+            "beacon.csv",
+            "\n1,",
+            "\n1,NaN",
+            &["beacon.csv:3: column `range`"],
+        ),
+        // A decimal comma: one cell more than the header, not shifted values.
+        (
+            "gnss.csv",
+            "\n1.5,",
+            "\n1.5,0,",
+            &["gnss.csv:3", "expected 3 columns, found 4"],
+        ),
+        // A finite cell that overflows once converted.
+        (
+            "replay.toml",
+            "file = \"gnss.csv\"",
+            "file = \"gnss.csv\"\ntime = { column = \"t\", scale = 1e308 }",
+            &["gnss.csv:4: column `t`", "finite once converted"],
+        ),
+        (
+            "replay.toml",
+            "position = 0.0",
+            "position = 0.0\n\"position[0]\" = 5.0",
+            &["initial.state.position[0]", "given twice"],
+        ),
+        (
+            "replay.toml",
+            "speed_noise = ",
+            "speed_noise = -",
+            &["noise.speed_noise", "negative"],
+        ),
+        (
+            "replay.toml",
+            "position = 1.0",
+            "position = 1e200",
+            &["initial.sigma", "its square finite"],
+        ),
+        // The first interval is a gap like any other.
+        (
+            "replay.toml",
+            "t = 0.0",
+            "t = -30.0",
+            &["wheels.csv:2", "gap of 30 s"],
+        ),
+        // One input row at the epoch: nothing to propagate.
+        (
+            "replay.toml",
+            "t = 0.0",
+            "t = 200.0",
+            &["wheels.csv:2002", "nothing to propagate"],
+        ),
+    ];
+    let dir = TempDir::new("broken");
+    for (k, (file, from, to, expected)) in cases.iter().enumerate() {
+        let log = dir.0.join(format!("case{k}"));
+        write_log(&log, 3, SI, DRIVE_STEPS);
+        let path = log.join(file);
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(text.contains(from), "case {k}: `{from}` not in {file}");
+        std::fs::write(&path, text.replacen(from, to, 1)).unwrap();
+        let message = match rover().replay(&log, None, &RunOptions::default(), None) {
+            Ok(_) => panic!("case {k} ({file}: {from} -> {to}) replayed"),
+            Err(e) => e.to_string(),
+        };
+        for part in *expected {
+            assert!(
+                message.contains(part),
+                "case {k}: `{message}` lacks `{part}`"
+            );
+        }
+    }
+}
+
+/// Lenient reading skips a bad row, counts it and says so; a sensor whose
+/// rows are all refused, and a truth the filter's sigmas do not describe,
+/// are warnings, not silent numbers.
+#[test]
+fn lenient_reading_and_refused_sensors_are_in_the_warnings() {
+    let dir = TempDir::new("lenient");
+    let log = dir.0.join("log");
+    write_log(&log, 4, SI, DRIVE_STEPS);
+    let path = log.join("gnss.csv");
+    let text = std::fs::read_to_string(&path).unwrap();
+    std::fs::write(&path, text.replacen("\n1.5,", "\n1.5,oops,", 1)).unwrap();
+    let options = RunOptions {
+        lenient: true,
+        output_period: 0.0,
+    };
+    let run = rover().replay(&log, None, &options, None).unwrap();
+    assert_eq!(run.skipped_rows, vec![("gnss.csv".to_string(), 1)]);
+    assert_eq!(run.sensors[0].rows, 199);
+    assert!(run.skip_reasons[0].to_string().contains("gnss.csv:3"));
+    assert!(
+        run.warnings
+            .iter()
+            .any(|w| w.message.contains("skipped gnss.csv:3")
+                && w.file.as_deref() == Some("gnss.csv")),
+        "{:?}",
+        run.warnings
+    );
+
+    // (case, what is done to the log, the file and the words of the warning,
+    // what else must hold)
+    type Edit = fn(&Path);
+    type Holds = fn(&ModelRun) -> bool;
+    let cases: [(&str, Edit, &str, &[&str], Holds); 5] = [
+        (
+            // Fixes 100 m off: every one gated.
+            "offset",
+            |log| edit_rows(&log.join("gnss.csv"), |_, c| c[1] += 100.0),
+            "gnss.csv",
+            &["sensor Fix: none of its 200 rows was applied"],
+            |run| run.sensors[0].accepted == 0,
+        ),
+        (
+            // Every fourth fix 100 m off: most still applied, the gated
+            // share far beyond the gate's.
+            "some-off",
+            |log| {
+                edit_rows(&log.join("gnss.csv"), |row, c| {
+                    if row % 4 == 1 {
+                        c[1] += 100.0;
+                    }
+                })
+            },
+            "gnss.csv",
+            &["sensor Fix: 50 of its 200 rows were gated (25.0 %)"],
+            |run| run.sensors[0].gated == 50,
+        ),
+        (
+            // A truth heading 0.5 rad off (another convention): the RMS
+            // errors are not the filter's, and the NEES says so.
+            "truth-convention",
+            |log| edit_rows(&log.join("truth.csv"), |_, c| c[3] += 0.5),
+            "truth.csv",
+            &["mean NEES", "for 3 scored states"],
+            |_| true,
+        ),
+        (
+            // Fix times read as ms: the fixes crowd the first 0.2 s and
+            // most are gated.
+            "fix-ms",
+            |log| {
+                let path = log.join("replay.toml");
+                let mapping = std::fs::read_to_string(&path).unwrap().replacen(
+                    "file = \"gnss.csv\"",
+                    "file = \"gnss.csv\"\ntime = { column = \"t\", unit = \"ms\" }",
+                    1,
+                );
+                std::fs::write(&path, mapping).unwrap();
+            },
+            "gnss.csv",
+            &["sensor Fix: only"],
+            |_| true,
+        ),
+        (
+            // A header-only truth file: no score of zeros.
+            "truth-header",
+            |log| {
+                std::fs::write(log.join("truth.csv"), "t,position[0],position[1],heading\n")
+                    .unwrap()
+            },
+            "truth.csv",
+            &["nothing is scored"],
+            |run| run.truth.is_none(),
+        ),
+    ];
+    for (name, edit, file, said, holds) in cases {
+        let log = dir.0.join(name);
+        write_log(&log, 4, SI, DRIVE_STEPS);
+        edit(&log);
+        let run = rover()
+            .replay(&log, None, &RunOptions::default(), None)
+            .unwrap();
+        assert!(holds(&run), "{name}: {:?}", run.sensors);
+        assert!(
+            run.warnings
+                .iter()
+                .any(|w| w.file.as_deref() == Some(file)
+                    && said.iter().all(|s| w.message.contains(s))),
+            "{name}: {:?}",
+            run.warnings
+        );
+    }
+}
+
+/// Rewrites the data rows of a CSV file of numbers: `edit(row, values)`,
+/// rows counted from 1 (the header is row 0 and kept).
+fn edit_rows(path: &Path, edit: impl Fn(usize, &mut [f64])) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut out = String::new();
+    for (row, line) in text.lines().enumerate() {
+        if row == 0 {
+            out.push_str(line);
+        } else {
+            let mut values: Vec<f64> = line.split(',').map(|c| c.parse().unwrap()).collect();
+            edit(row, &mut values);
+            let cells: Vec<String> = values.iter().map(f64::to_string).collect();
+            out.push_str(&cells.join(","));
+        }
+        out.push('\n');
+    }
+    std::fs::write(path, out).unwrap();
+}
+
+/// A sensor the mapping does not feed, and sensor rows before the epoch,
+/// are in the warnings.
+#[test]
+fn what_the_log_does_not_feed_is_said() {
+    let dir = TempDir::new("unfed");
+    let log = dir.0.join("log");
+    write_log(&log, 5, SI, DRIVE_STEPS);
+    let mapping = std::fs::read_to_string(log.join("replay.toml")).unwrap();
+    let cut = mapping.find("[sensors.RangeBearing]").unwrap();
+    let truth = mapping.find("[truth.columns]").unwrap();
+    let mapping = format!("{}{}", &mapping[..cut], &mapping[truth..]);
+    let mapping = mapping.replace("t = 0.0\n", "t = 10.0\n");
+    std::fs::write(log.join("replay.toml"), mapping).unwrap();
+    let run = rover()
+        .replay(&log, None, &RunOptions::default(), None)
+        .unwrap();
+    let messages: Vec<&str> = run.warnings.iter().map(|w| w.message.as_str()).collect();
+    assert!(
+        messages
+            .iter()
+            .any(|m| m.contains("no [sensors.RangeBearing]")),
+        "{messages:?}"
+    );
+    assert!(
+        messages
+            .iter()
+            .any(|m| m.contains("100 row(s) before the initial epoch")),
+        "{messages:?}"
+    );
+    assert!(
+        messages
+            .iter()
+            .any(|m| m.contains("sensor Fix: 10 row(s) more than one input period before")),
+        "{messages:?}"
+    );
+    assert_eq!(run.samples, 1900);
+}
+
+#[test]
+fn a_missing_mapping_says_what_it_is_for() {
+    let dir = TempDir::new("nomapping");
+    let e = rover()
+        .replay(&dir.0, None, &RunOptions::default(), None)
+        .unwrap_err();
+    assert!(matches!(e, ModelReplayError::Mapping { .. }));
+    assert!(
+        e.to_string().contains("which files feed model Rover"),
+        "{e}"
+    );
+}
+
+/// The committed log (`models/tests/fixtures/rover`, other units, shuffled
+/// columns) through the library and the program, and its JSON.
+#[test]
+fn the_committed_rover_log_replays() {
+    use std::process::ExitCode;
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/rover");
+    let run = rover()
+        .replay(&dir, None, &RunOptions::default(), None)
+        .unwrap();
+    assert_eq!(run.samples, 600);
+    assert!(run.warnings.is_empty(), "{:?}", run.warnings);
+    let value = nav_replay::model_replay::run_json("rover", "Rover", &run, false);
+    let truth = run.truth.as_ref().unwrap();
+    let horizontal = truth.rms[0].1.hypot(truth.rms[1].1);
+    assert!(horizontal < 0.3, "horizontal RMS {horizontal} m");
+    for key in [
+        "samples",
+        "sensors",
+        "final",
+        "state_error_rms",
+        "nees_mean",
+        "health",
+        "warnings",
+    ] {
+        assert!(value.get(key).is_some(), "no `{key}` in {value}");
+    }
+    assert_eq!(value["sensors"]["Fix"]["rows"], 60);
+    assert!(value["sensors"]["RangeBearing"]["nis_mean"].is_f64());
+    assert!(value["state_error_rms"]["heading"].is_f64());
+    assert_eq!(value["final"]["state"]["heading"], run.final_state[2].1);
+
+    let d = dir.to_string_lossy().into_owned();
+    let program =
+        |args: &[&str]| rover().main_with(std::iter::once("rover").chain(args.iter().copied()));
+    assert_eq!(program(&["check", &d, "--json"]), ExitCode::SUCCESS);
+    assert_eq!(program(&["replay", &d, "--json"]), ExitCode::SUCCESS);
+    assert_eq!(
+        program(&["replay", &d, "--mapping", "/no/such/replay.toml"]),
+        ExitCode::FAILURE
+    );
+    assert_eq!(program(&["replay", &d, "--every=-1"]), ExitCode::FAILURE);
+    assert_eq!(program(&["replay"]), ExitCode::from(2), "a usage error");
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: 48, ..Default::default() })]
+    /// A mapping or log with bytes overwritten anywhere replays or fails
+    /// with an error; it never panics.
+    #[test]
+    fn corrupted_mappings_and_logs_never_panic(
+        file in 0usize..4,
+        edits in proptest::collection::vec((0.0f64..1.0, proptest::prelude::any::<u8>()), 1..6),
+    ) {
+        let dir = TempDir::new("corrupt");
+        let log = dir.0.join("log");
+        write_log(&log, 9, SI, 300);
+        let name = ["replay.toml", "wheels.csv", "gnss.csv", "beacon.csv"][file];
+        let path = log.join(name);
+        let mut bytes = std::fs::read(&path).unwrap();
+        for (at, b) in edits {
+            let i = ((bytes.len() as f64) * at) as usize;
+            if let Some(x) = bytes.get_mut(i) {
+                *x = b;
+            }
+        }
+        std::fs::write(&path, bytes).unwrap();
+        for lenient in [false, true] {
+            let options = RunOptions { lenient, output_period: 0.0 };
+            if let Ok(run) = rover().replay(&log, None, &options, None) {
+                for (_, v, s) in &run.final_state {
+                    proptest::prop_assert!(v.is_finite() && s.is_finite());
+                }
+            }
+        }
+    }
+}
+
+/// An input gap is an error; with lenient reading it is propagated in steps
+/// and said.
+#[test]
+fn an_input_gap_is_refused_or_stepped_and_said() {
+    let dir = TempDir::new("gap");
+    let log = dir.0.join("log");
+    write_log(&log, 6, SI, 600);
+    let path = log.join("wheels.csv");
+    // Rows 30.1 .. 39.9 s removed: a 10-s interval ending at 40 s.
+    let kept: String = std::fs::read_to_string(&path)
+        .unwrap()
+        .lines()
+        .filter(|l| {
+            let t: f64 = l.split(',').next().unwrap().parse().unwrap_or(-1.0);
+            !(30.05..39.95).contains(&t)
+        })
+        .map(|l| format!("{l}\n"))
+        .collect();
+    std::fs::write(&path, kept).unwrap();
+    let e = rover()
+        .replay(&log, None, &RunOptions::default(), None)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("wheels.csv:")
+            && e.contains("gap of 10 s after t = 30 s")
+            && e.contains("input periods of 0.1 s")
+            && e.contains("--lenient"),
+        "{e}"
+    );
+    let options = RunOptions {
+        lenient: true,
+        output_period: 0.0,
+    };
+    let run = rover().replay(&log, None, &options, None).unwrap();
+    assert!(
+        run.warnings
+            .iter()
+            .any(|w| w.message.contains("1 input gap(s) propagated in steps")),
+        "{:?}",
+        run.warnings
+    );
+    let truth = run.truth.unwrap();
+    assert!(truth.rms[0].1.hypot(truth.rms[1].1) < 0.5);
+}
+
+nav_runtime::model! {
+    /// A discrete constant-velocity tracker with no inputs: the input file
+    /// is only its clock.
+    pub model Tracker {
+        states { position, velocity }
+        noise {
+            /// Velocity change per step, m/s (a per-step variance).
+            velocity_step,
+        }
+        discrete {
+            position = position + velocity * dt;
+            velocity = velocity + velocity_step;
+        }
+        /// A range to the target, m.
+        sensor Range: 1 { h = [position]; }
+    }
+}
+
+/// A discrete model without inputs replays from a clock file, consistently
+/// over seeds (NIS and NEES means near their degrees of freedom).
+#[test]
+fn a_discrete_model_without_inputs_replays_from_a_clock() {
+    use rand::SeedableRng;
+    use rand_distr::{Distribution, Normal};
+    use std::fmt::Write as _;
+    let dir = TempDir::new("tracker");
+    let (step_sigma, range_sigma) = (0.05, 2.0);
+    let (mut nis, mut nees) = (Vec::new(), Vec::new());
+    for seed in 0..10u64 {
+        let log = dir.0.join(format!("seed{seed}"));
+        std::fs::create_dir_all(&log).unwrap();
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+        let n = Normal::new(0.0, 1.0).unwrap();
+        let (mut x, mut v) = (100.0_f64, 3.0_f64);
+        let (mut clock, mut ranges, mut truth) = (
+            String::from("t\n"),
+            String::from("t,range\n"),
+            String::from("t,position,velocity\n"),
+        );
+        for k in 0..=1000 {
+            let t = k as f64 * 0.5;
+            if k > 0 {
+                x += v * 0.5;
+                v += step_sigma * n.sample(&mut rng);
+            }
+            writeln!(clock, "{t}").unwrap();
+            writeln!(truth, "{t},{x},{v}").unwrap();
+            if k % 4 == 0 && k > 0 {
+                writeln!(ranges, "{t},{}", x + range_sigma * n.sample(&mut rng)).unwrap();
+            }
+        }
+        std::fs::write(log.join("clock.csv"), clock).unwrap();
+        std::fs::write(log.join("ranges.csv"), ranges).unwrap();
+        std::fs::write(log.join("truth.csv"), truth).unwrap();
+        std::fs::write(
+            log.join("replay.toml"),
+            format!(
+                "[inputs]\nfile = \"clock.csv\"\n[noise]\nvelocity_step = {}\n\
+                 [initial.state]\nposition = 100.0\nvelocity = 3.0\n\
+                 [initial.sigma]\nposition = 1.0\nvelocity = 0.1\n\
+                 [sensors.Range]\nfile = \"ranges.csv\"\nz = \"range\"\nsigma = {range_sigma}\n",
+                step_sigma * step_sigma
+            ),
+        )
+        .unwrap();
+        let run = ModelReplay::<Tracker, 2>::new("tracker")
+            .sensor::<TrackerRange, 1>()
+            .replay(&log, None, &RunOptions::default(), None)
+            .unwrap_or_else(|e| panic!("seed {seed}: {e}"));
+        assert_eq!((run.samples, run.sensors[0].rows), (1000, 250));
+        assert!(run.warnings.is_empty(), "{:?}", run.warnings);
+        nis.push(run.sensors[0].nis_mean.unwrap());
+        nees.push(run.truth.unwrap().nees_mean);
+    }
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    assert!((0.8..1.2).contains(&mean(&nis)), "NIS {nis:?}");
+    assert!((1.5..2.6).contains(&mean(&nees)), "NEES {nees:?}");
+}
+
+nav_runtime::model! {
+    /// A spinning body: a unit quaternion driven by a gyro, an up sensor.
+    pub model Spin {
+        states { q: quaternion }
+        inputs {
+            /// Body rate, rad/s.
+            rate: 3,
+        }
+        noise {
+            /// Gyro white noise, (rad/s)^2/Hz.
+            rate_noise: 3,
+        }
+        continuous {
+            d/dt q = 0.5 * quat_mul(q, [0.0, rate[0] + rate_noise[0], rate[1] + rate_noise[1], rate[2] + rate_noise[2]]);
+        }
+        /// The vertical in body axes.
+        sensor Up: 3 { h = transpose(quat_to_dcm(q)) * [0.0, 0.0, 1.0]; }
+    }
+}
+
+/// `q` and `-q` are one attitude: a truth file with the other sign scores
+/// as the same small error, not as an error of 2.
+#[test]
+fn a_quaternion_truth_of_the_other_sign_is_the_same_attitude() {
+    use std::fmt::Write as _;
+    assert_eq!(quaternion_blocks::<Spin, 4>(), vec![0..4]);
+    assert!(quaternion_blocks::<Rover, 3>().is_empty());
+    let dir = TempDir::new("spin");
+    let w = 0.2; // rad/s about z
+    let (mut imu, mut up, mut truth) = (
+        String::from("t,wx,wy,wz\n"),
+        String::from("t,ux,uy,uz\n"),
+        String::from("t,q0,q1,q2,q3\n"),
+    );
+    for k in 0..=200 {
+        let t = k as f64 * 0.1;
+        let (s, c) = (0.5 * w * t).sin_cos();
+        writeln!(imu, "{t},0,0,{w}").unwrap();
+        writeln!(truth, "{t},{},0,0,{}", -c, -s).unwrap();
+        if k % 10 == 0 {
+            writeln!(up, "{t},0,0,1").unwrap();
+        }
+    }
+    std::fs::write(dir.0.join("imu.csv"), imu).unwrap();
+    std::fs::write(dir.0.join("up.csv"), up).unwrap();
+    std::fs::write(dir.0.join("truth.csv"), truth).unwrap();
+    std::fs::write(
+        dir.0.join("replay.toml"),
+        "[inputs]\nfile = \"imu.csv\"\n[inputs.columns]\nrate = [\"wx\", \"wy\", \"wz\"]\n\
+         [noise]\nrate_noise = 1e-8\n[initial.state]\nq = [1.0, 0.0, 0.0, 0.0]\n\
+         [initial.sigma]\nq = 0.01\n[sensors.Up]\nfile = \"up.csv\"\nz = [\"ux\", \"uy\", \"uz\"]\nsigma = 0.01\n\
+         [truth.columns]\nq = [\"q0\", \"q1\", \"q2\", \"q3\"]\n",
+    )
+    .unwrap();
+    let run = ModelReplay::<Spin, 4>::new("spin")
+        .sensor::<SpinUp, 3>()
+        .replay(&dir.0, None, &RunOptions::default(), None)
+        .unwrap();
+    let truth = run.truth.unwrap();
+    assert_eq!(truth.scored, 201);
+    for (name, rms) in &truth.rms {
+        assert!(
+            *rms < 1e-3,
+            "{name}: RMS {rms} (the sign of the truth counted as an error?)"
+        );
+    }
+}

@@ -1,0 +1,247 @@
+//! The aiding measurements of an INS vehicle's log sensors (depth meter,
+//! DVL, compass, USBL, GNSS fix, barometer, magnetometer) as scheduler
+//! measurements: each computes its residual
+//! from the nominal solution at the time it is applied (so a late measurement
+//! replayed at its own time sees the nominal of that time).
+
+use nav_runtime::attitude::euler_from_c_bn;
+use nav_runtime::earth::{meridian_radius, transverse_radius, LocalNed};
+use nav_runtime::ekf::FilterError;
+use nav_runtime::math::wrap_angle;
+use nav_runtime::nalgebra::{SVector, Vector2, Vector3};
+use nav_runtime::scheduler::{FnMeasurement, Measurement, MeasurementOutcome};
+
+use super::nominal::InsFilter;
+use super::sensor::GnssFix;
+use super::vehicle::{InsVehicle, Slot};
+
+/// Which compass residual the filter uses.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum CompassForm {
+    /// Exact yaw of the perturbed attitude (`Sdins25Compass`).
+    #[default]
+    Exact,
+    /// The paper's small-angle `-phi_D - b_psi` (`Sdins25CompassSmallAngle`).
+    SmallAngle,
+}
+
+fn outcome<const M: usize>(
+    r: Result<nav_runtime::ekf::UpdateReport<M>, FilterError>,
+) -> Result<MeasurementOutcome, FilterError> {
+    r.map(|rep| MeasurementOutcome::from(&rep))
+}
+
+/// A depth-meter measurement (`depth`: m, positive down) with noise sigma (m),
+/// for the `Depth` sensor of vehicle `V`.
+pub fn depth_measurement<V: InsVehicle<N>, const N: usize>(
+    depth: f64,
+    sigma: f64,
+) -> Box<dyn Measurement<InsFilter<V, N>>> {
+    depth_measurement_at::<V, N>(depth, sigma, Vector3::zeros())
+}
+
+/// A depth reading of a sensor at lever arm `lever_arm` (body axes, m) from
+/// the IMU, for a depth slot whose block takes the lever arm as its
+/// auxiliary input (a pressure sensor): the INS height of the sensor is
+/// `h - (C_b^n r)_D`. A block without that input takes the reading at the
+/// IMU (the lever arm must then be zero: [`depth_measurement`]).
+pub fn depth_measurement_at<V: InsVehicle<N>, const N: usize>(
+    depth: f64,
+    sigma: f64,
+    lever_arm: Vector3<f64>,
+) -> Box<dyn Measurement<InsFilter<V, N>>> {
+    let h_meas = -depth;
+    let r = SVector::<f64, 1>::new(sigma.powi(2));
+    Box::new(FnMeasurement::new(
+        &[h_meas],
+        move |f: &mut InsFilter<V, N>| {
+            let nom = f.nominal();
+            let s = &nom.ins.state;
+            let sensor_h = s.h - (s.c_bn * lever_arm)[2];
+            let z = SVector::<f64, 1>::new(sensor_h - (h_meas - nom.depth_bias));
+            outcome(V::Depth::update(f, &z, &r, lever_arm.as_slice()))
+        },
+    ))
+}
+
+/// A DVL measurement (body velocity, m/s) with noise sigma per axis (m/s),
+/// for the `Dvl` sensor of vehicle `V`.
+pub fn dvl_measurement<V: InsVehicle<N>, const N: usize>(
+    v: Vector3<f64>,
+    sigma: f64,
+) -> Box<dyn Measurement<InsFilter<V, N>>> {
+    dvl_measurement_at::<V, N>(v, sigma, Vector3::zeros())
+}
+
+/// A DVL measurement (body axes, m/s) of a DVL at lever arm `lever_arm`
+/// (body axes, m) from the IMU: the DVL moves at the IMU's velocity plus
+/// `omega x r`, with `omega` the bias-corrected body rate of the IMU sample
+/// at the reading's time ([`super::InsNominal::body_rate`]), so the residual
+/// is `v_n - C (v - b - omega x r)`. The block's Jacobian leaves out the
+/// gyro-bias error's share of `omega x r` (`r x delta b_g`: 0.1 mm/s for a
+/// 1 m arm and a 1e-4 rad/s bias error, far below a DVL's noise).
+pub fn dvl_measurement_at<V: InsVehicle<N>, const N: usize>(
+    v: Vector3<f64>,
+    sigma: f64,
+    lever_arm: Vector3<f64>,
+) -> Box<dyn Measurement<InsFilter<V, N>>> {
+    let r = SVector::<f64, 3>::repeat(sigma.powi(2));
+    Box::new(FnMeasurement::new(
+        v.as_slice(),
+        move |f: &mut InsFilter<V, N>| {
+            let nom = f.nominal();
+            let s = &nom.ins.state;
+            let arm = nom.body_rate.cross(&lever_arm);
+            let z = s.v_n - s.c_bn * (v - nom.dvl_bias - arm);
+            outcome(V::Dvl::update(f, &z, &r, &[]))
+        },
+    ))
+}
+
+/// A compass measurement (heading `psi`, rad) with noise sigma (rad), for the
+/// `Compass` or `CompassSmallAngle` sensor of vehicle `V`.
+pub fn heading_measurement<V: InsVehicle<N>, const N: usize>(
+    psi: f64,
+    sigma: f64,
+    form: CompassForm,
+) -> Box<dyn Measurement<InsFilter<V, N>>> {
+    let r = SVector::<f64, 1>::new(sigma.powi(2));
+    Box::new(FnMeasurement::new(
+        &[psi],
+        move |f: &mut InsFilter<V, N>| {
+            let nom = f.nominal();
+            let yaw = euler_from_c_bn(&nom.ins.state.c_bn).yaw;
+            let z = SVector::<f64, 1>::new(wrap_angle(yaw - (psi - nom.compass_bias)));
+            match form {
+                CompassForm::Exact => outcome(V::Compass::update(f, &z, &r, &[])),
+                CompassForm::SmallAngle => outcome(V::CompassSmallAngle::update(f, &z, &r, &[])),
+            }
+        },
+    ))
+}
+
+/// A USBL fix (`lat`, `lon`: rad) with noise sigma per axis (m) from the
+/// transducer at the origin of `frame`, for the `Usbl` sensor of vehicle `V`.
+pub fn usbl_measurement<V: InsVehicle<N>, const N: usize>(
+    lat: f64,
+    lon: f64,
+    sigma: f64,
+    frame: LocalNed,
+) -> Box<dyn Measurement<InsFilter<V, N>>> {
+    usbl_measurement_at::<V, N>(lat, lon, sigma, frame, Vector3::zeros())
+}
+
+/// A USBL fix of a transponder at lever arm `transponder` (body axes, m)
+/// from the IMU: the fix is compared with the INS position moved by
+/// `C_b^n r` (north and east), and the array misalignment acts on the
+/// transponder's position relative to the transducer. The block's Jacobian
+/// leaves out the attitude error's share of `C_b^n r` (`|r| |psi|`: 2 mm for
+/// a 2 m arm and a 1 mrad error, far below a USBL's metre-level noise).
+pub fn usbl_measurement_at<V: InsVehicle<N>, const N: usize>(
+    lat: f64,
+    lon: f64,
+    sigma: f64,
+    frame: LocalNed,
+    transponder: Vector3<f64>,
+) -> Box<dyn Measurement<InsFilter<V, N>>> {
+    let r = SVector::<f64, 2>::repeat(sigma.powi(2));
+    Box::new(FnMeasurement::new(
+        &[lat, lon],
+        move |f: &mut InsFilter<V, N>| {
+            let nom = f.nominal();
+            let s = &nom.ins.state;
+            let arm = s.c_bn * transponder;
+            let rel = frame.geodetic_to_ned(&s.position()) + arm;
+            let dn = (meridian_radius(s.lat) + s.h) * (s.lat - lat) + arm.x;
+            let de =
+                (transverse_radius(s.lat) + s.h) * s.lat.cos() * wrap_angle(s.lon - lon) + arm.y;
+            let tilt = nom.usbl_misalignment.cross(&rel);
+            let z = Vector2::new(dn, de) + nom.usbl_bias + Vector2::new(tilt.x, tilt.y);
+            outcome(V::Usbl::update(f, &z, &r, rel.as_slice()))
+        },
+    ))
+}
+
+/// A GNSS fix of the antenna at lever arm `antenna` (body axes, m) from the
+/// IMU, with noise sigma `sigma` (m; a receiver accuracy larger than it is
+/// used instead), for the `GnssFix` sensor of vehicle `V`: the residual is
+/// the INS antenna position minus the fix, metres north and east and height,
+/// `[(R_M + h)(L - L_fix) + (C r)_N, (R_N + h) cos L (l - l_fix) + (C r)_E,
+/// h - (C r)_D - h_fix]`.
+pub fn gnss_measurement<V: InsVehicle<N>, const N: usize>(
+    fix: &GnssFix,
+    sigma: f64,
+    antenna: Vector3<f64>,
+) -> Box<dyn Measurement<InsFilter<V, N>>> {
+    let GnssFix {
+        lat, lon, height, ..
+    } = *fix;
+    let sh = fix.eph.map_or(sigma, |e| e.max(sigma));
+    let sv = fix.epv.map_or(sigma, |e| e.max(sigma));
+    let r = SVector::<f64, 3>::new(sh * sh, sh * sh, sv * sv);
+    Box::new(FnMeasurement::new(
+        &[lat, lon, height],
+        move |f: &mut InsFilter<V, N>| {
+            let s = &f.nominal().ins.state;
+            let arm = s.c_bn * antenna;
+            let z = SVector::<f64, 3>::new(
+                (meridian_radius(s.lat) + s.h) * (s.lat - lat) + arm.x,
+                (transverse_radius(s.lat) + s.h) * s.lat.cos() * wrap_angle(s.lon - lon) + arm.y,
+                s.h - arm.z - height,
+            );
+            outcome(V::Gnss::update(f, &z, &r, antenna.as_slice()))
+        },
+    ))
+}
+
+/// A barometric altitude (m, up) of a port at lever arm `port` (body axes,
+/// m) from the IMU, with noise sigma (m), for the `Barometer` sensor of
+/// vehicle `V`: the residual is `(h - (C r)_D) - (h_baro - b^)`, the INS
+/// height carried to the port minus the bias-corrected reading (a port 1 m
+/// ahead of the IMU rises 17 mm per degree of pitch).
+pub fn baro_measurement<V: InsVehicle<N>, const N: usize>(
+    altitude: f64,
+    sigma: f64,
+    port: Vector3<f64>,
+) -> Box<dyn Measurement<InsFilter<V, N>>> {
+    let r = SVector::<f64, 1>::new(sigma.powi(2));
+    Box::new(FnMeasurement::new(
+        &[altitude],
+        move |f: &mut InsFilter<V, N>| {
+            let nom = f.nominal();
+            let s = &nom.ins.state;
+            let down = (s.c_bn * port).z;
+            let z = SVector::<f64, 1>::new(s.h - down - (altitude - nom.baro_bias));
+            outcome(V::Baro::update(f, &z, &r, &[]))
+        },
+    ))
+}
+
+/// A magnetometer sample (body field `m`, noise sigma per axis in the same
+/// unit) with magnetic declination `declination` (rad), for the
+/// `MagneticHeading` sensor of vehicle `V`: the sample is levelled with the
+/// nominal roll and pitch of its time and read as a heading
+/// ([`crate::heading::magnetic_heading`]); the residual is the nominal yaw
+/// minus that heading, with sigma `atan(sigma / |m_horizontal|)`. A sample
+/// without a horizontal field is refused.
+pub fn mag_measurement<V: InsVehicle<N>, const N: usize>(
+    m: Vector3<f64>,
+    sigma: f64,
+    declination: f64,
+) -> Box<dyn Measurement<InsFilter<V, N>>> {
+    Box::new(FnMeasurement::new(
+        m.as_slice(),
+        move |f: &mut InsFilter<V, N>| {
+            let e = euler_from_c_bn(&f.nominal().ins.state.c_bn);
+            let field = [m.x, m.y, m.z];
+            // No heading (no horizontal field): a non-finite residual, which
+            // the filter refuses.
+            let psi = crate::heading::magnetic_heading(field, e.roll, e.pitch, declination)
+                .unwrap_or(f64::NAN);
+            let s = (sigma / crate::heading::horizontal_field(field, e.roll, e.pitch)).atan();
+            let z = SVector::<f64, 1>::new(wrap_angle(e.yaw - psi));
+            let r = SVector::<f64, 1>::new(s * s);
+            outcome(V::Mag::update(f, &z, &r, &[]))
+        },
+    ))
+}

@@ -1,0 +1,532 @@
+//! The navigator: an INS vehicle's error-state filter behind a small typed
+//! surface. Build it from the vehicle, the initial state and one
+//! [`SensorSettings`] per sensor; push IMU samples and sensor readings with
+//! their times (late readings are applied at their own time); read the
+//! estimate, the estimates requested at given times, and each sensor's report.
+//! The scheduler, measurements and filter it drives stay available in
+//! `nav_runtime` for programs that need them directly.
+
+use std::cell::RefCell;
+use std::collections::VecDeque;
+use std::rc::Rc;
+
+use nav_runtime::earth::{meridian_radius, transverse_radius, Geodetic, LocalNed};
+use nav_runtime::ekf::Ekf;
+use nav_runtime::error_state::ErrorStateFilter;
+use nav_runtime::gate::Gate;
+use nav_runtime::model::Record;
+use nav_runtime::nalgebra::{SMatrix, SVector};
+use nav_runtime::scheduler::{
+    FnMeasurement, MeasurementOutcome, Report, Scheduler, SchedulerError, SensorId,
+};
+use nav_runtime::smoother::EpochFile;
+use nav_runtime::strapdown::{NavState, RateSamples, Strapdown};
+use nav_runtime::stuck::StuckDetector;
+
+use super::nominal::{Estimate, ImuSample, InsFilter, InsNominal};
+use super::sensor::{Context, Handle, Reading};
+use super::settings::{ImuSettings, InitialState, NavigatorOptions, SensorSettings};
+use super::vehicle::{InsVehicle, Layout, Present};
+use crate::health::SensorHealth;
+
+/// Smallest prior sigma of any state (in the state's units): a zero variance
+/// would be "repaired" by the filter after every step.
+const SIGMA_FLOOR: f64 = 1e-9;
+
+/// Number of log sensors a navigator can have.
+pub const SENSORS: usize = 7;
+
+/// Sensor names in registration order (also the order of readings at equal times).
+pub const SENSOR_NAMES: [&str; SENSORS] =
+    ["depth", "dvl", "heading", "usbl", "gnss", "baro", "mag"];
+
+/// Why a navigator could not be built or could not go on.
+#[derive(Debug, thiserror::Error, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum NavigatorError {
+    /// The vehicle, the settings or the options do not make a filter.
+    #[error("{0}")]
+    Setup(String),
+    /// An IMU sample was refused.
+    #[error("{0}")]
+    Imu(SchedulerError),
+    /// The estimate left its physical bounds (see [`super::Bounds`]).
+    #[error("estimate out of physical bounds at t = {t} s: {what}")]
+    OutOfBounds {
+        /// Time of the estimate (s).
+        t: f64,
+        /// Which bound, with the value.
+        what: String,
+    },
+}
+
+/// A ticket for an estimate requested with [`Navigator::request_estimate`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct Ticket(pub u64);
+
+/// Requested estimates not yet final, oldest first; `base` is the ticket of
+/// the front.
+#[derive(Debug, Default)]
+struct Requests {
+    base: u64,
+    entries: VecDeque<(f64, Option<Estimate>)>,
+}
+
+/// An INS vehicle `V` (`N` error states) navigating from pushed samples.
+pub struct Navigator<V: InsVehicle<N>, const N: usize> {
+    scheduler: Scheduler<InsFilter<V, N>>,
+    ids: [SensorId; SENSORS],
+    record: SensorId,
+    contexts: [Context; SENSORS],
+    start: f64,
+    /// IMU period (s): readings up to one period before the start are
+    /// applied at the start.
+    period_s: f64,
+    options: NavigatorOptions,
+    requests: Rc<RefCell<Requests>>,
+    skipped: [u64; SENSORS],
+    last_nis: [Option<f64>; SENSORS],
+}
+
+/// How long after the start a reading of the start's IMU period is applied
+/// (s): the scheduler applies readings after the time they carry, and the
+/// start itself is the initial estimate.
+pub const AT_START_S: f64 = 1e-9;
+
+/// Builds a [`Navigator`] (see [`Navigator::builder`]).
+pub struct Builder<V: InsVehicle<N>, const N: usize> {
+    initial: InitialState,
+    imu: ImuSettings,
+    sensors: [Option<SensorSettings>; SENSORS],
+    transducer: Option<Geodetic>,
+    declination: f64,
+    options: NavigatorOptions,
+    samples: RateSamples,
+    layout: Result<Layout, String>,
+    present: Present,
+    vehicle: std::marker::PhantomData<fn() -> V>,
+}
+
+impl<V: InsVehicle<N>, const N: usize> Navigator<V, N> {
+    /// Starts building a navigator of `V` from its initial state and IMU.
+    pub fn builder(initial: InitialState, imu: ImuSettings) -> Builder<V, N> {
+        Builder {
+            initial,
+            imu,
+            sensors: [None; SENSORS],
+            transducer: None,
+            declination: 0.0,
+            options: NavigatorOptions::default(),
+            samples: RateSamples::default(),
+            layout: Layout::of::<V, N>().map_err(|e| e.to_string()),
+            present: Present::of::<V, N>(),
+            vehicle: std::marker::PhantomData,
+        }
+    }
+
+    /// Propagates to the IMU sample at `t` (s): body rate (rad/s) and
+    /// specific force (m/s^2). Readings waiting for `t` are applied.
+    ///
+    /// # Errors
+    /// [`NavigatorError::Imu`] if the sample is refused (time not after the
+    /// previous one, non-finite value, propagation failure);
+    /// [`NavigatorError::OutOfBounds`] if the estimate leaves its bounds.
+    pub fn push_imu(&mut self, t: f64, sample: ImuSample) -> Result<(), NavigatorError> {
+        let reports = self
+            .scheduler
+            .push_imu(t, sample)
+            .map_err(NavigatorError::Imu)?;
+        self.note(&reports);
+        self.check_bounds()
+    }
+
+    /// Pushes a reading of the sensor of `handle` measured at `t` (s). A
+    /// reading within one IMU period before the start (or at it) is applied
+    /// at the start (`AT_START_S` after it: the initial estimate is of the
+    /// start, before any reading); an earlier one is counted as skipped; one
+    /// older than the sensor's latency, a duplicate, a frozen value or a
+    /// non-finite value is refused and counted in its report.
+    pub fn push<R: Reading>(&mut self, _handle: Handle<R>, t: f64, reading: R) {
+        let t = if t <= self.start {
+            // A NaN time is counted as skipped too.
+            if t.is_nan() || t < self.start - self.period_s {
+                self.skipped[R::SLOT] += 1;
+                return;
+            }
+            self.start + AT_START_S
+        } else {
+            t
+        };
+        let m = reading.measurement::<V, N>(&self.contexts[R::SLOT]);
+        if let Ok(reports) = self.scheduler.push_measurement(self.ids[R::SLOT], t, m) {
+            self.note(&reports);
+        }
+    }
+
+    /// Asks for the estimate at `t` (s), after the readings of `t` (including
+    /// late ones that arrive while `t` is in the history). At or before the
+    /// current time, the current estimate is taken. Collect it with
+    /// [`Navigator::final_estimates`] or [`Navigator::flush_estimates`].
+    pub fn request_estimate(&mut self, t: f64) -> Ticket {
+        let ticket = {
+            let mut r = self.requests.borrow_mut();
+            let ticket = r.base + r.entries.len() as u64;
+            r.entries.push_back((t, None));
+            ticket
+        };
+        if t <= self.scheduler.now() {
+            let e = Estimate::of(self.scheduler.now(), self.scheduler.filter());
+            if let Some(slot) = self.requests.borrow_mut().entries.back_mut() {
+                slot.1 = Some(e);
+            }
+            return Ticket(ticket);
+        }
+        let requests = Rc::clone(&self.requests);
+        let m = FnMeasurement::new(&[], move |f: &mut InsFilter<V, N>| {
+            let e = Estimate::of(t, f);
+            f.mark_epoch(t);
+            let mut r = requests.borrow_mut();
+            if let Some(i) = ticket.checked_sub(r.base) {
+                if let Some(slot) = r.entries.get_mut(i as usize) {
+                    slot.1 = Some(e);
+                }
+            }
+            Ok(MeasurementOutcome {
+                accepted: true,
+                nis: 0.0,
+                threshold: None,
+                dof: 0,
+            })
+        });
+        // A request is refused only for a non-finite time: it stays empty.
+        let _ = self.scheduler.push_measurement(self.record, t, Box::new(m));
+        Ticket(ticket)
+    }
+
+    /// Hands the requested estimates that no later reading can change any
+    /// more (older than the history), oldest first, to `out` (`None`: the
+    /// filter never reached that time).
+    pub fn final_estimates(&mut self, mut out: impl FnMut(Ticket, Option<Estimate>)) {
+        let oldest = self.scheduler.oldest();
+        let mut r = self.requests.borrow_mut();
+        while r.entries.front().is_some_and(|(t, _)| *t < oldest) {
+            let (_, e) = r.entries.pop_front().unwrap_or((0.0, None));
+            out(Ticket(r.base), e);
+            r.base += 1;
+        }
+    }
+
+    /// Every requested estimate not yet handed out, oldest first; the
+    /// navigator can go on (later readings no longer change those).
+    pub fn flush_estimates(&mut self, mut out: impl FnMut(Ticket, Option<Estimate>)) {
+        let mut r = self.requests.borrow_mut();
+        while let Some((_, e)) = r.entries.pop_front() {
+            out(Ticket(r.base), e);
+            r.base += 1;
+        }
+    }
+
+    /// The current estimate (all readings pushed so far applied).
+    pub fn estimate(&self) -> Estimate {
+        Estimate::of(self.scheduler.now(), self.scheduler.filter())
+    }
+
+    /// The report of the sensor of `handle`.
+    pub fn report<R: Reading>(&self, _handle: Handle<R>) -> SensorReport {
+        self.report_of(R::SLOT)
+    }
+
+    /// The report of sensor `slot` (index in [`SENSOR_NAMES`]).
+    pub fn report_of(&self, slot: usize) -> SensorReport {
+        let s = self
+            .scheduler
+            .sensor_stats(self.ids[slot])
+            .unwrap_or_default();
+        SensorReport {
+            health: SensorHealth {
+                rows: 0,
+                accepted: s.accepted,
+                gated: s.gated,
+                rejected: s.failed + s.too_old + s.duplicate + s.invalid + s.queue_full,
+                skipped: self.skipped[slot],
+                stuck: s.stuck,
+            },
+            last_nis: self.last_nis[slot],
+        }
+    }
+
+    /// Rollbacks for late readings so far.
+    pub fn replays(&self) -> u64 {
+        self.scheduler.stats().replays
+    }
+
+    /// The filter (error-state EKF and nominal solution).
+    pub fn filter(&self) -> &InsFilter<V, N> {
+        self.scheduler.filter()
+    }
+
+    /// The scheduler underneath.
+    pub fn scheduler(&self) -> &Scheduler<InsFilter<V, N>> {
+        &self.scheduler
+    }
+
+    /// Time of the initial state (s).
+    pub fn start(&self) -> f64 {
+        self.start
+    }
+
+    fn note(&mut self, reports: &[Report]) {
+        for r in reports {
+            let i = r.sensor.index();
+            if let (Some(slot), Ok(o)) = (self.last_nis.get_mut(i), &r.outcome) {
+                *slot = Some(o.nis);
+            }
+        }
+    }
+
+    fn check_bounds(&self) -> Result<(), NavigatorError> {
+        let s = &self.scheduler.filter().nominal().ins.state;
+        let b = &self.options.bounds;
+        let speed2 = s.v_n.norm_squared();
+        // One sum carries any NaN or infinity of the solution (a sum of
+        // finite values this large overflows only outside the bounds anyway).
+        let all = s.lat + s.lon + s.h + speed2 + s.c_bn.sum();
+        if all.is_finite()
+            && s.lat.abs() <= core::f64::consts::FRAC_PI_2
+            && speed2 <= b.max_speed_mps * b.max_speed_mps
+            && s.h.abs() <= b.max_height_m
+        {
+            return Ok(());
+        }
+        let speed = speed2.sqrt();
+        let what = if !all.is_finite() {
+            "the navigation solution is not finite".to_string()
+        } else if s.lat.abs() > core::f64::consts::FRAC_PI_2 {
+            format!("|latitude| {:e} rad exceeds pi/2", s.lat.abs())
+        } else if speed > b.max_speed_mps {
+            format!("speed {speed:e} m/s exceeds {} m/s", b.max_speed_mps)
+        } else {
+            format!("|height| {:e} m exceeds {} m", s.h.abs(), b.max_height_m)
+        };
+        Err(NavigatorError::OutOfBounds {
+            t: self.scheduler.now(),
+            what,
+        })
+    }
+}
+
+/// What one sensor did so far.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SensorReport {
+    /// Counts (`rows` is 0: the navigator does not see files).
+    pub health: SensorHealth,
+    /// Normalized innovation squared of the latest applied or gated reading.
+    pub last_nis: Option<f64>,
+}
+
+impl<V: InsVehicle<N>, const N: usize> Builder<V, N> {
+    /// Run-wide options (default: [`NavigatorOptions::default`]).
+    pub fn options(mut self, options: NavigatorOptions) -> Self {
+        self.options = options;
+        self
+    }
+
+    /// What the IMU samples are (default: instantaneous rates; an IMU
+    /// that delivers increments gives interval averages, increments divided
+    /// by their interval, which the strapdown integrates as increments with
+    /// its coning and sculling terms).
+    pub fn rate_samples(mut self, samples: RateSamples) -> Self {
+        self.samples = samples;
+        self
+    }
+
+    /// Position of the USBL transducer (default: at the surface above the
+    /// initial position).
+    pub fn usbl_transducer(mut self, at: Geodetic) -> Self {
+        self.transducer = Some(at);
+        self
+    }
+
+    /// Magnetic declination (rad, east positive) added to the
+    /// magnetometer's heading (default 0).
+    pub fn magnetic_declination(mut self, declination: f64) -> Self {
+        self.declination = declination;
+        self
+    }
+
+    /// Adds the vehicle's sensor that gives readings of type `R`.
+    ///
+    /// # Errors
+    /// [`NavigatorError::Setup`] if `V` has no such sensor.
+    pub fn sensor<R: Reading>(
+        &mut self,
+        settings: SensorSettings,
+    ) -> Result<Handle<R>, NavigatorError> {
+        if !R::present(&self.present, self.options.compass) {
+            return Err(NavigatorError::Setup(format!(
+                "vehicle {} has no {} sensor",
+                V::REPLAY_NAME,
+                R::NAME
+            )));
+        }
+        self.sensors[R::SLOT] = Some(settings);
+        Ok(Handle::new())
+    }
+
+    /// The navigator, started at the initial state with `first`, the IMU
+    /// sample at the initial time (it starts the rate model of the first
+    /// interval).
+    ///
+    /// # Errors
+    /// [`NavigatorError::Setup`] if the vehicle does not fit (see
+    /// [`Layout::of`]) or a setting is invalid.
+    pub fn build(self, first: ImuSample) -> Result<Navigator<V, N>, NavigatorError> {
+        let filter = self.initial_filter(&first)?;
+        let setup = |e: SchedulerError| NavigatorError::Setup(e.to_string());
+        let window = self
+            .sensors
+            .iter()
+            .flatten()
+            .fold(0.0_f64, |a, s| a.max(s.latency_s));
+        let mut scheduler = Scheduler::new(filter, self.initial.t)
+            .map_err(setup)?
+            .with_snapshot_every(snapshot_interval(window, self.imu.period_s));
+        let mut ids = Vec::with_capacity(SENSORS);
+        for (name, s) in SENSOR_NAMES.iter().zip(&self.sensors) {
+            let (rate, latency) = s.map_or((2.0, 0.0), |s| (s.rate_hz, s.latency_s));
+            ids.push(scheduler.add_sensor(*name, rate, latency).map_err(setup)?);
+        }
+        if let Some(alpha) = self.options.stuck_false_alarm {
+            for (id, s) in ids.iter().zip(&self.sensors) {
+                if let Some(s) = s {
+                    let d = StuckDetector::for_sensor(s.noise_sigma, s.resolution, alpha);
+                    scheduler.set_stuck_detector(*id, d).map_err(setup)?;
+                }
+            }
+        }
+        let record = scheduler.add_sensor("record", 10.0, 0.0).map_err(setup)?;
+        let i = &self.initial;
+        let transducer =
+            self.transducer
+                .unwrap_or(Geodetic::new(i.position.lat, i.position.lon, 0.0));
+        let frame = LocalNed::new(transducer);
+        let contexts = std::array::from_fn(|k| Context {
+            noise_sigma: self.sensors[k].map_or(f64::NAN, |s| s.noise_sigma),
+            mounting: self.sensors[k].and_then(|s| s.mounting),
+            lever_arm: self.sensors[k]
+                .map_or(nav_runtime::nalgebra::Vector3::zeros(), |s| s.lever_arm),
+            compass: self.options.compass,
+            usbl_frame: frame,
+            declination: self.declination,
+        });
+        Ok(Navigator {
+            scheduler,
+            ids: std::array::from_fn(|k| ids[k]),
+            record,
+            contexts,
+            start: self.initial.t,
+            period_s: self.imu.period_s,
+            options: self.options,
+            requests: Rc::new(RefCell::new(Requests::default())),
+            skipped: [0; SENSORS],
+            last_nis: [None; SENSORS],
+        })
+    }
+
+    /// The initial filter: nominal from the initial state, covariance from its
+    /// sigmas, the IMU's bias sigmas and each sensor's bias sigma (equations in
+    /// `docs/pipeline.md`, section "Initial covariance").
+    pub fn initial_filter(&self, first: &ImuSample) -> Result<InsFilter<V, N>, NavigatorError> {
+        let layout = self.layout.clone().map_err(NavigatorError::Setup)?;
+        let i = &self.initial;
+        let state = NavState::new(i.position, i.velocity, &i.attitude);
+        let mut ins = Strapdown::with_time(state, i.t);
+        // The form first: the rate history is kept in it.
+        ins.samples = self.samples;
+        ins.set_previous_rates(&first.gyro, &first.accel);
+        let imu = &self.imu;
+        let bias = |k: usize| self.sensors[k].map_or(0.0, |s| s.bias_sigma);
+        let misalignment = self.sensors[3].map_or(0.0, |s| s.misalignment_sigma);
+        let sig = &i.sigma;
+        let lat = state.lat;
+        let mut sigma = [0.0; N];
+        let (p, v, a) = (layout.position, layout.velocity, layout.attitude);
+        sigma[p] = sig.position / (meridian_radius(lat) + state.h);
+        sigma[p + 1] = sig.position / ((transverse_radius(lat) + state.h) * lat.cos());
+        sigma[p + 2] = sig.position;
+        sigma[v..v + 3].fill(sig.velocity);
+        sigma[a..a + 2].fill(sig.level);
+        sigma[a + 2] = sig.heading;
+        sigma[layout.accel_bias..layout.accel_bias + 3].fill(imu.accel_bias_sigma);
+        sigma[layout.gyro_bias..layout.gyro_bias + 3].fill(imu.gyro_bias_sigma);
+        for (at, len, s) in [
+            (layout.usbl_bias, 2, bias(3)),
+            (layout.depth_bias, 1, bias(0)),
+            (layout.dvl_bias, 3, bias(1)),
+            (layout.compass_bias, 1, bias(2)),
+            (layout.usbl_misalignment, 3, misalignment),
+            (layout.baro_bias, 1, bias(5)),
+        ] {
+            if let Some(i) = at {
+                sigma[i..i + len].fill(s);
+            }
+        }
+        let p0 = SMatrix::<f64, N, N>::from_diagonal(&SVector::<f64, N>::from_fn(|i, _| {
+            sigma[i].max(SIGMA_FLOOR).powi(2)
+        }));
+        // Noise densities from per-sample sigmas: q = sigma^2 dt.
+        let dt = imu.period_s;
+        let (qa, qg) = (
+            imu.accel_noise_sigma.powi(2) * dt,
+            imu.gyro_noise_sigma.powi(2) * dt,
+        );
+        // The INS core's noise in record order (checked by `Layout::of`).
+        // The barometer block's bias walk after them (checked there too).
+        let baro_walk = self.sensors[5].map_or(0.0, |s| s.bias_walk);
+        let noise = <V::Noise as Record>::from_fn(|i| match i {
+            0..=2 => qa,
+            3..=5 => qg,
+            _ => baro_walk,
+        });
+        let name = V::REPLAY_NAME;
+        let err = |e| NavigatorError::Setup(format!("{name} filter: {e}"));
+        let gate = match self.options.gate_probability {
+            Some(p) => Some(Gate::new(p).map_err(err)?),
+            None => None,
+        };
+        let ekf = Ekf::<V, N>::new(SVector::zeros(), p0, V::Params::default(), noise)
+            .map_err(err)?
+            .with_default_gate(gate);
+        let ekf =
+            crate::lockout::configure::<V, N>(ekf, self.options.lockout_release).map_err(err)?;
+        let t0 = ins.time;
+        let mut nominal =
+            InsNominal::try_new(ins).map_err(|e| NavigatorError::Setup(e.to_string()))?;
+        nominal.baro_bias = self.sensors[5].map_or(0.0, |s| s.initial_bias);
+        let mut filter = ErrorStateFilter::new(ekf, nominal);
+        if self.options.smooth {
+            let file = EpochFile::create(None).map_err(|e| NavigatorError::Setup(e.to_string()))?;
+            filter.start_recording(file, t0).map_err(err)?;
+        }
+        Ok(filter)
+    }
+}
+
+/// IMU steps between the scheduler's checkpoints for a history of `window`
+/// seconds at IMU period `dt` (s). A checkpoint (a copy of the whole filter)
+/// every step costs more than the steps themselves save: a late measurement
+/// re-propagates from the newest checkpoint before it, so spacing them by a
+/// tenth of the window adds at most a tenth of the window to a replay, while
+/// copying the filter ten times less often. Without late sensors (`window`
+/// 0) a replay can only be for a measurement at the current IMU time, which
+/// the replay loop always delivers before that sample: one checkpoint a
+/// second. Results do not depend on the spacing (the replay recomputes the
+/// same steps); see [`Scheduler::with_snapshot_every`].
+fn snapshot_interval(window: f64, dt: f64) -> usize {
+    let steps = if window > 0.0 { window / 10.0 } else { 1.0 } / dt;
+    if steps.is_finite() {
+        (steps.ceil() as usize).clamp(1, 1000)
+    } else {
+        1
+    }
+}

@@ -1,0 +1,373 @@
+//! `navsim replay` of an INS vehicle as a stream: the log is read as the
+//! filter goes ([`replay_vehicle`]), each estimate is scored against its
+//! truth row and written out as it becomes final, and only bounded copies
+//! of the time series are kept for the plots. Peak memory is that of the
+//! latency window, whatever the log's length (with `--smooth` too: the
+//! smoother's epochs, the forward estimates it corrects and the smoothed
+//! estimates wait in temporary files).
+//!
+//! Output times: the truth rows when the log has `truth.csv`, otherwise
+//! every [`OUTPUT_PERIOD_S`] from the first IMU sample.
+
+use std::path::Path;
+
+use nav_runtime::log::{LogSource, RowSource, TruthRow, Warning, WarningKind};
+use serde_json::{json, Map, Value};
+
+use super::replay_loop::{Every, Listed};
+use super::score::{Keep, Scored, Scorer, COLUMNS, TABLE};
+use super::setup::{replay_vehicle, FilterOptions, InsRun, LENIENT_IMU_STEP_PERIODS};
+use super::{error_values, write_plots, write_smoothed_plot, ERROR_KEYS, SMOOTHED_TABLE};
+use crate::output::series::TableWriter;
+use crate::{ReplayOptions, ReplayOutput, RunError, SensorHealth};
+use nav_ins::vehicle::{InsVehicle, Layout};
+use nav_ins::Estimate;
+
+/// Spacing of the output times of a log without truth, s.
+pub const OUTPUT_PERIOD_S: f64 = 0.1;
+
+/// Name of the trajectory table (`estimates.csv` under `--out`).
+pub const TRAJECTORY_TABLE: &str = "estimates";
+
+/// Columns of the trajectory table: time, position, velocity, attitude and
+/// their standard deviations (m, m/s, deg).
+pub const TRAJECTORY_COLUMNS: [&str; 19] = [
+    "t",
+    "lat",
+    "lon",
+    "depth",
+    "vn",
+    "ve",
+    "vd",
+    "roll_deg",
+    "pitch_deg",
+    "yaw_deg",
+    "sig_n",
+    "sig_e",
+    "sig_d",
+    "sig_vn",
+    "sig_ve",
+    "sig_vd",
+    "sig_roll_deg",
+    "sig_pitch_deg",
+    "sig_yaw_deg",
+];
+
+/// One output time and the truth row there, if the log has truth.
+type OutputTime = (f64, Option<(Option<u64>, TruthRow)>);
+
+/// The output times of a log with truth: its truth rows.
+fn truth_times<'a>(
+    mut rows: Box<dyn RowSource<TruthRow> + 'a>,
+) -> Listed<impl Iterator<Item = Result<(f64, OutputTime), RunError>> + 'a> {
+    Listed::new(std::iter::from_fn(move || {
+        rows.next_row()
+            .map_err(RunError::from)
+            .transpose()
+            .map(|r| r.map(|(line, row)| (row.t, (row.t, Some((line, row))))))
+    }))
+}
+
+/// The trajectory row of an estimate.
+fn trajectory_row(e: &Estimate) -> [f64; 19] {
+    let s = &e.nav;
+    let euler = s.euler();
+    let sig = |i: usize| e.cov[(i, i)].sqrt();
+    let deg = f64::to_degrees;
+    [
+        e.t,
+        s.lat,
+        s.lon,
+        s.depth(),
+        s.v_n.x,
+        s.v_n.y,
+        s.v_n.z,
+        deg(euler.roll),
+        deg(euler.pitch),
+        deg(euler.yaw),
+        sig(0),
+        sig(1),
+        sig(2),
+        sig(3),
+        sig(4),
+        sig(5),
+        deg(sig(6)),
+        deg(sig(7)),
+        deg(sig(8)),
+    ]
+}
+
+fn score_error(e: super::score::ScoreError) -> RunError {
+    RunError::Invalid(e.to_string())
+}
+
+/// Replays vehicle `V` over `source`; with `out`, the time series
+/// (`errors.csv`, `estimates.csv`, with `--smooth` `smoothed_errors.csv`) and
+/// plots are written there as the run goes; without, the error tables are
+/// kept in the output when `options.keep_series`.
+pub(super) fn replay_source<V: InsVehicle<N>, const N: usize>(
+    source: &LogSource<'_>,
+    options: &ReplayOptions,
+    out: Option<&Path>,
+) -> Result<ReplayOutput, RunError> {
+    Layout::of::<V, N>()?;
+    let filter_options = FilterOptions {
+        smooth: options.smooth,
+        max_imu_step: options.lenient.then_some(LENIENT_IMU_STEP_PERIODS),
+        ..FilterOptions::default()
+    };
+    let truth = source.rows::<TruthRow>()?;
+    let has_truth = truth.is_some();
+
+    let keep = |name: &str| -> Result<Keep, RunError> {
+        Ok(match out {
+            Some(dir) => Keep::Bounded(Some(TableWriter::create(
+                &dir.join(format!("{name}.csv")),
+                &COLUMNS,
+            )?)),
+            None if options.keep_series => Keep::All,
+            None => Keep::Nothing,
+        })
+    };
+    let mut scorer = has_truth
+        .then(|| keep(TABLE))
+        .transpose()?
+        .map(|k| Scorer::new(None, k));
+    let mut trajectory = out
+        .map(|dir| {
+            TableWriter::create(
+                &dir.join(format!("{TRAJECTORY_TABLE}.csv")),
+                &TRAJECTORY_COLUMNS,
+            )
+        })
+        .transpose()?;
+    let sink = |(_, truth): OutputTime, e: Option<&Estimate>| {
+        if let (Some(w), Some(e)) = (&mut trajectory, e) {
+            w.push(&trajectory_row(e))?;
+        }
+        if let (Some(s), Some((line, row))) = (&mut scorer, &truth) {
+            s.push(*line, row, e).map_err(score_error)?;
+        }
+        Ok(())
+    };
+    // The smoothed estimates come after the run, one per output time in the
+    // same order: with truth, the output times are the truth rows, read
+    // again beside them.
+    let mut smoothed_scorer = (options.smooth && has_truth)
+        .then(|| -> Result<_, RunError> {
+            let rows = source.rows::<TruthRow>()?;
+            Ok((Scorer::new(None, keep(SMOOTHED_TABLE)?), rows))
+        })
+        .transpose()?;
+    let smoothed_sink = |e: Option<&Estimate>| -> Result<(), RunError> {
+        if let Some((s, Some(rows))) = &mut smoothed_scorer {
+            if let Some((line, row)) = rows.next_row().map_err(RunError::from)? {
+                s.push(line, &row, e).map_err(score_error)?;
+            }
+        }
+        Ok(())
+    };
+    let run: InsRun<V, N> = match truth {
+        Some(rows) => replay_vehicle::<V, N, _, _>(
+            source,
+            &filter_options,
+            truth_times(rows),
+            sink,
+            smoothed_sink,
+        )?,
+        None => replay_vehicle::<V, N, _, _>(
+            source,
+            &filter_options,
+            Every::new(OUTPUT_PERIOD_S),
+            sink,
+            smoothed_sink,
+        )?,
+    };
+    if let Some(w) = trajectory {
+        w.finish()?;
+    }
+    let span = Some(run.imu_span);
+    let scored: Option<Scored> = scorer
+        .map(|s| s.finish(span))
+        .transpose()
+        .map_err(score_error)?;
+    let smoothed = match smoothed_scorer {
+        Some((s, _)) => {
+            let mut s = s
+                .finish(span)
+                .map_err(|e| RunError::Invalid(format!("smoothed run: {e}")))?;
+            s.table.name = SMOOTHED_TABLE.to_string();
+            Some(s)
+        }
+        None => None,
+    };
+    if let Some(dir) = out {
+        if let Some(s) = &scored {
+            write_plots(V::REPLAY_NAME, "replay", &s.table, dir)?;
+            if let Some(sm) = &smoothed {
+                write_smoothed_plot(
+                    V::REPLAY_NAME,
+                    "replay",
+                    &[s.table.clone(), sm.table.clone()],
+                    dir,
+                )?;
+            }
+        }
+    }
+    output_of::<V, N>(&run, scored, smoothed, options, out.is_none())
+}
+
+/// Degrees of freedom of the navigation NEES (position, velocity, attitude).
+const NAV_NEES_DOF: f64 = 9.0;
+
+/// A mean NEES above this many times its degrees of freedom is warned: a
+/// consistent filter is near 1, a tuned-down one a few times, a truth of
+/// another sign or convention hundreds of times.
+const NEES_WARN_FACTOR: f64 = 10.0;
+
+/// A warning per sensor whose rows hardly corrected the run: none applied
+/// (a DVL that never had bottom lock, a noise sigma that gates every row),
+/// or more refused (gated, rejected, frozen) than applied. Its health counts
+/// say so too, but a result that looks aided needs the warning.
+pub fn unapplied_sensors(
+    health: &[(&'static str, SensorHealth)],
+    ignored: &[&'static str],
+) -> Vec<Warning> {
+    let mut warnings = Vec::new();
+    for (name, h) in health {
+        if h.rows == 0 || ignored.contains(name) {
+            continue;
+        }
+        let refused = h.gated + h.rejected + h.stuck;
+        let counts = format!(
+            "{} gated, {} rejected, {} frozen, {} skipped",
+            h.gated, h.rejected, h.stuck, h.skipped
+        );
+        let file = format!("{name}.csv");
+        if h.accepted == 0 {
+            warnings.push(Warning::about(
+                WarningKind::Suspicious,
+                &file,
+                format!(
+                    "sensor {name}: none of the {} rows of {file} was applied ({counts})",
+                    h.rows
+                ),
+            ));
+        } else if refused > h.accepted {
+            warnings.push(Warning::about(
+                WarningKind::Suspicious,
+                &file,
+                format!(
+                    "sensor {name}: only {} of the {} rows of {file} were applied ({counts})",
+                    h.accepted, h.rows
+                ),
+            ));
+        }
+    }
+    warnings
+}
+
+/// The replay output of a run: metrics, warnings and (with `tables`) the
+/// error tables.
+pub(super) fn output_of<V: InsVehicle<N>, const N: usize>(
+    run: &InsRun<V, N>,
+    scored: Option<Scored>,
+    smoothed: Option<Scored>,
+    options: &ReplayOptions,
+    tables: bool,
+) -> Result<ReplayOutput, RunError> {
+    let mut out = ReplayOutput {
+        samples: run.samples,
+        runtime_s: run.runtime_s,
+        ..Default::default()
+    };
+    for name in &run.ignored {
+        let rows = run
+            .health
+            .iter()
+            .find(|(n, _)| n == name)
+            .map_or(0, |(_, h)| h.rows);
+        let file = format!("{name}.csv");
+        out.warnings.push(Warning::about(
+            WarningKind::UnusedFile,
+            &file,
+            format!(
+                "model {} has no {name} sensor: the {rows} rows of {file} are not used",
+                V::REPLAY_NAME
+            ),
+        ));
+    }
+    out.warnings.extend(run.warnings.iter().cloned());
+    out.warnings
+        .extend(unapplied_sensors(&run.health, &run.ignored));
+    if let Some(s) = &scored {
+        for (k, v) in [
+            ("horizontal_error_final_m", s.horizontal_error_final_m),
+            ("horizontal_error_rms_m", s.horizontal_error_rms_m),
+            ("depth_error_rms_m", s.depth_error_rms_m),
+            ("nees_mean", s.nees_mean),
+            ("scored_seconds", s.scored_seconds),
+        ] {
+            out.metrics.insert(k.into(), Value::from(v));
+        }
+        out.warnings.extend(
+            s.partial
+                .iter()
+                .map(|p| Warning::about(WarningKind::PartialScoring, "truth.csv", p.clone())),
+        );
+        // Errors far beyond the filter's own sigmas: the RMS errors above
+        // are then those of a truth that does not describe this run (a
+        // sign, unit, convention or clock of truth.csv), not the filter's.
+        if s.nees_mean > NEES_WARN_FACTOR * NAV_NEES_DOF {
+            out.warnings.push(Warning::about(
+                WarningKind::Suspicious,
+                "truth.csv",
+                format!(
+                    "truth.csv: mean NEES {:.1} over the {NAV_NEES_DOF} navigation states, more \
+                     than {NEES_WARN_FACTOR} times its expectation: the errors are far beyond the \
+                     filter's sigmas (a sign, unit, convention or clock of truth.csv?)",
+                    s.nees_mean
+                ),
+            ));
+        }
+    }
+    if let Some(s) = &smoothed {
+        let errors: Map<String, Value> = ERROR_KEYS
+            .iter()
+            .zip(error_values(s))
+            .map(|(k, v)| ((*k).to_string(), Value::from(v)))
+            .collect();
+        out.metrics.insert("smoothed".into(), Value::Object(errors));
+    } else if options.smooth {
+        out.warnings.push(crate::model_note(
+            "the log has no truth.csv: the smoothed run is not scored",
+        ));
+    }
+    out.metrics
+        .insert("health".into(), run.health_counts().json());
+    let last = run.final_filter.nominal().ins.state;
+    let e = last.euler();
+    out.metrics.insert(
+        "final".into(),
+        json!({
+            "lat": last.lat, "lon": last.lon, "depth": last.depth(),
+            "vn": last.v_n.x, "ve": last.v_n.y, "vd": last.v_n.z,
+            "roll": e.roll.to_degrees(), "pitch": e.pitch.to_degrees(), "yaw": e.yaw.to_degrees(),
+        }),
+    );
+    if let (true, true, Some(s)) = (tables, options.keep_series, scored) {
+        out.tables.push(s.table);
+        if let Some(sm) = smoothed {
+            out.tables.push(sm.table);
+        }
+    }
+    if !out.warnings.is_empty() {
+        let list = out
+            .warnings
+            .iter()
+            .map(|w| Value::from(w.message.as_str()))
+            .collect();
+        out.metrics.insert("warnings".into(), Value::Array(list));
+    }
+    Ok(out)
+}

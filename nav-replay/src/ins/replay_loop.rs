@@ -1,0 +1,738 @@
+//! The replay loop: a log's events, read as a stream ([`LogSource`]), pushed
+//! into the vehicle's [`Navigator`](nav_ins::Navigator) in delivery order, and the estimates at
+//! the requested output times handed on as they become final. Nothing in it
+//! grows with the log: the aiding rows still travelling, the navigator's
+//! history and the requests not yet final are bounded by the latency window.
+//! The same loop runs a log in memory (Monte Carlo, tests) and a log on disk
+//! (`navsim replay`).
+
+use std::cell::Cell;
+use std::collections::VecDeque;
+use std::iter::Peekable;
+use std::time::{Duration, Instant};
+
+use nav_runtime::log::{
+    BaroRow, DepthRow, DvlRow, Event as LogEvent, GnssRow, HeadingRow, ImuForm, ImuRow, LogDir,
+    LogSource, MagRow, UsblRow, Warning, WarningKind,
+};
+use nav_runtime::nalgebra::Vector3;
+use nav_runtime::smoother::{smooth_states, EpochFile, SmootherError, SpillFile};
+use nav_runtime::strapdown::RateSamples;
+
+use super::aiding::{place, Aiding, Travelling};
+use super::setup::{setup_error, FilterOptions, InsRun, LogFacts, LogPlan, MAX_GAP_STEPS};
+use crate::RunError;
+use nav_ins::vehicle::{Layout, Slot};
+use nav_ins::{
+    Estimate, ImuSample, InsVehicle, NavigatorError, ESTIMATE_SCALARS, SENSORS, SENSOR_NAMES,
+};
+
+/// Runs the filter of vehicle `V` over `log`, recording estimates at
+/// `record_times` (s; each snapped to the nearest IMU sample time within half
+/// a period, `None` where no IMU sample is that near). The rows of a log
+/// sensor `V` has no sensor for are not used: they are counted in that
+/// sensor's health as rows and skipped, and the sensor is listed in
+/// [`InsRun::ignored`].
+///
+/// # Errors
+/// A setup problem, an IMU sample the filter refuses, or an estimate out of
+/// its physical bounds ([`FilterOptions::bounds`]), each naming the input
+/// file and line that led to it.
+pub fn run_vehicle<V: InsVehicle<N>, const N: usize>(
+    log: &LogDir,
+    options: &FilterOptions,
+    record_times: &[f64],
+) -> Result<InsRun<V, N>, RunError> {
+    let mut order: Vec<usize> = (0..record_times.len()).collect();
+    order.sort_by(|&a, &b| record_times[a].total_cmp(&record_times[b]));
+    let requests = Listed::new(order.iter().map(|&k| Ok((record_times[k], k))));
+    let mut estimates: Vec<Option<Estimate>> = vec![None; record_times.len()];
+    let mut delivered: Vec<usize> = Vec::new();
+    let mut in_order: Vec<Option<Estimate>> = Vec::new();
+    let mut run = replay_vehicle::<V, N, _, _>(
+        &LogSource::Memory(log),
+        options,
+        requests,
+        |k, e| {
+            estimates[k] = e.copied();
+            if options.smooth {
+                delivered.push(k);
+            }
+            Ok(())
+        },
+        |e| {
+            in_order.push(e.copied());
+            Ok(())
+        },
+    )?;
+    run.estimates = estimates;
+    run.smoothed = options.smooth.then(|| {
+        let mut by_slot = vec![None; record_times.len()];
+        for (k, e) in delivered.into_iter().zip(in_order) {
+            by_slot[k] = e;
+        }
+        by_slot
+    });
+    Ok(run)
+}
+
+/// Runs the filter of vehicle `V` over the log of `source` and hands each
+/// requested estimate to `sink` once it is final: `requests` says at which
+/// IMU samples an estimate is wanted and what `sink` gets back with it
+/// ([`Listed`] output times, [`Every`] period). [`InsRun::estimates`] and
+/// [`InsRun::smoothed`] stay empty: with [`FilterOptions::smooth`],
+/// `smoothed_sink` gets the smoothed counterpart of every estimate `sink`
+/// got, in the same order, after the run. Neither the forward estimates the
+/// smoother needs nor the smoothed ones are kept in memory (they wait in
+/// temporary files), so memory does not grow with the log.
+///
+/// # Errors
+/// As [`run_vehicle`], a read error of the log, and the first error `sink`
+/// returns.
+pub fn replay_vehicle<V, const N: usize, P, Q>(
+    source: &LogSource<'_>,
+    options: &FilterOptions,
+    requests: Q,
+    mut sink: impl FnMut(P, Option<&Estimate>) -> Result<(), RunError>,
+    mut smoothed_sink: impl FnMut(Option<&Estimate>) -> Result<(), RunError>,
+) -> Result<InsRun<V, N>, RunError>
+where
+    V: InsVehicle<N>,
+    Q: Requests<P>,
+{
+    Layout::of::<V, N>()?;
+    let (facts, imu, heads) = LogFacts::of(source, options)?;
+    let (plan, mut aiding) = plan_run::<V, N>(source, options, &facts)?;
+    let (builder, handles) = plan.builder::<V, N>(options);
+    let samples = match source.imu_form()? {
+        ImuForm::Rates => RateSamples::Instantaneous,
+        ImuForm::Increments => RateSamples::IntervalAverage,
+    };
+    let mut nav = builder
+        .rate_samples(samples)
+        .build(plan.first)
+        .map_err(setup_error)?;
+    let has_file = [
+        source.has::<DepthRow>()?,
+        source.has::<DvlRow>()?,
+        source.has::<HeadingRow>()?,
+        source.has::<UsblRow>()?,
+        source.has::<GnssRow>()?,
+        source.has::<BaroRow>()?,
+        source.has::<MagRow>()?,
+    ];
+    let ignored = aiding.ignored(has_file);
+
+    let mut requests = requests;
+    let tolerance = 0.5 * plan.imu.period_s + 1e-9;
+    let mut waiting = Waiting::default();
+    // With smoothing: the estimates handed on, which the smoothed errors
+    // are applied to after the run.
+    let mut smoothing = options
+        .smooth
+        .then(|| SpillFile::create(None, ESTIMATE_SCALARS))
+        .transpose()
+        .map_err(smoother_error)?;
+    // Only a log on disk is read and written as the loop goes.
+    let io = IoTime::new(matches!(source, LogSource::Files(_)));
+    let mut out = |p: P, e: Option<&Estimate>| -> Result<(), RunError> {
+        if let Some(file) = smoothing.as_mut() {
+            file.push(&Estimate::to_scalars(e))
+                .map_err(smoother_error)?;
+        }
+        io.time(|| sink(p, e))
+    };
+
+    // `imu.csv` and the aiding files continue after the rows the facts
+    // were read from.
+    let mut stream = heads.continue_in(source.events()?.with_rows(imu));
+    let epoch = plan.initial.t;
+    // IMU rows before the epoch are not used; aiding rows before the first
+    // IMU row used wait in the queue.
+    let mut imu_row = 0usize;
+    let (first_line, first) = loop {
+        let Some(ev) = stream.next_event()? else {
+            return Err(RunError::Invalid("imu.csv has no rows".into()));
+        };
+        match ev.event {
+            LogEvent::Imu(r) if r.t < epoch => imu_row += 1,
+            LogEvent::Imu(r) => break (ev.line, r),
+            _ => aiding.take(&ev),
+        }
+    };
+    let mut warnings: Vec<Warning> = plan.warnings.clone();
+    if imu_row > 0 {
+        warnings.push(Warning::about(
+            WarningKind::UnusedFile,
+            "imu.csv",
+            format!(
+                "imu.csv: {imu_row} row(s) before the initial epoch t = {epoch} s (meta.toml initial.t) are not used"
+            ),
+        ));
+    }
+    // The first row at the epoch starts the navigator; one after it is
+    // propagated to like any other.
+    let mut first_to_push = (first.t > epoch).then_some((first_line, first));
+    if first_to_push.is_none() {
+        let next_t = stream.next_imu_t()?;
+        if requests.take(first.t, next_t, tolerance, &mut waiting)? {
+            nav.request_estimate(first.t);
+        }
+        waiting.hand_unmatched(&mut out)?;
+    }
+
+    let start = Instant::now();
+    let mut samples = 1usize;
+    let mut previous = ImuRow { t: epoch, ..first };
+    let mut previous_line: Option<u64> = first_line;
+    let mut last_input: Option<Travelling> = None;
+    loop {
+        // The next IMU sample; every aiding row up to its time is queued.
+        let next = match first_to_push.take() {
+            Some(first) => Some(first),
+            None => {
+                let next = io.time(|| stream.next_imu(|ev| aiding.take(ev)))?;
+                imu_row += usize::from(next.is_some());
+                next
+            }
+        };
+        let Some((line, row)) = next else { break };
+        // Only formatted for a message.
+        let here = || place("imu.csv", line, imu_row);
+        if let Some(k) = options.max_imu_step {
+            let step = k * plan.imu.period_s;
+            let gap = row.t - previous.t;
+            if gap > step {
+                let steps = (gap / step).ceil();
+                let lines = format!(
+                    "{} to {}",
+                    place("imu.csv", previous_line, imu_row - 1),
+                    here()
+                );
+                if steps > MAX_GAP_STEPS {
+                    return Err(RunError::Invalid(format!(
+                        "imu.csv gap of {gap} s between {lines} is too long to propagate (more than {MAX_GAP_STEPS} steps of {step} s)"
+                    )));
+                }
+                let mut w = Warning::about(
+                    WarningKind::ImuGap,
+                    "imu.csv",
+                    format!(
+                        "imu.csv gap of {gap} s between {lines}: propagated in {steps} steps holding the sample before it"
+                    ),
+                );
+                w.line = line;
+                warnings.push(w);
+                let held = sample(&previous);
+                for m in 1..steps as usize {
+                    let t = previous.t + gap * (m as f64 / steps);
+                    while let Some(ev) = aiding.due(t) {
+                        ev.push(&mut nav, &handles);
+                        last_input = Some(ev);
+                    }
+                    nav.push_imu(t, held).map_err(|e| {
+                        RunError::Invalid(format!("imu.csv gap between {lines} at t = {t} s: {e}"))
+                    })?;
+                    let mut result = Ok(());
+                    nav.final_estimates(|_, e| {
+                        if result.is_ok() {
+                            result = waiting.hand(e, &mut out);
+                        }
+                    });
+                    result?;
+                }
+            }
+        }
+        while let Some(ev) = aiding.due(row.t) {
+            ev.push(&mut nav, &handles);
+            last_input = Some(ev);
+        }
+        let ticket = io.time(|| -> Result<_, RunError> {
+            let next_t = stream.next_imu_t()?;
+            requests.take(row.t, next_t, tolerance, &mut waiting)
+        })?;
+        if ticket {
+            nav.request_estimate(row.t);
+        }
+        waiting.hand_unmatched(&mut out)?;
+        nav.push_imu(row.t, sample(&row)).map_err(|e| match e {
+            NavigatorError::Imu(e) => {
+                RunError::Invalid(format!("imu.csv at t = {} s ({}): {e}", row.t, here()))
+            }
+            e => RunError::Invalid(format!(
+                "{} (t = {} s): {e}{}",
+                here(),
+                row.t,
+                last_input.map_or(String::new(), |ev| format!(
+                    "; latest aiding input: {}",
+                    ev.place()
+                ))
+            )),
+        })?;
+        if row.t > first.t {
+            samples += 1;
+        }
+        let mut result = Ok(());
+        nav.final_estimates(|_, e| {
+            if result.is_ok() {
+                result = waiting.hand(e, &mut out);
+            }
+        });
+        result?;
+        previous = row;
+        previous_line = line;
+    }
+    // Rows after the last IMU sample, and fixes still travelling when the
+    // IMU data ends (measured before its end).
+    while let Some(ev) = stream.next_event()? {
+        aiding.take(&ev);
+    }
+    while let Some(ev) = aiding.next() {
+        ev.push(&mut nav, &handles);
+    }
+    let mut result = Ok(());
+    nav.flush_estimates(|_, e| {
+        if result.is_ok() {
+            result = waiting.hand(e, &mut out);
+        }
+    });
+    result?;
+    waiting.hand_unmatched(&mut out)?;
+    let runtime_s = start.elapsed().saturating_sub(io.spent()).as_secs_f64();
+
+    let mut health = aiding.health;
+    for (i, h) in health.iter_mut().enumerate() {
+        let r = nav.report_of(i).health;
+        h.accepted = r.accepted;
+        h.gated = r.gated;
+        h.rejected += r.rejected;
+        h.skipped += r.skipped;
+        h.stuck = r.stuck;
+    }
+    let mut final_filter = nav.filter().clone();
+    let recording = final_filter
+        .finish_recording()
+        .map_err(|e| RunError::Invalid(e.to_string()))?;
+    let layout = *final_filter.nominal().layout();
+    if let (Some(store), Some(forward)) = (recording, smoothing.as_mut()) {
+        let mut smoothed = smoothed_estimates(&mut store.borrow_mut(), forward, &layout)?;
+        // Written latest first: popped, they come in the order handed on.
+        let mut record = [0.0; ESTIMATE_SCALARS];
+        while smoothed.pop(&mut record).map_err(smoother_error)? {
+            smoothed_sink(Estimate::from_scalars(&record).as_ref())?;
+        }
+    }
+    let repairs = final_filter.ekf().counters().covariance_repairs;
+    let replays = nav.replays();
+    let mut all_warnings = aiding.warnings;
+    all_warnings.extend(warnings);
+    // The four SDINS sensors always; the others when the vehicle has them
+    // or the log has their file.
+    let health = (0..SENSORS)
+        .filter(|&i| i < 4 || aiding.present[i] || has_file[i])
+        .map(|i| (SENSOR_NAMES[i], health[i]))
+        .collect();
+    Ok(InsRun {
+        estimates: Vec::new(),
+        imu_span: (first.t, previous.t),
+        samples,
+        health,
+        magnetic_declination: facts.declination.unwrap_or((0.0, 0)),
+        repairs,
+        runtime_s,
+        replays,
+        final_filter,
+        ignored,
+        smoothed: None,
+        warnings: all_warnings,
+    })
+}
+
+/// Time spent reading the log and handing estimates on, which
+/// [`InsRun::runtime_s`] (the filter's time) leaves out; measured only when
+/// `on` (a log in memory is neither read nor written as the loop goes).
+/// One call in [`IoTime::SAMPLE`] is timed and counted that many times: a
+/// clock read per call would cost more than some of the calls it times.
+struct IoTime {
+    on: bool,
+    calls: Cell<u32>,
+    spent: Cell<Duration>,
+}
+
+impl IoTime {
+    /// Calls per timed call.
+    const SAMPLE: u32 = 32;
+
+    fn new(on: bool) -> Self {
+        IoTime {
+            on,
+            calls: Cell::new(Self::SAMPLE),
+            spent: Cell::new(Duration::ZERO),
+        }
+    }
+
+    /// Runs `f`, its time counted as I/O.
+    fn time<T>(&self, f: impl FnOnce() -> T) -> T {
+        if !self.on {
+            return f();
+        }
+        // Calls left until the next timed one.
+        let left = self.calls.get();
+        if left > 1 {
+            self.calls.set(left - 1);
+            return f();
+        }
+        self.calls.set(Self::SAMPLE);
+        let t0 = Instant::now();
+        let r = f();
+        self.spent
+            .set(self.spent.get() + t0.elapsed() * Self::SAMPLE);
+        r
+    }
+
+    fn spent(&self) -> Duration {
+        self.spent.get()
+    }
+}
+
+/// The plan of a run of `V` over `source`: each sensor's settings and
+/// latency (the USBL's from the largest acoustic travel time of its fixes),
+/// the queue of travelling aiding rows, and the warnings about what the log
+/// leaves to defaults or the vehicle cannot represent.
+fn plan_run<V: InsVehicle<N>, const N: usize>(
+    source: &LogSource<'_>,
+    options: &FilterOptions,
+    facts: &LogFacts,
+) -> Result<(LogPlan, Aiding), RunError> {
+    let plan0 = LogPlan::new(source.meta(), facts, [0.0; SENSORS], V::INITIAL_SIGMA)?;
+    let aiding = Aiding::new::<V, N>(options, plan0.transducer);
+    let (usbl_latency, has_usbl) = aiding.usbl_latency(source)?;
+    let latencies: [f64; SENSORS] = std::array::from_fn(|i| {
+        if i == 3 {
+            if has_usbl {
+                usbl_latency + 1.0
+            } else {
+                0.0
+            }
+        } else if options.delivery.is_late() {
+            options.delivery.max_delay() + 0.1
+        } else {
+            0.0
+        }
+    });
+    let mut plan = LogPlan::new(source.meta(), facts, latencies, V::INITIAL_SIGMA)?;
+    // The PX4 defaults of the imported-log sensors are said when used.
+    let sensors = &source.meta().sensors;
+    for (present, missing, name, noise) in [
+        (
+            aiding.present[4],
+            sensors.gnss.is_none(),
+            "gnss",
+            plan.sensors[4].noise_sigma,
+        ),
+        (
+            aiding.present[5],
+            sensors.baro.is_none(),
+            "baro",
+            plan.sensors[5].noise_sigma,
+        ),
+        (
+            aiding.present[6],
+            sensors.mag.is_none(),
+            "mag",
+            plan.sensors[6].noise_sigma,
+        ),
+    ] {
+        if present && missing {
+            plan.warnings.push(crate::missing_section(
+                name,
+                format!("meta.toml has no [sensors.{name}]: noise {noise} (PX4's default)"),
+            ));
+        }
+    }
+    // A depth lever arm is used only by a depth block that takes one.
+    let lever_arm = plan.sensors[0].lever_arm;
+    if lever_arm != Vector3::zeros() && <V::Depth as Slot<V, N, 1>>::AUX_NAMES.is_empty() {
+        plan.warnings.push(crate::meta_note(
+            "sensors.depth.lever_arm",
+            format!(
+                "meta.toml: sensors.depth.lever_arm {:?} m is not modelled by model {} (its depth block takes the reading at the IMU): ignored",
+                lever_arm.as_slice(),
+                V::REPLAY_NAME
+            ),
+        ));
+        plan.sensors[0].lever_arm = Vector3::zeros();
+    }
+    Ok((plan, aiding))
+}
+
+fn sample(r: &ImuRow) -> ImuSample {
+    ImuSample {
+        gyro: Vector3::new(r.gx, r.gy, r.gz),
+        accel: Vector3::new(r.ax, r.ay, r.az),
+    }
+}
+
+/// Requests taken from the request stream and not yet handed on, in request
+/// order: groups of requests snapped to one IMU sample (`true`: one
+/// navigator ticket) and requests no sample is near (`false`: handed on with
+/// `None` in turn).
+pub struct Waiting<P> {
+    groups: VecDeque<(bool, Vec<P>)>,
+}
+
+impl<P> Default for Waiting<P> {
+    fn default() -> Self {
+        Waiting {
+            groups: VecDeque::new(),
+        }
+    }
+}
+
+/// Where a replay wants estimates: at each IMU sample (at `t`, the next one
+/// at `next`), the requests it answers, queued in request order as groups in
+/// `waiting`; true when the caller must ask the navigator for the estimate
+/// at `t`. The work per sample is bounded by the requests taken, never by
+/// the time a sample covers.
+pub trait Requests<P> {
+    /// Takes the requests of the sample at `t`.
+    ///
+    /// # Errors
+    /// A request that cannot be read (e.g. a bad truth row).
+    fn take(
+        &mut self,
+        t: f64,
+        next: Option<f64>,
+        tolerance: f64,
+        waiting: &mut Waiting<P>,
+    ) -> Result<bool, RunError>;
+}
+
+/// Output times listed in ascending order with their payloads: each goes to
+/// its nearest IMU sample (at equal distance the earlier), with `None` for
+/// the estimate when that sample is further than the tolerance.
+pub struct Listed<Q: Iterator>(Peekable<Q>);
+
+impl<Q: Iterator> Listed<Q> {
+    /// The requests of `times`.
+    pub fn new(times: Q) -> Self {
+        Listed(times.peekable())
+    }
+}
+
+impl<P, Q> Requests<P> for Listed<Q>
+where
+    Q: Iterator<Item = Result<(f64, P), RunError>>,
+{
+    fn take(
+        &mut self,
+        t: f64,
+        next: Option<f64>,
+        tolerance: f64,
+        waiting: &mut Waiting<P>,
+    ) -> Result<bool, RunError> {
+        let requests = &mut self.0;
+        let mut snapped = Vec::new();
+        let mut ticket = false;
+        loop {
+            let rt = match requests.peek() {
+                None => break,
+                Some(Ok((rt, _))) => *rt,
+                Some(Err(_)) => match requests.next() {
+                    Some(Err(e)) => return Err(e),
+                    _ => break,
+                },
+            };
+            // Requests nearer the sample before were taken there.
+            let mine =
+                next.is_none_or(|tn| rt <= t || (rt <= tn && (rt - t).abs() <= (tn - rt).abs()));
+            if !mine {
+                break;
+            }
+            let Some(Ok((rt, p))) = requests.next() else {
+                break;
+            };
+            if (rt - t).abs() <= tolerance {
+                snapped.push(p);
+            } else {
+                // Requests stay in order: the snapped ones before this one
+                // form their group first.
+                if !snapped.is_empty() {
+                    waiting
+                        .groups
+                        .push_back((true, std::mem::take(&mut snapped)));
+                    ticket = true;
+                }
+                waiting.groups.push_back((false, vec![p]));
+            }
+        }
+        if !snapped.is_empty() {
+            waiting.groups.push_back((true, snapped));
+            ticket = true;
+        }
+        Ok(ticket)
+    }
+}
+
+/// An estimate every `period_s` (s): at the first IMU sample at or after
+/// each multiple of the period from the first sample; the payload is the
+/// sample's time and `None`. A gap in the IMU data gives one estimate after
+/// it, not one per period it covers.
+#[derive(Clone, Copy, Debug)]
+pub struct Every {
+    origin: Option<f64>,
+    period_s: f64,
+    due: f64,
+}
+
+impl Every {
+    /// Every `period_s` (s) from the first IMU sample.
+    pub fn new(period_s: f64) -> Self {
+        Every {
+            origin: None,
+            period_s,
+            due: f64::NEG_INFINITY,
+        }
+    }
+}
+
+impl<T> Requests<(f64, Option<T>)> for Every {
+    fn take(
+        &mut self,
+        t: f64,
+        _next: Option<f64>,
+        tolerance: f64,
+        waiting: &mut Waiting<(f64, Option<T>)>,
+    ) -> Result<bool, RunError> {
+        let origin = *self.origin.get_or_insert(t);
+        // A sample a hair before a multiple of the period counts as on it.
+        if t + 1e-6 * tolerance < self.due {
+            return Ok(false);
+        }
+        let k = ((t - origin) / self.period_s + 1e-9).floor() + 1.0;
+        self.due = origin + k * self.period_s;
+        waiting.groups.push_back((true, vec![(t, None)]));
+        Ok(true)
+    }
+}
+
+/// An estimate at every IMU sample (payload `every(t)`), besides the
+/// requests of `inner` (e.g. the truth rows): for a replay that compares
+/// with another estimator's solution at its own times, by interpolation.
+pub struct EachSample<R, F> {
+    inner: R,
+    every: F,
+}
+
+impl<R, F> EachSample<R, F> {
+    /// The requests of `inner` plus `every(t)` at each sample.
+    pub fn new(inner: R, every: F) -> Self {
+        EachSample { inner, every }
+    }
+}
+
+impl<P, R: Requests<P>, F: FnMut(f64) -> P> Requests<P> for EachSample<R, F> {
+    fn take(
+        &mut self,
+        t: f64,
+        next: Option<f64>,
+        tolerance: f64,
+        waiting: &mut Waiting<P>,
+    ) -> Result<bool, RunError> {
+        let p = (self.every)(t);
+        if self.inner.take(t, next, tolerance, waiting)? {
+            // The newest ticket group is this sample's: one estimate for both.
+            if let Some((_, ps)) = waiting.groups.iter_mut().rev().find(|(ticket, _)| *ticket) {
+                ps.push(p);
+                return Ok(true);
+            }
+        }
+        waiting.groups.push_back((true, vec![p]));
+        Ok(true)
+    }
+}
+
+impl<P> Waiting<P> {
+    /// Hands on the groups at the front that wait for no estimate.
+    fn hand_unmatched(
+        &mut self,
+        out: &mut impl FnMut(P, Option<&Estimate>) -> Result<(), RunError>,
+    ) -> Result<(), RunError> {
+        while self.groups.front().is_some_and(|(ticket, _)| !ticket) {
+            if let Some((_, ps)) = self.groups.pop_front() {
+                for p in ps {
+                    out(p, None)?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Hands on the estimate of the oldest ticket (and the unmatched groups
+    /// before and after it).
+    fn hand(
+        &mut self,
+        e: Option<Estimate>,
+        out: &mut impl FnMut(P, Option<&Estimate>) -> Result<(), RunError>,
+    ) -> Result<(), RunError> {
+        self.hand_unmatched(out)?;
+        if let Some((_, ps)) = self.groups.pop_front() {
+            for p in ps {
+                out(p, e.as_ref())?;
+            }
+        }
+        self.hand_unmatched(out)
+    }
+}
+
+fn smoother_error(e: SmootherError) -> RunError {
+    RunError::Invalid(e.to_string())
+}
+
+/// The smoothed counterpart of each estimate of `forward` (written in the
+/// order handed on), from the recorded epochs of `file` (every output time is
+/// an epoch of the recording): the backward pass meets the epochs latest
+/// first and the estimates are taken off the end of `forward` to match, so
+/// the smoothed ones come latest first too, into the returned file.
+fn smoothed_estimates<const N: usize>(
+    file: &mut EpochFile<N, 0>,
+    forward: &mut SpillFile,
+    layout: &Layout,
+) -> Result<SpillFile, RunError> {
+    let mut out = SpillFile::create(None, ESTIMATE_SCALARS).map_err(smoother_error)?;
+    let none = Estimate::to_scalars(None);
+    let mut record = [0.0; ESTIMATE_SCALARS];
+    // The latest estimate not yet matched (`None` inside: an estimate that
+    // was not available).
+    let mut pop = |forward: &mut SpillFile| -> Result<Option<Option<Estimate>>, SmootherError> {
+        Ok(forward
+            .pop(&mut record)?
+            .then(|| Estimate::from_scalars(&record)))
+    };
+    let mut pending = pop(forward).map_err(smoother_error)?;
+    // Only the covariance entries an estimate reports are smoothed at the
+    // output epochs.
+    let states = Estimate::covariance_states::<N>(layout);
+    smooth_states(file, &states, |epoch| {
+        // Later estimates than this epoch have no epoch; several requested
+        // times may snap to one epoch.
+        while let Some(e) = &pending {
+            match e {
+                Some(e) if e.t < epoch.time - 1e-9 => break,
+                Some(e) if (e.t - epoch.time).abs() <= 1e-9 => {
+                    let s = e.smoothed(&epoch.error, &epoch.covariance, layout);
+                    out.push(&Estimate::to_scalars(Some(&s)))?;
+                }
+                _ => out.push(&none)?,
+            }
+            pending = pop(forward)?;
+        }
+        Ok(())
+    })
+    .map_err(smoother_error)?;
+    while pending.is_some() {
+        out.push(&none).map_err(smoother_error)?;
+        pending = pop(forward).map_err(smoother_error)?;
+    }
+    Ok(out)
+}

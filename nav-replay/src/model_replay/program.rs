@@ -1,0 +1,288 @@
+//! The command line of a declared model's replay program: `replay` and
+//! `check`, with the JSON of `docs/model-replay.md`, "Output".
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::{Args, Parser, Subcommand};
+use nav_runtime::ekf::Ekf;
+use nav_runtime::model::Model;
+use serde_json::{json, Map, Value};
+
+use super::mapping::Mapping;
+use super::run::{ModelRun, RunOptions};
+use super::table::MappedRows;
+use super::{ModelReplay, ModelReplayError};
+use crate::program::{emit, note, one_line, parse_failure, warnings_json, write_out};
+use crate::RunError;
+
+#[derive(Debug, Parser)]
+#[command(version)]
+struct Program {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Run the model's filter over a log directory.
+    Replay(ReplayCommand),
+    /// Check the mapping against the declaration and read every row.
+    Check(CheckCommand),
+}
+
+#[derive(Debug, Args)]
+struct Common {
+    /// Log directory.
+    dir: PathBuf,
+    /// The mapping (default: `replay.toml` in the log directory).
+    #[arg(long, value_name = "FILE")]
+    mapping: Option<PathBuf>,
+    /// Print one JSON object on stdout.
+    #[arg(long)]
+    json: bool,
+    /// Skip (and count) bad CSV rows instead of stopping; propagate an input
+    /// gap in steps (with a warning) instead of refusing it.
+    #[arg(long)]
+    lenient: bool,
+}
+
+#[derive(Debug, Args)]
+struct ReplayCommand {
+    #[command(flatten)]
+    common: Common,
+    /// Directory for `estimates.csv` and `summary.json`.
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Write an estimate at most every this many seconds (0: every input sample).
+    #[arg(long, default_value_t = 0.0, value_name = "S")]
+    every: f64,
+}
+
+#[derive(Debug, Args)]
+struct CheckCommand {
+    #[command(flatten)]
+    common: Common,
+}
+
+pub(super) fn main_with<M, const N: usize, I, T>(replay: &ModelReplay<M, N>, args: I) -> ExitCode
+where
+    M: Model<N>,
+    Ekf<M, N>: Clone,
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    let program = match Program::try_parse_from(args) {
+        Ok(p) => p,
+        Err(e) => return parse_failure(e),
+    };
+    let result = match program.command {
+        Command::Replay(c) => cmd_replay(replay, &c),
+        Command::Check(c) => cmd_check(replay, &c.common),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {}", one_line(&e.to_string()));
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn invalid(e: ModelReplayError) -> RunError {
+    match e {
+        ModelReplayError::Log(e) => RunError::Log(e),
+        e => RunError::Invalid(e.to_string()),
+    }
+}
+
+fn cmd_replay<M: Model<N>, const N: usize>(
+    replay: &ModelReplay<M, N>,
+    c: &ReplayCommand,
+) -> Result<(), RunError>
+where
+    Ekf<M, N>: Clone,
+{
+    if !(c.every.is_finite() && c.every >= 0.0) {
+        return Err(RunError::Invalid(format!(
+            "--every {}: expected seconds >= 0",
+            c.every
+        )));
+    }
+    let options = RunOptions {
+        lenient: c.common.lenient,
+        output_period: c.every,
+    };
+    let run = |out: Option<&Path>| {
+        replay
+            .replay(&c.common.dir, c.common.mapping.as_deref(), &options, out)
+            .map_err(invalid)
+    };
+    let value = |r: &ModelRun| {
+        for w in &r.warnings {
+            eprintln!("warning: {}", w.message);
+        }
+        run_json(replay.name(), M::NAME, r, c.common.lenient)
+    };
+    match &c.out {
+        Some(out) => {
+            let mut v = Value::Null;
+            let dir = write_out(out, |dir| {
+                v = value(&run(Some(dir))?);
+                let path = dir.join("summary.json");
+                std::fs::write(&path, crate::output::report::json_line(&v) + "\n")
+                    .map_err(|e| RunError::io(&path, e))
+            })?;
+            emit(&v, c.common.json);
+            note(
+                c.common.json,
+                &format!("outputs written to {}", dir.display()),
+            );
+        }
+        None => emit(&value(&run(None)?), c.common.json),
+    }
+    Ok(())
+}
+
+/// The JSON object of a run (`docs/model-replay.md`, "Output").
+pub fn run_json(name: &str, model: &str, run: &ModelRun, lenient: bool) -> Value {
+    let mut sensors = Map::new();
+    for s in &run.sensors {
+        sensors.insert(
+            s.name.into(),
+            json!({
+                "file": s.file,
+                "rows": s.rows,
+                "accepted": s.accepted,
+                "gated": s.gated,
+                "rejected": s.rejected,
+                "skipped_rows": s.skipped_rows,
+                "nis_mean": s.nis_mean,
+                "outputs": s.outputs,
+            }),
+        );
+    }
+    let state: Map<String, Value> = run
+        .final_state
+        .iter()
+        .map(|(n, v, _)| ((*n).to_string(), Value::from(*v)))
+        .collect();
+    let sigma: Map<String, Value> = run
+        .final_state
+        .iter()
+        .map(|(n, _, s)| ((*n).to_string(), Value::from(*s)))
+        .collect();
+    let mut m = Map::new();
+    m.insert("model".into(), Value::from(name));
+    m.insert("declared_model".into(), Value::from(model));
+    m.insert("samples".into(), Value::from(run.samples));
+    m.insert(
+        "replayed_seconds".into(),
+        Value::from(run.span.1 - run.span.0),
+    );
+    m.insert("runtime_s".into(), Value::from(run.runtime_s));
+    m.insert("sensors".into(), Value::Object(sensors));
+    m.insert(
+        "final".into(),
+        json!({ "t": run.span.1, "state": state, "sigma": sigma }),
+    );
+    if let Some(t) = &run.truth {
+        let rms: Map<String, Value> = t
+            .rms
+            .iter()
+            .map(|(n, v)| ((*n).to_string(), Value::from(*v)))
+            .collect();
+        m.insert("state_error_rms".into(), Value::Object(rms));
+        m.insert("nees_mean".into(), Value::from(t.nees_mean));
+        m.insert("nees_dof".into(), Value::from(t.nees_dof));
+        m.insert("scored_samples".into(), Value::from(t.scored));
+    }
+    m.insert(
+        "health".into(),
+        json!({ "covariance_repairs": run.covariance_repairs }),
+    );
+    m.insert("lenient".into(), Value::from(lenient));
+    let skipped: Map<String, Value> = run
+        .skipped_rows
+        .iter()
+        .map(|(f, n)| (f.clone(), Value::from(*n)))
+        .collect();
+    m.insert("skipped_rows".into(), Value::Object(skipped));
+    m.insert("warnings".into(), warnings_json(&run.warnings));
+    Value::Object(m)
+}
+
+fn cmd_check<M: Model<N>, const N: usize>(
+    replay: &ModelReplay<M, N>,
+    c: &Common,
+) -> Result<(), RunError>
+where
+    Ekf<M, N>: Clone,
+{
+    let (name, mapping) = replay
+        .mapping(&c.dir, c.mapping.as_deref())
+        .map_err(invalid)?;
+    let value = check_json(replay, &c.dir, &name, &mapping, c.lenient).map_err(invalid)?;
+    if let Some(w) = value["warnings"].as_array() {
+        for w in w {
+            eprintln!("warning: {}", w["message"].as_str().unwrap_or_default());
+        }
+    }
+    emit(&value, c.json);
+    Ok(())
+}
+
+/// What `check` finds: every mapped file read through (rows, time span).
+fn check_json<M: Model<N>, const N: usize>(
+    replay: &ModelReplay<M, N>,
+    dir: &Path,
+    name: &str,
+    mapping: &Mapping,
+    lenient: bool,
+) -> Result<Value, ModelReplayError>
+where
+    Ekf<M, N>: Clone,
+{
+    let mut files = Map::new();
+    let declared = replay.declared();
+    let mut feeds = vec![("inputs".to_string(), &mapping.inputs)];
+    for (s, m) in declared.sensors.iter().zip(&mapping.sensors) {
+        if let Some(m) = m {
+            feeds.push((format!("sensor {}", s.name), &m.source));
+        }
+    }
+    feeds.push(("truth".to_string(), &mapping.truth));
+    let mut warnings = mapping.warnings.clone();
+    for (what, source) in feeds {
+        let Some(mut rows) = MappedRows::open(dir, source, name, lenient)? else {
+            continue;
+        };
+        let mut span: Option<(f64, f64)> = None;
+        while let Some((_, t)) = rows.next_row()? {
+            span = Some(span.map_or((t, t), |(a, _)| (a, t)));
+        }
+        for s in &rows.skipped {
+            warnings.push(nav_runtime::log::Warning::about(
+                nav_runtime::log::WarningKind::SkippedRow,
+                &s.file,
+                format!("skipped {s}"),
+            ));
+        }
+        files.insert(
+            source.file.clone(),
+            json!({
+                "feeds": what,
+                "rows": rows.rows,
+                "skipped_rows": rows.skipped_rows,
+                "span_s": span.map(|(a, b)| json!([a, b])),
+            }),
+        );
+    }
+    Ok(json!({
+        "model": replay.name(),
+        "declared_model": M::NAME,
+        "mapping": name,
+        "files": Value::Object(files),
+        "warnings": warnings_json(&warnings),
+    }))
+}

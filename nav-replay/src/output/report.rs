@@ -1,0 +1,251 @@
+//! JSON results, human-readable text and output directories.
+
+use std::path::{Path, PathBuf};
+
+use nav_runtime::stats::Summary;
+use serde_json::{Map, Value};
+
+use crate::{metric_values, ReplayOutput, RunError, RunResult};
+
+/// The `{"median","p95","max"}` object of metric `key` over runs.
+pub fn summary_of(runs: &[RunResult], key: &str) -> Value {
+    summary_value(&metric_values(runs, key))
+}
+
+/// The `{"median","p95","max"}` object of values (`null` fields for no values).
+pub fn summary_value(values: &[f64]) -> Value {
+    let s = Summary::of(values);
+    let mut m = Map::new();
+    m.insert("median".into(), Value::from(s.median));
+    m.insert("p95".into(), Value::from(s.p95));
+    m.insert("max".into(), Value::from(s.max));
+    Value::Object(m)
+}
+
+/// The JSON object of a replay: `model`, `samples`, `runtime_s`, `skipped_rows` (and
+/// `skipped_rows_by_file`, `unknown_files`) when `lenient`, then the model's keys.
+pub fn replay_json(
+    model: &str,
+    output: &ReplayOutput,
+    lenient: bool,
+    skipped: &std::collections::BTreeMap<String, usize>,
+    unknown_files: &[String],
+) -> Value {
+    let mut m = output.metrics.clone();
+    m.insert("model".into(), Value::from(model));
+    m.insert("samples".into(), Value::from(output.samples));
+    m.insert("runtime_s".into(), Value::from(output.runtime_s));
+    if lenient {
+        m.insert(
+            "skipped_rows".into(),
+            Value::from(skipped.values().sum::<usize>()),
+        );
+        let by_file: Map<String, Value> = skipped
+            .iter()
+            .map(|(k, v)| (k.clone(), Value::from(*v)))
+            .collect();
+        m.insert("skipped_rows_by_file".into(), Value::Object(by_file));
+        let unknown: Vec<Value> = unknown_files
+            .iter()
+            .map(|f| Value::from(f.as_str()))
+            .collect();
+        m.insert("unknown_files".into(), Value::Array(unknown));
+    }
+    Value::Object(m)
+}
+
+/// The one-line JSON text of a value.
+pub fn json_line(value: &Value) -> String {
+    serde_json::to_string(value).unwrap_or_else(|_| "{}".to_string())
+}
+
+fn fmt_number(v: &Value) -> String {
+    match v.as_f64() {
+        Some(x) if v.is_f64() => {
+            if x != 0.0 && (x.abs() < 1e-3 || x.abs() >= 1e6) {
+                format!("{x:.4e}")
+            } else {
+                format!("{x:.4}")
+            }
+        }
+        _ => v.to_string(),
+    }
+}
+
+/// Text of one value for people: whole numbers (counts, even when the JSON
+/// spells them `2000.0`) without decimals, other numbers with four, arrays as
+/// `[a, b]`, strings without quotes, `null` as `n/a`.
+pub fn format_value(v: &Value) -> String {
+    match v {
+        Value::Number(_) => match v.as_f64() {
+            Some(x) if x.fract() == 0.0 && x.abs() < 1e15 => format!("{x:.0}"),
+            _ => fmt_number(v),
+        },
+        Value::Array(items) => {
+            let parts: Vec<String> = items.iter().map(format_value).collect();
+            format!("[{}]", parts.join(", "))
+        }
+        Value::String(s) => s.clone(),
+        Value::Null => "n/a".to_string(),
+        other => other.to_string(),
+    }
+}
+
+/// Human-readable rendering of a result object: `scenario`/`model` first, then one
+/// `key: value` line per key; `{"median","p95","max"}` objects on one line.
+pub fn human(value: &Value) -> String {
+    let mut out = String::new();
+    let Some(map) = value.as_object() else {
+        return value.to_string();
+    };
+    let first = ["scenario", "model", "runs", "seed"];
+    let mut keys: Vec<&String> = map.keys().filter(|k| first.contains(&k.as_str())).collect();
+    keys.sort_by_key(|k| first.iter().position(|f| f == k));
+    keys.extend(map.keys().filter(|k| !first.contains(&k.as_str())));
+    let width = keys.iter().map(|k| k.len()).max().unwrap_or(0);
+    for k in keys {
+        render(&mut out, k, &map[k.as_str()], width, 0);
+    }
+    out
+}
+
+fn render(out: &mut String, key: &str, v: &Value, width: usize, indent: usize) {
+    let pad = " ".repeat(indent);
+    match v {
+        Value::Object(o)
+            if o.contains_key("median") && o.contains_key("p95") && o.contains_key("max") =>
+        {
+            out.push_str(&format!(
+                "{pad}{key:width$}  median {}  p95 {}  max {}\n",
+                fmt_number(&o["median"]),
+                fmt_number(&o["p95"]),
+                fmt_number(&o["max"])
+            ));
+        }
+        Value::Object(o) => {
+            out.push_str(&format!("{pad}{key}:\n"));
+            let w = o.keys().map(|k| k.len()).max().unwrap_or(0);
+            for (k, v) in o {
+                render(out, k, v, w, indent + 2);
+            }
+        }
+        other => out.push_str(&format!("{pad}{key:width$}  {}\n", format_value(other))),
+    }
+}
+
+/// An output directory written atomically: files go to a temporary sibling directory
+/// and are moved into the target by [`StagedDir::commit`]; dropping an uncommitted
+/// `StagedDir` deletes the temporary directory, so an error leaves no partial output.
+/// Existing files in the target with other names are kept.
+#[derive(Debug)]
+pub struct StagedDir {
+    target: PathBuf,
+    staging: PathBuf,
+    committed: bool,
+}
+
+impl StagedDir {
+    /// Creates the temporary directory next to `target`.
+    pub fn new(target: &Path) -> Result<StagedDir, RunError> {
+        if target.exists() && !target.is_dir() {
+            return Err(RunError::Invalid(format!(
+                "{}: exists and is not a directory",
+                target.display()
+            )));
+        }
+        let name = target
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "out".into());
+        let parent = match target.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        std::fs::create_dir_all(&parent).map_err(|e| RunError::io(&parent, e))?;
+        let nanos = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map(|d| d.subsec_nanos())
+            .unwrap_or(0);
+        let staging = parent.join(format!(".{name}.partial-{}-{nanos}", std::process::id()));
+        std::fs::create_dir(&staging).map_err(|e| RunError::io(&staging, e))?;
+        Ok(StagedDir {
+            target: target.to_path_buf(),
+            staging,
+            committed: false,
+        })
+    }
+
+    /// Where to write files now.
+    pub fn path(&self) -> &Path {
+        &self.staging
+    }
+
+    /// Moves the written files into the target directory.
+    pub fn commit(mut self) -> Result<PathBuf, RunError> {
+        if !self.target.exists() {
+            std::fs::rename(&self.staging, &self.target)
+                .map_err(|e| RunError::io(&self.target, e))?;
+        } else {
+            let entries =
+                std::fs::read_dir(&self.staging).map_err(|e| RunError::io(&self.staging, e))?;
+            for entry in entries {
+                let entry = entry.map_err(|e| RunError::io(&self.staging, e))?;
+                let to = self.target.join(entry.file_name());
+                std::fs::rename(entry.path(), &to).map_err(|e| RunError::io(&to, e))?;
+            }
+            std::fs::remove_dir(&self.staging).map_err(|e| RunError::io(&self.staging, e))?;
+        }
+        self.committed = true;
+        Ok(self.target.clone())
+    }
+}
+
+impl Drop for StagedDir {
+    fn drop(&mut self) {
+        if !self.committed {
+            let _ = std::fs::remove_dir_all(&self.staging);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn human_rendering() {
+        let v: Value = serde_json::json!({
+            "seed": 1, "scenario": "x", "runs": 3,
+            "err_m": {"median": 1.0, "p95": 2.5, "max": 3.0},
+            "nested": {"a": 1.5}
+        });
+        let h = human(&v);
+        let lines: Vec<&str> = h.lines().collect();
+        assert!(lines[0].starts_with("scenario"));
+        assert!(h.contains("median 1.0000  p95 2.5000  max 3.0000"));
+        assert!(h.contains("nested:\n  a  1.5000"));
+    }
+
+    #[test]
+    fn counts_are_integers_and_arrays_are_readable() {
+        let v: Value = serde_json::json!({
+            "accepted": 99990.0, "band": [4.115373097378335, 15.763189220193315],
+            "name": "x", "missing": null, "flag": true
+        });
+        let h = human(&v);
+        assert!(h.contains("accepted  99990\n"), "{h}");
+        assert!(h.contains("band      [4.1154, 15.7632]\n"), "{h}");
+        assert!(h.contains("name      x\n"), "{h}");
+        assert!(h.contains("missing   n/a\n"), "{h}");
+        assert!(h.contains("flag      true\n"), "{h}");
+    }
+
+    #[test]
+    fn summary_nan_is_null() {
+        let v = summary_value(&[]);
+        assert_eq!(
+            v,
+            serde_json::json!({"median": null, "p95": null, "max": null})
+        );
+    }
+}

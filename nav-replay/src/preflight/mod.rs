@@ -1,0 +1,427 @@
+//! Preflight: checks of a log's values before any filter runs, for the unit,
+//! sign, frame and clock mistakes that the reader cannot see (every value is
+//! finite and in its file's format, but the file means something else).
+//!
+//! Each check is one file; [`check`] runs them all over a log in memory and
+//! [`check_files`] over a log on disk, read as a stream: each file is read
+//! once, in the order of [`LogDir::read`], and memory does not grow with the
+//! log. Both drive the same folds over the rows ([`SliceRows`] in memory, a
+//! [`RowReader`](nav_runtime::log::RowReader) on disk), so they give the same
+//! findings on the same rows.
+//!
+//! Most checks are folds over every row (IMU gaps, frozen IMU, gyro
+//! magnitude, angle ranges, truth values, partial DVL rows, rows outside the
+//! IMU span, the first depth sample, the first USBL fix, DVL speeds). The few
+//! that compare one file with another over time (the gyro against the heading
+//! reference, the compass changes against the gyro's turn) and the median DVL
+//! speed over the first minute run on the *head* of the log: each file's rows
+//! with `t` before the first IMU time plus
+//! [`PreflightOptions::head_seconds`] (600 s by default).
+//!
+//! A clear mistake is an error naming the file, the line or column and the
+//! likely cause; a doubtful one is a warning (listed in the JSON
+//! `warnings`). `navsim replay` runs the preflight on every log before the
+//! model and stops at its first error; `navsim check DIR` prints every
+//! finding. Checks and thresholds are described in `docs/trust.md`.
+
+mod aiding_plausibility;
+mod alongside;
+mod angle_range;
+mod depth_consistency;
+mod finding;
+mod frozen_imu;
+mod gyro_rate;
+mod heading_units;
+mod partial_rows;
+mod sensor_sections;
+mod specific_force;
+mod summary;
+mod time_gaps;
+mod truth_values;
+
+pub use alongside::{check_alongside, refusal};
+pub use finding::{Finding, Report, Severity};
+pub use summary::{FileSummary, ImuSummary, LogSummary};
+
+use nav_runtime::log::{
+    AltitudeRow, DepthRow, DvlRow, HeadingRow, ImuRow, LogDir, LogError, LogFiles, Meta, Row,
+    RowSource, RpmRow, SharedImu, SliceRows, SpeedRow, TruthRow, UsblRow,
+};
+
+/// What the preflight checks and how strictly.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PreflightOptions {
+    /// `--lenient`: IMU gaps and a frozen IMU are warnings instead of errors.
+    pub lenient: bool,
+    /// An IMU interval longer than this many median IMU periods is a gap.
+    pub max_gap_periods: f64,
+    /// A gyro triple repeated for at least this long (s), and for more samples
+    /// than noise and resolution explain, is a frozen IMU.
+    pub frozen_seconds: f64,
+    /// Span of the log's start over which the vehicle is assumed near rest
+    /// for the specific-force checks, s.
+    pub settle_seconds: f64,
+    /// Span over which aiding sensors are compared with the initial state, s
+    /// (the median DVL speed uses at most `head_seconds` of it).
+    pub aiding_seconds: f64,
+    /// Span of the log's start kept in memory for the checks that compare
+    /// files over time (gyro against heading, compass against gyro, median
+    /// DVL speed), s from the first IMU time. Bounds the preflight's memory.
+    pub head_seconds: f64,
+    /// The files the model reads, when known: sections missing for other
+    /// files are not reported (and the files are listed as unused).
+    pub model_files: Option<&'static [&'static str]>,
+}
+
+/// Default [`PreflightOptions::head_seconds`]: ten minutes, long enough for
+/// a turn, a minute of aiding and many compass samples; 3.4 MB of IMU rows
+/// at 100 Hz.
+pub const HEAD_SECONDS: f64 = 600.0;
+
+impl Default for PreflightOptions {
+    fn default() -> Self {
+        PreflightOptions {
+            lenient: false,
+            max_gap_periods: 10.0,
+            frozen_seconds: 20.0,
+            settle_seconds: 5.0,
+            aiding_seconds: 60.0,
+            head_seconds: HEAD_SECONDS,
+            model_files: None,
+        }
+    }
+}
+
+/// Runs every check over `log` in memory. Lines in findings are known when
+/// the reader skipped no row of the file.
+pub fn check(log: &LogDir, options: &PreflightOptions) -> Report {
+    fn slice<'a, R: Row>(log: &LogDir, rows: Option<&'a [R]>) -> Option<SliceRows<'a, R>> {
+        rows.map(|r| SliceRows::of(log, Some(r)))
+    }
+    let l = log;
+    let mut scan = Scan::new(&l.meta, options);
+    let read = (|| {
+        scan.file(Some(&mut SliceRows::of(l, Some(&l.imu[..]))))?;
+        scan.file(slice(l, l.dvl.as_deref()).as_mut())?;
+        scan.file(slice(l, l.depth.as_deref()).as_mut())?;
+        scan.file(slice(l, l.heading.as_deref()).as_mut())?;
+        scan.file(slice(l, l.usbl.as_deref()).as_mut())?;
+        scan.file(slice(l, l.speed.as_deref()).as_mut())?;
+        scan.file(slice(l, l.rpm.as_deref()).as_mut())?;
+        scan.file(slice(l, l.altitude.as_deref()).as_mut())?;
+        scan.file(slice(l, l.truth.as_deref()).as_mut())
+    })();
+    // Rows in memory are read without error (`SliceRows` never fails).
+    debug_assert!(read.is_ok());
+    scan.finish()
+}
+
+/// Runs every check over the log opened as `files`, reading each CSV file
+/// once in the order of [`LogDir::read`] (so a bad file or row gives the
+/// error `LogDir::read` gives) and keeping only the head of the log
+/// ([`PreflightOptions::head_seconds`]) and bounded state in memory. Returns
+/// the findings and what the replay needs to know about the log without
+/// holding it ([`LogSummary`]). Lines in findings are those of the files,
+/// lenient reading or not.
+///
+/// # Errors
+/// As [`LogDir::read`] for the CSV files.
+pub fn check_files(
+    files: &LogFiles,
+    options: &PreflightOptions,
+) -> Result<(Report, LogSummary), LogError> {
+    check_files_with(files, options, None)
+}
+
+/// [`check_files`] with `imu.csv` taken from `imu` (the rows a replay
+/// beside the check reads, [`LogFiles::share_imu`]) instead of parsed here.
+///
+/// # Errors
+/// As [`check_files`].
+pub fn check_files_with(
+    files: &LogFiles,
+    options: &PreflightOptions,
+    imu: Option<SharedImu>,
+) -> Result<(Report, LogSummary), LogError> {
+    let mut scan = Scan::new(files.meta(), options);
+    let mut summary = LogSummary::new(files);
+    match imu {
+        Some(mut shared) => {
+            scan.file(Some(&mut shared))?;
+            summary.add_shared_imu(&shared.stats(), scan.first_t[ImuRow::INDEX]);
+        }
+        None => {
+            let mut imu = files.imu()?;
+            scan.file(Some(&mut imu))?;
+            summary.add_file(&imu, scan.first_t[ImuRow::INDEX]);
+        }
+    }
+    summary_file::<DvlRow>(files, &mut scan, &mut summary)?;
+    summary_file::<DepthRow>(files, &mut scan, &mut summary)?;
+    summary_file::<HeadingRow>(files, &mut scan, &mut summary)?;
+    summary_file::<UsblRow>(files, &mut scan, &mut summary)?;
+    summary_file::<SpeedRow>(files, &mut scan, &mut summary)?;
+    summary_file::<RpmRow>(files, &mut scan, &mut summary)?;
+    summary_file::<AltitudeRow>(files, &mut scan, &mut summary)?;
+    summary_file::<TruthRow>(files, &mut scan, &mut summary)?;
+    summary.finish(scan.imu_summary());
+    Ok((scan.finish(), summary))
+}
+
+fn summary_file<R: Scanned>(
+    files: &LogFiles,
+    scan: &mut Scan,
+    summary: &mut LogSummary,
+) -> Result<(), LogError> {
+    let mut rows = files.rows::<R>()?;
+    scan.file(rows.as_mut())?;
+    if let Some(rows) = &rows {
+        summary.add_file(rows, scan.first_t[R::INDEX]);
+    }
+    Ok(())
+}
+
+/// Rows of `rows` with `t` before `t_end`.
+fn rows_until<R: Row>(rows: &[R], t_end: f64) -> &[R] {
+    let n = rows.partition_point(|r| r.t() < t_end);
+    &rows[..n]
+}
+
+/// `lines a<sep>b`; `None` when a line is not known.
+fn lines_text(a: Option<u64>, b: Option<u64>, sep: &str) -> Option<String> {
+    Some(format!("lines {}{sep}{}", a?, b?))
+}
+
+/// The state of one preflight run as the rows go by: every check's fold, the
+/// head of the log and what is known about each file. Files are fed in the
+/// order of [`LogDir::read`], `imu.csv` first.
+struct Scan<'m> {
+    meta: &'m Meta,
+    options: PreflightOptions,
+    /// Rows before `head_end` of each file.
+    head: LogDir,
+    head_end: f64,
+    /// Per file (index [`Scanned::INDEX`]): present, rows.
+    present: [bool; 9],
+    rows: [usize; 9],
+    first_t: [Option<f64>; 9],
+    imu_first: Option<ImuRow>,
+    imu_last_t: Option<f64>,
+    specific_force: specific_force::Fold,
+    gyro_rate: gyro_rate::Fold,
+    frozen_imu: frozen_imu::Fold,
+    time_gaps: time_gaps::Fold,
+    partial_rows: partial_rows::Fold,
+    angle_range: angle_range::Fold,
+    depth: depth_consistency::Fold,
+    aiding: aiding_plausibility::Fold,
+    truth: truth_values::Fold,
+}
+
+/// A row type the preflight reads: its place in the read order, its head in
+/// a [`LogDir`] and the folds it feeds.
+trait Scanned: Row {
+    /// Position in the order of [`LogDir::read`].
+    const INDEX: usize;
+    /// The rows of this file in `log` (created empty when absent).
+    fn head(log: &mut LogDir) -> &mut Vec<Self>;
+    /// Feeds one row, on `line` when known, to the folds it concerns.
+    fn feed(scan: &mut Scan, line: Option<u64>, row: &Self);
+}
+
+impl Scanned for ImuRow {
+    const INDEX: usize = 0;
+    fn head(log: &mut LogDir) -> &mut Vec<Self> {
+        &mut log.imu
+    }
+    fn feed(scan: &mut Scan, line: Option<u64>, r: &Self) {
+        if scan.imu_first.is_none() {
+            scan.imu_first = Some(*r);
+            scan.head_end = r.t + scan.options.head_seconds;
+        }
+        scan.imu_last_t = Some(r.t);
+        scan.specific_force
+            .imu(scan.options.settle_seconds, line, r);
+        scan.gyro_rate.imu(line, r);
+        scan.frozen_imu.imu(line, r);
+        scan.time_gaps.imu(line, r);
+    }
+}
+
+macro_rules! scanned {
+    ($row:ty, $index:literal, $field:ident, |$scan:ident, $line:ident, $r:ident| $feed:block) => {
+        impl Scanned for $row {
+            const INDEX: usize = $index;
+            fn head(log: &mut LogDir) -> &mut Vec<Self> {
+                log.$field.get_or_insert_with(Vec::new)
+            }
+            fn feed($scan: &mut Scan, $line: Option<u64>, $r: &Self) {
+                let span = $scan.imu_span();
+                $scan
+                    .time_gaps
+                    .outside(Self::INDEX, <$row>::FILE, $line, $r.t, span);
+                $feed
+            }
+        }
+    };
+}
+
+scanned!(DvlRow, 1, dvl, |scan, line, r| {
+    scan.partial_rows.dvl(line, r);
+    scan.aiding.dvl(line, r);
+});
+scanned!(DepthRow, 2, depth, |scan, line, r| {
+    scan.depth.depth(line, r);
+});
+scanned!(HeadingRow, 3, heading, |scan, line, r| {
+    scan.angle_range.heading(line, r);
+});
+scanned!(UsblRow, 4, usbl, |scan, line, r| {
+    scan.depth.usbl(line, r);
+    let t_start = scan.t_start();
+    scan.aiding
+        .usbl(line, r, t_start, scan.options.aiding_seconds);
+});
+scanned!(SpeedRow, 5, speed, |_scan, _line, _r| {});
+scanned!(RpmRow, 6, rpm, |_scan, _line, _r| {});
+scanned!(AltitudeRow, 7, altitude, |_scan, _line, _r| {});
+scanned!(TruthRow, 8, truth, |scan, line, r| {
+    scan.angle_range.truth(line, r);
+    scan.truth.row(line, r);
+});
+
+impl<'m> Scan<'m> {
+    fn new(meta: &'m Meta, options: &PreflightOptions) -> Self {
+        Scan {
+            meta,
+            options: *options,
+            head: LogDir::new(*meta),
+            head_end: options.head_seconds,
+            present: [false; 9],
+            rows: [0; 9],
+            first_t: [None; 9],
+            imu_first: None,
+            imu_last_t: None,
+            specific_force: specific_force::Fold::default(),
+            gyro_rate: gyro_rate::Fold::default(),
+            frozen_imu: frozen_imu::Fold::new(meta, options),
+            time_gaps: time_gaps::Fold::new(options),
+            partial_rows: partial_rows::Fold::default(),
+            angle_range: angle_range::Fold::default(),
+            depth: depth_consistency::Fold::default(),
+            aiding: aiding_plausibility::Fold::default(),
+            truth: truth_values::Fold::default(),
+        }
+    }
+
+    /// Reads one file (`None`: absent) to its end.
+    fn file<R: Scanned>(&mut self, rows: Option<&mut impl RowSource<R>>) -> Result<(), LogError> {
+        let Some(rows) = rows else { return Ok(()) };
+        self.present[R::INDEX] = true;
+        R::head(&mut self.head);
+        while let Some((line, row)) = rows.next_row()? {
+            self.rows[R::INDEX] += 1;
+            self.first_t[R::INDEX].get_or_insert(row.t());
+            R::feed(self, line, &row);
+            if row.t() < self.head_end {
+                R::head(&mut self.head).push(row);
+            }
+        }
+        Ok(())
+    }
+
+    /// The first IMU time (0 without IMU rows): where the log starts.
+    fn t_start(&self) -> f64 {
+        self.imu_first.map_or(0.0, |r| r.t)
+    }
+
+    /// The IMU span `(first, last)`, if the IMU has rows.
+    fn imu_span(&self) -> Option<(f64, f64)> {
+        Some((self.imu_first?.t, self.imu_last_t?))
+    }
+
+    fn imu_summary(&self) -> Option<ImuSummary> {
+        Some(ImuSummary {
+            first: self.imu_first?,
+            last_t: self.imu_last_t?,
+            rows: self.rows[0],
+            median_period: self.time_gaps.period(),
+        })
+    }
+
+    /// Every finding, in check order.
+    fn finish(self) -> Report {
+        let mut report = Report::default();
+        let o = self.options;
+        let imu_rows = self.rows[0];
+        let span = self.imu_span();
+        let t_start = self.t_start();
+        let epoch_ok = initial_epoch(self.meta, span, self.time_gaps.period(), &mut report);
+        self.specific_force.finish(self.meta, &mut report);
+        let reference_beyond = self.angle_range.reference_beyond();
+        self.gyro_rate
+            .finish(&self.head, reference_beyond, &mut report);
+        self.frozen_imu.finish(&o, &mut report);
+        self.time_gaps.finish(imu_rows, span, &o, &mut report);
+        self.partial_rows.finish(&o, &mut report);
+        self.angle_range.finish(&mut report);
+        if !report.has_errors() {
+            heading_units::check(&self.head, &mut report);
+        }
+        self.depth.finish(self.meta, &mut report);
+        if epoch_ok {
+            // The aiding checks measure time from the epoch.
+            self.aiding.finish(
+                &self.head,
+                t_start,
+                self.present[DvlRow::INDEX],
+                &o,
+                &mut report,
+            );
+        }
+        self.truth.finish(
+            self.present[TruthRow::INDEX] && self.rows[TruthRow::INDEX] == 0,
+            &mut report,
+        );
+        let mut has_rows = [false; 8];
+        for (has, rows) in has_rows.iter_mut().zip(self.rows) {
+            *has = rows > 0;
+        }
+        let mut present = [false; 8];
+        present.copy_from_slice(&self.present[..8]);
+        sensor_sections::check(self.meta, present, has_rows, o.model_files, &mut report);
+        report
+    }
+}
+
+/// `[initial] t` more IMU periods before the first IMU row than the replay
+/// carries the initial state over, or after the last row: an error naming
+/// the key (a log moved to epoch time stamps without its epoch, say). False
+/// when it is one.
+fn initial_epoch(
+    meta: &nav_runtime::log::Meta,
+    span: Option<(f64, f64)>,
+    period: Option<f64>,
+    report: &mut Report,
+) -> bool {
+    use crate::ins::setup::MAX_EPOCH_LEAD_PERIODS;
+    use nav_runtime::log::{Warning, WarningKind, META_FILE};
+    let (Some(t), Some((t0, t1))) = (meta.initial.t, span) else {
+        return true;
+    };
+    let period = period.unwrap_or(0.01);
+    let problem = if t0 - t > MAX_EPOCH_LEAD_PERIODS * period {
+        format!(
+            "initial.t = {t} s is {} s before the first IMU row (t = {t0} s), more than \
+             {MAX_EPOCH_LEAD_PERIODS} IMU periods: a clock offset? (time stamps moved without \
+             initial.t)",
+            t0 - t
+        )
+    } else if t > t1 {
+        format!("initial.t = {t} s is after the last IMU row (t = {t1} s): nothing to replay")
+    } else {
+        return true;
+    };
+    report.error(Warning::about(WarningKind::Suspicious, META_FILE, problem).with_key("initial.t"));
+    false
+}

@@ -1,0 +1,448 @@
+//! The replay program of one vehicle, for a user's own binary:
+//!
+//! ```no_run
+//! use nav_blocks::{Compass, Depth, Dvl, InsCore};
+//! use nav_ins::{Absent, InsVehicle};
+//!
+//! nav_runtime::model! {
+//!     /// The core with a depth meter, a DVL and a compass: 20 states.
+//!     pub model Auv = InsCore + Depth + Dvl + Compass {
+//!         allow_unused { position_error[1] }
+//!     }
+//! }
+//!
+//! impl InsVehicle<20> for Auv {
+//!     const REPLAY_NAME: &'static str = "auv";
+//!     const DESCRIPTION: &'static str = "INS + depth + DVL + compass";
+//!     type Depth = AuvDepth;
+//!     type Dvl = AuvDvl;
+//!     type Compass = AuvCompass;
+//!     type CompassSmallAngle = AuvCompassSmallAngle;
+//!     type Usbl = Absent;
+//!     type Gnss = Absent;
+//!     type Baro = Absent;
+//!     type Mag = Absent;
+//! }
+//!
+//! fn main() -> std::process::ExitCode {
+//!     nav_replay::program::replay_main::<Auv, 20>()
+//! }
+//! ```
+//!
+//! gives `my-vehicle replay DIR [--out OUT] [--json] [--lenient]` (the
+//! `navsim replay` of that vehicle: same JSON, same time series and plots)
+//! and `my-vehicle check DIR [--json] [--lenient]` (reads the log, checks
+//! that the vehicle fits the replay, says which log files feed which of its
+//! sensors). Registering the vehicle in `navsim` itself is one line of
+//! `navsim`'s registry. See `docs/pipeline.md`.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Args, Parser, Subcommand};
+use nav_runtime::log::{LogFiles, Strictness};
+use serde_json::{json, Map, Value};
+
+use nav_ins::vehicle::{Layout, Present};
+use nav_ins::InsVehicle;
+use nav_runtime::log::Warning;
+
+use crate::ins::InsReplay;
+use crate::output::interrupt::Pending;
+use crate::output::report::{self, StagedDir};
+use crate::preflight::{self, LogSummary, PreflightOptions};
+use crate::{ReplayModel, ReplayOptions, RunError};
+
+/// The command line of a vehicle's replay program.
+#[derive(Debug, Parser)]
+#[command(version)]
+struct Program {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Run the vehicle's filter over a log directory.
+    Replay(ReplayCommand),
+    /// Read a log directory and say what the vehicle would use of it.
+    Check(CheckCommand),
+}
+
+#[derive(Debug, Args)]
+struct ReplayCommand {
+    /// Log directory.
+    dir: PathBuf,
+    /// Directory for time series and plots.
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Print one JSON object on stdout.
+    #[arg(long)]
+    json: bool,
+    /// Skip (and count) bad CSV rows instead of stopping.
+    #[arg(long)]
+    lenient: bool,
+    /// An IMU interval longer than this many IMU periods is a gap (an error,
+    /// a warning with --lenient).
+    #[arg(long, default_value_t = 10.0, value_name = "N")]
+    max_gap_periods: f64,
+    /// Also smooth the run (fixed-interval smoother) and report both.
+    #[arg(long)]
+    smooth: bool,
+}
+
+#[derive(Debug, Args)]
+struct CheckCommand {
+    /// Log directory.
+    dir: PathBuf,
+    /// Print one JSON object on stdout.
+    #[arg(long)]
+    json: bool,
+    /// Skip (and count) bad CSV rows instead of stopping.
+    #[arg(long)]
+    lenient: bool,
+}
+
+/// The replay program of vehicle `V` (`N` error states) on the process's
+/// arguments (see the module docs).
+pub fn replay_main<V: InsVehicle<N>, const N: usize>() -> ExitCode {
+    replay_main_with::<V, N, _, _>(std::env::args_os())
+}
+
+/// [`replay_main`] with explicit arguments (the first is the program name).
+pub fn replay_main_with<V, const N: usize, I, T>(args: I) -> ExitCode
+where
+    V: InsVehicle<N>,
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    let program = match Program::try_parse_from(args) {
+        Ok(p) => p,
+        Err(e) => return parse_failure(e),
+    };
+    let result = match program.command {
+        Command::Replay(c) => replay_with(
+            &InsReplay::<V, N>::new(),
+            &ReplayArgs {
+                dir: c.dir,
+                model: V::REPLAY_NAME.to_string(),
+                out: c.out,
+                json: c.json,
+                lenient: c.lenient,
+                stationary: false,
+                max_gap_periods: c.max_gap_periods,
+                smooth: c.smooth,
+            },
+        ),
+        Command::Check(c) => check::<V, N>(&c),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {}", one_line(&e.to_string()));
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// What `check` finds: the log as the reader validates it, and for each
+/// aiding file whether the vehicle has its sensor.
+fn check<V: InsVehicle<N>, const N: usize>(c: &CheckCommand) -> Result<(), RunError> {
+    let strictness = if c.lenient {
+        Strictness::Lenient
+    } else {
+        Strictness::Strict
+    };
+    Layout::of::<V, N>()?;
+    let files = LogFiles::open(&c.dir, strictness)?;
+    let (_, summary) = crate::preflight::check_files(
+        &files,
+        &PreflightOptions {
+            lenient: c.lenient,
+            ..PreflightOptions::default()
+        },
+    )?;
+    let value = check_report::<V, N>(&summary);
+    if c.json {
+        println!("{}", crate::output::report::json_line(&value));
+    } else {
+        print!("{}", crate::output::report::human(&value));
+    }
+    Ok(())
+}
+
+/// The `check` object of a log (its streamed summary) for vehicle `V`.
+pub fn check_report<V: InsVehicle<N>, const N: usize>(log: &LogSummary) -> Value {
+    let has = Present::of::<V, N>();
+    let rows = |file: &str| log.file(file).map(|f| f.rows);
+    let files = [
+        ("depth", rows("depth.csv"), has.depth),
+        ("dvl", rows("dvl.csv"), has.dvl),
+        (
+            "heading",
+            rows("heading.csv"),
+            has.compass || has.compass_small_angle,
+        ),
+        ("usbl", rows("usbl.csv"), has.usbl),
+        ("gnss", rows("gnss.csv"), has.gnss),
+        ("baro", rows("baro.csv"), has.baro),
+        ("mag", rows("mag.csv"), has.mag),
+    ];
+    let mut sensors = Map::new();
+    let mut warnings: Vec<String> = Vec::new();
+    for (name, rows, present) in files {
+        let Some(rows) = rows else { continue };
+        if !present {
+            warnings.push(format!(
+                "model {} has no {name} sensor: the {rows} rows of {name}.csv would not be used",
+                V::REPLAY_NAME
+            ));
+        }
+        sensors.insert(name.into(), json!({ "rows": rows, "used": present }));
+    }
+    for (file, n) in &log.skipped_rows {
+        warnings.push(format!("{file}: {n} bad rows skipped"));
+    }
+    for file in &log.unknown_files {
+        warnings.push(format!("ignored unknown file {file}"));
+    }
+    let span = log.imu_time_span();
+    json!({
+        "model": V::REPLAY_NAME,
+        "imu_rows": log.imu_rows(),
+        "imu_span_s": span.map(|(a, b)| json!([a, b])),
+        "sensors": Value::Object(sensors),
+        "truth_rows": rows("truth.csv"),
+        "warnings": warnings,
+    })
+}
+
+/// `navsim replay`.
+#[derive(Debug, Args)]
+pub struct ReplayArgs {
+    /// Log directory.
+    pub dir: PathBuf,
+    /// Model name.
+    #[arg(long)]
+    pub model: String,
+    /// Directory for time series and plots.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Print one JSON object on stdout.
+    #[arg(long)]
+    pub json: bool,
+    /// Skip (and count) bad CSV rows instead of stopping.
+    #[arg(long)]
+    pub lenient: bool,
+    /// Use the model's stationary measurement model.
+    #[arg(long)]
+    pub stationary: bool,
+    /// An IMU interval longer than this many IMU periods is a gap (an error,
+    /// a warning with --lenient).
+    #[arg(long, default_value_t = 10.0, value_name = "N")]
+    pub max_gap_periods: f64,
+    /// Also smooth the run (fixed-interval smoother) and report both.
+    #[arg(long)]
+    pub smooth: bool,
+}
+
+/// Prints a result: one JSON line on stdout with `json`, otherwise human text.
+pub fn emit(value: &Value, json: bool) {
+    if json {
+        println!("{}", report::json_line(value));
+    } else {
+        print!("{}", report::human(value));
+    }
+}
+
+/// Human note: stderr with `--json`, stdout otherwise.
+pub fn note(json: bool, text: &str) {
+    if json {
+        eprintln!("{text}");
+    } else {
+        println!("{text}");
+    }
+}
+
+/// `navsim replay` with `model` (`args.model` is not looked up).
+pub fn replay_with(model: &dyn ReplayModel, args: &ReplayArgs) -> Result<(), RunError> {
+    if args.smooth && !model.can_smooth() {
+        return Err(RunError::Invalid(format!(
+            "model {} cannot be smoothed",
+            model.name()
+        )));
+    }
+    if args.stationary && !model.has_stationary_mode() {
+        return Err(RunError::Invalid(format!(
+            "--stationary: model {} has no stationary mode",
+            model.name()
+        )));
+    }
+    let (preflight_options, strictness) =
+        preflight_options(args.lenient, args.max_gap_periods, model.log_files())?;
+    let files = LogFiles::open(&args.dir, strictness)?;
+    let options = ReplayOptions {
+        stationary: args.stationary,
+        keep_series: args.out.is_some(),
+        smooth: args.smooth,
+        lenient: args.lenient,
+    };
+    // The JSON (`warnings` included) or text of a run's output.
+    let result =
+        |output: &crate::ReplayOutput, report: &preflight::Report, read: &preflight::LogSummary| {
+            for reason in &read.skip_reasons {
+                eprintln!("warning: skipped {reason}");
+            }
+            for file in &read.unknown_files {
+                eprintln!("warning: ignored unknown file {file}");
+            }
+            for w in &output.warnings {
+                eprintln!("warning: {w}");
+            }
+            let mut warnings: Vec<Warning> = read.warnings.clone();
+            warnings.extend(report.warnings().cloned());
+            warnings.extend(output.warnings.iter().cloned());
+            let mut value = report::replay_json(
+                model.name(),
+                output,
+                args.lenient,
+                &read.skipped_rows,
+                &read.unknown_files,
+            );
+            if let Value::Object(m) = &mut value {
+                m.insert("warnings".into(), warnings_json(&warnings));
+            }
+            value
+        };
+    // The preflight reads the log beside the replay; a log it refuses is
+    // refused with its error and the replay's output is discarded.
+    let replay = |out: Option<&std::path::Path>| {
+        preflight::check_alongside(&files, &preflight_options, model.shares_imu(), || {
+            model.replay_files(&files, &options, out)
+        })
+    };
+    if let Some(out) = &args.out {
+        let mut value = Value::Null;
+        let dir = write_out(out, |dir| {
+            let (output, report, summary) = replay(Some(dir))?;
+            value = result(&output, &report, &summary);
+            let path = dir.join("summary.json");
+            std::fs::write(&path, report::json_line(&value) + "\n")
+                .map_err(|e| RunError::io(&path, e))
+        })?;
+        emit(&value, args.json);
+        note(args.json, &format!("outputs written to {}", dir.display()));
+    } else {
+        let (output, report, summary) = replay(None)?;
+        emit(&result(&output, &report, &summary), args.json);
+    }
+    Ok(())
+}
+
+/// The JSON `warnings` array: `{"kind","file","line","key","message"}`
+/// objects (`null` for an unknown location part).
+pub fn warnings_json(warnings: &[Warning]) -> Value {
+    Value::Array(
+        warnings
+            .iter()
+            .map(|w| {
+                serde_json::json!({
+                    "kind": w.kind.as_str(),
+                    "file": w.file,
+                    "line": w.line,
+                    "key": w.key,
+                    "message": w.message,
+                })
+            })
+            .collect(),
+    )
+}
+
+/// Writes an output directory atomically: `fill` writes into a staging
+/// directory that is moved to `out` at the end, removed on error or on
+/// SIGINT/SIGTERM. Errors name `out`, the path the user gave.
+pub fn write_out(
+    out: &std::path::Path,
+    fill: impl FnOnce(&std::path::Path) -> Result<(), RunError>,
+) -> Result<PathBuf, RunError> {
+    let at_out = |e: RunError| match e {
+        RunError::Io { source, .. } => {
+            RunError::Invalid(format!("--out {}: {source}", out.display()))
+        }
+        other => other,
+    };
+    // Created and registered under the interrupt registry's lock, so an
+    // interruption never leaves the staging directory behind.
+    let (staged, pending) = Pending::create(
+        || StagedDir::new(out).map_err(at_out),
+        |s| s.path().to_path_buf(),
+    )?;
+    fill(staged.path()).map_err(|e| match e {
+        RunError::Io { source, path } => RunError::Invalid(format!(
+            "--out {}: writing {}: {source}",
+            out.display(),
+            path.file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default()
+        )),
+        other => other,
+    })?;
+    pending.finish(|| staged.commit()).map_err(at_out)
+}
+
+/// The preflight options of a run (after checking `--max-gap-periods`) and
+/// the reader's strictness.
+pub fn preflight_options(
+    lenient: bool,
+    max_gap_periods: f64,
+    model_files: Option<&'static [&'static str]>,
+) -> Result<(PreflightOptions, Strictness), RunError> {
+    if !(max_gap_periods.is_finite() && max_gap_periods >= 1.0) {
+        return Err(RunError::Invalid(format!(
+            "--max-gap-periods {max_gap_periods}: expected a number >= 1"
+        )));
+    }
+    let strictness = if lenient {
+        Strictness::Lenient
+    } else {
+        Strictness::Strict
+    };
+    let options = PreflightOptions {
+        lenient,
+        max_gap_periods,
+        model_files,
+        ..PreflightOptions::default()
+    };
+    Ok((options, strictness))
+}
+
+/// Collapses a message to one line.
+pub fn one_line(text: &str) -> String {
+    text.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+/// Help and version on stdout (success); a usage error as one `error:` line
+/// on stderr (exit code 2).
+pub fn parse_failure(e: clap::Error) -> ExitCode {
+    use clap::error::ErrorKind;
+    if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) {
+        let _ = e.print();
+        return ExitCode::SUCCESS;
+    }
+    if e.kind() == ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
+        let _ = e.print();
+        return ExitCode::from(2);
+    }
+    let rendered = e.render().to_string();
+    let body = rendered
+        .split("\n\nUsage:")
+        .next()
+        .unwrap_or("")
+        .split("\n\nFor more information")
+        .next()
+        .unwrap_or("");
+    let body = one_line(body);
+    let body = body.strip_prefix("error:").unwrap_or(&body).trim();
+    eprintln!("error: {body}");
+    ExitCode::from(2)
+}

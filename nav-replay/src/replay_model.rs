@@ -1,0 +1,125 @@
+//! The trait of a model that replays a recorded log, its options and output.
+
+use std::path::Path;
+
+use nav_runtime::log::{LogDir, Warning, WarningKind};
+use serde_json::{Map, Value};
+
+use super::{RunError, RunTable};
+
+/// Options of a replay.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct ReplayOptions {
+    /// `--stationary`: use the model's stationary measurement model, if it has one.
+    pub stationary: bool,
+    /// Keep time series (`--out` given).
+    pub keep_series: bool,
+    /// `--smooth`: also smooth the run and report the smoothed errors.
+    pub smooth: bool,
+    /// `--lenient`: a long IMU gap is propagated in bounded steps (with a
+    /// warning) instead of in one step.
+    pub lenient: bool,
+}
+
+/// What a replay model returns.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ReplayOutput {
+    /// Number of IMU samples processed.
+    pub samples: usize,
+    /// Seconds spent in the filter only (no file reading or writing, no scoring).
+    pub runtime_s: f64,
+    /// Model-specific JSON keys (e.g. `horizontal_error_final_m` when there is truth).
+    pub metrics: Map<String, Value>,
+    /// Time series written under `--out` as `<table>.csv`.
+    pub tables: Vec<RunTable>,
+    /// Notes for the user (a log sensor the model does not use, a sensor
+    /// none of whose rows was applied, ...), typed: printed on stderr as
+    /// `warning: <message>` lines and listed in the JSON's `warnings` with
+    /// their kind and file.
+    pub warnings: Vec<Warning>,
+}
+
+/// A note of a replay model about no file in particular (kind
+/// [`WarningKind::Model`]).
+pub fn model_note(message: impl Into<String>) -> Warning {
+    Warning {
+        kind: WarningKind::Model,
+        file: None,
+        line: None,
+        key: None,
+        message: message.into(),
+    }
+}
+
+/// A note of a replay model about key `key` of `meta.toml` (kind
+/// [`WarningKind::Model`]).
+pub fn meta_note(key: &str, message: impl Into<String>) -> Warning {
+    Warning::about(WarningKind::Model, "meta.toml", message).with_key(key)
+}
+
+/// The warning that `meta.toml` has no `[sensors.<sensor>]` section and a
+/// default is used.
+pub fn missing_section(sensor: &str, message: impl Into<String>) -> Warning {
+    Warning::about(WarningKind::MissingSensorSection, "meta.toml", message)
+        .with_key(&format!("sensors.{sensor}"))
+}
+
+/// A model that runs over a recorded log directory (`navsim replay --model <NAME>`).
+pub trait ReplayModel: Send + Sync {
+    /// The name used on the command line.
+    fn name(&self) -> &'static str;
+    /// One line for `navsim list`.
+    fn description(&self) -> &'static str {
+        ""
+    }
+    /// Whether the model has a stationary measurement model (`--stationary`
+    /// is refused otherwise).
+    fn has_stationary_mode(&self) -> bool {
+        false
+    }
+    /// The log files the model reads (`imu.csv`, `dvl.csv`, ...), when it
+    /// declares them: other files present are listed as unused in the
+    /// warnings. `None`: not declared, nothing is listed.
+    fn log_files(&self) -> Option<&'static [&'static str]> {
+        None
+    }
+    /// Runs the model over the log. Time only the filter into `runtime_s`.
+    fn replay(&self, log: &LogDir, options: &ReplayOptions) -> Result<ReplayOutput, RunError>;
+    /// Runs the model over the log directory of `files`; with `out`, writes
+    /// its time series and plots there. Default: the whole log read into
+    /// memory, [`ReplayModel::replay`], then [`ReplayModel::write_outputs`];
+    /// a model that streams the log (memory independent of its length)
+    /// overrides it.
+    fn replay_files(
+        &self,
+        files: &nav_runtime::log::LogFiles,
+        options: &ReplayOptions,
+        out: Option<&Path>,
+    ) -> Result<ReplayOutput, RunError> {
+        let log = LogDir::read(files.dir(), files.strictness())?;
+        let output = self.replay(&log, options)?;
+        if let Some(dir) = out {
+            self.write_outputs(&output, dir)?;
+        }
+        Ok(output)
+    }
+    /// Whether [`ReplayModel::replay_files`] reads `imu.csv` through
+    /// [`LogSource::imu_rows`](nav_runtime::log::LogSource::imu_rows), so
+    /// that the preflight beside it takes the rows it reads instead of
+    /// parsing the file again. Default: no.
+    fn shares_imu(&self) -> bool {
+        false
+    }
+    /// Whether `--smooth` is supported.
+    fn can_smooth(&self) -> bool {
+        false
+    }
+    /// Writes time series and plots into `dir` (which exists). Default: each table
+    /// as `<table>.csv`.
+    fn write_outputs(&self, output: &ReplayOutput, dir: &Path) -> Result<(), RunError> {
+        for table in &output.tables {
+            table.write_csv(&dir.join(format!("{}.csv", table.name)))?;
+        }
+        Ok(())
+    }
+}

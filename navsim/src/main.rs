@@ -1,0 +1,5 @@
+//! `navsim`: simulation, Monte Carlo evaluation and log replay (see `navsim::cli`).
+
+fn main() -> std::process::ExitCode {
+    navsim::cli::main()
+}
