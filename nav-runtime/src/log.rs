@@ -38,8 +38,15 @@
 //! [`LogDir::unknown_files`]. Files with other extensions are not looked at.
 //!
 //! Problems that do not stop reading are collected in [`LogDir::warnings`]:
-//! unknown `meta.toml` sections, unknown files and skipped rows (lenient).
-//! A symbolic link whose target is missing is an error, never an absent sensor.
+//! unknown `meta.toml` sections, unknown files and skipped rows (lenient),
+//! and, read with [`NonPhysical::Rejected`], rows of aiding files skipped as
+//! non-physical readings. A symbolic link whose target is missing is an
+//! error, never an absent sensor; every file read must be inside the log
+//! directory once links and `..` are resolved ([`LogError::Outside`]). A
+//! mapped file named `*.gz` is read through gzip. A section's `time` and
+//! `axes` keys ([`TimeBase`], [`Axes`]) give times from the row index, a
+//! per-file offset, the stamp of a rate sample, and a sign or permutation of
+//! a sensor's axes (docs/log-format.md).
 //!
 //! Writing goes to a temporary sibling directory that is moved into place only once
 //! every file is complete, so an error never leaves a partial log behind.
