@@ -362,7 +362,7 @@ fn errors() -> Vec<ErrorCase> {
         ),
         (
             "a misspelled time key",
-            "[files.dvl]\ntime = { offest_s = -0.45 }\n",
+            "[files.dvl]\ntime = { offest_s = -0.3 }\n",
             vec![],
             Meta("files.dvl.time.offest_s", "did you mean `offset_s`?"),
         ),
@@ -380,7 +380,7 @@ fn errors() -> Vec<ErrorCase> {
         ),
         (
             "an offset that is text",
-            "[files.dvl]\ntime = { offset_s = \"-0.45\" }\n",
+            "[files.dvl]\ntime = { offset_s = \"-0.3\" }\n",
             vec![],
             Meta("files.dvl.time.offset_s", "expected a number of seconds, found string"),
         ),
@@ -639,16 +639,16 @@ fn times() -> Vec<TimeCase> {
     vec![
         ("synthetic IMU times replaced by the index, start-stamped",
             "[files.imu]\nignore = [\"Time\"]\ntime = { from_index = true, period_s = 0.01, stamp = \"start\" }\n",
-            "imu.csv", "Time,gx,gy,gz,ax,ay,az\n0,0,0,0,0,0,-9.8\n0.0100003,0,0,0,0,0,-9.8\n0.0200006,0,0,0,0,0,-9.8\n",
+            "imu.csv", "Time,gx,gy,gz,ax,ay,az\n0,0,0,0,0,0,-9.8\n0.0100004,0,0,0,0,0,-9.8\n0.0200008,0,0,0,0,0,-9.8\n",
             "imu", vec![0.01, 0.02, 0.03]),
         ("IMU from the index with a start time, end-stamped",
             "[files.imu]\ntime = { from_index = true, period_s = 0.005, start_s = 100 }\n",
             "imu.csv", "gx,gy,gz,ax,ay,az\n0,0,0,0,0,-9.8\n0,0,0,0,0,-9.8\n",
             "imu", vec![100.0, 100.005]),
         ("DVL from the index with an offset",
-            "[files.dvl]\nignore = [\"Time\"]\ntime = { from_index = true, period_s = 1.0, offset_s = -0.45 }\n",
-            "dvl.csv", "Time,vx,vy,vz\n0,1,0,0\n1.0025,1,0,0\n2.005,1,0,0\n",
-            "dvl", vec![-0.45, 0.55, 1.55]),
+            "[files.dvl]\nignore = [\"Time\"]\ntime = { from_index = true, period_s = 1.0, offset_s = -0.3 }\n",
+            "dvl.csv", "Time,vx,vy,vz\n0,1,0,0\n1.003,1,0,0\n2.006,1,0,0\n",
+            "dvl", vec![-0.3, 0.7, 1.7]),
         ("DVL time column with an offset", "[files.dvl]\ntime = { offset_s = 0.5 }\n",
             "dvl.csv", "t,vx,vy,vz\n1,1,0,0\n2,1,0,0\n", "dvl", vec![1.5, 2.5]),
         ("IMU stamped in the middle of its interval",
@@ -709,7 +709,7 @@ fn times_from_the_index_offsets_and_stamps() {
 #[test]
 fn a_gzip_file_reads_as_the_plain_one() {
     use std::io::Write;
-    let text = "Time,gx,gy,gz,ax,ay,az\n0,0.1,0.2,0.3,1,2,-9.8\n0.0100003,0.1,0.2,0.3,1,2,-9.8\n";
+    let text = "Time,gx,gy,gz,ax,ay,az\n0,0.1,0.2,0.3,1,2,-9.8\n0.0100004,0.1,0.2,0.3,1,2,-9.8\n";
     let sections = "[files.imu]\nfile = \"raw/imu.csv.gz\"\nignore = [\"Time\"]\naxes = [\"x\", \"-y\", \"z\"]\n\
                     time = { from_index = true, period_s = 0.01, stamp = \"start\" }\n";
     let dir = log_dir(sections, &[]);

@@ -221,12 +221,12 @@ mod tests {
             (TimeBase::default(), 7, 1.25, 1.25),
             (
                 TimeBase {
-                    offset_s: -0.45,
+                    offset_s: -0.3,
                     ..TimeBase::default()
                 },
                 0,
                 2.0,
-                1.55,
+                1.7,
             ),
             (
                 TimeBase {
