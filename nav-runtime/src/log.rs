@@ -38,21 +38,32 @@
 //! [`LogDir::unknown_files`]. Files with other extensions are not looked at.
 //!
 //! Problems that do not stop reading are collected in [`LogDir::warnings`]:
-//! unknown `meta.toml` sections, unknown files and skipped rows (lenient).
-//! A symbolic link whose target is missing is an error, never an absent sensor.
+//! unknown `meta.toml` sections, unknown files and skipped rows (lenient),
+//! and, read with [`NonPhysical::Rejected`], rows of aiding files skipped as
+//! non-physical readings. A symbolic link whose target is missing is an
+//! error, never an absent sensor; every file read must be inside the log
+//! directory once links and `..` are resolved ([`LogError::Outside`]). A
+//! mapped file named `*.gz` is read through gzip. A section's `time` and
+//! `axes` keys ([`TimeBase`], [`Axes`]) give times from the row index, a
+//! per-file offset, the stamp of a rate sample, and a sign or permutation of
+//! a sensor's axes (docs/log-format.md).
 //!
 //! Writing goes to a temporary sibling directory that is moved into place only once
 //! every file is complete, so an error never leaves a partial log behind.
 
+mod axes;
 mod error;
 #[cfg(feature = "fuzzing")]
 pub mod fuzz;
+mod log_file;
 mod mapping;
 mod meta;
 mod read_ahead;
+mod rejected;
 mod rows;
 mod shared;
 mod stream;
+mod time_base;
 mod warning;
 
 use std::collections::BTreeMap;
@@ -60,7 +71,9 @@ use std::fs;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
+pub use axes::Axes;
 pub use error::{CsvProblem, LogError, SkippedRow};
+pub use log_file::{is_gzip, open_confined, LogFile};
 pub use mapping::{
     quantity, relative_log_path, BodyFrame, FileMapping, ImuForm, LogMapping, NavFrame, Quantity,
     IMU_INCREMENT_COLUMNS, MAPPED_SENSORS, STANDARD_GRAVITY,
@@ -70,9 +83,12 @@ pub use meta::{
     UsblTransducer, AIDING_SENSORS,
 };
 pub use read_ahead::{ReadAhead, READ_AHEAD_ROWS};
+pub use rejected::{
+    plausible_limit, NonPhysical, Rejected, RejectedTally, REJECTED_FLOOR, REJECTED_ONE_IN,
+};
 pub use rows::{
     format_f64, parse_csv, write_csv, AltitudeRow, Cell, DepthRow, DvlRow, HeadingRow, ImuRow, Row,
-    RowReader, RpmRow, SpeedRow, Table, TruthRow, UsblRow, MAX_SKIP_REASONS,
+    RowReader, RpmRow, SpeedRow, Table, TruthRow, UsblRow, MAX_COLUMNS, MAX_SKIP_REASONS,
 };
 pub use rows::{BaroRow, GnssRow, MagRow, ReferenceRow};
 pub use shared::{ReadStats, SharedImu};
@@ -80,6 +96,7 @@ pub use stream::{
     skipped_row_warnings, EventStream, FileRows, Located, LogFiles, LogSource, LogTable,
     Prefetched, RowSource, SliceRows, StreamedRow,
 };
+pub use time_base::{Stamp, TimeBase};
 pub use warning::{Warning, WarningKind};
 
 /// How the reader treats bad CSV rows.
@@ -191,6 +208,7 @@ fn read_table<R: Row>(
     required: bool,
     skipped: &mut BTreeMap<String, usize>,
     reasons: &mut Vec<SkippedRow>,
+    rejected: &mut Vec<Warning>,
 ) -> Result<Option<Vec<R>>, LogError> {
     let reader = if required {
         Some(files.imu_like::<R>()?)
@@ -203,6 +221,9 @@ fn read_table<R: Row>(
     let mut rows = Vec::new();
     while let Some((_, row)) = reader.next_row()? {
         rows.push(row);
+    }
+    if let Some(r) = reader.rejected() {
+        rejected.push(r.warning());
     }
     if reader.skipped() > 0 {
         // Keyed by the sensor's standard file name, even when a mapping reads
@@ -243,32 +264,46 @@ impl LogDir {
     /// Reads and validates a log directory (every file read whole: for a
     /// log of any length, read it as a stream with [`LogFiles`]).
     pub fn read(path: impl AsRef<Path>, strictness: Strictness) -> Result<LogDir, LogError> {
-        let files = LogFiles::open(path, strictness)?;
+        Self::read_with(path, strictness, NonPhysical::BadRow)
+    }
+
+    /// [`LogDir::read`] with non-physical values of aiding files read as
+    /// `non_physical` says ([`NonPhysical::Rejected`]: skipped rows with a
+    /// warning in [`LogDir::warnings`]).
+    pub fn read_with(
+        path: impl AsRef<Path>,
+        strictness: Strictness,
+        non_physical: NonPhysical,
+    ) -> Result<LogDir, LogError> {
+        let files = LogFiles::open(path, strictness)?.with_non_physical(non_physical);
         let mut sk = BTreeMap::new();
         let mut rs = Vec::new();
+        let mut rj = Vec::new();
         let imu_form = files.imu_form()?;
-        let imu = read_table::<ImuRow>(&files, true, &mut sk, &mut rs)?.unwrap_or_default();
+        let imu =
+            read_table::<ImuRow>(&files, true, &mut sk, &mut rs, &mut rj)?.unwrap_or_default();
         let mut log = LogDir {
             meta: *files.meta(),
             imu,
-            dvl: read_table(&files, false, &mut sk, &mut rs)?,
-            depth: read_table(&files, false, &mut sk, &mut rs)?,
-            heading: read_table(&files, false, &mut sk, &mut rs)?,
-            usbl: read_table(&files, false, &mut sk, &mut rs)?,
-            speed: read_table(&files, false, &mut sk, &mut rs)?,
-            rpm: read_table(&files, false, &mut sk, &mut rs)?,
-            altitude: read_table(&files, false, &mut sk, &mut rs)?,
-            truth: read_table(&files, false, &mut sk, &mut rs)?,
-            mag: read_table(&files, false, &mut sk, &mut rs)?,
-            baro: read_table(&files, false, &mut sk, &mut rs)?,
-            gnss: read_table(&files, false, &mut sk, &mut rs)?,
-            reference: read_table(&files, false, &mut sk, &mut rs)?,
+            dvl: read_table(&files, false, &mut sk, &mut rs, &mut rj)?,
+            depth: read_table(&files, false, &mut sk, &mut rs, &mut rj)?,
+            heading: read_table(&files, false, &mut sk, &mut rs, &mut rj)?,
+            usbl: read_table(&files, false, &mut sk, &mut rs, &mut rj)?,
+            speed: read_table(&files, false, &mut sk, &mut rs, &mut rj)?,
+            rpm: read_table(&files, false, &mut sk, &mut rs, &mut rj)?,
+            altitude: read_table(&files, false, &mut sk, &mut rs, &mut rj)?,
+            truth: read_table(&files, false, &mut sk, &mut rs, &mut rj)?,
+            mag: read_table(&files, false, &mut sk, &mut rs, &mut rj)?,
+            baro: read_table(&files, false, &mut sk, &mut rs, &mut rj)?,
+            gnss: read_table(&files, false, &mut sk, &mut rs, &mut rj)?,
+            reference: read_table(&files, false, &mut sk, &mut rs, &mut rj)?,
             skipped_rows: sk,
             skip_reasons: rs,
             unknown_files: files.unknown_files().to_vec(),
             warnings: files.warnings().to_vec(),
             imu_form,
         };
+        log.warnings.extend(rj);
         log.warnings
             .extend(skipped_row_warnings(&log.skipped_rows, &log.skip_reasons));
         Ok(log)

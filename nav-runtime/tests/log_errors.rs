@@ -46,16 +46,22 @@ fn cases() -> Vec<Case> {
             Csv("usbl.csv", 3, "lat", |p| matches!(p, P::NonFinite { .. })), false),
         ("infinity", "speed.csv", Some("t,speed\n0.1,inf\n"),
             Csv("speed.csv", 2, "speed", |p| matches!(p, P::NonFinite { .. })), false),
+        ("latitude out of range", "usbl.csv", Some("t,lat,lon,depth\n0.1,1.6,0.2,3\n"),
+            Csv("usbl.csv", 2, "lat", |p| matches!(p, P::OutOfRange { .. })), false),
+        ("negative altitude", "altitude.csv", Some("t,altitude\n0.1,-1\n"),
+            Csv("altitude.csv", 2, "altitude", |p| matches!(p, P::OutOfRange { .. })), false),
+        ("NaN time of an aiding file", "usbl.csv", Some("t,lat,lon,depth\n0.1,0.7,0.2,3\nNaN,0.7,0.2,3\n"),
+            Csv("usbl.csv", 3, "t", |p| matches!(p, P::NonFinite { .. })), false),
+        ("infinite time", "speed.csv", Some("t,speed\ninf,1\n"),
+            Csv("speed.csv", 2, "t", |p| matches!(p, P::NonFinite { .. })), false),
+        ("infinity in the IMU", "imu.csv", Some("t,gx,gy,gz,ax,ay,az\n0,0,0,0,0,0,0\n0.01,inf,0,0,0,0,0\n"),
+            Csv("imu.csv", 3, "gx", |p| matches!(p, P::NonFinite { .. })), false),
         ("time backwards", "rpm.csv", Some("t,rpm\n0.1,100\n0.3,100\n0.2,100\n"),
             Csv("rpm.csv", 4, "t", |p| matches!(p, P::TimeBackwards { .. })), false),
         ("duplicate timestamp", "altitude.csv", Some("t,altitude\n0.1,5\n0.1,5\n"),
             Csv("altitude.csv", 3, "t", |p| matches!(p, P::DuplicateTime { .. })), false),
-        ("latitude out of range", "usbl.csv", Some("t,lat,lon,depth\n0.1,1.6,0.2,3\n"),
-            Csv("usbl.csv", 2, "lat", |p| matches!(p, P::OutOfRange { .. })), false),
         ("longitude out of range", "truth.csv", Some("t,lat,lon,depth,vn,ve,vd,roll,pitch,yaw\n0,0.1,7,0,0,0,0,0,0,0\n"),
             Csv("truth.csv", 2, "lon", |p| matches!(p, P::OutOfRange { .. })), false),
-        ("negative altitude", "altitude.csv", Some("t,altitude\n0.1,-1\n"),
-            Csv("altitude.csv", 2, "altitude", |p| matches!(p, P::OutOfRange { .. })), false),
         ("blank lines keep line numbers", "depth.csv", Some("t,depth\n\n0.1,1\n\n0.2,x\n"),
             Csv("depth.csv", 5, "depth", |p| matches!(p, P::NotANumber { .. })), false),
         ("CRLF line ends", "depth.csv", Some("t,depth\r\n0.1,1\r\n0.2,1e\r\n"),
@@ -436,4 +442,316 @@ fn unknown_csv_files_are_refused_strictly_and_listed_leniently() {
     std::fs::remove_file(dir.path().join("IMU.CSV")).unwrap();
     let log = LogDir::read(dir.path(), Strictness::Strict).unwrap();
     assert!(log.unknown_files.is_empty());
+}
+
+/// What reading an aiding file with non-physical readings gives.
+#[derive(Debug)]
+enum Rejection {
+    /// The rows kept (their times), the count rejected, the first one's
+    /// line and column.
+    Skipped(Vec<f64>, usize, u64, &'static str),
+    /// A strict error at this line and column: too many rejected to be
+    /// glitches.
+    TooMany(u64, &'static str),
+}
+
+/// (case, file, content, strict result)
+type RejectionCase = (&'static str, &'static str, String, Rejection);
+
+fn rejection_cases() -> Vec<RejectionCase> {
+    use Rejection::*;
+    let depth_rows = |glitches: &[usize], n: usize| {
+        let mut s = String::from("t,depth\n");
+        for i in 0..n {
+            let v = if glitches.contains(&i) {
+                "1e300"
+            } else {
+                "12.5"
+            };
+            s.push_str(&format!("{},{v}\n", i as f64 * 0.1));
+        }
+        s
+    };
+    let every_tenth: Vec<usize> = (0..200).step_by(10).collect();
+    vec![
+        (
+            "one 1e300 in the DVL",
+            "dvl.csv",
+            "t,vx,vy,vz\n0.1,1,0,0\n0.2,1e300,0,0\n0.3,1,0,0\n".into(),
+            Skipped(vec![0.1, 0.3], 1, 3, "vx"),
+        ),
+        (
+            "inf in the depth",
+            "depth.csv",
+            "t,depth\n0.1,1\n0.2,inf\n0.3,1\n".into(),
+            Skipped(vec![0.1, 0.3], 1, 3, "depth"),
+        ),
+        (
+            "nan in the compass",
+            "heading.csv",
+            "t,heading\n0.1,nan\n0.2,1\n".into(),
+            Skipped(vec![0.2], 1, 2, "heading"),
+        ),
+        (
+            "a latitude beyond the pole in the USBL",
+            "usbl.csv",
+            "t,lat,lon,depth\n0.1,0.7,0.2,3\n0.2,1.6,0.2,3\n".into(),
+            Skipped(vec![0.1], 1, 3, "lat"),
+        ),
+        (
+            "a negative altitude",
+            "altitude.csv",
+            "t,altitude\n0.1,5\n0.2,-1\n".into(),
+            Skipped(vec![0.1], 1, 3, "altitude"),
+        ),
+        (
+            "a speed beyond any vehicle's",
+            "speed.csv",
+            "t,speed\n0.1,1\n0.2,-2e4\n".into(),
+            Skipped(vec![0.1], 1, 3, "speed"),
+        ),
+        (
+            "ten glitches are glitches",
+            "depth.csv",
+            depth_rows(&[1, 2, 3, 4, 5, 6, 7, 8, 9, 10], 20),
+            Skipped(
+                (11..20).map(|i| i as f64 * 0.1).chain([0.0]).collect(),
+                10,
+                3,
+                "depth",
+            ),
+        ),
+        (
+            "eleven in twenty are a mistake",
+            "depth.csv",
+            depth_rows(&[1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11], 20),
+            TooMany(3, "depth"),
+        ),
+        (
+            "one row in ten over 200 rows is a mistake",
+            "depth.csv",
+            depth_rows(&every_tenth, 200),
+            TooMany(2, "depth"),
+        ),
+        (
+            "every row rejected",
+            "rpm.csv",
+            "t,rpm\n0.1,inf\n0.2,inf\n".into(),
+            TooMany(2, "rpm"),
+        ),
+    ]
+}
+
+/// Read with `NonPhysical::Rejected`, one non-physical reading in an aiding
+/// file is a skipped row with a warning (count, first line), not a refused
+/// log; too many are an error when strict; a lenient reader skips them all.
+#[test]
+fn non_physical_readings_of_aiding_files_are_rejected_rows() {
+    for (name, file, content, expect) in rejection_cases() {
+        for strictness in [Strictness::Strict, Strictness::Lenient] {
+            let dir = sample_dir("rejected");
+            apply(dir.path(), file, Some(&content));
+            let res = LogDir::read_with(dir.path(), strictness, NonPhysical::Rejected);
+            let (kept, count, line, column) = match (&expect, strictness) {
+                (Rejection::TooMany(line, column), Strictness::Strict) => {
+                    let err = res.err().unwrap_or_else(|| panic!("{name}: accepted"));
+                    assert_eq!(
+                        (err.file(), err.line(), err.column()),
+                        (Some(file), Some(*line), Some(*column)),
+                        "{name}: {err}"
+                    );
+                    assert!(
+                        matches!(err.csv_problem(), Some(CsvProblem::TooManyRejected { .. })),
+                        "{name}: {err}"
+                    );
+                    continue;
+                }
+                (Rejection::TooMany(line, column), Strictness::Lenient) => {
+                    (None, None, *line, *column)
+                }
+                (Rejection::Skipped(kept, count, line, column), _) => {
+                    (Some(kept.clone()), Some(*count), *line, *column)
+                }
+            };
+            let log = res.unwrap_or_else(|e| panic!("{name} ({strictness:?}): {e}"));
+            let times: Vec<f64> = match file {
+                "dvl.csv" => log.dvl.iter().flatten().map(|r| r.t).collect(),
+                "depth.csv" => log.depth.iter().flatten().map(|r| r.t).collect(),
+                "heading.csv" => log.heading.iter().flatten().map(|r| r.t).collect(),
+                "usbl.csv" => log.usbl.iter().flatten().map(|r| r.t).collect(),
+                "altitude.csv" => log.altitude.iter().flatten().map(|r| r.t).collect(),
+                "speed.csv" => log.speed.iter().flatten().map(|r| r.t).collect(),
+                _ => log.rpm.iter().flatten().map(|r| r.t).collect(),
+            };
+            if let Some(mut kept) = kept {
+                kept.sort_by(f64::total_cmp);
+                assert_eq!(times, kept, "{name} ({strictness:?})");
+            }
+            // Rejected rows are not skipped rows of a lenient reading.
+            assert_eq!(log.total_skipped_rows(), 0, "{name} ({strictness:?})");
+            let warnings: Vec<&Warning> = log
+                .warnings
+                .iter()
+                .filter(|w| w.kind == WarningKind::RejectedReading)
+                .collect();
+            assert_eq!(
+                warnings.len(),
+                1,
+                "{name} ({strictness:?}): {:?}",
+                log.warnings
+            );
+            let w = warnings[0];
+            assert_eq!(
+                (w.file.as_deref(), w.line, w.key.as_deref()),
+                (Some(file), Some(line), Some(column)),
+                "{name} ({strictness:?}): {w}"
+            );
+            if let Some(count) = count {
+                assert!(
+                    w.message.starts_with(&format!("{count} row")),
+                    "{name} ({strictness:?}): {w}"
+                );
+            }
+        }
+    }
+}
+
+/// The rows a replay streams skip the rejected one (it is never fed), and
+/// the log's readers tell what they rejected once read (one warning per file, the larger
+/// count when two readers read the same file).
+#[test]
+fn a_streamed_replay_skips_rejected_rows_and_learns_them() {
+    let dir = sample_dir("rejected-stream");
+    apply(
+        dir.path(),
+        "dvl.csv",
+        Some("t,vx,vy,vz\n0.05,1,0,0\n0.15,1e300,0,0\n0.25,1,0,inf\n0.3,1,0,0\n"),
+    );
+    // By default (as before) the non-finite cell refuses the log.
+    let err = LogDir::read(dir.path(), Strictness::Strict).unwrap_err();
+    assert_eq!((err.line(), err.column()), (Some(4), Some("vz")), "{err}");
+    let files = LogFiles::open(dir.path(), Strictness::Strict)
+        .unwrap()
+        .with_non_physical(NonPhysical::Rejected);
+    let mut events = EventStream::open(&files).unwrap();
+    let mut dvl = Vec::new();
+    while let Some(e) = events.next_event().unwrap() {
+        if let Event::Dvl(r) = e.event {
+            dvl.push((e.line, r.t));
+        }
+    }
+    assert_eq!(dvl, vec![(Some(2), 0.05), (Some(5), 0.3)]);
+    // A second reader of the same file (a check beside the replay).
+    let mut again = files.rows::<DvlRow>().unwrap().unwrap();
+    while again.next_row().unwrap().is_some() {}
+    assert_eq!(again.rejected().map(|r| r.count), Some(2));
+    let warnings = files.clone().rejected_warnings();
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    let w = &warnings[0];
+    assert_eq!(w.kind.as_str(), "rejected_reading");
+    assert_eq!(
+        (w.file.as_deref(), w.line, w.key.as_deref()),
+        (Some("dvl.csv"), Some(3), Some("vx"))
+    );
+    assert!(w.message.starts_with("2 rows skipped"), "{w}");
+}
+
+/// A header of `n` extra columns after `t,depth`, named `c0`, `c1`, ...
+fn wide_header(n: usize) -> String {
+    let mut s = String::from("t,depth");
+    for i in 0..n {
+        s.push_str(&format!(",c{i}"));
+    }
+    s.push('\n');
+    s
+}
+
+/// A mapping of `depth.csv` that ignores the columns `c0..c{n}`.
+fn ignoring(n: usize) -> FileMapping {
+    let meta = format!(
+        "[initial]\nlat = 0.1\nlon = 0.2\ndepth = 3\n[files.depth]\nignore = [{}]\n",
+        (0..n)
+            .map(|i| format!("\"c{i}\""))
+            .collect::<Vec<_>>()
+            .join(",")
+    );
+    Meta::parse_log(&meta).unwrap().1.of::<DepthRow>()
+}
+
+/// A very wide header costs work linear in its length: beyond
+/// `MAX_COLUMNS` it is refused after one pass over its bytes (a million
+/// columns took 31.6 s for 60,000 when the lookups were quadratic), and
+/// below, the header check's work (cells and name lookups, counted by the
+/// reader) grows as the header does. Work is counted, never timed.
+#[test]
+fn wide_headers_cost_linear_work_or_are_refused() {
+    // (extra columns, ignored by the mapping, expected outcome: `Some(n)`
+    // refused with n columns found, `None` read)
+    let cases: [(usize, bool, Option<usize>); 4] = [
+        (1_000_000, false, Some(1_000_002)),
+        (MAX_COLUMNS - 1, false, Some(MAX_COLUMNS + 1)),
+        (MAX_COLUMNS - 2, true, None),
+        ((MAX_COLUMNS - 2) / 2, true, None),
+    ];
+    let mut work = Vec::new();
+    for (n, ignored, refused) in cases {
+        let text = format!("{}0.5,1{}\n", wide_header(n), ",0".repeat(n));
+        let mapping = if ignored {
+            ignoring(n)
+        } else {
+            FileMapping::standard::<DepthRow>()
+        };
+        let read =
+            RowReader::<DepthRow, _>::with_mapping(text.as_bytes(), Strictness::Strict, &mapping);
+        match (read, refused) {
+            (Err(err), Some(found)) => {
+                assert_eq!(
+                    (err.line(), err.file()),
+                    (Some(1), Some("depth.csv")),
+                    "{err}"
+                );
+                assert!(
+                    matches!(err.csv_problem(), Some(CsvProblem::TooManyColumns { found: f, limit }) if *f == found && *limit == MAX_COLUMNS),
+                    "{n}: {err}"
+                );
+                assert!(err.to_string().len() < 200, "{err}");
+            }
+            (Ok(mut reader), None) => {
+                assert_eq!(
+                    reader.next_row().unwrap().map(|(_, r)| r),
+                    Some(DepthRow::new(0.5, 1.0))
+                );
+                work.push((n, reader.header_work()));
+            }
+            (r, want) => panic!("{n} columns: {:?}, expected refused = {want:?}", r.err()),
+        }
+    }
+    // Linear: the work per column is a small constant, the same for a
+    // header twice as wide (a quadratic lookup would double it per column).
+    let per_column: Vec<f64> = work
+        .iter()
+        .map(|(n, w)| *w as f64 / (*n + 2) as f64)
+        .collect();
+    assert!(per_column.iter().all(|p| *p <= 5.0), "{work:?}");
+    assert!(
+        (per_column[0] / per_column[1] - 1.0).abs() < 0.05,
+        "{work:?}"
+    );
+}
+
+/// An unknown column in a wide mapped header names the first few, not
+/// every one of them.
+#[test]
+fn many_unknown_columns_are_summed_up() {
+    let n = 3000;
+    let text = format!("{}0.5,1{}\n", wide_header(n), ",0".repeat(n));
+    let err =
+        RowReader::<DepthRow, _>::with_mapping(text.as_bytes(), Strictness::Strict, &ignoring(2))
+            .expect_err("refused");
+    let msg = err.to_string();
+    assert!(
+        msg.contains("`c2`") && msg.contains("and 2990 more"),
+        "{msg}"
+    );
+    assert!(msg.len() < 400, "{msg}");
 }

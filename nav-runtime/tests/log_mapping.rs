@@ -45,6 +45,7 @@ fn first_cells(log: &LogDir, sensor: &str) -> Vec<Option<f64>> {
         "speed" => first(log.speed.as_ref()),
         "rpm" => first(log.rpm.as_ref()),
         "altitude" => first(log.altitude.as_ref()),
+        "mag" => first(log.mag.as_ref()),
         _ => first(log.truth.as_ref()),
     }
 }
@@ -109,6 +110,25 @@ fn conversions() -> Vec<Conversion> {
             vec![0.5, 45.0 * D, -120.0 * D, 33.0 * FT]),
         ("speed in knots", "[files.speed]\nunits = { speed = \"kn\" }\n", "speed.csv",
             "t,speed\n0.5,3\n", "speed", vec![0.5, 3.0 * KN]),
+        ("imu y axis of the wrong sign",
+            "[files.imu]\naxes = [\"x\", \"-y\", \"z\"]\n", "imu.csv",
+            "t,gx,gy,gz,ax,ay,az\n0.5,0.1,0.2,0.3,1,2,-9.8\n", "imu",
+            vec![0.5, 0.1, -0.2, 0.3, 1.0, -2.0, -9.8]),
+        ("imu turned 90 deg about z, renamed and in deg/s",
+            "[files.imu]\naxes = [\"y\", \"-x\", \"z\"]\nunits = { gx = \"deg/s\" }\n\
+             columns = { gx = \"wx\", gy = \"wy\" }\n", "imu.csv",
+            "t,wx,wy,gz,ax,ay,az\n0.5,90,0.2,0.3,1,2,-9.8\n", "imu",
+            vec![0.5, 0.2, -90.0 * D, 0.3, 2.0, -1.0, -9.8]),
+        ("imu increments with a flipped z",
+            "[files.imu]\naxes = [\"x\", \"y\", \"-z\"]\n", "imu.csv",
+            "t,dtheta_x,dtheta_y,dtheta_z,dv_x,dv_y,dv_z\n1,0.1,0.2,0.3,0.01,0.02,0.098\n1.01,0,0,0,0,0,0\n", "imu",
+            vec![1.0, 10.0, 20.0, -30.0, 1.0, 2.0, -9.8]),
+        ("dvl with x and y swapped", "[files.dvl]\naxes = [\"+y\", \"x\", \"z\"]\n",
+            "dvl.csv", "t,vx,vy,vz\n0.5,1,2,3\n", "dvl", vec![0.5, 2.0, 1.0, 3.0]),
+        ("magnetometer in microtesla, FLU", "[files.mag]\nunits = { magnetic_field = \"uT\" }\nbody_frame = \"FLU\"\n",
+            "mag.csv", "t,mx,my,mz\n0.5,20,5,-40\n", "mag", vec![0.5, 0.2, -0.05, 0.4]),
+        ("magnetometer of another file with a flipped y", "[files.mag]\nfile = \"compass/mag.csv\"\naxes = [\"x\", \"-y\", \"z\"]\n",
+            "compass/mag.csv", "t,mx,my,mz\n0.5,0.2,0.05,0.4\n", "mag", vec![0.5, 0.2, -0.05, 0.4]),
         ("truth in ENU and degrees",
             "[files.truth]\nnav_frame = \"ENU\"\nunits = { angle = \"deg\" }\n\
              columns = { vn = \"v_north\", ve = \"v_east\", vd = \"v_up\" }\n",
@@ -156,6 +176,8 @@ enum Expect {
     Csv(&'static str, &'static str, &'static str),
     /// A declared file that is missing.
     Missing(&'static str),
+    /// An I/O error on a path ending in this file name.
+    Io(&'static str),
 }
 
 /// (case, meta.toml sections, files, expectation).
@@ -297,6 +319,126 @@ fn errors() -> Vec<ErrorCase> {
             Csv("imu.csv", "t", "single increment row"),
         ),
         (
+            "time from the index and a time column",
+            "[files.imu]\ncolumns = { t = \"Time\" }\ntime = { from_index = true, period_s = 0.01 }\n",
+            vec![],
+            Meta("files.imu.columns.t", "contradicts `files.imu.time.from_index`"),
+        ),
+        (
+            "time from the index without a period",
+            "[files.dvl]\ntime = { from_index = true }\n",
+            vec![],
+            Meta("files.dvl.time.from_index", "needs `files.dvl.time.period_s`"),
+        ),
+        (
+            "a start time without the index",
+            "[files.dvl]\ntime = { start_s = 3.0 }\n",
+            vec![],
+            Meta("files.dvl.time.start_s", "from_index = true"),
+        ),
+        (
+            "a period that nothing uses",
+            "[files.depth]\ntime = { period_s = 1.0 }\n",
+            vec![],
+            Meta("files.depth.time.period_s", "neither is given"),
+        ),
+        (
+            "a start stamp without a period",
+            "[files.imu]\ntime = { stamp = \"start\" }\n",
+            vec![],
+            Meta("files.imu.time.stamp", "needs `files.imu.time.period_s`"),
+        ),
+        (
+            "an unknown stamp",
+            "[files.imu]\ntime = { stamp = \"centre\", period_s = 0.01 }\n",
+            vec![],
+            Meta("files.imu.time.stamp", "expected one of: start, middle, end"),
+        ),
+        (
+            "a stamp on a sensor that is not a rate",
+            "[files.dvl]\ntime = { stamp = \"start\", period_s = 1 }\n",
+            vec![],
+            Meta("files.dvl.time.stamp", "unknown key"),
+        ),
+        (
+            "a misspelled time key",
+            "[files.dvl]\ntime = { offest_s = -0.3 }\n",
+            vec![],
+            Meta("files.dvl.time.offest_s", "did you mean `offset_s`?"),
+        ),
+        (
+            "a zero period",
+            "[files.imu]\ntime = { from_index = true, period_s = 0 }\n",
+            vec![],
+            Meta("files.imu.time.period_s", "positive seconds"),
+        ),
+        (
+            "an offset in milliseconds since an epoch",
+            "[files.dvl]\ntime = { offset_s = 1.7e12 }\n",
+            vec![],
+            Meta("files.dvl.time.offset_s", "milliseconds?"),
+        ),
+        (
+            "an offset that is text",
+            "[files.dvl]\ntime = { offset_s = \"-0.3\" }\n",
+            vec![],
+            Meta("files.dvl.time.offset_s", "expected a number of seconds, found string"),
+        ),
+        (
+            "from_index not a boolean",
+            "[files.imu]\ntime = { from_index = 1, period_s = 0.01 }\n",
+            vec![],
+            Meta("files.imu.time.from_index", "expected true or false"),
+        ),
+        (
+            "time not a table",
+            "[files.imu]\ntime = 0.01\n",
+            vec![],
+            Meta("files.imu.time", "expected a table"),
+        ),
+        (
+            "axes and body frame together",
+            "[files.imu]\nbody_frame = \"FLU\"\naxes = [\"x\", \"-y\", \"z\"]\n",
+            vec![],
+            Meta("files.imu.axes", "contradicts `files.imu.body_frame`"),
+        ),
+        (
+            "an axis twice",
+            "[files.dvl]\naxes = [\"x\", \"-x\", \"z\"]\n",
+            vec![],
+            Meta("files.dvl.axes", "axis `x` is given twice"),
+        ),
+        (
+            "two axes",
+            "[files.dvl]\naxes = [\"x\", \"y\"]\n",
+            vec![],
+            Meta("files.dvl.axes", "found 2 items"),
+        ),
+        (
+            "an unknown axis",
+            "[files.mag]\naxes = [\"x\", \"y\", \"up\"]\n",
+            vec![],
+            Meta("files.mag.axes", "unknown axis `up`"),
+        ),
+        (
+            "axes of a sensor without vectors",
+            "[files.depth]\naxes = [\"x\", \"y\", \"z\"]\n",
+            vec![],
+            Meta("files.depth.axes", "unknown key"),
+        ),
+        (
+            "a time column left in the header with from_index",
+            "[files.dvl]\ntime = { from_index = true, period_s = 1 }\n",
+            vec![("dvl.csv", "Time,vx,vy,vz\n0,1,0,0\n")],
+            Csv("dvl.csv", "Time", "list them in `files.dvl.ignore`"),
+        ),
+        (
+            "a gzip file that is not gzip",
+            "[files.depth]\nfile = \"depth.csv.gz\"\n",
+            vec![("depth.csv.gz", "t,depth\n0.5,1\n")],
+            Io("depth.csv.gz"),
+        ),
+        (
             "increments declared, rates given",
             "[files.imu]\nform = \"increments\"\n",
             vec![("imu.csv", IMU)],
@@ -334,32 +476,12 @@ fn bad_mappings_name_file_and_key() {
                 );
                 assert_eq!(err.file(), Some(file), "{name}: {msg}");
             }
+            Expect::Io(file) => {
+                assert!(matches!(err, LogError::Io { .. }), "{name}: {err:?}");
+                assert!(msg.contains(file), "{name}: {msg}");
+            }
         }
     }
-}
-
-#[cfg(unix)]
-#[test]
-fn a_symbolic_link_out_of_the_log_is_refused() {
-    let outside = TempDir::new("outside");
-    std::fs::write(outside.path().join("depth.csv"), "t,depth\n0.5,1\n").unwrap();
-    let dir = log_dir("[files.depth]\nfile = \"ctd.csv\"\n", &[]);
-    std::os::unix::fs::symlink(outside.path().join("depth.csv"), dir.path().join("ctd.csv"))
-        .unwrap();
-    let err = LogDir::read(dir.path(), Strictness::Strict).unwrap_err();
-    assert_eq!(err.column(), Some("files.depth.file"), "{err}");
-    assert!(
-        err.to_string().contains("outside the log directory"),
-        "{err}"
-    );
-    // A link that stays inside is fine.
-    let dir = log_dir(
-        "[files.depth]\nfile = \"ctd.csv\"\n",
-        &[("data/d.csv", "t,depth\n0.5,1\n")],
-    );
-    std::os::unix::fs::symlink(dir.path().join("data/d.csv"), dir.path().join("ctd.csv")).unwrap();
-    let log = LogDir::read(dir.path(), Strictness::Strict).unwrap();
-    assert_eq!(log.depth.unwrap().len(), 1);
 }
 
 #[test]
@@ -499,5 +621,220 @@ fn mountings_are_parsed_and_checked() {
         let err = Meta::parse(&format!("{INITIAL}{text}")).unwrap_err();
         assert_eq!(err.column(), Some(key), "{err}");
         assert!(err.to_string().contains(problem), "{err}");
+    }
+}
+
+/// (case, meta.toml sections, file, file text, sensor, every time as read:
+/// hand-computed).
+type TimeCase = (
+    &'static str,
+    &'static str,
+    &'static str,
+    &'static str,
+    &'static str,
+    Vec<f64>,
+);
+
+fn times() -> Vec<TimeCase> {
+    vec![
+        ("synthetic IMU times replaced by the index, start-stamped",
+            "[files.imu]\nignore = [\"Time\"]\ntime = { from_index = true, period_s = 0.01, stamp = \"start\" }\n",
+            "imu.csv", "Time,gx,gy,gz,ax,ay,az\n0,0,0,0,0,0,-9.8\n0.0100004,0,0,0,0,0,-9.8\n0.0200008,0,0,0,0,0,-9.8\n",
+            "imu", vec![0.01, 0.02, 0.03]),
+        ("IMU from the index with a start time, end-stamped",
+            "[files.imu]\ntime = { from_index = true, period_s = 0.005, start_s = 100 }\n",
+            "imu.csv", "gx,gy,gz,ax,ay,az\n0,0,0,0,0,-9.8\n0,0,0,0,0,-9.8\n",
+            "imu", vec![100.0, 100.005]),
+        ("DVL from the index with an offset",
+            "[files.dvl]\nignore = [\"Time\"]\ntime = { from_index = true, period_s = 1.0, offset_s = -0.3 }\n",
+            "dvl.csv", "Time,vx,vy,vz\n0,1,0,0\n1.003,1,0,0\n2.006,1,0,0\n",
+            "dvl", vec![-0.3, 0.7, 1.7]),
+        ("DVL time column with an offset", "[files.dvl]\ntime = { offset_s = 0.5 }\n",
+            "dvl.csv", "t,vx,vy,vz\n1,1,0,0\n2,1,0,0\n", "dvl", vec![1.5, 2.5]),
+        ("IMU stamped in the middle of its interval",
+            "[files.imu]\ntime = { stamp = \"middle\", period_s = 0.02 }\n",
+            "imu.csv", "t,gx,gy,gz,ax,ay,az\n1,0,0,0,0,0,-9.8\n1.02,0,0,0,0,0,-9.8\n",
+            "imu", vec![1.01, 1.03]),
+        ("rows after a skipped row keep their index",
+            "[files.depth]\ntime = { from_index = true, period_s = 0.5 }\n",
+            "depth.csv", "depth\n1\n\n2\n1e300\n3\n", "depth", vec![0.0, 0.5, 1.5]),
+        ("increments from the index: divided by the period",
+            "[files.imu]\ntime = { from_index = true, period_s = 0.01 }\n",
+            "imu.csv", "dtheta_x,dtheta_y,dtheta_z,dv_x,dv_y,dv_z\n0.001,0,0,0,0,-0.098\n0.002,0,0,0,0,-0.098\n",
+            "imu", vec![0.0, 0.01]),
+    ]
+}
+
+/// The times of every row of `sensor` in `log`.
+fn all_times(log: &LogDir, sensor: &str) -> Vec<f64> {
+    fn ts<R: Row>(rows: Option<&Vec<R>>) -> Vec<f64> {
+        rows.map(|r| r.iter().map(Row::t).collect())
+            .unwrap_or_default()
+    }
+    match sensor {
+        "imu" => ts(Some(&log.imu)),
+        "dvl" => ts(log.dvl.as_ref()),
+        _ => ts(log.depth.as_ref()),
+    }
+}
+
+#[test]
+fn times_from_the_index_offsets_and_stamps() {
+    for (name, sections, file, text, sensor, want) in times() {
+        let dir = log_dir(sections, &[(file, text)]);
+        // A glitch row is rejected, and counts for the index.
+        let log = LogDir::read_with(dir.path(), Strictness::Strict, NonPhysical::Rejected)
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let got = all_times(&log, sensor);
+        assert_eq!(got.len(), want.len(), "{name}: {got:?}");
+        for (g, w) in got.iter().zip(&want) {
+            assert!(
+                (g - w).abs() <= 1e-12,
+                "{name}: read {got:?}, hand-computed {want:?}"
+            );
+        }
+    }
+    // Increments over an index period: 0.001 rad over 0.01 s.
+    let dir = log_dir(
+        "[files.imu]\ntime = { from_index = true, period_s = 0.01 }\n",
+        &[("imu.csv", "dtheta_x,dtheta_y,dtheta_z,dv_x,dv_y,dv_z\n0.001,0,0,0,0,-0.098\n0.002,0,0,0,0,-0.098\n")],
+    );
+    let log = LogDir::read(dir.path(), Strictness::Strict).unwrap();
+    assert!((log.imu[1].gx - 0.2).abs() < 1e-12, "{:?}", log.imu);
+    assert!((log.imu[1].az + 9.8).abs() < 1e-12, "{:?}", log.imu);
+}
+
+/// A gzip-compressed file named by the mapping reads as the plain one
+/// (here with the real-log options together: index times, a flipped axis).
+#[test]
+fn a_gzip_file_reads_as_the_plain_one() {
+    use std::io::Write;
+    let text = "Time,gx,gy,gz,ax,ay,az\n0,0.1,0.2,0.3,1,2,-9.8\n0.0100004,0.1,0.2,0.3,1,2,-9.8\n";
+    let sections = "[files.imu]\nfile = \"raw/imu.csv.gz\"\nignore = [\"Time\"]\naxes = [\"x\", \"-y\", \"z\"]\n\
+                    time = { from_index = true, period_s = 0.01, stamp = \"start\" }\n";
+    let dir = log_dir(sections, &[]);
+    std::fs::create_dir_all(dir.path().join("raw")).unwrap();
+    // Two gzip members in a row, as concatenated `gzip` output.
+    let mut bytes = Vec::new();
+    let (a, b) = text.split_at(40);
+    for part in [a, b] {
+        let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+        gz.write_all(part.as_bytes()).unwrap();
+        bytes.extend(gz.finish().unwrap());
+    }
+    std::fs::write(dir.path().join("raw/imu.csv.gz"), bytes).unwrap();
+    let log = LogDir::read(dir.path(), Strictness::Strict).unwrap();
+    assert_eq!(
+        log.imu,
+        vec![
+            ImuRow::new(0.01, 0.1, -0.2, 0.3, 1.0, -2.0, -9.8),
+            ImuRow::new(0.02, 0.1, -0.2, 0.3, 1.0, -2.0, -9.8)
+        ]
+    );
+    assert!(is_gzip("imu.CSV.GZ") && !is_gzip("imu.csv"));
+}
+
+/// Every file read through a log directory stays in it: a symbolic link or
+/// a path resolving outside is refused with the key that named it, and the
+/// error quotes nothing of the file it reaches.
+#[cfg(unix)]
+#[test]
+fn paths_and_links_out_of_the_log_are_refused() {
+    use std::os::unix::fs::symlink;
+    const SECRET: &str = "root:x:0:0:root:/root:/bin/bash";
+    let outside = TempDir::new("outside");
+    std::fs::write(outside.path().join("secret"), format!("{SECRET}\n")).unwrap();
+    std::fs::create_dir_all(outside.path().join("raw")).unwrap();
+    std::fs::write(outside.path().join("raw/imu.csv"), format!("{SECRET}\n")).unwrap();
+    let secret = outside.path().join("secret");
+    // (case, meta.toml sections, link in the log -> target, expected key;
+    // `None`: accepted)
+    type LinkCase = (
+        &'static str,
+        &'static str,
+        &'static str,
+        std::path::PathBuf,
+        Option<&'static str>,
+    );
+    let cases: Vec<LinkCase> = vec![
+        (
+            "standard imu.csv linked out",
+            "",
+            "imu.csv",
+            secret.clone(),
+            Some("imu.csv"),
+        ),
+        (
+            "standard depth.csv linked out",
+            "",
+            "depth.csv",
+            secret.clone(),
+            Some("depth.csv"),
+        ),
+        (
+            "meta.toml linked out",
+            "",
+            "meta.toml",
+            secret.clone(),
+            Some("meta.toml"),
+        ),
+        (
+            "mapped file linked out",
+            "[files.depth]\nfile = \"ctd.csv\"\n",
+            "ctd.csv",
+            secret.clone(),
+            Some("files.depth.file"),
+        ),
+        (
+            "mapped file under a linked directory",
+            "[files.imu]\nfile = \"raw/imu.csv\"\n",
+            "raw",
+            outside.path().join("raw"),
+            Some("files.imu.file"),
+        ),
+        (
+            "relative link with .. out of the log",
+            "",
+            "dvl.csv",
+            std::path::PathBuf::from("../")
+                .join(outside.path().file_name().unwrap())
+                .join("secret"),
+            Some("dvl.csv"),
+        ),
+        (
+            "link inside the log",
+            "[files.depth]\nfile = \"ctd.csv\"\n",
+            "ctd.csv",
+            std::path::PathBuf::from("data/d.csv"),
+            None,
+        ),
+    ];
+    for (name, sections, link, target, expect) in cases {
+        let dir = log_dir(sections, &[("data/d.csv", "t,depth\n0.5,1\n")]);
+        let at = dir.path().join(link);
+        if at.exists() {
+            std::fs::remove_file(&at).unwrap();
+        }
+        symlink(&target, &at).unwrap();
+        let read = LogDir::read(dir.path(), Strictness::Lenient);
+        let streamed = LogFiles::open(dir.path(), Strictness::Lenient)
+            .and_then(|f| EventStream::open(&f).map(|_| ()));
+        match expect {
+            None => {
+                let log = read.unwrap_or_else(|e| panic!("{name}: {e}"));
+                assert_eq!(log.depth.map(|d| d.len()), Some(1), "{name}");
+                streamed.unwrap_or_else(|e| panic!("{name}: {e}"));
+            }
+            Some(key) => {
+                for err in [read.err(), streamed.err()] {
+                    let err = err.unwrap_or_else(|| panic!("{name}: accepted"));
+                    let msg = err.to_string();
+                    assert!(matches!(err, LogError::Outside { .. }), "{name}: {err:?}");
+                    assert_eq!(err.column(), Some(key), "{name}: {msg}");
+                    assert!(msg.contains("outside the log directory"), "{name}: {msg}");
+                    assert!(!msg.contains("root:"), "{name}: quotes the file: {msg}");
+                }
+            }
+        }
     }
 }

@@ -70,9 +70,29 @@ pub enum CsvProblem {
         names: Vec<String>,
         /// The `meta.toml` key that would ignore them.
         key: String,
+        /// How many more there are beyond `names` (which lists the first
+        /// few, so that a header of a million columns gives a short message).
+        more: usize,
     },
     /// An increment file with a single row: its interval is not known.
     NoInterval,
+    /// A header with more columns than a log file may have.
+    TooManyColumns {
+        /// The columns found (counted up to the first line end).
+        found: usize,
+        /// The largest number accepted ([`MAX_COLUMNS`](super::MAX_COLUMNS)).
+        limit: usize,
+    },
+    /// Too many rows of an aiding file rejected as non-physical readings
+    /// for them to be glitches (see [`REJECTED_FLOOR`](super::REJECTED_FLOOR)).
+    TooManyRejected {
+        /// Rows rejected.
+        count: usize,
+        /// Rows read.
+        rows: usize,
+        /// Why the first of them was rejected.
+        first: Box<CsvProblem>,
+    },
 }
 
 impl fmt::Display for CsvProblem {
@@ -104,14 +124,29 @@ impl fmt::Display for CsvProblem {
                 f,
                 "missing column (named by `{key}` in meta.toml), expected header `{expected}` in any order"
             ),
-            CsvProblem::UnknownColumns { names, key } => {
+            CsvProblem::UnknownColumns { names, key, more } => {
                 let names: Vec<String> = names.iter().map(|n| format!("`{n}`")).collect();
+                let more = if *more > 0 {
+                    format!(" and {more} more")
+                } else {
+                    String::new()
+                };
                 write!(
                     f,
-                    "unknown columns {}: not read by this file's mapping (list them in `{key}` to skip them)",
+                    "unknown columns {}{more}: not read by this file's mapping (list them in `{key}` to skip them)",
                     names.join(", ")
                 )
             }
+            CsvProblem::TooManyColumns { found, limit } => write!(
+                f,
+                "the header has {found} columns, more than the {limit} a log file may have"
+            ),
+            CsvProblem::TooManyRejected { count, rows, first } => write!(
+                f,
+                "{count} of {rows} rows rejected as non-physical readings (first: {first}): more than {} and one in {}, a unit, column or sign mistake rather than sensor glitches?",
+                super::REJECTED_FLOOR,
+                super::REJECTED_ONE_IN
+            ),
             CsvProblem::NoInterval => write!(
                 f,
                 "a single increment row has no interval (the first row's interval is taken from the second row)"
@@ -213,6 +248,19 @@ pub enum LogError {
         /// Why.
         reason: String,
     },
+    /// A file read through the log directory whose real path (symbolic
+    /// links and `..` resolved) is outside it: refused before any of it is
+    /// read, so nothing of its content is quoted.
+    #[error("{file}: `{key}` resolves outside the log directory {} (a symbolic link or `..`); refused", dir.display())]
+    Outside {
+        /// The file as named in the log (relative to the log directory).
+        file: String,
+        /// What named it: the `meta.toml` key (`files.imu.file`) or the
+        /// standard file's own name (`imu.csv`).
+        key: String,
+        /// The log directory.
+        dir: PathBuf,
+    },
     /// Reading was stopped through [`LogFiles::stop`](super::LogFiles::stop)
     /// (another reader of the same log, such as the preflight, refused it).
     #[error("{}: reading stopped", dir.display())]
@@ -230,7 +278,8 @@ impl LogError {
             LogError::MissingFile { file, .. }
             | LogError::UnknownFile { file, .. }
             | LogError::EmptyFile { file, .. }
-            | LogError::Csv { file, .. } => Some(file),
+            | LogError::Csv { file, .. }
+            | LogError::Outside { file, .. } => Some(file),
             LogError::Meta { .. } => Some("meta.toml"),
         }
     }
@@ -248,7 +297,7 @@ impl LogError {
     pub fn column(&self) -> Option<&str> {
         match self {
             LogError::Csv { column, .. } => Some(column),
-            LogError::Meta { key, .. } => Some(key),
+            LogError::Meta { key, .. } | LogError::Outside { key, .. } => Some(key),
             _ => None,
         }
     }

@@ -10,13 +10,16 @@
 //! reader accepts, with the same rows; an accepted `meta.toml` reads back
 //! unchanged from [`Meta::to_toml`], and each of its warnings names a key; a
 //! declared mapping (`[files.<sensor>]`) names files inside the log directory
-//! only, and a file read through it gives rows that keep the CSV promises. A
-//! failed assertion panics, which the fuzzer reports as a crash.
+//! only, and a file read through it gives rows that keep the CSV promises;
+//! read with non-physical readings rejected ([`NonPhysical::Rejected`]),
+//! the rows of an aiding file keep the CSV promises and stay within
+//! [`plausible_limit`], and the reader counts what it rejected. A failed
+//! assertion panics, which the fuzzer reports as a crash.
 
 use super::mapping::{FileMapping, LogMapping};
 use super::{
-    parse_csv, write_csv, AltitudeRow, DepthRow, DvlRow, HeadingRow, ImuRow, Meta, Row, RowReader,
-    RpmRow, SpeedRow, Strictness, TruthRow, UsblRow,
+    parse_csv, plausible_limit, write_csv, AltitudeRow, DepthRow, DvlRow, HeadingRow, ImuRow, Meta,
+    NonPhysical, Row, RowReader, RpmRow, SpeedRow, Strictness, TruthRow, UsblRow,
 };
 use super::{BaroRow, GnssRow, MagRow, ReferenceRow};
 
@@ -73,6 +76,7 @@ pub fn csv_file(data: &[u8]) {
 /// # Panics
 /// When the reader breaks one of its promises (module docs).
 pub fn csv_as<R: Row>(content: &[u8]) {
+    rejecting_as::<R>(content);
     let strict = parse_csv::<R>(content, Strictness::Strict);
     let lenient = parse_csv::<R>(content, Strictness::Lenient);
     if let Ok(table) = &lenient {
@@ -93,6 +97,42 @@ pub fn csv_as<R: Row>(content: &[u8]) {
         match parse_csv::<R>(text.as_slice(), Strictness::Strict) {
             Ok(back) => assert_eq!(back.rows, table.rows, "{}: round trip", R::FILE),
             Err(e) => panic!("{}: written rows do not read back: {e}", R::FILE),
+        }
+    }
+}
+
+/// `content` read as `R`'s file with non-physical readings rejected,
+/// strictly and leniently: the rows keep the CSV promises and, in an aiding
+/// file, every cell is within its plausible magnitude.
+fn rejecting_as<R: Row>(content: &[u8]) {
+    let aiding = !matches!(R::FILE, "imu.csv" | "truth.csv" | "reference.csv");
+    for strictness in [Strictness::Strict, Strictness::Lenient] {
+        let Ok(reader) = RowReader::<R, _>::new(content, strictness) else {
+            return;
+        };
+        let mut reader = reader.non_physical(NonPhysical::Rejected);
+        let mut rows = Vec::new();
+        while let Ok(Some((_, r))) = reader.next_row() {
+            rows.push(r);
+        }
+        check_rows(&rows);
+        if aiding {
+            for r in &rows {
+                for (i, v) in r.to_cells().iter().enumerate().skip(1) {
+                    let limit = plausible_limit(R::COLUMNS[i]).0;
+                    assert!(
+                        v.is_none_or(|v| v.abs() <= limit),
+                        "{}: column {} beyond {limit}: {v:?}",
+                        R::FILE,
+                        R::COLUMNS[i]
+                    );
+                }
+            }
+        } else {
+            assert!(reader.rejected().is_none(), "{}: rejected rows", R::FILE);
+        }
+        if let Some(r) = reader.rejected() {
+            assert!(r.count >= 1 && r.first.file == R::FILE, "{r:?}");
         }
     }
 }

@@ -6,8 +6,10 @@
 
 use std::path::{Component, Path};
 
+use super::axes::Axes;
 use super::meta::Cx;
 use super::rows::Row;
+use super::time_base::TimeBase;
 use super::LogError;
 
 /// Body frame of a file's body-frame vectors (gyro, specific force,
@@ -61,6 +63,8 @@ pub enum Quantity {
     Speed,
     /// Revolutions per minute.
     Rpm,
+    /// Magnetic field, gauss.
+    MagneticField,
 }
 
 /// Units each quantity may be given in, with the factor to the standard unit.
@@ -77,6 +81,10 @@ const UNITS: &[(Quantity, &str, f64)] = &[
     (Quantity::Speed, "m/s", 1.0),
     (Quantity::Speed, "kn", 1852.0 / 3600.0),
     (Quantity::Rpm, "rpm", 1.0),
+    (Quantity::MagneticField, "gauss", 1.0),
+    (Quantity::MagneticField, "T", 1e4),
+    (Quantity::MagneticField, "uT", 1e-2),
+    (Quantity::MagneticField, "nT", 1e-5),
 ];
 
 /// Standard gravity (m/s^2), the value of the unit `g`.
@@ -93,6 +101,7 @@ impl Quantity {
             Quantity::Length => "length",
             Quantity::Speed => "speed",
             Quantity::Rpm => "rpm",
+            Quantity::MagneticField => "magnetic_field",
         }
     }
 
@@ -129,13 +138,14 @@ pub fn quantity(column: &str) -> Option<Quantity> {
         }
         "depth" | "altitude" => Quantity::Length,
         "rpm" => Quantity::Rpm,
+        "mx" | "my" | "mz" => Quantity::MagneticField,
         _ => return None,
     })
 }
 
 /// Columns negated when the body frame is FLU.
 const FLU_NEGATED: &[&str] = &[
-    "gy", "gz", "ay", "az", "dtheta_y", "dtheta_z", "dv_y", "dv_z", "vy", "vz",
+    "gy", "gz", "ay", "az", "dtheta_y", "dtheta_z", "dv_y", "dv_z", "vy", "vz", "my", "mz",
 ];
 
 /// The increment-form columns of `imu.csv`, in the order of the rate columns
@@ -160,6 +170,7 @@ pub const MAPPED_SENSORS: &[(&str, &str)] = &[
     ("rpm", "rpm.csv"),
     ("altitude", "altitude.csv"),
     ("truth", "truth.csv"),
+    ("mag", "mag.csv"),
 ];
 
 /// Standard columns of each mapped sensor (both forms for the IMU).
@@ -177,6 +188,7 @@ fn standard_columns(sensor: &str) -> &'static [&'static str] {
         "speed" => SpeedRow::COLUMNS,
         "rpm" => RpmRow::COLUMNS,
         "altitude" => AltitudeRow::COLUMNS,
+        "mag" => MagRow::COLUMNS,
         _ => TruthRow::COLUMNS,
     }
 }
@@ -209,6 +221,11 @@ pub struct FileMapping {
     /// Whether the file has a `[files.<sensor>]` section (messages then point
     /// at its keys).
     pub declared: bool,
+    /// Where the file's times come from (`time`): the time column as it
+    /// is, unless the section says otherwise.
+    pub time: TimeBase,
+    /// Sign and permutation of the body-frame vector axes (`axes`).
+    pub axes: Axes,
 }
 
 impl FileMapping {
@@ -225,6 +242,8 @@ impl FileMapping {
             nav_frame: NavFrame::Ned,
             form: None,
             declared: false,
+            time: TimeBase::default(),
+            axes: Axes::default(),
         }
     }
 
@@ -261,6 +280,19 @@ impl FileMapping {
             1.0
         };
         unit * body * nav
+    }
+
+    /// For standard column `column`: the standard column of the file it is
+    /// read from (another axis with `axes`) and the factor that takes the
+    /// file's value to the standard unit, frame and axis.
+    pub fn source(&self, column: &str) -> (String, f64) {
+        match self.axes.source(column) {
+            Some((from, sign)) if !self.axes.is_identity() => {
+                let factor = sign * self.scale(&from);
+                (from, factor)
+            }
+            _ => (column.to_string(), self.scale(column)),
+        }
     }
 
     /// The dotted `meta.toml` key of `key` in this file's section.
@@ -352,10 +384,10 @@ fn parse_section(
     t: &toml::Table,
 ) -> Result<FileMapping, LogError> {
     let sec = format!("files.{sensor}");
-    let mut keys = vec!["file", "columns", "units", "ignore"];
-    let body = matches!(sensor, "imu" | "dvl");
+    let mut keys = vec!["file", "columns", "units", "ignore", "time"];
+    let body = matches!(sensor, "imu" | "dvl" | "mag");
     if body {
-        keys.push("body_frame");
+        keys.extend(["body_frame", "axes"]);
     }
     if sensor == "truth" {
         keys.push("nav_frame");
@@ -385,6 +417,8 @@ fn parse_section(
         nav_frame: NavFrame::Ned,
         form: None,
         declared: true,
+        time: TimeBase::default(),
+        axes: Axes::default(),
     };
     if let Some(file) = string("file")? {
         m.file = relative_log_path(file).map_err(|p| cx.err(&m.key("file"), p))?;
@@ -514,6 +548,25 @@ fn parse_section(
                 }
             };
         }
+    }
+    if body {
+        if let Some(v) = t.get("axes") {
+            let key = m.key("axes");
+            if t.contains_key("body_frame") {
+                return Err(cx.err(
+                    &key,
+                    format!(
+                        "contradicts `{}`: give the axes in one of the two (`body_frame = \"FLU\"` is `axes = [\"x\", \"-y\", \"-z\"]`)",
+                        m.key("body_frame")
+                    ),
+                ));
+            }
+            m.axes = Axes::parse(cx, &key, v)?;
+        }
+    }
+    if let Some(time) = cx.section(t, &sec, "time")? {
+        let column_named = m.columns.iter().any(|(c, _)| c == "t");
+        m.time = TimeBase::parse(cx, &sec, time, sensor == "imu", column_named)?;
     }
     if sensor == "truth" {
         if let Some(f) = string("nav_frame")? {

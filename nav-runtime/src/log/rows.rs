@@ -1,10 +1,27 @@
 //! Typed CSV rows and the CSV reader/writer shared by every log file.
 
+use std::collections::{HashMap, HashSet};
 use std::io::{BufRead, BufReader, Read, Write};
 
 use super::error::{CsvProblem, LogError, SkippedRow};
 use super::mapping::{FileMapping, ImuForm, IMU_INCREMENT_COLUMNS};
+use super::rejected::{
+    plausible_limit, NonPhysical, Rejected, RejectedTally, REJECTED_FLOOR, REJECTED_ONE_IN,
+};
+use super::time_base::TimeBase;
 use super::Strictness;
+
+/// The most columns a log file's header may have. A sensor file has at most
+/// a few dozen (a mapped file of another tool with its ignored columns a few
+/// hundred); a longer header is refused before any of it is looked at by
+/// name, so its cost is one pass over its bytes.
+pub const MAX_COLUMNS: usize = 4096;
+
+/// Whether `R`'s file is an aiding sensor's, whose non-physical readings
+/// are rejected rows rather than errors (not the IMU, truth or reference).
+fn is_aiding<R: Row>() -> bool {
+    !matches!(R::FILE, "imu.csv" | "truth.csv" | "reference.csv")
+}
 
 /// A value of one CSV cell: `f64` (a value is required) or `Option<f64>` (an empty
 /// cell means "no value", e.g. DVL without bottom lock).
@@ -487,6 +504,18 @@ pub struct RowReader<R: Row, I: Read> {
     /// Factor to the standard unit and frame of each standard column.
     scale: Vec<f64>,
     form: ImuForm,
+    /// Where the times come from.
+    time: TimeBase,
+    /// An aiding sensor's file: non-physical readings are rejected rows.
+    aiding: bool,
+    /// Data lines read so far (every non-blank line after the header).
+    data_rows: u64,
+    /// Rows rejected as non-physical readings.
+    rejected: Option<Rejected>,
+    /// Where rejected rows are reported too.
+    tally: Option<RejectedTally>,
+    /// Work of the header check ([`RowReader::header_work`]).
+    header_work: usize,
     cells: Vec<Option<f64>>,
     previous_t: Option<f64>,
     previous: Option<R>,
@@ -560,17 +589,32 @@ impl<R: Row, I: Read> RowReader<R, I> {
             line: 0,
             buf: Vec::new(),
         };
-        let names_of = |columns: &[&str]| -> Vec<String> {
+        let from_index = mapping.time.from_index;
+        // Header name and factor of each standard column (another axis of
+        // the file with `axes`).
+        let sources = |columns: &[&str]| -> Vec<(String, f64)> {
             columns
                 .iter()
-                .map(|c| mapping.header_name(c).to_string())
+                .map(|c| {
+                    let (from, factor) = mapping.source(c);
+                    (mapping.header_name(&from).to_string(), factor)
+                })
                 .collect()
+        };
+        let names_of = |columns: &[&str]| -> Vec<String> {
+            sources(columns).into_iter().map(|s| s.0).collect()
+        };
+        // The header a file should have, for messages (no time column when
+        // times come from the row index).
+        let expected_of = |names: &[String]| -> String {
+            let skip = usize::from(from_index);
+            names[skip..].join(",")
         };
         let rate_names = names_of(R::COLUMNS);
         let Some(header_line) = lines.next_line().map_err(|e| LogError::io(&file, e))? else {
             let expected = match (mapping.form, increment_columns::<R>()) {
-                (Some(ImuForm::Increments), Some(c)) => names_of(c).join(","),
-                _ => rate_names.join(","),
+                (Some(ImuForm::Increments), Some(c)) => expected_of(&names_of(c)),
+                _ => expected_of(&rate_names),
             };
             return Err(LogError::EmptyFile { file, expected });
         };
@@ -578,15 +622,37 @@ impl<R: Row, I: Read> RowReader<R, I> {
             .buf
             .strip_prefix(b"\xEF\xBB\xBF")
             .unwrap_or(&lines.buf);
+        // Counted before anything is built from the header: the cost of a
+        // refused header is one pass over its bytes.
+        let ncols = memchr::memchr_iter(b',', header_bytes).count() + 1;
+        if ncols > MAX_COLUMNS {
+            return Err(LogError::Csv {
+                file,
+                line: header_line,
+                column: format!("<column {}>", MAX_COLUMNS + 1),
+                problem: CsvProblem::TooManyColumns {
+                    found: ncols,
+                    limit: MAX_COLUMNS,
+                },
+            });
+        }
         let header: Vec<String> = split_cells(header_bytes)
             .map(|c| String::from_utf8_lossy(c).into_owned())
             .collect();
-        let has = |name: &String| header.contains(name);
+        // Each header name to its first column: one pass, then lookups, so
+        // the header costs time linear in its length.
+        let mut work = header.len();
+        let mut index: HashMap<&str, usize> = HashMap::with_capacity(header.len());
+        for (j, h) in header.iter().enumerate().rev() {
+            index.insert(h.as_str(), j);
+        }
+        let has = |name: &String| index.contains_key(name.as_str());
         let form = match (mapping.form, increment_columns::<R>()) {
             (_, None) => ImuForm::Rates,
             (Some(form), _) => form,
             (None, Some(inc)) => {
                 let inc = names_of(inc);
+                work += rate_names.len() + inc.len();
                 if !rate_names[1..].iter().any(has) && inc[1..].iter().any(has) {
                     ImuForm::Increments
                 } else {
@@ -598,12 +664,29 @@ impl<R: Row, I: Read> RowReader<R, I> {
             (ImuForm::Increments, Some(c)) => c,
             _ => R::COLUMNS,
         };
-        let names = names_of(standard);
-        let expected = names.join(",");
+        let sourced = sources(standard);
+        let names: Vec<String> = sourced.iter().map(|s| s.0.clone()).collect();
+        let expected = expected_of(&names);
         let mut slot = vec![None; header.len()];
         for (i, name) in names.iter().enumerate() {
-            match header.iter().position(|h| h == name) {
-                Some(j) => slot[j] = Some(i),
+            if i == 0 && from_index {
+                continue;
+            }
+            work += 1;
+            match index.get(name.as_str()) {
+                Some(&j) => {
+                    if slot[j].is_some() {
+                        // Two standard columns read from one file column
+                        // (cannot happen with a valid mapping).
+                        return Err(LogError::Csv {
+                            file,
+                            line: header_line,
+                            column: name.clone(),
+                            problem: CsvProblem::DuplicateColumn { name: name.clone() },
+                        });
+                    }
+                    slot[j] = Some(i);
+                }
                 None => {
                     let problem = if mapping.renamed(standard[i]) {
                         CsvProblem::MissingColumn {
@@ -625,16 +708,39 @@ impl<R: Row, I: Read> RowReader<R, I> {
                 }
             }
         }
-        let unknown: Vec<usize> = (0..header.len())
-            .filter(|&j| slot[j].is_none() && !mapping.ignore.contains(&header[j]))
-            .collect();
-        if let Some(&j) = unknown.first() {
+        // A column read twice by name: which of the two is meant?
+        for (j, h) in header.iter().enumerate() {
+            work += 1;
+            if slot[j].is_none()
+                && index
+                    .get(h.as_str())
+                    .is_some_and(|&first| slot[first].is_some())
+            {
+                return Err(LogError::Csv {
+                    file,
+                    line: header_line,
+                    column: short(h),
+                    problem: CsvProblem::DuplicateColumn { name: short(h) },
+                });
+            }
+        }
+        let ignore: HashSet<&str> = mapping.ignore.iter().map(String::as_str).collect();
+        work += mapping.ignore.len();
+        let mut unknown = (0..header.len())
+            .filter(|&j| slot[j].is_none() && !ignore.contains(header[j].as_str()));
+        work += header.len();
+        if let Some(j) = unknown.next() {
             let (column, problem) = if mapping.declared {
+                const LISTED: usize = 8;
+                let mut names = vec![short(&header[j])];
+                names.extend(unknown.by_ref().take(LISTED - 1).map(|j| short(&header[j])));
+                let more = unknown.count();
                 (
                     short(&header[j]),
                     CsvProblem::UnknownColumns {
-                        names: unknown.iter().map(|&j| short(&header[j])).collect(),
+                        names,
                         key: mapping.key("ignore"),
+                        more,
                     },
                 )
             } else {
@@ -661,8 +767,14 @@ impl<R: Row, I: Read> RowReader<R, I> {
             header,
             slot,
             names,
-            scale: standard.iter().map(|c| mapping.scale(c)).collect(),
+            scale: sourced.iter().map(|s| s.1).collect(),
             form,
+            time: mapping.time,
+            aiding: false,
+            data_rows: 0,
+            rejected: None,
+            tally: None,
+            header_work: work,
             cells: vec![None; n],
             previous_t: None,
             previous: None,
@@ -673,6 +785,27 @@ impl<R: Row, I: Read> RowReader<R, I> {
             last_value: vec![None; n],
             increments: Increments::default(),
         })
+    }
+
+    /// Sets how non-physical values of an aiding sensor's file are treated
+    /// (the IMU, truth and reference files are never aiding files).
+    pub fn non_physical(mut self, how: NonPhysical) -> Self {
+        self.aiding = how == NonPhysical::Rejected && is_aiding::<R>();
+        self
+    }
+
+    /// Reports the rows this reader rejects as non-physical readings to
+    /// `tally` too (see [`RejectedTally`]).
+    pub fn reporting_to(mut self, tally: RejectedTally) -> Self {
+        self.tally = Some(tally);
+        self
+    }
+
+    /// The header cells and name lookups the header check took: linear in
+    /// the header's length (a measure of work for the tests, which must not
+    /// time it).
+    pub fn header_work(&self) -> usize {
+        self.header_work
     }
 
     /// The next accepted row with its 1-based line number; `None` at the end
@@ -824,15 +957,76 @@ impl<R: Row, I: Read> RowReader<R, I> {
             .next_line()
             .map_err(|e| LogError::io(&self.file, e))?
         {
+            self.data_rows += 1;
             match self.parse_row() {
                 Ok(t) => {
                     self.previous_t = Some(t);
                     return Ok(Some(line));
                 }
-                Err((column, problem)) => self.reject(line, column, problem)?,
+                Err((column, problem, true)) => self.reject_reading(line, column, problem)?,
+                Err((column, problem, false)) => self.reject(line, column, problem)?,
             }
         }
+        // A file of which every row was rejected gives nothing: a mistake,
+        // not glitches.
+        if let (Strictness::Strict, None, Some(r)) =
+            (self.strictness, self.previous_t, &self.rejected)
+        {
+            return Err(self.too_many_rejected(r));
+        }
         Ok(None)
+    }
+
+    /// Skips a row of a non-physical reading (counted, reported); a strict
+    /// reader refuses the file once there are too many.
+    fn reject_reading(
+        &mut self,
+        line: u64,
+        column: String,
+        problem: CsvProblem,
+    ) -> Result<(), LogError> {
+        let file = &self.file;
+        let r = self.rejected.get_or_insert_with(|| Rejected {
+            count: 0,
+            first: SkippedRow {
+                file: file.clone(),
+                line,
+                column,
+                problem,
+            },
+        });
+        r.count += 1;
+        let r = r.clone();
+        if let Some(tally) = &self.tally {
+            tally.record(&r);
+        }
+        let rows = usize::try_from(self.data_rows).unwrap_or(usize::MAX);
+        if self.strictness == Strictness::Strict
+            && r.count > REJECTED_FLOOR
+            && r.count.saturating_mul(REJECTED_ONE_IN) > rows
+        {
+            return Err(self.too_many_rejected(&r));
+        }
+        Ok(())
+    }
+
+    fn too_many_rejected(&self, r: &Rejected) -> LogError {
+        LogError::Csv {
+            file: r.first.file.clone(),
+            line: r.first.line,
+            column: r.first.column.clone(),
+            problem: CsvProblem::TooManyRejected {
+                count: r.count,
+                rows: usize::try_from(self.data_rows).unwrap_or(usize::MAX),
+                first: Box::new(r.first.problem.clone()),
+            },
+        }
+    }
+
+    /// The rows rejected so far as non-physical readings (aiding files),
+    /// with the first of them: skipped, never returned.
+    pub fn rejected(&self) -> Option<&Rejected> {
+        self.rejected.as_ref()
     }
 
     /// The header name of file column `j` (`<column N>` beyond the header).
@@ -844,8 +1038,9 @@ impl<R: Row, I: Read> RowReader<R, I> {
     }
 
     /// Parses the current line into `self.cells`; its time, or the offending
-    /// column and problem.
-    fn parse_row(&mut self) -> Result<f64, (String, CsvProblem)> {
+    /// column, the problem and whether it is a non-physical reading of an
+    /// aiding file (a rejected row rather than a bad one).
+    fn parse_row(&mut self) -> Result<f64, (String, CsvProblem, bool)> {
         let line = &self.lines.buf;
         let ncols = self.header.len();
         // Commas are found with a vectorised search; the cells are parsed from
@@ -859,6 +1054,7 @@ impl<R: Row, I: Read> RowReader<R, I> {
                     expected: ncols,
                     found: count,
                 },
+                false,
             ));
         }
         let text = std::str::from_utf8(line).ok();
@@ -877,9 +1073,21 @@ impl<R: Row, I: Read> RowReader<R, I> {
                     }
                     None => std::str::from_utf8(raw).ok(),
                 };
+                let reading = self.aiding && i > 0;
                 match cell.and_then(|s| s.parse::<f64>().ok()) {
                     Some(v) if v.is_finite() && (v * self.scale[i]).is_finite() => {
-                        Some(v * self.scale[i])
+                        let v = v * self.scale[i];
+                        if reading {
+                            let (limit, allowed) = plausible_limit(R::COLUMNS[i]);
+                            if v.abs() > limit {
+                                return Err((
+                                    self.names[i].clone(),
+                                    CsvProblem::OutOfRange { value: v, allowed },
+                                    true,
+                                ));
+                            }
+                        }
+                        Some(v)
                     }
                     Some(_) => {
                         return Err((
@@ -887,6 +1095,7 @@ impl<R: Row, I: Read> RowReader<R, I> {
                             CsvProblem::NonFinite {
                                 text: cell_text(raw),
                             },
+                            reading,
                         ))
                     }
                     None => {
@@ -895,29 +1104,53 @@ impl<R: Row, I: Read> RowReader<R, I> {
                             CsvProblem::NotANumber {
                                 text: cell_text(raw),
                             },
+                            false,
                         ))
                     }
                 }
             };
         }
+        if !self.time.is_identity() {
+            let index = self.data_rows.saturating_sub(1);
+            self.cells[0] = if self.time.from_index {
+                Some(self.time.time(index, 0.0))
+            } else {
+                self.cells[0].map(|t| self.time.time(index, t))
+            };
+        }
         let row = R::from_cells(&self.cells)
-            .map_err(|i| (self.names[i].clone(), CsvProblem::EmptyCell))?;
+            .map_err(|i| (self.names[i].clone(), CsvProblem::EmptyCell, false))?;
         if let Err((i, value, allowed)) = row.check() {
             return Err((
                 self.names[i].clone(),
                 CsvProblem::OutOfRange { value, allowed },
+                self.aiding && i > 0,
             ));
         }
         let t = row.t();
+        if !t.is_finite() {
+            return Err((
+                self.names[0].clone(),
+                CsvProblem::NonFinite {
+                    text: format_f64(t),
+                },
+                false,
+            ));
+        }
         if let Some(prev) = self.previous_t {
             if t < prev {
                 return Err((
                     self.names[0].clone(),
                     CsvProblem::TimeBackwards { previous: prev, t },
+                    false,
                 ));
             }
             if t == prev {
-                return Err((self.names[0].clone(), CsvProblem::DuplicateTime { t }));
+                return Err((
+                    self.names[0].clone(),
+                    CsvProblem::DuplicateTime { t },
+                    false,
+                ));
             }
         }
         Ok(t)

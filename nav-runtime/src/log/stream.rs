@@ -14,7 +14,9 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
+use super::log_file::{open_confined, LogFile};
 use super::mapping::{ImuForm, LogMapping};
+use super::rejected::{NonPhysical, RejectedTally};
 use super::rows::RowReader;
 use super::{
     dangling_link, unknown_csv_files, AltitudeRow, DepthRow, DvlRow, Event, HeadingRow, ImuRow,
@@ -38,10 +40,16 @@ pub struct LogFiles {
     /// `imu.csv` shared with a check beside the replay
     /// ([`LogFiles::share_imu`]); shared by clones.
     pub(super) imu_share: super::shared::Slot,
+    /// Rows rejected as non-physical readings by every reader this log
+    /// opened; shared by clones.
+    rejected: RejectedTally,
+    /// How non-physical values of aiding files are treated.
+    non_physical: NonPhysical,
 }
 
-/// One file of a log opened for reading.
-pub type FileRows<R> = RowReader<R, fs::File>;
+/// One file of a log opened for reading (plain or gzip, confined to the
+/// log directory).
+pub type FileRows<R> = RowReader<R, LogFile>;
 
 impl LogFiles {
     /// Opens the log at `dir`: reads and validates `meta.toml` and lists the
@@ -58,21 +66,21 @@ impl LogFiles {
             Err(e) => return Err(LogError::io(dir, e)),
         }
         let meta_path = dir.join(META_FILE);
-        let meta_text = match fs::read(&meta_path) {
-            Ok(bytes) => String::from_utf8(bytes).map_err(|e| LogError::Meta {
-                key: String::new(),
-                line: None,
-                problem: format!("not valid UTF-8 ({e})"),
-            })?,
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-                dangling_link(&meta_path)?;
-                return Err(LogError::MissingFile {
-                    file: META_FILE.to_string(),
-                    dir: dir.to_path_buf(),
-                });
-            }
-            Err(e) => return Err(LogError::io(meta_path, e)),
+        let Some(mut meta_file) = open_confined(dir, META_FILE, META_FILE)? else {
+            dangling_link(&meta_path)?;
+            return Err(LogError::MissingFile {
+                file: META_FILE.to_string(),
+                dir: dir.to_path_buf(),
+            });
         };
+        let mut bytes = Vec::new();
+        std::io::Read::read_to_end(&mut meta_file, &mut bytes)
+            .map_err(|e| LogError::io(&meta_path, e))?;
+        let meta_text = String::from_utf8(bytes).map_err(|e| LogError::Meta {
+            key: String::new(),
+            line: None,
+            problem: format!("not valid UTF-8 ({e})"),
+        })?;
         let (meta, mapping, mut warnings) = Meta::parse_log(&meta_text)?;
         let unknown_files = unknown_csv_files(dir, &mapping)?;
         if let (Strictness::Strict, Some(file)) = (strictness, unknown_files.first()) {
@@ -111,7 +119,30 @@ impl LogFiles {
             warnings,
             stop: Arc::default(),
             imu_share: Arc::default(),
+            rejected: RejectedTally::default(),
+            non_physical: NonPhysical::default(),
         })
+    }
+
+    /// The log with non-physical values of aiding files (`1e300`, `inf`)
+    /// read as `how` says: [`NonPhysical::Rejected`] skips their rows with a
+    /// warning ([`LogFiles::rejected_warnings`]) instead of refusing the log.
+    pub fn with_non_physical(mut self, how: NonPhysical) -> Self {
+        self.non_physical = how;
+        self
+    }
+
+    /// How non-physical values of aiding files are read.
+    pub fn non_physical(&self) -> NonPhysical {
+        self.non_physical
+    }
+
+    /// One warning per file of which rows were rejected as non-physical
+    /// readings (skipped, never returned) by the readers this log (or a
+    /// clone) opened so far: after a replay or a check has read the log,
+    /// what it rejected ([`WarningKind::RejectedReading`]).
+    pub fn rejected_warnings(&self) -> Vec<Warning> {
+        self.rejected.warnings()
     }
 
     /// Stops every [`EventStream`] of this log (and of its clones): their
@@ -178,43 +209,23 @@ impl LogFiles {
     /// log directory.
     pub fn rows<R: Row>(&self) -> Result<Option<FileRows<R>>, LogError> {
         let mapping = self.mapping.of::<R>();
-        let path = self.dir.join(&mapping.file);
-        match fs::File::open(&path) {
-            Ok(f) => {
-                if mapping.declared_file {
-                    self.check_inside(&path, &mapping.key("file"), &mapping.file)?;
-                }
-                RowReader::with_mapping(f, self.strictness, &mapping).map(Some)
-            }
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-                dangling_link(&path)?;
-                if mapping.declared_file {
-                    return Err(LogError::MissingFile {
-                        file: mapping.file,
-                        dir: self.dir.clone(),
-                    });
-                }
-                Ok(None)
-            }
-            Err(e) => Err(LogError::io(path, e)),
-        }
-    }
-
-    /// Refuses a declared file whose real path (symbolic links followed) is
-    /// not inside the log directory.
-    fn check_inside(&self, path: &Path, key: &str, file: &str) -> Result<(), LogError> {
-        let dir = fs::canonicalize(&self.dir).map_err(|e| LogError::io(&self.dir, e))?;
-        let real = fs::canonicalize(path).map_err(|e| LogError::io(path, e))?;
-        if real.starts_with(&dir) {
-            Ok(())
+        let key = if mapping.declared_file {
+            mapping.key("file")
         } else {
-            Err(LogError::meta(
-                key,
-                format!(
-                    "`{file}` resolves to {}, outside the log directory",
-                    real.display()
-                ),
-            ))
+            mapping.file.clone()
+        };
+        match open_confined(&self.dir, &mapping.file, &key)? {
+            Some(f) => RowReader::with_mapping(f, self.strictness, &mapping).map(|r| {
+                Some(
+                    r.non_physical(self.non_physical)
+                        .reporting_to(self.rejected.clone()),
+                )
+            }),
+            None if mapping.declared_file => Err(LogError::MissingFile {
+                file: mapping.file,
+                dir: self.dir.clone(),
+            }),
+            None => Ok(None),
         }
     }
 

@@ -31,6 +31,10 @@ pub enum WarningKind {
     PartialScoring,
     /// A note of the replay model.
     Model,
+    /// Rows of an aiding file skipped as non-physical readings (sensor
+    /// glitches: `1e300`, `inf`); the warning gives their count and the
+    /// first one's line.
+    RejectedReading,
 }
 
 impl WarningKind {
@@ -48,6 +52,7 @@ impl WarningKind {
             WarningKind::OutsideImuSpan => "outside_imu_span",
             WarningKind::PartialScoring => "partial_scoring",
             WarningKind::Model => "model",
+            WarningKind::RejectedReading => "rejected_reading",
         }
     }
 }
