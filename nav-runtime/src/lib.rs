@@ -14,7 +14,7 @@
 //! | simulation | `simulation` | `simulation` | `trajectory`, `imu`, `sensors`, `vehicle`, `camera`, `stats` |
 //! | guidance | `guidance` | `guidance` | `guidance` (heading QP, RRT, line of sight) |
 //! | log I/O | `log` | `log` | `log` |
-//! | calibration | [`calibration`] | `std` | `allan` (IMU noise from a static record) |
+//! | calibration | `calibration` | `std` | `allan` (IMU noise from a static record) |
 //!
 //! A filter-only build (`default-features = false`, optionally with `std`)
 //! compiles neither clarabel nor csv nor toml.

@@ -17,7 +17,8 @@ mod deviation;
 mod imu_section;
 mod reading;
 mod stillness;
-#[cfg(test)]
+// The tests simulate an IMU (`simulation`).
+#[cfg(all(test, feature = "simulation"))]
 mod tests;
 
 pub use deviation::{cluster_sizes, curve, overlapping, phase, AllanPoint, MIN_CLUSTERS};
