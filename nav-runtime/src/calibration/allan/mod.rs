@@ -2,7 +2,8 @@
 //! (docs/allan.md).
 //!
 //! [`analyse`] takes the samples of `imu.csv` (`gx, gy, gz` in rad/s, `ax,
-//! ay, az` in m/s^2, evenly spaced by `period_s`) and returns, per axis, the
+//! ay, az` in m/s^2, evenly spaced by `period_s`, which [`sampling_period`]
+//! finds from the time column and checks) and returns, per axis, the
 //! Allan deviation curve with its confidence and the three coefficients read
 //! from its slopes: white noise of the rate (angle / velocity random walk,
 //! slope -1/2 read at 1 s), bias instability (the flat bottom / 0.664) and
@@ -16,6 +17,7 @@
 mod deviation;
 mod imu_section;
 mod reading;
+mod sampling;
 mod stillness;
 // The tests simulate an IMU (`simulation`).
 #[cfg(all(test, feature = "simulation"))]
@@ -27,6 +29,7 @@ pub use reading::{
     bias_instability, local_slopes, ramp, random_walk, white, Coefficient, Reading, FLICKER_FLOOR,
     MIN_SPAN, SLOPE_TOLERANCE,
 };
+pub use sampling::{sampling_period, MAX_STEP};
 
 /// Fewest samples [`analyse`] accepts: about two decades of cluster sizes
 /// with at least [`MIN_CLUSTERS`] clusters each.
@@ -180,6 +183,14 @@ pub enum AllanError {
         axis: &'static str,
         /// The value.
         value: f64,
+    },
+    /// Time stamps that do not make an evenly sampled record.
+    #[error("sample {sample} (from 1), column t: {reason}")]
+    Timing {
+        /// 1-based sample index.
+        sample: usize,
+        /// What is wrong.
+        reason: String,
     },
     /// The record is not static.
     #[error("not a static recording: {reason}")]

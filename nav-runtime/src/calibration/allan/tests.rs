@@ -398,3 +398,47 @@ fn fit_lines_pass_through_their_readings() {
     assert!((s0 - n / t0.sqrt()).abs() < 1e-15 && (s1 - n / t1.sqrt()).abs() < 1e-15);
     assert_eq!(axis.fit_line(Term::RandomWalk), None);
 }
+
+/// The time column: its median step, or the row where it goes wrong.
+#[test]
+fn sampling_period_refuses_gaps_and_time_going_back() {
+    let even: Vec<f64> = (0..200).map(|k| 10.0 + 0.01 * k as f64).collect();
+    let mut gap = even.clone();
+    gap[150..].iter_mut().for_each(|t| *t += 0.5);
+    let mut back = even.clone();
+    back[42] = back[41];
+    let mut nan = even.clone();
+    nan[7] = f64::NAN;
+    let cases: [(&str, &[f64], Result<f64, &str>); 5] = [
+        ("even", &even, Ok(0.01)),
+        (
+            "gap",
+            &gap,
+            Err(
+                "sample 151 (from 1), column t: a gap of 0.510000 s where the period is 0.010000 s",
+            ),
+        ),
+        (
+            "backwards",
+            &back,
+            Err("sample 43 (from 1), column t: time does not increase"),
+        ),
+        (
+            "NaN",
+            &nan,
+            Err("sample 8 (from 1), column t: NaN is not a finite number"),
+        ),
+        (
+            "one stamp",
+            &even[..1],
+            Err("1 IMU samples: an Allan analysis needs at least 100"),
+        ),
+    ];
+    for (name, times, want) in cases {
+        match (sampling_period(times), want) {
+            (Ok(p), Ok(w)) => assert!((p - w).abs() < 1e-12, "{name}: {p}"),
+            (Err(e), Err(w)) => assert!(e.to_string().starts_with(w), "{name}: {e}"),
+            (got, _) => panic!("{name}: {got:?}"),
+        }
+    }
+}
