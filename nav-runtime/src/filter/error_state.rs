@@ -622,7 +622,10 @@ mod tests {
                 theta: 0.9,
                 bias: 0.0,
             };
-            let mut f = tilt_filter(nominal, p0, refresh);
+            // Through `clone_from` into a filter without the option, as the
+            // scheduler's checkpoints copy filters: the option travels.
+            let mut f = tilt_filter(nominal, p0, false);
+            f.clone_from(&tilt_filter(nominal, p0, refresh));
             // One prediction (no rotation): the input of the last prediction is
             // the nominal, so the first update is the same in both cases.
             Propagate::propagate(&mut f, 1e-3, &TiltInput { theta: 0.0 }).unwrap();
