@@ -4,7 +4,7 @@
 //! The model traits ([`model`](mod@model)) are the only contract between generated code and
 //! this crate; the EKF core and the generated code build without `std` (libm).
 //!
-//! The crate has five domains, each in its folder behind a cargo feature (all
+//! The crate has six domains, each in its folder behind a cargo feature (all
 //! on by default) and re-exported flat at the root:
 //!
 //! | domain | folder | feature | modules |
@@ -14,6 +14,7 @@
 //! | simulation | `simulation` | `simulation` | `trajectory`, `imu`, `sensors`, `vehicle`, `camera`, `stats` |
 //! | guidance | `guidance` | `guidance` | `guidance` (heading QP, RRT, line of sight) |
 //! | log I/O | `log` | `log` | `log` |
+//! | calibration | `calibration` | `std` | `allan` (IMU noise from a static record) |
 //!
 //! A filter-only build (`default-features = false`, optionally with `std`)
 //! compiles neither clarabel nor csv nor toml.
@@ -22,6 +23,8 @@
 pub use nalgebra;
 pub use nav_macros::model;
 
+#[cfg(feature = "std")]
+pub mod calibration;
 pub mod filter;
 #[cfg(feature = "guidance")]
 pub mod guidance;

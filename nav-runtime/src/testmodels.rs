@@ -14,6 +14,12 @@
 //!   kernel over a [`Model::PROPAGATION`] structure (two changed rows, `Qd`
 //!   inside and outside them), with `F` taken from the input, so a test can
 //!   make any step (a zeroed row, an overflow).
+//! - [`Tilt`]: a planar error-state AHRS, states (attitude error `phi`, gyro
+//!   bias error `db`), input the nominal angle; its two sensors [`TiltCos`]
+//!   and [`TiltSin`] read the two components of gravity (an accelerometer
+//!   seen as two scalar sensors, fused at the same epoch) through the
+//!   nominal angle of the input, as the AHRS of docs/ulog.md does with
+//!   `C^_b^n`. [`TiltNominal`] is its nominal solution.
 
 use nalgebra::{SMatrix, SVector};
 
@@ -52,6 +58,9 @@ record!(OscNoise { q });
 record!(DcvNoise { var_v });
 record!(RowsInput { f00, f01, f22, f23 });
 record!(RowsNoise { q1, q2 });
+record!(TiltInput { theta });
+record!(TiltState { phi, db });
+record!(TiltNoise { q_gyro, q_bias });
 
 /// Dense `(h, P H^T, H P H^T)` for hand-written sensors.
 pub fn dense_terms<const N: usize, const M: usize>(
@@ -505,6 +514,170 @@ impl Mechanization<Cvb, 3> for Toy {
         self.v += (imu.a - self.b) * dt;
         // The error dynamics dp' = dv, dv' = -db (+ noise) are Cvb with zero input.
         CvbInput { a: 0.0 }
+    }
+}
+
+/// The planar error-state AHRS (see module docs). Errors are INS minus true
+/// (docs/models/conventions.md, item 7): `phi = theta^ - theta`,
+/// `db = b^ - b`; the nominal angle integrates `w_meas - b^`, so
+/// `phi' = -db + n_gyro` and `db' = n_bias`.
+pub struct Tilt;
+
+impl Tilt {
+    /// `F = df/dx`.
+    pub fn f() -> SMatrix<f64, 2, 2> {
+        SMatrix::<f64, 2, 2>::new(0.0, -1.0, 0.0, 0.0)
+    }
+}
+
+impl Model<2> for Tilt {
+    type Input = TiltInput;
+    type Params = ();
+    type Noise = TiltNoise;
+    type State = TiltState;
+    const NAME: &'static str = "Tilt";
+    const DISCRETE: bool = false;
+    const STATE_NAMES: [&'static str; 2] = ["phi", "db"];
+    const JACOBIAN_SPARSITY: [[bool; 2]; 2] = [[false, true], [false, false]];
+    const OPS_PROPAGATE_COVARIANCE: usize = 0;
+    const OPS_JACOBIAN: usize = 0;
+
+    fn transition(x: &SVector<f64, 2>, _: &TiltInput, _: &(), dt: f64) -> SVector<f64, 2> {
+        SVector::<f64, 2>::new(x[0] - x[1] * dt, x[1])
+    }
+
+    fn jacobian(_: &SVector<f64, 2>, _: &TiltInput, _: &(), _: f64) -> SMatrix<f64, 2, 2> {
+        Self::f()
+    }
+
+    fn process_noise(
+        _: &SVector<f64, 2>,
+        _: &TiltInput,
+        _: &(),
+        q: &TiltNoise,
+        dt: f64,
+    ) -> SMatrix<f64, 2, 2> {
+        SMatrix::<f64, 2, 2>::from_diagonal(&SVector::<f64, 2>::new(q.q_gyro * dt, q.q_bias * dt))
+    }
+
+    fn propagate_covariance(
+        cov: &mut SMatrix<f64, 2, 2>,
+        x: &SVector<f64, 2>,
+        u: &TiltInput,
+        p: &(),
+        q: &TiltNoise,
+        dt: f64,
+    ) {
+        let phi = SMatrix::<f64, 2, 2>::identity() + Self::f() * dt;
+        propagate_dense(cov, &phi, &Self::process_noise(x, u, p, q, dt));
+    }
+}
+
+/// Gravity along the first axis, `cos(theta)` (in g): the residual is INS
+/// minus sensor, `h = cos(theta^) - cos(theta^ - phi)`, read through the
+/// nominal angle of the input.
+pub struct TiltCos;
+
+impl Sensor<2, 1> for TiltCos {
+    type Model = Tilt;
+    type Aux = ();
+    const NAME: &'static str = "tilt_cos";
+    const ANGLES: [bool; 1] = [false];
+    const JACOBIAN_SPARSITY: [[bool; 2]; 1] = [[true, false]];
+    const OPS_INNOVATION_TERMS: usize = 0;
+
+    fn predict(x: &SVector<f64, 2>, u: &TiltInput, _: &(), _: &()) -> SVector<f64, 1> {
+        SVector::<f64, 1>::new(u.theta.cos() - (u.theta - x[0]).cos())
+    }
+
+    fn jacobian(x: &SVector<f64, 2>, u: &TiltInput, _: &(), _: &()) -> SMatrix<f64, 1, 2> {
+        SMatrix::<f64, 1, 2>::new(-(u.theta - x[0]).sin(), 0.0)
+    }
+
+    fn innovation_terms(
+        cov: &SMatrix<f64, 2, 2>,
+        x: &SVector<f64, 2>,
+        u: &TiltInput,
+        p: &(),
+        aux: &(),
+    ) -> (SVector<f64, 1>, SMatrix<f64, 2, 1>, SMatrix<f64, 1, 1>) {
+        dense_terms(
+            cov,
+            Self::predict(x, u, p, aux),
+            &Self::jacobian(x, u, p, aux).transpose(),
+        )
+    }
+}
+
+/// Gravity along the second axis, `sin(theta)` (in g):
+/// `h = sin(theta^) - sin(theta^ - phi)`.
+pub struct TiltSin;
+
+impl Sensor<2, 1> for TiltSin {
+    type Model = Tilt;
+    type Aux = ();
+    const NAME: &'static str = "tilt_sin";
+    const ANGLES: [bool; 1] = [false];
+    const JACOBIAN_SPARSITY: [[bool; 2]; 1] = [[true, false]];
+    const OPS_INNOVATION_TERMS: usize = 0;
+
+    fn predict(x: &SVector<f64, 2>, u: &TiltInput, _: &(), _: &()) -> SVector<f64, 1> {
+        SVector::<f64, 1>::new(u.theta.sin() - (u.theta - x[0]).sin())
+    }
+
+    fn jacobian(x: &SVector<f64, 2>, u: &TiltInput, _: &(), _: &()) -> SMatrix<f64, 1, 2> {
+        SMatrix::<f64, 1, 2>::new((u.theta - x[0]).cos(), 0.0)
+    }
+
+    fn innovation_terms(
+        cov: &SMatrix<f64, 2, 2>,
+        x: &SVector<f64, 2>,
+        u: &TiltInput,
+        p: &(),
+        aux: &(),
+    ) -> (SVector<f64, 1>, SMatrix<f64, 2, 1>, SMatrix<f64, 1, 1>) {
+        dense_terms(
+            cov,
+            Self::predict(x, u, p, aux),
+            &Self::jacobian(x, u, p, aux).transpose(),
+        )
+    }
+}
+
+/// The nominal solution of [`Tilt`]: the angle integrated from the gyro and
+/// the gyro-bias correction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TiltNominal {
+    /// rad.
+    pub theta: f64,
+    /// rad/s.
+    pub bias: f64,
+}
+
+impl TiltNominal {
+    /// The error model's input at this nominal solution (what the sensors
+    /// read), for [`crate::error_state::ErrorStateFilter::with_sensor_input`].
+    pub fn input(&self) -> TiltInput {
+        TiltInput { theta: self.theta }
+    }
+}
+
+impl NominalState<2> for TiltNominal {
+    fn inject(&mut self, e: &SVector<f64, 2>) {
+        self.theta -= e[0];
+        self.bias -= e[1];
+    }
+}
+
+/// The gyro sample is the measured rate, rad/s.
+impl Mechanization<Tilt, 2> for TiltNominal {
+    type Imu = TiltInput;
+    fn mechanize(&mut self, dt: f64, gyro: &TiltInput) -> TiltInput {
+        // As the AHRS of the models: the input is the nominal at the start
+        // of the interval.
+        let input = self.input();
+        self.theta += (gyro.theta - self.bias) * dt;
+        input
     }
 }
 

@@ -3,8 +3,9 @@
 //! A global allocator is per binary, so this test has its own binary: every
 //! allocation made by the test thread while counting is on is counted, and
 //! 1000 predict/update cycles (every discretization, batch and sequential
-//! updates, gated, refused and error-state updates, and an error-state filter
-//! recording for the smoother) must make none.
+//! updates, gated, refused and error-state updates, an error-state filter
+//! whose sensors read the input rebuilt from its nominal, and one recording
+//! for the smoother) must make none.
 
 use nav_runtime::ekf::{Discretization, Ekf};
 use nav_runtime::error_state::{ErrorStateFilter, NominalState};
@@ -242,6 +243,14 @@ fn predict_and_update_do_not_allocate() {
         .set_sensor_gate::<Range, 1>(Some(Gate::new(0.99).expect("valid")))
         .expect("capacity");
     let mut esf = ErrorStateFilter::new(new_filter(Discretization::FirstOrder), Nominal::default());
+    // Sensors reading the input rebuilt from the nominal before each update.
+    let mut refreshed =
+        ErrorStateFilter::new(new_filter(Discretization::FirstOrder), Nominal::default())
+            .with_sensor_input(|n: &Nominal| Accel {
+                ax: n.x[3],
+                ay: n.x[4],
+                az: n.x[5],
+            });
     // A smoother's recording beside the filter (its epoch buffer sized at
     // the start).
     let mut recording =
@@ -288,7 +297,7 @@ fn predict_and_update_do_not_allocate() {
                 outcomes[3] += usize::from(f.update::<Position, 3>(&bad, &r3, &()).is_err());
             }
             let z3 = SVector::<f64, 3>::new(0.3, -0.2, 0.1);
-            for f in [&mut esf, &mut recording] {
+            for f in [&mut esf, &mut recording, &mut refreshed] {
                 f.predict(0.01, &u).expect("finite step");
                 f.update::<Position, 3>(&z3, &r3, &())
                     .expect("valid update");
@@ -301,6 +310,7 @@ fn predict_and_update_do_not_allocate() {
     assert_eq!((outcomes[2], outcomes[3]), (3000, 3000));
     // One reset at construction (non-zero initial error), one per update.
     assert_eq!(esf.resets(), 1001);
+    assert_eq!(refreshed.resets(), 1001);
     // The recording took every step and every update.
     let file = recording.finish_recording().expect("recorded").expect("on");
     assert_eq!(file.borrow().len(), 1001);

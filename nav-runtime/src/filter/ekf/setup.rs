@@ -120,6 +120,15 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
         &self.input
     }
 
+    /// Replaces the input that sensors read (`h(x, u, p, aux)` and `H`)
+    /// until the next prediction: an error-state filter sets it from its
+    /// nominal solution after a feedback ([`crate::error_state`]). The
+    /// caller passes a finite input (a non-finite one makes the next update
+    /// fail on its non-finite innovation, not panic).
+    pub(crate) fn set_input(&mut self, input: Mo::Input) {
+        self.input = input;
+    }
+
     /// The discretization in use.
     pub fn discretization(&self) -> Discretization {
         self.discretization
