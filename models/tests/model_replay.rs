@@ -324,6 +324,63 @@ fn broken_mappings_and_logs_are_errors_naming_the_key() {
     }
 }
 
+/// Files the log points out of its directory are refused without being
+/// read (nothing of them is quoted), and a header of a hundred thousand
+/// columns is refused after one pass instead of being searched column by
+/// column (the cost was quadratic in its width).
+#[test]
+fn files_outside_the_log_and_absurd_headers_are_refused() {
+    let dir = TempDir::new("outside");
+    let secret = dir.0.join("secret.csv");
+    std::fs::write(&secret, "root:x:0:0:the first line of a private file\n").unwrap();
+    // (case, edit of the log, expected parts of the message)
+    type Edit = fn(&Path, &Path);
+    let cases: &[(&str, Edit, &[&str])] = &[
+        (
+            "a sensor file linked out of the log",
+            |log, secret| {
+                std::fs::remove_file(log.join("gnss.csv")).unwrap();
+                std::os::unix::fs::symlink(secret, log.join("gnss.csv")).unwrap();
+            },
+            &["gnss.csv", "outside the log directory", "refused"],
+        ),
+        (
+            "the mapping linked out of the log",
+            |log, secret| {
+                std::fs::remove_file(log.join("replay.toml")).unwrap();
+                std::os::unix::fs::symlink(secret, log.join("replay.toml")).unwrap();
+            },
+            &["replay.toml", "outside the log directory"],
+        ),
+        (
+            "a header of 100,000 columns",
+            |log, _| {
+                let text = std::fs::read_to_string(log.join("gnss.csv")).unwrap();
+                let (header, rest) = text.split_once('\n').unwrap();
+                let wide: String = (0..100_000).map(|k| format!(",extra{k}")).collect();
+                std::fs::write(log.join("gnss.csv"), format!("{header}{wide}\n{rest}")).unwrap();
+            },
+            &["gnss.csv:1", "100", "columns, more than the 4096"],
+        ),
+    ];
+    for (k, (name, edit, expected)) in cases.iter().enumerate() {
+        let log = dir.0.join(format!("case{k}"));
+        write_log(&log, 3, SI, DRIVE_STEPS);
+        edit(&log, &secret);
+        let message = match rover().replay(&log, None, &RunOptions::default(), None) {
+            Ok(_) => panic!("{name}: replayed"),
+            Err(e) => e.to_string(),
+        };
+        assert!(
+            !message.contains("root:x"),
+            "{name}: quotes the file: {message}"
+        );
+        for part in *expected {
+            assert!(message.contains(part), "{name}: `{message}` lacks `{part}`");
+        }
+    }
+}
+
 /// Lenient reading skips a bad row, counts it and says so; a sensor whose
 /// rows are all refused, and a truth the filter's sigmas do not describe,
 /// are warnings, not silent numbers.

@@ -1,6 +1,7 @@
 //! `nav-replay`: a log directory in, one filter over it, JSON, CSV series and
 //! plots out.
 //!
+//! - [`allan`]: the IMU noise of a static recording (Allan deviation);
 //! - [`ins`]: any INS vehicle of `nav_ins` over a log (`meta.toml` and the
 //!   standard files, or a declared mapping), scored against `truth.csv`;
 //! - [`model_replay`]: any declared model, not only an INS, over a log
@@ -15,6 +16,7 @@
 //! and this crate, not on the papers' estimators. See `docs/pipeline.md`.
 #![warn(missing_docs)]
 
+pub mod allan;
 mod error;
 pub mod ins;
 pub mod model_replay;

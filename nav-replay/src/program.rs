@@ -40,7 +40,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
-use nav_runtime::log::{LogFiles, Strictness};
+use nav_runtime::log::{LogFiles, NonPhysical, Strictness};
 use serde_json::{json, Map, Value};
 
 use nav_ins::vehicle::{Layout, Present};
@@ -154,14 +154,15 @@ fn check<V: InsVehicle<N>, const N: usize>(c: &CheckCommand) -> Result<(), RunEr
         Strictness::Strict
     };
     Layout::of::<V, N>()?;
-    let files = LogFiles::open(&c.dir, strictness)?;
-    let (_, summary) = crate::preflight::check_files(
+    let files = open_log(&c.dir, strictness)?;
+    let (_, mut summary) = crate::preflight::check_files(
         &files,
         &PreflightOptions {
             lenient: c.lenient,
             ..PreflightOptions::default()
         },
     )?;
+    summary.warnings.extend(files.rejected_warnings());
     let value = check_report::<V, N>(&summary);
     if c.json {
         println!("{}", crate::output::report::json_line(&value));
@@ -280,7 +281,7 @@ pub fn replay_with(model: &dyn ReplayModel, args: &ReplayArgs) -> Result<(), Run
     }
     let (preflight_options, strictness) =
         preflight_options(args.lenient, args.max_gap_periods, model.log_files())?;
-    let files = LogFiles::open(&args.dir, strictness)?;
+    let files = open_log(&args.dir, strictness)?;
     let options = ReplayOptions {
         stationary: args.stationary,
         keep_series: args.out.is_some(),
@@ -296,10 +297,16 @@ pub fn replay_with(model: &dyn ReplayModel, args: &ReplayArgs) -> Result<(), Run
             for file in &read.unknown_files {
                 eprintln!("warning: ignored unknown file {file}");
             }
+            // A model's notes carry their file in the message already.
             for w in &output.warnings {
+                eprintln!("warning: {}", w.message);
+            }
+            let rejected = files.rejected_warnings();
+            for w in &rejected {
                 eprintln!("warning: {w}");
             }
             let mut warnings: Vec<Warning> = read.warnings.clone();
+            warnings.extend(rejected);
             warnings.extend(report.warnings().cloned());
             warnings.extend(output.warnings.iter().cloned());
             let mut value = report::replay_json(
@@ -337,6 +344,17 @@ pub fn replay_with(model: &dyn ReplayModel, args: &ReplayArgs) -> Result<(), Run
         emit(&result(&output, &report, &summary), args.json);
     }
     Ok(())
+}
+
+/// Opens a log directory as every command reads it: a non-physical
+/// reading in an aiding file (a glitch: 1e300, an infinity, a latitude past
+/// the pole) is a rejected row with a warning, not a broken file, unless
+/// so many are rejected that the file is (see `NonPhysical::Rejected`).
+///
+/// # Errors
+/// As [`LogFiles::open`].
+pub fn open_log(dir: &std::path::Path, strictness: Strictness) -> Result<LogFiles, RunError> {
+    Ok(LogFiles::open(dir, strictness)?.with_non_physical(NonPhysical::Rejected))
 }
 
 /// The JSON `warnings` array: `{"kind","file","line","key","message"}`

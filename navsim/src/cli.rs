@@ -9,7 +9,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
-use nav_runtime::log::{LogFiles, Warning};
+use nav_runtime::log::Warning;
 use serde_json::Value;
 
 use models::harness::{
@@ -23,8 +23,8 @@ pub use models::registry::{
 use nav_replay::output::report::{self, StagedDir};
 use nav_replay::preflight;
 pub use nav_replay::program::{
-    emit, note, one_line, parse_failure, preflight_options, replay_with, warnings_json, write_out,
-    ReplayArgs,
+    emit, note, one_line, open_log, parse_failure, preflight_options, replay_with, warnings_json,
+    write_out, ReplayArgs,
 };
 
 use crate::scenario_text::{scenario_text, Plots};
@@ -56,6 +56,31 @@ pub enum Command {
     Check(CheckArgs),
     /// Convert another tool's log into a log directory (`import ulog FILE --out DIR`).
     Import(ImportArgs),
+    /// IMU noise from a static recording: the Allan deviation of each gyro
+    /// and accelerometer axis of the log's imu.csv, and its `[sensors.imu]`.
+    Allan(AllanArgs),
+}
+
+/// `navsim allan`.
+#[derive(Debug, Args)]
+pub struct AllanArgs {
+    /// Log directory of the static recording.
+    pub dir: PathBuf,
+    /// First time of imu.csv analysed, s (default: its first row).
+    #[arg(long)]
+    pub from: Option<f64>,
+    /// Last time of imu.csv analysed, s (default: its last row).
+    #[arg(long)]
+    pub to: Option<f64>,
+    /// Write the `[sensors.imu]` section found to this file.
+    #[arg(long)]
+    pub write: Option<PathBuf>,
+    /// Directory for the curves (CSV) and their plots.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Print one JSON object on stdout.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// `navsim import`.
@@ -306,10 +331,11 @@ pub fn cmd_replay(args: &ReplayArgs) -> Result<(), RunError> {
 /// not loaded) and prints every finding; fails when there is an error.
 pub fn cmd_check(args: &CheckArgs) -> Result<(), RunError> {
     let (options, strictness) = preflight_options(args.lenient, args.max_gap_periods, None)?;
-    let files = LogFiles::open(&args.dir, strictness)?;
+    let files = open_log(&args.dir, strictness)?;
     let (report, summary) = preflight::check_files(&files, &options)?;
     let errors: Vec<Warning> = report.errors().cloned().collect();
     let mut warnings = summary.warnings.clone();
+    warnings.extend(files.rejected_warnings());
     warnings.extend(report.warnings().cloned());
     let span = summary.imu_time_span();
     let imu_rows = summary.imu_rows();
@@ -429,6 +455,7 @@ pub fn run(cli: &Cli) -> Result<(), RunError> {
         Some(Command::List(a)) => cmd_list(a),
         Some(Command::Check(a)) => cmd_check(a),
         Some(Command::Import(a)) => cmd_import(a),
+        Some(Command::Allan(a)) => cmd_allan(a),
         None => cmd_scenario(&ScenarioArgs {
             name: default_scenario().to_string(),
             seed: DEFAULT_SEED,
@@ -441,6 +468,76 @@ pub fn run(cli: &Cli) -> Result<(), RunError> {
             smooth: false,
         }),
     }
+}
+
+/// `navsim allan`: the Allan analysis of the log's IMU (docs/allan.md).
+pub fn cmd_allan(args: &AllanArgs) -> Result<(), RunError> {
+    use nav_replay::allan;
+    let files = open_log(&args.dir, nav_runtime::log::Strictness::Strict)?;
+    let stretch = allan::Stretch {
+        from_s: args.from,
+        to_s: args.to,
+    };
+    let report = allan::analyse_log(&files, stretch)?;
+    let mut value = allan::report_json(&report);
+    if let Some(path) = &args.write {
+        std::fs::write(path, report.imu_section()).map_err(|e| RunError::io(path, e))?;
+        value["written"] = serde_json::Value::from(path.display().to_string());
+    }
+    if let Some(out) = &args.out {
+        let dir = write_out(out, |dir| {
+            for a in &report.axes {
+                let mut t = nav_replay::RunTable::new(
+                    &format!("allan-{}", a.name),
+                    &["tau_s", "deviation", "relative_error", "clusters"],
+                );
+                for p in &a.curve {
+                    t.push(&[p.tau_s, p.deviation, p.relative_error, p.clusters as f64]);
+                }
+                t.write_csv(&dir.join(format!("allan-{}.csv", a.name)))?;
+            }
+            allan::write_plots(&report, dir)
+        })?;
+        value["out"] = serde_json::Value::from(dir.display().to_string());
+    }
+    for w in &report.warnings {
+        eprintln!("warning: {w}");
+    }
+    if args.json {
+        println!("{}", report::json_line(&value));
+        return Ok(());
+    }
+    println!(
+        "{}: {} IMU samples every {} s ({:.1} s)",
+        args.dir.display(),
+        report.samples,
+        report.period_s,
+        report.period_s * report.samples as f64
+    );
+    for a in &report.axes {
+        let units = a.kind.units();
+        let show = |r: &nav_runtime::calibration::allan::Reading, unit: &str| match r {
+            nav_runtime::calibration::allan::Reading::Found(c) => {
+                format!(
+                    "{:.4e} {unit} (+-{:.1} %)",
+                    c.value,
+                    100.0 * c.relative_error
+                )
+            }
+            nav_runtime::calibration::allan::Reading::NotReached(why) => {
+                format!("not reached ({why})")
+            }
+        };
+        println!(
+            "{}: white {}; bias instability {}; random walk {}",
+            a.name,
+            show(&a.white, units[1]),
+            show(&a.bias_instability, units[2]),
+            show(&a.random_walk, units[3])
+        );
+    }
+    print!("{}", report.imu_section());
+    Ok(())
 }
 
 /// The `navsim` entry point: parses `std::env::args`, runs, reports errors.

@@ -116,6 +116,14 @@ where
             || MAPPING_FILE.to_string(),
             |n| n.to_string_lossy().into_owned(),
         );
+        // The log directory's own mapping is confined to it (a symbolic link
+        // out of it is refused, its target never read); a mapping the user
+        // names with --mapping is theirs to point anywhere.
+        if mapping.is_none() {
+            if let Err(e) = nav_runtime::log::open_confined(dir, MAPPING_FILE, MAPPING_FILE) {
+                return Err(e.into());
+            }
+        }
         let text = std::fs::read_to_string(&path).map_err(|e| {
             if e.kind() == std::io::ErrorKind::NotFound {
                 ModelReplayError::Mapping {

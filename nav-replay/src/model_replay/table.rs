@@ -3,10 +3,11 @@
 //! each cell converted to the declared scalar's SI unit. Nothing is held but
 //! the current row.
 
-use std::fs::File;
 use std::path::Path;
 
-use nav_runtime::log::{closest_name, CsvProblem, LogError, SkippedRow};
+use nav_runtime::log::{
+    closest_name, open_confined, CsvProblem, LogError, LogFile, SkippedRow, MAX_COLUMNS,
+};
 
 use super::mapping::{Cell, Column, Source};
 use super::ModelReplayError;
@@ -25,7 +26,7 @@ enum Read {
 /// The rows of one mapped file.
 pub struct MappedRows {
     file: String,
-    reader: csv::Reader<File>,
+    reader: csv::Reader<LogFile>,
     record: csv::StringRecord,
     headers: Vec<String>,
     time: (usize, f64),
@@ -58,8 +59,10 @@ impl MappedRows {
         mapping_file: &str,
         lenient: bool,
     ) -> Result<Option<MappedRows>, ModelReplayError> {
-        let path = dir.join(&source.file);
-        if !path.is_file() {
+        // Confined to the log directory: a symbolic link or `..` that leads
+        // out of it is refused before a byte is read (and never quoted).
+        let key = format!("{mapping_file}: file {}", source.file);
+        let Some(file) = open_confined(dir, &source.file, &key)? else {
             if !source.required {
                 return Ok(None);
             }
@@ -68,12 +71,7 @@ impl MappedRows {
                 dir: dir.to_path_buf(),
             }
             .into());
-        }
-        let io = |e: std::io::Error| LogError::Io {
-            path: path.clone(),
-            source: e,
         };
-        let file = File::open(&path).map_err(io)?;
         let mut reader = csv::ReaderBuilder::new()
             .has_headers(true)
             .flexible(true)
@@ -90,8 +88,22 @@ impl MappedRows {
             }
             .into());
         }
-        for (i, h) in headers.iter().enumerate() {
-            if headers[..i].contains(h) {
+        if headers.len() > MAX_COLUMNS {
+            return Err(LogError::Csv {
+                file: source.file.clone(),
+                line: 1,
+                column: String::new(),
+                problem: CsvProblem::TooManyColumns {
+                    found: headers.len(),
+                    limit: MAX_COLUMNS,
+                },
+            }
+            .into());
+        }
+        // One pass: the cost stays linear in the header's width.
+        let mut seen = std::collections::HashSet::with_capacity(headers.len());
+        for h in &headers {
+            if !seen.insert(h.as_str()) {
                 return Err(LogError::Csv {
                     file: source.file.clone(),
                     line: 1,
@@ -104,11 +116,15 @@ impl MappedRows {
         let find = |c: &Column| headers.iter().position(|h| *h == c.header);
         let missing = |c: &Column| {
             let names: Vec<&str> = headers.iter().map(String::as_str).collect();
+            // A few names say what the file is; a wide header is not echoed whole.
+            const LISTED: usize = 8;
+            let mut listed = names[..names.len().min(LISTED)].join(", ");
+            if names.len() > LISTED {
+                listed.push_str(&format!(" and {} more", names.len() - LISTED));
+            }
             let mut problem = format!(
-                "{} has no column `{}` (its columns: {})",
-                source.file,
-                c.header,
-                names.join(", ")
+                "{} has no column `{}` (its columns: {listed})",
+                source.file, c.header
             );
             if let Some(close) = closest_name(&c.header, &names) {
                 problem.push_str(&format!("; did you mean `{close}`?"));
