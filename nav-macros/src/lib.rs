@@ -455,7 +455,9 @@
 //!   of compositions) -> check (`check.rs`, errors collected in `ctxt.rs`,
 //!   spellings and suggestions in `names.rs`) -> lower to a hash-consed scalar
 //!   DAG (`lower.rs`); blocks and compositions are assembled into one
-//!   declaration first (`compose.rs`).
+//!   declaration first (`compose.rs`). After derivation, the structural
+//!   observability of the declared sensor sets is checked against the
+//!   sparsity of `H` and `F` (`observability.rs`).
 //! - **Symbolic core** (`src/symbolic/`, no syn): the graph (`expr.rs`;
 //!   constructors fold constants and drop `x + 0`, `x * 1`, `x * 0`, `x - x`,
 //!   `--x`, ..) -> differentiate, memoized per (node, variable) (`diff.rs`) ->
