@@ -238,8 +238,8 @@ impl Leveling6 {
     ///Index of the first scalar of `gravity_direction` in the state vector.
     pub const GRAVITY_DIRECTION: usize = 3;
     /// State scalars no sensor depends on, directly or through the dynamics
-    /// (no measurement can correct them). A composed model must list them
-    /// in `allow_unused { .. }`.
+    /// (no measurement can correct them). The model lists them in
+    /// `allow_unused { .. }` (checked at compile time).
     pub const UNUSED_STATES: &'static [&'static str] = &[];
     /// Operations in `transition`.
     pub const OPS_TRANSITION: usize = 45;
@@ -259,6 +259,70 @@ impl Leveling6 {
         columns: &[1, 2, 3, 0, 2, 4, 0, 1, 5, 4, 5, 3, 5, 3, 4],
         noise: &[(0, 0), (1, 1), (2, 2), (3, 3), (3, 4), (3, 5), (4, 4), (4, 5), (5, 5)],
     };
+    /// The sensors, in declaration order (`Sensor::INDEX` of each sensor type).
+    pub const SENSORS: [&'static str; 2] = ["Moving", "Stationary"];
+    /// Per sensor, per state scalar: the sensor's `h` depends on the state
+    /// directly (a structural nonzero of its `H`).
+    pub const SENSOR_DEPENDS: [[bool; 6]; 2] = [
+        [true, false, false, true, true, true],
+        [true, true, true, true, true, true],
+    ];
+    /// The sensor sets the model is declared to run with (`runs_with { .. }`, as
+    /// indices into `SENSORS`); the set of all sensors when it declares none.
+    pub const RUNS_WITH: [&'static [usize]; 1] = [&[0, 1]];
+    /// Per set of `RUNS_WITH`, per state scalar: structurally observable with
+    /// that set (checked at compile time against `allow_unused`).
+    pub const RUNS_WITH_OBSERVABLE: [[bool; 6]; 1] = [
+        [true, true, true, true, true, true],
+    ];
+    /// Per state scalar: is it structurally observable with the sensors marked
+    /// `true` (indexed like `SENSORS`), i.e. is there a path from the state to
+    /// a measurement of one of them, through a sensor's `H` or the dynamics
+    /// (`F[i][j] != 0`, `i != j`, of a state `i` on such a path)? Sparsity
+    /// only: `false` means no measurement of that set can ever correct the
+    /// state; `true` means only that sparsity does not exclude it (see
+    /// `docs/language.md`, "Structural observability").
+    pub const fn structurally_observable(sensors: &[bool; 2]) -> [bool; 6] {
+        let deps = Self::SENSOR_DEPENDS;
+        let f = <Self as ::nav_runtime::model::Model<6, f64>>::JACOBIAN_SPARSITY;
+        let mut seen = [false; 6];
+        let mut s = 0;
+        while s < 2 {
+            if sensors[s] {
+                let mut j = 0;
+                while j < 6 {
+                    if deps[s][j] {
+                        seen[j] = true;
+                    }
+                    j += 1;
+                }
+            }
+            s += 1;
+        }
+        let mut changed = true;
+        while changed {
+            changed = false;
+            let mut i = 0;
+            while i < 6 {
+                if seen[i] {
+                    let mut j = 0;
+                    while j < 6 {
+                        if j != i && !seen[j] && f[i][j] {
+                            seen[j] = true;
+                            changed = true;
+                        }
+                        j += 1;
+                    }
+                }
+                i += 1;
+            }
+        }
+        seen
+    }
+    /// The index in `SENSORS` of the sensor declared as `name`, if any.
+    pub fn sensor_index(name: &str) -> ::core::option::Option<usize> {
+        Self::SENSORS.iter().position(|s| *s == name)
+    }
     /// Operations in [`Self::derivative`].
     pub const OPS_DERIVATIVE: usize = 33;
     /**The state derivative `f(x, u, p)` at `w = 0`.
@@ -284,15 +348,14 @@ Total ops: 33*/
         out[5] = x[3] * _t4 - x[4] * _t5;
         out
     }
-    /**`f(x, u, p, w)` with an explicit noise sample `w` (`dt` is unused).
+    /**The state derivative `dx/dt = f(x, u, p, w)` with an explicit noise sample `w` (units of the state per second; not a step: [`Self::step_with_noise`] advances the state by `dt`).
 
 Total ops: 39*/
-    pub fn process_with_noise(
+    pub fn derivative_with_noise(
         x: &::nav_runtime::nalgebra::SVector<f64, 6>,
         u: &Leveling6Input,
         p: &Leveling6Params,
         w: &::nav_runtime::nalgebra::SVector<f64, 6>,
-        dt: f64,
     ) -> ::nav_runtime::nalgebra::SVector<f64, 6> {
         let _t0 = u.earth_rate_body[2] + u.gyro[2];
         let _t1 = u.earth_rate_body[1] + u.gyro[1];
@@ -312,7 +375,40 @@ Total ops: 39*/
         out[5] = x[3] * _t4 - x[4] * _t5;
         out
     }
-    /**The noise Jacobian `G = df/dw` at `w = 0` (N x NW, noise scalars in declaration order).
+    /**The state after one step of `dt` seconds with an explicit noise sample `w`: the Euler step `x + f(x, u, p, w) dt` (`transition` at `w = 0`; the derivative itself is [`Self::derivative_with_noise`]).
+
+Total ops: 51*/
+    pub fn step_with_noise(
+        x: &::nav_runtime::nalgebra::SVector<f64, 6>,
+        u: &Leveling6Input,
+        p: &Leveling6Params,
+        w: &::nav_runtime::nalgebra::SVector<f64, 6>,
+        dt: f64,
+    ) -> ::nav_runtime::nalgebra::SVector<f64, 6> {
+        let _t0 = u.earth_rate_body[2] + u.gyro[2];
+        let _t1 = u.earth_rate_body[1] + u.gyro[1];
+        let _t2 = u.earth_rate_body[0] + u.gyro[0];
+        let _t3 = u.gyro[2] - u.earth_rate_body[2] + w[5];
+        let _t4 = u.gyro[1] - u.earth_rate_body[1] + w[4];
+        let _t5 = u.gyro[0] - u.earth_rate_body[0] + w[3];
+        let mut out = ::nav_runtime::nalgebra::SVector::<f64, 6>::zeros();
+        out[0] = dt
+            * (p.gravity * x[3] + (_t0 * x[1] - _t1 * x[2]) + u.specific_force[0] + w[0])
+            + x[0];
+        out[1] = x[1]
+            + dt
+                * (p.gravity * x[4] + (x[2] * _t2 - _t0 * x[0]) + u.specific_force[1]
+                    + w[1]);
+        out[2] = x[2]
+            + dt
+                * (p.gravity * x[5] + (_t1 * x[0] - x[1] * _t2) + u.specific_force[2]
+                    + w[2]);
+        out[3] = x[3] + dt * (x[4] * _t3 - x[5] * _t4);
+        out[4] = x[4] + dt * (x[5] * _t5 - x[3] * _t3);
+        out[5] = x[5] + dt * (x[3] * _t4 - x[4] * _t5);
+        out
+    }
+    /**The noise Jacobian `G = df/dw` of the derivative at `w = 0` (N x NW, noise scalars in declaration order; `dt` is unused: the step's own is `G dt`).
 
 Total ops: 3*/
     pub fn noise_jacobian(
@@ -553,6 +649,12 @@ impl Leveling6Moving {
     pub const M: usize = 2;
     /// The declared sensor name.
     pub const NAME: &'static str = "Moving";
+    /// The index of this sensor in the model's `SENSORS` (declaration order).
+    pub const INDEX: usize = 0;
+    /// Per state scalar: structurally observable with this sensor alone (its `h`
+    /// depends on the state, directly or through the dynamics); see
+    /// `docs/language.md`, "Structural observability".
+    pub const OBSERVES: [bool; 6] = [true, true, true, true, true, true];
     /// Operations in `predict`.
     pub const OPS_PREDICT: usize = 5;
     /// Operations in `jacobian`.
@@ -661,6 +763,12 @@ impl Leveling6Stationary {
     pub const M: usize = 4;
     /// The declared sensor name.
     pub const NAME: &'static str = "Stationary";
+    /// The index of this sensor in the model's `SENSORS` (declaration order).
+    pub const INDEX: usize = 1;
+    /// Per state scalar: structurally observable with this sensor alone (its `h`
+    /// depends on the state, directly or through the dynamics); see
+    /// `docs/language.md`, "Structural observability".
+    pub const OBSERVES: [bool; 6] = [true, true, true, true, true, true];
     /// Operations in `predict`.
     pub const OPS_PREDICT: usize = 5;
     /// Operations in `jacobian`.
@@ -991,12 +1099,11 @@ mod __leveling6_generated_tests {
             0x5eed_0001,
             |rng, x, u, p, dt| {
                 let g = Leveling6::noise_jacobian(&x, &u, &p, dt);
-                let f = |w: &SVector<S, NW>| Leveling6::process_with_noise(
+                let f = |w: &SVector<S, NW>| Leveling6::derivative_with_noise(
                     &x,
                     &u,
                     &p,
                     w,
-                    dt,
                 );
                 let w0 = SVector::<S, NW>::zeros();
                 let Some(fd) = fd_jacobian(&w0, f) else { return false };

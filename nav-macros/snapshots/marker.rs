@@ -294,8 +294,8 @@ impl Marker9 {
     ///Index of the first scalar of `euler` in the state vector.
     pub const EULER: usize = 6;
     /// State scalars no sensor depends on, directly or through the dynamics
-    /// (no measurement can correct them). A composed model must list them
-    /// in `allow_unused { .. }`.
+    /// (no measurement can correct them). The model lists them in
+    /// `allow_unused { .. }` (checked at compile time).
     pub const UNUSED_STATES: &'static [&'static str] = &[];
     /// Operations in `transition`.
     pub const OPS_TRANSITION: usize = 80;
@@ -318,10 +318,81 @@ impl Marker9 {
         ],
         noise: &[(3, 3), (4, 4), (5, 5), (6, 6), (7, 7), (8, 8)],
     };
-    /**`f(x, u, p, dt, w)` with an explicit noise sample `w`.
+    /// The sensors, in declaration order (`Sensor::INDEX` of each sensor type).
+    pub const SENSORS: [&'static str; 4] = [
+        "Dvl",
+        "Depth",
+        "MarkerFix",
+        "MarkerRelative",
+    ];
+    /// Per sensor, per state scalar: the sensor's `h` depends on the state
+    /// directly (a structural nonzero of its `H`).
+    pub const SENSOR_DEPENDS: [[bool; 9]; 4] = [
+        [false, false, false, true, true, true, false, false, false],
+        [false, false, true, false, false, false, false, false, false],
+        [true, true, false, false, false, false, false, false, false],
+        [true, true, true, false, false, false, true, true, true],
+    ];
+    /// The sensor sets the model is declared to run with (`runs_with { .. }`, as
+    /// indices into `SENSORS`); the set of all sensors when it declares none.
+    pub const RUNS_WITH: [&'static [usize]; 1] = [&[0, 1, 2, 3]];
+    /// Per set of `RUNS_WITH`, per state scalar: structurally observable with
+    /// that set (checked at compile time against `allow_unused`).
+    pub const RUNS_WITH_OBSERVABLE: [[bool; 9]; 1] = [
+        [true, true, true, true, true, true, true, true, true],
+    ];
+    /// Per state scalar: is it structurally observable with the sensors marked
+    /// `true` (indexed like `SENSORS`), i.e. is there a path from the state to
+    /// a measurement of one of them, through a sensor's `H` or the dynamics
+    /// (`F[i][j] != 0`, `i != j`, of a state `i` on such a path)? Sparsity
+    /// only: `false` means no measurement of that set can ever correct the
+    /// state; `true` means only that sparsity does not exclude it (see
+    /// `docs/language.md`, "Structural observability").
+    pub const fn structurally_observable(sensors: &[bool; 4]) -> [bool; 9] {
+        let deps = Self::SENSOR_DEPENDS;
+        let f = <Self as ::nav_runtime::model::Model<9, f64>>::JACOBIAN_SPARSITY;
+        let mut seen = [false; 9];
+        let mut s = 0;
+        while s < 4 {
+            if sensors[s] {
+                let mut j = 0;
+                while j < 9 {
+                    if deps[s][j] {
+                        seen[j] = true;
+                    }
+                    j += 1;
+                }
+            }
+            s += 1;
+        }
+        let mut changed = true;
+        while changed {
+            changed = false;
+            let mut i = 0;
+            while i < 9 {
+                if seen[i] {
+                    let mut j = 0;
+                    while j < 9 {
+                        if j != i && !seen[j] && f[i][j] {
+                            seen[j] = true;
+                            changed = true;
+                        }
+                        j += 1;
+                    }
+                }
+                i += 1;
+            }
+        }
+        seen
+    }
+    /// The index in `SENSORS` of the sensor declared as `name`, if any.
+    pub fn sensor_index(name: &str) -> ::core::option::Option<usize> {
+        Self::SENSORS.iter().position(|s| *s == name)
+    }
+    /**The state after one step of `dt` seconds with an explicit noise sample `w`: `f(x, u, p, dt, w)` (`transition` at `w = 0`).
 
 Total ops: 86*/
-    pub fn process_with_noise(
+    pub fn step_with_noise(
         x: &::nav_runtime::nalgebra::SVector<f64, 9>,
         u: &Marker9Input,
         p: &Marker9Params,
@@ -353,7 +424,7 @@ Total ops: 86*/
         out[8] = x[8] + dt * (_t8 * _t9) + w[5];
         out
     }
-    /**The noise Jacobian `G = df/dw` at `w = 0` (N x NW, noise scalars in declaration order).
+    /**The noise Jacobian `G = df/dw` of the step at `w = 0` (N x NW, noise scalars in declaration order).
 
 Total ops: 0*/
     pub fn noise_jacobian(
@@ -737,6 +808,14 @@ impl Marker9Dvl {
     pub const M: usize = 3;
     /// The declared sensor name.
     pub const NAME: &'static str = "Dvl";
+    /// The index of this sensor in the model's `SENSORS` (declaration order).
+    pub const INDEX: usize = 0;
+    /// Per state scalar: structurally observable with this sensor alone (its `h`
+    /// depends on the state, directly or through the dynamics); see
+    /// `docs/language.md`, "Structural observability".
+    pub const OBSERVES: [bool; 9] = [
+        false, false, false, true, true, true, false, false, false,
+    ];
     /// Operations in `predict`.
     pub const OPS_PREDICT: usize = 0;
     /// Operations in `jacobian`.
@@ -858,6 +937,14 @@ impl Marker9Depth {
     pub const M: usize = 1;
     /// The declared sensor name.
     pub const NAME: &'static str = "Depth";
+    /// The index of this sensor in the model's `SENSORS` (declaration order).
+    pub const INDEX: usize = 1;
+    /// Per state scalar: structurally observable with this sensor alone (its `h`
+    /// depends on the state, directly or through the dynamics); see
+    /// `docs/language.md`, "Structural observability".
+    pub const OBSERVES: [bool; 9] = [
+        false, false, true, true, true, true, true, true, false,
+    ];
     /// Operations in `predict`.
     pub const OPS_PREDICT: usize = 0;
     /// Operations in `jacobian`.
@@ -951,6 +1038,14 @@ impl Marker9MarkerFix {
     pub const M: usize = 2;
     /// The declared sensor name.
     pub const NAME: &'static str = "MarkerFix";
+    /// The index of this sensor in the model's `SENSORS` (declaration order).
+    pub const INDEX: usize = 2;
+    /// Per state scalar: structurally observable with this sensor alone (its `h`
+    /// depends on the state, directly or through the dynamics); see
+    /// `docs/language.md`, "Structural observability".
+    pub const OBSERVES: [bool; 9] = [
+        true, true, false, true, true, true, true, true, true,
+    ];
     /// Operations in `predict`.
     pub const OPS_PREDICT: usize = 0;
     /// Operations in `jacobian`.
@@ -1059,6 +1154,14 @@ impl Marker9MarkerRelative {
     pub const M: usize = 3;
     /// The declared sensor name.
     pub const NAME: &'static str = "MarkerRelative";
+    /// The index of this sensor in the model's `SENSORS` (declaration order).
+    pub const INDEX: usize = 3;
+    /// Per state scalar: structurally observable with this sensor alone (its `h`
+    /// depends on the state, directly or through the dynamics); see
+    /// `docs/language.md`, "Structural observability".
+    pub const OBSERVES: [bool; 9] = [
+        true, true, true, true, true, true, true, true, true,
+    ];
     /// Operations in `predict`.
     pub const OPS_PREDICT: usize = 45;
     /// Operations in `jacobian`.
@@ -1498,13 +1601,7 @@ mod __marker9_generated_tests {
             0x5eed_0001,
             |rng, x, u, p, dt| {
                 let g = Marker9::noise_jacobian(&x, &u, &p, dt);
-                let f = |w: &SVector<S, NW>| Marker9::process_with_noise(
-                    &x,
-                    &u,
-                    &p,
-                    w,
-                    dt,
-                );
+                let f = |w: &SVector<S, NW>| Marker9::step_with_noise(&x, &u, &p, w, dt);
                 let w0 = SVector::<S, NW>::zeros();
                 let Some(fd) = fd_jacobian(&w0, f) else { return false };
                 if !finite(&f(&w0)) || !finite(&g) || !finite(&fd.0) {

@@ -417,8 +417,8 @@ impl Sdins25 {
     ///Index of the first scalar of `usbl_misalignment` in the state vector.
     pub const USBL_MISALIGNMENT: usize = 22;
     /// State scalars no sensor depends on, directly or through the dynamics
-    /// (no measurement can correct them). A composed model must list them
-    /// in `allow_unused { .. }`.
+    /// (no measurement can correct them). The model lists them in
+    /// `allow_unused { .. }` (checked at compile time).
     pub const UNUSED_STATES: &'static [&'static str] = &[];
     /// Operations in `transition`.
     pub const OPS_TRANSITION: usize = 251;
@@ -456,6 +456,102 @@ impl Sdins25 {
             (8, 8),
         ],
     };
+    /// The sensors, in declaration order (`Sensor::INDEX` of each sensor type).
+    pub const SENSORS: [&'static str; 5] = [
+        "Depth",
+        "Dvl",
+        "CompassSmallAngle",
+        "Compass",
+        "Usbl",
+    ];
+    /// Per sensor, per state scalar: the sensor's `h` depends on the state
+    /// directly (a structural nonzero of its `H`).
+    pub const SENSOR_DEPENDS: [[bool; 25]; 5] = [
+        [
+            false, false, true, false, false, false, false, false, false, false, false,
+            false, false, false, false, false, false, true, false, false, false, false,
+            false, false, false,
+        ],
+        [
+            false, false, false, true, true, true, true, true, true, false, false, false,
+            false, false, false, false, false, false, true, true, true, false, false,
+            false, false,
+        ],
+        [
+            false, false, false, false, false, false, false, false, true, false, false,
+            false, false, false, false, false, false, false, false, false, false, true,
+            false, false, false,
+        ],
+        [
+            false, false, false, false, false, false, true, true, true, false, false,
+            false, false, false, false, false, false, false, false, false, false, true,
+            false, false, false,
+        ],
+        [
+            true, true, false, false, false, false, false, false, false, false, false,
+            false, false, false, false, true, true, false, false, false, false, false,
+            true, true, true,
+        ],
+    ];
+    /// The sensor sets the model is declared to run with (`runs_with { .. }`, as
+    /// indices into `SENSORS`); the set of all sensors when it declares none.
+    pub const RUNS_WITH: [&'static [usize]; 1] = [&[0, 1, 2, 3, 4]];
+    /// Per set of `RUNS_WITH`, per state scalar: structurally observable with
+    /// that set (checked at compile time against `allow_unused`).
+    pub const RUNS_WITH_OBSERVABLE: [[bool; 25]; 1] = [
+        [
+            true, true, true, true, true, true, true, true, true, true, true, true, true,
+            true, true, true, true, true, true, true, true, true, true, true, true,
+        ],
+    ];
+    /// Per state scalar: is it structurally observable with the sensors marked
+    /// `true` (indexed like `SENSORS`), i.e. is there a path from the state to
+    /// a measurement of one of them, through a sensor's `H` or the dynamics
+    /// (`F[i][j] != 0`, `i != j`, of a state `i` on such a path)? Sparsity
+    /// only: `false` means no measurement of that set can ever correct the
+    /// state; `true` means only that sparsity does not exclude it (see
+    /// `docs/language.md`, "Structural observability").
+    pub const fn structurally_observable(sensors: &[bool; 5]) -> [bool; 25] {
+        let deps = Self::SENSOR_DEPENDS;
+        let f = <Self as ::nav_runtime::model::Model<25, f64>>::JACOBIAN_SPARSITY;
+        let mut seen = [false; 25];
+        let mut s = 0;
+        while s < 5 {
+            if sensors[s] {
+                let mut j = 0;
+                while j < 25 {
+                    if deps[s][j] {
+                        seen[j] = true;
+                    }
+                    j += 1;
+                }
+            }
+            s += 1;
+        }
+        let mut changed = true;
+        while changed {
+            changed = false;
+            let mut i = 0;
+            while i < 25 {
+                if seen[i] {
+                    let mut j = 0;
+                    while j < 25 {
+                        if j != i && !seen[j] && f[i][j] {
+                            seen[j] = true;
+                            changed = true;
+                        }
+                        j += 1;
+                    }
+                }
+                i += 1;
+            }
+        }
+        seen
+    }
+    /// The index in `SENSORS` of the sensor declared as `name`, if any.
+    pub fn sensor_index(name: &str) -> ::core::option::Option<usize> {
+        Self::SENSORS.iter().position(|s| *s == name)
+    }
     /// Operations in [`Self::derivative`].
     pub const OPS_DERIVATIVE: usize = 234;
     /**The state derivative `f(x, u, p)` at `w = 0`.
@@ -554,15 +650,14 @@ Total ops: 234*/
                 + (_t3 * x[6] + x[7] * _t38)) + (_t28 - _t29));
         out
     }
-    /**`f(x, u, p, w)` with an explicit noise sample `w` (`dt` is unused).
+    /**The state derivative `dx/dt = f(x, u, p, w)` with an explicit noise sample `w` (units of the state per second; not a step: [`Self::step_with_noise`] advances the state by `dt`).
 
 Total ops: 240*/
-    pub fn process_with_noise(
+    pub fn derivative_with_noise(
         x: &::nav_runtime::nalgebra::SVector<f64, 25>,
         u: &Sdins25Input,
         p: &Sdins25Params,
         w: &::nav_runtime::nalgebra::SVector<f64, 6>,
-        dt: f64,
     ) -> ::nav_runtime::nalgebra::SVector<f64, 25> {
         let (_t0, _t13) = ::nav_runtime::math::sin_cos(u.latitude);
         let _t1 = 1.0 - _t0 * (0.0066943799901413165 * _t0);
@@ -656,7 +751,155 @@ Total ops: 240*/
                     + (_t3 * x[6] + x[7] * _t41))));
         out
     }
-    /**The noise Jacobian `G = df/dw` at `w = 0` (N x NW, noise scalars in declaration order).
+    /**The state after one step of `dt` seconds with an explicit noise sample `w`: the Euler step `x + f(x, u, p, w) dt` (`transition` at `w = 0`; the derivative itself is [`Self::derivative_with_noise`]).
+
+Total ops: 257*/
+    pub fn step_with_noise(
+        x: &::nav_runtime::nalgebra::SVector<f64, 25>,
+        u: &Sdins25Input,
+        p: &Sdins25Params,
+        w: &::nav_runtime::nalgebra::SVector<f64, 6>,
+        dt: f64,
+    ) -> ::nav_runtime::nalgebra::SVector<f64, 25> {
+        let (_t0, _t13) = ::nav_runtime::math::sin_cos(u.latitude);
+        let _t1 = 1.0 - _t0 * (0.0066943799901413165 * _t0);
+        let _t2 = ::nav_runtime::math::sqrt(_t1);
+        let _t3 = u.velocity[0] / (u.height + 6335439.3272928195 / (_t1 * _t2));
+        let _t4 = u.latitude - x[0];
+        let (_t5, _t17) = ::nav_runtime::math::sin_cos(_t4);
+        let _t6 = 1.0 - _t5 * (_t5 * 0.0066943799901413165);
+        let _t7 = ::nav_runtime::math::sqrt(_t6);
+        let _t8 = u.height - x[2];
+        let _t9 = 1.0 / (6335439.3272928195 / (_t6 * _t7) + _t8);
+        let _t10 = u.velocity[0] - x[3];
+        let _t11 = 1.0 / _t2;
+        let _t12 = u.height + 6378137.0 * _t11;
+        let _t14 = u.velocity[1] - x[4];
+        let _t15 = 1.0 / _t7;
+        let _t16 = _t8 + _t15 * 6378137.0;
+        let _t18 = u.velocity[2] - x[5];
+        let _t19 = _t0 * 7.292115e-5;
+        let _t20 = 1.0 / _t12;
+        let _t21 = _t20 * (u.velocity[1] * (_t0 / _t13));
+        let _t22 = 2.0 * _t19 + _t21;
+        let _t23 = u.specific_force[1] - x[10] - w[1];
+        let _t24 = u.specific_force[0] - x[9] - w[0];
+        let _t25 = u.specific_force[2] - x[11] - w[2];
+        let _t26 = _t9 * (x[3] - u.velocity[0]);
+        let _t27 = 1.0 / _t16;
+        let _t28 = _t27 * (_t5 / _t17 * (x[4] - u.velocity[1]));
+        let _t29 = _t5 * 7.292115e-5;
+        let _t30 = _t28 - _t29 * 2.0;
+        let _t31 = _t13 * 7.292115e-5;
+        let _t32 = u.velocity[1] * _t20;
+        let _t33 = 2.0 * _t31 + _t32;
+        let _t34 = _t17 * 7.292115e-5;
+        let _t35 = _t14 * _t27;
+        let _t36 = 2.0 * _t34 + _t35;
+        let _t37 = _t19 + _t21;
+        let _t38 = w[4] + x[13];
+        let _t39 = w[3] + x[12];
+        let _t40 = w[5] + x[14];
+        let _t41 = _t31 + _t32;
+        let mut out = ::nav_runtime::nalgebra::SVector::<f64, 25>::zeros();
+        out[0] = x[0] + dt * (_t3 - _t9 * _t10);
+        out[1] = dt * (u.velocity[1] / (_t12 * _t13) - _t14 / (_t16 * _t17)) + x[1];
+        out[2] = x[2] + dt * (_t18 - u.velocity[2]);
+        out[3] = x[3]
+            + dt
+                * (u.specific_force[1] * u.c_bn[(0, 1)]
+                    + u.specific_force[0] * u.c_bn[(0, 0)]
+                    + u.specific_force[2] * u.c_bn[(0, 2)]
+                    - (u.velocity[1] * _t22 - _t3 * u.velocity[2])
+                    - (_t23
+                        * (u.c_bn[(2, 1)] * x[7] - u.c_bn[(1, 1)] * x[8]
+                            + u.c_bn[(0, 1)])
+                        + _t24
+                            * (x[7] * u.c_bn[(2, 0)] - x[8] * u.c_bn[(1, 0)]
+                                + u.c_bn[(0, 0)])
+                        + _t25
+                            * (x[7] * u.c_bn[(2, 2)] - x[8] * u.c_bn[(1, 2)]
+                                + u.c_bn[(0, 2)]) - (_t18 * _t26 - _t14 * _t30)));
+        out[4] = x[4]
+            + dt
+                * (u.velocity[2] * _t33 + u.velocity[0] * _t22
+                    + (u.specific_force[1] * u.c_bn[(1, 1)]
+                        + u.specific_force[0] * u.c_bn[(1, 0)]
+                        + u.specific_force[2] * u.c_bn[(1, 2)])
+                    - (_t23
+                        * (u.c_bn[(1, 1)]
+                            + (x[8] * u.c_bn[(0, 1)] - u.c_bn[(2, 1)] * x[6]))
+                        + _t24
+                            * (u.c_bn[(1, 0)]
+                                + (x[8] * u.c_bn[(0, 0)] - u.c_bn[(2, 0)] * x[6]))
+                        + _t25
+                            * (u.c_bn[(1, 2)]
+                                + (x[8] * u.c_bn[(0, 2)] - u.c_bn[(2, 2)] * x[6]))
+                        - (_t10 * _t30 - _t18 * _t36)));
+        out[5] = x[5]
+            + dt
+                * (u.specific_force[1] * u.c_bn[(2, 1)]
+                    + u.specific_force[0] * u.c_bn[(2, 0)]
+                    + u.specific_force[2] * u.c_bn[(2, 2)]
+                    - (u.velocity[0] * _t3 + u.velocity[1] * _t33)
+                    + (2.458172257647332e-14 * (u.height * (u.height * 3.0))
+                        + (1.0
+                            - (1.00680259666783 - _t0 * (_t0 * 0.0067056213295))
+                                * (1.567855942887398e-7 * (u.height * 2.0))))
+                        * (_t11
+                            * (9.7803253359 * (1.0 + _t0 * (_t0 * 0.00193185265241))))
+                    - (_t23
+                        * (u.c_bn[(2, 1)]
+                            + (u.c_bn[(1, 1)] * x[6] - x[7] * u.c_bn[(0, 1)]))
+                        + _t24
+                            * (u.c_bn[(2, 0)]
+                                + (u.c_bn[(1, 0)] * x[6] - x[7] * u.c_bn[(0, 0)]))
+                        + _t25
+                            * (u.c_bn[(2, 2)]
+                                + (u.c_bn[(1, 2)] * x[6] - x[7] * u.c_bn[(0, 2)]))
+                        - (_t14 * _t36 - _t10 * _t26)
+                        + (2.458172257647332e-14 * (_t8 * (_t8 * 3.0))
+                            + (1.0
+                                - (1.00680259666783 - _t5 * (_t5 * 0.0067056213295))
+                                    * (1.567855942887398e-7 * (_t8 * 2.0))))
+                            * (_t15
+                                * ((1.0 + _t5 * (_t5 * 0.00193185265241))
+                                    * 9.7803253359))));
+        out[6] = x[6]
+            + dt
+                * (_t3 * x[8] - x[7] * _t37
+                    - (u.c_bn[(0, 1)] * _t38 + u.c_bn[(0, 0)] * _t39
+                        + u.c_bn[(0, 2)] * _t40) + _t41 - (_t34 + _t35));
+        out[7] = x[7]
+            + dt
+                * (x[8] * _t41 + x[6] * _t37
+                    - (u.c_bn[(1, 1)] * _t38 + u.c_bn[(1, 0)] * _t39
+                        + u.c_bn[(1, 2)] * _t40) - _t3 - _t26);
+        out[8] = x[8]
+            - dt
+                * (_t28 - _t29
+                    + (_t37
+                        + (u.c_bn[(2, 1)] * _t38 + u.c_bn[(2, 0)] * _t39
+                            + u.c_bn[(2, 2)] * _t40 + (_t3 * x[6] + x[7] * _t41))));
+        out[9] = x[9];
+        out[10] = x[10];
+        out[11] = x[11];
+        out[12] = x[12];
+        out[13] = x[13];
+        out[14] = x[14];
+        out[15] = x[15];
+        out[16] = x[16];
+        out[17] = x[17];
+        out[18] = x[18];
+        out[19] = x[19];
+        out[20] = x[20];
+        out[21] = x[21];
+        out[22] = x[22];
+        out[23] = x[23];
+        out[24] = x[24];
+        out
+    }
+    /**The noise Jacobian `G = df/dw` of the derivative at `w = 0` (N x NW, noise scalars in declaration order; `dt` is unused: the step's own is `G dt`).
 
 Total ops: 45*/
     pub fn noise_jacobian(
@@ -1440,6 +1683,15 @@ impl Sdins25Depth {
     pub const M: usize = 1;
     /// The declared sensor name.
     pub const NAME: &'static str = "Depth";
+    /// The index of this sensor in the model's `SENSORS` (declaration order).
+    pub const INDEX: usize = 0;
+    /// Per state scalar: structurally observable with this sensor alone (its `h`
+    /// depends on the state, directly or through the dynamics); see
+    /// `docs/language.md`, "Structural observability".
+    pub const OBSERVES: [bool; 25] = [
+        true, false, true, true, true, true, true, true, true, true, true, true, true,
+        true, true, false, false, true, false, false, false, false, false, false, false,
+    ];
     /// Operations in `predict`.
     pub const OPS_PREDICT: usize = 1;
     /// Operations in `jacobian`.
@@ -1553,6 +1805,15 @@ impl Sdins25Dvl {
     pub const M: usize = 3;
     /// The declared sensor name.
     pub const NAME: &'static str = "Dvl";
+    /// The index of this sensor in the model's `SENSORS` (declaration order).
+    pub const INDEX: usize = 1;
+    /// Per state scalar: structurally observable with this sensor alone (its `h`
+    /// depends on the state, directly or through the dynamics); see
+    /// `docs/language.md`, "Structural observability".
+    pub const OBSERVES: [bool; 25] = [
+        true, false, true, true, true, true, true, true, true, true, true, true, true,
+        true, true, false, false, false, true, true, true, false, false, false, false,
+    ];
     /// Operations in `predict`.
     pub const OPS_PREDICT: usize = 75;
     /// Operations in `jacobian`.
@@ -2115,6 +2376,15 @@ impl Sdins25CompassSmallAngle {
     pub const M: usize = 1;
     /// The declared sensor name.
     pub const NAME: &'static str = "CompassSmallAngle";
+    /// The index of this sensor in the model's `SENSORS` (declaration order).
+    pub const INDEX: usize = 2;
+    /// Per state scalar: structurally observable with this sensor alone (its `h`
+    /// depends on the state, directly or through the dynamics); see
+    /// `docs/language.md`, "Structural observability".
+    pub const OBSERVES: [bool; 25] = [
+        true, false, true, true, true, true, true, true, true, true, true, true, true,
+        true, true, false, false, false, false, false, false, true, false, false, false,
+    ];
     /// Operations in `predict`.
     pub const OPS_PREDICT: usize = 2;
     /// Operations in `jacobian`.
@@ -2229,6 +2499,15 @@ impl Sdins25Compass {
     pub const M: usize = 1;
     /// The declared sensor name.
     pub const NAME: &'static str = "Compass";
+    /// The index of this sensor in the model's `SENSORS` (declaration order).
+    pub const INDEX: usize = 3;
+    /// Per state scalar: structurally observable with this sensor alone (its `h`
+    /// depends on the state, directly or through the dynamics); see
+    /// `docs/language.md`, "Structural observability".
+    pub const OBSERVES: [bool; 25] = [
+        true, false, true, true, true, true, true, true, true, true, true, true, true,
+        true, true, false, false, false, false, false, false, true, false, false, false,
+    ];
     /// Operations in `predict`.
     pub const OPS_PREDICT: usize = 12;
     /// Operations in `jacobian`.
@@ -2385,6 +2664,15 @@ impl Sdins25Usbl {
     pub const M: usize = 2;
     /// The declared sensor name.
     pub const NAME: &'static str = "Usbl";
+    /// The index of this sensor in the model's `SENSORS` (declaration order).
+    pub const INDEX: usize = 4;
+    /// Per state scalar: structurally observable with this sensor alone (its `h`
+    /// depends on the state, directly or through the dynamics); see
+    /// `docs/language.md`, "Structural observability".
+    pub const OBSERVES: [bool; 25] = [
+        true, true, true, true, true, true, true, true, true, true, true, true, true,
+        true, true, true, true, false, false, false, false, false, true, true, true,
+    ];
     /// Operations in `predict`.
     pub const OPS_PREDICT: usize = 24;
     /// Operations in `jacobian`.
@@ -2857,12 +3145,11 @@ mod __sdins25_generated_tests {
             0x5eed_0001,
             |rng, x, u, p, dt| {
                 let g = Sdins25::noise_jacobian(&x, &u, &p, dt);
-                let f = |w: &SVector<S, NW>| Sdins25::process_with_noise(
+                let f = |w: &SVector<S, NW>| Sdins25::derivative_with_noise(
                     &x,
                     &u,
                     &p,
                     w,
-                    dt,
                 );
                 let w0 = SVector::<S, NW>::zeros();
                 let Some(fd) = fd_jacobian(&w0, f) else { return false };

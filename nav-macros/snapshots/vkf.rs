@@ -182,8 +182,8 @@ impl VelocityFilter {
     ///Index of the first scalar of `bias` in the state vector.
     pub const BIAS: usize = 2;
     /// State scalars no sensor depends on, directly or through the dynamics
-    /// (no measurement can correct them). A composed model must list them
-    /// in `allow_unused { .. }`.
+    /// (no measurement can correct them). The model lists them in
+    /// `allow_unused { .. }` (checked at compile time).
     pub const UNUSED_STATES: &'static [&'static str] = &[];
     /// Operations in `transition`.
     pub const OPS_TRANSITION: usize = 2;
@@ -203,10 +203,69 @@ impl VelocityFilter {
         columns: &[1, 2],
         noise: &[(0, 0), (1, 1), (2, 2)],
     };
-    /**`f(x, u, p, dt, w)` with an explicit noise sample `w`.
+    /// The sensors, in declaration order (`Sensor::INDEX` of each sensor type).
+    pub const SENSORS: [&'static str; 1] = ["Dvl"];
+    /// Per sensor, per state scalar: the sensor's `h` depends on the state
+    /// directly (a structural nonzero of its `H`).
+    pub const SENSOR_DEPENDS: [[bool; 3]; 1] = [[true, false, false]];
+    /// The sensor sets the model is declared to run with (`runs_with { .. }`, as
+    /// indices into `SENSORS`); the set of all sensors when it declares none.
+    pub const RUNS_WITH: [&'static [usize]; 1] = [&[0]];
+    /// Per set of `RUNS_WITH`, per state scalar: structurally observable with
+    /// that set (checked at compile time against `allow_unused`).
+    pub const RUNS_WITH_OBSERVABLE: [[bool; 3]; 1] = [[true, true, true]];
+    /// Per state scalar: is it structurally observable with the sensors marked
+    /// `true` (indexed like `SENSORS`), i.e. is there a path from the state to
+    /// a measurement of one of them, through a sensor's `H` or the dynamics
+    /// (`F[i][j] != 0`, `i != j`, of a state `i` on such a path)? Sparsity
+    /// only: `false` means no measurement of that set can ever correct the
+    /// state; `true` means only that sparsity does not exclude it (see
+    /// `docs/language.md`, "Structural observability").
+    pub const fn structurally_observable(sensors: &[bool; 1]) -> [bool; 3] {
+        let deps = Self::SENSOR_DEPENDS;
+        let f = <Self as ::nav_runtime::model::Model<3, f64>>::JACOBIAN_SPARSITY;
+        let mut seen = [false; 3];
+        let mut s = 0;
+        while s < 1 {
+            if sensors[s] {
+                let mut j = 0;
+                while j < 3 {
+                    if deps[s][j] {
+                        seen[j] = true;
+                    }
+                    j += 1;
+                }
+            }
+            s += 1;
+        }
+        let mut changed = true;
+        while changed {
+            changed = false;
+            let mut i = 0;
+            while i < 3 {
+                if seen[i] {
+                    let mut j = 0;
+                    while j < 3 {
+                        if j != i && !seen[j] && f[i][j] {
+                            seen[j] = true;
+                            changed = true;
+                        }
+                        j += 1;
+                    }
+                }
+                i += 1;
+            }
+        }
+        seen
+    }
+    /// The index in `SENSORS` of the sensor declared as `name`, if any.
+    pub fn sensor_index(name: &str) -> ::core::option::Option<usize> {
+        Self::SENSORS.iter().position(|s| *s == name)
+    }
+    /**The state after one step of `dt` seconds with an explicit noise sample `w`: `f(x, u, p, dt, w)` (`transition` at `w = 0`).
 
 Total ops: 5*/
-    pub fn process_with_noise(
+    pub fn step_with_noise(
         x: &::nav_runtime::nalgebra::SVector<f64, 3>,
         u: &VelocityFilterInput,
         p: &VelocityFilterParams,
@@ -219,7 +278,7 @@ Total ops: 5*/
         out[2] = x[2] + w[2];
         out
     }
-    /**The noise Jacobian `G = df/dw` at `w = 0` (N x NW, noise scalars in declaration order).
+    /**The noise Jacobian `G = df/dw` of the step at `w = 0` (N x NW, noise scalars in declaration order).
 
 Total ops: 0*/
     pub fn noise_jacobian(
@@ -342,6 +401,12 @@ impl VelocityFilterDvl {
     pub const M: usize = 1;
     /// The declared sensor name.
     pub const NAME: &'static str = "Dvl";
+    /// The index of this sensor in the model's `SENSORS` (declaration order).
+    pub const INDEX: usize = 0;
+    /// Per state scalar: structurally observable with this sensor alone (its `h`
+    /// depends on the state, directly or through the dynamics); see
+    /// `docs/language.md`, "Structural observability".
+    pub const OBSERVES: [bool; 3] = [true, true, true];
     /// Operations in `predict`.
     pub const OPS_PREDICT: usize = 0;
     /// Operations in `jacobian`.
@@ -620,7 +685,7 @@ mod __velocity_filter_generated_tests {
             0x5eed_0001,
             |rng, x, u, p, dt| {
                 let g = VelocityFilter::noise_jacobian(&x, &u, &p, dt);
-                let f = |w: &SVector<S, NW>| VelocityFilter::process_with_noise(
+                let f = |w: &SVector<S, NW>| VelocityFilter::step_with_noise(
                     &x,
                     &u,
                     &p,
@@ -1046,8 +1111,8 @@ impl Nav9 {
     ///Index of the first scalar of `accel_bias` in the state vector.
     pub const ACCEL_BIAS: usize = 6;
     /// State scalars no sensor depends on, directly or through the dynamics
-    /// (no measurement can correct them). A composed model must list them
-    /// in `allow_unused { .. }`.
+    /// (no measurement can correct them). The model lists them in
+    /// `allow_unused { .. }` (checked at compile time).
     pub const UNUSED_STATES: &'static [&'static str] = &[
         "position[0]",
         "position[1]",
@@ -1071,6 +1136,70 @@ impl Nav9 {
         columns: &[3, 4, 5, 6, 7, 8, 6, 7, 8, 6, 7, 8],
         noise: &[(3, 3), (4, 4), (5, 5), (6, 6), (7, 7), (8, 8)],
     };
+    /// The sensors, in declaration order (`Sensor::INDEX` of each sensor type).
+    pub const SENSORS: [&'static str; 2] = ["Dvl", "Rpm"];
+    /// Per sensor, per state scalar: the sensor's `h` depends on the state
+    /// directly (a structural nonzero of its `H`).
+    pub const SENSOR_DEPENDS: [[bool; 9]; 2] = [
+        [false, false, false, true, true, true, false, false, false],
+        [false, false, false, true, true, true, false, false, false],
+    ];
+    /// The sensor sets the model is declared to run with (`runs_with { .. }`, as
+    /// indices into `SENSORS`); the set of all sensors when it declares none.
+    pub const RUNS_WITH: [&'static [usize]; 1] = [&[0, 1]];
+    /// Per set of `RUNS_WITH`, per state scalar: structurally observable with
+    /// that set (checked at compile time against `allow_unused`).
+    pub const RUNS_WITH_OBSERVABLE: [[bool; 9]; 1] = [
+        [false, false, false, true, true, true, true, true, true],
+    ];
+    /// Per state scalar: is it structurally observable with the sensors marked
+    /// `true` (indexed like `SENSORS`), i.e. is there a path from the state to
+    /// a measurement of one of them, through a sensor's `H` or the dynamics
+    /// (`F[i][j] != 0`, `i != j`, of a state `i` on such a path)? Sparsity
+    /// only: `false` means no measurement of that set can ever correct the
+    /// state; `true` means only that sparsity does not exclude it (see
+    /// `docs/language.md`, "Structural observability").
+    pub const fn structurally_observable(sensors: &[bool; 2]) -> [bool; 9] {
+        let deps = Self::SENSOR_DEPENDS;
+        let f = <Self as ::nav_runtime::model::Model<9, f64>>::JACOBIAN_SPARSITY;
+        let mut seen = [false; 9];
+        let mut s = 0;
+        while s < 2 {
+            if sensors[s] {
+                let mut j = 0;
+                while j < 9 {
+                    if deps[s][j] {
+                        seen[j] = true;
+                    }
+                    j += 1;
+                }
+            }
+            s += 1;
+        }
+        let mut changed = true;
+        while changed {
+            changed = false;
+            let mut i = 0;
+            while i < 9 {
+                if seen[i] {
+                    let mut j = 0;
+                    while j < 9 {
+                        if j != i && !seen[j] && f[i][j] {
+                            seen[j] = true;
+                            changed = true;
+                        }
+                        j += 1;
+                    }
+                }
+                i += 1;
+            }
+        }
+        seen
+    }
+    /// The index in `SENSORS` of the sensor declared as `name`, if any.
+    pub fn sensor_index(name: &str) -> ::core::option::Option<usize> {
+        Self::SENSORS.iter().position(|s| *s == name)
+    }
     /// Operations in [`Self::derivative`].
     pub const OPS_DERIVATIVE: usize = 18;
     /**The state derivative `f(x, u, p)` at `w = 0`.
@@ -1093,15 +1222,14 @@ Total ops: 18*/
             - (x[7] * u.c_bn[(2, 1)] + x[6] * u.c_bn[(2, 0)] + x[8] * u.c_bn[(2, 2)]);
         out
     }
-    /**`f(x, u, p, w)` with an explicit noise sample `w` (`dt` is unused).
+    /**The state derivative `dx/dt = f(x, u, p, w)` with an explicit noise sample `w` (units of the state per second; not a step: [`Self::step_with_noise`] advances the state by `dt`).
 
 Total ops: 21*/
-    pub fn process_with_noise(
+    pub fn derivative_with_noise(
         x: &::nav_runtime::nalgebra::SVector<f64, 9>,
         u: &Nav9Input,
         p: &Nav9Params,
         w: &::nav_runtime::nalgebra::SVector<f64, 6>,
-        dt: f64,
     ) -> ::nav_runtime::nalgebra::SVector<f64, 9> {
         let mut out = ::nav_runtime::nalgebra::SVector::<f64, 9>::zeros();
         out[0] = x[3];
@@ -1121,7 +1249,41 @@ Total ops: 21*/
         out[8] = w[5];
         out
     }
-    /**The noise Jacobian `G = df/dw` at `w = 0` (N x NW, noise scalars in declaration order).
+    /**The state after one step of `dt` seconds with an explicit noise sample `w`: the Euler step `x + f(x, u, p, w) dt` (`transition` at `w = 0`; the derivative itself is [`Self::derivative_with_noise`]).
+
+Total ops: 39*/
+    pub fn step_with_noise(
+        x: &::nav_runtime::nalgebra::SVector<f64, 9>,
+        u: &Nav9Input,
+        p: &Nav9Params,
+        w: &::nav_runtime::nalgebra::SVector<f64, 6>,
+        dt: f64,
+    ) -> ::nav_runtime::nalgebra::SVector<f64, 9> {
+        let mut out = ::nav_runtime::nalgebra::SVector::<f64, 9>::zeros();
+        out[0] = dt * x[3] + x[0];
+        out[1] = dt * x[4] + x[1];
+        out[2] = dt * x[5] + x[2];
+        out[3] = x[3]
+            + dt
+                * (u.accel_n[0]
+                    - (u.c_bn[(0, 1)] * x[7] + u.c_bn[(0, 0)] * x[6]
+                        + u.c_bn[(0, 2)] * x[8]) + w[0]);
+        out[4] = x[4]
+            + dt
+                * (u.accel_n[1]
+                    - (x[7] * u.c_bn[(1, 1)] + x[6] * u.c_bn[(1, 0)]
+                        + x[8] * u.c_bn[(1, 2)]) + w[1]);
+        out[5] = x[5]
+            + dt
+                * (u.accel_n[2]
+                    - (x[7] * u.c_bn[(2, 1)] + x[6] * u.c_bn[(2, 0)]
+                        + x[8] * u.c_bn[(2, 2)]) + w[2]);
+        out[6] = x[6] + dt * w[3];
+        out[7] = x[7] + dt * w[4];
+        out[8] = x[8] + dt * w[5];
+        out
+    }
+    /**The noise Jacobian `G = df/dw` of the derivative at `w = 0` (N x NW, noise scalars in declaration order; `dt` is unused: the step's own is `G dt`).
 
 Total ops: 0*/
     pub fn noise_jacobian(
@@ -1377,6 +1539,14 @@ impl Nav9Dvl {
     pub const M: usize = 3;
     /// The declared sensor name.
     pub const NAME: &'static str = "Dvl";
+    /// The index of this sensor in the model's `SENSORS` (declaration order).
+    pub const INDEX: usize = 0;
+    /// Per state scalar: structurally observable with this sensor alone (its `h`
+    /// depends on the state, directly or through the dynamics); see
+    /// `docs/language.md`, "Structural observability".
+    pub const OBSERVES: [bool; 9] = [
+        false, false, false, true, true, true, true, true, true,
+    ];
     /// Operations in `predict`.
     pub const OPS_PREDICT: usize = 0;
     /// Operations in `jacobian`.
@@ -1498,6 +1668,14 @@ impl Nav9Rpm {
     pub const M: usize = 3;
     /// The declared sensor name.
     pub const NAME: &'static str = "Rpm";
+    /// The index of this sensor in the model's `SENSORS` (declaration order).
+    pub const INDEX: usize = 1;
+    /// Per state scalar: structurally observable with this sensor alone (its `h`
+    /// depends on the state, directly or through the dynamics); see
+    /// `docs/language.md`, "Structural observability".
+    pub const OBSERVES: [bool; 9] = [
+        false, false, false, true, true, true, true, true, true,
+    ];
     /// Operations in `predict`.
     pub const OPS_PREDICT: usize = 0;
     /// Operations in `jacobian`.
@@ -1812,7 +1990,7 @@ mod __nav9_generated_tests {
             0x5eed_0001,
             |rng, x, u, p, dt| {
                 let g = Nav9::noise_jacobian(&x, &u, &p, dt);
-                let f = |w: &SVector<S, NW>| Nav9::process_with_noise(&x, &u, &p, w, dt);
+                let f = |w: &SVector<S, NW>| Nav9::derivative_with_noise(&x, &u, &p, w);
                 let w0 = SVector::<S, NW>::zeros();
                 let Some(fd) = fd_jacobian(&w0, f) else { return false };
                 if !finite(&f(&w0)) || !finite(&g) || !finite(&fd.0) {

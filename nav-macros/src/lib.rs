@@ -60,6 +60,8 @@
 //! | `discrete { .. }` | `x_k = f(x_{k-1}, u, p, dt, w)` | `transition`, `Phi = df/dx` |
 //! | `sensor Name: M { .. }` | a measurement `h(x, u, p, aux)` with `M` outputs | `NameSensorName` |
 //! | `scalar f32;` | the scalar the code is generated for (`f64` when absent) | `Model<N, f32>`, `Ekf<Name, N, f32>` |
+//! | `runs_with { [A, B], [A, B, C] }` | the sensor sets the model is meant to run with (all its sensors when absent) | `Name::RUNS_WITH` |
+//! | `allow_unused { x, y[1] }` | state scalars meant to be seen by no sensor of some set (dead-reckoned) | checked at compile time |
 //!
 //! Entries of `states`, `inputs`, `parameters`, `noise` and sensor `inputs` are
 //! comma-separated: `x` (scalar), `x: n` (vector), `x: RxC` (row-major matrix,
@@ -248,17 +250,43 @@
 //!   provide, or reads a state of a block that is not included, does not compile;
 //! - all process sections are `continuous` or all `discrete`;
 //! - local `let`s of different blocks never clash (they are renamed if needed);
-//! - **unused states are an error.** A state scalar is *used* if some sensor's
-//!   `H` depends on it, or the derivative of a used state does (`F[i][j] != 0`,
-//!   `i != j`), transitively; an unused state can never be corrected by a
-//!   measurement nor influence one (e.g. the longitude error without a
-//!   horizontal position fix). A composed model with unused states does not
-//!   compile unless `allow_unused { name, name[i], .. }` lists them (a whole
-//!   state or one component); listing a used state is an error too, so the list
-//!   stays true. (A warning is not possible from a proc macro on stable Rust; an
-//!   error with an explicit opt-out is.) Every model, composed or not, has the
-//!   constant `Name::UNUSED_STATES: &[&str]` naming its unused state scalars;
-//!   declarations written by hand are not checked.
+//! - **unused states are an error**, as in every model (see "Structural
+//!   observability"); the error stands at the composed model's name and names
+//!   the block of the state. `allow_unused { .. }` and `runs_with { .. }` are
+//!   options of the composition (`model X = A + B { runs_with { [Dvl, Depth] } }`).
+//!
+//! # Structural observability
+//!
+//! A state scalar is *structurally observable* with a set of sensors if there
+//! is a path from it to a measurement: some sensor of the set has a structural
+//! nonzero of `H` in its column, or the derivative (a discrete model: the
+//! step) of a state on such a path depends on it (`F[i][j] != 0`, `i != j`).
+//! Only sparsity is used, so the test is necessary, not sufficient: a `false`
+//! means no measurement of that set can ever correct the state (e.g. the
+//! position of a DVL-only navigator, which is dead-reckoned), a `true` only
+//! that sparsity does not exclude it (two biases that enter one measurement
+//! only as their sum are both "observable" here and are not in fact; whether
+//! a trajectory excites a state is a question for the data).
+//!
+//! Every model with at least one sensor is checked against the sensor sets it
+//! declares it runs with, `runs_with { [Dvl, Depth], [Dvl, Depth, Usbl] }`
+//! (one set of all its sensors when absent): a state scalar not observable
+//! with some set is a compile error at the state's name, naming the sets,
+//! unless `allow_unused { name, name[i], .. }` lists it (a whole state or one
+//! component) as meant to be unobserved (dead-reckoned). A listed scalar that
+//! every set observes is an error too, so the list stays true; a sensor name
+//! in `runs_with` that the model does not declare is an error with a "did you
+//! mean". A proc macro cannot emit a warning on stable Rust; an error with an
+//! explicit, checked opt-out is what it can do honestly (a deprecation-lint
+//! trick would give a warning that `-D warnings` turns into an error anyway,
+//! and that is easy to scroll past). A model without sensors is not checked.
+//!
+//! The same data is generated for programs (see "What is generated"):
+//! `Name::SENSORS`, `Name::SENSOR_DEPENDS`, `Name::RUNS_WITH`,
+//! `Name::RUNS_WITH_OBSERVABLE`, the `const fn`
+//! `Name::structurally_observable(&[bool; S]) -> [bool; N]` and per sensor
+//! type `INDEX` and `OBSERVES`; `Name::UNUSED_STATES` names the scalars no
+//! sensor at all observes. See `docs/language.md`, "Structural observability".
 //!
 //! # Expressions
 //!
@@ -327,7 +355,8 @@
 //! # Errors
 //!
 //! All mistakes of one declaration are reported together, each at its span:
-//! unknown names (with "did you mean" by edit distance), duplicated names, a
+//! unknown names (with "did you mean" by edit distance, ignoring case and
+//! counting a swapped pair of letters as one edit), duplicated names, a
 //! `d/dt` or assignment of a non-state, a state assigned twice, shape errors
 //! ("cannot add 3-vector and scalar"), wrong argument counts, an `h` whose
 //! length differs from `M`, noise used in a sensor, out-of-range indices and
@@ -358,11 +387,26 @@
 //!   - `Foo::N`, `Foo::NW`, and one index constant per state block, the index
 //!     of its first scalar in SCREAMING_CASE (`Foo::VELOCITY`);
 //!   - `Foo::UNUSED_STATES`: the state scalars no sensor depends on (see
-//!     "Blocks and composed models");
-//!   - `Foo::derivative(x, u, p) -> SVector<f64, N>` (continuous models only);
-//!   - `Foo::process_with_noise(x, u, p, w, dt)`: `f` with an explicit noise
-//!     sample `w: SVector<f64, NW>`;
-//!   - `Foo::noise_jacobian(x, u, p, dt) -> SMatrix<f64, N, NW>` (`G`);
+//!     "Structural observability");
+//!   - `Foo::SENSORS: [&str; S]` (the sensor names in declaration order),
+//!     `Foo::SENSOR_DEPENDS: [[bool; N]; S]` (the states each sensor's `h`
+//!     depends on directly), `Foo::RUNS_WITH: [&[usize]; R]` (the declared
+//!     sensor sets as indices into `SENSORS`), `Foo::RUNS_WITH_OBSERVABLE:
+//!     [[bool; N]; R]`, `const fn Foo::structurally_observable(sensors:
+//!     &[bool; S]) -> [bool; N]` and `Foo::sensor_index(name) -> Option<usize>`
+//!     (see "Structural observability");
+//!   - `Foo::derivative(x, u, p) -> SVector<f64, N>` and
+//!     `Foo::derivative_with_noise(x, u, p, w)`: `dx/dt`, without and with an
+//!     explicit noise sample `w: SVector<f64, NW>` (continuous models only; no
+//!     `dt` argument: a derivative is not a step);
+//!   - `Foo::step_with_noise(x, u, p, w, dt) -> SVector<f64, N>`: the state
+//!     after `dt` seconds with the noise sample `w` (every model: the Euler
+//!     step `x + f(x, u, p, w) dt` of a continuous model, `f(x, u, p, dt, w)`
+//!     of a discrete one; `transition` at `w = 0`). Every generated function
+//!     that takes `dt` and returns a state returns the state after the step;
+//!   - `Foo::noise_jacobian(x, u, p, dt) -> SMatrix<f64, N, NW>` (`G = df/dw`
+//!     of the derivative for a continuous model, where `dt` is unused, and of
+//!     the step for a discrete one);
 //!   - `normalize_state` in the `Model` impl if a state is declared `angle`
 //!     or `quaternion` (see "States kept on a manifold");
 //!   - `Foo::OPS_TRANSITION`, `OPS_DERIVATIVE`, `OPS_JACOBIAN`,
@@ -411,7 +455,9 @@
 //!   of compositions) -> check (`check.rs`, errors collected in `ctxt.rs`,
 //!   spellings and suggestions in `names.rs`) -> lower to a hash-consed scalar
 //!   DAG (`lower.rs`); blocks and compositions are assembled into one
-//!   declaration first (`compose.rs`).
+//!   declaration first (`compose.rs`). After derivation, the structural
+//!   observability of the declared sensor sets is checked against the
+//!   sparsity of `H` and `F` (`observability.rs`).
 //! - **Symbolic core** (`src/symbolic/`, no syn): the graph (`expr.rs`;
 //!   constructors fold constants and drop `x + 0`, `x * 1`, `x * 0`, `x - x`,
 //!   `--x`, ..) -> differentiate, memoized per (node, variable) (`diff.rs`) ->
@@ -494,6 +540,7 @@ fn derive_model(decl: &parse::ModelDecl) -> syn::Result<derive::Derived> {
 
 fn expand_model(decl: &parse::ModelDecl) -> syn::Result<proc_macro2::TokenStream> {
     let derived = derive_model(decl)?;
+    front::observability::check(decl, &derived, None)?;
     Ok(back::emit::model(decl, &derived))
 }
 

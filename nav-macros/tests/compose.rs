@@ -68,7 +68,31 @@ mod vehicles {
         pub model CvOdo = Cv + super::blocks::Odo {
             allow_unused { pos }
         }
+
+        /// Run with the fix, and through fix outages with the odometer alone,
+        /// which sees neither the position nor the fix's bias.
+        pub model CvRuns = Cv + super::blocks::Odo + Gps {
+            runs_with { [Odo, Gps], [Odo] }
+            allow_unused { pos, gps_bias }
+        }
     }
+}
+
+/// A composition's `runs_with` and `allow_unused` reach the generated data
+/// (states pos, vel, odo_scale, gps_bias; sensors Odo, Gps).
+#[test]
+fn composed_runs_with() {
+    use vehicles::{CvRuns, CvRunsGps, CvRunsOdo};
+    assert_eq!(CvRuns::SENSORS, ["Odo", "Gps"]);
+    assert_eq!((CvRunsOdo::INDEX, CvRunsGps::INDEX), (0, 1));
+    assert_eq!(CvRuns::RUNS_WITH, [&[0usize, 1][..], &[0][..]]);
+    assert_eq!(
+        CvRuns::RUNS_WITH_OBSERVABLE,
+        [[true; 4], [false, true, true, false]]
+    );
+    assert_eq!(CvRunsOdo::OBSERVES, [false, true, true, false]);
+    assert_eq!(CvRunsGps::OBSERVES, [true, true, false, true]);
+    assert!(CvRuns::UNUSED_STATES.is_empty());
 }
 
 nav_runtime::model! {

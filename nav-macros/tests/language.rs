@@ -204,6 +204,8 @@ nav_runtime::model! {
             angles = [0];
             h = heading;
         }
+        // Only the heading is measured: the attitude is propagated, never corrected.
+        allow_unused { q }
     }
 }
 

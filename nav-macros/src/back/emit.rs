@@ -539,10 +539,16 @@ impl<'a> Emitter<'a> {
         let gb = self.body(&d.noise_jacobian, nocov.clone());
         let gb_fill = self.nonzero_matrix(&gb, &d.noise_jacobian, d.n, d.nw);
         let (gb_lets, gb_ops) = (&gb.lets, gb.ops);
-        let gb_doc = doc(&format!(
-            "The noise Jacobian `G = df/dw` at `w = 0` (N x NW, noise scalars in declaration order).\n\nTotal ops: \
-             {gb_ops}"
-        ));
+        let gb_doc = doc(&match d.kind {
+            ProcessKind::Continuous => format!(
+                "The noise Jacobian `G = df/dw` of the derivative at `w = 0` (N x NW, noise scalars in \
+                 declaration order; `dt` is unused: the step's own is `G dt`).\n\nTotal ops: {gb_ops}"
+            ),
+            ProcessKind::Discrete => format!(
+                "The noise Jacobian `G = df/dw` of the step at `w = 0` (N x NW, noise scalars in declaration \
+                 order).\n\nTotal ops: {gb_ops}"
+            ),
+        });
 
         // process noise
         let upper: Vec<(usize, usize, Id)> = (0..d.n)
@@ -709,20 +715,59 @@ impl<'a> Emitter<'a> {
         } else {
             quote!()
         };
-        let wb = self.body(&d.f_noisy, nocov.clone());
-        let w_fill = self.nonzero_vector(&wb, &d.f_noisy);
-        let w_lets = &wb.lets;
-        let w_doc = doc(&match d.kind {
-            ProcessKind::Continuous => {
-                format!("`f(x, u, p, w)` with an explicit noise sample `w` (`dt` is unused).\n\nTotal ops: {}", wb.ops)
+        // With an explicit noise sample: the derivative (continuous models,
+        // no `dt`) and the step (every model; the only one taking `dt`).
+        let derivative_with_noise = if continuous {
+            let wb = self.body(&d.f_noisy, nocov.clone());
+            let w_fill = self.nonzero_vector(&wb, &d.f_noisy);
+            let w_lets = &wb.lets;
+            let w_doc = doc(&format!(
+                "The state derivative `dx/dt = f(x, u, p, w)` with an explicit noise sample `w` (units of the \
+                 state per second; not a step: [`Self::step_with_noise`] advances the state by `dt`).\n\n\
+                 Total ops: {}",
+                wb.ops
+            ));
+            quote! {
+                #w_doc
+                pub fn derivative_with_noise(
+                    x: &#svec<#scalar, #n>, u: &#input_ty, p: &#params_ty, w: &#svec<#scalar, #nw>,
+                ) -> #svec<#scalar, #n> {
+                    #w_lets
+                    #w_fill
+                    out
+                }
             }
-            ProcessKind::Discrete => {
-                format!(
-                    "`f(x, u, p, dt, w)` with an explicit noise sample `w`.\n\nTotal ops: {}",
-                    wb.ops
-                )
-            }
+        } else {
+            quote!()
+        };
+        let sb = self.body(&d.step_noisy, nocov.clone());
+        let s_fill = self.nonzero_vector(&sb, &d.step_noisy);
+        let s_lets = &sb.lets;
+        let s_doc = doc(&match d.kind {
+            ProcessKind::Continuous => format!(
+                "The state after one step of `dt` seconds with an explicit noise sample `w`: the Euler step \
+                 `x + f(x, u, p, w) dt` (`transition` at `w = 0`; the derivative itself is \
+                 [`Self::derivative_with_noise`]).\n\nTotal ops: {}",
+                sb.ops
+            ),
+            ProcessKind::Discrete => format!(
+                "The state after one step of `dt` seconds with an explicit noise sample `w`: \
+                 `f(x, u, p, dt, w)` (`transition` at `w = 0`).\n\nTotal ops: {}",
+                sb.ops
+            ),
         });
+        let step_with_noise = quote! {
+            #s_doc
+            pub fn step_with_noise(
+                x: &#svec<#scalar, #n>, u: &#input_ty, p: &#params_ty, w: &#svec<#scalar, #nw>, dt: #scalar,
+            ) -> #svec<#scalar, #n> {
+                #s_lets
+                #s_fill
+                out
+            }
+        };
+
+        let observability = self.observability_items();
 
         let name_str = name.to_string();
         let zero_is_fixed = d.zero_is_fixed;
@@ -749,8 +794,8 @@ impl<'a> Emitter<'a> {
                 pub const NW: usize = #nw;
                 #(#index_consts)*
                 /// State scalars no sensor depends on, directly or through the dynamics
-                /// (no measurement can correct them). A composed model must list them
-                /// in `allow_unused { .. }`.
+                /// (no measurement can correct them). The model lists them in
+                /// `allow_unused { .. }` (checked at compile time).
                 pub const UNUSED_STATES: &'static [&'static str] = &[#(#unused_states),*];
                 /// Operations in `transition`.
                 pub const OPS_TRANSITION: usize = #tr_ops;
@@ -763,15 +808,10 @@ impl<'a> Emitter<'a> {
                 /// Operations in `propagate_covariance`.
                 pub const OPS_PROPAGATE_COVARIANCE: usize = #pb_ops;
                 #structure
+                #observability
                 #derivative
-                #w_doc
-                pub fn process_with_noise(
-                    x: &#svec<#scalar, #n>, u: &#input_ty, p: &#params_ty, w: &#svec<#scalar, #nw>, dt: #scalar,
-                ) -> #svec<#scalar, #n> {
-                    #w_lets
-                    #w_fill
-                    out
-                }
+                #derivative_with_noise
+                #step_with_noise
                 #gb_doc
                 pub fn noise_jacobian(x: &#svec<#scalar, #n>, u: &#input_ty, p: &#params_ty, dt: #scalar) -> #smat<#scalar, #n, #nw> {
                     #gb_lets
@@ -902,6 +942,10 @@ impl<'a> Emitter<'a> {
             "`(h, P H^T, H P H^T)` from the upper triangle of `P` and the sparsity of `H`.\n\nTotal ops: {i_ops}"
         ));
         let (h_ops, j_ops, i_ops) = (lit(h_ops), lit(j_ops), lit(i_ops));
+        let index = lit(s);
+        let mut alone = vec![false; d.sensors.len()];
+        alone[s] = true;
+        let observes = d.observable_with(&alone);
         quote! {
             #(#attrs)*
             #[doc = ""]
@@ -915,6 +959,12 @@ impl<'a> Emitter<'a> {
                 pub const M: usize = #m;
                 /// The declared sensor name.
                 pub const NAME: &'static str = #sensor_name;
+                /// The index of this sensor in the model's `SENSORS` (declaration order).
+                pub const INDEX: usize = #index;
+                /// Per state scalar: structurally observable with this sensor alone (its `h`
+                /// depends on the state, directly or through the dynamics); see
+                /// `docs/language.md`, "Structural observability".
+                pub const OBSERVES: [bool; #n] = [#(#observes),*];
                 /// Operations in `predict`.
                 pub const OPS_PREDICT: usize = #h_ops;
                 /// Operations in `jacobian`.
@@ -1017,6 +1067,107 @@ impl<'a> Emitter<'a> {
                 for j in 0..i {
                     out[(i, j)] = out[(j, i)];
                 }
+            }
+        }
+    }
+
+    /// The structural observability data of the model type: its sensors, what
+    /// each one's `h` depends on, the declared sensor sets, and the closure
+    /// through the dynamics as a `const fn` (see `front/observability.rs`).
+    fn observability_items(&self) -> TokenStream {
+        let d = self.d;
+        let (n, scalar) = (&self.n, &self.scalar);
+        let ns = lit(d.sensors.len());
+        let names = self.decl.sensors.iter().map(|s| s.name.to_string());
+        let depends = d
+            .sensor_depends()
+            .into_iter()
+            .map(|row| quote!([#(#row),*]));
+        let sets = crate::front::observability::run_sets(self.decl);
+        let sets_t = sets.iter().map(|set| {
+            let set = set.iter().map(|&k| lit(k));
+            quote!(&[#(#set),*])
+        });
+        let per_set = sets.iter().map(|set| {
+            let mut on = vec![false; d.sensors.len()];
+            for &k in set {
+                on[k] = true;
+            }
+            let row = d.observable_with(&on);
+            quote!([#(#row),*])
+        });
+        let nsets = lit(sets.len());
+        // A model without sensors observes nothing (and a loop `while s < 0`
+        // would be a lint).
+        let observable_body = if d.sensors.is_empty() {
+            quote! {
+                let _ = sensors;
+                [false; #n]
+            }
+        } else {
+            quote! {
+                let deps = Self::SENSOR_DEPENDS;
+                let f = <Self as ::nav_runtime::model::Model<#n, #scalar>>::JACOBIAN_SPARSITY;
+                let mut seen = [false; #n];
+                let mut s = 0;
+                while s < #ns {
+                    if sensors[s] {
+                        let mut j = 0;
+                        while j < #n {
+                            if deps[s][j] {
+                                seen[j] = true;
+                            }
+                            j += 1;
+                        }
+                    }
+                    s += 1;
+                }
+                let mut changed = true;
+                while changed {
+                    changed = false;
+                    let mut i = 0;
+                    while i < #n {
+                        if seen[i] {
+                            let mut j = 0;
+                            while j < #n {
+                                if j != i && !seen[j] && f[i][j] {
+                                    seen[j] = true;
+                                    changed = true;
+                                }
+                                j += 1;
+                            }
+                        }
+                        i += 1;
+                    }
+                }
+                seen
+            }
+        };
+        quote! {
+            /// The sensors, in declaration order (`Sensor::INDEX` of each sensor type).
+            pub const SENSORS: [&'static str; #ns] = [#(#names),*];
+            /// Per sensor, per state scalar: the sensor's `h` depends on the state
+            /// directly (a structural nonzero of its `H`).
+            pub const SENSOR_DEPENDS: [[bool; #n]; #ns] = [#(#depends),*];
+            /// The sensor sets the model is declared to run with (`runs_with { .. }`, as
+            /// indices into `SENSORS`); the set of all sensors when it declares none.
+            pub const RUNS_WITH: [&'static [usize]; #nsets] = [#(#sets_t),*];
+            /// Per set of `RUNS_WITH`, per state scalar: structurally observable with
+            /// that set (checked at compile time against `allow_unused`).
+            pub const RUNS_WITH_OBSERVABLE: [[bool; #n]; #nsets] = [#(#per_set),*];
+            /// Per state scalar: is it structurally observable with the sensors marked
+            /// `true` (indexed like `SENSORS`), i.e. is there a path from the state to
+            /// a measurement of one of them, through a sensor's `H` or the dynamics
+            /// (`F[i][j] != 0`, `i != j`, of a state `i` on such a path)? Sparsity
+            /// only: `false` means no measurement of that set can ever correct the
+            /// state; `true` means only that sparsity does not exclude it (see
+            /// `docs/language.md`, "Structural observability").
+            pub const fn structurally_observable(sensors: &[bool; #ns]) -> [bool; #n] {
+                #observable_body
+            }
+            /// The index in `SENSORS` of the sensor declared as `name`, if any.
+            pub fn sensor_index(name: &str) -> ::core::option::Option<usize> {
+                Self::SENSORS.iter().position(|s| *s == name)
             }
         }
     }

@@ -30,6 +30,12 @@ pub fn tests(decl: &ModelDecl, d: &Derived) -> TokenStream {
     } else {
         quote!(<#name as Model<N, S>>::transition(x, &u, &p, dt))
     };
+    // The function whose noise Jacobian `noise_jacobian` is.
+    let noisy_f = if continuous {
+        quote!(#name::derivative_with_noise(&x, &u, &p, w))
+    } else {
+        quote!(#name::step_with_noise(&x, &u, &p, w, dt))
+    };
     let phi = if continuous {
         quote!(SMatrix::<S, N, N>::identity() + jac * dt)
     } else {
@@ -281,7 +287,7 @@ pub fn tests(decl: &ModelDecl, d: &Derived) -> TokenStream {
             fn noise_jacobian_matches_finite_differences() {
                 at_random_points(0x5eed_0001, |rng, x, u, p, dt| {
                                         let g = #name::noise_jacobian(&x, &u, &p, dt);
-                    let f = |w: &SVector<S, NW>| #name::process_with_noise(&x, &u, &p, w, dt);
+                    let f = |w: &SVector<S, NW>| #noisy_f;
                     let w0 = SVector::<S, NW>::zeros();
                     let Some(fd) = fd_jacobian(&w0, f) else { return false };
                     if !finite(&f(&w0)) || !finite(&g) || !finite(&fd.0) {

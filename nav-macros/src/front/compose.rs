@@ -137,7 +137,14 @@ pub fn step(step: Step) -> syn::Result<TokenStream> {
     }
     let (decl, owners) = assemble(&compose, blocks)?;
     let derived = crate::derive_model(&decl)?;
-    check_unused(&compose, &decl, &owners, &derived.used_states())?;
+    super::observability::check(
+        &decl,
+        &derived,
+        Some(super::observability::Composed {
+            name: &compose.name,
+            state_block: &owners,
+        }),
+    )?;
     Ok(crate::back::emit::model(&decl, &derived))
 }
 
@@ -460,6 +467,7 @@ fn assemble(
         sensors: Vec::new(),
         unknown_hint: "",
         scalar: c.scalar.unwrap_or_default(),
+        observability: c.observability.clone(),
     };
     for block in blocks {
         decl.inputs.extend(block.inputs);
@@ -508,99 +516,4 @@ impl VisitMut for Rename {
             self.visit_expr_mut(arg);
         }
     }
-}
-
-/// A composed model may not have unused states (see [`crate::symbolic::derive::Derived::used_states`])
-/// unless its `allow_unused { .. }` lists them; every listed state must be unused.
-fn check_unused(
-    c: &ComposeDecl,
-    decl: &ModelDecl,
-    state_block: &HashMap<String, String>,
-    used: &[bool],
-) -> syn::Result<()> {
-    let cx = Ctxt::new();
-    // Scalar ranges of the states.
-    let mut ranges = Vec::new();
-    let mut offset = 0;
-    for v in &decl.states {
-        ranges.push((v, offset..offset + v.shape.len()));
-        offset += v.shape.len();
-    }
-    let mut allowed = vec![false; used.len()];
-    for (name, index) in &c.allow_unused {
-        let Some((v, range)) = ranges.iter().find(|(v, _)| v.name == *name) else {
-            let hint = suggest(
-                &name.to_string(),
-                decl.states.iter().map(|s| s.name.to_string()),
-            );
-            cx.error_spanned_by(
-                name,
-                format!("`{name}` is not a state of `{}`{hint}", c.name),
-            );
-            continue;
-        };
-        let scalars: Vec<usize> = match index {
-            None => range.clone().collect(),
-            Some(lit) => match lit.base10_parse::<usize>() {
-                Ok(i) if i < range.len() && v.shape != Shape::Scalar => vec![range.start + i],
-                _ => {
-                    cx.error_spanned_by(
-                        lit,
-                        format!("`{name}` is a {}: no component {lit}", v.shape),
-                    );
-                    continue;
-                }
-            },
-        };
-        if scalars.iter().all(|&k| used[k]) {
-            let what = match index {
-                Some(i) => format!("{name}[{i}]"),
-                None => name.to_string(),
-            };
-            cx.error_spanned_by(
-                name,
-                format!(
-                    "`{what}` is used by a sensor of `{}`: remove it from `allow_unused`",
-                    c.name
-                ),
-            );
-        }
-        for k in scalars {
-            allowed[k] = true;
-        }
-    }
-    for (v, range) in &ranges {
-        let bad: Vec<usize> = range.clone().filter(|&k| !used[k] && !allowed[k]).collect();
-        if bad.is_empty() {
-            continue;
-        }
-        let block = state_block
-            .get(&v.name.to_string())
-            .map(String::as_str)
-            .unwrap_or("?");
-        let what = if bad.len() == range.len() {
-            format!("state `{}`", v.name)
-        } else {
-            let parts: Vec<String> = bad
-                .iter()
-                .map(|k| format!("{}[{}]", v.name, k - range.start))
-                .collect();
-            format!("`{}`", parts.join("`, `"))
-        };
-        cx.error_spanned_by(
-            &c.name,
-            format!(
-                "{what} (block `{block}`) is used by no sensor of `{}`, directly or through the dynamics, so no \
-                 measurement can ever correct it: add a block whose sensor observes it, or accept it with \
-                 `allow_unused {{ {} }}`",
-                c.name,
-                if bad.len() == range.len() || bad.len() > 1 {
-                    v.name.to_string()
-                } else {
-                    format!("{}[{}]", v.name, bad[0] - range.start)
-                }
-            ),
-        );
-    }
-    cx.check()
 }

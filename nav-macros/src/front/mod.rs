@@ -9,4 +9,5 @@ pub mod compose;
 pub mod ctxt;
 pub mod lower;
 pub mod names;
+pub mod observability;
 pub mod parse;

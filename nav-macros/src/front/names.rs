@@ -18,11 +18,14 @@ pub fn screaming_case(name: &str) -> String {
     out
 }
 
-/// `" ; did you mean `x`?"` for the closest candidate by edit distance, if close.
+/// `" ; did you mean `x`?"` for the closest candidate, if close: at most a
+/// third of the longer name's letters apart (at least one), counting a
+/// swapped pair of neighbours as one edit and ignoring case, so `Fxi` finds
+/// `Fix` and `dvl` finds `Dvl`.
 pub fn suggest(name: &str, candidates: impl IntoIterator<Item = String>) -> String {
     let mut best: Option<(usize, String)> = None;
     for c in candidates {
-        let d = edit_distance(name, &c);
+        let d = edit_distance(&name.to_lowercase(), &c.to_lowercase());
         let limit = 1.max(name.chars().count().max(c.chars().count()) / 3);
         let better = match &best {
             None => true,
@@ -38,19 +41,29 @@ pub fn suggest(name: &str, candidates: impl IntoIterator<Item = String>) -> Stri
     }
 }
 
-/// Levenshtein distance.
+/// Edit distance with insertions, deletions, substitutions and swaps of two
+/// neighbouring letters (optimal string alignment).
 fn edit_distance(a: &str, b: &str) -> usize {
-    let b: Vec<char> = b.chars().collect();
-    let mut prev: Vec<usize> = (0..=b.len()).collect();
-    for (i, ca) in a.chars().enumerate() {
-        let mut cur = vec![i + 1];
-        for (j, cb) in b.iter().enumerate() {
-            let sub = prev[j] + usize::from(ca != *cb);
-            cur.push(sub.min(prev[j + 1] + 1).min(cur[j] + 1));
-        }
-        prev = cur;
+    let (a, b): (Vec<char>, Vec<char>) = (a.chars().collect(), b.chars().collect());
+    // d[i][j]: distance of a[..i] and b[..j].
+    let mut d = vec![vec![0usize; b.len() + 1]; a.len() + 1];
+    for (i, row) in d.iter_mut().enumerate() {
+        row[0] = i;
     }
-    prev[b.len()]
+    for (j, cell) in d[0].iter_mut().enumerate() {
+        *cell = j;
+    }
+    for i in 1..=a.len() {
+        for j in 1..=b.len() {
+            let sub = d[i - 1][j - 1] + usize::from(a[i - 1] != b[j - 1]);
+            let mut best = sub.min(d[i - 1][j] + 1).min(d[i][j - 1] + 1);
+            if i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] {
+                best = best.min(d[i - 2][j - 2] + 1);
+            }
+            d[i][j] = best;
+        }
+    }
+    d[a.len()][b.len()]
 }
 
 /// `Leveling6` -> `leveling6`, `MarkerFix` -> `marker_fix`.
@@ -141,9 +154,25 @@ mod tests {
             ("specific_forc", "; did you mean `specific_force`?"),
             ("zzz", ""),
             ("b", "; did you mean `a`?"),
+            // A swapped pair is one edit.
+            ("veloctiy", "; did you mean `velocity`?"),
+            ("gyor", "; did you mean `gyro`?"),
         ];
         for (name, want) in cases {
             assert_eq!(suggest(name, cands()), want, "{name}");
+        }
+        // Sensor names: short, capitalized; a swap or a case slip still finds them.
+        let sensors = || ["Fix", "Dvl", "Depth", "Usbl"].map(String::from);
+        let cases = [
+            ("Fxi", "; did you mean `Fix`?"),
+            ("dvl", "; did you mean `Dvl`?"),
+            ("DVL", "; did you mean `Dvl`?"),
+            ("Detph", "; did you mean `Depth`?"),
+            ("Usb", "; did you mean `Usbl`?"),
+            ("Gps", ""),
+        ];
+        for (name, want) in cases {
+            assert_eq!(suggest(name, sensors()), want, "{name}");
         }
     }
 

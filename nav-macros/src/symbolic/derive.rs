@@ -21,6 +21,9 @@ pub struct Derived {
     pub f: Vec<Id>,
     /// `x + f dt` (continuous) or `f` (discrete).
     pub transition: Vec<Id>,
+    /// The same step with noise `w`: `x + f(x, u, p, w) dt` (continuous) or
+    /// `f(x, u, p, dt, w)` (discrete).
+    pub step_noisy: Vec<Id>,
     /// `F` (continuous) or `Phi` (discrete), row-major N x N.
     pub jacobian: Vec<Id>,
     /// `G = df/dw` at `w = 0`, row-major N x NW.
@@ -112,6 +115,16 @@ pub fn derive(lowered: Lowered, nw: usize) -> Derived {
             })
             .collect(),
         ProcessKind::Discrete => f.clone(),
+    };
+    let step_noisy: Vec<Id> = match kind {
+        ProcessKind::Continuous => (0..n)
+            .map(|i| {
+                let x = g.sym(Sym::State(i as u32));
+                let step = g.mul(f_noisy[i], dt);
+                g.add(x, step)
+            })
+            .collect(),
+        ProcessKind::Discrete => f_noisy.clone(),
     };
 
     let mut jacobian = Vec::with_capacity(n * n);
@@ -305,6 +318,7 @@ pub fn derive(lowered: Lowered, nw: usize) -> Derived {
         f_noisy,
         f,
         transition,
+        step_noisy,
         jacobian,
         noise_jacobian,
         process_noise,
@@ -319,13 +333,42 @@ impl Derived {
     /// `i != j`, of a state `i` that is used)? An unused state can never be
     /// corrected by a measurement nor influence one.
     pub fn used_states(&self) -> Vec<bool> {
+        self.observable_with(&vec![true; self.sensors.len()])
+    }
+
+    /// Per sensor and state scalar: does the sensor's `h` depend on the state
+    /// directly (a structural nonzero in some row of its `H`)?
+    pub fn sensor_depends(&self) -> Vec<Vec<bool>> {
+        let n = self.n;
+        self.sensors
+            .iter()
+            .map(|s| {
+                let mut dep = vec![false; n];
+                for (k, &id) in s.jacobian.iter().enumerate() {
+                    dep[k % n] |= !self.graph.is_zero(id);
+                }
+                dep
+            })
+            .collect()
+    }
+
+    /// Per state scalar, with only the sensors marked in `sensors`: is there a
+    /// path from the state to a measurement, i.e. does an enabled sensor depend
+    /// on it directly, or the derivative (discrete: the step) of a reached
+    /// state depend on it (`F[i][j] != 0`, `i != j`)? Structural: a `false` is
+    /// "can never be corrected", a `true` only "not excluded by sparsity".
+    pub fn observable_with(&self, sensors: &[bool]) -> Vec<bool> {
         let n = self.n;
         let mut used = vec![false; n];
         let mut work = Vec::new();
-        for s in &self.sensors {
-            for (k, &id) in s.jacobian.iter().enumerate() {
-                let j = k % n;
-                if !used[j] && !self.graph.is_zero(id) {
+        for (dep, _) in self
+            .sensor_depends()
+            .iter()
+            .zip(sensors)
+            .filter(|(_, &on)| on)
+        {
+            for (j, &d) in dep.iter().enumerate() {
+                if d && !used[j] {
                     used[j] = true;
                     work.push(j);
                 }

@@ -23,7 +23,7 @@ nav_runtime::model! {
             d/dt velocity = a;
         }
         sensor Moving: 2 {
-            h = [velocity[0], velocity[1]];
+            h = [velocity[0], velocity[1] + velocity[2]];
         }
     }
 }

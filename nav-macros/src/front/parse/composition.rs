@@ -5,7 +5,7 @@
 
 use proc_macro2::TokenStream;
 use syn::parse::{Parse, ParseStream};
-use syn::{braced, bracketed, Attribute, Ident, LitInt, Path, Token, Visibility};
+use syn::{braced, Attribute, Ident, Path, Token, Visibility};
 
 use super::{ComposeDecl, Item};
 
@@ -76,7 +76,7 @@ pub(super) fn parse_composition(
         name,
         blocks,
         order: None,
-        allow_unused: Vec::new(),
+        observability: super::Observability::default(),
         scalar: None,
         tokens: TokenStream::new(),
     };
@@ -92,36 +92,33 @@ pub(super) fn parse_composition(
                 compose.scalar = Some(super::Scalar::parse_after_keyword(&body)?);
                 continue;
             }
-            let inner;
-            braced!(inner in body);
-            if kw == "order" && compose.order.is_none() {
+            let once = |seen: bool| {
+                if seen {
+                    Err(syn::Error::new(
+                        kw.span(),
+                        format!("duplicate `{kw}` section"),
+                    ))
+                } else {
+                    Ok(())
+                }
+            };
+            if kw == "order" {
+                once(compose.order.is_some())?;
+                let inner;
+                braced!(inner in body);
                 let names = inner.parse_terminated(Ident::parse, Token![,])?;
                 compose.order = Some((kw, names.into_iter().collect()));
-            } else if kw == "allow_unused" && compose.allow_unused.is_empty() {
-                while !inner.is_empty() {
-                    let name: Ident = inner.parse()?;
-                    let index = if inner.peek(syn::token::Bracket) {
-                        let ix;
-                        bracketed!(ix in inner);
-                        Some(ix.parse::<LitInt>()?)
-                    } else {
-                        None
-                    };
-                    compose.allow_unused.push((name, index));
-                    if inner.is_empty() {
-                        break;
-                    }
-                    inner.parse::<Token![,]>()?;
-                }
-            } else if kw == "order" || kw == "allow_unused" {
-                return Err(syn::Error::new(
-                    kw.span(),
-                    format!("duplicate `{kw}` section"),
-                ));
+            } else if kw == "allow_unused" {
+                once(!compose.observability.allow_unused.is_empty())?;
+                compose.observability.allow_unused = super::parse_allow_unused(&body)?;
+            } else if kw == "runs_with" {
+                once(compose.observability.runs_with.is_some())?;
+                compose.observability.runs_with =
+                    Some((kw.clone(), super::parse_runs_with(&body)?));
             } else {
                 return Err(syn::Error::new(
                     kw.span(),
-                    format!("unknown section `{kw}` of a composition; expected `order`, `allow_unused` or `scalar`"),
+                    format!("unknown section `{kw}` of a composition; expected `order`, `allow_unused`, `runs_with` or `scalar`"),
                 ));
             }
         }

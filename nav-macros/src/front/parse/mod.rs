@@ -54,6 +54,61 @@ pub struct ModelDecl {
     pub unknown_hint: &'static str,
     /// `scalar f32;`: the scalar the code is generated for (`f64` by default).
     pub scalar: Scalar,
+    /// The observability options of a model (hand-written or composed).
+    pub observability: Observability,
+}
+
+/// What a model says about which states its sensors must see (see
+/// `front/observability.rs`).
+#[derive(Clone, Default)]
+pub struct Observability {
+    /// `allow_unused { a, b[1], .. }`: state scalars that are meant to be seen
+    /// by no sensor (dead-reckoned) in some declared sensor set.
+    pub allow_unused: Vec<(Ident, Option<LitInt>)>,
+    /// `runs_with { [A, B], [A, B, C] }`: the sensor sets the model is meant
+    /// to run with (the keyword, for spans); all its sensors when absent.
+    pub runs_with: Option<(Ident, Vec<Vec<Ident>>)>,
+}
+
+/// `{ a, b[1], .. }` after `allow_unused`.
+pub(super) fn parse_allow_unused(body: ParseStream) -> syn::Result<Vec<(Ident, Option<LitInt>)>> {
+    let inner;
+    braced!(inner in body);
+    let mut out = Vec::new();
+    while !inner.is_empty() {
+        let name: Ident = inner.parse()?;
+        let index = if inner.peek(syn::token::Bracket) {
+            let ix;
+            bracketed!(ix in inner);
+            Some(ix.parse::<LitInt>()?)
+        } else {
+            None
+        };
+        out.push((name, index));
+        if inner.is_empty() {
+            break;
+        }
+        inner.parse::<Token![,]>()?;
+    }
+    Ok(out)
+}
+
+/// `{ [A, B], [A, B, C] }` after `runs_with`.
+pub(super) fn parse_runs_with(body: ParseStream) -> syn::Result<Vec<Vec<Ident>>> {
+    let inner;
+    braced!(inner in body);
+    let mut sets = Vec::new();
+    while !inner.is_empty() {
+        let set;
+        bracketed!(set in inner);
+        let names = set.parse_terminated(Ident::parse, Token![,])?;
+        sets.push(names.into_iter().collect());
+        if inner.is_empty() {
+            break;
+        }
+        inner.parse::<Token![,]>()?;
+    }
+    Ok(sets)
 }
 
 /// The scalar a model's code is generated for.
@@ -129,8 +184,8 @@ pub struct ComposeDecl {
     pub blocks: Vec<Path>,
     /// `order { a, b, .. }`: an explicit order of all states.
     pub order: Option<(Ident, Vec<Ident>)>,
-    /// `allow_unused { a, b[1], .. }`: states allowed to be unused.
-    pub allow_unused: Vec<(Ident, Option<LitInt>)>,
+    /// `allow_unused { .. }` and `runs_with { .. }`.
+    pub observability: Observability,
     /// `scalar f32;`: the composed model's scalar.
     pub scalar: Option<Scalar>,
     /// The whole declaration as written, carried through the composition steps.
@@ -346,6 +401,7 @@ fn parse_sections(
                 ""
             },
             scalar: Scalar::F64,
+            observability: Observability::default(),
         };
         let mut seen: Vec<String> = Vec::new();
         while !body.is_empty() {
@@ -414,6 +470,19 @@ fn parse_sections(
                     ))
                 }
                 "scalar" => decl.scalar = Scalar::parse_after_keyword(body)?,
+                "allow_unused" | "runs_with" if is_block => {
+                    return Err(syn::Error::new(
+                        kw.span(),
+                        format!(
+                        "`{kw}` is a section of models, not of blocks: the composed model says it \
+                             (`model Name = A + B {{ {kw} {{ .. }} }}`)"
+                    ),
+                    ))
+                }
+                "allow_unused" => decl.observability.allow_unused = parse_allow_unused(body)?,
+                "runs_with" => {
+                    decl.observability.runs_with = Some((kw.clone(), parse_runs_with(body)?))
+                }
                 "needs" => return Err(syn::Error::new(
                     kw.span(),
                     "`needs { .. }` is a section of blocks (`block Name { .. }`), not of models",
@@ -427,7 +496,11 @@ fn parse_sections(
                         "continuous",
                         "discrete",
                     ];
-                    sections.push(if is_block { "needs" } else { "scalar" });
+                    if is_block {
+                        sections.push("needs");
+                    } else {
+                        sections.extend(["scalar", "allow_unused", "runs_with"]);
+                    }
                     let hint = crate::front::names::suggest(
                         &kw_str,
                         sections
