@@ -16,15 +16,12 @@ mod decode;
 mod error;
 pub mod fuzz;
 pub mod guard;
-pub mod reference;
-pub mod replay;
-pub mod running_score;
+mod instances;
 mod topics;
+pub mod writer;
 
 #[cfg(test)]
 mod tests;
-#[cfg(test)]
-pub(crate) mod writer;
 
 use std::collections::HashMap;
 use std::fmt::Write as _;
@@ -115,6 +112,8 @@ pub struct ImportedLog {
     pub noise: String,
     /// Which topics and instances were used, what was dropped or defaulted.
     pub warnings: Vec<String>,
+    /// The replay models and, for those the log cannot serve, what it lacks.
+    pub models: Vec<(&'static str, Option<String>)>,
 }
 
 impl ImportedLog {
@@ -123,35 +122,52 @@ impl ImportedLog {
         self.files.iter().find(|f| f.name == name)
     }
 
-    /// Writes the log directory `dir` (created if needed).
+    /// Writes the log directory `dir` all at once (`crate::staging`): an
+    /// earlier import there is replaced whole, anything else non-empty is
+    /// refused, and a failure leaves `dir` as it was.
     ///
     /// # Errors
-    /// [`ImportError::Io`] naming the path that failed.
+    /// [`ImportError::Io`] naming the path under `dir` that failed, or
+    /// [`ImportError::Refused`].
     pub fn write(&self, dir: &Path) -> Result<(), ImportError> {
-        let io = |path: &Path| {
-            let path = path.to_path_buf();
-            move |source| ImportError::Io { path, source }
-        };
-        std::fs::create_dir_all(dir).map_err(io(dir))?;
-        for f in &self.files {
-            let p = dir.join(f.name);
-            std::fs::write(&p, f.text()).map_err(io(&p))?;
-        }
-        for (name, text) in [("meta.toml", &self.meta), ("noise.toml", &self.noise)] {
-            let p = dir.join(name);
-            std::fs::write(&p, text).map_err(io(&p))?;
-        }
-        Ok(())
+        let texts: Vec<(&str, String)> = self
+            .files
+            .iter()
+            .map(|f| (f.name, f.text()))
+            .chain([
+                ("meta.toml", self.meta.clone()),
+                ("noise.toml", self.noise.clone()),
+            ])
+            .collect();
+        let files: Vec<(&str, &[u8])> = texts.iter().map(|(n, t)| (*n, t.as_bytes())).collect();
+        crate::staging::write_log_dir(dir, &files).map_err(|e| match e {
+            crate::staging::StageError::Io { path, source } => ImportError::Io { path, source },
+            crate::staging::StageError::Refused { path, reason } => {
+                ImportError::Refused { path, reason }
+            }
+        })
     }
 
-    /// Summary for `--json`: `files` (rows per file) and `warnings`.
+    /// Summary for `--json`: `files` (rows per file), `models` (which replay
+    /// models the log serves, and what it lacks for the others) and `warnings`.
     pub fn summary(&self) -> serde_json::Value {
         let files: serde_json::Map<String, serde_json::Value> = self
             .files
             .iter()
             .map(|f| (f.name.to_string(), serde_json::json!(f.rows())))
             .collect();
-        serde_json::json!({ "files": files, "warnings": self.warnings })
+        let models: serde_json::Map<String, serde_json::Value> = self
+            .models
+            .iter()
+            .map(|(m, missing)| {
+                let v = match missing {
+                    None => serde_json::json!({ "servable": true }),
+                    Some(why) => serde_json::json!({ "servable": false, "missing": why }),
+                };
+                (m.to_string(), v)
+            })
+            .collect();
+        serde_json::json!({ "files": files, "models": models, "warnings": self.warnings })
     }
 }
 
@@ -237,6 +253,11 @@ pub fn read_unguarded(file: &str, bytes: &[u8]) -> Result<ImportedLog, ImportErr
         }
     }
     let mut warnings = Vec::new();
+    for (at, next) in &framing.cut {
+        warnings.push(format!(
+            "{file}: the message at byte {at} is cut by data appended at byte {next} (a log continued after a cut); read on from there"
+        ));
+    }
     if let Some(at) = framing.truncated_at {
         warnings.push(format!(
             "{file}: the file ends inside the message at byte {at} (truncated log); read up to there"
