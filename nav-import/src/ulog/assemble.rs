@@ -25,7 +25,7 @@ const ACCEL_BIAS_SIGMA_DEFAULT: f64 = 0.2;
 
 /// The columns of `gnss.csv`: always all of them, a cell the receiver does
 /// not give left empty (the log reader's fixed schema).
-pub const GNSS_COLUMNS: [&str; 10] = [
+pub(crate) const GNSS_COLUMNS: [&str; 10] = [
     "t",
     "lat",
     "lon",
@@ -874,7 +874,7 @@ pub const LEVELING_S: f64 = 1.0;
 /// the mean magnetic field, tilt-compensated) over [`LEVELING_S`] from `t0`,
 /// rad, body frame forward-right-down. Works on rates and on increments
 /// alike (only the directions of the sums count). `None` without samples.
-fn leveled(imu: Option<&CsvFile>, mag: Option<&CsvFile>, t0: f64) -> Option<[f64; 3]> {
+pub(crate) fn leveled(imu: Option<&CsvFile>, mag: Option<&CsvFile>, t0: f64) -> Option<[f64; 3]> {
     let mean = |f: &CsvFile, cols: [usize; 3]| -> Option<[f64; 3]> {
         let n = f.header.len();
         let mut sum = [0.0; 3];

@@ -11,7 +11,7 @@
 //! field; nothing is allocated from a size read in the file (tables grow with
 //! the messages actually present).
 
-mod assemble;
+pub(crate) mod assemble;
 mod decode;
 mod error;
 pub mod fuzz;
