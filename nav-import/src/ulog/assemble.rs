@@ -68,7 +68,7 @@ fn widen(f: CsvFile, full: &[&'static str]) -> CsvFile {
 pub fn assemble(
     file: &str,
     origin_us: f64,
-    tables: &[Table],
+    tables: Vec<Table>,
     parameters: &HashMap<String, f64>,
     mut warnings: Vec<String>,
 ) -> Result<ImportedLog, ImportError> {

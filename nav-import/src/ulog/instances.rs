@@ -42,19 +42,19 @@ fn span(t: &Table) -> Option<(f64, f64)> {
 /// rows of the others after it stops (columns matched by name; a column the
 /// other instance lacks is an empty cell, which drops the row when the file
 /// needs it). `origin_us` is the log's start, for the times in the warnings.
-pub fn splice(tables: &[Table], origin_us: f64, warnings: &mut Vec<String>) -> Vec<Table> {
-    let mut out: Vec<Table> = tables.to_vec();
-    let log_end = tables
+pub fn splice(tables: Vec<Table>, origin_us: f64, warnings: &mut Vec<String>) -> Vec<Table> {
+    let mut out = tables;
+    let log_end = out
         .iter()
         .filter_map(|t| span(t).map(|(end, _)| end))
         .fold(f64::NEG_INFINITY, f64::max);
     let s = |us: f64| (us - origin_us) * 1e-6;
-    let mut topics: Vec<&str> = tables.iter().map(|t| t.topic.as_str()).collect();
+    let mut topics: Vec<String> = out.iter().map(|t| t.topic.clone()).collect();
     topics.sort_unstable();
     topics.dedup();
     for topic in topics {
         let mut group: Vec<usize> = (0..out.len())
-            .filter(|&i| out[i].topic == topic && out[i].rows() > 0)
+            .filter(|&i| out[i].topic == *topic && out[i].rows() > 0)
             .collect();
         group.sort_by_key(|&i| (out[i].instance, std::cmp::Reverse(out[i].rows())));
         let Some((&primary, others)) = group.split_first() else {

@@ -273,7 +273,7 @@ pub fn read_unguarded(file: &str, bytes: &[u8]) -> Result<ImportedLog, ImportErr
     warnings.push(format!(
         "times are seconds after the log's start (header timestamp {origin_us} us)"
     ));
-    assemble::assemble(file, origin_us, &collector.tables, &parameters, warnings)
+    assemble::assemble(file, origin_us, collector.tables, &parameters, warnings)
 }
 
 /// The crate's message without the format it may quote, at most 200 characters.
