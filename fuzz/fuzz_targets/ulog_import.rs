@@ -2,5 +2,5 @@
 #![no_main]
 
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
-    models::ulog::fuzz::import_bytes(data);
+    nav_import::ulog::fuzz::import_bytes(data);
 });

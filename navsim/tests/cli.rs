@@ -262,10 +262,21 @@ fn replay_of_a_malformed_log_names_file_line_column_and_writes_nothing() {
         .collect();
     assert_eq!(leftovers.len(), 1, "{leftovers:?}");
 
-    // --lenient skips and counts both bad rows, and writes the outputs.
+    // --lenient skips and counts the bad row, rejects the glitch (NaN) with
+    // its own warning, and writes the outputs.
     let v = json(&navsim(&[&args[..], &["--lenient"]].concat()));
-    assert_eq!(v["skipped_rows"], 2);
-    assert_eq!(v["skipped_rows_by_file"]["depth.csv"], 2);
+    assert_eq!(v["skipped_rows"], 1);
+    assert_eq!(v["skipped_rows_by_file"]["depth.csv"], 1);
+    assert!(
+        v["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|w| w["kind"] == "rejected_reading"
+                && w["file"] == "depth.csv"
+                && w["line"] == 10),
+        "{v}"
+    );
     assert!(out.join("summary.json").is_file());
     assert!(stderr(&navsim(&[&args[..], &["--lenient"]].concat())).contains("depth.csv:10"));
 }

@@ -120,20 +120,6 @@ fn cases() -> Vec<Case> {
             Some(1),
         ),
         (
-            "NaN",
-            "heading.csv",
-            Line(3, "1,NaN"),
-            "heading.csv:3: column `heading`",
-            Some(1),
-        ),
-        (
-            "infinity",
-            "depth.csv",
-            Line(6, "2.5,inf"),
-            "depth.csv:6: column `depth`",
-            Some(1),
-        ),
-        (
             "time backwards",
             "imu.csv",
             TimeOf(10, "0.005"),
@@ -145,20 +131,6 @@ fn cases() -> Vec<Case> {
             "depth.csv",
             DuplicateOf(5),
             "depth.csv:5: column `t`",
-            Some(1),
-        ),
-        (
-            "latitude beyond 90 deg",
-            "usbl.csv",
-            Line(2, "8,1.7,2.2,3"),
-            "usbl.csv:2: column `lat`",
-            Some(1),
-        ),
-        (
-            "negative altitude",
-            "altitude.csv",
-            Line(4, "1.5,-3"),
-            "altitude.csv:4: column `altitude`",
             Some(1),
         ),
         (
@@ -419,4 +391,66 @@ fn faults_option_injects_gates_and_counts() {
     // lawnmower-dvl has no USBL: multipath is not one of its faults.
     let o = navsim(&["scenario", "lawnmower-dvl", "--faults", "usbl-multipath"]);
     assert_eq!(o.status.code(), Some(1));
+}
+
+/// One non-physical reading in an aiding file (a sensor glitch) is a
+/// rejected row with a `rejected_reading` warning naming the file, line and
+/// column; the replay runs on the other rows (it refused the whole log
+/// before).
+#[test]
+fn one_glitch_in_an_aiding_file_is_a_rejected_row() {
+    let tmp = TempDir::new("glitch");
+    let good = tmp.path().join("good");
+    write_log(&good);
+    // (name, file, edit, the warning's location)
+    let cases = [
+        (
+            "NaN",
+            "heading.csv",
+            Edit::Line(3, "1,NaN"),
+            "heading.csv",
+            3,
+        ),
+        (
+            "infinity",
+            "depth.csv",
+            Edit::Line(6, "2.5,inf"),
+            "depth.csv",
+            6,
+        ),
+        (
+            "latitude beyond 90 deg",
+            "usbl.csv",
+            Edit::Line(2, "8,1.7,2.2,3"),
+            "usbl.csv",
+            2,
+        ),
+        (
+            "negative altitude",
+            "altitude.csv",
+            Edit::Line(4, "1.5,-3"),
+            "altitude.csv",
+            4,
+        ),
+    ];
+    for (i, (name, file, e, at, line)) in cases.into_iter().enumerate() {
+        let dir = tmp.path().join(format!("glitch-{i}"));
+        copy_dir(&good, &dir);
+        edit(&dir, file, &e);
+        let o = navsim(&[
+            "replay",
+            dir.to_str().unwrap(),
+            "--model",
+            "sdins25",
+            "--json",
+        ]);
+        assert!(o.status.success(), "{name}: {}", stderr(&o));
+        let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+        let hit = v["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|w| w["kind"] == "rejected_reading" && w["file"] == at && w["line"] == line);
+        assert!(hit, "{name}: {}", v["warnings"]);
+    }
 }

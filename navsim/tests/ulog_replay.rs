@@ -264,7 +264,8 @@ fn broken_gnss_rows_are_clear_errors() {
     let nan_lat = |text: &str| {
         let mut lines: Vec<String> = text.lines().map(String::from).collect();
         let mut cells: Vec<String> = lines[100].split(',').map(String::from).collect();
-        cells[1] = "NaN".into();
+        // Text, not a glitch: a NaN would be a rejected row with a warning.
+        cells[1] = "north".into();
         lines[100] = cells.join(",");
         lines.join("\n") + "\n"
     };
@@ -280,9 +281,9 @@ fn broken_gnss_rows_are_clear_errors() {
     };
     let cases: [BrokenCase; 2] = [
         (
-            "NaN latitude",
+            "text latitude",
             nan_lat,
-            &["gnss.csv:101", "lat", "non-finite"],
+            &["gnss.csv:101", "lat", "not a number"],
         ),
         (
             "no height column",

@@ -28,6 +28,8 @@ pub const GYRO_BIAS_SIGMA_DEFAULT: f64 = 0.01;
 pub const GYRO_SIGMA_DEFAULT: f64 = 1.5e-2;
 /// Accelerometer noise sigma per sample without `[sensors.imu]`, m/s^2.
 pub const ACCEL_SIGMA_DEFAULT: f64 = 0.35;
+/// Standard gravity, m/s^2: the gravity of a log without a position.
+const STANDARD_GRAVITY: f64 = 9.806_65;
 
 /// What the filter is built from.
 #[derive(Debug, Clone, PartialEq)]
@@ -78,6 +80,17 @@ impl AhrsSettings {
             }
         };
         let sigma = meta.initial_sigma.unwrap_or_default();
+        // An attitude-only meta.toml (a log without any position): the
+        // standard gravity, 0.03 % from the normal gravity at 45 deg.
+        let gravity = if init.has_position() {
+            normal_gravity(init.lat, -init.depth)
+        } else {
+            warnings.push(nav_replay::meta_note(
+                "initial.lat",
+                "meta.toml has no initial position: gravity 9.80665 m/s^2 (standard gravity)",
+            ));
+            STANDARD_GRAVITY
+        };
         Ok(AhrsSettings {
             attitude,
             level_sigma: sigma.level.unwrap_or(LEVEL_SIGMA_DEFAULT),
@@ -89,7 +102,7 @@ impl AhrsSettings {
             gyro_sigma: imu.map_or(GYRO_SIGMA_DEFAULT, |n| n.gyro_noise_sigma),
             accel_sigma: imu.map_or(ACCEL_SIGMA_DEFAULT, |n| n.accel_noise_sigma),
             imu_period,
-            gravity: normal_gravity(init.lat, -init.depth),
+            gravity,
             mag_sigma,
             declination: 0.0,
         })

@@ -8,7 +8,7 @@ use std::path::Path;
 
 use nav_runtime::earth::{meridian_radius, transverse_radius};
 
-use super::error::ImportError;
+use super::ImportError;
 
 /// `reference.csv` as read back: times and the columns the file has.
 #[derive(Debug, Clone, Default, PartialEq)]

@@ -17,7 +17,7 @@
 //! #         sensor Fix: 1 { h = [position]; }
 //! #     }
 //! # }
-//! use models::model_replay::ModelReplay;
+//! use nav_replay::model_replay::ModelReplay;
 //!
 //! fn main() -> std::process::ExitCode {
 //!     ModelReplay::<Cart, 2>::new("cart")

@@ -110,6 +110,10 @@ impl fmt::Display for CsvProblem {
             CsvProblem::EmptyCell => write!(f, "empty cell"),
             CsvProblem::NotANumber { text } => write!(f, "`{text}` is not a number"),
             CsvProblem::NonFinite { text } => write!(f, "non-finite value `{text}`"),
+            // An absurd magnitude in scientific notation, not 300 digits.
+            CsvProblem::OutOfRange { value, allowed } if value.abs() >= 1e15 => {
+                write!(f, "value {value:e} out of range ({allowed})")
+            }
             CsvProblem::OutOfRange { value, allowed } => {
                 write!(f, "value {value} out of range ({allowed})")
             }

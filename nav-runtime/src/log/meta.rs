@@ -12,11 +12,13 @@ pub struct Initial {
     /// Epoch of the initial estimate, s in the log's time base (optional; when
     /// absent the estimate holds at the start of the first IMU interval).
     pub t: Option<f64>,
-    /// Latitude, rad (required).
+    /// Latitude, rad (required, but for an attitude-only `meta.toml`: none
+    /// of `lat`, `lon`, `depth` given, all three NaN; see
+    /// [`Initial::position`]).
     pub lat: f64,
-    /// Longitude, rad (required).
+    /// Longitude, rad (as `lat`).
     pub lon: f64,
-    /// Depth, m (required).
+    /// Depth, m (as `lat`).
     pub depth: f64,
     /// North velocity, m/s (default 0).
     pub vn: f64,
@@ -33,6 +35,27 @@ pub struct Initial {
 }
 
 impl Initial {
+    /// Whether `[initial]` has a position (an attitude-only `meta.toml`, as
+    /// an importer writes for a log without any position or GNSS fix, has
+    /// none: docs/log-format.md).
+    pub fn has_position(&self) -> bool {
+        self.lat.is_finite() && self.lon.is_finite() && self.depth.is_finite()
+    }
+
+    /// Latitude, longitude (rad) and depth (m), or an error naming
+    /// `initial.lat` for an attitude-only `meta.toml` (for models that need
+    /// a position).
+    pub fn position(&self) -> Result<[f64; 3], LogError> {
+        if self.has_position() {
+            Ok([self.lat, self.lon, self.depth])
+        } else {
+            Err(LogError::meta(
+                "initial.lat",
+                "missing (an attitude-only meta.toml: the log has no position; this model needs one)",
+            ))
+        }
+    }
+
     /// Roll, pitch and yaw, or an error naming the first missing key (for models that
     /// need a full initial attitude).
     pub fn attitude(&self) -> Result<[f64; 3], LogError> {
@@ -268,11 +291,23 @@ impl Meta {
                 "t", "lat", "lon", "depth", "vn", "ve", "vd", "roll", "pitch", "yaw",
             ],
         )?;
+        // None of lat, lon, depth: an attitude-only meta.toml (NaN); some of
+        // them: the others are missing keys.
+        let attitude_only = ["lat", "lon", "depth"]
+            .iter()
+            .all(|k| !initial.contains_key(*k));
+        let position = |key: &str, range: Range| {
+            if attitude_only {
+                Ok(f64::NAN)
+            } else {
+                cx.req(initial, "initial", key, range)
+            }
+        };
         let initial = Initial {
             t: cx.opt(initial, "initial", "t", Range::Any)?,
-            lat: cx.req(initial, "initial", "lat", Range::Lat)?,
-            lon: cx.req(initial, "initial", "lon", Range::Lon)?,
-            depth: cx.req(initial, "initial", "depth", Range::Any)?,
+            lat: position("lat", Range::Lat)?,
+            lon: position("lon", Range::Lon)?,
+            depth: position("depth", Range::Any)?,
             vn: cx.opt(initial, "initial", "vn", Range::Any)?.unwrap_or(0.0),
             ve: cx.opt(initial, "initial", "ve", Range::Any)?.unwrap_or(0.0),
             vd: cx.opt(initial, "initial", "vd", Range::Any)?.unwrap_or(0.0),
@@ -425,7 +460,7 @@ impl Meta {
             ("pitch", i.pitch),
             ("yaw", i.yaw),
         ] {
-            if let Some(v) = v {
+            if let Some(v) = v.filter(|v| v.is_finite()) {
                 let _ = writeln!(s, "{k} = {}", f(v));
             }
         }

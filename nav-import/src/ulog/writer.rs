@@ -1,9 +1,16 @@
-//! A tiny ULog writer for the tests: header, flag bits, format definitions,
+//! A tiny ULog writer for tests (this crate's and the replay tests of
+//! other crates): header, flag bits, format definitions,
 //! parameters, subscriptions and data messages, byte for byte as PX4 writes them.
 
 /// Builds a ULog file in memory.
 pub struct Writer {
     bytes: Vec<u8>,
+}
+
+impl Default for Writer {
+    fn default() -> Self {
+        Self::new()
+    }
 }
 
 impl Writer {

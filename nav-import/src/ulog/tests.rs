@@ -5,7 +5,7 @@
 use proptest::prelude::*;
 
 use super::writer::{Payload, Writer};
-use super::{read, read_unguarded, ImportError, ImportedLog};
+use super::{read, read_unguarded, CsvFile, ImportError, ImportedLog};
 
 /// Which generation of PX4 topics the synthetic flight is written with.
 #[derive(Clone, Copy, PartialEq, Debug)]
@@ -425,7 +425,7 @@ fn malformed_files_are_errors_naming_what_is_wrong() {
 #[test]
 fn the_committed_px4_log_imports() {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data/ulog/sample_px4_events.ulg");
+        .join("../models/tests/data/ulog/sample_px4_events.ulg");
     let bytes = std::fs::read(&path).expect("fixture");
     let log = import(&bytes);
     for name in [
@@ -519,4 +519,325 @@ fn the_log_reader_reads_the_written_directory() {
         s.mag.is_some() && s.baro.is_some() && s.gnss.is_some(),
         "{s:?}"
     );
+}
+
+/// A flight for the cases of [`import_cases`]: 2 s at 100 Hz, level, at yaw
+/// `yaw_deg`, with the topics the spec asks for.
+#[derive(Clone)]
+struct Spec {
+    /// `vehicle_imu` instead of `sensor_combined`: (row spacing in 10-ms
+    /// ticks, `delta_angle_dt`, `delta_velocity_dt` in us).
+    increments: Option<(u64, u16, u16)>,
+    /// Per magnetometer instance, the ticks `[from, to)` it has samples in
+    /// (every 5th).
+    mags: Vec<(u64, u64)>,
+    /// PX4's attitude (`vehicle_attitude`).
+    attitude: bool,
+    /// PX4's position (`vehicle_global_position`).
+    position: bool,
+    /// `EKF2_MAG_DECL`, deg.
+    declination: Option<f32>,
+}
+
+const SPEC: Spec = Spec {
+    increments: None,
+    mags: Vec::new(),
+    attitude: true,
+    position: true,
+    declination: None,
+};
+
+/// Earth field, gauss (north, east, down): no declination.
+const FIELD: [f64; 2] = [0.2, 0.4];
+const LEVEL: [f32; 3] = [0.0, 0.0, -9.81];
+
+fn build(spec: &Spec) -> Writer {
+    let mut w = Writer::new();
+    w.format("sensor_combined:uint64_t timestamp;float[3] gyro_rad;float[3] accelerometer_m_s2;");
+    w.format("vehicle_imu:uint64_t timestamp;uint64_t timestamp_sample;float[3] delta_angle;float[3] delta_velocity;uint16_t delta_angle_dt;uint16_t delta_velocity_dt;");
+    w.format("vehicle_magnetometer:uint64_t timestamp;uint64_t timestamp_sample;float[3] magnetometer_ga;");
+    w.format("vehicle_attitude:uint64_t timestamp;uint64_t timestamp_sample;float[4] q;");
+    w.format("vehicle_global_position:uint64_t timestamp;uint64_t timestamp_sample;double lat;double lon;float alt;float alt_ellipsoid;");
+    if let Some(d) = spec.declination {
+        w.parameter("EKF2_MAG_DECL", d);
+    }
+    let imu_topic = if spec.increments.is_some() {
+        "vehicle_imu"
+    } else {
+        "sensor_combined"
+    };
+    w.subscribe(0, 0, imu_topic);
+    w.subscribe(0, 2, "vehicle_attitude");
+    w.subscribe(0, 3, "vehicle_global_position");
+    for (i, _) in spec.mags.iter().enumerate() {
+        let i = u8::try_from(i).expect("few instances");
+        w.subscribe(i, 10 + u16::from(i), "vehicle_magnetometer");
+    }
+    let yaw = YAW_DEG.to_radians();
+    // The field seen by a level body at yaw `yaw`.
+    let mag = [
+        (FIELD[0] * yaw.cos()) as f32,
+        (-FIELD[0] * yaw.sin()) as f32,
+        FIELD[1] as f32,
+    ];
+    let half = (yaw / 2.0) as f32;
+    for k in 0..TICKS {
+        let t = T0_US + k * 10_000;
+        match spec.increments {
+            None => {
+                w.data(0, &Payload::default().u64(t).f32s(&GYRO).f32s(&LEVEL));
+            }
+            Some((every, da_dt, dv_dt)) => {
+                if k % every == 0 {
+                    let da = GYRO.map(|g| g * f32::from(da_dt) * 1e-6);
+                    let dv = LEVEL.map(|a| a * f32::from(dv_dt) * 1e-6);
+                    w.data(
+                        0,
+                        &Payload::default()
+                            .u64(t)
+                            .u64(t)
+                            .f32s(&da)
+                            .f32s(&dv)
+                            .u16(da_dt)
+                            .u16(dv_dt),
+                    );
+                }
+            }
+        }
+        if k % 5 == 0 {
+            for (i, &(from, to)) in spec.mags.iter().enumerate() {
+                if (from..to).contains(&k) {
+                    let id = 10 + u16::try_from(i).expect("few");
+                    w.data(id, &Payload::default().u64(t).u64(t).f32s(&mag));
+                }
+            }
+            if spec.attitude {
+                w.data(
+                    2,
+                    &Payload::default()
+                        .u64(t)
+                        .u64(t)
+                        .f32s(&[half.cos(), 0.0, 0.0, half.sin()]),
+                );
+            }
+        }
+        if k % 10 == 0 && spec.position {
+            w.data(
+                3,
+                &Payload::default()
+                    .u64(t)
+                    .u64(t)
+                    .f64s(&[LAT_DEG, LON_DEG])
+                    .f32s(&[MSL as f32, HEIGHT as f32]),
+            );
+        }
+    }
+    w
+}
+
+/// `bytes` with its data continued after a cut: the message that starts at
+/// the middle frame is cut after 5 bytes, and everything from that frame on
+/// is appended after the cut, its offset in the flag bits message (the ULog
+/// format's `appended_offsets[0]`, incompatible flag 0 bit 0).
+fn with_appended_data(bytes: &[u8]) -> Vec<u8> {
+    let frames = super::guard::frames(bytes).expect("valid").frames;
+    let at = frames[frames.len() / 2].offset;
+    let mut out = bytes[..at].to_vec();
+    out.extend_from_slice(&bytes[at..at + 5]);
+    let appended = out.len() as u64;
+    out.extend_from_slice(&bytes[at..]);
+    // Flag bits: header 16 bytes, frame head 3, compat 8, incompat 8, offsets.
+    out[16 + 3 + 8] |= 1;
+    out[16 + 3 + 16..16 + 3 + 24].copy_from_slice(&appended.to_le_bytes());
+    out
+}
+
+fn meta_of(log: &ImportedLog) -> nav_runtime::log::Meta {
+    match nav_runtime::log::Meta::parse(&log.meta) {
+        Ok(m) => m,
+        Err(e) => panic!("{e}\n{}", log.meta),
+    }
+}
+
+/// Issue cases of the importer, one row each: the file, and what the
+/// import must give (a check on the log) or the error it must name.
+#[test]
+fn import_cases() {
+    type Check = fn(&ImportedLog);
+    let spec = |f: fn(&mut Spec)| {
+        let mut s = SPEC.clone();
+        s.mags = vec![(0, TICKS)];
+        f(&mut s);
+        build(&s).bytes()
+    };
+    let cases: Vec<(&str, Vec<u8>, Result<Check, &str>)> = vec![
+        (
+            "vehicle_imu logged every 500 ms, increments over 4 ms: rates over 4 ms",
+            spec(|s| s.increments = Some((50, 4_000, 4_000))),
+            Ok(|log| {
+                let imu = log.file("imu.csv").expect("imu.csv");
+                assert_eq!(imu.header, ["t", "gx", "gy", "gz", "ax", "ay", "az"]);
+                // The first sample, dated 0.998 s, lies before PX4's first estimate.
+                let r = imu.row(0);
+                for i in 0..3 {
+                    close(r[1 + i], f64::from(GYRO[i]), 1e-5, "rate");
+                    close(r[4 + i], f64::from(LEVEL[i]), 1e-4, "specific force");
+                }
+                // At the middle of the 4-ms period ending at the sample time.
+                close(r[0], 1.5 - 0.002, 1e-9, "t");
+                has_warning(log, "the increments cover 4.000 ms");
+            }),
+        ),
+        (
+            "vehicle_imu with delta_velocity_dt unlike delta_angle_dt: each by its own",
+            spec(|s| s.increments = Some((1, 10_000, 5_000))),
+            Ok(|log| {
+                let imu = log.file("imu.csv").expect("imu.csv");
+                assert_eq!(imu.header[1], "gx");
+                close(imu.row(3)[6], f64::from(LEVEL[2]), 1e-4, "az");
+                close(imu.row(3)[3], f64::from(GYRO[2]), 1e-5, "gz");
+            }),
+        ),
+        (
+            "vehicle_imu increments over the row spacing stay increments",
+            spec(|s| s.increments = Some((1, 10_000, 10_000))),
+            Ok(|log| {
+                let imu = log.file("imu.csv").expect("imu.csv");
+                assert_eq!(imu.header[1], "dtheta_x");
+                close(imu.row(2)[3], f64::from(GYRO[2]) * 0.01, 1e-9, "dtheta_z");
+                assert!(!log.warnings.iter().any(|w| w.contains("as rates")));
+            }),
+        ),
+        (
+            "magnetometer 0 stops halfway, 1 goes on: continued with 1",
+            spec(|s| s.mags = vec![(0, TICKS / 2), (0, TICKS)]),
+            Ok(|log| {
+                assert_eq!(log.file("mag.csv").map(CsvFile::rows), Some(40));
+                has_warning(
+                    log,
+                    "vehicle_magnetometer: multi_id 0 stops at t = 1.950 s; continued with multi_id 1 from t = 2.000 s (20 rows)",
+                );
+            }),
+        ),
+        (
+            "the only magnetometer stops halfway: said",
+            spec(|s| s.mags = vec![(0, TICKS / 2)]),
+            Ok(|log| {
+                assert_eq!(log.file("mag.csv").map(CsvFile::rows), Some(20));
+                has_warning(
+                    log,
+                    "vehicle_magnetometer: stops at t = 1.950 s, 1.0 s before the log's last message",
+                );
+            }),
+        ),
+        (
+            "data appended after a cut message",
+            with_appended_data(&spec(|_| {})),
+            Ok(|log| {
+                assert_eq!(log.file("imu.csv").map(CsvFile::rows), Some(TICKS as usize));
+                assert_eq!(log.file("mag.csv").map(CsvFile::rows), Some(40));
+                has_warning(log, "cut by data appended at byte");
+            }),
+        ),
+        (
+            "an appended offset inside the definitions",
+            {
+                let mut b = spec(|_| {});
+                b[16 + 3 + 16..16 + 3 + 24].copy_from_slice(&20u64.to_le_bytes());
+                b
+            },
+            Err("flag bits message `B`: field `appended_offsets[0]`: 20, before byte 59"),
+        ),
+        (
+            "no position, PX4's attitude: attitude-only meta.toml",
+            spec(|s| s.position = false),
+            Ok(|log| {
+                let meta = meta_of(log);
+                assert!(!meta.initial.has_position(), "{}", log.meta);
+                close(meta.initial.yaw.expect("yaw"), YAW_DEG.to_radians(), 1e-6, "yaw");
+                assert!(log.file("imu.csv").is_some() && log.file("mag.csv").is_some());
+                has_warning(log, "meta.toml: attitude only");
+                has_warning(
+                    log,
+                    "model gnss-ins: cannot replay this log: no GNSS fix (gnss.csv) and no initial position",
+                );
+                assert_eq!(log.models[0], ("ahrs", None));
+                let json = log.summary();
+                assert_eq!(json["models"]["gnss-ins"]["servable"], false, "{json}");
+            }),
+        ),
+        (
+            "no position, no attitude: leveled from accelerometer and magnetometer",
+            spec(|s| {
+                s.position = false;
+                s.attitude = false;
+            }),
+            Ok(|log| {
+                let meta = meta_of(log);
+                let i = meta.initial;
+                close(i.roll.expect("roll"), 0.0, 1e-6, "roll");
+                close(i.pitch.expect("pitch"), 0.0, 1e-6, "pitch");
+                close(i.yaw.expect("yaw"), YAW_DEG.to_radians(), 1e-6, "yaw");
+                close(i.t.expect("t"), 1.0, 1e-9, "t");
+                has_warning(log, "declination 0 (EKF2_MAG_DECL not in the log)");
+                has_warning(log, "attitude leveled from the mean specific force");
+            }),
+        ),
+        (
+            "leveled, with the declination of EKF2_MAG_DECL",
+            spec(|s| {
+                s.position = false;
+                s.attitude = false;
+                s.declination = Some(5.0);
+            }),
+            Ok(|log| {
+                let yaw = meta_of(log).initial.yaw.expect("yaw");
+                close(yaw, (YAW_DEG + 5.0).to_radians(), 1e-6, "yaw + declination");
+            }),
+        ),
+        (
+            "no position, no attitude, no magnetometer: which model needs what",
+            spec(|s| {
+                s.position = false;
+                s.attitude = false;
+                s.mags = Vec::new();
+            }),
+            Err("no initial attitude: no vehicle_attitude, and no magnetometer and accelerometer samples in the first second to level from (model ahrs needs one"),
+        ),
+    ];
+    for (name, bytes, expected) in cases {
+        match (read_unguarded("case.ulg", &bytes), expected) {
+            (Ok(log), Ok(check)) => check(&log),
+            (Err(e), Err(part)) => {
+                let text = e.to_string();
+                assert!(text.starts_with("case.ulg: "), "{name}: {text}");
+                assert!(text.contains(part), "{name}: `{text}` lacks `{part}`");
+            }
+            (Ok(log), Err(part)) => {
+                panic!("{name}: imported, `{part}` expected: {:#?}", log.warnings)
+            }
+            (Err(e), Ok(_)) => panic!("{name}: {e}"),
+        }
+    }
+}
+
+/// Importing into the directory of an earlier import replaces it whole: a
+/// `mag.csv` of the earlier log does not survive when the new one has none.
+#[test]
+fn an_earlier_import_is_replaced_whole() {
+    let dir = std::env::temp_dir().join(format!("ulog-reimport-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let mut with_mag = SPEC.clone();
+    with_mag.mags = vec![(0, TICKS)];
+    let first = import(&build(&with_mag).bytes());
+    first.write(&dir).expect("first import");
+    assert!(dir.join("mag.csv").is_file());
+    let second = import(&build(&SPEC).bytes());
+    assert!(second.file("mag.csv").is_none());
+    second.write(&dir).expect("second import");
+    let stale = dir.join("mag.csv").exists();
+    let read = nav_runtime::log::LogDir::read(&dir, nav_runtime::log::Strictness::Strict);
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(!stale, "mag.csv of the earlier import left");
+    assert!(read.expect("read").mag.is_none());
 }

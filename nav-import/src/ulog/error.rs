@@ -16,6 +16,16 @@ pub enum ImportError {
         #[source]
         source: std::io::Error,
     },
+    /// The output directory is something the import must not replace (a
+    /// file, a symbolic link, a non-empty directory that is not an earlier
+    /// import).
+    #[error("{}: {reason}", path.display())]
+    Refused {
+        /// The output directory as given.
+        path: PathBuf,
+        /// Why.
+        reason: String,
+    },
     /// The bytes are not a well-formed ULog file.
     #[error("{file}: byte {offset}: {reason}")]
     Malformed {

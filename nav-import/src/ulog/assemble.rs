@@ -10,6 +10,10 @@ use super::error::ImportError;
 use super::topics::PARAMETERS;
 use super::{CsvFile, ImportedLog};
 
+/// Relative difference between an increment's own period and the row
+/// spacing beyond which the increments are not over the row spacing.
+const PERIOD_TOLERANCE: f64 = 0.05;
+
 /// `int32` value PX4 writes in a `*_timestamp_relative` field with no sample.
 const RELATIVE_TIMESTAMP_INVALID: f64 = 2_147_483_647.0;
 /// GNSS fixes below this `fix_type` (3 = 3D fix) are not written.
@@ -21,7 +25,7 @@ const ACCEL_BIAS_SIGMA_DEFAULT: f64 = 0.2;
 
 /// The columns of `gnss.csv`: always all of them, a cell the receiver does
 /// not give left empty (the log reader's fixed schema).
-pub const GNSS_COLUMNS: [&str; 10] = [
+pub(crate) const GNSS_COLUMNS: [&str; 10] = [
     "t",
     "lat",
     "lon",
@@ -64,10 +68,11 @@ fn widen(f: CsvFile, full: &[&'static str]) -> CsvFile {
 pub fn assemble(
     file: &str,
     origin_us: f64,
-    tables: &[Table],
+    tables: Vec<Table>,
     parameters: &HashMap<String, f64>,
     mut warnings: Vec<String>,
 ) -> Result<ImportedLog, ImportError> {
+    let tables = &super::instances::splice(tables, origin_us, &mut warnings);
     let mut cx = Cx {
         file,
         origin_us,
@@ -112,14 +117,24 @@ pub fn assemble(
     {
         files.push(f);
     }
-    let mut meta = meta_toml(
+    let find = |name: &str| files.iter().find(|f| f.name == name);
+    let (mut meta, position) = meta_toml(
         &mut cx,
         initial.as_deref(),
         reference.as_ref(),
-        files.iter().find(|f| f.name == "gnss.csv"),
+        find("gnss.csv"),
+        find("imu.csv"),
+        find("mag.csv"),
+        parameters,
     )?;
     let (imu_section, noise) = noise_toml(&mut cx, parameters);
     meta.push_str(&imu_section);
+    let models = servable(position, find("gnss.csv").is_some_and(|g| g.rows() > 0));
+    for (model, missing) in &models {
+        if let Some(m) = missing {
+            cx.warn(format!("model {model}: cannot replay this log: {m}"));
+        }
+    }
     files.extend(reference);
     files.extend(truth);
     Ok(ImportedLog {
@@ -127,7 +142,21 @@ pub fn assemble(
         meta,
         noise,
         warnings,
+        models,
     })
+}
+
+/// Which replay models (`navsim replay --model`) the log serves: `None`, or
+/// what it lacks for that model.
+fn servable(position: bool, gnss: bool) -> Vec<(&'static str, Option<String>)> {
+    let gnss_ins = match (position, gnss) {
+        (true, true) => None,
+        (false, false) => Some("no GNSS fix (gnss.csv) and no initial position".to_string()),
+        (true, false) => Some("no GNSS fix (gnss.csv)".to_string()),
+        (false, true) => Some("no initial position".to_string()),
+    };
+    // The initial attitude is always written (or the import refused).
+    vec![("ahrs", None), ("gnss-ins", gnss_ins)]
 }
 
 struct Cx<'a> {
@@ -227,6 +256,35 @@ impl<'a> Cx<'a> {
                     "delta_velocity[2]",
                 ],
             )?;
+            let periods = [t.column("delta_angle_dt"), t.column("delta_velocity_dt")];
+            if let Some(mismatch) = increment_periods(t, time, periods) {
+                // The increments cover less (or more) than the time since the
+                // previous row (a topic logged below its rate): as increments
+                // over the row spacing they would be wrong by that ratio, so
+                // each becomes the average rate over its own period, dated at
+                // the middle of that period.
+                let what = format!(
+                    "imu.csv: vehicle_imu multi_id {} (delta_angle / delta_angle_dt, delta_velocity / delta_velocity_dt as rates: {mismatch})",
+                    t.instance
+                );
+                let [pa, pv] = periods;
+                let f = series(
+                    t,
+                    self.origin_us,
+                    "imu.csv",
+                    &["t", "gx", "gy", "gz", "ax", "ay", "az"],
+                    |r| {
+                        let da = pa.map(|c| t.at(r, c) * 1e-6)?;
+                        let dv = pv.map_or(da, |c| t.at(r, c) * 1e-6);
+                        let mut v = vec![time.at(t, r) - 0.5e6 * da];
+                        v.extend(cols[..3].iter().map(|&c| t.at(r, c) / da));
+                        v.extend(cols[3..].iter().map(|&c| t.at(r, c) / dv));
+                        Some(v)
+                    },
+                );
+                self.used(what, &f);
+                return Ok((f, "vehicle_imu"));
+            }
             let what = format!(
                 "imu.csv: vehicle_imu multi_id {} (increments delta_angle, delta_velocity)",
                 t.instance
@@ -580,6 +638,43 @@ fn time_column(t: &Table) -> Option<Time> {
     (time.sample.is_some() || time.stamp.is_some()).then_some(time)
 }
 
+/// When `vehicle_imu`'s increments are not over the time since the previous
+/// row (their `delta_angle_dt` / `delta_velocity_dt`, us, differ from the
+/// row spacing by more than [`PERIOD_TOLERANCE`], plus 50 us of clock
+/// jitter): a description with the median period and spacing. `None` when
+/// they agree or the log has no period fields (older layouts).
+fn increment_periods(t: &Table, time: Time, periods: [Option<usize>; 2]) -> Option<String> {
+    let angle = periods[0]?;
+    let mut off = 0usize;
+    let mut spacing = Vec::new();
+    let mut period = Vec::new();
+    for r in 1..t.rows() {
+        let gap = time.at(t, r) - time.at(t, r - 1);
+        for c in periods.iter().flatten() {
+            let dt = t.at(r, *c);
+            if (gap - dt).abs() > PERIOD_TOLERANCE * gap.abs().max(dt.abs()) + 50.0 {
+                off += 1;
+                break;
+            }
+        }
+        spacing.push(gap);
+        period.push(t.at(r, angle));
+    }
+    if off == 0 {
+        return None;
+    }
+    let median = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v.get(v.len() / 2).copied().unwrap_or(f64::NAN) * 1e-3
+    };
+    Some(format!(
+        "the increments cover {:.3} ms (median delta_angle_dt) but the rows are {:.3} ms apart (median) in {off} of {} intervals",
+        median(&mut period),
+        median(&mut spacing),
+        t.rows().saturating_sub(1)
+    ))
+}
+
 /// A row `[t, values..]` of an older `sensor_combined` field whose sample time
 /// is `timestamp + *_timestamp_relative`; `cols` = [timestamp, relative, values..].
 fn relative_row(t: &Table, r: usize, cols: &[usize]) -> Option<Vec<f64>> {
@@ -683,12 +778,21 @@ fn series(
     f
 }
 
+/// `meta.toml`'s `[initial]` and whether it has a position. Without PX4's
+/// position estimate the position is the first GNSS fix; without either the
+/// file is attitude-only (docs/log-format.md): the attitude is PX4's, or
+/// leveled from the mean specific force and magnetic field of the first
+/// [`LEVELING_S`] (declination `EKF2_MAG_DECL`, or 0 with a warning).
+#[allow(clippy::too_many_arguments)]
 fn meta_toml(
     cx: &mut Cx,
     initial: Option<&[f64]>,
     reference: Option<&CsvFile>,
     gnss: Option<&CsvFile>,
-) -> Result<String, ImportError> {
+    imu: Option<&CsvFile>,
+    mag: Option<&CsvFile>,
+    parameters: &HashMap<String, f64>,
+) -> Result<(String, bool), ImportError> {
     let mut out = String::from("# Written by `navsim import ulog`.\n[initial]\n");
     let mut keys: Vec<(&str, f64)> = Vec::new();
     if let (Some(row), Some(r)) = (initial, reference) {
@@ -707,30 +811,98 @@ fn meta_toml(
             row[0]
         ));
     }
-    if !keys.iter().any(|(k, _)| *k == "lat") {
-        // No PX4 position estimate: the first GNSS fix.
-        let Some(g) = gnss.filter(|g| g.rows() > 0) else {
-            return Err(ImportError::Unusable {
-                file: cx.file.to_string(),
-                reason: "no initial position: neither vehicle_global_position nor a GNSS fix"
-                    .into(),
-            });
-        };
-        keys.retain(|(k, _)| !matches!(*k, "lat" | "lon" | "depth"));
-        keys.extend([
-            ("lat", g.values[1]),
-            ("lon", g.values[2]),
-            ("depth", -g.values[3]),
-        ]);
-        cx.warn("meta.toml: [initial] position from the first GNSS fix".into());
+    let mut position = keys.iter().any(|(k, _)| *k == "lat");
+    if !position {
+        keys.retain(|(k, _)| !matches!(*k, "lat" | "lon" | "depth" | "vn" | "ve" | "vd"));
+        if let Some(g) = gnss.filter(|g| g.rows() > 0) {
+            // No PX4 position estimate: the first GNSS fix.
+            keys.extend([
+                ("lat", g.values[1]),
+                ("lon", g.values[2]),
+                ("depth", -g.values[3]),
+            ]);
+            cx.warn("meta.toml: [initial] position from the first GNSS fix".into());
+            position = true;
+        } else {
+            cx.warn("meta.toml: attitude only (no vehicle_global_position, no GNSS fix): no initial position or velocity".into());
+        }
     }
     if !keys.iter().any(|(k, _)| *k == "yaw") {
-        cx.warn("meta.toml: [initial] has no attitude (no vehicle_attitude)".into());
+        let t0 = imu.and_then(CsvFile::first_t).unwrap_or(0.0);
+        match leveled(imu, mag, t0) {
+            Some([roll, pitch, heading]) => {
+                let declination = match parameters.get("EKF2_MAG_DECL") {
+                    Some(d) if d.is_finite() => {
+                        cx.warn(format!("meta.toml: declination {d} deg (EKF2_MAG_DECL)"));
+                        d.to_radians()
+                    }
+                    _ => {
+                        cx.warn("meta.toml: declination 0 (EKF2_MAG_DECL not in the log): the initial yaw is the magnetic heading".into());
+                        0.0
+                    }
+                };
+                let yaw = heading + declination;
+                keys.retain(|(k, _)| !matches!(*k, "roll" | "pitch" | "yaw"));
+                keys.push(("t", t0));
+                keys.extend([
+                    ("roll", roll),
+                    ("pitch", pitch),
+                    ("yaw", yaw.sin().atan2(yaw.cos())),
+                ]);
+                cx.warn(format!(
+                    "meta.toml: [initial] attitude leveled from the mean specific force and magnetic field of the first {LEVELING_S} s (no vehicle_attitude)"
+                ));
+            }
+            None => {
+                return Err(ImportError::Unusable {
+                    file: cx.file.to_string(),
+                    reason: "no initial attitude: no vehicle_attitude, and no magnetometer and accelerometer samples in the first second to level from (model ahrs needs one; gnss-ins too)".into(),
+                });
+            }
+        }
     }
     for (k, v) in keys {
         let _ = writeln!(out, "{k} = {v:e}");
     }
-    Ok(out)
+    Ok((out, position))
+}
+
+/// Seconds of IMU and magnetometer samples averaged to level an initial attitude.
+pub const LEVELING_S: f64 = 1.0;
+
+/// Roll, pitch (from the mean specific force) and magnetic heading (from
+/// the mean magnetic field, tilt-compensated) over [`LEVELING_S`] from `t0`,
+/// rad, body frame forward-right-down. Works on rates and on increments
+/// alike (only the directions of the sums count). `None` without samples.
+pub(crate) fn leveled(imu: Option<&CsvFile>, mag: Option<&CsvFile>, t0: f64) -> Option<[f64; 3]> {
+    let mean = |f: &CsvFile, cols: [usize; 3]| -> Option<[f64; 3]> {
+        let n = f.header.len();
+        let mut sum = [0.0; 3];
+        let mut count = 0usize;
+        for row in f.values.chunks_exact(n) {
+            if row[0] < t0 || row[0] > t0 + LEVELING_S {
+                continue;
+            }
+            for i in 0..3 {
+                sum[i] += row[cols[i]];
+            }
+            count += 1;
+        }
+        (count > 0).then_some(sum)
+    };
+    let [fx, fy, fz] = mean(imu?, [4, 5, 6])?;
+    let [mx, my, mz] = mean(mag?, [1, 2, 3])?;
+    let roll = (-fy).atan2(-fz);
+    let pitch = fx.atan2(fy.hypot(fz));
+    let (sr, cr) = roll.sin_cos();
+    let (sp, cp) = pitch.sin_cos();
+    let hx = mx * cp + my * sr * sp + mz * cr * sp;
+    let hy = my * cr - mz * sr;
+    let heading = (-hy).atan2(hx);
+    [roll, pitch, heading]
+        .iter()
+        .all(|v| v.is_finite())
+        .then_some([roll, pitch, heading])
 }
 
 fn parameter(cx: &mut Cx, parameters: &HashMap<String, f64>, name: &str) -> f64 {

@@ -8,7 +8,10 @@
 //! each payload against the minimum its type needs, bounds the work the format
 //! definitions imply and the subscription ids, and hands the crate only whole,
 //! checked messages. A file that ends inside a message (a log cut by power loss)
-//! is read up to the last whole message and reported in the warnings.
+//! is read up to the last whole message and reported in the warnings. A log
+//! continued after such a cut has the offsets of the appended data in its
+//! flag bits message (the ULog format's `appended_offsets`): the cut message
+//! is skipped and reading goes on at the appended data.
 
 use std::collections::HashMap;
 
@@ -41,6 +44,9 @@ pub struct Framing {
     pub frames: Vec<Frame>,
     /// Set when the file ends inside a message: the offset of that message.
     pub truncated_at: Option<usize>,
+    /// Messages cut by appended data: (offset of the cut message, offset of
+    /// the appended data read instead).
+    pub cut: Vec<(usize, usize)>,
 }
 
 /// A framing error: byte offset and reason.
@@ -110,18 +116,41 @@ pub fn frames(bytes: &[u8]) -> Result<Framing, FrameError> {
     let mut out = Framing::default();
     let mut formats = Formats::default();
     let mut pos = HEADER_LEN;
+    // Where appended data starts (the flag bits message's offsets), in
+    // increasing order; the next one ends the section being read.
+    let mut appended: Vec<usize> = Vec::new();
     while pos < bytes.len() {
+        if let Some(&next) = appended.first() {
+            if pos == next {
+                // The section ended on a whole message.
+                appended.remove(0);
+                continue;
+            }
+        }
         let Some(head) = bytes.get(pos..pos + 3) else {
             out.truncated_at = Some(pos);
             break;
         };
         let size = usize::from(u16::from_le_bytes([head[0], head[1]]));
         let kind = head[2];
+        if let Some(&next) = appended.first() {
+            if pos + 3 + size > next {
+                // A message cut by the appended data: read on from there.
+                out.cut.push((pos, next));
+                appended.remove(0);
+                pos = next;
+                continue;
+            }
+        }
         let Some(payload) = bytes.get(pos + 3..pos + 3 + size) else {
             out.truncated_at = Some(pos);
             break;
         };
         check_payload(kind, payload).map_err(|r| (pos, format!("{}: {r}", describe(kind))))?;
+        if kind == b'B' && out.frames.is_empty() {
+            appended = appended_offsets(payload, pos + 3 + size, bytes.len())
+                .map_err(|r| (pos, format!("{}: {r}", describe(kind))))?;
+        }
         if kind == b'F' {
             formats
                 .add(payload)
@@ -137,6 +166,35 @@ pub fn frames(bytes: &[u8]) -> Result<Framing, FrameError> {
     formats
         .check_budget()
         .map_err(|r| (HEADER_LEN, format!("format definitions: {r}")))?;
+    Ok(out)
+}
+
+/// The flag bits message's appended-data offsets (`appended_offsets[3]`,
+/// u64 at payload bytes 16..40), the zero ones left out. Each must lie after
+/// the flag bits message (`after`) and after the one before; one past the
+/// file's end (`len`, a log cut before its appended data) is left out.
+fn appended_offsets(payload: &[u8], after: usize, len: usize) -> Result<Vec<usize>, String> {
+    let mut out: Vec<usize> = Vec::new();
+    for i in 0..3 {
+        let at = 16 + 8 * i;
+        let raw = payload
+            .get(at..at + 8)
+            .and_then(|b| b.try_into().ok())
+            .map_or(0, u64::from_le_bytes);
+        if raw == 0 {
+            continue;
+        }
+        let offset = usize::try_from(raw).unwrap_or(usize::MAX);
+        let floor = out.last().copied().unwrap_or(after);
+        if offset < floor {
+            return Err(format!(
+                "field `appended_offsets[{i}]`: {raw}, before byte {floor}"
+            ));
+        }
+        if offset <= len {
+            out.push(offset);
+        }
+    }
     Ok(out)
 }
 

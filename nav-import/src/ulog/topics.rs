@@ -4,7 +4,7 @@
 //! | output | topics, in order of preference |
 //! |---|---|
 //! | `imu.csv` (rates) | `sensor_combined`: `gyro_rad[3]`, `accelerometer_m_s2[3]` |
-//! | `imu.csv` (increments) | `vehicle_imu`: `delta_angle[3]`, `delta_velocity[3]` |
+//! | `imu.csv` (increments) | `vehicle_imu`: `delta_angle[3]`, `delta_velocity[3]`; as rates (divided by `delta_angle_dt`, `delta_velocity_dt`) when those periods are not the row spacing |
 //! | `mag.csv` | `vehicle_magnetometer.magnetometer_ga[3]`; older logs `sensor_combined.magnetometer_ga[3]` |
 //! | `baro.csv` | `vehicle_air_data.baro_alt_meter`; `sensor_baro.pressure` (standard atmosphere); older logs `sensor_combined.baro_alt_meter` |
 //! | `gnss.csv` | `vehicle_gps_position`, then `sensor_gps`: `latitude_deg`/`longitude_deg`/`altitude_ellipsoid_m` (newer) or `lat`/`lon` (1e-7 deg) and `alt_ellipsoid` (mm) (older) |
@@ -81,6 +81,7 @@ pub const WANTED: &[(&str, &[&str])] = &[
             "delta_velocity[1]",
             "delta_velocity[2]",
             "delta_angle_dt",
+            "delta_velocity_dt",
         ],
     ),
     (
@@ -121,3 +122,6 @@ pub const PARAMETERS: &[(&str, f64, &str)] = &[
     ("EKF2_GPS_P_NOISE", 0.5, "m"),
     ("EKF2_GPS_V_NOISE", 0.3, "m/s"),
 ];
+
+// `EKF2_MAG_DECL` (deg) is read too, for the declination of an attitude
+// leveled from the magnetometer; it has no default (0 is said).

@@ -1,0 +1,511 @@
+//! Bag import tests on bags written here with the `mcap` crate's writer and
+//! a small CDR encoder: a survey's files, frames and units; the error cases
+//! as one table; property tests (truncations, bit flips) that never panic.
+
+use std::collections::BTreeMap;
+use std::io::Cursor;
+
+use proptest::prelude::*;
+
+use super::{read, ImportError, ImportedBag, Mapping};
+
+/// A little-endian CDR encoder (alignment from the end of the 4-byte header).
+#[derive(Clone)]
+struct Enc(Vec<u8>);
+
+impl Enc {
+    fn new() -> Self {
+        Enc(vec![0, 1, 0, 0])
+    }
+    fn align(mut self, n: usize) -> Self {
+        while !(self.0.len() - 4).is_multiple_of(n) {
+            self.0.push(0);
+        }
+        self
+    }
+    fn u8(mut self, v: u8) -> Self {
+        self.0.push(v);
+        self
+    }
+    fn u16(self, v: u16) -> Self {
+        let mut s = self.align(2);
+        s.0.extend(v.to_le_bytes());
+        s
+    }
+    fn u32(self, v: u32) -> Self {
+        let mut s = self.align(4);
+        s.0.extend(v.to_le_bytes());
+        s
+    }
+    fn f32(self, v: f32) -> Self {
+        let mut s = self.align(4);
+        s.0.extend(v.to_le_bytes());
+        s
+    }
+    fn f64s(self, v: &[f64]) -> Self {
+        let mut s = self;
+        for x in v {
+            s = s.align(8);
+            s.0.extend(x.to_le_bytes());
+        }
+        s
+    }
+    fn string(self, v: &str) -> Self {
+        let mut s = self.u32(u32::try_from(v.len() + 1).expect("short"));
+        s.0.extend(v.as_bytes());
+        s.0.push(0);
+        s
+    }
+    fn header(self, ns: i64, frame: &str) -> Self {
+        let sec = i32::try_from(ns.div_euclid(1_000_000_000)).expect("sec");
+        let nsec = u32::try_from(ns.rem_euclid(1_000_000_000)).expect("nsec");
+        self.u32(sec as u32).u32(nsec).string(frame)
+    }
+}
+
+fn diag9(v: f64) -> [f64; 9] {
+    [v, 0.0, 0.0, 0.0, v, 0.0, 0.0, 0.0, v]
+}
+
+/// ENU quaternion (x, y, z, w) of a level body at ENU yaw `yaw` (rad).
+fn yaw_q(yaw: f64) -> [f64; 4] {
+    [0.0, 0.0, (yaw / 2.0).sin(), (yaw / 2.0).cos()]
+}
+
+fn imu(ns: i64, q: Option<[f64; 4]>, rate: [f64; 3], accel: [f64; 3]) -> Vec<u8> {
+    let (q, qc) = match q {
+        Some(q) => (q, diag9(1e-4)),
+        None => ([0.0, 0.0, 0.0, 1.0], [-1.0; 9]),
+    };
+    Enc::new()
+        .header(ns, "imu_link")
+        .f64s(&q)
+        .f64s(&qc)
+        .f64s(&rate)
+        .f64s(&diag9(1e-6))
+        .f64s(&accel)
+        .f64s(&diag9(1e-4))
+        .0
+}
+
+fn mag(ns: i64, tesla: [f64; 3]) -> Vec<u8> {
+    Enc::new()
+        .header(ns, "mag")
+        .f64s(&tesla)
+        .f64s(&diag9(1e-14))
+        .0
+}
+
+fn pressure(ns: i64, pa: f64) -> Vec<u8> {
+    Enc::new().header(ns, "ps").f64s(&[pa, 100.0]).0
+}
+
+fn fix(ns: i64, lat: f64, lon: f64, alt: f64, status: i8) -> Vec<u8> {
+    Enc::new()
+        .header(ns, "gps")
+        .u8(status as u8)
+        .u16(1)
+        .f64s(&[lat, lon, alt])
+        .f64s(&diag9(4.0))
+        .u8(2)
+        .0
+}
+
+fn twist(ns: i64, v: [f64; 3]) -> Vec<u8> {
+    let mut cov = [0.0; 36];
+    cov[0] = 0.01;
+    Enc::new()
+        .header(ns, "dvl_link")
+        .f64s(&v)
+        .f64s(&[0.0; 3])
+        .f64s(&cov)
+        .0
+}
+
+fn range(ns: i64, r: f32) -> Vec<u8> {
+    Enc::new()
+        .header(ns, "alt")
+        .u8(1)
+        .f32(0.1)
+        .f32(0.5)
+        .f32(100.0)
+        .f32(r)
+        .0
+}
+
+fn tf_static(frame: &str, t: [f64; 3]) -> Vec<u8> {
+    Enc::new()
+        .u32(1)
+        .header(1, "base_link")
+        .string(frame)
+        .f64s(&t)
+        .f64s(&[0.0, 0.0, 0.0, 1.0])
+        .0
+}
+
+/// A bag of `topics`: (topic, ROS type, messages as (log time ns, CDR bytes)).
+/// One topic of a test bag: name, ROS type, messages as (log time ns, CDR bytes).
+type Topic = (&'static str, &'static str, Vec<(u64, Vec<u8>)>);
+
+fn bag(topics: &[Topic]) -> Vec<u8> {
+    let mut w = mcap::Writer::new(Cursor::new(Vec::new())).expect("writer");
+    let mut all = Vec::new();
+    for (topic, ty, msgs) in topics {
+        let schema = w.add_schema(ty, "ros2msg", b"").expect("schema");
+        let ch = w
+            .add_channel(schema, topic, "cdr", &BTreeMap::new())
+            .expect("channel");
+        for (t, data) in msgs {
+            all.push((*t, ch, data.clone()));
+        }
+    }
+    all.sort_by_key(|(t, ch, _)| (*t, *ch));
+    for (i, (t, ch, data)) in all.iter().enumerate() {
+        let header = mcap::records::MessageHeader {
+            channel_id: *ch,
+            sequence: u32::try_from(i).expect("few"),
+            log_time: *t,
+            publish_time: *t,
+        };
+        w.write_to_known_channel(&header, data).expect("message");
+    }
+    w.finish().expect("finish");
+    w.into_inner().into_inner()
+}
+
+const T0: i64 = 1_700_000_000_000_000_000;
+const MS: i64 = 1_000_000;
+/// ENU yaw of the survey: 60 deg from east = 30 deg from north.
+const YAW_ENU: f64 = std::f64::consts::FRAC_PI_3;
+const LAT: f64 = 47.4;
+const LON: f64 = 8.5;
+/// 10 m of sea water at the default density.
+const PA: f64 = 101_325.0 + 1025.0 * 9.806_65 * 10.0;
+
+/// A 2-s survey: IMU 100 Hz, magnetometer 20 Hz, pressure 10 Hz, fix 1 Hz,
+/// DVL and altimeter 5 Hz; the static transform of the DVL.
+fn survey() -> Vec<Topic> {
+    let at = |k: i64| (T0 + k * 10 * MS) as u64 + 1_000;
+    let every = |n: i64, f: &dyn Fn(i64) -> Vec<u8>| -> Vec<(u64, Vec<u8>)> {
+        (0..200)
+            .filter(|k| k % n == 0)
+            .map(|k| (at(k), f(T0 + k * 10 * MS)))
+            .collect()
+    };
+    vec![
+        (
+            "/imu/data",
+            "sensor_msgs/msg/Imu",
+            every(1, &|ns| {
+                imu(
+                    ns,
+                    Some(yaw_q(YAW_ENU)),
+                    [0.01, 0.02, 0.03],
+                    [0.1, 0.2, 9.81],
+                )
+            }),
+        ),
+        (
+            "/imu/mag",
+            "sensor_msgs/msg/MagneticField",
+            every(5, &|ns| mag(ns, [2e-5, -1e-5, -4e-5])),
+        ),
+        (
+            "/pressure",
+            "sensor_msgs/msg/FluidPressure",
+            every(10, &|ns| pressure(ns, PA)),
+        ),
+        (
+            "/fix",
+            "sensor_msgs/NavSatFix",
+            every(100, &|ns| fix(ns, LAT, LON, 3.0, 0)),
+        ),
+        (
+            "/dvl/twist",
+            "geometry_msgs/msg/TwistWithCovarianceStamped",
+            every(20, &|ns| twist(ns, [1.0, 0.2, -0.1])),
+        ),
+        (
+            "/altimeter",
+            "sensor_msgs/msg/Range",
+            every(20, &|ns| range(ns, 12.5)),
+        ),
+        (
+            "/tf_static",
+            "tf2_msgs/msg/TFMessage",
+            vec![(T0 as u64, tf_static("dvl_link", [0.5, 0.1, -0.2]))],
+        ),
+    ]
+}
+
+fn import(bytes: &[u8], mapping: &Mapping) -> ImportedBag {
+    match read("survey.mcap", bytes, mapping) {
+        Ok(b) => b,
+        Err(e) => panic!("{e}"),
+    }
+}
+
+fn close(a: f64, b: f64, tol: f64, what: &str) {
+    assert!((a - b).abs() <= tol, "{what}: {a} vs {b}");
+}
+
+#[test]
+fn a_survey_bag_gives_the_log_directory() {
+    let log = import(&bag(&survey()), &Mapping::default());
+    let imu = log.file("imu.csv").expect("imu.csv");
+    assert_eq!(imu.rows(), 200);
+    let r = imu.row(0);
+    close(r[0], 0.0, 1e-12, "t: seconds after the first stamp");
+    // FLU -> FRD: y and z negated.
+    for (i, v) in [0.01, -0.02, -0.03, 0.1, -0.2, -9.81].iter().enumerate() {
+        close(r[1 + i], *v, 1e-12, "imu");
+    }
+    let m = log.file("mag.csv").expect("mag.csv").row(0);
+    close(m[1], 0.2, 1e-12, "mx gauss");
+    close(m[2], 0.1, 1e-12, "my");
+    close(m[3], 0.4, 1e-12, "mz");
+    close(
+        log.file("depth.csv").expect("depth").row(0)[1],
+        10.0,
+        1e-9,
+        "depth",
+    );
+    let g = log.file("gnss.csv").expect("gnss").row(0);
+    close(g[1], LAT.to_radians(), 1e-12, "lat");
+    close(g[4], 2.0, 1e-12, "eph from the covariance");
+    let d = log.file("dvl.csv").expect("dvl").row(0);
+    assert_eq!(&d[1..], &[1.0, -0.2, 0.1]);
+    close(
+        log.file("altitude.csv").expect("alt").row(0)[1],
+        12.5,
+        1e-6,
+        "alt",
+    );
+    let meta =
+        nav_runtime::log::Meta::parse(&log.meta).unwrap_or_else(|e| panic!("{e}\n{}", log.meta));
+    close(meta.initial.lat, LAT.to_radians(), 1e-12, "initial lat");
+    close(
+        meta.initial.yaw.expect("yaw"),
+        30f64.to_radians(),
+        1e-9,
+        "yaw: ENU 60 deg is NED 30 deg",
+    );
+    close(meta.initial.roll.expect("roll"), 0.0, 1e-12, "roll");
+    let imu_noise = meta
+        .sensors
+        .imu
+        .expect("[sensors.imu] from the covariances");
+    close(imu_noise.gyro_noise_sigma, 1e-3, 1e-12, "gyro sigma");
+    let dvl = meta.sensors.dvl.expect("[sensors.dvl]");
+    close(dvl.noise_sigma, 0.1, 1e-12, "dvl sigma");
+    assert!(
+        log.meta.contains("lever_arm = [5e-1, -1e-1, 2e-1]"),
+        "{}",
+        log.meta
+    );
+    let topics: Vec<&str> = log.summary.topics.iter().map(|t| t.2.as_str()).collect();
+    assert!(
+        topics.contains(&"dvl") && topics.contains(&"ignore"),
+        "{topics:?}"
+    );
+    // The written directory is read strictly by the project's log reader.
+    let dir = std::env::temp_dir().join(format!("mcap-logdir-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    log.write(&dir).expect("written");
+    let read = nav_runtime::log::LogDir::read(&dir, nav_runtime::log::Strictness::Strict);
+    let _ = std::fs::remove_dir_all(&dir);
+    let read = read.expect("read by LogDir");
+    assert_eq!(read.imu.len(), 200);
+    assert_eq!(read.dvl.as_ref().map(Vec::len), Some(10));
+    assert_eq!(read.depth.as_ref().map(Vec::len), Some(20));
+}
+
+/// Declarations of the mapping file change what they say, nothing else.
+#[test]
+fn mapping_cases() {
+    type Check = fn(&ImportedBag);
+    let cases: [(&str, &str, Check); 4] = [
+        (
+            "a DVL already in FRD",
+            "[topics.\"/dvl/twist\"]\nsensor = \"dvl\"\nbody_frame = \"FRD\"\n",
+            |log| {
+                let d = log.file("dvl.csv").expect("dvl").row(0);
+                assert_eq!(&d[1..], &[1.0, 0.2, -0.1]);
+            },
+        ),
+        ("fresh water", "[water]\ndensity = 1000.0\n", |log| {
+            let d = log.file("depth.csv").expect("depth").row(0)[1];
+            close(d, 10.25, 1e-9, "depth in fresh water");
+        }),
+        ("receive time", "time = \"receive\"\n", |log| {
+            // Every log time is 1 us after its stamp: the same seconds.
+            close(
+                log.file("imu.csv").expect("imu").row(1)[0],
+                0.01,
+                1e-12,
+                "t",
+            );
+            assert!(log
+                .summary
+                .warnings
+                .iter()
+                .any(|w| w.contains("receive clock")));
+        }),
+        (
+            "a topic ignored",
+            "[topics.\"/altimeter\"]\nsensor = \"ignore\"\n",
+            |log| assert!(log.file("altitude.csv").is_none()),
+        ),
+    ];
+    let bytes = bag(&survey());
+    for (name, text, check) in cases {
+        let mapping = Mapping::parse("map.toml", text).unwrap_or_else(|e| panic!("{name}: {e}"));
+        check(&import(&bytes, &mapping));
+    }
+}
+
+/// Broken bags and mappings, one row each: the error names the topic and
+/// message index (or the mapping key).
+#[test]
+fn error_cases() {
+    let survey_bytes = bag(&survey());
+    let with = |topic: &'static str, ty: &'static str, msgs: Vec<(u64, Vec<u8>)>| {
+        let mut s = survey();
+        s.push((topic, ty, msgs));
+        bag(&s)
+    };
+    let t = T0 as u64;
+    let cases: Vec<(&str, Vec<u8>, &str, &str)> = vec![
+        ("empty file", vec![], "", "truncated bag"),
+        (
+            "truncated",
+            survey_bytes[..survey_bytes.len() / 2].to_vec(),
+            "",
+            "truncated bag",
+        ),
+        ("not MCAP", b"PK\x03\x04 zip".to_vec(), "", "MCAP"),
+        (
+            "an Imu too short for its schema",
+            with("/imu2", "sensor_msgs/msg/Imu", vec![(t, Enc::new().header(T0, "").0)]),
+            "[topics.\"/imu/data\"]\nsensor = \"ignore\"\n",
+            "topic `/imu2`, message 0: sensor_msgs/msg/Imu: field `orientation`: 8 bytes needed",
+        ),
+        (
+            "a wrong schema on a mapped topic",
+            with("/imu2", "sensor_msgs/msg/Imu", vec![(t, mag(T0, [0.0; 3]))]),
+            "[topics.\"/imu/data\"]\nsensor = \"ignore\"\n",
+            "topic `/imu2`, message 0: sensor_msgs/msg/Imu: field `",
+        ),
+        (
+            "a frame id of 4 GB",
+            with(
+                "/depth2",
+                "sensor_msgs/msg/FluidPressure",
+                vec![(t, Enc::new().u32(1).u32(0).u32(u32::MAX).0)],
+            ),
+            "[topics.\"/pressure\"]\nsensor = \"ignore\"\n",
+            "topic `/depth2`, message 0: sensor_msgs/msg/FluidPressure: field `header.frame_id`: string of 4294967295 bytes",
+        ),
+        (
+            "a stamp in microseconds",
+            with(
+                "/alt2",
+                "sensor_msgs/msg/Range",
+                vec![(t + 1_000_000_000, range(T0 / 1000, 3.0))],
+            ),
+            "[topics.\"/altimeter\"]\nsensor = \"ignore\"\n",
+            "topic `/alt2`, message 0: time -1.698e9 s from the bag's first message",
+        ),
+        (
+            "an unset stamp",
+            with("/alt2", "sensor_msgs/msg/Range", vec![(t + 1_000_000_000, range(0, 3.0))]),
+            "[topics.\"/altimeter\"]\nsensor = \"ignore\"\n",
+            "topic `/alt2`, message 0: header.stamp is zero",
+        ),
+        (
+            "two IMU topics, no mapping",
+            with("/imu2", "sensor_msgs/msg/Imu", vec![]),
+            "",
+            "topics `/imu/data` and `/imu2` would both feed imu.csv: say which in a mapping file",
+        ),
+        (
+            "a pose without an origin",
+            with(
+                "/usbl",
+                "geometry_msgs/msg/PoseWithCovarianceStamped",
+                vec![(t, Enc::new().header(T0, "map").f64s(&[0.0; 7]).f64s(&[0.0; 36]).0)],
+            ),
+            "",
+            "topic `/usbl`, message 0: a position in a local frame: declare its `origin",
+        ),
+        (
+            "a mapped topic of a type not read",
+            with("/cam", "sensor_msgs/msg/Image", vec![]),
+            "[topics.\"/cam\"]\nsensor = \"dvl\"\n",
+            "topic `/cam`: type `sensor_msgs/msg/Image` (cdr) is not one the import reads",
+        ),
+        (
+            "a misspelled sensor",
+            survey_bytes.clone(),
+            "[topics.\"/fix\"]\nsensor = \"gps\"\n",
+            "`topics.\"/fix\".sensor`: `gps`, one of imu, mag",
+        ),
+        (
+            "an unknown mapping key",
+            survey_bytes.clone(),
+            "density = 1000.0\n",
+            "unknown field `density`",
+        ),
+    ];
+    for (name, bytes, mapping, part) in cases {
+        let result = Mapping::parse("map.toml", mapping)
+            .and_then(|m| read("case.mcap", bytes.as_slice(), &m));
+        match result {
+            Ok(_) => panic!("{name}: imported"),
+            Err(e) => {
+                let text = e.to_string();
+                assert!(
+                    text.starts_with("case.mcap: ") || text.starts_with("map.toml: "),
+                    "{name}: {text}"
+                );
+                assert!(text.contains(part), "{name}: `{text}` lacks `{part}`");
+                assert!(!matches!(e, ImportError::Io { .. }), "{name}");
+            }
+        }
+    }
+}
+
+fn small() -> Vec<u8> {
+    let mut s = survey();
+    for (_, _, msgs) in &mut s {
+        msgs.truncate(3);
+    }
+    bag(&s)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(128))]
+
+    /// Any prefix of a bag is imported or refused; never a panic.
+    #[test]
+    fn truncations_never_panic(cut in 0usize..20_000) {
+        let bytes = small();
+        let cut = cut.min(bytes.len());
+        if let Err(e) = read("cut.mcap", &bytes[..cut], &Mapping::default()) {
+            prop_assert!(e.to_string().starts_with("cut.mcap: "));
+        }
+    }
+
+    /// Bit flips anywhere: imported or refused; never a panic.
+    #[test]
+    fn bit_flips_never_panic(flips in proptest::collection::vec((0usize..20_000, 0u8..8), 1..8)) {
+        let mut bytes = small();
+        for (at, bit) in flips {
+            let n = bytes.len();
+            bytes[at % n] ^= 1 << bit;
+        }
+        if let Err(e) = read("flip.mcap", bytes.as_slice(), &Mapping::default()) {
+            prop_assert!(e.to_string().starts_with("flip.mcap: "));
+        }
+    }
+}
