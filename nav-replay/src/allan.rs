@@ -33,7 +33,7 @@ pub struct Stretch {
 /// not evenly sampled, not static), each naming the row.
 pub fn analyse_log(files: &LogFiles, stretch: Stretch) -> Result<AllanReport, RunError> {
     if let (Some(a), Some(b)) = (stretch.from_s, stretch.to_s) {
-        if !(a < b) {
+        if a.partial_cmp(&b) != Some(std::cmp::Ordering::Less) {
             return Err(RunError::Invalid(format!(
                 "--from {a} --to {b}: expected a stretch with from before to"
             )));

@@ -1,6 +1,6 @@
 //! The standard ROS 2 message types the bag import understands, decoded
 //! from CDR ([`super::cdr`]) into what the log directory needs. Vectors are
-//! as in the message (ROS frames: REP-103); [`super::frames`] converts.
+//! as in the message (ROS frames: REP-103); `frames` converts.
 
 use super::cdr::{Cdr, CdrError};
 

@@ -5,7 +5,7 @@
 //! - [`setup`]: the log's `meta.toml` and files become a navigator;
 //! - [`replay_loop`]: the rows pushed in delivery order (late USBL fixes by
 //!   their acoustic travel time), the smoother's record;
-//! - [`aiding`]: the aiding rows in delivery order;
+//! - `aiding`: the aiding rows in delivery order;
 //! - [`score`]: errors and NEES against the truth;
 //! - [`output`]: the JSON metrics, tables and warnings of a replay;
 //! - [`plots`]: the SVG plots of a scored run.

@@ -22,7 +22,7 @@ pub const MIN_SPAN: f64 = 4.0;
 /// A coefficient read from the curve.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Coefficient {
-    /// The value, in the unit given by the report (see [`super::Axis`]).
+    /// The value, in the unit given by the report (see [`super::SensorKind::units`]).
     pub value: f64,
     /// 1-sigma relative confidence: that of the point of the region nearest
     /// the cluster time the coefficient is read at (1 s, 3 s, the bottom).
