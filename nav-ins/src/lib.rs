@@ -17,6 +17,7 @@
 //! directory.
 #![warn(missing_docs)]
 
+pub mod declared;
 pub mod heading;
 pub mod health;
 pub mod lockout;
@@ -30,13 +31,14 @@ pub mod vehicle;
 
 pub mod prelude;
 
+pub use declared::DeclaredSensor;
 pub use health::{RunHealth, SensorHealth};
 pub use measurement::{
     baro_measurement, depth_measurement, dvl_measurement, dvl_measurement_at, gnss_measurement,
     heading_measurement, mag_measurement, usbl_measurement, usbl_measurement_at, CompassForm,
 };
 pub use navigator::{
-    Builder, Navigator, NavigatorError, SensorReport, Ticket, SENSORS, SENSOR_NAMES,
+    Builder, DeclaredHandle, Navigator, NavigatorError, SensorReport, Ticket, SENSORS, SENSOR_NAMES,
 };
 pub use nominal::{Estimate, ImuSample, InsFilter, InsNominal, ESTIMATE_SCALARS};
 pub use sensor::{

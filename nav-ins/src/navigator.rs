@@ -23,6 +23,7 @@ use nav_runtime::smoother::EpochFile;
 use nav_runtime::strapdown::{NavState, RateSamples, Strapdown};
 use nav_runtime::stuck::StuckDetector;
 
+use super::declared::{extra_noise, slot_file, DeclaredSensor};
 use super::nominal::{Estimate, ImuSample, InsFilter, InsNominal};
 use super::sensor::{Context, Handle, Reading};
 use super::settings::{ImuSettings, InitialState, NavigatorOptions, SensorSettings};
@@ -86,7 +87,23 @@ pub struct Navigator<V: InsVehicle<N>, const N: usize> {
     requests: Rc<RefCell<Requests>>,
     skipped: [u64; SENSORS],
     last_nis: [Option<f64>; SENSORS],
+    declared: Vec<DeclaredFeed<V, N>>,
 }
+
+/// A declared sensor fed by name ([`Builder::declared_sensor`]).
+struct DeclaredFeed<V: InsVehicle<N>, const N: usize> {
+    sensor: DeclaredSensor<V, N>,
+    /// Noise variance per output.
+    r_diag: Vec<f64>,
+    id: SensorId,
+    skipped: u64,
+    last_nis: Option<f64>,
+}
+
+/// The handle of a sensor fed by its declared name
+/// ([`Builder::declared_sensor`], [`Navigator::push_declared`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct DeclaredHandle(usize);
 
 /// How long after the start a reading of the start's IMU period is applied
 /// (s): the scheduler applies readings after the time they carry, and the
@@ -104,6 +121,12 @@ pub struct Builder<V: InsVehicle<N>, const N: usize> {
     samples: RateSamples,
     layout: Result<Layout, String>,
     present: Present,
+    /// Declared sensors fed by name, with their noise sigma per output.
+    declared: Vec<(DeclaredSensor<V, N>, Vec<f64>)>,
+    /// Initial sigma of states the nominal does not keep, by state index.
+    state_sigma: Vec<(usize, f64)>,
+    /// Values of declared process noise beyond the core's, by noise index.
+    process_noise: Vec<(usize, f64)>,
     vehicle: std::marker::PhantomData<fn() -> V>,
 }
 
@@ -120,6 +143,9 @@ impl<V: InsVehicle<N>, const N: usize> Navigator<V, N> {
             samples: RateSamples::default(),
             layout: Layout::of::<V, N>().map_err(|e| e.to_string()),
             present: Present::of::<V, N>(),
+            declared: Vec::new(),
+            state_sigma: Vec::new(),
+            process_noise: Vec::new(),
             vehicle: std::marker::PhantomData,
         }
     }
@@ -160,6 +186,62 @@ impl<V: InsVehicle<N>, const N: usize> Navigator<V, N> {
         let m = reading.measurement::<V, N>(&self.contexts[R::SLOT]);
         if let Ok(reports) = self.scheduler.push_measurement(self.ids[R::SLOT], t, m) {
             self.note(&reports);
+        }
+    }
+
+    /// Pushes a reading of the declared sensor of `handle` measured at `t`
+    /// (s): `z` one value per output, in the units of the sensor's `h`
+    /// (which predicts the reading); `aux` its auxiliary inputs in declared
+    /// order. Times are treated as in [`Navigator::push`]; a reading with a
+    /// non-finite value or of the wrong length is refused and counted.
+    pub fn push_declared(&mut self, handle: DeclaredHandle, t: f64, z: &[f64], aux: &[f64]) {
+        let Some(feed) = self.declared.get_mut(handle.0) else {
+            return;
+        };
+        let t = if t <= self.start {
+            if t.is_nan() || t < self.start - self.period_s {
+                feed.skipped += 1;
+                return;
+            }
+            self.start + AT_START_S
+        } else {
+            t
+        };
+        let sensor = feed.sensor;
+        let r_diag = feed.r_diag.clone();
+        let mut values = z.to_vec();
+        if z.len() != sensor.outputs || aux.len() != sensor.aux.len() {
+            // Refused by the finiteness check as a non-finite reading.
+            values.push(f64::NAN);
+        }
+        values.extend_from_slice(aux);
+        let z_len = z.len();
+        let checked = values.clone();
+        let m = FnMeasurement::new(&checked, move |f: &mut InsFilter<V, N>| {
+            let (z, aux) = values.split_at(z_len);
+            sensor.update(f, z, &r_diag, aux)
+        });
+        if let Ok(reports) = self.scheduler.push_measurement(feed.id, t, Box::new(m)) {
+            self.note(&reports);
+        }
+    }
+
+    /// The report of the declared sensor of `handle`.
+    pub fn report_declared(&self, handle: DeclaredHandle) -> SensorReport {
+        let Some(feed) = self.declared.get(handle.0) else {
+            return SensorReport::default();
+        };
+        let s = self.scheduler.sensor_stats(feed.id).unwrap_or_default();
+        SensorReport {
+            health: SensorHealth {
+                rows: 0,
+                accepted: s.accepted,
+                gated: s.gated,
+                rejected: s.failed + s.too_old + s.duplicate + s.invalid + s.queue_full,
+                skipped: feed.skipped,
+                stuck: s.stuck,
+            },
+            last_nis: feed.last_nis,
         }
     }
 
@@ -281,6 +363,12 @@ impl<V: InsVehicle<N>, const N: usize> Navigator<V, N> {
             if let (Some(slot), Ok(o)) = (self.last_nis.get_mut(i), &r.outcome) {
                 *slot = Some(o.nis);
             }
+            if let (Some(feed), Ok(o)) = (
+                self.declared.iter_mut().find(|d| d.id == r.sensor),
+                &r.outcome,
+            ) {
+                feed.last_nis = Some(o.nis);
+            }
         }
     }
 
@@ -373,6 +461,164 @@ impl<V: InsVehicle<N>, const N: usize> Builder<V, N> {
         Ok(Handle::new())
     }
 
+    /// Feeds the vehicle's sensor declared as `name` by name: one that no
+    /// reading kind feeds (a block of the user's own), with noise sigma
+    /// `sigma` (one for every output, or one per output; in the units of
+    /// its `h`). See [`crate::declared`].
+    ///
+    /// # Errors
+    /// [`NavigatorError::Setup`] if `V` declares no such sensor, if a
+    /// reading kind feeds it, if it is fed already, or if `sigma` is not one
+    /// positive finite value or one per output.
+    pub fn declared_sensor(
+        &mut self,
+        name: &str,
+        sigma: &[f64],
+    ) -> Result<DeclaredHandle, NavigatorError> {
+        let vehicle = V::REPLAY_NAME;
+        let setup = |m: String| Err(NavigatorError::Setup(m));
+        if let Some(file) = slot_file::<V, N>(name) {
+            return setup(format!(
+                "sensor `{name}` of vehicle {vehicle} is fed by {file}, not by name"
+            ));
+        }
+        let Some(sensor) = DeclaredSensor::<V, N>::named(name) else {
+            let names: Vec<&str> = DeclaredSensor::<V, N>::unslotted()
+                .iter()
+                .map(|s| s.name)
+                .collect();
+            let mut m =
+                format!(
+                "vehicle {vehicle} declares no sensor `{name}` to feed by name (those it has: {})",
+                if names.is_empty() { "none".to_string() } else { names.join(", ") }
+            );
+            if let Some(close) = nav_runtime::model::closest_name(name, &names) {
+                m.push_str(&format!("; did you mean `{close}`?"));
+            }
+            return setup(m);
+        };
+        if self.declared.iter().any(|(s, _)| s.name == sensor.name) {
+            return setup(format!("sensor `{name}` is fed twice"));
+        }
+        let sigma: Vec<f64> = match sigma.len() {
+            1 => vec![sigma[0]; sensor.outputs],
+            n if n == sensor.outputs => sigma.to_vec(),
+            n => {
+                return setup(format!(
+                    "sensor `{name}` has {} outputs: {n} sigmas given (one, or one per output)",
+                    sensor.outputs
+                ))
+            }
+        };
+        if let Some(bad) = sigma
+            .iter()
+            .find(|s| !(**s > 0.0 && (**s * **s).is_finite()))
+        {
+            return setup(format!(
+                "sensor `{name}`: sigma {bad} is not a noise sigma (finite, > 0)"
+            ));
+        }
+        self.declared.push((sensor, sigma));
+        Ok(DeclaredHandle(self.declared.len() - 1))
+    }
+
+    /// The initial sigma of the state (a whole declared state, or one
+    /// scalar `name[i]`) that the nominal solution does not keep: a state of
+    /// a block the navigator does not know, in the state's units.
+    ///
+    /// # Errors
+    /// [`NavigatorError::Setup`] for a name that is no such state, or a
+    /// sigma that is not finite and >= 0.
+    pub fn state_sigma(&mut self, name: &str, sigma: f64) -> Result<(), NavigatorError> {
+        let absorbed = self.absorbed()?;
+        let scalars = nav_runtime::model::scalars_of(&V::STATE_NAMES, name);
+        let extra: Vec<&str> = (0..N)
+            .filter(|&i| !absorbed[i])
+            .map(|i| V::STATE_NAMES[i])
+            .collect();
+        if scalars.is_empty() || scalars.iter().any(|&i| absorbed[i]) {
+            let mut m = if scalars.is_empty() {
+                format!("vehicle {} has no state `{name}`", V::REPLAY_NAME)
+            } else {
+                format!(
+                    "state `{name}` of vehicle {} is kept by the navigator (its sigma comes from the initial state, the IMU or the sensor settings)",
+                    V::REPLAY_NAME
+                )
+            };
+            let blocks = nav_runtime::model::blocks(&extra);
+            m.push_str(&format!(
+                "; states given by name: {}",
+                if blocks.is_empty() {
+                    "none".to_string()
+                } else {
+                    blocks.join(", ")
+                }
+            ));
+            if let Some(close) = nav_runtime::model::closest_name(name, &blocks) {
+                m.push_str(&format!("; did you mean `{close}`?"));
+            }
+            return Err(NavigatorError::Setup(m));
+        }
+        if !(sigma >= 0.0 && (sigma * sigma).is_finite()) {
+            return Err(NavigatorError::Setup(format!(
+                "state `{name}`: sigma {sigma} is not a sigma (finite, >= 0)"
+            )));
+        }
+        for i in scalars {
+            self.state_sigma.retain(|(k, _)| *k != i);
+            self.state_sigma.push((i, sigma));
+        }
+        Ok(())
+    }
+
+    /// The value of a declared process noise (a whole noise input, or one
+    /// scalar) beyond the INS core's and the barometer's: a density for the
+    /// vehicle's continuous model, in the units of its declaration.
+    ///
+    /// # Errors
+    /// [`NavigatorError::Setup`] for a name that is no such noise input, or
+    /// a value that is not finite and >= 0.
+    pub fn process_noise(&mut self, name: &str, value: f64) -> Result<(), NavigatorError> {
+        let names = <V::Noise as Record>::NAMES;
+        let extra = extra_noise::<V, N>();
+        let scalars = nav_runtime::model::scalars_of(names, name);
+        if scalars.is_empty() || scalars.iter().any(|i| !extra.contains(i)) {
+            let given: Vec<&str> = extra.iter().map(|&i| names[i]).collect();
+            let blocks = nav_runtime::model::blocks(&given);
+            let mut m = format!(
+                "vehicle {} has no process noise `{name}` given by name (those it has: {})",
+                V::REPLAY_NAME,
+                if blocks.is_empty() {
+                    "none".to_string()
+                } else {
+                    blocks.join(", ")
+                }
+            );
+            if let Some(close) = nav_runtime::model::closest_name(name, &blocks) {
+                m.push_str(&format!("; did you mean `{close}`?"));
+            }
+            return Err(NavigatorError::Setup(m));
+        }
+        if !(value >= 0.0 && value.is_finite()) {
+            return Err(NavigatorError::Setup(format!(
+                "process noise `{name}`: {value} is not a noise intensity (finite, >= 0)"
+            )));
+        }
+        for i in scalars {
+            self.process_noise.retain(|(k, _)| *k != i);
+            self.process_noise.push((i, value));
+        }
+        Ok(())
+    }
+
+    /// Per state: kept by the nominal solution.
+    fn absorbed(&self) -> Result<[bool; N], NavigatorError> {
+        self.layout
+            .as_ref()
+            .map(|l| l.absorbed())
+            .map_err(|e| NavigatorError::Setup(e.clone()))
+    }
+
     /// The navigator, started at the initial state with `first`, the IMU
     /// sample at the initial time (it starts the rate model of the first
     /// interval).
@@ -405,6 +651,17 @@ impl<V: InsVehicle<N>, const N: usize> Builder<V, N> {
             }
         }
         let record = scheduler.add_sensor("record", 10.0, 0.0).map_err(setup)?;
+        let mut declared = Vec::with_capacity(self.declared.len());
+        for (sensor, sigma) in &self.declared {
+            let id = scheduler.add_sensor(sensor.name, 1.0, 0.0).map_err(setup)?;
+            declared.push(DeclaredFeed {
+                sensor: *sensor,
+                r_diag: sigma.iter().map(|s| s * s).collect(),
+                id,
+                skipped: 0,
+                last_nis: None,
+            });
+        }
         let i = &self.initial;
         let transducer =
             self.transducer
@@ -430,6 +687,7 @@ impl<V: InsVehicle<N>, const N: usize> Builder<V, N> {
             requests: Rc::new(RefCell::new(Requests::default())),
             skipped: [0; SENSORS],
             last_nis: [None; SENSORS],
+            declared,
         })
     }
 
@@ -471,6 +729,21 @@ impl<V: InsVehicle<N>, const N: usize> Builder<V, N> {
                 sigma[i..i + len].fill(s);
             }
         }
+        let absorbed = layout.absorbed::<N>();
+        let missing: Vec<&str> = (0..N)
+            .filter(|&i| !absorbed[i] && !self.state_sigma.iter().any(|(k, _)| *k == i))
+            .map(|i| V::STATE_NAMES[i])
+            .collect();
+        if !missing.is_empty() {
+            return Err(NavigatorError::Setup(format!(
+                "vehicle {}: state {} has no initial sigma (the navigator does not know its block: give it by name, in a log replay `[initial.sigma]` of replay.toml)",
+                V::REPLAY_NAME,
+                nav_runtime::model::blocks(&missing).join(", ")
+            )));
+        }
+        for (i, s) in &self.state_sigma {
+            sigma[*i] = *s;
+        }
         let p0 = SMatrix::<f64, N, N>::from_diagonal(&SVector::<f64, N>::from_fn(|i, _| {
             sigma[i].max(SIGMA_FLOOR).powi(2)
         }));
@@ -483,10 +756,27 @@ impl<V: InsVehicle<N>, const N: usize> Builder<V, N> {
         // The INS core's noise in record order (checked by `Layout::of`).
         // The barometer block's bias walk after them (checked there too).
         let baro_walk = self.sensors[5].map_or(0.0, |s| s.bias_walk);
+        let noise_names = <V::Noise as Record>::NAMES;
+        let missing: Vec<&str> = extra_noise::<V, N>()
+            .into_iter()
+            .filter(|i| !self.process_noise.iter().any(|(k, _)| k == i))
+            .map(|i| noise_names[i])
+            .collect();
+        if !missing.is_empty() {
+            return Err(NavigatorError::Setup(format!(
+                "vehicle {}: process noise {} has no value (the navigator does not know its block: give it by name, in a log replay `[noise]` of replay.toml)",
+                V::REPLAY_NAME,
+                nav_runtime::model::blocks(&missing).join(", ")
+            )));
+        }
         let noise = <V::Noise as Record>::from_fn(|i| match i {
             0..=2 => qa,
             3..=5 => qg,
-            _ => baro_walk,
+            _ => self
+                .process_noise
+                .iter()
+                .find(|(k, _)| *k == i)
+                .map_or(baro_walk, |(_, q)| *q),
         });
         let name = V::REPLAY_NAME;
         let err = |e| NavigatorError::Setup(format!("{name} filter: {e}"));
@@ -503,7 +793,10 @@ impl<V: InsVehicle<N>, const N: usize> Builder<V, N> {
         let mut nominal =
             InsNominal::try_new(ins).map_err(|e| NavigatorError::Setup(e.to_string()))?;
         nominal.baro_bias = self.sensors[5].map_or(0.0, |s| s.initial_bias);
-        let mut filter = ErrorStateFilter::new(ekf, nominal);
+        // Sensors read the nominal as corrected by the earlier readings of
+        // the same epoch (docs/runtime.md, "Error-state filters").
+        let mut filter =
+            ErrorStateFilter::new(ekf, nominal).with_sensor_input(InsNominal::<V, N>::sensor_input);
         if self.options.smooth {
             let file = EpochFile::create(None).map_err(|e| NavigatorError::Setup(e.to_string()))?;
             filter.start_recording(file, t0).map_err(err)?;

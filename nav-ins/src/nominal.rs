@@ -71,8 +71,12 @@ pub struct InsNominal<V, const N: usize> {
     /// Bias-corrected body rate of the IMU sample being integrated (rad/s):
     /// the `omega` of a sensor's `omega x r` lever-arm velocity.
     pub body_rate: Vector3<f64>,
+    /// Bias-corrected specific force of that sample (m/s^2).
+    pub specific_force: Vector3<f64>,
     /// Where `V` keeps each error state.
     layout: Layout,
+    /// Per error state: kept by this nominal ([`Layout::absorbed`]).
+    absorbed: [bool; N],
     vehicle: PhantomData<fn() -> V>,
 }
 
@@ -99,6 +103,7 @@ impl<V, const N: usize> core::fmt::Debug for InsNominal<V, N> {
             .field("usbl_misalignment", &self.usbl_misalignment)
             .field("baro_bias", &self.baro_bias)
             .field("body_rate", &self.body_rate)
+            .field("specific_force", &self.specific_force)
             .field("layout", &self.layout)
             .finish()
     }
@@ -122,6 +127,7 @@ impl<V: InsVehicle<N>, const N: usize> InsNominal<V, N> {
     /// # Errors
     /// As [`Layout::of`].
     pub fn try_new(ins: Strapdown) -> Result<Self, NavigatorError> {
+        let layout = Layout::of::<V, N>()?;
         Ok(Self {
             ins,
             accel_bias: Vector3::zeros(),
@@ -133,7 +139,9 @@ impl<V: InsVehicle<N>, const N: usize> InsNominal<V, N> {
             usbl_misalignment: Vector3::zeros(),
             baro_bias: 0.0,
             body_rate: Vector3::zeros(),
-            layout: Layout::of::<V, N>()?,
+            specific_force: Vector3::zeros(),
+            layout,
+            absorbed: layout.absorbed(),
             vehicle: PhantomData,
         })
     }
@@ -145,6 +153,10 @@ impl<V: InsVehicle<N>, const N: usize> InsNominal<V, N> {
 }
 
 impl<V: InsVehicle<N>, const N: usize> NominalState<N> for InsNominal<V, N> {
+    fn absorbs(&self, i: usize) -> bool {
+        self.absorbed.get(i).copied().unwrap_or(true)
+    }
+
     fn inject(&mut self, e: &SVector<f64, N>) {
         let l = &self.layout;
         let nav = l.navigation().map(|i| e[i]);
@@ -178,9 +190,27 @@ impl<V: InsVehicle<N>, const N: usize> Mechanization<V, N> for InsNominal<V, N> 
     fn mechanize(&mut self, dt: f64, imu: &ImuSample) -> V::Input {
         let w = imu.gyro - self.gyro_bias;
         let f = imu.accel - self.accel_bias;
-        let s = &self.ins.state;
+        let input = Self::input_at(&self.ins.state, &f);
+        self.body_rate = w;
+        self.specific_force = f;
+        self.ins.update_rates(&w, &f, dt);
+        input
+    }
+}
+
+impl<V: InsVehicle<N>, const N: usize> InsNominal<V, N> {
+    /// The error model's input at this nominal solution as it stands (after
+    /// every feedback so far), with the specific force of the latest
+    /// sample: what the sensors read (`ErrorStateFilter::with_sensor_input`),
+    /// so that readings of one epoch (a GNSS fix, a compass and a speed log)
+    /// are each linearized about the solution the earlier ones corrected.
+    pub fn sensor_input(&self) -> V::Input {
+        Self::input_at(&self.ins.state, &self.specific_force)
+    }
+
+    /// The INS core's inputs in record order (checked by `Layout::of`).
+    fn input_at(s: &NavState, f: &Vector3<f64>) -> V::Input {
         let c = &s.c_bn;
-        // The INS core's inputs in record order (checked by `Layout::of`).
         let values: [f64; 17] = [
             s.lat,
             s.h,
@@ -200,10 +230,7 @@ impl<V: InsVehicle<N>, const N: usize> Mechanization<V, N> for InsNominal<V, N> 
             f.y,
             f.z,
         ];
-        let input = <V::Input as Record>::from_fn(|i| values[i]);
-        self.body_rate = w;
-        self.ins.update_rates(&w, &f, dt);
-        input
+        <V::Input as Record>::from_fn(|i| values[i])
     }
 }
 

@@ -340,14 +340,13 @@ impl Layout {
                 <V::Input as Record>::NAMES
             ));
         }
+        // The core's noise first; any other declared noise (a block's own,
+        // e.g. a water current's random walk) is given by name to the
+        // builder (`Builder::process_noise`).
         let noise = <V::Noise as Record>::NAMES;
-        if noise.get(..NOISE_NAMES.len()) != Some(&NOISE_NAMES[..])
-            || noise[NOISE_NAMES.len()..]
-                .iter()
-                .any(|n| !SENSOR_NOISE_NAMES.contains(n))
-        {
+        if noise.get(..NOISE_NAMES.len()) != Some(&NOISE_NAMES[..]) {
             return Err(format!(
-                "its process noise {noise:?} is not the INS core's {NOISE_NAMES:?} (plus any of {SENSOR_NOISE_NAMES:?})"
+                "its process noise {noise:?} does not start with the INS core's {NOISE_NAMES:?}"
             ));
         }
         let present = Present::of::<V, N>();
@@ -412,6 +411,32 @@ impl Layout {
             return Err("it has `baro_bias_noise` but no state `baro_bias`".into());
         }
         Ok(layout)
+    }
+
+    /// Per state: whether the nominal solution keeps it (the navigation
+    /// errors and the groups above); the others stay in the filter as
+    /// total-state estimates (`NominalState::absorbs`).
+    pub fn absorbed<const N: usize>(&self) -> [bool; N] {
+        let mut kept = [false; N];
+        let mut mark = |at: Option<usize>, len: usize| {
+            if let Some(i) = at {
+                for k in kept.iter_mut().skip(i).take(len) {
+                    *k = true;
+                }
+            }
+        };
+        mark(Some(self.position), 3);
+        mark(Some(self.velocity), 3);
+        mark(Some(self.attitude), 3);
+        mark(Some(self.accel_bias), 3);
+        mark(Some(self.gyro_bias), 3);
+        mark(self.usbl_bias, 2);
+        mark(self.depth_bias, 1);
+        mark(self.dvl_bias, 3);
+        mark(self.compass_bias, 1);
+        mark(self.usbl_misalignment, 3);
+        mark(self.baro_bias, 1);
+        kept
     }
 
     /// Indices of the 9 navigation errors (position, velocity, attitude).

@@ -183,6 +183,7 @@ pub struct LogDir {
 /// not in [`LOG_FILES`] and that `mapping` does not read, sorted. Directories
 /// are not listed.
 pub fn unknown_csv_files(dir: &Path, mapping: &LogMapping) -> Result<Vec<String>, LogError> {
+    let claimed = claimed_by_replay_mapping(dir);
     let mut unknown = Vec::new();
     for entry in fs::read_dir(dir).map_err(|e| LogError::io(dir, e))? {
         let entry = entry.map_err(|e| LogError::io(dir, e))?;
@@ -191,7 +192,11 @@ pub fn unknown_csv_files(dir: &Path, mapping: &LogMapping) -> Result<Vec<String>
             && name
                 .get(name.len() - 4..)
                 .is_some_and(|ext| ext.eq_ignore_ascii_case(".csv"));
-        if !is_csv || LOG_FILES.contains(&name.as_str()) || mapping.reads(&name) {
+        if !is_csv
+            || LOG_FILES.contains(&name.as_str())
+            || mapping.reads(&name)
+            || claimed.contains(&name)
+        {
             continue;
         }
         if entry.file_type().is_ok_and(|t| t.is_dir()) {
@@ -201,6 +206,37 @@ pub fn unknown_csv_files(dir: &Path, mapping: &LogMapping) -> Result<Vec<String>
     }
     unknown.sort();
     Ok(unknown)
+}
+
+/// The mapping file of a log directory that feeds declared sensors by name
+/// (a model replay's, or an INS vehicle's own sensors).
+pub const REPLAY_MAPPING_FILE: &str = "replay.toml";
+
+/// The files `replay.toml` in `dir` names as `[sensors.<name>] file` (its
+/// declared sensors' files, which are log files too). Empty when there is
+/// no such file or it is not valid TOML: the replay that reads it reports
+/// that, with its line.
+fn claimed_by_replay_mapping(dir: &Path) -> Vec<String> {
+    let Ok(Some(mut file)) = open_confined(dir, REPLAY_MAPPING_FILE, REPLAY_MAPPING_FILE) else {
+        return Vec::new();
+    };
+    let mut text = String::new();
+    if std::io::Read::read_to_string(&mut file, &mut text).is_err() {
+        return Vec::new();
+    }
+    let Ok(table) = text.parse::<toml::Table>() else {
+        return Vec::new();
+    };
+    let Some(toml::Value::Table(sensors)) = table.get("sensors") else {
+        return Vec::new();
+    };
+    sensors
+        .values()
+        .filter_map(|s| match s.get("file") {
+            Some(toml::Value::String(f)) => Some(f.trim_start_matches("./").to_string()),
+            _ => None,
+        })
+        .collect()
 }
 
 fn read_table<R: Row>(

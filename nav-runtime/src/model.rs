@@ -84,6 +84,9 @@ pub trait Model<const N: usize, T: Real = f64>: Sized + 'static {
     /// with the nonzeros of `C` in its changed rows; `None` (the default)
     /// when the propagation is unrolled or written by hand.
     const PROPAGATION: Option<crate::propagation::Structure<'static>> = None;
+    /// The declared sensor names, in declaration order (the names
+    /// [`Model::visit_sensor`] knows); empty for hand-written models.
+    const DECLARED_SENSORS: &'static [&'static str] = &[];
 
     /// One step of the state: `x + f dt` (continuous, Euler) or `f(x, ..., dt)`.
     fn transition(x: &SVector<T, N>, u: &Self::Input, p: &Self::Params, dt: T) -> SVector<T, N>;
@@ -141,6 +144,29 @@ pub trait Model<const N: usize, T: Real = f64>: Sized + 'static {
         let _ = observe;
         Self::propagate_covariance(cov, x, u, p, q, dt);
     }
+
+    /// Hands the sensor declared as `name` to `visitor` as a type
+    /// ([`SensorVisitor::visit`]); `None` when the model declares no such
+    /// sensor. This is how a program binds a sensor named in a file (a log's
+    /// `meta.toml`, a mapping) to the generated sensor type, with no table
+    /// of sensors written by hand. The generated models implement it; the
+    /// default (hand-written models) knows no sensor.
+    fn visit_sensor<V: SensorVisitor<Self, N, T>>(name: &str, visitor: V) -> Option<V::Output> {
+        let _ = (name, visitor);
+        None
+    }
+}
+
+/// What a program does with a sensor type found by its declared name
+/// ([`Model::visit_sensor`]): `visit` is called once, with the sensor's
+/// type `S` and its number of outputs `M`, and typically returns function
+/// pointers instantiated for `S` (so the rest of the program needs no
+/// generic parameter per sensor).
+pub trait SensorVisitor<Mo: Model<N, T>, const N: usize, T: Real = f64> {
+    /// What the visit returns.
+    type Output;
+    /// Called with the sensor found.
+    fn visit<S: Sensor<N, M, T, Model = Mo>, const M: usize>(self) -> Self::Output;
 }
 
 /// A measurement model with `M` outputs for a model with `N` states, in
@@ -207,4 +233,91 @@ pub(crate) fn first_non_finite<R: Record>(r: &R) -> Option<usize> {
 /// Declared name of scalar `index` of a record.
 pub(crate) fn name_of<R: Record>(index: usize) -> &'static str {
     R::NAMES.get(index).copied().unwrap_or("?")
+}
+
+#[cfg(feature = "std")]
+/// The scalars of `names` a key stands for: the scalar of that exact name
+/// (`"gyro[1]"`, `heading`), or every scalar of the block of that name
+/// (`gyro` for `gyro[0]`..`gyro[2]`, `c_bn` for its nine entries), in order.
+pub fn scalars_of(names: &[&str], key: &str) -> Vec<usize> {
+    if let Some(i) = names.iter().position(|n| *n == key) {
+        return vec![i];
+    }
+    names
+        .iter()
+        .enumerate()
+        .filter(|(_, n)| block_of(n) == key)
+        .map(|(i, _)| i)
+        .collect()
+}
+
+/// The block a scalar name belongs to: `gyro` of `gyro[1]`, `c_bn` of
+/// `c_bn[0][2]`, the name itself for a scalar.
+pub fn block_of(name: &str) -> &str {
+    name.split('[').next().unwrap_or(name)
+}
+
+#[cfg(feature = "std")]
+/// The distinct block names of `names`, in order (for messages).
+pub fn blocks<'a>(names: &[&'a str]) -> Vec<&'a str> {
+    let mut out: Vec<&'a str> = Vec::new();
+    for n in names {
+        let b = block_of(n);
+        if !out.contains(&b) {
+            out.push(b);
+        }
+    }
+    out
+}
+
+#[cfg(feature = "std")]
+/// The valid name closest to `name` (edit distance at most 2, or a
+/// case-insensitive match), if any.
+pub fn closest_name<'a>(name: &str, valid: &[&'a str]) -> Option<&'a str> {
+    let lower = name.to_ascii_lowercase();
+    valid
+        .iter()
+        .map(|v| (edit_distance(&lower, v), *v))
+        .filter(|(d, v)| *d <= 2 && *d < v.len())
+        .min_by_key(|(d, _)| *d)
+        .map(|(_, v)| v)
+}
+
+#[cfg(feature = "std")]
+/// Levenshtein distance of two short strings (bytes).
+fn edit_distance(a: &str, b: &str) -> usize {
+    let (a, b) = (a.as_bytes(), b.as_bytes());
+    let mut prev: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.iter().enumerate() {
+        let mut cur = vec![i + 1; b.len() + 1];
+        for (j, cb) in b.iter().enumerate() {
+            let sub = prev[j] + usize::from(ca != cb);
+            cur[j + 1] = sub.min(prev[j + 1] + 1).min(cur[j] + 1);
+        }
+        prev = cur;
+    }
+    prev[b.len()]
+}
+
+#[cfg(all(test, feature = "std"))]
+mod name_tests {
+    use super::{blocks, scalars_of};
+
+    #[test]
+    fn keys_stand_for_a_scalar_or_a_whole_block() {
+        let names = [
+            "speed", "gyro[0]", "gyro[1]", "gyro[2]", "c[0][0]", "c[0][1]",
+        ];
+        let cases: [(&str, &[usize]); 5] = [
+            ("speed", &[0]),
+            ("gyro", &[1, 2, 3]),
+            ("gyro[2]", &[3]),
+            ("c", &[4, 5]),
+            ("gyr", &[]),
+        ];
+        for (key, expected) in cases {
+            assert_eq!(scalars_of(&names, key), expected, "{key}");
+        }
+        assert_eq!(blocks(&names), ["speed", "gyro", "c"]);
+    }
 }

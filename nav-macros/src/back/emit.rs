@@ -606,6 +606,32 @@ impl<'a> Emitter<'a> {
                     noise: &[#(#noise_at),*],
                 };
         };
+        let visit_sensor = {
+            let arms = self.decl.sensors.iter().zip(&d.sensors).map(|(sd, ds)| {
+                let ty = format_ident!("{}{}", self.name, sd.name);
+                let name = sd.name.to_string();
+                let m = lit(ds.m);
+                quote!(#name => ::core::option::Option::Some(visitor.visit::<#ty, #m>()),)
+            });
+            let scalar = &self.scalar;
+            let n = &self.n;
+            let names = self.decl.sensors.iter().map(|sd| sd.name.to_string());
+            quote! {
+                const DECLARED_SENSORS: &'static [&'static str] = &[#(#names),*];
+                fn visit_sensor<V: ::nav_runtime::model::SensorVisitor<Self, #n, #scalar>>(
+                    name: &str,
+                    visitor: V,
+                ) -> ::core::option::Option<V::Output> {
+                    match name {
+                        #(#arms)*
+                        _ => {
+                            let _ = visitor;
+                            ::core::option::Option::None
+                        }
+                    }
+                }
+            }
+        };
         let (pb_body, pb_ops, pb_doc, pb_observed) = match &pr.unrolled {
             Some(entries) => {
                 let pb = self.body(&entries.iter().map(|e| e.2).collect::<Vec<_>>(), quote!(_p));
@@ -862,6 +888,7 @@ impl<'a> Emitter<'a> {
                     #pb_body
                 }
                 #pb_observed
+                #visit_sensor
             }
         }
     }

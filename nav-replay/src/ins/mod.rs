@@ -12,6 +12,7 @@
 
 mod aiding;
 pub mod output;
+mod own_sensors;
 pub mod plots;
 pub mod replay_loop;
 pub mod score;

@@ -355,6 +355,24 @@ pub(super) fn output_of<V: InsVehicle<N>, const N: usize>(
             "roll": e.roll.to_degrees(), "pitch": e.pitch.to_degrees(), "yaw": e.yaw.to_degrees(),
         }),
     );
+    // The states the nominal solution does not keep (a user block's own:
+    // a water current, a scale factor): the filter's final estimate and
+    // sigma of each, by declared name.
+    let absorbed = run.final_filter.nominal().layout().absorbed::<N>();
+    let x = run.final_filter.ekf().state();
+    let p = run.final_filter.covariance();
+    let own: Map<String, Value> = (0..N)
+        .filter(|&i| !absorbed[i])
+        .map(|i| {
+            (
+                V::STATE_NAMES[i].to_string(),
+                json!({"value": x[i], "sigma": p[(i, i)].max(0.0).sqrt()}),
+            )
+        })
+        .collect();
+    if !own.is_empty() {
+        out.metrics.insert("own_states".into(), Value::Object(own));
+    }
     if let (true, true, Some(s)) = (tables, options.keep_series, scored) {
         out.tables.push(s.table);
         if let Some(sm) = smoothed {

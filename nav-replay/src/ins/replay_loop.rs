@@ -20,6 +20,7 @@ use nav_runtime::smoother::{smooth_states, EpochFile, SmootherError, SpillFile};
 use nav_runtime::strapdown::RateSamples;
 
 use super::aiding::{place, Aiding, Travelling};
+use super::own_sensors::OwnSensors;
 use super::setup::{setup_error, FilterOptions, InsRun, LogFacts, LogPlan, MAX_GAP_STEPS};
 use crate::RunError;
 use nav_ins::vehicle::{Layout, Slot};
@@ -103,7 +104,9 @@ where
     Layout::of::<V, N>()?;
     let (facts, imu, heads) = LogFacts::of(source, options)?;
     let (plan, mut aiding) = plan_run::<V, N>(source, options, &facts)?;
-    let (builder, handles) = plan.builder::<V, N>(options);
+    let mut own = OwnSensors::<V, N>::read(source)?;
+    let (mut builder, handles) = plan.builder::<V, N>(options);
+    own.register(&mut builder, source)?;
     let samples = match source.imu_form()? {
         ImuForm::Rates => RateSamples::Instantaneous,
         ImuForm::Increments => RateSamples::IntervalAverage,
@@ -226,6 +229,7 @@ where
                 let held = sample(&previous);
                 for m in 1..steps as usize {
                     let t = previous.t + gap * (m as f64 / steps);
+                    own.push_due(t, &mut nav)?;
                     while let Some(ev) = aiding.due(t) {
                         ev.push(&mut nav, &handles);
                         last_input = Some(ev);
@@ -243,6 +247,7 @@ where
                 }
             }
         }
+        own.push_due(row.t, &mut nav)?;
         while let Some(ev) = aiding.due(row.t) {
             ev.push(&mut nav, &handles);
             last_input = Some(ev);
@@ -290,6 +295,7 @@ where
     while let Some(ev) = aiding.next() {
         ev.push(&mut nav, &handles);
     }
+    own.push_rest(&mut nav)?;
     let mut result = Ok(());
     nav.flush_estimates(|_, e| {
         if result.is_ok() {
@@ -326,12 +332,14 @@ where
     let replays = nav.replays();
     let mut all_warnings = aiding.warnings;
     all_warnings.extend(warnings);
+    all_warnings.append(&mut own.warnings);
     // The four SDINS sensors always; the others when the vehicle has them
     // or the log has their file.
-    let health = (0..SENSORS)
+    let mut health: Vec<_> = (0..SENSORS)
         .filter(|&i| i < 4 || aiding.present[i] || has_file[i])
         .map(|i| (SENSOR_NAMES[i], health[i]))
         .collect();
+    health.extend(own.health(&nav));
     Ok(InsRun {
         estimates: Vec::new(),
         imu_span: (first.t, previous.t),

@@ -115,24 +115,8 @@ type Result<T> = std::result::Result<T, ModelReplayError>;
 /// # Errors
 /// See the module docs.
 pub fn parse(text: &str, file: &str, declared: &Declared) -> Result<Mapping> {
-    let err = |key: &str, problem: String| ModelReplayError::Mapping {
-        file: file.to_string(),
-        key: key.to_string(),
-        line: None,
-        problem,
-    };
-    let table: Table = text.parse().map_err(|e: toml::de::Error| {
-        let line = e.span().map(|s| {
-            let before = &text.as_bytes()[..s.start.min(text.len())];
-            1 + before.iter().filter(|b| **b == b'\n').count() as u64
-        });
-        ModelReplayError::Mapping {
-            file: file.to_string(),
-            key: String::new(),
-            line,
-            problem: e.message().to_string(),
-        }
-    })?;
+    let err = mapping_error(file);
+    let table = read_table(text, file)?;
     let cx = Cx { err: &err };
     cx.known_keys(
         "",
@@ -171,7 +155,7 @@ pub fn parse(text: &str, file: &str, declared: &Declared) -> Result<Mapping> {
     )?;
 
     let params = cx.values(&table, "parameters", declared.params, declared.model)?;
-    let noise = cx.values(&table, "noise", declared.noise, declared.model)?;
+    let noise = cx.values(&table, "noise", &declared.noise, declared.model)?;
     // A noise input is a variance (or a density): never negative. The
     // filter would refuse it without naming the key.
     for (i, q) in noise.iter().enumerate() {
@@ -212,125 +196,7 @@ pub fn parse(text: &str, file: &str, declared: &Declared) -> Result<Mapping> {
         }
     }
 
-    // [sensors.<name>]
-    let mut sensors: Vec<Option<SensorMapping>> = vec![None; declared.sensors.len()];
-    if let Some(section) = cx.table(&table, "sensors")? {
-        let names: Vec<&str> = declared.sensors.iter().map(|s| s.name).collect();
-        for (name, value) in section {
-            let key = format!("sensors.{name}");
-            let Some(k) = names.iter().position(|n| n == name) else {
-                let mut problem = format!(
-                    "model {} has no registered sensor `{name}` (sensors: {})",
-                    declared.model,
-                    names.join(", ")
-                );
-                if let Some(close) = closest_name(name, &names) {
-                    problem.push_str(&format!("; did you mean `{close}`?"));
-                }
-                return Err(err(&key, problem));
-            };
-            let Value::Table(s) = value else {
-                return Err(err(&key, "expected a table".into()));
-            };
-            cx.known_keys(&key, s, &["file", "time", "z", "sigma", "gate", "aux"])?;
-            let sensor = declared.sensors[k];
-            let outputs: Vec<String> = (0..sensor.outputs).map(|i| format!("z[{i}]")).collect();
-            let outputs: Vec<&str> = outputs.iter().map(String::as_str).collect();
-            let z = s.get("z").ok_or_else(|| {
-                err(
-                    &format!("{key}.z"),
-                    format!(
-                        "missing: one column per output of sensor {name} ({} outputs)",
-                        sensor.outputs
-                    ),
-                )
-            })?;
-            let mut cells = cx.cells(&format!("{key}.z"), z, sensor.outputs)?;
-            let aux = cx.table(s, "aux")?;
-            let mut aux_cells: Vec<Option<Cell>> = vec![None; sensor.aux.len()];
-            if let Some(aux) = aux {
-                cx.fill(
-                    &format!("{key}.aux"),
-                    aux,
-                    sensor.aux,
-                    "auxiliary input",
-                    name,
-                    &mut aux_cells,
-                )?;
-            }
-            for (i, c) in aux_cells.into_iter().enumerate() {
-                match c {
-                    Some(c) => cells.push(c),
-                    None => {
-                        return Err(err(
-                            &format!("{key}.aux"),
-                            format!(
-                            "sensor {name} needs its auxiliary input `{}` (a value or a column)",
-                            sensor.aux[i]
-                        ),
-                        ))
-                    }
-                }
-            }
-            let sigma_value = s.get("sigma").ok_or_else(|| {
-                err(
-                    &format!("{key}.sigma"),
-                    "missing: the measurement noise sigma (a number, or one per output)".into(),
-                )
-            })?;
-            let sigma = cx.numbers(&format!("{key}.sigma"), sigma_value, outputs.len())?;
-            if let Some(bad) = sigma
-                .iter()
-                .find(|s| **s <= 0.0 || !(**s * **s).is_finite())
-            {
-                return Err(err(
-                    &format!("{key}.sigma"),
-                    format!("{bad} is not a sigma (finite, > 0, its square finite)"),
-                ));
-            }
-            let gate = match s.get("gate") {
-                None => Some(DEFAULT_GATE),
-                Some(Value::Boolean(false)) => None,
-                Some(v) => {
-                    let p = cx.number(&format!("{key}.gate"), v)?;
-                    if !(p > 0.0 && p < 1.0) {
-                        return Err(err(
-                            &format!("{key}.gate"),
-                            format!("{p} is not a probability in (0, 1) (or `false`: no gate)"),
-                        ));
-                    }
-                    Some(p)
-                }
-            };
-            let file = cx.file(&key, s)?;
-            let time = cx.time(&key, s)?;
-            sensors[k] = Some(SensorMapping {
-                source: Source {
-                    file,
-                    section: key,
-                    time,
-                    cells,
-                    required: true,
-                },
-                sigma,
-                gate,
-            });
-        }
-    }
-    for (s, m) in declared.sensors.iter().zip(&sensors) {
-        if m.is_none() {
-            warnings.push(Warning {
-                kind: WarningKind::MissingSensorSection,
-                file: Some(file.to_string()),
-                line: None,
-                key: Some(format!("sensors.{}", s.name)),
-                message: format!(
-                    "{file} has no [sensors.{}]: sensor {} is not fed by the log",
-                    s.name, s.name
-                ),
-            });
-        }
-    }
+    let sensors = cx.sensors(&table, declared, file, &mut warnings)?;
 
     // [truth]
     let truth = match cx.table(&table, "truth")? {
@@ -373,6 +239,95 @@ pub fn parse(text: &str, file: &str, declared: &Declared) -> Result<Mapping> {
     })
 }
 
+/// The error of mapping file `file` at a key.
+fn mapping_error(file: &str) -> impl Fn(&str, String) -> ModelReplayError + '_ {
+    move |key: &str, problem: String| ModelReplayError::Mapping {
+        file: file.to_string(),
+        key: key.to_string(),
+        line: None,
+        problem,
+    }
+}
+
+/// `text` as TOML, a syntax error placed at its line.
+fn read_table(text: &str, file: &str) -> Result<Table> {
+    text.parse().map_err(|e: toml::de::Error| {
+        let line = e.span().map(|s| {
+            let before = &text.as_bytes()[..s.start.min(text.len())];
+            1 + before.iter().filter(|b| **b == b'\n').count() as u64
+        });
+        ModelReplayError::Mapping {
+            file: file.to_string(),
+            key: String::new(),
+            line,
+            problem: e.message().to_string(),
+        }
+    })
+}
+
+/// The part of a mapping file an INS vehicle's replay reads
+/// (`docs/pipeline.md`, "Sensors of your own"): what the navigator does
+/// not know by kind, named as declared.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AidingMapping {
+    /// `[noise]`: the declared process noise beyond the INS core's, per
+    /// scalar of `Declared::noise`.
+    pub noise: Vec<f64>,
+    /// `[initial.sigma]`: per scalar of `Declared::states` (the states the
+    /// nominal solution does not keep).
+    pub sigma: Vec<f64>,
+    /// Per sensor of `Declared::sensors` (those no reading kind feeds).
+    pub sensors: Vec<Option<SensorMapping>>,
+    /// What the mapping leaves out.
+    pub warnings: Vec<Warning>,
+}
+
+/// Checks `text` (the mapping file `file` of an INS vehicle's log) against
+/// `declared`: its sensors fed by name, its noise and states beyond the
+/// navigator's. Sections: `[sensors.<name>]` as in [`parse`], `[noise]`,
+/// `[initial.sigma]`.
+///
+/// # Errors
+/// As [`parse`].
+pub fn parse_aiding(text: &str, file: &str, declared: &Declared) -> Result<AidingMapping> {
+    let err = mapping_error(file);
+    let table = read_table(text, file)?;
+    let cx = Cx { err: &err };
+    cx.known_keys("", &table, &["noise", "initial", "sensors"])?;
+    let noise = cx.values(&table, "noise", &declared.noise, declared.model)?;
+    if let Some((i, q)) = noise.iter().enumerate().find(|(_, q)| **q < 0.0) {
+        return Err(err(
+            &format!("noise.{}", declared.noise[i]),
+            format!("{q} is negative: a noise intensity (variance or density) is >= 0"),
+        ));
+    }
+    let empty = Table::new();
+    let initial = cx.table(&table, "initial")?.unwrap_or(&empty);
+    cx.known_keys("initial", initial, &["sigma"])?;
+    let sigma = cx.values(initial, "sigma", &declared.states, declared.model)?;
+    if let Some((i, s)) = sigma
+        .iter()
+        .enumerate()
+        .find(|(_, s)| **s < 0.0 || !(**s * **s).is_finite())
+    {
+        return Err(err(
+            "initial.sigma",
+            format!(
+                "`{}`: {s} is not a sigma (finite, >= 0, its square finite)",
+                declared.states[i]
+            ),
+        ));
+    }
+    let mut warnings = Vec::new();
+    let sensors = cx.sensors(&table, declared, file, &mut warnings)?;
+    Ok(AidingMapping {
+        noise,
+        sigma,
+        sensors,
+        warnings,
+    })
+}
+
 /// Each scalar from the column of its own name.
 fn by_name(section: &str, names: &[&str], required: bool) -> Vec<Cell> {
     names
@@ -402,6 +357,138 @@ fn join(section: &str, key: &str) -> String {
 }
 
 impl Cx<'_> {
+    /// `[sensors.<name>]`: per sensor of `declared`, its mapping (`None`:
+    /// not fed, with a warning naming the sensor).
+    fn sensors(
+        &self,
+        table: &Table,
+        declared: &Declared,
+        file: &str,
+        warnings: &mut Vec<Warning>,
+    ) -> Result<Vec<Option<SensorMapping>>> {
+        let cx = self;
+        let err = self.err;
+        let mut sensors: Vec<Option<SensorMapping>> = vec![None; declared.sensors.len()];
+        if let Some(section) = cx.table(table, "sensors")? {
+            let names: Vec<&str> = declared.sensors.iter().map(|s| s.name).collect();
+            for (name, value) in section {
+                let key = format!("sensors.{name}");
+                let Some(k) = names.iter().position(|n| n == name) else {
+                    let mut problem = format!(
+                        "model {} has no registered sensor `{name}` (sensors: {})",
+                        declared.model,
+                        names.join(", ")
+                    );
+                    if let Some(close) = closest_name(name, &names) {
+                        problem.push_str(&format!("; did you mean `{close}`?"));
+                    }
+                    return Err(err(&key, problem));
+                };
+                let Value::Table(s) = value else {
+                    return Err(err(&key, "expected a table".into()));
+                };
+                cx.known_keys(&key, s, &["file", "time", "z", "sigma", "gate", "aux"])?;
+                let sensor = declared.sensors[k];
+                let outputs: Vec<String> = (0..sensor.outputs).map(|i| format!("z[{i}]")).collect();
+                let outputs: Vec<&str> = outputs.iter().map(String::as_str).collect();
+                let z = s.get("z").ok_or_else(|| {
+                    err(
+                        &format!("{key}.z"),
+                        format!(
+                            "missing: one column per output of sensor {name} ({} outputs)",
+                            sensor.outputs
+                        ),
+                    )
+                })?;
+                let mut cells = cx.cells(&format!("{key}.z"), z, sensor.outputs)?;
+                let aux = cx.table(s, "aux")?;
+                let mut aux_cells: Vec<Option<Cell>> = vec![None; sensor.aux.len()];
+                if let Some(aux) = aux {
+                    cx.fill(
+                        &format!("{key}.aux"),
+                        aux,
+                        sensor.aux,
+                        "auxiliary input",
+                        name,
+                        &mut aux_cells,
+                    )?;
+                }
+                for (i, c) in aux_cells.into_iter().enumerate() {
+                    match c {
+                        Some(c) => cells.push(c),
+                        None => {
+                            return Err(err(
+                                &format!("{key}.aux"),
+                                format!(
+                            "sensor {name} needs its auxiliary input `{}` (a value or a column)",
+                            sensor.aux[i]
+                        ),
+                            ))
+                        }
+                    }
+                }
+                let sigma_value = s.get("sigma").ok_or_else(|| {
+                    err(
+                        &format!("{key}.sigma"),
+                        "missing: the measurement noise sigma (a number, or one per output)".into(),
+                    )
+                })?;
+                let sigma = cx.numbers(&format!("{key}.sigma"), sigma_value, outputs.len())?;
+                if let Some(bad) = sigma
+                    .iter()
+                    .find(|s| **s <= 0.0 || !(**s * **s).is_finite())
+                {
+                    return Err(err(
+                        &format!("{key}.sigma"),
+                        format!("{bad} is not a sigma (finite, > 0, its square finite)"),
+                    ));
+                }
+                let gate = match s.get("gate") {
+                    None => Some(DEFAULT_GATE),
+                    Some(Value::Boolean(false)) => None,
+                    Some(v) => {
+                        let p = cx.number(&format!("{key}.gate"), v)?;
+                        if !(p > 0.0 && p < 1.0) {
+                            return Err(err(
+                                &format!("{key}.gate"),
+                                format!("{p} is not a probability in (0, 1) (or `false`: no gate)"),
+                            ));
+                        }
+                        Some(p)
+                    }
+                };
+                let file = cx.file(&key, s)?;
+                let time = cx.time(&key, s)?;
+                sensors[k] = Some(SensorMapping {
+                    source: Source {
+                        file,
+                        section: key,
+                        time,
+                        cells,
+                        required: true,
+                    },
+                    sigma,
+                    gate,
+                });
+            }
+        }
+        for (s, m) in declared.sensors.iter().zip(&sensors) {
+            if m.is_none() {
+                warnings.push(Warning {
+                    kind: WarningKind::MissingSensorSection,
+                    file: Some(file.to_string()),
+                    line: None,
+                    key: Some(format!("sensors.{}", s.name)),
+                    message: format!(
+                        "{file} has no [sensors.{}]: sensor {} is not fed by the log",
+                        s.name, s.name
+                    ),
+                });
+            }
+        }
+        Ok(sensors)
+    }
+
     fn known_keys(&self, section: &str, table: &Table, allowed: &[&str]) -> Result<()> {
         for k in table.keys() {
             if !allowed.contains(&k.as_str()) {

@@ -56,11 +56,12 @@ pub use declared::{Declared, DeclaredSensor};
 pub use error::ModelReplayError;
 pub use feed::{Feed, FeedOf};
 pub use mapping::{
-    parse as parse_mapping, Cell, Column, InitialEstimate, Mapping, SensorMapping, Source,
-    DEFAULT_GATE, MAPPING_FILE, TRUTH_FILE,
+    parse as parse_mapping, parse_aiding, AidingMapping, Cell, Column, InitialEstimate, Mapping,
+    SensorMapping, Source, DEFAULT_GATE, MAPPING_FILE, TRUTH_FILE,
 };
 pub use program::run_json;
 pub use run::{angle_states, quaternion_blocks, ModelRun, RunOptions, SensorSummary, TruthScore};
+pub(crate) use table::MappedRows;
 
 /// The replay of declared model `M` (`N` states) and its registered
 /// sensors (see the module docs).

@@ -24,6 +24,13 @@
 //! attitude error it is `I - [phi/2 x]`, whose effect on `P` is second order in
 //! the small correction and is neglected, as in the paper).
 //!
+//! **States the nominal does not keep.** A block may bring states the
+//! nominal solution has no place for (a water current, the scale factor of a
+//! user's speed log). [`NominalState::absorbs`] says which: those states are
+//! not injected and not reset; they stay in the filter's state as
+//! total-state estimates, propagated by the model and read by `h` as they
+//! are. Their linearization point is the estimate itself, as in a plain EKF.
+//!
 //! **What sensors read.** A sensor's `h(x, u, p, aux)` and `H` read the error
 //! model's input `u`, and for most error-state models (the AHRS of docs/ulog.md,
 //! the INS core) `u` carries a copy of the nominal solution (the attitude
@@ -52,6 +59,18 @@ pub trait NominalState<const N: usize> {
     /// corrected solution is zero: for additive states `x <- x - error[i]`, for
     /// attitude the small rotation that undoes `phi` (see the module docs).
     fn inject(&mut self, error: &SVector<f64, N>);
+
+    /// Whether the feedback hands error state `i` to this nominal (the
+    /// default: every state). A state the nominal does not take in stays in
+    /// the filter's state vector as a total-state estimate, never reset: a
+    /// calibration or environment state of a block the nominal solution does
+    /// not know (a water current, a scale factor), whose `h` then reads the
+    /// estimate itself (see the module docs, "States the nominal does not
+    /// keep").
+    fn absorbs(&self, i: usize) -> bool {
+        let _ = i;
+        true
+    }
 }
 
 /// A nominal state that integrates its own IMU samples (the strapdown
@@ -92,7 +111,8 @@ pub struct ErrorStateFilter<Mo: Model<N>, Nom, const N: usize> {
 
 impl<Mo: Model<N>, Nom: NominalState<N>, const N: usize> ErrorStateFilter<Mo, Nom, N> {
     /// Wraps `ekf` and `nominal`. A non-zero initial error estimate in `ekf` is
-    /// injected at once, so the error state starts at zero.
+    /// injected at once, so the error state starts at zero (but for the
+    /// states the nominal does not absorb, which keep their initial value).
     pub fn new(ekf: Ekf<Mo, N>, nominal: Nom) -> Self {
         let mut filter = Self {
             ekf,
@@ -104,7 +124,7 @@ impl<Mo: Model<N>, Nom: NominalState<N>, const N: usize> ErrorStateFilter<Mo, No
             recording: None,
         };
         if filter.ekf.state().iter().any(|v| *v != 0.0) {
-            filter.feedback();
+            filter.feedback(&SVector::zeros());
         }
         filter
     }
@@ -207,9 +227,10 @@ impl<Mo: Model<N>, Nom: NominalState<N>, const N: usize> ErrorStateFilter<Mo, No
         self.refresh_sensor_input();
         #[cfg(feature = "std")]
         let before = self.recording.is_some().then(|| *self.ekf.covariance());
+        let state_before = *self.ekf.state();
         let report = self.ekf.update::<S, M>(z, r, aux)?;
         if report.accepted {
-            let _error = self.feedback();
+            let _error = self.feedback(&state_before);
             #[cfg(feature = "std")]
             if let (Some(rec), Some(before)) = (self.recording.as_mut(), before) {
                 rec.updating(&before, SVector::zeros());
@@ -236,9 +257,10 @@ impl<Mo: Model<N>, Nom: NominalState<N>, const N: usize> ErrorStateFilter<Mo, No
         self.refresh_sensor_input();
         #[cfg(feature = "std")]
         let before = self.recording.is_some().then(|| *self.ekf.covariance());
+        let state_before = *self.ekf.state();
         let report = self.ekf.update_sequential::<S, M>(z, r_diag, aux)?;
         if report.accepted {
-            let _error = self.feedback();
+            let _error = self.feedback(&state_before);
             #[cfg(feature = "std")]
             if let (Some(rec), Some(before)) = (self.recording.as_mut(), before) {
                 rec.updating(&before, SVector::zeros());
@@ -259,14 +281,31 @@ impl<Mo: Model<N>, Nom: NominalState<N>, const N: usize> ErrorStateFilter<Mo, No
         }
     }
 
-    /// Injects the current error estimate into the nominal state and resets it.
-    fn feedback(&mut self) -> SVector<f64, N> {
-        let error = *self.ekf.state();
-        self.nominal.inject(&error);
-        self.ekf.reset_state();
+    /// Injects the current error estimate into the nominal state and resets
+    /// it; states the nominal does not absorb ([`NominalState::absorbs`])
+    /// stay in the filter's state. Returns the update's correction (the
+    /// state after the update minus `before`, the state before it): the
+    /// error fed back when every state is absorbed.
+    fn feedback(&mut self, before: &SVector<f64, N>) -> SVector<f64, N> {
+        let estimate = *self.ekf.state();
+        let mut absorbed = estimate;
+        let mut kept = false;
+        for (i, e) in absorbed.iter_mut().enumerate() {
+            if !self.nominal.absorbs(i) {
+                *e = 0.0;
+                kept = true;
+            }
+        }
+        self.nominal.inject(&absorbed);
+        if kept {
+            // The kept part is finite: the update checked its result.
+            let _ = self.ekf.set_state(estimate - absorbed);
+        } else {
+            self.ekf.reset_state();
+        }
         self.resets += 1;
-        self.fed_back += error;
-        error
+        self.fed_back += absorbed;
+        estimate - before
     }
 }
 
@@ -511,6 +550,82 @@ mod tests {
         assert_eq!(esf.resets(), 400);
         // The bias is observable through position: estimated within 3 sigma.
         assert!((n.b - b_true).abs() < 3.0 * full.covariance()[(2, 2)].sqrt());
+    }
+
+    /// [`Toy`] that leaves the bias to the filter ([`NominalState::absorbs`]).
+    #[derive(Clone, Copy, Debug)]
+    struct ToyKeepingBias(Toy);
+
+    impl NominalState<3> for ToyKeepingBias {
+        fn inject(&mut self, e: &SVector<f64, 3>) {
+            assert_eq!(e[2], 0.0, "a kept state is never injected");
+            self.0.inject(e);
+        }
+        fn absorbs(&self, i: usize) -> bool {
+            i != 2
+        }
+    }
+
+    impl Mechanization<Cvb, 3> for ToyKeepingBias {
+        type Imu = CvbInput;
+        fn mechanize(&mut self, dt: f64, imu: &CvbInput) -> CvbInput {
+            self.0.mechanize(dt, imu)
+        }
+    }
+
+    /// A state the nominal does not absorb stays in the filter as a total
+    /// state: for a linear model the nominal minus the filter's state is
+    /// still the full-state estimate, and the kept state is never reset.
+    #[test]
+    fn a_state_the_nominal_does_not_keep_stays_in_the_filter() {
+        let x0 = SVector::<f64, 3>::new(1.0, 0.5, 0.02);
+        let mut full = Ekf::<Cvb, 3>::new(x0, p0(), (), NOISE)
+            .unwrap()
+            .with_default_gate(None);
+        let err = Ekf::<Cvb, 3>::new(SVector::zeros(), p0(), (), NOISE)
+            .unwrap()
+            .with_default_gate(None);
+        let toy = Toy {
+            p: 1.0,
+            v: 0.5,
+            b: 0.02,
+        };
+        let mut esf = ErrorStateFilter::new(err, ToyKeepingBias(toy));
+        let mut g = Gauss::new(11);
+        let r = SMatrix::<f64, 1, 1>::new(0.5);
+        let dt = 0.01;
+        let (mut p_true, mut v_true, b_true) = (0.0, 0.0, 0.05);
+        for k in 0..20_000 {
+            let a_true = (k as f64 * 0.003).sin();
+            let a_meas = a_true + b_true + 0.03 * g.normal();
+            p_true += v_true * dt;
+            v_true += a_true * dt;
+            full.predict(dt, &CvbInput { a: a_meas }).unwrap();
+            Propagate::propagate(&mut esf, dt, &CvbInput { a: a_meas }).unwrap();
+            if k % 50 == 49 {
+                let z = p_true + 0.7 * g.normal();
+                let rf = full
+                    .update::<Pos, 1>(&SVector::<f64, 1>::new(z), &r, &Offset::default())
+                    .unwrap();
+                let residual = esf.nominal().0.p - z;
+                let re = esf
+                    .update::<Pos, 1>(&SVector::<f64, 1>::new(residual), &r, &Offset::default())
+                    .unwrap();
+                assert!((rf.nis - re.nis).abs() < 1e-9 * (1.0 + rf.nis));
+                let x = esf.ekf().state();
+                assert_eq!((x[0], x[1]), (0.0, 0.0), "absorbed states reset");
+            }
+        }
+        let (n, x) = (esf.nominal().0, *esf.ekf().state());
+        assert_eq!(n.b, 0.02, "the nominal never saw the bias");
+        let got = SVector::<f64, 3>::new(n.p - x[0], n.v - x[1], n.b - x[2]);
+        assert!(
+            (got - full.state()).norm() < 1e-9 * (1.0 + full.state().norm()),
+            "{got} vs {}",
+            full.state()
+        );
+        assert!((esf.covariance() - full.covariance()).norm() < 1e-12);
+        assert!((n.b - x[2] - b_true).abs() < 3.0 * full.covariance()[(2, 2)].sqrt());
     }
 
     #[test]

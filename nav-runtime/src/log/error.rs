@@ -207,7 +207,7 @@ pub enum LogError {
         dir: PathBuf,
     },
     /// A `.csv` file that is not one of the log files (strict reading only).
-    #[error("{file}: unknown log file in {} (log files: {})", dir.display(), super::LOG_FILES.join(", "))]
+    #[error("{file}: unknown log file in {} (log files: {}; the file of a sensor fed by its declared name is named in replay.toml, [sensors.<name>] file)", dir.display(), super::LOG_FILES.join(", "))]
     UnknownFile {
         /// The file's name.
         file: String,

@@ -524,32 +524,7 @@ impl Meta {
 /// The top-level sections `meta.toml` is read from.
 const TOP_LEVEL: &[&str] = &["initial", "initial_sigma", "sensors", "usbl", "files"];
 
-/// The valid name closest to `name` (edit distance at most 2, or a
-/// case-insensitive match), if any.
-pub fn closest_name<'a>(name: &str, valid: &[&'a str]) -> Option<&'a str> {
-    let lower = name.to_ascii_lowercase();
-    valid
-        .iter()
-        .map(|v| (edit_distance(&lower, v), *v))
-        .filter(|(d, v)| *d <= 2 && *d < v.len())
-        .min_by_key(|(d, _)| *d)
-        .map(|(_, v)| v)
-}
-
-/// Levenshtein distance of two short strings (bytes).
-fn edit_distance(a: &str, b: &str) -> usize {
-    let (a, b) = (a.as_bytes(), b.as_bytes());
-    let mut prev: Vec<usize> = (0..=b.len()).collect();
-    for (i, ca) in a.iter().enumerate() {
-        let mut cur = vec![i + 1; b.len() + 1];
-        for (j, cb) in b.iter().enumerate() {
-            let sub = prev[j] + usize::from(ca != cb);
-            cur[j + 1] = sub.min(prev[j + 1] + 1).min(cur[j] + 1);
-        }
-        prev = cur;
-    }
-    prev[b.len()]
-}
+pub use crate::model::closest_name;
 
 #[derive(Clone, Copy)]
 enum Range {

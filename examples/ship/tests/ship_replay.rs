@@ -1,0 +1,277 @@
+//! A simulated voyage of the ship (`src/lib.rs`) written as a log directory
+//! a user would have (`imu.csv`, `gnss.csv`, `heading.csv`, the speed log's
+//! own `water_speed.csv`, `meta.toml`, `replay.toml`, `truth.csv`) and
+//! replayed through the ship's own program, smoothed, with plots.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use nav_runtime::earth::{meridian_radius, transverse_radius, Geodetic};
+use nav_runtime::nalgebra::Vector3;
+use nav_runtime::simulation::imu::{rates, ImuModel, ImuSpec};
+use nav_runtime::simulation::trajectory::{Trajectory, TrajectorySpec, TruthSource};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use rand_distr_free::normal;
+use serde_json::Value;
+
+/// Gaussian samples without another dependency (Box-Muller on the seeded RNG).
+mod rand_distr_free {
+    use rand::Rng;
+    pub fn normal<R: Rng>(rng: &mut R, sigma: f64) -> f64 {
+        let u1: f64 = rng.random::<f64>().max(1e-300);
+        let u2: f64 = rng.random::<f64>();
+        sigma * (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos()
+    }
+}
+
+/// The true water current (north, east; m/s) and speed-log scale error.
+const CURRENT: [f64; 2] = [0.4, -0.3];
+const LOG_SCALE: f64 = 0.02;
+/// Antenna position in body axes (m): on a 10-m mast.
+const ANTENNA: [f64; 3] = [0.0, 0.0, -10.0];
+const DURATION: f64 = 900.0;
+
+struct TempDir(PathBuf);
+
+impl TempDir {
+    fn new(tag: &str) -> Self {
+        let p = std::env::temp_dir().join(format!("ship-{tag}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&p);
+        std::fs::create_dir_all(&p).unwrap();
+        TempDir(p)
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        if std::env::var_os("SHIP_KEEP_LOG").is_some() {
+            return;
+        }
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// Writes the voyage (seed `seed`) into `dir`.
+fn write_voyage(dir: &Path, seed: u64) {
+    let start = Geodetic::new(0.6, 2.2, 0.0);
+    let mut spec = TrajectorySpec::new(start, 0.5, 4.0);
+    let mut t = 120.0;
+    for delta in [1.6, -2.1, 1.2, -1.0] {
+        t = spec.turn(t, delta) + 100.0;
+    }
+    let traj = Trajectory::new(spec, DURATION, 0.1);
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let imu_spec = ImuSpec::sdins25();
+    let mut imu = ImuModel::new(imu_spec, seed);
+    let mut text = String::from("t,gx,gy,gz,ax,ay,az\n");
+    for r in rates(&traj, 100.0, DURATION) {
+        let r = imu.corrupt_rate(&r);
+        let (w, f) = (r.w_ib_b, r.f_b);
+        let _ = writeln!(
+            text,
+            "{:?},{:?},{:?},{:?},{:?},{:?},{:?}",
+            r.t, w.x, w.y, w.z, f.x, f.y, f.z
+        );
+    }
+    std::fs::write(dir.join("imu.csv"), text).unwrap();
+
+    let (mut gnss, mut heading, mut speed, mut truth) = (
+        String::from("t,lat,lon,height,eph,epv,vn,ve,vd,speed_accuracy\n"),
+        String::from("t,heading\n"),
+        String::from("time,speed\n"),
+        String::from("t,lat,lon,depth,vn,ve,vd,roll,pitch,yaw\n"),
+    );
+    let compass_bias = 0.3_f64.to_radians();
+    for k in 1..=(DURATION as usize) {
+        let s = traj.truth(k as f64);
+        let arm = s.c_bn * Vector3::from(ANTENNA);
+        let (rm, rn) = (meridian_radius(s.lat) + s.h, transverse_radius(s.lat) + s.h);
+        let north = arm.x + normal(&mut rng, 1.5);
+        let east = arm.y + normal(&mut rng, 1.5);
+        let _ = writeln!(
+            gnss,
+            "{:?},{:?},{:?},{:?},,,,,,",
+            s.t,
+            s.lat + north / rm,
+            s.lon + east / (rn * s.lat.cos()),
+            s.h - arm.z + normal(&mut rng, 1.5)
+        );
+        let _ = writeln!(
+            heading,
+            "{:?},{:?}",
+            s.t,
+            s.euler.yaw + compass_bias + normal(&mut rng, 0.1_f64.to_radians())
+        );
+        let water = s.c_bn.transpose() * (s.v_n - Vector3::new(CURRENT[0], CURRENT[1], 0.0));
+        let _ = writeln!(
+            speed,
+            "{:?},{:?}",
+            s.t,
+            (1.0 + LOG_SCALE) * water.x + normal(&mut rng, 0.03)
+        );
+    }
+    for k in 0..=(DURATION as usize * 10) {
+        let s = traj.truth(k as f64 * 0.1);
+        let _ = writeln!(
+            truth,
+            "{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?}",
+            s.t,
+            s.lat,
+            s.lon,
+            s.depth(),
+            s.v_n.x,
+            s.v_n.y,
+            s.v_n.z,
+            s.euler.roll,
+            s.euler.pitch,
+            s.euler.yaw
+        );
+    }
+    for (name, text) in [
+        ("gnss.csv", gnss),
+        ("heading.csv", heading),
+        ("water_speed.csv", speed),
+        ("truth.csv", truth),
+    ] {
+        std::fs::write(dir.join(name), text).unwrap();
+    }
+    let s0 = traj.truth(0.0);
+    let meta = format!(
+        "[initial]\nt = 0.0\nlat = {:?}\nlon = {:?}\ndepth = {:?}\nvn = {:?}\nve = {:?}\nvd = 0.0\nroll = {:?}\npitch = {:?}\nyaw = {:?}\n\n\
+         [initial_sigma]\nposition = 3.0\nvelocity = 0.5\nlevel = 0.002\nheading = 0.02\n\n\
+         [sensors.imu]\ngyro_bias_sigma = {:?}\ngyro_noise_sigma = {:?}\naccel_bias_sigma = {:?}\naccel_noise_sigma = {:?}\n\n\
+         [sensors.gnss]\nbias_sigma = 0.0\nnoise_sigma = 1.5\nlever_arm = [0.0, 0.0, -10.0]\n\n\
+         [sensors.heading]\nbias_sigma = 0.01\nnoise_sigma = 0.002\n",
+        s0.lat,
+        s0.lon,
+        s0.depth(),
+        s0.v_n.x,
+        s0.v_n.y,
+        s0.euler.roll,
+        s0.euler.pitch,
+        s0.euler.yaw + 0.01,
+        imu_spec.gyro_bias,
+        imu_spec.gyro_noise,
+        imu_spec.accel_bias,
+        imu_spec.accel_noise,
+    );
+    std::fs::write(dir.join("meta.toml"), meta).unwrap();
+    std::fs::write(
+        dir.join("replay.toml"),
+        "# The ship's own sensor, states and noise, by their declared names.\n\
+         [sensors.WaterSpeed]\nfile = \"water_speed.csv\"\ntime = \"time\"\nz = \"speed\"\nsigma = 0.03\n\n\
+         [noise]\ncurrent_noise = 1e-8\n\n\
+         [initial.sigma]\ncurrent = 1.0\nlog_scale = 0.05\n",
+    )
+    .unwrap();
+}
+
+fn ship(args: &[&str]) -> (bool, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_ship"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// The speed log's own states converge to the simulated truth, the ship
+/// navigates on GNSS and compass, and the smoothed run and plots are written.
+#[test]
+fn the_ship_replays_through_its_own_program() {
+    let log = TempDir::new("log");
+    write_voyage(&log.0, 7);
+    let out = TempDir::new("out");
+    let out_dir = out.0.join("run");
+    let (ok, stdout, stderr) = ship(&[
+        "replay",
+        log.0.to_str().unwrap(),
+        "--json",
+        "--smooth",
+        "--out",
+        out_dir.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}\n{stdout}");
+    let v: Value = serde_json::from_str(&stdout).unwrap();
+    let health = &v["health"]["WaterSpeed"];
+    let rows = health["rows"].as_u64().unwrap();
+    let accepted = health["accepted"].as_u64().unwrap();
+    assert_eq!(rows, DURATION as u64, "{v}");
+    assert!(accepted as f64 >= 0.95 * rows as f64, "{health}");
+    let own = &v["own_states"];
+    for (name, truth) in [
+        ("current[0]", CURRENT[0]),
+        ("current[1]", CURRENT[1]),
+        ("log_scale", LOG_SCALE),
+    ] {
+        let (value, sigma) = (
+            own[name]["value"].as_f64().unwrap(),
+            own[name]["sigma"].as_f64().unwrap(),
+        );
+        assert!(
+            (value - truth).abs() < 4.0 * sigma && sigma < 0.05,
+            "{name}: {value} +- {sigma}, true {truth}"
+        );
+    }
+    let rms = v["horizontal_error_rms_m"].as_f64().unwrap();
+    assert!(rms < 3.0, "horizontal RMS {rms} m");
+    assert!(v["smoothed"]["horizontal_error_rms_m"].as_f64().unwrap() <= rms);
+    let svg: Vec<String> = std::fs::read_dir(&out_dir)
+        .unwrap()
+        .filter_map(|e| e.ok()?.file_name().into_string().ok())
+        .filter(|n| n.ends_with(".svg"))
+        .collect();
+    for plot in ["replay-track.svg", "replay-smoothed-horizontal.svg"] {
+        assert!(svg.iter().any(|n| n == plot), "{plot} not in {svg:?}");
+    }
+    assert!(out_dir.join("estimates.csv").is_file());
+}
+
+/// Mistakes in the ship's `replay.toml` are errors naming the key.
+#[test]
+fn the_ship_mapping_mistakes_are_named() {
+    let log = TempDir::new("mistakes");
+    write_voyage(&log.0, 8);
+    let cases: [(&str, &str); 5] = [
+        ("[sensors.WaterSped]\nfile = \"water_speed.csv\"\nz = \"speed\"\nsigma = 0.03\n[noise]\ncurrent_noise = 1e-8\n[initial.sigma]\ncurrent = 1.0\nlog_scale = 0.05\n", "did you mean `WaterSpeed`"),
+        ("[sensors.WaterSpeed]\nfile = \"water_speed.csv\"\ntime = \"time\"\nz = \"speed\"\nsigma = 0.03\n[initial.sigma]\ncurrent = 1.0\nlog_scale = 0.05\n", "current_noise"),
+        ("[sensors.WaterSpeed]\nfile = \"water_speed.csv\"\ntime = \"time\"\nz = \"speed\"\nsigma = 0.03\n[noise]\ncurrent_noise = 1e-8\n[initial.sigma]\ncurrent = 1.0\n", "log_scale"),
+        ("[sensors.GnssFix]\nfile = \"gnss.csv\"\nz = [\"lat\", \"lon\", \"height\"]\nsigma = 1.0\n", "fed by gnss.csv"),
+        ("[sensors.WaterSpeed]\nfile = \"../water_speed.csv\"\ntime = \"time\"\nz = \"speed\"\nsigma = 0.03\n[noise]\ncurrent_noise = 1e-8\n[initial.sigma]\ncurrent = 1.0\nlog_scale = 0.05\n", "water_speed.csv"),
+    ];
+    for (mapping, expected) in cases {
+        std::fs::write(log.0.join("replay.toml"), mapping).unwrap();
+        let (ok, stdout, stderr) = ship(&["replay", log.0.to_str().unwrap(), "--json"]);
+        assert!(!ok, "{mapping}: {stdout}");
+        assert!(stderr.contains(expected), "{mapping}: {stderr}");
+    }
+}
+
+/// Without `replay.toml` the speed log's file is not a log file (strict
+/// reading refuses it, naming where a sensor fed by name is declared); read
+/// leniently, the replay says which sensor no file feeds, and the states it
+/// has no sigma for stop it (never a silent default).
+#[test]
+fn the_ship_without_mapping_says_what_is_missing() {
+    let log = TempDir::new("nomap");
+    write_voyage(&log.0, 9);
+    std::fs::remove_file(log.0.join("replay.toml")).unwrap();
+    let dir = log.0.to_str().unwrap();
+    let (ok, stdout, stderr) = ship(&["replay", dir, "--json"]);
+    assert!(!ok, "{stdout}");
+    assert!(
+        stderr.contains("water_speed.csv") && stderr.contains("replay.toml"),
+        "{stderr}"
+    );
+    let (ok, stdout, stderr) = ship(&["replay", dir, "--json", "--lenient"]);
+    assert!(!ok, "{stdout}");
+    assert!(
+        stderr.contains("current") && stderr.contains("initial.sigma"),
+        "{stderr}"
+    );
+}
