@@ -50,6 +50,7 @@ fn main() -> ExitCode {
                 stationary: false,
                 max_gap_periods: 10.0,
                 smooth: false,
+                observability: false,
             };
             println!("navsim replay {} --model gnss-ins --json:", out.display());
             match nav_replay::program::replay_with(model.as_ref(), &args) {

@@ -89,6 +89,10 @@ struct ReplayCommand {
     /// Also smooth the run (fixed-interval smoother) and report both.
     #[arg(long)]
     smooth: bool,
+    /// Also report how much the log taught each state, and the weakest
+    /// combinations of states.
+    #[arg(long)]
+    observability: bool,
 }
 
 #[derive(Debug, Args)]
@@ -132,6 +136,7 @@ where
                 stationary: false,
                 max_gap_periods: c.max_gap_periods,
                 smooth: c.smooth,
+                observability: c.observability,
             },
         ),
         Command::Check(c) => check::<V, N>(&c),
@@ -245,6 +250,10 @@ pub struct ReplayArgs {
     /// Also smooth the run (fixed-interval smoother) and report both.
     #[arg(long)]
     pub smooth: bool,
+    /// Also report how much the log taught each state, and the weakest
+    /// combinations of states (INS vehicles).
+    #[arg(long)]
+    pub observability: bool,
 }
 
 /// Prints a result: one JSON line on stdout with `json`, otherwise human text.
@@ -273,6 +282,12 @@ pub fn replay_with(model: &dyn ReplayModel, args: &ReplayArgs) -> Result<(), Run
             model.name()
         )));
     }
+    if args.observability && !model.can_observe() {
+        return Err(RunError::Invalid(format!(
+            "--observability: model {} has no observability report yet (INS vehicles have)",
+            model.name()
+        )));
+    }
     if args.stationary && !model.has_stationary_mode() {
         return Err(RunError::Invalid(format!(
             "--stationary: model {} has no stationary mode",
@@ -287,6 +302,7 @@ pub fn replay_with(model: &dyn ReplayModel, args: &ReplayArgs) -> Result<(), Run
         keep_series: args.out.is_some(),
         smooth: args.smooth,
         lenient: args.lenient,
+        observability: args.observability,
     };
     // The JSON (`warnings` included) or text of a run's output.
     let result =

@@ -19,6 +19,9 @@ pub struct ReplayOptions {
     /// `--lenient`: a long IMU gap is propagated in bounded steps (with a
     /// warning) instead of in one step.
     pub lenient: bool,
+    /// `--observability`: report how much the log taught each state and the
+    /// weakest directions (`docs/observability.md`).
+    pub observability: bool,
 }
 
 /// What a replay model returns.
@@ -71,6 +74,11 @@ pub trait ReplayModel: Send + Sync {
     /// One line for `navsim list`.
     fn description(&self) -> &'static str {
         ""
+    }
+    /// Whether [`ReplayOptions::observability`] is supported (refused
+    /// otherwise).
+    fn can_observe(&self) -> bool {
+        false
     }
     /// Whether the model has a stationary measurement model (`--stationary`
     /// is refused otherwise).

@@ -209,6 +209,9 @@ impl<V: InsVehicle<N>, const N: usize> ReplayModel for InsReplay<V, N> {
     fn can_smooth(&self) -> bool {
         true
     }
+    fn can_observe(&self) -> bool {
+        true
+    }
     fn write_outputs(&self, output: &ReplayOutput, dir: &Path) -> Result<(), RunError> {
         for t in &output.tables {
             t.write_csv(&dir.join(format!("{}.csv", t.name)))?;

@@ -113,6 +113,7 @@ pub(super) fn replay_source<V: InsVehicle<N>, const N: usize>(
     Layout::of::<V, N>()?;
     let filter_options = FilterOptions {
         smooth: options.smooth,
+        observability: options.observability,
         max_imu_step: options.lenient.then_some(LENIENT_IMU_STEP_PERIODS),
         ..FilterOptions::default()
     };
@@ -373,6 +374,11 @@ pub(super) fn output_of<V: InsVehicle<N>, const N: usize>(
     if !own.is_empty() {
         out.metrics.insert("own_states".into(), Value::Object(own));
     }
+    if let Some(o) = &run.observability {
+        let (json, unlearned) = observability_json::<V, N>(o, &absorbed);
+        out.metrics.insert("observability".into(), json);
+        out.warnings.extend(unlearned);
+    }
     if let (true, true, Some(s)) = (tables, options.keep_series, scored) {
         out.tables.push(s.table);
         if let Some(sm) = smoothed {
@@ -388,4 +394,68 @@ pub(super) fn output_of<V: InsVehicle<N>, const N: usize>(
         out.metrics.insert("warnings".into(), Value::Array(list));
     }
     Ok(out)
+}
+
+/// A state asked to be estimated (a sensor bias, a state of the user's own
+/// block) that the log taught less than this is a warning.
+const NOT_LEARNED: f64 = 0.1;
+
+/// Coefficients smaller than this are left out of a direction.
+const SMALL_COEFFICIENT: f64 = 0.05;
+
+/// `observability` of the JSON (`docs/observability.md`): per state its
+/// `learned` fraction, the weakest directions with their coefficients by
+/// state name; and a warning per estimated state (not a navigation error)
+/// the log did not teach.
+fn observability_json<V: InsVehicle<N>, const N: usize>(
+    o: &nav_runtime::smoother::Observability<N>,
+    absorbed: &[bool; N],
+) -> (Value, Vec<Warning>) {
+    let navigation = |name: &str| {
+        ["position_error", "velocity_error", "attitude_error"]
+            .iter()
+            .any(|n| name.starts_with(n))
+    };
+    let mut states = Map::new();
+    let mut warnings = Vec::new();
+    for (i, name) in V::STATE_NAMES.iter().enumerate() {
+        let learned = o.learned[i];
+        if learned.is_nan() {
+            states.insert((*name).to_string(), json!({"learned": null, "fixed": true}));
+            continue;
+        }
+        states.insert((*name).to_string(), json!({"learned": learned}));
+        if learned < NOT_LEARNED && !navigation(name) {
+            let whose = if absorbed[i] {
+                ""
+            } else {
+                " (a state of the vehicle's own block)"
+            };
+            warnings.push(Warning::about(
+                WarningKind::Suspicious,
+                "observability",
+                format!(
+                    "state {name}{whose} was not learned on this log ({:.0} % of its prior sigma): its estimate is its prior",
+                    learned * 100.0
+                ),
+            ));
+        }
+    }
+    let weakest: Vec<Value> = o
+        .weakest
+        .iter()
+        .map(|d| {
+            let combination: Map<String, Value> = V::STATE_NAMES
+                .iter()
+                .zip(d.coefficients)
+                .filter(|(_, c)| c.abs() >= SMALL_COEFFICIENT)
+                .map(|(n, c)| ((*n).to_string(), Value::from(c)))
+                .collect();
+            json!({"learned": d.learned, "combination": combination})
+        })
+        .collect();
+    (
+        json!({"states": states, "weakest": weakest, "skipped_epochs": o.skipped_epochs}),
+        warnings,
+    )
 }

@@ -16,7 +16,7 @@ use nav_runtime::log::{
     LogSource, MagRow, UsblRow, Warning, WarningKind,
 };
 use nav_runtime::nalgebra::Vector3;
-use nav_runtime::smoother::{smooth_states, EpochFile, SmootherError, SpillFile};
+use nav_runtime::smoother::{observability, smooth_states, EpochFile, SmootherError, SpillFile};
 use nav_runtime::strapdown::RateSamples;
 
 use super::aiding::{place, Aiding, Travelling};
@@ -115,6 +115,9 @@ where
         .rate_samples(samples)
         .build(plan.first)
         .map_err(setup_error)?;
+    // The prior the observability report scales the states by.
+    let prior = nav.filter().covariance();
+    let prior_sigma: [f64; N] = std::array::from_fn(|i| prior[(i, i)].max(0.0).sqrt());
     let has_file = [
         source.has::<DepthRow>()?,
         source.has::<DvlRow>()?,
@@ -320,6 +323,18 @@ where
         .finish_recording()
         .map_err(|e| RunError::Invalid(e.to_string()))?;
     let layout = *final_filter.nominal().layout();
+    let observability = match (&recording, options.observability) {
+        (Some(store), true) => Some(
+            observability(
+                &mut store.borrow_mut(),
+                &prior_sigma,
+                OBSERVABILITY_FLOOR,
+                OBSERVABILITY_DIRECTIONS,
+            )
+            .map_err(smoother_error)?,
+        ),
+        _ => None,
+    };
     if let (Some(store), Some(forward)) = (recording, smoothing.as_mut()) {
         let mut smoothed = smoothed_estimates(&mut store.borrow_mut(), forward, &layout)?;
         // Written latest first: popped, they come in the order handed on.
@@ -352,9 +367,17 @@ where
         final_filter,
         ignored,
         smoothed: None,
+        observability,
         warnings: all_warnings,
     })
 }
+
+/// Prior sigmas at most this are the navigator's floor (a state known from
+/// the start): left out of the observability report.
+const OBSERVABILITY_FLOOR: f64 = 1.5e-9;
+
+/// Weakest directions reported.
+const OBSERVABILITY_DIRECTIONS: usize = 3;
 
 /// Time spent reading the log and handing estimates on, which
 /// [`InsRun::runtime_s`] (the filter's time) leaves out; measured only when

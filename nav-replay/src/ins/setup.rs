@@ -106,6 +106,10 @@ pub struct FilterOptions {
     /// Rauch-Tung-Striebel smoother, [`nav_runtime::smoother`]): the run then
     /// also has [`InsRun::smoothed`].
     pub smooth: bool,
+    /// Record the run and report its observability afterwards
+    /// ([`nav_runtime::smoother::observability`]): the run then also has
+    /// [`InsRun::observability`].
+    pub observability: bool,
 }
 
 /// [`FilterOptions::max_imu_step`] of `--lenient` replays (IMU periods).
@@ -177,6 +181,7 @@ impl Default for FilterOptions {
             bounds: Bounds::default(),
             max_imu_step: None,
             smooth: false,
+            observability: false,
         }
     }
 }
@@ -221,6 +226,8 @@ pub struct InsRun<V: InsVehicle<N>, const N: usize> {
     /// With [`FilterOptions::smooth`]: the smoothed estimates at the same
     /// times as [`InsRun::estimates`].
     pub smoothed: Option<Vec<Option<Estimate>>>,
+    /// With [`FilterOptions::observability`]: what the log taught each state.
+    pub observability: Option<nav_runtime::smoother::Observability<N>>,
 }
 
 impl<V: InsVehicle<N>, const N: usize> InsRun<V, N> {
@@ -710,7 +717,7 @@ impl LogPlan {
                 lockout_release: options.lockout_release,
                 stuck_false_alarm: options.stuck_false_alarm,
                 bounds: options.bounds,
-                smooth: options.smooth,
+                smooth: options.smooth || options.observability,
             })
             .usbl_transducer(self.transducer)
             .magnetic_declination(self.declination);

@@ -47,12 +47,14 @@
 
 mod backward;
 mod epoch;
+mod observability;
 mod recorder;
 mod spill;
 mod store;
 
 pub use backward::{smooth, smooth_states, SmoothedEpoch, States};
 pub use epoch::Epoch;
+pub use observability::{observability, Direction, Observability};
 pub use recorder::Recorder;
 pub use spill::SpillFile;
 pub use store::{EpochFile, SmootherError};

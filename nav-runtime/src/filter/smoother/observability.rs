@@ -1,0 +1,266 @@
+//! How much a recorded run taught each state, and which combinations of
+//! states it left undetermined (`docs/observability.md`).
+//!
+//! Every epoch with updates carries the information
+//! `I_k = (P_k+)^-1 - (P_k-)^-1` (for a linear update, `H^T R^-1 H`), and the
+//! recorded transitions map it back to the start of the run:
+//!
+//! ```text
+//! W = sum_k Phi(k, 0)^T I_k Phi(k, 0)
+//! ```
+//!
+//! the observability Gramian of the linearized system along the estimated
+//! trajectory, computed backwards over the [`EpochFile`] with
+//! `L_k = I_k + Phi_{k+1}^T L_{k+1} Phi_{k+1}` (no matrix is kept per epoch).
+//! In coordinates scaled by the prior sigmas (`x_i / sigma_i`) the posterior
+//! covariance of the run's start, with the run's information and no process
+//! noise, is `(I + W~)^-1`: a state was learned by `1 - sqrt([(I + W~)^-1]_ii)`
+//! (0: the log told nothing, 1: exactly), and the eigenvectors of `W~` with
+//! the smallest eigenvalues are the weakest directions, each learned by
+//! `1 - 1/sqrt(1 + lambda)`.
+//!
+//! The analysis is local: it holds along the estimated trajectory, for the
+//! linearization the filter used, and says nothing of errors that a
+//! nonlinear filter could still make. Process noise is left out on purpose:
+//! it measures what the measurements determine, not how fast the states
+//! drift afterwards.
+
+use nalgebra::{DMatrix, SMatrix, SVector, SymmetricEigen};
+
+use super::{Epoch, EpochFile, SmootherError};
+
+/// A combination of states a run left (nearly) undetermined.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Direction<const N: usize> {
+    /// How much the run learned along it, in `[0, 1]`.
+    pub learned: f64,
+    /// Its coefficients, per state, in units of each state's prior sigma,
+    /// scaled so that the largest is 1 in magnitude (0 for the states left
+    /// out of the analysis).
+    pub coefficients: [f64; N],
+}
+
+/// What a run taught ([`observability`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Observability<const N: usize> {
+    /// Per state: how much the run learned of it, in `[0, 1]`; NaN for a
+    /// state left out (its prior sigma at most `floor`: known from the
+    /// start).
+    pub learned: [f64; N],
+    /// The weakest directions, weakest first.
+    pub weakest: Vec<Direction<N>>,
+    /// Epochs whose information could not be formed (a covariance without
+    /// a Cholesky factor); skipped.
+    pub skipped_epochs: usize,
+}
+
+/// The observability of the run recorded in `file`, whose states started
+/// with the sigmas `prior_sigma` (in the states' units): per state, and the
+/// `directions` weakest directions. States whose prior sigma is at most
+/// `floor` are known from the start and left out.
+///
+/// # Errors
+/// [`SmootherError::Io`] on a failed read; [`SmootherError::NonFinite`] if
+/// the information matrix is not finite.
+pub fn observability<const N: usize, const S: usize>(
+    file: &mut EpochFile<N, S>,
+    prior_sigma: &[f64; N],
+    floor: f64,
+    directions: usize,
+) -> Result<Observability<N>, SmootherError> {
+    let used: [bool; N] = core::array::from_fn(|i| prior_sigma[i] > floor);
+    let scale: SVector<f64, N> =
+        SVector::from_fn(|i, _| if used[i] { prior_sigma[i] } else { 0.0 });
+    let inverse_scale: SVector<f64, N> =
+        SVector::from_fn(|i, _| if used[i] { 1.0 / prior_sigma[i] } else { 0.0 });
+    // `L` in scaled coordinates, carried from the latest epoch backwards.
+    let mut information = Box::new(SMatrix::<f64, N, N>::zeros());
+    let mut skipped = 0usize;
+    file.read_back(|epoch: &Epoch<N, S>| {
+        if epoch.predicted != epoch.filtered {
+            match epoch_information(epoch, &scale, &used) {
+                Some(i) => *information += i,
+                None => skipped += 1,
+            }
+        }
+        // Back through this epoch's transition (from the previous epoch):
+        // Phi~ = D^-1 Phi D.
+        let phi = SMatrix::<f64, N, N>::from_fn(|r, c| {
+            inverse_scale[r] * epoch.transition[(r, c)] * scale[c]
+        });
+        *information = phi.transpose() * *information * phi;
+        Ok(())
+    })?;
+    if information.iter().any(|v| !v.is_finite()) {
+        return Err(SmootherError::NonFinite { time: f64::NAN });
+    }
+    let w = (*information + information.transpose()) * 0.5;
+    let posterior = (SMatrix::<f64, N, N>::identity() + w)
+        .try_inverse()
+        .unwrap_or_else(SMatrix::identity);
+    let learned = core::array::from_fn(|i| {
+        if used[i] {
+            (1.0 - posterior[(i, i)].max(0.0).sqrt()).clamp(0.0, 1.0)
+        } else {
+            f64::NAN
+        }
+    });
+    // Dynamic-size for the decomposition (a const-generic size has no
+    // eigen solver); once per run.
+    let eigen = SymmetricEigen::new(DMatrix::from_fn(N, N, |r, c| w[(r, c)]));
+    let mut order: Vec<usize> = (0..N)
+        .filter(|&k| {
+            // An eigenvector of the left-out states only is no direction.
+            (0..N).any(|i| used[i] && eigen.eigenvectors[(i, k)].abs() > 1e-9)
+        })
+        .collect();
+    order.sort_by(|&a, &b| eigen.eigenvalues[a].total_cmp(&eigen.eigenvalues[b]));
+    let weakest = order
+        .into_iter()
+        .take(directions)
+        .map(|k| {
+            let lambda = eigen.eigenvalues[k].max(0.0);
+            let v = eigen.eigenvectors.column(k);
+            let largest = v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+            // Sign: the largest coefficient positive.
+            let sign = v
+                .iter()
+                .find(|x| x.abs() == largest)
+                .map_or(1.0, |x| x.signum());
+            Direction {
+                learned: 1.0 - 1.0 / (1.0 + lambda).sqrt(),
+                coefficients: core::array::from_fn(|i| {
+                    if used[i] && largest > 0.0 {
+                        sign * v[i] / largest
+                    } else {
+                        0.0
+                    }
+                }),
+            }
+        })
+        .collect();
+    Ok(Observability {
+        learned,
+        weakest,
+        skipped_epochs: skipped,
+    })
+}
+
+/// `I_k` of an epoch in scaled coordinates, over the used states:
+/// `(P~+)^-1 - (P~-)^-1`; `None` without Cholesky factors.
+fn epoch_information<const N: usize, const S: usize>(
+    epoch: &Epoch<N, S>,
+    scale: &SVector<f64, N>,
+    used: &[bool; N],
+) -> Option<SMatrix<f64, N, N>> {
+    let scaled = |p: &SMatrix<f64, N, N>| {
+        SMatrix::<f64, N, N>::from_fn(|r, c| {
+            if used[r] && used[c] {
+                p[(r, c)] / (scale[r] * scale[c])
+            } else if r == c {
+                // Left-out states: unit variance, no information.
+                1.0
+            } else {
+                0.0
+            }
+        })
+    };
+    let before = scaled(&epoch.predicted).cholesky()?.inverse();
+    let after = scaled(&epoch.filtered).cholesky()?.inverse();
+    let i = after - before;
+    Some((i + i.transpose()) * 0.5)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ekf::Ekf;
+    use crate::ekf::Propagate;
+    use crate::error_state::ErrorStateFilter;
+    use crate::testmodels::{Cvb, CvbInput, CvbNoise, Offset, Pos, Toy};
+
+    const TOY: Toy = Toy {
+        p: 0.0,
+        v: 0.0,
+        b: 0.0,
+    };
+
+    /// The constant-velocity-and-bias model with position fixes: the
+    /// Gramian of the recorded run equals `sum Phi^T H^T R^-1 H Phi`
+    /// written by hand, and the accelerometer bias is learned only once the
+    /// run is long enough for it to move the position.
+    #[test]
+    fn the_gramian_of_a_linear_model_is_the_hand_written_one() {
+        let p0 = SMatrix::<f64, 3, 3>::from_diagonal(&SVector::<f64, 3>::new(4.0, 0.25, 0.01));
+        let noise = CvbNoise { q_a: 0.0, q_b: 0.0 };
+        let ekf = Ekf::<Cvb, 3>::new(SVector::zeros(), p0, (), noise)
+            .unwrap()
+            .with_default_gate(None);
+        let mut ekf = ErrorStateFilter::new(ekf, TOY);
+        let file = EpochFile::<3, 0>::create(None).unwrap();
+        ekf.start_recording(file, 0.0).unwrap();
+        let r = SMatrix::<f64, 1, 1>::new(0.5);
+        let dt = 0.1;
+        let mut hand = SMatrix::<f64, 3, 3>::zeros();
+        let h = SMatrix::<f64, 1, 3>::new(1.0, 0.0, 0.0);
+        for k in 1..=40 {
+            Propagate::propagate(&mut ekf, dt, &CvbInput { a: 0.0 }).unwrap();
+            if k % 10 == 0 {
+                ekf.update::<Pos, 1>(&SVector::<f64, 1>::new(0.0), &r, &Offset::default())
+                    .unwrap();
+                // Phi(t, 0) of p' = v, v' = -b, as the filter discretizes
+                // it: k first-order steps (I + F dt)^k.
+                let step = SMatrix::<f64, 3, 3>::new(1.0, dt, 0.0, 0.0, 1.0, -dt, 0.0, 0.0, 1.0);
+                let phi = step.pow(k as u32);
+                hand += phi.transpose() * h.transpose() * r.try_inverse().unwrap() * h * phi;
+            }
+        }
+        let store = ekf.finish_recording().unwrap().unwrap();
+        let sigma = [2.0, 0.5, 0.1];
+        let o = observability(&mut store.borrow_mut(), &sigma, 1e-9, 3).unwrap();
+        let d = SMatrix::<f64, 3, 3>::from_diagonal(&SVector::<f64, 3>::new(2.0, 0.5, 0.1));
+        let expected = (SMatrix::identity() + d * hand * d).try_inverse().unwrap();
+        for i in 0..3 {
+            let want = 1.0 - expected[(i, i)].sqrt();
+            assert!(
+                (o.learned[i] - want).abs() < 1e-6,
+                "{i}: {} vs {want}",
+                o.learned[i]
+            );
+        }
+        assert_eq!(o.weakest.len(), 3);
+        assert!(o.weakest[0].learned <= o.weakest[1].learned);
+    }
+
+    /// Position fixes of a vehicle at rest teach the position but not a
+    /// bias that never moves it (a model whose bias has no path to the
+    /// measurement): not learned, and the weakest direction is that bias.
+    #[test]
+    fn a_state_no_measurement_reaches_is_not_learned() {
+        let p0 = SMatrix::<f64, 3, 3>::from_diagonal(&SVector::<f64, 3>::new(4.0, 0.25, 0.01));
+        let noise = CvbNoise { q_a: 0.0, q_b: 0.0 };
+        let ekf = Ekf::<Cvb, 3>::new(SVector::zeros(), p0, (), noise)
+            .unwrap()
+            .with_default_gate(None);
+        let mut ekf = ErrorStateFilter::new(ekf, TOY);
+        ekf.start_recording(EpochFile::<3, 0>::create(None).unwrap(), 0.0)
+            .unwrap();
+        // One fix, no time for velocity or bias to act on the position.
+        ekf.update::<Pos, 1>(
+            &SVector::<f64, 1>::new(0.0),
+            &SMatrix::<f64, 1, 1>::new(0.01),
+            &Offset::default(),
+        )
+        .unwrap();
+        let store = ekf.finish_recording().unwrap().unwrap();
+        let o = observability(&mut store.borrow_mut(), &[2.0, 0.5, 0.1], 1e-9, 2).unwrap();
+        assert!(o.learned[0] > 0.9, "{:?}", o.learned);
+        assert!(
+            o.learned[1] < 1e-9 && o.learned[2] < 1e-9,
+            "{:?}",
+            o.learned
+        );
+        assert!(o.weakest[0].learned < 1e-9);
+        assert!(o.weakest[0].coefficients[0].abs() < 1e-9);
+    }
+}
