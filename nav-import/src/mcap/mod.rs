@@ -16,6 +16,7 @@ mod convert;
 pub mod fuzz;
 mod mapping;
 pub mod messages;
+mod mounting;
 
 #[cfg(test)]
 mod tests;

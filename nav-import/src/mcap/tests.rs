@@ -134,13 +134,18 @@ fn range(ns: i64, r: f32) -> Vec<u8> {
 }
 
 fn tf_static(frame: &str, t: [f64; 3]) -> Vec<u8> {
-    Enc::new()
-        .u32(1)
-        .header(1, "base_link")
-        .string(frame)
-        .f64s(&t)
-        .f64s(&[0.0, 0.0, 0.0, 1.0])
-        .0
+    tf_message(&[("base_link", frame, t, [0.0, 0.0, 0.0, 1.0])])
+}
+
+/// One static transform: parent, child, translation (m), rotation x y z w.
+type Tf = (&'static str, &'static str, [f64; 3], [f64; 4]);
+
+fn tf_message(list: &[(&str, &str, [f64; 3], [f64; 4])]) -> Vec<u8> {
+    let mut e = Enc::new().u32(u32::try_from(list.len()).expect("few"));
+    for (parent, child, t, q) in list {
+        e = e.header(1, parent).string(child).f64s(t).f64s(q);
+    }
+    e.0
 }
 
 /// A bag of `topics`: (topic, ROS type, messages as (log time ns, CDR bytes)).
@@ -361,6 +366,238 @@ fn mapping_cases() {
     for (name, text, check) in cases {
         let mapping = Mapping::parse("map.toml", text).unwrap_or_else(|e| panic!("{name}: {e}"));
         check(&import(&bytes, &mapping));
+    }
+}
+
+/// ENU / FLU quaternion of a rotation of `angle` (rad) about `axis`.
+fn axis_q(axis: [f64; 3], angle: f64) -> [f64; 4] {
+    let (sin, cos) = (angle / 2.0).sin_cos();
+    [axis[0] * sin, axis[1] * sin, axis[2] * sin, cos]
+}
+
+/// Mountings from `/tf_static`, one row each: the transforms (one
+/// `TFMessage` per inner list), the mapping, and either the DVL row, the
+/// first IMU row, the DVL lever arm from the IMU (FRD) and the initial yaw
+/// (deg), with a warning expected; or the error.
+#[test]
+fn mounting_cases() {
+    use std::f64::consts::{FRAC_PI_2, PI};
+    let z = [0.0, 0.0, 1.0];
+    let x = [1.0, 0.0, 0.0];
+    let unit = [0.0, 0.0, 0.0, 1.0];
+    let yaw90 = axis_q(z, FRAC_PI_2);
+    let scaled = yaw90.map(|v| v * 1.003);
+    // The survey's sensors: DVL (FLU) [1, 0.2, -0.1], IMU rate [0.01,
+    // 0.02, 0.03] and force [0.1, 0.2, 9.81], IMU attitude ENU yaw 60 deg.
+    let imu_frd = [0.01, -0.02, -0.03, 0.1, -0.2, -9.81];
+    struct Expect {
+        dvl: [f64; 3],
+        imu: [f64; 6],
+        arm: Option<[f64; 3]>,
+        yaw_deg: f64,
+        warning: &'static str,
+    }
+    type Case = (
+        &'static str,
+        Vec<Vec<Tf>>,
+        &'static str,
+        Result<Expect, &'static str>,
+    );
+    let cases: Vec<Case> = vec![
+        (
+            "DVL yawed 90 deg",
+            vec![vec![("base_link", "dvl_link", [0.5, 0.1, -0.2], yaw90)]],
+            "",
+            Ok(Expect {
+                dvl: [-0.2, -1.0, 0.1],
+                imu: imu_frd,
+                arm: Some([0.5, -0.1, 0.2]),
+                yaw_deg: 30.0,
+                warning: "body frame `base_link` (base_link, in /tf_static)",
+            }),
+        ),
+        (
+            "DVL rolled 180 deg (an FRD-mounted unit)",
+            vec![vec![("base_link", "dvl_link", [0.0, 0.0, -1.0], axis_q(x, PI))]],
+            "",
+            Ok(Expect {
+                dvl: [1.0, 0.2, -0.1],
+                imu: imu_frd,
+                arm: Some([0.0, 0.0, 1.0]),
+                yaw_deg: 30.0,
+                warning: "vectors rotated into it",
+            }),
+        ),
+        (
+            "a two-level chain in two messages",
+            vec![
+                vec![("base_link", "mast", [1.0, 0.0, 0.0], yaw90)],
+                vec![("/mast", "dvl_link", [0.5, 0.0, 0.0], unit)],
+            ],
+            "",
+            Ok(Expect {
+                dvl: [-0.2, -1.0, 0.1],
+                imu: imu_frd,
+                arm: Some([1.0, -0.5, 0.0]),
+                yaw_deg: 30.0,
+                warning: "lever arms from the IMU",
+            }),
+        ),
+        (
+            "an IMU yawed 180 deg on base_link",
+            vec![vec![
+                ("base_link", "imu_link", [0.2, 0.0, 0.0], axis_q(z, PI)),
+                ("base_link", "dvl_link", [0.5, 0.0, 0.0], unit),
+            ]],
+            "",
+            Ok(Expect {
+                dvl: [1.0, -0.2, 0.1],
+                imu: [-0.01, 0.02, -0.03, -0.1, 0.2, -9.81],
+                arm: Some([0.3, 0.0, 0.0]),
+                yaw_deg: -150.0,
+                warning: "vectors rotated",
+            }),
+        ),
+        (
+            "the IMU's frame declared the body frame, the DVL a sibling",
+            vec![vec![
+                ("base_link", "imu_link", [0.2, 0.0, 0.0], yaw90),
+                ("base_link", "dvl_link", [0.2, 1.0, 0.0], unit),
+            ]],
+            "vehicle_frame = \"imu_link\"\n",
+            Ok(Expect {
+                dvl: [0.2, 1.0, 0.1],
+                imu: imu_frd,
+                arm: Some([1.0, 0.0, 0.0]),
+                yaw_deg: 30.0,
+                warning: "the mapping's vehicle_frame",
+            }),
+        ),
+        (
+            "a quaternion of norm 1.003, normalised",
+            vec![vec![("base_link", "dvl_link", [0.5, 0.1, -0.2], scaled)]],
+            "",
+            Ok(Expect {
+                dvl: [-0.2, -1.0, 0.1],
+                imu: imu_frd,
+                arm: Some([0.5, -0.1, 0.2]),
+                yaw_deg: 30.0,
+                warning: "topic `/tf_static`, message 0: a rotation of norm 1.003000000 normalised",
+            }),
+        ),
+        (
+            "a parent missing: not connected",
+            vec![vec![
+                ("base_link", "imu_link", [0.0; 3], unit),
+                ("mast", "dvl_link", [0.5, 0.0, 0.0], yaw90),
+            ]],
+            "",
+            Ok(Expect {
+                dvl: [1.0, -0.2, 0.1],
+                imu: imu_frd,
+                arm: None,
+                yaw_deg: 30.0,
+                warning: "dvl.csv: frame `dvl_link` is not connected to the body frame `base_link` in /tf_static (its chain ends at `mast`)",
+            }),
+        ),
+        (
+            "a cycle",
+            vec![
+                vec![("base_link", "imu_link", [0.0; 3], unit)],
+                vec![("a", "dvl_link", [0.0; 3], unit), ("dvl_link", "a", [0.0; 3], unit)],
+            ],
+            "",
+            Err("topic `/tf_static`, message 1: transform `dvl_link` -> `a` closes a cycle of frames (from `dvl_link`)"),
+        ),
+        (
+            "a quaternion of norm 1.41",
+            vec![
+                vec![("base_link", "imu_link", [0.0; 3], unit)],
+                vec![("base_link", "dvl_link", [0.0; 3], [0.0, 0.0, 1.0, 1.0])],
+            ],
+            "",
+            Err("topic `/tf_static`, message 1: transform `base_link` -> `dvl_link`: rotation (0, 0, 1, 1) has norm 1.414214: a unit quaternion expected"),
+        ),
+        (
+            "a zero quaternion",
+            vec![vec![("base_link", "dvl_link", [0.0; 3], [0.0; 4])]],
+            "",
+            Err("message 0: transform `base_link` -> `dvl_link`: rotation (0, 0, 0, 0) has norm 0.000000"),
+        ),
+        (
+            "a NaN translation",
+            vec![vec![("base_link", "dvl_link", [0.0, f64::NAN, 0.0], unit)]],
+            "",
+            Err("message 0: transform `base_link` -> `dvl_link`: translation component NaN: finite and within 1000 m"),
+        ),
+        (
+            "a DVL 5 km from the body",
+            vec![vec![("base_link", "dvl_link", [5000.0, 0.0, 0.0], unit)]],
+            "",
+            Err("translation component 5000: finite and within 1000 m expected for a mounting"),
+        ),
+        (
+            "two 800 m arms: 1.6 km from the IMU",
+            vec![vec![
+                ("base_link", "imu_link", [-800.0, 0.0, 0.0], unit),
+                ("base_link", "dvl_link", [800.0, 0.0, 0.0], unit),
+            ]],
+            "",
+            Err("dvl.csv: frame `dvl_link` is 1.600e3 m from the IMU in the body frame"),
+        ),
+    ];
+    for (name, messages, mapping, expect) in cases {
+        let mut s = survey();
+        s.retain(|t| t.0 != "/tf_static");
+        let tf: Vec<(u64, Vec<u8>)> = messages
+            .iter()
+            .enumerate()
+            .map(|(i, list)| (T0 as u64 + i as u64, tf_message(list)))
+            .collect();
+        s.push(("/tf_static", "tf2_msgs/msg/TFMessage", tf));
+        let mapping = Mapping::parse("map.toml", mapping).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let result = read("case.mcap", bag(&s).as_slice(), &mapping);
+        match (result, expect) {
+            (Ok(log), Ok(e)) => {
+                let d = log.file("dvl.csv").expect("dvl").row(3);
+                for i in 0..3 {
+                    close(d[1 + i], e.dvl[i], 1e-12, &format!("{name}: dvl[{i}]"));
+                }
+                let r = log.file("imu.csv").expect("imu").row(7);
+                for i in 0..6 {
+                    close(r[1 + i], e.imu[i], 1e-12, &format!("{name}: imu[{i}]"));
+                }
+                let meta = nav_runtime::log::Meta::parse(&log.meta)
+                    .unwrap_or_else(|err| panic!("{name}: {err}\n{}", log.meta));
+                let arm = meta.sensors.mounting("dvl").map(|m| m.lever_arm);
+                match (arm, e.arm) {
+                    (Some(a), Some(b)) => {
+                        for i in 0..3 {
+                            close(a[i], b[i], 1e-12, &format!("{name}: lever arm[{i}]"));
+                        }
+                    }
+                    (a, b) => assert_eq!(a, b, "{name}: lever arm"),
+                }
+                let yaw = meta.initial.yaw.expect("yaw").to_degrees();
+                close(yaw, e.yaw_deg, 1e-9, &format!("{name}: initial yaw"));
+                assert!(
+                    log.summary.warnings.iter().any(|w| w.contains(e.warning)),
+                    "{name}: no warning `{}` in {:?}",
+                    e.warning,
+                    log.summary.warnings
+                );
+            }
+            (Err(err), Err(part)) => {
+                let text = err.to_string();
+                assert!(
+                    text.starts_with("case.mcap: topic `/tf_static`, message "),
+                    "{name}: {text}"
+                );
+                assert!(text.contains(part), "{name}: `{text}` lacks `{part}`");
+            }
+            (Ok(_), Err(part)) => panic!("{name}: imported, `{part}` expected"),
+            (Err(err), Ok(_)) => panic!("{name}: {err}"),
+        }
     }
 }
 
