@@ -20,6 +20,8 @@ mod mounting;
 
 #[cfg(test)]
 mod tests;
+#[cfg(any(test, feature = "bag-writer"))]
+pub mod writer;
 
 use std::collections::HashMap;
 use std::io::Read;

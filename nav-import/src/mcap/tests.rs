@@ -2,70 +2,11 @@
 //! a small CDR encoder: a survey's files, frames and units; the error cases
 //! as one table; property tests (truncations, bit flips) that never panic.
 
-use std::collections::BTreeMap;
-use std::io::Cursor;
-
 use proptest::prelude::*;
 
 use super::{read, ImportError, ImportedBag, Mapping};
 
-/// A little-endian CDR encoder (alignment from the end of the 4-byte header).
-#[derive(Clone)]
-struct Enc(Vec<u8>);
-
-impl Enc {
-    fn new() -> Self {
-        Enc(vec![0, 1, 0, 0])
-    }
-    fn align(mut self, n: usize) -> Self {
-        while !(self.0.len() - 4).is_multiple_of(n) {
-            self.0.push(0);
-        }
-        self
-    }
-    fn u8(mut self, v: u8) -> Self {
-        self.0.push(v);
-        self
-    }
-    fn u16(self, v: u16) -> Self {
-        let mut s = self.align(2);
-        s.0.extend(v.to_le_bytes());
-        s
-    }
-    fn u32(self, v: u32) -> Self {
-        let mut s = self.align(4);
-        s.0.extend(v.to_le_bytes());
-        s
-    }
-    fn f32(self, v: f32) -> Self {
-        let mut s = self.align(4);
-        s.0.extend(v.to_le_bytes());
-        s
-    }
-    fn f64s(self, v: &[f64]) -> Self {
-        let mut s = self;
-        for x in v {
-            s = s.align(8);
-            s.0.extend(x.to_le_bytes());
-        }
-        s
-    }
-    fn string(self, v: &str) -> Self {
-        let mut s = self.u32(u32::try_from(v.len() + 1).expect("short"));
-        s.0.extend(v.as_bytes());
-        s.0.push(0);
-        s
-    }
-    fn header(self, ns: i64, frame: &str) -> Self {
-        let sec = i32::try_from(ns.div_euclid(1_000_000_000)).expect("sec");
-        let nsec = u32::try_from(ns.rem_euclid(1_000_000_000)).expect("nsec");
-        self.u32(sec as u32).u32(nsec).string(frame)
-    }
-}
-
-fn diag9(v: f64) -> [f64; 9] {
-    [v, 0.0, 0.0, 0.0, v, 0.0, 0.0, 0.0, v]
-}
+use super::writer::{self, tf_message, Enc};
 
 /// ENU quaternion (x, y, z, w) of a level body at ENU yaw `yaw` (rad).
 fn yaw_q(yaw: f64) -> [f64; 4] {
@@ -73,55 +14,24 @@ fn yaw_q(yaw: f64) -> [f64; 4] {
 }
 
 fn imu(ns: i64, q: Option<[f64; 4]>, rate: [f64; 3], accel: [f64; 3]) -> Vec<u8> {
-    let (q, qc) = match q {
-        Some(q) => (q, diag9(1e-4)),
-        None => ([0.0, 0.0, 0.0, 1.0], [-1.0; 9]),
-    };
-    Enc::new()
-        .header(ns, "imu_link")
-        .f64s(&q)
-        .f64s(&qc)
-        .f64s(&rate)
-        .f64s(&diag9(1e-6))
-        .f64s(&accel)
-        .f64s(&diag9(1e-4))
-        .0
+    writer::imu(ns, "imu_link", q, rate, accel, 1e-6, 1e-4)
 }
 
 fn mag(ns: i64, tesla: [f64; 3]) -> Vec<u8> {
-    Enc::new()
-        .header(ns, "mag")
-        .f64s(&tesla)
-        .f64s(&diag9(1e-14))
-        .0
+    writer::mag(ns, "mag", tesla, 1e-14)
 }
 
 fn pressure(ns: i64, pa: f64) -> Vec<u8> {
-    Enc::new().header(ns, "ps").f64s(&[pa, 100.0]).0
+    writer::pressure(ns, "ps", pa, 100.0)
 }
 
 fn fix(ns: i64, lat: f64, lon: f64, alt: f64, status: i8) -> Vec<u8> {
-    Enc::new()
-        .header(ns, "gps")
-        .u8(status as u8)
-        .u16(1)
-        .f64s(&[lat, lon, alt])
-        .f64s(&diag9(4.0))
-        .u8(2)
-        .0
+    writer::fix(ns, "gps", [lat, lon, alt], status, 4.0)
 }
 
 fn twist(ns: i64, v: [f64; 3]) -> Vec<u8> {
-    let mut cov = [0.0; 36];
-    cov[0] = 0.01;
-    Enc::new()
-        .header(ns, "dvl_link")
-        .f64s(&v)
-        .f64s(&[0.0; 3])
-        .f64s(&cov)
-        .0
+    writer::twist(ns, "dvl_link", v, 0.01)
 }
-
 fn range(ns: i64, r: f32) -> Vec<u8> {
     Enc::new()
         .header(ns, "alt")
@@ -140,42 +50,16 @@ fn tf_static(frame: &str, t: [f64; 3]) -> Vec<u8> {
 /// One static transform: parent, child, translation (m), rotation x y z w.
 type Tf = (&'static str, &'static str, [f64; 3], [f64; 4]);
 
-fn tf_message(list: &[(&str, &str, [f64; 3], [f64; 4])]) -> Vec<u8> {
-    let mut e = Enc::new().u32(u32::try_from(list.len()).expect("few"));
-    for (parent, child, t, q) in list {
-        e = e.header(1, parent).string(child).f64s(t).f64s(q);
-    }
-    e.0
-}
-
 /// A bag of `topics`: (topic, ROS type, messages as (log time ns, CDR bytes)).
 /// One topic of a test bag: name, ROS type, messages as (log time ns, CDR bytes).
 type Topic = (&'static str, &'static str, Vec<(u64, Vec<u8>)>);
 
 fn bag(topics: &[Topic]) -> Vec<u8> {
-    let mut w = mcap::Writer::new(Cursor::new(Vec::new())).expect("writer");
-    let mut all = Vec::new();
-    for (topic, ty, msgs) in topics {
-        let schema = w.add_schema(ty, "ros2msg", b"").expect("schema");
-        let ch = w
-            .add_channel(schema, topic, "cdr", &BTreeMap::new())
-            .expect("channel");
-        for (t, data) in msgs {
-            all.push((*t, ch, data.clone()));
-        }
-    }
-    all.sort_by_key(|(t, ch, _)| (*t, *ch));
-    for (i, (t, ch, data)) in all.iter().enumerate() {
-        let header = mcap::records::MessageHeader {
-            channel_id: *ch,
-            sequence: u32::try_from(i).expect("few"),
-            log_time: *t,
-            publish_time: *t,
-        };
-        w.write_to_known_channel(&header, data).expect("message");
-    }
-    w.finish().expect("finish");
-    w.into_inner().into_inner()
+    let topics: Vec<writer::Topic> = topics
+        .iter()
+        .map(|(t, ty, m)| (t.to_string(), ty.to_string(), m.clone()))
+        .collect();
+    writer::bag(&topics)
 }
 
 const T0: i64 = 1_700_000_000_000_000_000;
