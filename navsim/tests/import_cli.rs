@@ -402,3 +402,68 @@ fn same(path: &str, a: &serde_json::Value, b: &serde_json::Value, compared: &mut
         _ => assert_eq!(a, b, "{path}"),
     }
 }
+
+/// An attitude-only log (the committed bag imported without its fix): each
+/// built-in replay model that needs a position refuses it with an error
+/// naming the model and the missing `[initial]` position; `ahrs` replays it
+/// and the preflight (`navsim check`) finds nothing (standard gravity).
+#[test]
+fn an_attitude_only_log_is_refused_by_the_models_that_need_a_position() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let bag = root.join("nav-import/tests/fixtures/mcap/small_survey.mcap");
+    let dir = TempDir::new("attitude-only");
+    let mapping = dir.path().join("map.toml");
+    std::fs::write(&mapping, "[topics.\"/fix\"]\nsensor = \"ignore\"\n").expect("mapping");
+    let log = dir.path().join("log");
+    nav_import::mcap::import(&bag, Some(&mapping), &log).expect("import");
+    let meta = LogDir::read(&log, Strictness::Strict).expect("log").meta;
+    assert!(!meta.initial.has_position(), "attitude only");
+    let log = log.to_str().unwrap();
+    let needs = "needs an initial position: meta.toml [initial] has none (attitude-only log";
+    let cases: [(&str, bool); 8] = [
+        ("demo-depth-kf", false),
+        ("leveling6", false),
+        ("sdins25", false),
+        ("sdins25-composed", false),
+        ("sdins20", false),
+        ("pressure-auv", false),
+        ("gnss-ins", false),
+        ("ahrs", true),
+    ];
+    for (model, replays) in cases {
+        let o = navsim(&["replay", log, "--model", model, "--json"]);
+        if replays {
+            assert!(o.status.success(), "{model}: {}", stderr(&o));
+            let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).expect("JSON");
+            assert_eq!(v["model"], model);
+        } else {
+            assert!(
+                !o.status.success(),
+                "{model}: replayed an attitude-only log"
+            );
+            let e = stderr(&o);
+            assert!(
+                e.contains(&format!("`initial.lat`: model {model} {needs}")),
+                "{model}: {e}"
+            );
+        }
+    }
+    let o = navsim(&["check", log, "--json"]);
+    assert!(o.status.success(), "{}", stdout(&o));
+    let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).expect("JSON");
+    assert_eq!(v["errors"], serde_json::json!([]), "{v}");
+    assert_eq!(v["warnings"], serde_json::json!([]), "{v}");
+    // Depth and USBL rows: no comparison with the absent initial depth or
+    // position (no finding speaks of NaN).
+    let dir_path = std::path::Path::new(log);
+    std::fs::write(dir_path.join("depth.csv"), "t,depth\n0.1,5\n0.5,5.1\n").expect("depth");
+    std::fs::write(
+        dir_path.join("usbl.csv"),
+        "t,lat,lon,depth\n0.2,0.8,0.15,5\n",
+    )
+    .expect("usbl");
+    let o = navsim(&["check", log, "--json"]);
+    let text = stdout(&o);
+    assert!(text.contains("\"imu_rows\":50"), "{text}");
+    assert!(!text.contains("NaN"), "{text}");
+}

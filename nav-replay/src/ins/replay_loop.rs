@@ -101,6 +101,7 @@ where
     Q: Requests<P>,
 {
     Layout::of::<V, N>()?;
+    source.meta().initial.position_for(V::REPLAY_NAME)?;
     let (facts, imu, heads) = LogFacts::of(source, options)?;
     let (plan, mut aiding) = plan_run::<V, N>(source, options, &facts)?;
     let (builder, handles) = plan.builder::<V, N>(options);
