@@ -87,6 +87,11 @@ impl<'m> Converter<'m> {
         ty: &str,
         encoding: &str,
     ) -> Result<(), ImportError> {
+        // The summary section at the end of the file repeats the channel
+        // records: the channel keeps its message count.
+        if self.channels.get(&id).is_some_and(|c| c.topic == topic) {
+            return Ok(());
+        }
         let declared = self.mapping.topics.get(topic).copied();
         let default = Sensor::of_type(ty).map(|sensor| TopicMap {
             sensor,

@@ -192,6 +192,15 @@ fn a_survey_bag_gives_the_log_directory() {
         "{}",
         log.meta
     );
+    // Message counts survive the channel records repeated in the summary.
+    assert!(
+        log.summary
+            .topics
+            .iter()
+            .any(|t| t.0 == "/imu/data" && t.2 == "imu" && t.3 == 200),
+        "{:?}",
+        log.summary.topics
+    );
     let topics: Vec<&str> = log.summary.topics.iter().map(|t| t.2.as_str()).collect();
     assert!(
         topics.contains(&"dvl") && topics.contains(&"ignore"),
