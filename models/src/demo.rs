@@ -320,6 +320,8 @@ impl ReplayModel for DepthKf {
         "plumbing self-test: 2-state depth Kalman filter over depth.csv"
     }
     fn replay(&self, log: &LogDir, options: &ReplayOptions) -> Result<ReplayOutput, RunError> {
+        // The initial depth is the filter's first estimate.
+        log.meta.initial.position_for(self.name())?;
         let start = std::time::Instant::now();
         let est = filter(log)?;
         let runtime_s = start.elapsed().as_secs_f64();

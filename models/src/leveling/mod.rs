@@ -478,6 +478,8 @@ impl ReplayModel for Leveling6Replay {
         Some(&["imu.csv", "speed.csv", "truth.csv"])
     }
     fn replay(&self, log: &LogDir, options: &ReplayOptions) -> Result<ReplayOutput, RunError> {
+        // Gravity and the earth rate at the initial latitude and height.
+        log.meta.initial.position_for(self.name())?;
         let stationary = options.stationary || looks_stationary(log);
         let opts = LevelingOptions {
             stationary,

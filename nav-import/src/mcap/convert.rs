@@ -9,6 +9,7 @@ use nav_runtime::earth::{meridian_radius, transverse_radius};
 
 use super::mapping::{Clock, Mapping, Sensor, TopicMap};
 use super::messages::{self, Reading};
+use super::mounting::{frame_name, Mount, Resolved, Transform, Tree, MAX_TRANSLATION_M};
 use super::{ImportError, ImportSummary, ImportedBag};
 use crate::ulog::assemble::{leveled, LEVELING_S};
 use crate::ulog::CsvFile;
@@ -43,10 +44,10 @@ pub struct Converter<'m> {
     accel_variance: Option<f64>,
     /// Sensors whose covariance was zero or absent in a message.
     no_covariance: BTreeMap<Sensor, u64>,
-    /// The first IMU orientation (roll, pitch, yaw, NED / FRD) and its time.
-    first_attitude: Option<(f64, [f64; 3])>,
-    /// Frame -> (parent, translation) from `/tf_static`.
-    mounts: HashMap<String, (String, [f64; 3])>,
+    /// The first IMU orientation (IMU FRD -> NED) and its time.
+    first_attitude: Option<(f64, [[f64; 3]; 3])>,
+    /// The static transforms of `/tf_static`.
+    mounts: Tree,
     /// Frame id of each sensor's first message.
     sensor_frame: BTreeMap<Sensor, String>,
     skipped: BTreeMap<String, u64>,
@@ -67,7 +68,7 @@ impl<'m> Converter<'m> {
             accel_variance: None,
             no_covariance: BTreeMap::new(),
             first_attitude: None,
-            mounts: HashMap::new(),
+            mounts: Tree::default(),
             sensor_frame: BTreeMap::new(),
             skipped: BTreeMap::new(),
             warnings: Vec::new(),
@@ -86,6 +87,11 @@ impl<'m> Converter<'m> {
         ty: &str,
         encoding: &str,
     ) -> Result<(), ImportError> {
+        // The summary section at the end of the file repeats the channel
+        // records: the channel keeps its message count.
+        if self.channels.get(&id).is_some_and(|c| c.topic == topic) {
+            return Ok(());
+        }
         let declared = self.mapping.topics.get(topic).copied();
         let default = Sensor::of_type(ty).map(|sensor| TopicMap {
             sensor,
@@ -177,8 +183,17 @@ impl<'m> Converter<'m> {
             None => return Ok(()),
         };
         if let Reading::Transforms(list) = &decoded.reading {
-            for (parent, child, t, _q) in list {
-                self.mounts.insert(child.clone(), (parent.clone(), *t));
+            for (parent, child, translation, rotation) in list {
+                self.mounts.insert(
+                    child,
+                    Transform {
+                        parent: parent.clone(),
+                        translation: *translation,
+                        rotation: *rotation,
+                        topic: topic.clone(),
+                        index,
+                    },
+                );
             }
             return Ok(());
         }
@@ -232,8 +247,9 @@ impl<'m> Converter<'m> {
             ) => {
                 if self.first_attitude.is_none() {
                     if let Some(q) = orientation {
-                        if let Some(e) = euler_ned_frd(*q, map) {
-                            self.first_attitude = Some((t, e));
+                        let n = q.iter().map(|v| v * v).sum::<f64>().sqrt();
+                        if n.is_finite() && n > 1e-6 {
+                            self.first_attitude = Some((t, dcm_ned_frd(*q, map)));
                         }
                     }
                 }
@@ -383,19 +399,26 @@ impl<'m> Converter<'m> {
     /// # Errors
     /// [`ImportError::Unusable`] without IMU rows or an initial attitude.
     pub fn finish(mut self) -> Result<ImportedBag, ImportError> {
-        let unusable = |reason: String| ImportError::Unusable {
-            file: self.file.clone(),
+        let file = self.file.clone();
+        let unusable = move |reason: String| ImportError::Unusable {
+            file: file.clone(),
             reason,
         };
-        let imu = self
+        if self
             .files
             .get(&Sensor::Imu)
             .filter(|f| f.rows() > 1)
-            .ok_or_else(|| {
-                unusable("no IMU data: no sensor_msgs/Imu topic with two or more messages (every model needs imu.csv)".into())
-            })?;
-        let t0 = imu.first_t().unwrap_or(0.0);
+            .is_none()
+        {
+            return Err(unusable("no IMU data: no sensor_msgs/Imu topic with two or more messages (every model needs imu.csv)".into()));
+        }
         let mut w = Vec::new();
+        let mounts = self.mount(&mut w)?;
+        let imu = self
+            .files
+            .get(&Sensor::Imu)
+            .ok_or_else(|| unusable("no IMU data".into()))?;
+        let t0 = imu.first_t().unwrap_or(0.0);
         if let Some(origin) = self.origin_ns {
             w.push(format!(
                 "times are seconds after the bag's first message ({} clock, {origin} ns since the epoch)",
@@ -424,9 +447,20 @@ impl<'m> Converter<'m> {
             );
         }
         let attitude = match self.first_attitude {
-            Some((_, e)) => {
+            Some((_, c_ned_imu)) => {
                 w.push("meta.toml: [initial] attitude from the first IMU orientation".into());
-                Some(e)
+                // C_ned_body = C_ned_imu C_body_imu^T.
+                let m = mounts
+                    .get(&Sensor::Imu)
+                    .map_or_else(Mount::identity, |m| *m)
+                    .rotation;
+                let mut c = [[0.0; 3]; 3];
+                for (i, ci) in c.iter_mut().enumerate() {
+                    for (j, cij) in ci.iter_mut().enumerate() {
+                        *cij = (0..3).map(|k| c_ned_imu[i][k] * m[(j, k)]).sum();
+                    }
+                }
+                Some(euler(c))
             }
             None => {
                 let l = leveled(Some(imu), self.files.get(&Sensor::Mag), t0);
@@ -461,16 +495,20 @@ impl<'m> Converter<'m> {
             if !self.files.contains_key(&sensor) {
                 continue;
             }
+            // A direction is the same anywhere on the vehicle: no lever
+            // arm for the magnetometer.
+            let arm = lever_arm(&mounts, sensor).filter(|_| sensor != Sensor::Mag);
             match self.variance.get(&sensor).filter(|v| v.is_finite()) {
                 Some(v) => {
                     let _ = writeln!(meta, "\n[sensors.{section}]\nnoise_sigma = {:e}", v.sqrt());
-                    if let Some(arm) = self.lever_arm(sensor) {
+                    if let Some(arm) = arm {
                         let _ = writeln!(meta, "lever_arm = [{:e}, {:e}, {:e}]", arm[0], arm[1], arm[2]);
-                        w.push(format!("meta.toml: [sensors.{section}] lever_arm from /tf_static"));
+                        w.push(format!("meta.toml: [sensors.{section}] lever_arm from /tf_static (from the IMU, body frame FRD)"));
                     }
                 }
                 None => w.push(format!(
-                    "{section}.csv: the messages' covariance is zero or absent: no [sensors.{section}] noise written (the model's default applies)"
+                    "{section}.csv: the messages' covariance is zero or absent: no [sensors.{section}] noise written (the model's default applies){}",
+                    if arm.is_some() { "; its lever arm from /tf_static is not written either" } else { "" }
                 )),
             }
         }
@@ -521,14 +559,116 @@ impl<'m> Converter<'m> {
         })
     }
 
-    /// The lever arm of `sensor` (FRD, m) from `/tf_static`: the translation
-    /// of its frame in its parent's (one level, the parent taken as the
-    /// body frame).
-    fn lever_arm(&self, sensor: Sensor) -> Option<[f64; 3]> {
-        let frame = self.sensor_frame.get(&sensor)?;
-        let (_, t) = self.mounts.get(frame)?;
-        Some([t[0], -t[1], -t[2]])
+    /// The body frame: the mapping's `vehicle_frame`, else `base_link` when
+    /// `/tf_static` has it, else the IMU's frame.
+    fn body_frame(&self) -> (String, &'static str) {
+        if let Some(f) = &self.mapping.vehicle_frame {
+            return (f.clone(), "the mapping's vehicle_frame");
+        }
+        if self.mounts.contains("base_link") {
+            return ("base_link".into(), "base_link, in /tf_static");
+        }
+        (
+            self.sensor_frame
+                .get(&Sensor::Imu)
+                .cloned()
+                .unwrap_or_default(),
+            "the IMU's frame (no base_link in /tf_static)",
+        )
     }
+
+    /// Resolves each sensor's frame in the body frame and rotates the
+    /// vectors of its rows (IMU rates and forces, magnetic field, DVL
+    /// velocity) into it.
+    ///
+    /// # Errors
+    /// [`ImportError::Message`] naming the `/tf_static` message of a cycle,
+    /// a rotation that is not one, or an absurd translation.
+    fn mount(&mut self, w: &mut Vec<String>) -> Result<BTreeMap<Sensor, Mount>, ImportError> {
+        let (body, why) = self.body_frame();
+        let mut mounts = BTreeMap::new();
+        let sensors: Vec<(Sensor, String)> = self
+            .sensor_frame
+            .iter()
+            .filter(|(s, _)| self.files.contains_key(s) && **s != Sensor::Truth)
+            .map(|(s, f)| (*s, f.clone()))
+            .collect();
+        let mut mounted = false;
+        for (sensor, frame) in sensors {
+            let resolved = self
+                .mounts
+                .resolve(&frame, &body)
+                .map_err(|e| self.err(&e.topic, e.index, e.reason))?;
+            match resolved {
+                Resolved::Mounted(m) => {
+                    mounted |= frame_name(&frame) != frame_name(&body);
+                    mounts.insert(sensor, m);
+                }
+                Resolved::Unconnected { root } => {
+                    if !self.mounts.is_empty() {
+                        w.push(format!(
+                            "{}.csv: frame `{frame}` is not connected to the body frame `{body}` in /tf_static (its chain ends at `{root}`): taken as the body frame, no lever arm",
+                            sensor.name()
+                        ));
+                    }
+                }
+            }
+        }
+        for (topic, index, norm) in std::mem::take(&mut self.mounts.normalised) {
+            w.push(format!(
+                "topic `{topic}`, message {index}: a rotation of norm {norm:.9} normalised"
+            ));
+        }
+        if mounted {
+            w.push(format!(
+                "sensors mounted from /tf_static in the body frame `{body}` ({why}): vectors rotated into it, lever arms from the IMU"
+            ));
+        }
+        for sensor in mounts.keys() {
+            if let Some(arm) = lever_arm(&mounts, *sensor) {
+                if arm.iter().any(|v| v.abs() > MAX_TRANSLATION_M) {
+                    let frame = self.sensor_frame.get(sensor).cloned().unwrap_or_default();
+                    let (topic, index) = self.mounts.source(&frame).unwrap_or(("/tf_static", 0));
+                    return Err(self.err(topic, index, format!(
+                        "{}.csv: frame `{frame}` is {:.3e} m from the IMU in the body frame: within {MAX_TRANSLATION_M} m expected for a lever arm",
+                        sensor.name(),
+                        arm.iter().fold(0.0f64, |a, v| a.max(v.abs()))
+                    )));
+                }
+            }
+        }
+        for (sensor, m) in &mounts {
+            let columns: &[usize] = match sensor {
+                Sensor::Imu => &[1, 4],
+                Sensor::Mag | Sensor::Dvl => &[1],
+                _ => &[],
+            };
+            if m.is_unrotated() || columns.is_empty() {
+                continue;
+            }
+            if let Some(f) = self.files.get_mut(sensor) {
+                let width = f.header.len();
+                for row in f.values.chunks_exact_mut(width) {
+                    for &c in columns {
+                        let v = m.rotate([row[c], row[c + 1], row[c + 2]]);
+                        row[c..c + 3].copy_from_slice(&v);
+                    }
+                }
+            }
+        }
+        Ok(mounts)
+    }
+}
+
+/// The lever arm of `sensor` from the IMU, body frame FRD (m), when
+/// `/tf_static` places both and they differ.
+fn lever_arm(mounts: &BTreeMap<Sensor, Mount>, sensor: Sensor) -> Option<[f64; 3]> {
+    let s = mounts.get(&sensor)?.translation;
+    let imu = mounts
+        .get(&Sensor::Imu)
+        .map_or_else(nalgebra::Vector3::zeros, |m| m.translation);
+    let arm = s - imu;
+    (arm.amax() > 0.0).then(|| [arm[0], arm[1], arm[2]])
 }
 
 fn kind(r: &Reading) -> &'static str {
@@ -638,9 +778,4 @@ fn euler(c: [[f64; 3]; 3]) -> [f64; 3] {
         (-c[2][0]).clamp(-1.0, 1.0).asin(),
         c[1][0].atan2(c[0][0]),
     ]
-}
-
-fn euler_ned_frd(q: [f64; 4], map: TopicMap) -> Option<[f64; 3]> {
-    let n = q.iter().map(|v| v * v).sum::<f64>().sqrt();
-    (n.is_finite() && n > 1e-6).then(|| euler(dcm_ned_frd(q, map)))
 }

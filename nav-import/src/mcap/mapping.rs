@@ -5,6 +5,7 @@
 //!
 //! ```toml
 //! time = "header"                 # or "receive" (the bag's log time)
+//! vehicle_frame = "base_link"     # the body frame in /tf_static
 //! origin = { lat = 47.4, lon = 8.5, height = 500.0 }   # deg, deg, m
 //! [water]
 //! density = 1025.0                # kg/m^3
@@ -119,6 +120,9 @@ pub struct Mapping {
     pub surface_pressure: f64,
     /// Origin of local positions: lat, lon (rad), height (m).
     pub origin: Option<[f64; 3]>,
+    /// The vehicle's body frame id in `/tf_static` (default: `base_link`
+    /// when present, else the IMU's frame).
+    pub vehicle_frame: Option<String>,
 }
 
 impl Default for Mapping {
@@ -129,6 +133,7 @@ impl Default for Mapping {
             density: 1025.0,
             surface_pressure: 101_325.0,
             origin: None,
+            vehicle_frame: None,
         }
     }
 }
@@ -138,6 +143,7 @@ impl Default for Mapping {
 struct File {
     time: Option<String>,
     origin: Option<Origin>,
+    vehicle_frame: Option<String>,
     water: Option<Water>,
     #[serde(default)]
     topics: BTreeMap<String, Topic>,
@@ -190,6 +196,14 @@ impl Mapping {
             clock,
             ..Mapping::default()
         };
+        if let Some(f) = f.vehicle_frame {
+            if f.trim().is_empty() {
+                return Err(err(
+                    "`vehicle_frame`: empty, a frame id of /tf_static expected".into(),
+                ));
+            }
+            m.vehicle_frame = Some(f);
+        }
         if let Some(o) = f.origin {
             if !(o.lat.abs() <= 90.0 && o.lon.abs() <= 360.0 && o.height.abs() < 1e5) {
                 return Err(err(format!(

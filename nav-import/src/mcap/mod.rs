@@ -16,9 +16,12 @@ mod convert;
 pub mod fuzz;
 mod mapping;
 pub mod messages;
+mod mounting;
 
 #[cfg(test)]
 mod tests;
+#[cfg(any(test, feature = "bag-writer"))]
+pub mod writer;
 
 use std::collections::HashMap;
 use std::io::Read;

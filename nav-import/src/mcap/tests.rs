@@ -2,70 +2,11 @@
 //! a small CDR encoder: a survey's files, frames and units; the error cases
 //! as one table; property tests (truncations, bit flips) that never panic.
 
-use std::collections::BTreeMap;
-use std::io::Cursor;
-
 use proptest::prelude::*;
 
 use super::{read, ImportError, ImportedBag, Mapping};
 
-/// A little-endian CDR encoder (alignment from the end of the 4-byte header).
-#[derive(Clone)]
-struct Enc(Vec<u8>);
-
-impl Enc {
-    fn new() -> Self {
-        Enc(vec![0, 1, 0, 0])
-    }
-    fn align(mut self, n: usize) -> Self {
-        while !(self.0.len() - 4).is_multiple_of(n) {
-            self.0.push(0);
-        }
-        self
-    }
-    fn u8(mut self, v: u8) -> Self {
-        self.0.push(v);
-        self
-    }
-    fn u16(self, v: u16) -> Self {
-        let mut s = self.align(2);
-        s.0.extend(v.to_le_bytes());
-        s
-    }
-    fn u32(self, v: u32) -> Self {
-        let mut s = self.align(4);
-        s.0.extend(v.to_le_bytes());
-        s
-    }
-    fn f32(self, v: f32) -> Self {
-        let mut s = self.align(4);
-        s.0.extend(v.to_le_bytes());
-        s
-    }
-    fn f64s(self, v: &[f64]) -> Self {
-        let mut s = self;
-        for x in v {
-            s = s.align(8);
-            s.0.extend(x.to_le_bytes());
-        }
-        s
-    }
-    fn string(self, v: &str) -> Self {
-        let mut s = self.u32(u32::try_from(v.len() + 1).expect("short"));
-        s.0.extend(v.as_bytes());
-        s.0.push(0);
-        s
-    }
-    fn header(self, ns: i64, frame: &str) -> Self {
-        let sec = i32::try_from(ns.div_euclid(1_000_000_000)).expect("sec");
-        let nsec = u32::try_from(ns.rem_euclid(1_000_000_000)).expect("nsec");
-        self.u32(sec as u32).u32(nsec).string(frame)
-    }
-}
-
-fn diag9(v: f64) -> [f64; 9] {
-    [v, 0.0, 0.0, 0.0, v, 0.0, 0.0, 0.0, v]
-}
+use super::writer::{self, tf_message, Enc};
 
 /// ENU quaternion (x, y, z, w) of a level body at ENU yaw `yaw` (rad).
 fn yaw_q(yaw: f64) -> [f64; 4] {
@@ -73,55 +14,24 @@ fn yaw_q(yaw: f64) -> [f64; 4] {
 }
 
 fn imu(ns: i64, q: Option<[f64; 4]>, rate: [f64; 3], accel: [f64; 3]) -> Vec<u8> {
-    let (q, qc) = match q {
-        Some(q) => (q, diag9(1e-4)),
-        None => ([0.0, 0.0, 0.0, 1.0], [-1.0; 9]),
-    };
-    Enc::new()
-        .header(ns, "imu_link")
-        .f64s(&q)
-        .f64s(&qc)
-        .f64s(&rate)
-        .f64s(&diag9(1e-6))
-        .f64s(&accel)
-        .f64s(&diag9(1e-4))
-        .0
+    writer::imu(ns, "imu_link", q, rate, accel, 1e-6, 1e-4)
 }
 
 fn mag(ns: i64, tesla: [f64; 3]) -> Vec<u8> {
-    Enc::new()
-        .header(ns, "mag")
-        .f64s(&tesla)
-        .f64s(&diag9(1e-14))
-        .0
+    writer::mag(ns, "mag", tesla, 1e-14)
 }
 
 fn pressure(ns: i64, pa: f64) -> Vec<u8> {
-    Enc::new().header(ns, "ps").f64s(&[pa, 100.0]).0
+    writer::pressure(ns, "ps", pa, 100.0)
 }
 
 fn fix(ns: i64, lat: f64, lon: f64, alt: f64, status: i8) -> Vec<u8> {
-    Enc::new()
-        .header(ns, "gps")
-        .u8(status as u8)
-        .u16(1)
-        .f64s(&[lat, lon, alt])
-        .f64s(&diag9(4.0))
-        .u8(2)
-        .0
+    writer::fix(ns, "gps", [lat, lon, alt], status, 4.0)
 }
 
 fn twist(ns: i64, v: [f64; 3]) -> Vec<u8> {
-    let mut cov = [0.0; 36];
-    cov[0] = 0.01;
-    Enc::new()
-        .header(ns, "dvl_link")
-        .f64s(&v)
-        .f64s(&[0.0; 3])
-        .f64s(&cov)
-        .0
+    writer::twist(ns, "dvl_link", v, 0.01)
 }
-
 fn range(ns: i64, r: f32) -> Vec<u8> {
     Enc::new()
         .header(ns, "alt")
@@ -134,43 +44,22 @@ fn range(ns: i64, r: f32) -> Vec<u8> {
 }
 
 fn tf_static(frame: &str, t: [f64; 3]) -> Vec<u8> {
-    Enc::new()
-        .u32(1)
-        .header(1, "base_link")
-        .string(frame)
-        .f64s(&t)
-        .f64s(&[0.0, 0.0, 0.0, 1.0])
-        .0
+    tf_message(&[("base_link", frame, t, [0.0, 0.0, 0.0, 1.0])])
 }
+
+/// One static transform: parent, child, translation (m), rotation x y z w.
+type Tf = (&'static str, &'static str, [f64; 3], [f64; 4]);
 
 /// A bag of `topics`: (topic, ROS type, messages as (log time ns, CDR bytes)).
 /// One topic of a test bag: name, ROS type, messages as (log time ns, CDR bytes).
 type Topic = (&'static str, &'static str, Vec<(u64, Vec<u8>)>);
 
 fn bag(topics: &[Topic]) -> Vec<u8> {
-    let mut w = mcap::Writer::new(Cursor::new(Vec::new())).expect("writer");
-    let mut all = Vec::new();
-    for (topic, ty, msgs) in topics {
-        let schema = w.add_schema(ty, "ros2msg", b"").expect("schema");
-        let ch = w
-            .add_channel(schema, topic, "cdr", &BTreeMap::new())
-            .expect("channel");
-        for (t, data) in msgs {
-            all.push((*t, ch, data.clone()));
-        }
-    }
-    all.sort_by_key(|(t, ch, _)| (*t, *ch));
-    for (i, (t, ch, data)) in all.iter().enumerate() {
-        let header = mcap::records::MessageHeader {
-            channel_id: *ch,
-            sequence: u32::try_from(i).expect("few"),
-            log_time: *t,
-            publish_time: *t,
-        };
-        w.write_to_known_channel(&header, data).expect("message");
-    }
-    w.finish().expect("finish");
-    w.into_inner().into_inner()
+    let topics: Vec<writer::Topic> = topics
+        .iter()
+        .map(|(t, ty, m)| (t.to_string(), ty.to_string(), m.clone()))
+        .collect();
+    writer::bag(&topics)
 }
 
 const T0: i64 = 1_700_000_000_000_000_000;
@@ -303,6 +192,15 @@ fn a_survey_bag_gives_the_log_directory() {
         "{}",
         log.meta
     );
+    // Message counts survive the channel records repeated in the summary.
+    assert!(
+        log.summary
+            .topics
+            .iter()
+            .any(|t| t.0 == "/imu/data" && t.2 == "imu" && t.3 == 200),
+        "{:?}",
+        log.summary.topics
+    );
     let topics: Vec<&str> = log.summary.topics.iter().map(|t| t.2.as_str()).collect();
     assert!(
         topics.contains(&"dvl") && topics.contains(&"ignore"),
@@ -361,6 +259,238 @@ fn mapping_cases() {
     for (name, text, check) in cases {
         let mapping = Mapping::parse("map.toml", text).unwrap_or_else(|e| panic!("{name}: {e}"));
         check(&import(&bytes, &mapping));
+    }
+}
+
+/// ENU / FLU quaternion of a rotation of `angle` (rad) about `axis`.
+fn axis_q(axis: [f64; 3], angle: f64) -> [f64; 4] {
+    let (sin, cos) = (angle / 2.0).sin_cos();
+    [axis[0] * sin, axis[1] * sin, axis[2] * sin, cos]
+}
+
+/// Mountings from `/tf_static`, one row each: the transforms (one
+/// `TFMessage` per inner list), the mapping, and either the DVL row, the
+/// first IMU row, the DVL lever arm from the IMU (FRD) and the initial yaw
+/// (deg), with a warning expected; or the error.
+#[test]
+fn mounting_cases() {
+    use std::f64::consts::{FRAC_PI_2, PI};
+    let z = [0.0, 0.0, 1.0];
+    let x = [1.0, 0.0, 0.0];
+    let unit = [0.0, 0.0, 0.0, 1.0];
+    let yaw90 = axis_q(z, FRAC_PI_2);
+    let scaled = yaw90.map(|v| v * 1.003);
+    // The survey's sensors: DVL (FLU) [1, 0.2, -0.1], IMU rate [0.01,
+    // 0.02, 0.03] and force [0.1, 0.2, 9.81], IMU attitude ENU yaw 60 deg.
+    let imu_frd = [0.01, -0.02, -0.03, 0.1, -0.2, -9.81];
+    struct Expect {
+        dvl: [f64; 3],
+        imu: [f64; 6],
+        arm: Option<[f64; 3]>,
+        yaw_deg: f64,
+        warning: &'static str,
+    }
+    type Case = (
+        &'static str,
+        Vec<Vec<Tf>>,
+        &'static str,
+        Result<Expect, &'static str>,
+    );
+    let cases: Vec<Case> = vec![
+        (
+            "DVL yawed 90 deg",
+            vec![vec![("base_link", "dvl_link", [0.5, 0.1, -0.2], yaw90)]],
+            "",
+            Ok(Expect {
+                dvl: [-0.2, -1.0, 0.1],
+                imu: imu_frd,
+                arm: Some([0.5, -0.1, 0.2]),
+                yaw_deg: 30.0,
+                warning: "body frame `base_link` (base_link, in /tf_static)",
+            }),
+        ),
+        (
+            "DVL rolled 180 deg (an FRD-mounted unit)",
+            vec![vec![("base_link", "dvl_link", [0.0, 0.0, -1.0], axis_q(x, PI))]],
+            "",
+            Ok(Expect {
+                dvl: [1.0, 0.2, -0.1],
+                imu: imu_frd,
+                arm: Some([0.0, 0.0, 1.0]),
+                yaw_deg: 30.0,
+                warning: "vectors rotated into it",
+            }),
+        ),
+        (
+            "a two-level chain in two messages",
+            vec![
+                vec![("base_link", "mast", [1.0, 0.0, 0.0], yaw90)],
+                vec![("/mast", "dvl_link", [0.5, 0.0, 0.0], unit)],
+            ],
+            "",
+            Ok(Expect {
+                dvl: [-0.2, -1.0, 0.1],
+                imu: imu_frd,
+                arm: Some([1.0, -0.5, 0.0]),
+                yaw_deg: 30.0,
+                warning: "lever arms from the IMU",
+            }),
+        ),
+        (
+            "an IMU yawed 180 deg on base_link",
+            vec![vec![
+                ("base_link", "imu_link", [0.2, 0.0, 0.0], axis_q(z, PI)),
+                ("base_link", "dvl_link", [0.5, 0.0, 0.0], unit),
+            ]],
+            "",
+            Ok(Expect {
+                dvl: [1.0, -0.2, 0.1],
+                imu: [-0.01, 0.02, -0.03, -0.1, 0.2, -9.81],
+                arm: Some([0.3, 0.0, 0.0]),
+                yaw_deg: -150.0,
+                warning: "vectors rotated",
+            }),
+        ),
+        (
+            "the IMU's frame declared the body frame, the DVL a sibling",
+            vec![vec![
+                ("base_link", "imu_link", [0.2, 0.0, 0.0], yaw90),
+                ("base_link", "dvl_link", [0.2, 1.0, 0.0], unit),
+            ]],
+            "vehicle_frame = \"imu_link\"\n",
+            Ok(Expect {
+                dvl: [0.2, 1.0, 0.1],
+                imu: imu_frd,
+                arm: Some([1.0, 0.0, 0.0]),
+                yaw_deg: 30.0,
+                warning: "the mapping's vehicle_frame",
+            }),
+        ),
+        (
+            "a quaternion of norm 1.003, normalised",
+            vec![vec![("base_link", "dvl_link", [0.5, 0.1, -0.2], scaled)]],
+            "",
+            Ok(Expect {
+                dvl: [-0.2, -1.0, 0.1],
+                imu: imu_frd,
+                arm: Some([0.5, -0.1, 0.2]),
+                yaw_deg: 30.0,
+                warning: "topic `/tf_static`, message 0: a rotation of norm 1.003000000 normalised",
+            }),
+        ),
+        (
+            "a parent missing: not connected",
+            vec![vec![
+                ("base_link", "imu_link", [0.0; 3], unit),
+                ("mast", "dvl_link", [0.5, 0.0, 0.0], yaw90),
+            ]],
+            "",
+            Ok(Expect {
+                dvl: [1.0, -0.2, 0.1],
+                imu: imu_frd,
+                arm: None,
+                yaw_deg: 30.0,
+                warning: "dvl.csv: frame `dvl_link` is not connected to the body frame `base_link` in /tf_static (its chain ends at `mast`)",
+            }),
+        ),
+        (
+            "a cycle",
+            vec![
+                vec![("base_link", "imu_link", [0.0; 3], unit)],
+                vec![("a", "dvl_link", [0.0; 3], unit), ("dvl_link", "a", [0.0; 3], unit)],
+            ],
+            "",
+            Err("topic `/tf_static`, message 1: transform `dvl_link` -> `a` closes a cycle of frames (from `dvl_link`)"),
+        ),
+        (
+            "a quaternion of norm 1.41",
+            vec![
+                vec![("base_link", "imu_link", [0.0; 3], unit)],
+                vec![("base_link", "dvl_link", [0.0; 3], [0.0, 0.0, 1.0, 1.0])],
+            ],
+            "",
+            Err("topic `/tf_static`, message 1: transform `base_link` -> `dvl_link`: rotation (0, 0, 1, 1) has norm 1.414214: a unit quaternion expected"),
+        ),
+        (
+            "a zero quaternion",
+            vec![vec![("base_link", "dvl_link", [0.0; 3], [0.0; 4])]],
+            "",
+            Err("message 0: transform `base_link` -> `dvl_link`: rotation (0, 0, 0, 0) has norm 0.000000"),
+        ),
+        (
+            "a NaN translation",
+            vec![vec![("base_link", "dvl_link", [0.0, f64::NAN, 0.0], unit)]],
+            "",
+            Err("message 0: transform `base_link` -> `dvl_link`: translation component NaN: finite and within 1000 m"),
+        ),
+        (
+            "a DVL 5 km from the body",
+            vec![vec![("base_link", "dvl_link", [5000.0, 0.0, 0.0], unit)]],
+            "",
+            Err("translation component 5000: finite and within 1000 m expected for a mounting"),
+        ),
+        (
+            "two 800 m arms: 1.6 km from the IMU",
+            vec![vec![
+                ("base_link", "imu_link", [-800.0, 0.0, 0.0], unit),
+                ("base_link", "dvl_link", [800.0, 0.0, 0.0], unit),
+            ]],
+            "",
+            Err("dvl.csv: frame `dvl_link` is 1.600e3 m from the IMU in the body frame"),
+        ),
+    ];
+    for (name, messages, mapping, expect) in cases {
+        let mut s = survey();
+        s.retain(|t| t.0 != "/tf_static");
+        let tf: Vec<(u64, Vec<u8>)> = messages
+            .iter()
+            .enumerate()
+            .map(|(i, list)| (T0 as u64 + i as u64, tf_message(list)))
+            .collect();
+        s.push(("/tf_static", "tf2_msgs/msg/TFMessage", tf));
+        let mapping = Mapping::parse("map.toml", mapping).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let result = read("case.mcap", bag(&s).as_slice(), &mapping);
+        match (result, expect) {
+            (Ok(log), Ok(e)) => {
+                let d = log.file("dvl.csv").expect("dvl").row(3);
+                for i in 0..3 {
+                    close(d[1 + i], e.dvl[i], 1e-12, &format!("{name}: dvl[{i}]"));
+                }
+                let r = log.file("imu.csv").expect("imu").row(7);
+                for i in 0..6 {
+                    close(r[1 + i], e.imu[i], 1e-12, &format!("{name}: imu[{i}]"));
+                }
+                let meta = nav_runtime::log::Meta::parse(&log.meta)
+                    .unwrap_or_else(|err| panic!("{name}: {err}\n{}", log.meta));
+                let arm = meta.sensors.mounting("dvl").map(|m| m.lever_arm);
+                match (arm, e.arm) {
+                    (Some(a), Some(b)) => {
+                        for i in 0..3 {
+                            close(a[i], b[i], 1e-12, &format!("{name}: lever arm[{i}]"));
+                        }
+                    }
+                    (a, b) => assert_eq!(a, b, "{name}: lever arm"),
+                }
+                let yaw = meta.initial.yaw.expect("yaw").to_degrees();
+                close(yaw, e.yaw_deg, 1e-9, &format!("{name}: initial yaw"));
+                assert!(
+                    log.summary.warnings.iter().any(|w| w.contains(e.warning)),
+                    "{name}: no warning `{}` in {:?}",
+                    e.warning,
+                    log.summary.warnings
+                );
+            }
+            (Err(err), Err(part)) => {
+                let text = err.to_string();
+                assert!(
+                    text.starts_with("case.mcap: topic `/tf_static`, message "),
+                    "{name}: {text}"
+                );
+                assert!(text.contains(part), "{name}: `{text}` lacks `{part}`");
+            }
+            (Ok(_), Err(part)) => panic!("{name}: imported, `{part}` expected"),
+            (Err(err), Ok(_)) => panic!("{name}: {err}"),
+        }
     }
 }
 

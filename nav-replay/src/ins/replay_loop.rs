@@ -102,6 +102,7 @@ where
     Q: Requests<P>,
 {
     Layout::of::<V, N>()?;
+    source.meta().initial.position_for(V::REPLAY_NAME)?;
     let (facts, imu, heads) = LogFacts::of(source, options)?;
     let (plan, mut aiding) = plan_run::<V, N>(source, options, &facts)?;
     let mut own = OwnSensors::<V, N>::read(source)?;

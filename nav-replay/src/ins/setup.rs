@@ -263,6 +263,7 @@ pub fn initial_vehicle_filter<V: InsVehicle<N>, const N: usize>(
     log: &LogDir,
     options: &FilterOptions,
 ) -> Result<InsFilter<V, N>, RunError> {
+    log.meta.initial.position_for(V::REPLAY_NAME)?;
     let (facts, _, _) = LogFacts::of(&LogSource::Memory(log), options)?;
     let plan = LogPlan::new(&log.meta, &facts, [0.0; SENSORS], V::INITIAL_SIGMA)?;
     let (builder, _) = plan.builder::<V, N>(options);
@@ -390,7 +391,7 @@ impl LogFacts {
                 mag: prefetch(source)?,
             };
             let h = &heads;
-            let radius = meridian_radius(source.meta().initial.lat);
+            let radius = meridian_radius(source.meta().initial.position()?[0]);
             let gnss = [
                 radius * resolution(h.gnss.as_ref(), &[1, 2]),
                 resolution(h.gnss.as_ref(), &[3]),
@@ -574,6 +575,7 @@ impl LogPlan {
         defaults: InitialSigma,
     ) -> Result<Self, RunError> {
         let [roll, pitch, yaw] = meta.initial.attitude()?;
+        let [lat, lon, depth] = meta.initial.position()?;
         let first = &facts.first;
         let spec = ImuSpec::sdins25();
         let imu = meta.sensors.imu.unwrap_or(nav_runtime::log::ImuNoise {
@@ -586,7 +588,7 @@ impl LogPlan {
         let d = defaults;
         let initial = InitialState {
             t: facts.epoch,
-            position: Geodetic::new(meta.initial.lat, meta.initial.lon, -meta.initial.depth),
+            position: Geodetic::new(lat, lon, -depth),
             velocity: Vector3::new(meta.initial.vn, meta.initial.ve, meta.initial.vd),
             attitude: nav_runtime::attitude::Euler { roll, pitch, yaw },
             sigma: InitialSigma {
@@ -681,10 +683,9 @@ impl LogPlan {
                 }
             }
         }
-        let transducer = meta.usbl.map_or(
-            Geodetic::new(meta.initial.lat, meta.initial.lon, 0.0),
-            |u| Geodetic::new(u.lat, u.lon, -u.depth),
-        );
+        let transducer = meta.usbl.map_or(Geodetic::new(lat, lon, 0.0), |u| {
+            Geodetic::new(u.lat, u.lon, -u.depth)
+        });
         Ok(Self {
             warnings,
             first: ImuSample {

@@ -134,7 +134,11 @@ impl Fold {
 
 fn usbl_position(meta: &Meta, line: Option<u64>, fix: &UsblRow, t_start: f64, report: &mut Report) {
     let init = &meta.initial;
-    let frame = LocalNed::new(Geodetic::new(init.lat, init.lon, -init.depth));
+    // An attitude-only meta.toml has no position to compare the fix with.
+    let Ok([lat, lon, depth]) = init.position() else {
+        return;
+    };
+    let frame = LocalNed::new(Geodetic::new(lat, lon, -depth));
     let dt = fix.t - init.t.unwrap_or(t_start);
     let predicted = Vector3::new(init.vn, init.ve, init.vd) * dt;
     let measured = frame.geodetic_to_ned(&Geodetic::new(fix.lat, fix.lon, -fix.depth));

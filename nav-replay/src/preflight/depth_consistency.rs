@@ -60,7 +60,8 @@ impl Fold {
             return;
         }
         let sigma = meta.initial_sigma.and_then(|s| s.position).unwrap_or(0.0);
-        if let Some((line, d)) = self.first_depth {
+        // An attitude-only meta.toml has no initial depth to compare with.
+        if let (Some((line, d)), true) = (self.first_depth, d0.is_finite()) {
             compare(DepthRow::FILE, line, d, d0, sigma, "depth", report);
         }
     }

@@ -1,7 +1,7 @@
 //! Specific force at the start against normal gravity: accelerometers in g
 //! (`|f|` near 1), a scale error, and the sign of `az` (FLU instead of FRD).
 
-use nav_runtime::earth::normal_gravity;
+use nav_runtime::earth::{normal_gravity, G0 as STANDARD_GRAVITY};
 use nav_runtime::log::{ImuRow, Meta, Row, Warning, WarningKind};
 
 use super::Report;
@@ -60,7 +60,11 @@ fn check(meta: &Meta, sum: [f64; 3], rows: usize, span: f64, line: u64, report: 
     let f = [sum[0] / n, sum[1] / n, sum[2] / n];
     let norm = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
     let init = &meta.initial;
-    let g = normal_gravity(init.lat, -init.depth.clamp(-1e5, 1e5));
+    // An attitude-only meta.toml (no position): standard gravity.
+    let g = match init.position() {
+        Ok([lat, _, depth]) => normal_gravity(lat, -depth.clamp(-1e5, 1e5)),
+        Err(_) => STANDARD_GRAVITY,
+    };
     let at = |msg: String| {
         Warning::about(WarningKind::Suspicious, <ImuRow as Row>::FILE, msg)
             .at_line(line)

@@ -56,6 +56,17 @@ impl Initial {
         }
     }
 
+    /// As [`Initial::position`], the error naming `model` (for a replay
+    /// model that needs a position and is given an attitude-only log).
+    pub fn position_for(&self, model: &str) -> Result<[f64; 3], LogError> {
+        self.position().map_err(|_| {
+            LogError::meta(
+                "initial.lat",
+                format!("model {model} needs an initial position: meta.toml [initial] has none (attitude-only log, e.g. an import without GNSS)"),
+            )
+        })
+    }
+
     /// Roll, pitch and yaw, or an error naming the first missing key (for models that
     /// need a full initial attitude).
     pub fn attitude(&self) -> Result<[f64; 3], LogError> {
