@@ -145,8 +145,10 @@ where
     }
 }
 
-/// What `check` finds: the log as the reader validates it, and for each
-/// aiding file whether the vehicle has its sensor.
+/// What `check` finds: the log as the reader and the preflight validate it
+/// and as the replay reads it (a log the replay refuses is refused with
+/// the same error), and for each aiding file whether the vehicle has its
+/// sensor.
 fn check<V: InsVehicle<N>, const N: usize>(c: &CheckCommand) -> Result<(), RunError> {
     let strictness = if c.lenient {
         Strictness::Lenient
@@ -155,14 +157,27 @@ fn check<V: InsVehicle<N>, const N: usize>(c: &CheckCommand) -> Result<(), RunEr
     };
     Layout::of::<V, N>()?;
     let files = open_log(&c.dir, strictness)?;
-    let (_, mut summary) = crate::preflight::check_files(
+    let (report, mut summary) = crate::preflight::check_files(
         &files,
         &PreflightOptions {
             lenient: c.lenient,
             ..PreflightOptions::default()
         },
     )?;
+    if let Some(refusal) = preflight::refusal(&report) {
+        return Err(refusal);
+    }
     summary.warnings.extend(files.rejected_warnings());
+    // What the replay refuses, `check` refuses with the same error: the
+    // replay itself reads the log (its outputs are discarded).
+    InsReplay::<V, N>::new().replay_files(
+        &open_log(&c.dir, strictness)?,
+        &ReplayOptions {
+            lenient: c.lenient,
+            ..ReplayOptions::default()
+        },
+        None,
+    )?;
     let value = check_report::<V, N>(&summary);
     if c.json {
         println!("{}", crate::output::report::json_line(&value));
@@ -395,6 +410,7 @@ pub fn write_out(
         || StagedDir::new(out).map_err(at_out),
         |s| s.path().to_path_buf(),
     )?;
+    let staging = staged.path().display().to_string();
     fill(staged.path()).map_err(|e| match e {
         RunError::Io { source, path } => RunError::Invalid(format!(
             "--out {}: writing {}: {source}",
@@ -403,7 +419,16 @@ pub fn write_out(
                 .map(|n| n.to_string_lossy().into_owned())
                 .unwrap_or_default()
         )),
-        other => other,
+        // Any other error naming a file being written names it under the
+        // staging directory, which the user never sees: under `out`.
+        other => {
+            let text = other.to_string();
+            if text.contains(&staging) {
+                RunError::Invalid(text.replace(&staging, &out.display().to_string()))
+            } else {
+                other
+            }
+        }
     })?;
     pending.finish(|| staged.commit()).map_err(at_out)
 }

@@ -1317,3 +1317,214 @@ fn sigint_while_writing_leaves_no_staging_dir() {
     }
     assert!(interrupted > 0, "no run was interrupted while writing");
 }
+
+// ---- check against replay ------------------------------------------------
+
+/// The log a parity case starts from.
+#[derive(Debug, Clone, Copy)]
+enum Base {
+    /// The 60 s survey of [`base`] (SDINS models).
+    Survey,
+    /// The committed PX4 flight, imported (`ahrs`, `gnss-ins`).
+    Flight,
+}
+
+/// The imported PX4 fixture, once.
+fn flight() -> &'static Path {
+    static DIR: OnceLock<TempDir> = OnceLock::new();
+    DIR.get_or_init(|| {
+        let d = TempDir::new("broken-flight");
+        let fixture = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../models/tests/data/ulog/sample_px4_events.ulg");
+        let o = navsim(&[
+            "import",
+            "ulog",
+            fixture.to_str().unwrap(),
+            "--out",
+            d.path().join("log").to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        d
+    })
+    .path()
+}
+
+/// Removes the `key = ...` lines of `[initial]` in meta.toml.
+fn meta_drop_initial(dir: &Path, keys: &[&str]) {
+    let path = dir.join("meta.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut current = String::new();
+    let mut out = Vec::new();
+    for l in text.lines() {
+        if l.starts_with('[') {
+            current = l.trim_matches(|c| c == '[' || c == ']').to_string();
+        }
+        let key = l.split('=').next().map(str::trim).unwrap_or("");
+        if !(current == "initial" && keys.contains(&key)) {
+            out.push(l);
+        }
+    }
+    std::fs::write(path, out.join("\n") + "\n").unwrap();
+}
+
+/// (name, base log, model, edit): the log is run through `check --model`
+/// and `replay --model`.
+type Parity = (&'static str, Base, &'static str, fn(&Path));
+
+fn parity_cases() -> Vec<Parity> {
+    use Base::*;
+    vec![
+        ("as simulated", Survey, "sdins25", |_| {}),
+        ("as imported, ahrs", Flight, "ahrs", |_| {}),
+        ("as imported, gnss-ins", Flight, "gnss-ins", |_| {}),
+        // the initial state
+        ("initial epoch after every row", Survey, "sdins25", |d| {
+            meta_key(d, "initial", "t", "t = 1e6")
+        }),
+        ("initial epoch after every row, ahrs", Flight, "ahrs", |d| {
+            meta_key(d, "initial", "t", "t = 1e6")
+        }),
+        ("missing initial yaw", Survey, "sdins25", |d| {
+            meta_drop_initial(d, &["yaw"])
+        }),
+        ("missing initial yaw, sdins20", Survey, "sdins20", |d| {
+            meta_drop_initial(d, &["yaw"])
+        }),
+        (
+            "missing initial roll, pressure-auv",
+            Survey,
+            "pressure-auv",
+            |d| meta_drop_initial(d, &["roll"]),
+        ),
+        ("missing initial attitude", Survey, "sdins25", |d| {
+            meta_drop_initial(d, &["roll", "pitch", "yaw"])
+        }),
+        ("missing initial attitude, ahrs", Flight, "ahrs", |d| {
+            meta_drop_initial(d, &["roll", "pitch", "yaw"])
+        }),
+        (
+            "missing initial attitude, gnss-ins",
+            Flight,
+            "gnss-ins",
+            |d| meta_drop_initial(d, &["roll", "pitch", "yaw"]),
+        ),
+        (
+            "missing initial position, gnss-ins",
+            Flight,
+            "gnss-ins",
+            |d| meta_drop_initial(d, &["lat"]),
+        ),
+        // a cell of every file kind
+        ("empty cell in gnss.csv", Flight, "gnss-ins", |d| {
+            cell(d, "gnss.csv", 4, 1, "")
+        }),
+        ("NaN cell in gnss.csv", Flight, "gnss-ins", |d| {
+            cell(d, "gnss.csv", 4, 2, "NaN")
+        }),
+        ("empty cell in mag.csv", Flight, "ahrs", |d| {
+            cell(d, "mag.csv", 4, 1, "")
+        }),
+        ("NaN cell in mag.csv", Flight, "ahrs", |d| {
+            cell(d, "mag.csv", 4, 1, "NaN")
+        }),
+        ("empty cell in baro.csv", Flight, "gnss-ins", |d| {
+            cell(d, "baro.csv", 4, 1, "")
+        }),
+        ("empty cell in reference.csv", Flight, "ahrs", |d| {
+            cell(d, "reference.csv", 4, 1, "")
+        }),
+        ("empty cell in depth.csv", Survey, "sdins25", |d| {
+            cell(d, "depth.csv", 4, 1, "")
+        }),
+        ("empty cell in heading.csv", Survey, "sdins25", |d| {
+            cell(d, "heading.csv", 4, 1, "")
+        }),
+        ("empty cell in usbl.csv", Survey, "sdins25", |d| {
+            cell(d, "usbl.csv", 1, 1, "")
+        }),
+        ("empty cell in altitude.csv", Survey, "sdins25", |d| {
+            cell(d, "altitude.csv", 4, 1, "")
+        }),
+        ("empty cell in truth.csv", Survey, "sdins25", |d| {
+            cell(d, "truth.csv", 4, 1, "")
+        }),
+        // times
+        ("time backwards in reference.csv", Flight, "ahrs", |d| {
+            cell(d, "reference.csv", 6, 0, "1.5")
+        }),
+        (
+            "time backwards in reference.csv, gnss-ins",
+            Flight,
+            "gnss-ins",
+            |d| cell(d, "reference.csv", 6, 0, "1.5"),
+        ),
+        ("time backwards in truth.csv", Survey, "sdins25", |d| {
+            cell(d, "truth.csv", 6, 0, "0.05")
+        }),
+        ("time backwards in gnss.csv", Flight, "gnss-ins", |d| {
+            cell(d, "gnss.csv", 6, 0, "1.5")
+        }),
+        ("gap in imu.csv", Survey, "sdins25", |d| {
+            drop_rows(d, "imu.csv", 1000, 1500)
+        }),
+        ("gap in imu.csv, ahrs", Flight, "ahrs", |d| {
+            drop_rows(d, "imu.csv", 1000, 1500)
+        }),
+        // what the model needs
+        ("no gnss.csv, gnss-ins", Flight, "gnss-ins", |d| {
+            std::fs::remove_file(d.join("gnss.csv")).unwrap()
+        }),
+        ("no mag.csv, ahrs", Flight, "ahrs", |d| {
+            std::fs::remove_file(d.join("mag.csv")).unwrap()
+        }),
+    ]
+}
+
+/// The `error:` line of a failed run, without its prefix and without the
+/// count of further problems; `None` when the run succeeded.
+fn failure(o: &std::process::Output) -> Option<String> {
+    if o.status.success() {
+        return None;
+    }
+    let err = stderr(o);
+    let line = err.lines().find(|l| l.starts_with("error: "))?;
+    let text = line.trim_start_matches("error: ");
+    let text = text.split(" (").next().unwrap_or(text);
+    let text = text.split("; first: ").last().unwrap_or(text);
+    Some(text.to_string())
+}
+
+/// `check --model M` refuses exactly the logs `replay --model M` refuses,
+/// with the replay's error; it passes the logs the replay runs.
+#[test]
+fn check_refuses_what_replay_refuses() {
+    let mut failures = Vec::new();
+    let mut refused = 0;
+    for (name, base_log, model, edit) in parity_cases() {
+        let tmp = TempDir::new("parity");
+        let dir = tmp.path().join("log");
+        let from = match base_log {
+            Base::Survey => base().join("log"),
+            Base::Flight => flight().join("log"),
+        };
+        copy_dir(&from, &dir);
+        edit(&dir);
+        let d = dir.to_str().unwrap();
+        let replay = navsim(&["replay", d, "--model", model, "--json"]);
+        let check = navsim(&["check", d, "--model", model, "--json"]);
+        match (failure(&replay), failure(&check)) {
+            (None, None) => {}
+            (Some(r), Some(c)) => {
+                refused += 1;
+                if !c.contains(&r) && !r.contains(&c) {
+                    failures.push(format!("{name}: replay `{r}`, check `{c}`"));
+                }
+            }
+            (Some(r), None) => failures.push(format!("{name}: check passes, replay: {r}")),
+            (None, Some(c)) => failures.push(format!("{name}: replay runs, check: {c}")),
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    // The table must hold refused logs, or it tests nothing.
+    assert!(refused >= 20, "only {refused} refused logs");
+}
