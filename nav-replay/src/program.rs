@@ -312,8 +312,10 @@ pub fn replay_with(model: &dyn ReplayModel, args: &ReplayArgs) -> Result<(), Run
             for file in &read.unknown_files {
                 eprintln!("warning: ignored unknown file {file}");
             }
+            let mut notes = output.warnings.clone();
+            preflight::weigh_nees(&mut notes, report);
             // A model's notes carry their file in the message already.
-            for w in &output.warnings {
+            for w in &notes {
                 eprintln!("warning: {}", w.message);
             }
             let rejected = files.rejected_warnings();
@@ -323,7 +325,7 @@ pub fn replay_with(model: &dyn ReplayModel, args: &ReplayArgs) -> Result<(), Run
             let mut warnings: Vec<Warning> = read.warnings.clone();
             warnings.extend(rejected);
             warnings.extend(report.warnings().cloned());
-            warnings.extend(output.warnings.iter().cloned());
+            warnings.extend(notes);
             let mut value = report::replay_json(
                 model.name(),
                 output,
@@ -488,4 +490,36 @@ pub fn parse_failure(e: clap::Error) -> ExitCode {
     let body = body.strip_prefix("error:").unwrap_or(&body).trim();
     eprintln!("error: {body}");
     ExitCode::from(2)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    /// An error while `--out` is written (a full disk, say) names the path
+    /// the user gave, whatever form it takes, never the staging directory.
+    #[test]
+    fn out_errors_name_the_out_path_not_the_staging_directory() {
+        let tmp = crate::temp_dir::TempDir::new("write-out");
+        let out = tmp.0.join("results");
+        const FULL: &str = "No space left on device";
+        let cases: [fn(&Path) -> RunError; 3] = [
+            |d| RunError::io(d.join("estimates.csv"), std::io::Error::other(FULL)),
+            |d| RunError::Invalid(format!("{}: {FULL}", d.join("estimates.csv").display())),
+            |d| RunError::Plot {
+                path: d.join("track.png"),
+                message: FULL.into(),
+            },
+        ];
+        for (k, make) in cases.into_iter().enumerate() {
+            let e = write_out(&out, |d| Err(make(d))).unwrap_err().to_string();
+            assert!(
+                e.contains(&out.display().to_string()) && e.contains(FULL),
+                "case {k}: {e}"
+            );
+            assert!(!e.contains(".partial"), "case {k}: {e}");
+            assert!(!out.exists(), "case {k}");
+        }
+    }
 }

@@ -1528,3 +1528,174 @@ fn check_refuses_what_replay_refuses() {
     // The table must hold refused logs, or it tests nothing.
     assert!(refused >= 20, "only {refused} refused logs");
 }
+
+// ---- errors that name the cause -------------------------------------------
+
+/// `imu.csv` rewritten as increments (rate times the 0.01 s period), with
+/// every `drop_every`-th row dropped when given.
+fn to_increments(dir: &Path, drop_every: Option<usize>) {
+    let path = dir.join("imu.csv");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut out = String::from("t,dtheta_x,dtheta_y,dtheta_z,dv_x,dv_y,dv_z\n");
+    for (i, line) in text.lines().skip(1).enumerate() {
+        if drop_every.is_some_and(|n| i % n == n / 2) {
+            continue;
+        }
+        let c: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+        let cells: Vec<String> = std::iter::once(c[0])
+            .chain(c[1..].iter().map(|x| x * 0.01))
+            .map(|x| x.to_string())
+            .collect();
+        out.push_str(&cells.join(","));
+        out.push('\n');
+    }
+    std::fs::write(path, out).unwrap();
+}
+
+/// (name, base log, arguments after the directory, edit, what must name the
+/// cause: `Error(texts)` in the one `error:` line, `Warn(kind, text)` in a
+/// JSON warning)
+type Named = (
+    &'static str,
+    Base,
+    &'static [&'static str],
+    fn(&Path),
+    Expect,
+);
+
+fn named_cases() -> Vec<Named> {
+    use Base::*;
+    use Expect::*;
+    const SDINS: &[&str] = &["--model", "sdins25"];
+    vec![
+        (
+            "gyro in deg/s within the gyro range",
+            Survey,
+            SDINS,
+            |d| scale(d, "imu.csv", &[1, 2, 3], 1f64.to_degrees()),
+            // The filter diverges; the error names the doubtful input.
+            Error(&["exceeds 300", "likely cause", "imu.csv:2", "deg/s?"]),
+        ),
+        (
+            "times in milliseconds",
+            Survey,
+            SDINS,
+            |d| {
+                for f in ["imu.csv", "dvl.csv", "depth.csv", "heading.csv", "usbl.csv"] {
+                    scale(d, f, &[0], 1000.0);
+                }
+            },
+            Error(&["imu.csv", "milliseconds?"]),
+        ),
+        (
+            "times in microseconds",
+            Survey,
+            SDINS,
+            |d| scale(d, "imu.csv", &[0], 1e6),
+            Error(&["imu.csv", "microseconds?"]),
+        ),
+        (
+            "increments as written",
+            Survey,
+            SDINS,
+            |d| to_increments(d, None),
+            Correct,
+        ),
+        (
+            "increment rows dropped",
+            Survey,
+            SDINS,
+            |d| to_increments(d, Some(50)),
+            Warn("imu_gap", "increment rows dropped?"),
+        ),
+        (
+            "far-future last IMU row",
+            Survey,
+            SDINS,
+            |d| {
+                let text = std::fs::read_to_string(d.join("imu.csv")).unwrap();
+                let last = text.lines().last().unwrap().to_string();
+                let rest = last.split_once(',').unwrap().1;
+                append(d, "imu.csv", &format!("1e9,{rest}\n"));
+            },
+            // 6001 rows after the header; the appended one is line 6003.
+            Error(&["imu.csv:6003", "gap of"]),
+        ),
+        (
+            "a log without GNSS for a model that needs it",
+            Flight,
+            &["--model", "gnss-ins"],
+            |d| std::fs::remove_file(d.join("gnss.csv")).unwrap(),
+            Error(&["gnss.csv: missing", "needs GNSS"]),
+        ),
+        (
+            "truth yaw off by 0.3 rad, filter fine",
+            Survey,
+            SDINS,
+            |d| {
+                rows(d, "truth.csv", |_, c| {
+                    c[9] = format!("{}", c[9].parse::<f64>().unwrap() + 0.3)
+                })
+            },
+            Warn("suspicious", "convention or clock of truth.csv?"),
+        ),
+        (
+            "increment rows dropped, truth right",
+            Survey,
+            SDINS,
+            |d| to_increments(d, Some(10)),
+            Warn("suspicious", "a likelier cause than truth.csv: imu.csv:"),
+        ),
+    ]
+}
+
+/// Each error or warning names the input that caused it (the file, line
+/// and likely cause), not the estimate that went wrong or an internal path.
+#[test]
+fn errors_name_the_cause() {
+    let mut failures = Vec::new();
+    for (name, base_log, args, edit, expect) in named_cases() {
+        let tmp = TempDir::new("named");
+        let dir = tmp.path().join("log");
+        let from = match base_log {
+            Base::Survey => base().join("log"),
+            Base::Flight => flight().join("log"),
+        };
+        copy_dir(&from, &dir);
+        edit(&dir);
+        let mut all = vec!["replay", dir.to_str().unwrap(), "--json"];
+        all.extend_from_slice(args);
+        let o = navsim(&all);
+        let (out, err) = (stdout(&o), stderr(&o));
+        let result = match expect {
+            Expect::Error(texts) => match err.lines().find(|l| l.starts_with("error:")) {
+                Some(line) if !o.status.success() => texts
+                    .iter()
+                    .find(|t| !line.contains(*t))
+                    .map(|t| format!("`{t}` not in {line}")),
+                _ => Some(format!("no error: {err}")),
+            },
+            Expect::Warn(kind, text) => match serde_json::from_str::<Value>(out.trim()) {
+                Ok(v) => {
+                    let hit = v["warnings"].as_array().into_iter().flatten().any(|w| {
+                        let place = format!(
+                            "{}: {} {}",
+                            w["file"].as_str().unwrap_or(""),
+                            w["key"].as_str().unwrap_or(""),
+                            w["message"].as_str().unwrap_or("")
+                        );
+                        w["kind"] == kind && place.contains(text)
+                    });
+                    (!hit)
+                        .then(|| format!("no `{kind}` warning with `{text}` in {}", v["warnings"]))
+                }
+                Err(_) => Some(format!("failed: {err}")),
+            },
+            Expect::Correct => (!o.status.success()).then(|| format!("failed: {err}")),
+        };
+        if let Some(r) = result {
+            failures.push(format!("{name}: {r}"));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}

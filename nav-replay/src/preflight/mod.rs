@@ -42,7 +42,7 @@ mod summary;
 mod time_gaps;
 mod truth_values;
 
-pub use alongside::{check_alongside, refusal};
+pub use alongside::{check_alongside, refusal, weigh_nees};
 pub use finding::{Finding, Report, Severity};
 pub use summary::{FileSummary, ImuSummary, LogSummary};
 
