@@ -43,6 +43,24 @@ fn level_dive(l: &mut LogDir) {
     }
 }
 
+/// The first 90 s only: straight ahead, no turn for the gyro and the
+/// heading to be compared over; only the heading's noise tells.
+fn straight(l: &mut LogDir) {
+    let t_end = 90.0;
+    l.imu.retain(|r| r.t < t_end);
+    fn keep<R: nav_runtime::log::Row>(rows: &mut Option<Vec<R>>, t_end: f64) {
+        if let Some(rows) = rows {
+            rows.retain(|r| r.t() < t_end);
+        }
+    }
+    keep(&mut l.dvl, t_end);
+    keep(&mut l.depth, t_end);
+    keep(&mut l.heading, t_end);
+    keep(&mut l.usbl, t_end);
+    keep(&mut l.altitude, t_end);
+    keep(&mut l.truth, t_end);
+}
+
 fn scale(l: &mut LogDir, k: f64) {
     for r in &mut l.imu {
         r.gx *= k;
@@ -97,6 +115,16 @@ fn cases() -> Vec<Case> {
             ]),
         ),
         (
+            "heading in rad declared as deg, no turn",
+            straight,
+            "[files.heading]\nunits = { angle = \"deg\" }\n",
+            Some(&[
+                "heading.csv",
+                "files.heading.units declares deg",
+                "radians?",
+            ]),
+        ),
+        (
             "heading in deg declared as deg",
             |l| {
                 for r in l.heading.as_mut().unwrap() {
@@ -107,6 +135,7 @@ fn cases() -> Vec<Case> {
             None,
         ),
         ("level dive as simulated", level_dive, "", None),
+        ("straight, as simulated", straight, "", None),
         (
             "DVL in FLU, no frame declared",
             |l| {

@@ -296,6 +296,26 @@ fn cases() -> Vec<Case> {
             Here,
         ),
         (
+            "gyro in rad/s declared deg/s",
+            "units",
+            |d| meta_key(d, "files.imu", "units", "units = { rate = \"deg/s\" }"),
+            SDINS,
+            Error(&["imu.csv:2", "files.imu.units declares deg/s", "rad/s?"]),
+            Here,
+        ),
+        (
+            "heading in rad declared deg",
+            "units",
+            |d| meta_key(d, "files.heading", "units", "units = { angle = \"deg\" }"),
+            SDINS,
+            Error(&[
+                "heading.csv",
+                "files.heading.units declares deg",
+                "radians?",
+            ]),
+            Here,
+        ),
+        (
             "heading in degrees beyond 2 pi",
             "units",
             |d| {

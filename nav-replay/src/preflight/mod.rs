@@ -413,7 +413,7 @@ impl<'m> Scan<'m> {
         self.partial_rows.finish(&o, &mut report);
         self.angle_range.finish(&mut report);
         if !report.has_errors() {
-            heading_units::check(&self.head, &mut report);
+            heading_units::check(&self.head, &self.mapping, &mut report);
         }
         self.depth.finish(self.meta, &mut report);
         if !report.has_errors() {
