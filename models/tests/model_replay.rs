@@ -321,6 +321,13 @@ fn broken_mappings_and_logs_are_errors_naming_the_key() {
                 "case {k}: `{message}` lacks `{part}`"
             );
         }
+        // `check` reads the log as the replay does: it refuses it too.
+        let d = log.to_string_lossy().into_owned();
+        assert_eq!(
+            rover().main_with(["rover", "check", d.as_str()]),
+            std::process::ExitCode::FAILURE,
+            "case {k}: check passes a log the replay refuses ({message})"
+        );
     }
 }
 
@@ -392,6 +399,17 @@ fn lenient_reading_and_refused_sensors_are_in_the_warnings() {
     let path = log.join("gnss.csv");
     let text = std::fs::read_to_string(&path).unwrap();
     std::fs::write(&path, text.replacen("\n1.5,", "\n1.5,oops,", 1)).unwrap();
+    // `check` refuses it as the replay does, and passes it with --lenient.
+    let d = log.to_string_lossy().into_owned();
+    let program = |args: &[&str]| {
+        rover().main_with(
+            ["rover", "check", d.as_str()]
+                .into_iter()
+                .chain(args.iter().copied()),
+        )
+    };
+    assert_eq!(program(&[]), std::process::ExitCode::FAILURE);
+    assert_eq!(program(&["--lenient"]), std::process::ExitCode::SUCCESS);
     let options = RunOptions {
         lenient: true,
         output_period: 0.0,

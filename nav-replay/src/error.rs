@@ -12,6 +12,11 @@ pub enum RunError {
     /// A bad value (option, argument, missing sensor, ...).
     #[error("{0}")]
     Invalid(String),
+    /// The filter's estimate left its physical bounds or stopped being
+    /// finite (the message names the input line that led to it, and the
+    /// doubtful inputs when the preflight saw any).
+    #[error("{0}")]
+    Diverged(String),
     /// One run failed.
     #[error("run with seed {seed} failed: {message}")]
     Failed {

@@ -150,8 +150,10 @@ where
     }
 }
 
-/// What `check` finds: the log as the reader validates it, and for each
-/// aiding file whether the vehicle has its sensor.
+/// What `check` finds: the log as the reader and the preflight validate it
+/// and as the replay reads it (a log the replay refuses is refused with
+/// the same error), and for each aiding file whether the vehicle has its
+/// sensor.
 fn check<V: InsVehicle<N>, const N: usize>(c: &CheckCommand) -> Result<(), RunError> {
     let strictness = if c.lenient {
         Strictness::Lenient
@@ -160,14 +162,27 @@ fn check<V: InsVehicle<N>, const N: usize>(c: &CheckCommand) -> Result<(), RunEr
     };
     Layout::of::<V, N>()?;
     let files = open_log(&c.dir, strictness)?;
-    let (_, mut summary) = crate::preflight::check_files(
+    let (report, mut summary) = crate::preflight::check_files(
         &files,
         &PreflightOptions {
             lenient: c.lenient,
             ..PreflightOptions::default()
         },
     )?;
+    if let Some(refusal) = preflight::refusal(&report) {
+        return Err(refusal);
+    }
     summary.warnings.extend(files.rejected_warnings());
+    // What the replay refuses, `check` refuses with the same error: the
+    // replay itself reads the log (its outputs are discarded).
+    InsReplay::<V, N>::new().replay_files(
+        &open_log(&c.dir, strictness)?,
+        &ReplayOptions {
+            lenient: c.lenient,
+            ..ReplayOptions::default()
+        },
+        None,
+    )?;
     let value = check_report::<V, N>(&summary);
     if c.json {
         println!("{}", crate::output::report::json_line(&value));
@@ -313,8 +328,10 @@ pub fn replay_with(model: &dyn ReplayModel, args: &ReplayArgs) -> Result<(), Run
             for file in &read.unknown_files {
                 eprintln!("warning: ignored unknown file {file}");
             }
+            let mut notes = output.warnings.clone();
+            preflight::weigh_nees(&mut notes, report);
             // A model's notes carry their file in the message already.
-            for w in &output.warnings {
+            for w in &notes {
                 eprintln!("warning: {}", w.message);
             }
             let rejected = files.rejected_warnings();
@@ -324,7 +341,7 @@ pub fn replay_with(model: &dyn ReplayModel, args: &ReplayArgs) -> Result<(), Run
             let mut warnings: Vec<Warning> = read.warnings.clone();
             warnings.extend(rejected);
             warnings.extend(report.warnings().cloned());
-            warnings.extend(output.warnings.iter().cloned());
+            warnings.extend(notes);
             let mut value = report::replay_json(
                 model.name(),
                 output,
@@ -411,6 +428,7 @@ pub fn write_out(
         || StagedDir::new(out).map_err(at_out),
         |s| s.path().to_path_buf(),
     )?;
+    let staging = staged.path().display().to_string();
     fill(staged.path()).map_err(|e| match e {
         RunError::Io { source, path } => RunError::Invalid(format!(
             "--out {}: writing {}: {source}",
@@ -419,7 +437,16 @@ pub fn write_out(
                 .map(|n| n.to_string_lossy().into_owned())
                 .unwrap_or_default()
         )),
-        other => other,
+        // Any other error naming a file being written names it under the
+        // staging directory, which the user never sees: under `out`.
+        other => {
+            let text = other.to_string();
+            if text.contains(&staging) {
+                RunError::Invalid(text.replace(&staging, &out.display().to_string()))
+            } else {
+                other
+            }
+        }
     })?;
     pending.finish(|| staged.commit()).map_err(at_out)
 }
@@ -479,4 +506,36 @@ pub fn parse_failure(e: clap::Error) -> ExitCode {
     let body = body.strip_prefix("error:").unwrap_or(&body).trim();
     eprintln!("error: {body}");
     ExitCode::from(2)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    /// An error while `--out` is written (a full disk, say) names the path
+    /// the user gave, whatever form it takes, never the staging directory.
+    #[test]
+    fn out_errors_name_the_out_path_not_the_staging_directory() {
+        let tmp = crate::temp_dir::TempDir::new("write-out");
+        let out = tmp.0.join("results");
+        const FULL: &str = "No space left on device";
+        let cases: [fn(&Path) -> RunError; 3] = [
+            |d| RunError::io(d.join("estimates.csv"), std::io::Error::other(FULL)),
+            |d| RunError::Invalid(format!("{}: {FULL}", d.join("estimates.csv").display())),
+            |d| RunError::Plot {
+                path: d.join("track.png"),
+                message: FULL.into(),
+            },
+        ];
+        for (k, make) in cases.into_iter().enumerate() {
+            let e = write_out(&out, |d| Err(make(d))).unwrap_err().to_string();
+            assert!(
+                e.contains(&out.display().to_string()) && e.contains(FULL),
+                "case {k}: {e}"
+            );
+            assert!(!e.contains(".partial"), "case {k}: {e}");
+            assert!(!out.exists(), "case {k}");
+        }
+    }
 }

@@ -158,6 +158,12 @@ pub struct CheckArgs {
     /// An IMU interval longer than this many IMU periods is a gap.
     #[arg(long, default_value_t = 10.0, value_name = "N")]
     pub max_gap_periods: f64,
+    /// Also read the log as `replay --model NAME` does: the model's own
+    /// files, initial state and input checks, with the replay's code (the
+    /// model is run; its outputs are discarded), so that a log the replay
+    /// refuses is refused here with the same error.
+    #[arg(long)]
+    pub model: Option<String>,
 }
 
 /// `navsim scenario`.
@@ -353,16 +359,30 @@ pub fn cmd_replay(args: &ReplayArgs) -> Result<(), RunError> {
 /// `navsim check`: runs the preflight over the log as a stream (the log is
 /// not loaded) and prints every finding; fails when there is an error.
 pub fn cmd_check(args: &CheckArgs) -> Result<(), RunError> {
-    let (options, strictness) = preflight_options(args.lenient, args.max_gap_periods, None)?;
+    let model = args.model.as_deref().map(find_replay_model).transpose()?;
+    let (options, strictness) = preflight_options(
+        args.lenient,
+        args.max_gap_periods,
+        model.as_ref().and_then(|m| m.log_files()),
+    )?;
     let files = open_log(&args.dir, strictness)?;
     let (report, summary) = preflight::check_files(&files, &options)?;
-    let errors: Vec<Warning> = report.errors().cloned().collect();
+    let mut errors: Vec<Warning> = report.errors().cloned().collect();
     let mut warnings = summary.warnings.clone();
     warnings.extend(files.rejected_warnings());
     warnings.extend(report.warnings().cloned());
+    if let Some(model) = &model {
+        // The preflight refuses first, as in `replay`.
+        if errors.is_empty() {
+            match check_with_model(model.as_ref(), args, strictness) {
+                Ok(notes) => warnings.extend(notes),
+                Err(e) => errors.push(nav_replay::model_note(one_line(&e.to_string()))),
+            }
+        }
+    }
     let span = summary.imu_time_span();
     let imu_rows = summary.imu_rows();
-    let value = serde_json::json!({
+    let mut value = serde_json::json!({
         "dir": args.dir.display().to_string(),
         "ok": errors.is_empty(),
         "imu_rows": imu_rows,
@@ -370,6 +390,9 @@ pub fn cmd_check(args: &CheckArgs) -> Result<(), RunError> {
         "errors": warnings_json(&errors),
         "warnings": warnings_json(&warnings),
     });
+    if let Some(model) = &model {
+        value["model"] = Value::from(model.name());
+    }
     if args.json {
         println!("{}", report::json_line(&value));
     } else {
@@ -396,6 +419,22 @@ pub fn cmd_check(args: &CheckArgs) -> Result<(), RunError> {
             errors[0]
         ))),
     }
+}
+
+/// The replay of `model` over the log of `args`, as `navsim replay` runs it
+/// (its own reading of the log, its setup and input checks, the filter),
+/// with nothing kept: its notes, or the error the replay gives.
+fn check_with_model(
+    model: &dyn nav_replay::ReplayModel,
+    args: &CheckArgs,
+    strictness: nav_runtime::log::Strictness,
+) -> Result<Vec<Warning>, RunError> {
+    let files = open_log(&args.dir, strictness)?;
+    let options = nav_replay::ReplayOptions {
+        lenient: args.lenient,
+        ..Default::default()
+    };
+    Ok(model.replay_files(&files, &options, None)?.warnings)
 }
 
 /// `navsim simulate`.

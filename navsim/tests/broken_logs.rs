@@ -296,6 +296,26 @@ fn cases() -> Vec<Case> {
             Here,
         ),
         (
+            "gyro in rad/s declared deg/s",
+            "units",
+            |d| meta_key(d, "files.imu", "units", "units = { rate = \"deg/s\" }"),
+            SDINS,
+            Error(&["imu.csv:2", "files.imu.units declares deg/s", "rad/s?"]),
+            Here,
+        ),
+        (
+            "heading in rad declared deg",
+            "units",
+            |d| meta_key(d, "files.heading", "units", "units = { angle = \"deg\" }"),
+            SDINS,
+            Error(&[
+                "heading.csv",
+                "files.heading.units declares deg",
+                "radians?",
+            ]),
+            Here,
+        ),
+        (
             "heading in degrees beyond 2 pi",
             "units",
             |d| {
@@ -1316,4 +1336,386 @@ fn sigint_while_writing_leaves_no_staging_dir() {
         }
     }
     assert!(interrupted > 0, "no run was interrupted while writing");
+}
+
+// ---- check against replay ------------------------------------------------
+
+/// The log a parity case starts from.
+#[derive(Debug, Clone, Copy)]
+enum Base {
+    /// The 60 s survey of [`base`] (SDINS models).
+    Survey,
+    /// The committed PX4 flight, imported (`ahrs`, `gnss-ins`).
+    Flight,
+}
+
+/// The imported PX4 fixture, once.
+fn flight() -> &'static Path {
+    static DIR: OnceLock<TempDir> = OnceLock::new();
+    DIR.get_or_init(|| {
+        let d = TempDir::new("broken-flight");
+        let fixture = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../models/tests/data/ulog/sample_px4_events.ulg");
+        let o = navsim(&[
+            "import",
+            "ulog",
+            fixture.to_str().unwrap(),
+            "--out",
+            d.path().join("log").to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        d
+    })
+    .path()
+}
+
+/// Removes the `key = ...` lines of `[initial]` in meta.toml.
+fn meta_drop_initial(dir: &Path, keys: &[&str]) {
+    let path = dir.join("meta.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut current = String::new();
+    let mut out = Vec::new();
+    for l in text.lines() {
+        if l.starts_with('[') {
+            current = l.trim_matches(|c| c == '[' || c == ']').to_string();
+        }
+        let key = l.split('=').next().map(str::trim).unwrap_or("");
+        if !(current == "initial" && keys.contains(&key)) {
+            out.push(l);
+        }
+    }
+    std::fs::write(path, out.join("\n") + "\n").unwrap();
+}
+
+/// (name, base log, model, edit): the log is run through `check --model`
+/// and `replay --model`.
+type Parity = (&'static str, Base, &'static str, fn(&Path));
+
+fn parity_cases() -> Vec<Parity> {
+    use Base::*;
+    vec![
+        ("as simulated", Survey, "sdins25", |_| {}),
+        ("as imported, ahrs", Flight, "ahrs", |_| {}),
+        ("as imported, gnss-ins", Flight, "gnss-ins", |_| {}),
+        // the initial state
+        ("initial epoch after every row", Survey, "sdins25", |d| {
+            meta_key(d, "initial", "t", "t = 1e6")
+        }),
+        ("initial epoch after every row, ahrs", Flight, "ahrs", |d| {
+            meta_key(d, "initial", "t", "t = 1e6")
+        }),
+        ("missing initial yaw", Survey, "sdins25", |d| {
+            meta_drop_initial(d, &["yaw"])
+        }),
+        ("missing initial yaw, sdins20", Survey, "sdins20", |d| {
+            meta_drop_initial(d, &["yaw"])
+        }),
+        (
+            "missing initial roll, pressure-auv",
+            Survey,
+            "pressure-auv",
+            |d| meta_drop_initial(d, &["roll"]),
+        ),
+        ("missing initial attitude", Survey, "sdins25", |d| {
+            meta_drop_initial(d, &["roll", "pitch", "yaw"])
+        }),
+        ("missing initial attitude, ahrs", Flight, "ahrs", |d| {
+            meta_drop_initial(d, &["roll", "pitch", "yaw"])
+        }),
+        (
+            "missing initial attitude, gnss-ins",
+            Flight,
+            "gnss-ins",
+            |d| meta_drop_initial(d, &["roll", "pitch", "yaw"]),
+        ),
+        (
+            "missing initial position, gnss-ins",
+            Flight,
+            "gnss-ins",
+            |d| meta_drop_initial(d, &["lat"]),
+        ),
+        // a cell of every file kind
+        ("empty cell in gnss.csv", Flight, "gnss-ins", |d| {
+            cell(d, "gnss.csv", 4, 1, "")
+        }),
+        ("NaN cell in gnss.csv", Flight, "gnss-ins", |d| {
+            cell(d, "gnss.csv", 4, 2, "NaN")
+        }),
+        ("empty cell in mag.csv", Flight, "ahrs", |d| {
+            cell(d, "mag.csv", 4, 1, "")
+        }),
+        ("NaN cell in mag.csv", Flight, "ahrs", |d| {
+            cell(d, "mag.csv", 4, 1, "NaN")
+        }),
+        ("empty cell in baro.csv", Flight, "gnss-ins", |d| {
+            cell(d, "baro.csv", 4, 1, "")
+        }),
+        ("empty cell in reference.csv", Flight, "ahrs", |d| {
+            cell(d, "reference.csv", 4, 1, "")
+        }),
+        ("empty cell in depth.csv", Survey, "sdins25", |d| {
+            cell(d, "depth.csv", 4, 1, "")
+        }),
+        ("empty cell in heading.csv", Survey, "sdins25", |d| {
+            cell(d, "heading.csv", 4, 1, "")
+        }),
+        ("empty cell in usbl.csv", Survey, "sdins25", |d| {
+            cell(d, "usbl.csv", 1, 1, "")
+        }),
+        ("empty cell in altitude.csv", Survey, "sdins25", |d| {
+            cell(d, "altitude.csv", 4, 1, "")
+        }),
+        ("empty cell in truth.csv", Survey, "sdins25", |d| {
+            cell(d, "truth.csv", 4, 1, "")
+        }),
+        // times
+        ("time backwards in reference.csv", Flight, "ahrs", |d| {
+            cell(d, "reference.csv", 6, 0, "1.5")
+        }),
+        (
+            "time backwards in reference.csv, gnss-ins",
+            Flight,
+            "gnss-ins",
+            |d| cell(d, "reference.csv", 6, 0, "1.5"),
+        ),
+        ("time backwards in truth.csv", Survey, "sdins25", |d| {
+            cell(d, "truth.csv", 6, 0, "0.05")
+        }),
+        ("time backwards in gnss.csv", Flight, "gnss-ins", |d| {
+            cell(d, "gnss.csv", 6, 0, "1.5")
+        }),
+        ("gap in imu.csv", Survey, "sdins25", |d| {
+            drop_rows(d, "imu.csv", 1000, 1500)
+        }),
+        ("gap in imu.csv, ahrs", Flight, "ahrs", |d| {
+            drop_rows(d, "imu.csv", 1000, 1500)
+        }),
+        // what the model needs
+        ("no gnss.csv, gnss-ins", Flight, "gnss-ins", |d| {
+            std::fs::remove_file(d.join("gnss.csv")).unwrap()
+        }),
+        ("no mag.csv, ahrs", Flight, "ahrs", |d| {
+            std::fs::remove_file(d.join("mag.csv")).unwrap()
+        }),
+    ]
+}
+
+/// The `error:` line of a failed run, without its prefix and without the
+/// count of further problems; `None` when the run succeeded.
+fn failure(o: &std::process::Output) -> Option<String> {
+    if o.status.success() {
+        return None;
+    }
+    let err = stderr(o);
+    let line = err.lines().find(|l| l.starts_with("error: "))?;
+    let text = line.trim_start_matches("error: ");
+    let text = text.split(" (").next().unwrap_or(text);
+    let text = text.split("; first: ").last().unwrap_or(text);
+    Some(text.to_string())
+}
+
+/// `check --model M` refuses exactly the logs `replay --model M` refuses,
+/// with the replay's error; it passes the logs the replay runs.
+#[test]
+fn check_refuses_what_replay_refuses() {
+    let mut failures = Vec::new();
+    let mut refused = 0;
+    for (name, base_log, model, edit) in parity_cases() {
+        let tmp = TempDir::new("parity");
+        let dir = tmp.path().join("log");
+        let from = match base_log {
+            Base::Survey => base().join("log"),
+            Base::Flight => flight().join("log"),
+        };
+        copy_dir(&from, &dir);
+        edit(&dir);
+        let d = dir.to_str().unwrap();
+        let replay = navsim(&["replay", d, "--model", model, "--json"]);
+        let check = navsim(&["check", d, "--model", model, "--json"]);
+        match (failure(&replay), failure(&check)) {
+            (None, None) => {}
+            (Some(r), Some(c)) => {
+                refused += 1;
+                if !c.contains(&r) && !r.contains(&c) {
+                    failures.push(format!("{name}: replay `{r}`, check `{c}`"));
+                }
+            }
+            (Some(r), None) => failures.push(format!("{name}: check passes, replay: {r}")),
+            (None, Some(c)) => failures.push(format!("{name}: replay runs, check: {c}")),
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    // The table must hold refused logs, or it tests nothing.
+    assert!(refused >= 20, "only {refused} refused logs");
+}
+
+// ---- errors that name the cause -------------------------------------------
+
+/// `imu.csv` rewritten as increments (rate times the 0.01 s period), with
+/// every `drop_every`-th row dropped when given.
+fn to_increments(dir: &Path, drop_every: Option<usize>) {
+    let path = dir.join("imu.csv");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut out = String::from("t,dtheta_x,dtheta_y,dtheta_z,dv_x,dv_y,dv_z\n");
+    for (i, line) in text.lines().skip(1).enumerate() {
+        if drop_every.is_some_and(|n| i % n == n / 2) {
+            continue;
+        }
+        let c: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+        let cells: Vec<String> = std::iter::once(c[0])
+            .chain(c[1..].iter().map(|x| x * 0.01))
+            .map(|x| x.to_string())
+            .collect();
+        out.push_str(&cells.join(","));
+        out.push('\n');
+    }
+    std::fs::write(path, out).unwrap();
+}
+
+/// (name, base log, arguments after the directory, edit, what must name the
+/// cause: `Error(texts)` in the one `error:` line, `Warn(kind, text)` in a
+/// JSON warning)
+type Named = (
+    &'static str,
+    Base,
+    &'static [&'static str],
+    fn(&Path),
+    Expect,
+);
+
+fn named_cases() -> Vec<Named> {
+    use Base::*;
+    use Expect::*;
+    const SDINS: &[&str] = &["--model", "sdins25"];
+    vec![
+        (
+            "gyro in deg/s within the gyro range",
+            Survey,
+            SDINS,
+            |d| scale(d, "imu.csv", &[1, 2, 3], 1f64.to_degrees()),
+            // The filter diverges; the error names the doubtful input.
+            Error(&["exceeds 300", "likely cause", "imu.csv:2", "deg/s?"]),
+        ),
+        (
+            "times in milliseconds",
+            Survey,
+            SDINS,
+            |d| {
+                for f in ["imu.csv", "dvl.csv", "depth.csv", "heading.csv", "usbl.csv"] {
+                    scale(d, f, &[0], 1000.0);
+                }
+            },
+            Error(&["imu.csv", "milliseconds?"]),
+        ),
+        (
+            "times in microseconds",
+            Survey,
+            SDINS,
+            |d| scale(d, "imu.csv", &[0], 1e6),
+            Error(&["imu.csv", "microseconds?"]),
+        ),
+        (
+            "increments as written",
+            Survey,
+            SDINS,
+            |d| to_increments(d, None),
+            Correct,
+        ),
+        (
+            "increment rows dropped",
+            Survey,
+            SDINS,
+            |d| to_increments(d, Some(50)),
+            Warn("imu_gap", "increment rows dropped?"),
+        ),
+        (
+            "far-future last IMU row",
+            Survey,
+            SDINS,
+            |d| {
+                let text = std::fs::read_to_string(d.join("imu.csv")).unwrap();
+                let last = text.lines().last().unwrap().to_string();
+                let rest = last.split_once(',').unwrap().1;
+                append(d, "imu.csv", &format!("1e9,{rest}\n"));
+            },
+            // 6001 rows after the header; the appended one is line 6003.
+            Error(&["imu.csv:6003", "gap of"]),
+        ),
+        (
+            "a log without GNSS for a model that needs it",
+            Flight,
+            &["--model", "gnss-ins"],
+            |d| std::fs::remove_file(d.join("gnss.csv")).unwrap(),
+            Error(&["gnss.csv: missing", "needs GNSS"]),
+        ),
+        (
+            "truth yaw off by 0.3 rad, filter fine",
+            Survey,
+            SDINS,
+            |d| {
+                rows(d, "truth.csv", |_, c| {
+                    c[9] = format!("{}", c[9].parse::<f64>().unwrap() + 0.3)
+                })
+            },
+            Warn("suspicious", "convention or clock of truth.csv?"),
+        ),
+        (
+            "increment rows dropped, truth right",
+            Survey,
+            SDINS,
+            |d| to_increments(d, Some(10)),
+            Warn("suspicious", "a likelier cause than truth.csv: imu.csv:"),
+        ),
+    ]
+}
+
+/// Each error or warning names the input that caused it (the file, line
+/// and likely cause), not the estimate that went wrong or an internal path.
+#[test]
+fn errors_name_the_cause() {
+    let mut failures = Vec::new();
+    for (name, base_log, args, edit, expect) in named_cases() {
+        let tmp = TempDir::new("named");
+        let dir = tmp.path().join("log");
+        let from = match base_log {
+            Base::Survey => base().join("log"),
+            Base::Flight => flight().join("log"),
+        };
+        copy_dir(&from, &dir);
+        edit(&dir);
+        let mut all = vec!["replay", dir.to_str().unwrap(), "--json"];
+        all.extend_from_slice(args);
+        let o = navsim(&all);
+        let (out, err) = (stdout(&o), stderr(&o));
+        let result = match expect {
+            Expect::Error(texts) => match err.lines().find(|l| l.starts_with("error:")) {
+                Some(line) if !o.status.success() => texts
+                    .iter()
+                    .find(|t| !line.contains(*t))
+                    .map(|t| format!("`{t}` not in {line}")),
+                _ => Some(format!("no error: {err}")),
+            },
+            Expect::Warn(kind, text) => match serde_json::from_str::<Value>(out.trim()) {
+                Ok(v) => {
+                    let hit = v["warnings"].as_array().into_iter().flatten().any(|w| {
+                        let place = format!(
+                            "{}: {} {}",
+                            w["file"].as_str().unwrap_or(""),
+                            w["key"].as_str().unwrap_or(""),
+                            w["message"].as_str().unwrap_or("")
+                        );
+                        w["kind"] == kind && place.contains(text)
+                    });
+                    (!hit)
+                        .then(|| format!("no `{kind}` warning with `{text}` in {}", v["warnings"]))
+                }
+                Err(_) => Some(format!("failed: {err}")),
+            },
+            Expect::Correct => (!o.status.success()).then(|| format!("failed: {err}")),
+        };
+        if let Some(r) = result {
+            failures.push(format!("{name}: {r}"));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }

@@ -375,7 +375,7 @@ type BrokenCell = (
 const BROKEN_CELLS: &[BrokenCell] = &[
     // Corrupt far-future IMU time on the last row: refused by the preflight
     // as a gap naming both lines (no allocation sized by the time).
-    ("imu.csv", usize::MAX, 0, "1e9", false, 1, "imu.csv:3001: `t`: gap of 999999970.010000 s between lines 3001 and 3002"),
+    ("imu.csv", usize::MAX, 0, "1e9", false, 1, "imu.csv:3002: `t`: gap of 999999970.010000 s between lines 3001 and 3002"),
     // The same with --lenient: a gap too long to propagate in bounded steps.
     ("imu.csv", usize::MAX, 0, "1e9", true, 1, "imu.csv gap of 999999970.01 s between imu.csv line 3001 to imu.csv line 3002 is too long to propagate"),
     // A 2-s clock jump with --lenient: propagated in steps, with a warning.

@@ -148,6 +148,14 @@ pub fn replay_source(
         max_imu_step: options.lenient.then_some(LENIENT_IMU_STEP_PERIODS),
         ..FilterOptions::default()
     };
+    // Its only position and velocity aiding: without it the INS drifts
+    // freely until the estimate leaves its bounds, far from the cause.
+    if !source.has::<GnssRow>()? {
+        return Err(RunError::Invalid(format!(
+            "gnss.csv: missing: model {NAME} needs GNSS fixes (its only position and velocity \
+             aiding); replay an INS-only log with another model"
+        )));
+    }
     let meta = source.meta();
     let mut scores = RunningScores::new(source, out, options.keep_series, -meta.initial.depth)?;
     let mut estimates = SeriesSink::new(

@@ -298,29 +298,23 @@ fn broken_logs_are_refused_or_warned_about() {
             .to_string();
         assert!(e.contains(&format!("{file}:{line}")), "{e}");
     }
-    // No gnss.csv: an INS aided by the barometer and the heading only,
-    // said. Over the first 12 s it stays near PX4's estimate; over the
-    // whole flight its level and velocity diverge (roll 50 deg, 77 m/s
-    // east by t = 26 s) until the solution is not finite: a clear error
-    // naming the IMU row, not a wrong answer.
+    // No gnss.csv: an INS aided by the barometer and the heading only
+    // diverges (roll 50 deg, 77 m/s east by t = 26 s on this flight) until
+    // the solution is not finite, 17 s after the cause. The model needs
+    // its GNSS: refused at setup, naming the missing file, on a short log
+    // as on the whole flight.
     let no_gnss = copy(&dir, "no-gnss");
     std::fs::remove_file(no_gnss.join("gnss.csv")).unwrap();
-    let e = streamed(&no_gnss, Strictness::Strict)
-        .expect_err("diverges")
-        .to_string();
-    assert!(
-        e.contains("imu.csv line") && e.contains("not finite"),
-        "{e}"
-    );
-    edit(&no_gnss, "imu.csv", |i, l| (i < 3000).then(|| l.into()));
-    let out = streamed(&no_gnss, Strictness::Strict).expect("no GNSS is not an error");
-    assert!(
-        has_warning(&out, "the log has no gnss.csv: that aiding is absent"),
-        "{:?}",
-        out.warnings
-    );
-    assert_eq!(out.metrics["health"]["gnss"]["rows"], 0);
-    assert!(out.metrics["horizontal_difference_rms_m"].as_f64().unwrap() > 0.0);
+    for rows in [usize::MAX, 3000] {
+        edit(&no_gnss, "imu.csv", |i, l| (i < rows).then(|| l.into()));
+        let e = streamed(&no_gnss, Strictness::Strict)
+            .expect_err("no GNSS")
+            .to_string();
+        assert!(
+            e.contains("gnss.csv: missing") && e.contains("needs GNSS"),
+            "{e}"
+        );
+    }
     // One second without IMU rows: a gap, counted; with lenient reading
     // propagated in bounded steps, and said.
     let gap = copy(&dir, "gap");

@@ -221,6 +221,13 @@ pub(super) fn replay_source<V: InsVehicle<N>, const N: usize>(
 /// Degrees of freedom of the navigation NEES (position, velocity, attitude).
 const NAV_NEES_DOF: f64 = 9.0;
 
+/// The key of the NEES warning.
+pub const NEES_KEY: &str = "nees";
+
+/// A share of gated aiding rows beyond which the innovations, not only
+/// the truth, disagree with the filter.
+const MAX_GATED_SHARE: f64 = 0.1;
+
 /// A mean NEES above this many times its degrees of freedom is warned: a
 /// consistent filter is near 1, a tuned-down one a few times, a truth of
 /// another sign or convention hundreds of times.
@@ -316,20 +323,54 @@ pub(super) fn output_of<V: InsVehicle<N>, const N: usize>(
                 .iter()
                 .map(|p| Warning::about(WarningKind::PartialScoring, "truth.csv", p.clone())),
         );
-        // Errors far beyond the filter's own sigmas: the RMS errors above
-        // are then those of a truth that does not describe this run (a
-        // sign, unit, convention or clock of truth.csv), not the filter's.
+        // Errors far beyond the filter's own sigmas. Whose fault it is
+        // the innovations tell: a filter whose aiding innovations were
+        // bad too (many rows gated) is wrong itself (or its inputs are);
+        // with innovations in line, the truth does not describe this run.
         if s.nees_mean > NEES_WARN_FACTOR * NAV_NEES_DOF {
-            out.warnings.push(Warning::about(
-                WarningKind::Suspicious,
-                "truth.csv",
-                format!(
-                    "truth.csv: mean NEES {:.1} over the {NAV_NEES_DOF} navigation states, more \
-                     than {NEES_WARN_FACTOR} times its expectation: the errors are far beyond the \
-                     filter's sigmas (a sign, unit, convention or clock of truth.csv?)",
-                    s.nees_mean
-                ),
-            ));
+            let (gated, applied) = run.health.iter().fold((0u64, 0u64), |(g, a), (_, h)| {
+                (g + h.gated, a + h.accepted + h.gated)
+            });
+            let gated_share = if applied > 0 {
+                gated as f64 / applied as f64
+            } else {
+                0.0
+            };
+            let (file, cause) = if gated_share > MAX_GATED_SHARE {
+                (
+                    None,
+                    format!(
+                        "the aiding innovations were bad too ({:.0} % of {applied} aiding rows \
+                         gated): the filter or its inputs (units, frames, noise sections of \
+                         meta.toml) are wrong, more likely than truth.csv",
+                        100.0 * gated_share
+                    ),
+                )
+            } else {
+                (
+                    Some("truth.csv"),
+                    format!(
+                        "the aiding innovations were in line ({:.1} % of {applied} aiding rows \
+                         gated): a sign, unit, convention or clock of truth.csv?",
+                        100.0 * gated_share
+                    ),
+                )
+            };
+            let message = format!(
+                "mean NEES {:.1} over the {NAV_NEES_DOF} navigation states against truth.csv, \
+                 more than {NEES_WARN_FACTOR} times its expectation: the errors are far beyond \
+                 the filter's sigmas; {cause}",
+                s.nees_mean
+            );
+            // Key `nees`: the replay weighs it against the preflight's
+            // doubts about the inputs (`preflight::weigh_nees`).
+            out.warnings.push(Warning {
+                kind: WarningKind::Suspicious,
+                file: file.map(String::from),
+                line: None,
+                key: Some(NEES_KEY.into()),
+                message,
+            });
         }
     }
     if let Some(s) = &smoothed {

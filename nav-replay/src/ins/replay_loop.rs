@@ -268,15 +268,22 @@ where
             NavigatorError::Imu(e) => {
                 RunError::Invalid(format!("imu.csv at t = {} s ({}): {e}", row.t, here()))
             }
-            e => RunError::Invalid(format!(
-                "{} (t = {} s): {e}{}",
-                here(),
-                row.t,
-                last_input.map_or(String::new(), |ev| format!(
-                    "; latest aiding input: {}",
-                    ev.place()
-                ))
-            )),
+            e => {
+                let message = format!(
+                    "{} (t = {} s): {e}{}",
+                    here(),
+                    row.t,
+                    last_input.map_or(String::new(), |ev| format!(
+                        "; latest aiding input: {}",
+                        ev.place()
+                    ))
+                );
+                if matches!(e, NavigatorError::OutOfBounds { .. }) {
+                    RunError::Diverged(message)
+                } else {
+                    RunError::Invalid(message)
+                }
+            }
         })?;
         if row.t > first.t {
             samples += 1;

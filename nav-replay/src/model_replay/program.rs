@@ -223,6 +223,16 @@ where
         .mapping(&c.dir, c.mapping.as_deref())
         .map_err(invalid)?;
     let value = check_json(replay, &c.dir, &name, &mapping, c.lenient).map_err(invalid)?;
+    // What the replay refuses (an input gap, an initial state it cannot
+    // use), `check` refuses with the same error: the replay itself runs
+    // (its outputs are discarded).
+    let options = RunOptions {
+        lenient: c.lenient,
+        output_period: 0.0,
+    };
+    replay
+        .replay(&c.dir, c.mapping.as_deref(), &options, None)
+        .map_err(invalid)?;
     if let Some(w) = value["warnings"].as_array() {
         for w in w {
             eprintln!("warning: {}", w["message"].as_str().unwrap_or_default());

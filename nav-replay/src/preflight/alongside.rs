@@ -2,7 +2,7 @@
 //! one thread while the preflight reads it on another, so a log on disk is
 //! not read twice in a row, and the preflight's verdict still comes first.
 
-use nav_runtime::log::LogFiles;
+use nav_runtime::log::{LogFiles, Warning};
 
 use super::{check_files_with, LogSummary, PreflightOptions, Report};
 use crate::RunError;
@@ -48,8 +48,36 @@ pub fn check_alongside<T>(
         if let Some(refusal) = refusal(&report) {
             return Err(refusal);
         }
+        let worked = worked.map_err(|e| match e {
+            RunError::Diverged(message) => RunError::Diverged(with_evidence(message, &report)),
+            e => e,
+        });
         Ok((worked?, report, summary))
     })
+}
+
+/// Findings listed after a divergence before the rest are only counted.
+const EVIDENCE_LISTED: usize = 2;
+
+/// A divergence's message with what the preflight doubted in the inputs
+/// (units, frames, clock, lost rows): the likely cause, with its file and
+/// line, rather than the estimate that left its bounds.
+fn with_evidence(message: String, report: &Report) -> String {
+    let doubts = input_doubts(report);
+    if doubts.is_empty() {
+        return format!(
+            "{message} (the preflight found no unit, frame or clock doubt in the inputs: \
+             check the model's noise settings)"
+        );
+    }
+    let more = doubts.len().saturating_sub(EVIDENCE_LISTED);
+    let listed = doubts[..doubts.len().min(EVIDENCE_LISTED)].join("; ");
+    let tail = if more > 0 {
+        format!(" ({more} more: see `navsim check`)")
+    } else {
+        String::new()
+    };
+    format!("{message}; likely cause, from the inputs: {listed}{tail}")
 }
 
 /// The error refusing a log whose report has errors: the first, and how
@@ -63,4 +91,38 @@ pub fn refusal(report: &Report) -> Option<RunError> {
         String::new()
     };
     Some(RunError::Invalid(format!("{first}{tail}")))
+}
+
+/// The preflight's warnings about the inputs' units, frames, clock and
+/// lost or frozen rows (not about the truth), as text.
+fn input_doubts(report: &Report) -> Vec<String> {
+    use nav_runtime::log::WarningKind::{FrozenImu, ImuGap, Suspicious};
+    report
+        .warnings()
+        .filter(|w| matches!(w.kind, Suspicious | ImuGap | FrozenImu))
+        .filter(|w| w.file.as_deref() != Some("truth.csv"))
+        .map(ToString::to_string)
+        .collect()
+}
+
+/// The NEES warning of a run (key `nees`) weighed against the preflight's
+/// doubts about the inputs: with any, they, not `truth.csv`, are named as
+/// the likelier cause of errors beyond the filter's sigmas.
+pub fn weigh_nees(warnings: &mut [Warning], report: &Report) {
+    let doubts = input_doubts(report);
+    let Some(first) = doubts.first() else { return };
+    for w in warnings
+        .iter_mut()
+        .filter(|w| w.key.as_deref() == Some(crate::ins::output::NEES_KEY))
+    {
+        let base = w
+            .message
+            .split("; the aiding innovations")
+            .next()
+            .unwrap_or("");
+        w.message = format!(
+            "{base}; the preflight doubted the inputs, a likelier cause than truth.csv: {first}"
+        );
+        w.file = None;
+    }
 }

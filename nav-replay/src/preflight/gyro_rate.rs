@@ -1,9 +1,9 @@
 //! Gyro rates against a physical limit and against the heading reference:
 //! a gyro file in deg/s, or a z axis of the wrong sign.
 
-use nav_runtime::log::{ImuRow, LogDir, Row, Warning, WarningKind};
+use nav_runtime::log::{ImuRow, LogDir, LogMapping, Row, Warning, WarningKind};
 
-use super::Report;
+use super::{declared, Report};
 
 /// Largest rate a common gyro measures (2000 deg/s), rad/s.
 pub(super) const MAX_RATE: f64 = 35.0;
@@ -33,7 +33,13 @@ impl Fold {
     /// than 50 % are warnings. `beyond` tells, for the heading and the truth
     /// yaw, whether the whole file has values beyond 2 pi (then the
     /// comparison is not made: the angle range check reports them).
-    pub(super) fn finish(&self, head: &LogDir, beyond: (bool, bool), report: &mut Report) {
+    pub(super) fn finish(
+        &self,
+        head: &LogDir,
+        beyond: (bool, bool),
+        mapping: &LogMapping,
+        report: &mut Report,
+    ) {
         if let Some((line, w)) = self.worst {
             let mut warning = Warning::about(
                 WarningKind::Suspicious,
@@ -43,7 +49,8 @@ impl Fold {
                 } else {
                     format!(
                         "|omega| = {w:.1} rad/s, beyond {MAX_RATE} rad/s (2000 deg/s, the range \
-                         of common gyros): deg/s? the format is rad/s"
+                         of common gyros): {}",
+                        declared::scale_cause(mapping, "imu", "gx", "rad/s", "deg/s", true)
                     )
                 },
             )
@@ -54,11 +61,26 @@ impl Fold {
             report.error(warning);
             return;
         }
-        turn(head, beyond, report);
+        let bias = head.meta.sensors.imu.map(|s| s.gyro_bias_sigma);
+        turn(head, beyond, mapping, bias, report);
     }
 }
 
-fn turn(log: &LogDir, beyond: (bool, bool), report: &mut Report) {
+/// Ratio bands (gyro turn over reference turn) of a degree/radian mix-up.
+const DEGREE_BAND: (f64, f64) = (40.0, 80.0);
+
+/// Gyro bias assumed without `[sensors.imu] gyro_bias_sigma`, rad/s (a
+/// consumer MEMS gyro): the integrated `gz` of a still vehicle drifts by
+/// this much per second.
+const DEFAULT_GYRO_BIAS: f64 = 1e-3;
+
+fn turn(
+    log: &LogDir,
+    beyond: (bool, bool),
+    mapping: &LogMapping,
+    bias: Option<f64>,
+    report: &mut Report,
+) {
     let (reference, file, beyond): (Vec<(f64, f64)>, &str, bool) = match (&log.heading, &log.truth)
     {
         (Some(h), _) if h.len() >= 2 => (
@@ -80,50 +102,129 @@ fn turn(log: &LogDir, beyond: (bool, bool), report: &mut Report) {
     {
         return; // angle_range reports it.
     }
-    // The reference sample of largest unwrapped change from the first.
+    let Some((imu_t0, imu_t1)) = log.imu_time_span() else {
+        return;
+    };
+    // The reference samples the IMU covers.
+    let reference: Vec<(f64, f64)> = reference
+        .into_iter()
+        .filter(|(t, _)| *t >= imu_t0 && *t <= imu_t1)
+        .collect();
+    if reference.len() < 2 {
+        return;
+    }
+    let t0 = reference[0].0;
+    // The unwrapped reference change and the integrated gz from the first
+    // reference sample to each sample.
     let mut unwrapped = 0.0;
-    let mut best = (0usize, 0.0f64);
+    let mut integral = 0.0;
+    let mut imu = log.imu.windows(2).peekable();
+    let mut changes = Vec::with_capacity(reference.len());
+    changes.push((t0, 0.0, 0.0));
     for k in 1..reference.len() {
         let d = reference[k].1 - reference[k - 1].1;
         unwrapped += (d + core::f64::consts::PI).rem_euclid(2.0 * core::f64::consts::PI)
             - core::f64::consts::PI;
-        if unwrapped.abs() > best.1.abs() {
-            best = (k, unwrapped);
+        let (a_end, b_end) = (reference[k - 1].0, reference[k].0);
+        while let Some(w) = imu.peek() {
+            let (a, b) = (w[0].t.max(a_end), w[1].t.min(b_end));
+            if b > a {
+                integral += w[1].gz * (b - a);
+            }
+            if w[1].t > b_end {
+                break;
+            }
+            imu.next();
         }
+        changes.push((b_end, unwrapped, integral));
     }
-    if best.1.abs() < MIN_TURN {
+    let bias = bias.unwrap_or(DEFAULT_GYRO_BIAS);
+    // The gyro's turn beyond what its bias could integrate to.
+    let gyro_turn = |t: f64, g: f64| (g.abs() - 3.0 * bias * (t - t0)).max(0.0);
+    let Some(&(t1, heading_turn, gyro)) = changes.iter().max_by(|a, b| {
+        a.1.abs()
+            .max(gyro_turn(a.0, a.2))
+            .total_cmp(&b.1.abs().max(gyro_turn(b.0, b.2)))
+    }) else {
         return;
+    };
+    if heading_turn.abs() >= MIN_TURN {
+        gyro_against(file, (t0, t1), heading_turn, gyro, mapping, report);
+    } else if gyro_turn(t1, gyro) >= MIN_TURN {
+        reference_against(file, (t0, t1), heading_turn, gyro, mapping, report);
     }
-    let (t0, t1) = (reference[0].0, reference[best.0].0);
-    let mut integral = 0.0;
-    for w in log.imu.windows(2) {
-        let (a, b) = (w[0].t.max(t0), w[1].t.min(t1));
-        if b > a {
-            integral += w[1].gz * (b - a);
-        }
-    }
-    let (imu_t0, imu_t1) = log.imu_time_span().unwrap_or((0.0, 0.0));
-    if imu_t0 > t0 || imu_t1 < t1 {
-        return; // the IMU does not cover the turn
-    }
-    let ratio = integral / best.1;
-    let turn = best.1.to_degrees();
+}
+
+/// The gyro's turn against a reference turn of at least [`MIN_TURN`].
+fn gyro_against(
+    file: &str,
+    (t0, t1): (f64, f64),
+    reference: f64,
+    integral: f64,
+    mapping: &LogMapping,
+    report: &mut Report,
+) {
+    let ratio = integral / reference;
+    let turn = reference.to_degrees();
     let msg = |cause: &str| {
         Warning::about(
             WarningKind::Suspicious,
             <ImuRow as Row>::FILE,
             format!(
-                "integrated gz over t = {t0:.1}..{t1:.1} s is {ratio:.2} times the {turn:.0} deg \
+                "integrated gz over t = {t0:.1}..{t1:.1} s is {ratio:.3} times the {turn:.0} deg \
                  turn of {file}: {cause}"
             ),
         )
         .with_key("gz")
     };
-    if (40.0..=80.0).contains(&ratio) {
-        report.error(msg("deg/s? the format is rad/s"));
+    let degrees =
+        |too_large| declared::scale_cause(mapping, "imu", "gz", "rad/s", "deg/s", too_large);
+    if (DEGREE_BAND.0..=DEGREE_BAND.1).contains(&ratio) {
+        report.error(msg(&degrees(true)));
+    } else if (1.0 / DEGREE_BAND.1..=1.0 / DEGREE_BAND.0).contains(&ratio) {
+        report.error(msg(&degrees(false)));
     } else if (-1.5..=-0.5).contains(&ratio) {
         report.error(msg("FLU axes (z up)? the format is FRD (z down)"));
     } else if !(0.5..=1.5).contains(&ratio) {
         report.warn(msg("check the gyro scale and axes"));
+    }
+}
+
+/// A reference (heading or truth yaw) that turns by less than [`MIN_TURN`]
+/// while the gyro turns by more than its bias explains: a heading in
+/// radians read as degrees turns 57.3 times too little.
+fn reference_against(
+    file: &str,
+    (t0, t1): (f64, f64),
+    reference: f64,
+    integral: f64,
+    mapping: &LogMapping,
+    report: &mut Report,
+) {
+    let ratio = reference / integral;
+    let (sensor, column) = if file == "heading.csv" {
+        ("heading", "heading")
+    } else {
+        ("truth", "yaw")
+    };
+    let msg = |cause: &str| {
+        Warning::about(
+            WarningKind::Suspicious,
+            file,
+            format!(
+                "{column} turns by {:.2} deg over t = {t0:.1}..{t1:.1} s while the gyro turns by \
+                 {:.0} deg ({ratio:.3} times): {cause}",
+                reference.to_degrees(),
+                integral.to_degrees()
+            ),
+        )
+        .with_key(column)
+    };
+    if (1.0 / DEGREE_BAND.1..=1.0 / DEGREE_BAND.0).contains(&ratio.abs()) {
+        report.error(msg(&declared::scale_cause(
+            mapping, sensor, column, "radians", "degrees", false,
+        )));
+    } else if ratio.abs() < 0.5 {
+        report.warn(msg("the reference does not follow the gyro's turn"));
     }
 }

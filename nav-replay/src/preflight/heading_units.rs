@@ -2,9 +2,9 @@
 //! heading near north): its sample-to-sample changes, after the turn the gyro
 //! measured, are about 57 times the noise `[sensors.heading]` declares.
 
-use nav_runtime::log::{HeadingRow, LogDir, Row, Warning, WarningKind};
+use nav_runtime::log::{HeadingRow, LogDir, LogMapping, Row, Warning, WarningKind};
 
-use super::Report;
+use super::{declared, Report};
 
 /// Residual scale (against the declared noise) beyond which the file is
 /// suspect.
@@ -14,9 +14,10 @@ const FACTOR: f64 = 15.0;
 /// heading samples, against the `0.954 sqrt(2) sigma` a heading noise of
 /// `sigma` gives (median of the absolute difference of two normal draws):
 /// beyond [`FACTOR`] times and consistent with degrees (within a factor 5 once
-/// converted) an error, otherwise beyond [`FACTOR`] a warning.
+/// converted) an error, otherwise beyond [`FACTOR`] a warning; below it by
+/// [`FACTOR`], see [`too_small`].
 /// Runs on the head of the log (see [`super::PreflightOptions::head_seconds`]).
-pub(super) fn check(log: &LogDir, report: &mut Report) {
+pub(super) fn check(log: &LogDir, mapping: &LogMapping, report: &mut Report) {
     let (Some(rows), Some(noise)) = (&log.heading, log.meta.sensors.heading) else {
         return;
     };
@@ -52,6 +53,10 @@ pub(super) fn check(log: &LogDir, report: &mut Report) {
     residuals.sort_by(f64::total_cmp);
     let median = residuals[residuals.len() / 2];
     let expected = 0.954 * core::f64::consts::SQRT_2 * noise.noise_sigma;
+    if median * FACTOR < expected {
+        too_small(median, expected, noise.noise_sigma, mapping, report);
+        return;
+    }
     if median <= FACTOR * expected {
         return;
     }
@@ -78,4 +83,31 @@ pub(super) fn check(log: &LogDir, report: &mut Report) {
     } else {
         report.warn(w);
     }
+}
+
+/// Changes [`FACTOR`] times smaller than the declared noise: with a unit
+/// declared by `[files.heading] units` that converted radians as degrees
+/// (the changes then are 57.3 times too small, within a factor 5), an error
+/// naming the declaration. Without a declaration nothing is said (the
+/// noise may simply be stated generously).
+fn too_small(median: f64, expected: f64, sigma: f64, mapping: &LogMapping, report: &mut Report) {
+    let Some((_, unit)) = declared::unit(mapping, "heading", "heading") else {
+        return;
+    };
+    if unit == "rad" || !(0.2..=5.0).contains(&(median.to_degrees() / expected)) {
+        return;
+    }
+    report.error(
+        Warning::about(
+            WarningKind::Suspicious,
+            HeadingRow::FILE,
+            format!(
+                "sample-to-sample changes (after the gyro's turn) are {:.3} times what \
+                 [sensors.heading] noise_sigma = {sigma} rad gives: {}",
+                median / expected,
+                declared::scale_cause(mapping, "heading", "heading", "radians", "degrees", false)
+            ),
+        )
+        .with_key("heading"),
+    );
 }

@@ -27,7 +27,10 @@
 mod aiding_plausibility;
 mod alongside;
 mod angle_range;
+mod declared;
 mod depth_consistency;
+mod dvl_frame;
+mod earth_rate;
 mod finding;
 mod frozen_imu;
 mod gyro_rate;
@@ -39,13 +42,14 @@ mod summary;
 mod time_gaps;
 mod truth_values;
 
-pub use alongside::{check_alongside, refusal};
+pub use alongside::{check_alongside, refusal, weigh_nees};
 pub use finding::{Finding, Report, Severity};
 pub use summary::{FileSummary, ImuSummary, LogSummary};
 
 use nav_runtime::log::{
-    AltitudeRow, DepthRow, DvlRow, HeadingRow, ImuRow, LogDir, LogError, LogFiles, Meta, Row,
-    RowSource, RpmRow, SharedImu, SliceRows, SpeedRow, TruthRow, UsblRow,
+    AltitudeRow, BaroRow, DepthRow, DvlRow, GnssRow, HeadingRow, ImuForm, ImuRow, LogDir, LogError,
+    LogFiles, LogMapping, MagRow, Meta, ReferenceRow, Row, RowSource, RpmRow, SharedImu, SliceRows,
+    SpeedRow, TruthRow, UsblRow,
 };
 
 /// What the preflight checks and how strictly.
@@ -99,7 +103,8 @@ pub fn check(log: &LogDir, options: &PreflightOptions) -> Report {
         rows.map(|r| SliceRows::of(log, Some(r)))
     }
     let l = log;
-    let mut scan = Scan::new(&l.meta, options);
+    let mut scan = Scan::new(&l.meta, LogMapping::default(), options);
+    scan.time_gaps.increments = l.imu_form == ImuForm::Increments;
     let read = (|| {
         scan.file(Some(&mut SliceRows::of(l, Some(&l.imu[..]))))?;
         scan.file(slice(l, l.dvl.as_deref()).as_mut())?;
@@ -109,7 +114,11 @@ pub fn check(log: &LogDir, options: &PreflightOptions) -> Report {
         scan.file(slice(l, l.speed.as_deref()).as_mut())?;
         scan.file(slice(l, l.rpm.as_deref()).as_mut())?;
         scan.file(slice(l, l.altitude.as_deref()).as_mut())?;
-        scan.file(slice(l, l.truth.as_deref()).as_mut())
+        scan.file(slice(l, l.truth.as_deref()).as_mut())?;
+        scan.file(slice(l, l.mag.as_deref()).as_mut())?;
+        scan.file(slice(l, l.baro.as_deref()).as_mut())?;
+        scan.file(slice(l, l.gnss.as_deref()).as_mut())?;
+        scan.file(slice(l, l.reference.as_deref()).as_mut())
     })();
     // Rows in memory are read without error (`SliceRows` never fails).
     debug_assert!(read.is_ok());
@@ -143,7 +152,8 @@ pub fn check_files_with(
     options: &PreflightOptions,
     imu: Option<SharedImu>,
 ) -> Result<(Report, LogSummary), LogError> {
-    let mut scan = Scan::new(files.meta(), options);
+    let mut scan = Scan::new(files.meta(), files.mapping().clone(), options);
+    scan.time_gaps.increments = files.imu_form()? == ImuForm::Increments;
     let mut summary = LogSummary::new(files);
     match imu {
         Some(mut shared) => {
@@ -164,6 +174,12 @@ pub fn check_files_with(
     summary_file::<RpmRow>(files, &mut scan, &mut summary)?;
     summary_file::<AltitudeRow>(files, &mut scan, &mut summary)?;
     summary_file::<TruthRow>(files, &mut scan, &mut summary)?;
+    // Read like every other file (the replay's reader refuses what it
+    // refuses), though no check judges their values yet.
+    summary_file::<MagRow>(files, &mut scan, &mut summary)?;
+    summary_file::<BaroRow>(files, &mut scan, &mut summary)?;
+    summary_file::<GnssRow>(files, &mut scan, &mut summary)?;
+    summary_file::<ReferenceRow>(files, &mut scan, &mut summary)?;
     summary.finish(scan.imu_summary());
     Ok((scan.finish(), summary))
 }
@@ -192,22 +208,28 @@ fn lines_text(a: Option<u64>, b: Option<u64>, sep: &str) -> Option<String> {
     Some(format!("lines {}{sep}{}", a?, b?))
 }
 
+/// Number of files the preflight reads (the files of [`LogDir`]).
+const FILES: usize = 13;
+
 /// The state of one preflight run as the rows go by: every check's fold, the
 /// head of the log and what is known about each file. Files are fed in the
 /// order of [`LogDir::read`], `imu.csv` first.
 struct Scan<'m> {
     meta: &'m Meta,
+    /// The `[files.<sensor>]` sections: findings on mapped values name them.
+    mapping: LogMapping,
     options: PreflightOptions,
     /// Rows before `head_end` of each file.
     head: LogDir,
     head_end: f64,
     /// Per file (index [`Scanned::INDEX`]): present, rows.
-    present: [bool; 9],
-    rows: [usize; 9],
-    first_t: [Option<f64>; 9],
+    present: [bool; FILES],
+    rows: [usize; FILES],
+    first_t: [Option<f64>; FILES],
     imu_first: Option<ImuRow>,
     imu_last_t: Option<f64>,
     specific_force: specific_force::Fold,
+    earth_rate: earth_rate::Fold,
     gyro_rate: gyro_rate::Fold,
     frozen_imu: frozen_imu::Fold,
     time_gaps: time_gaps::Fold,
@@ -242,6 +264,7 @@ impl Scanned for ImuRow {
         scan.imu_last_t = Some(r.t);
         scan.specific_force
             .imu(scan.options.settle_seconds, line, r);
+        scan.earth_rate.imu(scan.options.settle_seconds, line, r);
         scan.gyro_rate.imu(line, r);
         scan.frozen_imu.imu(line, r);
         scan.time_gaps.imu(line, r);
@@ -290,19 +313,40 @@ scanned!(TruthRow, 8, truth, |scan, line, r| {
     scan.truth.row(line, r);
 });
 
+/// A file read through (so that its reader refuses what the replay's
+/// refuses) whose values no check judges yet.
+macro_rules! read_through {
+    ($row:ty, $index:literal, $field:ident) => {
+        impl Scanned for $row {
+            const INDEX: usize = $index;
+            fn head(log: &mut LogDir) -> &mut Vec<Self> {
+                log.$field.get_or_insert_with(Vec::new)
+            }
+            fn feed(_scan: &mut Scan, _line: Option<u64>, _r: &Self) {}
+        }
+    };
+}
+
+read_through!(MagRow, 9, mag);
+read_through!(BaroRow, 10, baro);
+read_through!(GnssRow, 11, gnss);
+read_through!(ReferenceRow, 12, reference);
+
 impl<'m> Scan<'m> {
-    fn new(meta: &'m Meta, options: &PreflightOptions) -> Self {
+    fn new(meta: &'m Meta, mapping: LogMapping, options: &PreflightOptions) -> Self {
         Scan {
             meta,
+            mapping,
             options: *options,
             head: LogDir::new(*meta),
             head_end: options.head_seconds,
-            present: [false; 9],
-            rows: [0; 9],
-            first_t: [None; 9],
+            present: [false; FILES],
+            rows: [0; FILES],
+            first_t: [None; FILES],
             imu_first: None,
             imu_last_t: None,
             specific_force: specific_force::Fold::default(),
+            earth_rate: earth_rate::Fold::default(),
             gyro_rate: gyro_rate::Fold::default(),
             frozen_imu: frozen_imu::Fold::new(meta, options),
             time_gaps: time_gaps::Fold::new(options),
@@ -359,16 +403,22 @@ impl<'m> Scan<'m> {
         let epoch_ok = initial_epoch(self.meta, span, self.time_gaps.period(), &mut report);
         self.specific_force.finish(self.meta, &mut report);
         let reference_beyond = self.angle_range.reference_beyond();
+        let gyro_bias = self.meta.sensors.imu.map(|s| s.gyro_bias_sigma);
+        self.earth_rate
+            .finish(&self.mapping, gyro_bias, &mut report);
         self.gyro_rate
-            .finish(&self.head, reference_beyond, &mut report);
+            .finish(&self.head, reference_beyond, &self.mapping, &mut report);
         self.frozen_imu.finish(&o, &mut report);
         self.time_gaps.finish(imu_rows, span, &o, &mut report);
         self.partial_rows.finish(&o, &mut report);
         self.angle_range.finish(&mut report);
         if !report.has_errors() {
-            heading_units::check(&self.head, &mut report);
+            heading_units::check(&self.head, &self.mapping, &mut report);
         }
         self.depth.finish(self.meta, &mut report);
+        if !report.has_errors() {
+            dvl_frame::check(&self.head, &self.mapping, &mut report);
+        }
         if epoch_ok {
             // The aiding checks measure time from the epoch.
             self.aiding.finish(

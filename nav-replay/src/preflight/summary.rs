@@ -131,6 +131,10 @@ impl LogSummary {
         file(l, l.rpm.as_deref(), &mut files);
         file(l, l.altitude.as_deref(), &mut files);
         file(l, l.truth.as_deref(), &mut files);
+        file(l, l.mag.as_deref(), &mut files);
+        file(l, l.baro.as_deref(), &mut files);
+        file(l, l.gnss.as_deref(), &mut files);
+        file(l, l.reference.as_deref(), &mut files);
         let imu = l
             .imu
             .first()

@@ -8,6 +8,14 @@ use super::{lines_text, PreflightOptions, Report};
 /// Aiding rows further than this outside the IMU span are a clock error, s.
 const CLOCK_JUMP: f64 = 3600.0;
 
+/// An interval of an increment file longer than this many periods lost
+/// rows (each increment is the motion over its own interval only).
+const LOST_INCREMENT_PERIODS: f64 = 1.5;
+
+/// A median IMU period longer than this is not a strapdown IMU's, s (a
+/// 100 Hz IMU stamped in milliseconds has a period of 10).
+const MAX_IMU_PERIOD: f64 = 1.0;
+
 /// Rows this close outside the IMU span are not reported, s.
 const MARGIN: f64 = 1.0;
 
@@ -49,8 +57,15 @@ pub(super) struct Fold {
     previous: Option<(Option<u64>, f64)>,
     period: Option<f64>,
     gaps: usize,
-    listed: Vec<Warning>,
+    /// The first gaps, with the line of the row after each.
+    listed: Vec<(Warning, Option<u64>, f64)>,
     outside: [Option<Outside>; 9],
+    /// Whether `imu.csv` holds increments: then any interval longer than
+    /// [`LOST_INCREMENT_PERIODS`] lost the motion of the rows missing.
+    pub(super) increments: bool,
+    /// Intervals of an increment file that lost rows, and the first.
+    lost: usize,
+    first_lost: Option<(Option<u64>, Option<u64>, f64)>,
 }
 
 impl Fold {
@@ -63,6 +78,9 @@ impl Fold {
             gaps: 0,
             listed: Vec::new(),
             outside: [None; 9],
+            increments: false,
+            lost: 0,
+            first_lost: None,
         }
     }
 
@@ -104,6 +122,10 @@ impl Fold {
     fn interval(&mut self, (line_a, ta): (Option<u64>, f64), (line_b, tb): (Option<u64>, f64)) {
         let Some(period) = self.period else { return };
         let dt = tb - ta;
+        if self.increments && dt > LOST_INCREMENT_PERIODS * period {
+            self.lost += 1;
+            self.first_lost.get_or_insert((line_a, line_b, dt));
+        }
         if dt <= self.max_gap_periods * period {
             return;
         }
@@ -125,7 +147,7 @@ impl Fold {
         if let Some(a) = line_a {
             w = w.at_line(a);
         }
-        self.listed.push(w);
+        self.listed.push((w, line_b, tb));
     }
 
     /// A row of file `index` (not the IMU) at `t`; `span` is the IMU span.
@@ -155,7 +177,9 @@ impl Fold {
     }
 
     /// IMU gaps longer than `max_gap_periods` median periods are errors
-    /// naming both lines (warnings with `--lenient`); fewer than 2 IMU rows
+    /// naming both lines (warnings with `--lenient`), at the row before the
+    /// gap, or at the row after it when that is the last row (a last stamp
+    /// far in the future is that row's mistake); fewer than 2 IMU rows
     /// is an error; then the rows of each file outside the IMU span.
     pub(super) fn finish(
         mut self,
@@ -175,7 +199,53 @@ impl Fold {
         if self.period.is_none() {
             self.settle();
         }
-        for w in std::mem::take(&mut self.listed) {
+        if let Some(period) = self.period.filter(|p| *p > MAX_IMU_PERIOD) {
+            let unit = if period >= 1000.0 * MAX_IMU_PERIOD {
+                "microseconds"
+            } else {
+                "milliseconds"
+            };
+            report.error_unless(
+                options.lenient,
+                Warning::about(
+                    WarningKind::Suspicious,
+                    ImuRow::FILE,
+                    format!(
+                        "median IMU period {period} s (first {} intervals), slower than any \
+                         strapdown IMU (limit {MAX_IMU_PERIOD} s): times in {unit}? the format \
+                         is seconds (or declare [files.imu] time)",
+                        PERIOD_INTERVALS.min(imu_rows - 1)
+                    ),
+                )
+                .with_key("t"),
+            );
+        }
+        if let (Some((a, b, dt)), Some(period)) = (self.first_lost, self.period) {
+            let between = lines_text(a, b, " and ").unwrap_or_else(|| "two rows".into());
+            let mut w = Warning::about(
+                WarningKind::ImuGap,
+                ImuRow::FILE,
+                format!(
+                    "{} interval(s) of the increment file are longer than {LOST_INCREMENT_PERIODS} \
+                     IMU periods (first: {dt:.6} s between {between}, period {period:.6} s): \
+                     increment rows dropped? their rotation and velocity change are lost",
+                    self.lost
+                ),
+            )
+            .with_key("t");
+            if let Some(b) = b {
+                w = w.at_line(b);
+            }
+            report.warn(w);
+        }
+        let last = self.previous;
+        for (mut w, line_b, tb) in std::mem::take(&mut self.listed) {
+            // A gap before the last row: that row's stamp is the odd one.
+            if let (Some(b), Some((Some(last_line), last_t))) = (line_b, last) {
+                if b == last_line && tb == last_t {
+                    w = w.at_line(b);
+                }
+            }
             report.error_unless(options.lenient, w);
         }
         if self.gaps > LISTED {
