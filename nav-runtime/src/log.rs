@@ -63,6 +63,7 @@ mod rejected;
 mod rows;
 mod shared;
 mod stream;
+mod suggestion;
 mod time_base;
 mod warning;
 
@@ -79,8 +80,8 @@ pub use mapping::{
     IMU_INCREMENT_COLUMNS, MAPPED_SENSORS, STANDARD_GRAVITY,
 };
 pub use meta::{
-    closest_name, ImuNoise, Initial, InitialSigma, Meta, Mounting, SensorNoise, Sensors,
-    UsblTransducer, AIDING_SENSORS,
+    ImuNoise, Initial, InitialSigma, Meta, Mounting, SensorNoise, Sensors, UsblTransducer,
+    AIDING_SENSORS,
 };
 pub use read_ahead::{ReadAhead, READ_AHEAD_ROWS};
 pub use rejected::{
@@ -96,6 +97,7 @@ pub use stream::{
     skipped_row_warnings, EventStream, FileRows, Located, LogFiles, LogSource, LogTable,
     Prefetched, RowSource, SliceRows, StreamedRow,
 };
+pub use suggestion::{closest_name, did_you_mean, TWO_EDITS_FROM};
 pub use time_base::{Stamp, TimeBase};
 pub use warning::{Warning, WarningKind};
 

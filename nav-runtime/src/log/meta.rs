@@ -4,6 +4,7 @@ use std::fmt::Write as _;
 
 use super::error::LogError;
 use super::mapping::LogMapping;
+use super::suggestion::closest_name;
 use super::warning::{Warning, WarningKind};
 
 /// `[initial]`: the initial estimate (not necessarily the truth). Angles in rad.
@@ -270,6 +271,17 @@ impl Meta {
                 );
                 if let Some(close) = closest_name(name, TOP_LEVEL) {
                     message.push_str(&format!("; did you mean `{close}`?"));
+                    // A misspelling of a section the file lacks would leave
+                    // its values to defaults without a word: refused.
+                    if !table.contains_key(close) {
+                        return Err(cx.err(
+                            name,
+                            format!(
+                                "unknown section; expected one of: {}; did you mean `{close}`?",
+                                TOP_LEVEL.join(", ")
+                            ),
+                        ));
+                    }
                 }
                 warnings.push(Warning {
                     kind: WarningKind::UnknownSection,
@@ -523,33 +535,6 @@ impl Meta {
 
 /// The top-level sections `meta.toml` is read from.
 const TOP_LEVEL: &[&str] = &["initial", "initial_sigma", "sensors", "usbl", "files"];
-
-/// The valid name closest to `name` (edit distance at most 2, or a
-/// case-insensitive match), if any.
-pub fn closest_name<'a>(name: &str, valid: &[&'a str]) -> Option<&'a str> {
-    let lower = name.to_ascii_lowercase();
-    valid
-        .iter()
-        .map(|v| (edit_distance(&lower, v), *v))
-        .filter(|(d, v)| *d <= 2 && *d < v.len())
-        .min_by_key(|(d, _)| *d)
-        .map(|(_, v)| v)
-}
-
-/// Levenshtein distance of two short strings (bytes).
-fn edit_distance(a: &str, b: &str) -> usize {
-    let (a, b) = (a.as_bytes(), b.as_bytes());
-    let mut prev: Vec<usize> = (0..=b.len()).collect();
-    for (i, ca) in a.iter().enumerate() {
-        let mut cur = vec![i + 1; b.len() + 1];
-        for (j, cb) in b.iter().enumerate() {
-            let sub = prev[j] + usize::from(ca != cb);
-            cur[j + 1] = sub.min(prev[j + 1] + 1).min(cur[j] + 1);
-        }
-        prev = cur;
-    }
-    prev[b.len()]
-}
 
 #[derive(Clone, Copy)]
 enum Range {
