@@ -45,7 +45,7 @@ use serde_json::{json, Map, Value};
 
 use nav_ins::vehicle::{Layout, Present};
 use nav_ins::InsVehicle;
-use nav_runtime::log::Warning;
+use nav_runtime::log::{Warning, WarningKind};
 
 use crate::ins::InsReplay;
 use crate::output::interrupt::Pending;
@@ -297,8 +297,16 @@ pub fn replay_with(model: &dyn ReplayModel, args: &ReplayArgs) -> Result<(), Run
             for file in &read.unknown_files {
                 eprintln!("warning: ignored unknown file {file}");
             }
+            // A frozen IMU the preflight listed is not listed again by the
+            // replay that met it.
+            let preflight_frozen = report.warnings().any(|w| w.kind == WarningKind::FrozenImu);
+            let own: Vec<&Warning> = output
+                .warnings
+                .iter()
+                .filter(|w| !(preflight_frozen && w.kind == WarningKind::FrozenImu))
+                .collect();
             // A model's notes carry their file in the message already.
-            for w in &output.warnings {
+            for w in &own {
                 eprintln!("warning: {}", w.message);
             }
             let rejected = files.rejected_warnings();
@@ -308,7 +316,7 @@ pub fn replay_with(model: &dyn ReplayModel, args: &ReplayArgs) -> Result<(), Run
             let mut warnings: Vec<Warning> = read.warnings.clone();
             warnings.extend(rejected);
             warnings.extend(report.warnings().cloned());
-            warnings.extend(output.warnings.iter().cloned());
+            warnings.extend(own.into_iter().cloned());
             let mut value = report::replay_json(
                 model.name(),
                 output,

@@ -216,6 +216,12 @@ fn last_time(dir: &Path, file: &str) -> f64 {
 
 /// Freezes the gyro triple of IMU rows `from..to` at the value of row `from`.
 fn freeze(dir: &Path, from: usize, to: usize) {
+    freeze_columns(dir, from, to, 1..4);
+}
+
+/// Holds columns `columns` of `imu.csv` (1-3 gyro, 4-6 accelerometer) at
+/// their values of data row `from` over data rows `from..to`.
+fn freeze_columns(dir: &Path, from: usize, to: usize, columns: std::ops::Range<usize>) {
     let text = std::fs::read_to_string(dir.join("imu.csv")).unwrap();
     let frozen: Vec<String> = text
         .lines()
@@ -226,7 +232,7 @@ fn freeze(dir: &Path, from: usize, to: usize) {
         .collect();
     rows(dir, "imu.csv", |i, c| {
         if (from..to).contains(&i) {
-            c[1..4].clone_from_slice(&frozen[1..4]);
+            c[columns.clone()].clone_from_slice(&frozen[columns.clone()]);
         }
     });
 }
@@ -853,6 +859,65 @@ fn cases() -> Vec<Case> {
             |d| freeze(d, 1000, 3500),
             LENIENT,
             Warn("frozen_imu", "imu.csv:1002"),
+            Here,
+        ),
+        (
+            "gyro frozen for 20 s",
+            "frozen",
+            |d| freeze(d, 1000, 3000),
+            SDINS,
+            Error(&["imu.csv:1002", "gx,gy,gz", "frozen IMU"]),
+            Here,
+        ),
+        (
+            "gyro frozen for 3 s",
+            "frozen",
+            |d| freeze(d, 2000, 2300),
+            SDINS,
+            Error(&["imu.csv:2002", "frozen IMU"]),
+            Here,
+        ),
+        (
+            "gz alone frozen for 10 s",
+            "frozen",
+            |d| freeze_columns(d, 1500, 2500, 3..4),
+            SDINS,
+            Error(&["imu.csv:1502", "gyro gz", "frozen IMU"]),
+            Here,
+        ),
+        (
+            "accelerometer frozen for 5 s",
+            "frozen",
+            |d| freeze_columns(d, 3000, 3500, 4..7),
+            SDINS,
+            Error(&["imu.csv:3002", "accelerometer ax,ay,az", "frozen IMU"]),
+            Here,
+        ),
+        (
+            "gyro frozen for 20 s, lenient",
+            "frozen",
+            |d| freeze(d, 1000, 3000),
+            LENIENT,
+            Warn("frozen_imu", "imu.csv:1002"),
+            Here,
+        ),
+        (
+            "gyro frozen for 20 s, no [sensors.imu]",
+            "frozen",
+            |d| {
+                meta_drop_section(d, "sensors.imu");
+                freeze(d, 1000, 3000);
+            },
+            SDINS,
+            Warn("frozen_imu", "imu.csv:1002"),
+            Here,
+        ),
+        (
+            "gyro repeated for 0.3 s (a logger catching up)",
+            "frozen",
+            |d| freeze(d, 1000, 1030),
+            SDINS,
+            Correct,
             Here,
         ),
         // -- scoring

@@ -21,6 +21,8 @@ use nav_runtime::strapdown::RateSamples;
 
 use super::aiding::{place, Aiding, Travelling};
 use super::setup::{setup_error, FilterOptions, InsRun, LogFacts, LogPlan, MAX_GAP_STEPS};
+use crate::preflight::frozen_imu::Fold as FrozenImu;
+use crate::preflight::{PreflightOptions, Report};
 use crate::RunError;
 use nav_ins::vehicle::{Layout, Slot};
 use nav_ins::{
@@ -180,6 +182,9 @@ where
         waiting.hand_unmatched(&mut out)?;
     }
 
+    // Frozen IMU channels met on the way: a warning of the replay itself,
+    // whether or not the preflight ran.
+    let mut frozen = FrozenImu::new(source.meta(), &PreflightOptions::default());
     let mut samples = 1usize;
     let mut previous = ImuRow { t: epoch, ..first };
     let mut previous_line: Option<u64> = first_line;
@@ -195,6 +200,7 @@ where
             }
         };
         let Some((line, row)) = next else { break };
+        frozen.imu(line, &row);
         // Only formatted for a message.
         let here = || place("imu.csv", line, imu_row);
         if let Some(k) = options.max_imu_step {
@@ -334,6 +340,7 @@ where
     let replays = nav.replays();
     let mut all_warnings = aiding.warnings;
     all_warnings.extend(warnings);
+    all_warnings.extend(frozen_warnings(frozen));
     // The four SDINS sensors always; the others when the vehicle has them
     // or the log has their file.
     let health = (0..SENSORS)
@@ -354,6 +361,27 @@ where
         smoothed: None,
         warnings: all_warnings,
     })
+}
+
+/// The frozen runs `frozen` met, as warnings (never errors: the replay has
+/// run). The frozen stretch is propagated with the frozen values, as a gap
+/// would hold the sample before it; its covariance is not inflated.
+fn frozen_warnings(frozen: FrozenImu) -> Vec<Warning> {
+    let mut report = Report::default();
+    let options = PreflightOptions {
+        lenient: true,
+        ..PreflightOptions::default()
+    };
+    frozen.finish(&options, &mut report);
+    report
+        .warnings()
+        .cloned()
+        .map(|mut w| {
+            w.message
+                .push_str("; the replay propagated through it with the frozen values");
+            w
+        })
+        .collect()
 }
 
 /// The time spent inside the filter ([`InsRun::runtime_s`]), measured
