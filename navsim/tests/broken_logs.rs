@@ -106,6 +106,13 @@ fn scale(dir: &Path, file: &str, cols: &[usize], k: f64) {
     });
 }
 
+/// Adds `k` to column `col` of every row.
+fn add_to(dir: &Path, file: &str, col: usize, k: f64) {
+    rows(dir, file, |_, c| {
+        c[col] = format!("{}", c[col].parse::<f64>().unwrap() + k);
+    });
+}
+
 /// Sets column `col` of data row `row` to `value`.
 fn cell(dir: &Path, file: &str, row: usize, col: usize, value: &str) {
     rows(dir, file, |i, c| {
@@ -331,6 +338,44 @@ fn cases() -> Vec<Case> {
             Here,
         ),
         (
+            "heading unwrapped: two turns before the log",
+            "valid",
+            |d| add_to(d, "heading.csv", 1, 2.0 * std::f64::consts::TAU),
+            SDINS,
+            Correct,
+            Here,
+        ),
+        (
+            "heading unwrapped: one turn before the log",
+            "valid",
+            |d| add_to(d, "heading.csv", 1, std::f64::consts::TAU),
+            SDINS,
+            Correct,
+            Here,
+        ),
+        (
+            "truth yaw unwrapped: one turn before the log",
+            "valid",
+            |d| add_to(d, "truth.csv", 9, std::f64::consts::TAU),
+            SDINS,
+            Correct,
+            Here,
+        ),
+        (
+            "heading in degrees, one turn added (wraps at 360)",
+            "units",
+            |d| {
+                rows(d, "heading.csv", |i, c| {
+                    let deg = c[1].parse::<f64>().unwrap().to_degrees() + 355.0;
+                    // Past 360 the logger wraps to 0.
+                    c[1] = format!("{}", if i % 2 == 0 { deg } else { deg - 360.0 });
+                })
+            },
+            SDINS,
+            Error(&["heading.csv", "degrees?"]),
+            Here,
+        ),
+        (
             "truth yaw in degrees",
             "units",
             |d| {
@@ -404,6 +449,22 @@ fn cases() -> Vec<Case> {
             |d| scale(d, "dvl.csv", &[1, 2, 3], 1000.0),
             SDINS,
             Error(&["dvl.csv", "mm/s?"]),
+            Here,
+        ),
+        (
+            "compass cell 1e300",
+            "values",
+            |d| cell(d, "heading.csv", 7, 1, "1e300"),
+            SDINS,
+            Warn("rejected_reading", "heading.csv:9"),
+            Here,
+        ),
+        (
+            "depth cell -1e300",
+            "values",
+            |d| cell(d, "depth.csv", 12, 1, "-1e300"),
+            SDINS,
+            Warn("rejected_reading", "depth.csv:14"),
             Here,
         ),
         (
@@ -728,6 +789,68 @@ fn cases() -> Vec<Case> {
             |d| drop_rows(d, "imu.csv", 1000, 1100),
             &["--max-gap-periods", "200"],
             Correct,
+            Here,
+        ),
+        (
+            "2 s IMU hole",
+            "gaps",
+            |d| drop_rows(d, "imu.csv", 1000, 1200),
+            SDINS,
+            Warn("imu_gap", "imu.csv:1001"),
+            Here,
+        ),
+        (
+            "0.3 s IMU hole",
+            "gaps",
+            |d| drop_rows(d, "imu.csv", 2000, 2030),
+            SDINS,
+            Warn("imu_gap", "propagated"),
+            Here,
+        ),
+        (
+            "4.5 s IMU hole",
+            "gaps",
+            |d| drop_rows(d, "imu.csv", 3000, 3450),
+            SDINS,
+            Warn("imu_gap", "imu.csv:3001"),
+            Here,
+        ),
+        (
+            "five 1 s IMU holes",
+            "gaps",
+            |d| {
+                rows(d, "imu.csv", |i, c| {
+                    if (1..=5).any(|k| (k * 900..k * 900 + 100).contains(&i)) {
+                        c.clear();
+                    }
+                })
+            },
+            SDINS,
+            Warn("imu_gap", "propagated"),
+            Here,
+        ),
+        (
+            "8 s IMU hole",
+            "gaps",
+            |d| drop_rows(d, "imu.csv", 1000, 1800),
+            SDINS,
+            Error(&["imu.csv:1001", "gap of", "more than 5 s"]),
+            Here,
+        ),
+        (
+            "four 1 s holes and one of 8 s",
+            "gaps",
+            |d| {
+                rows(d, "imu.csv", |i, c| {
+                    if (1..=4).any(|k| (k * 900..k * 900 + 100).contains(&i))
+                        || (4000..4800).contains(&i)
+                    {
+                        c.clear();
+                    }
+                })
+            },
+            SDINS,
+            Error(&["imu.csv", "gap"]),
             Here,
         ),
         (

@@ -226,7 +226,9 @@ where
                     ),
                 );
                 w.line = line;
-                warnings.push(w);
+                if options.gap_warnings {
+                    warnings.push(w);
+                }
                 let held = sample(&previous);
                 for m in 1..steps as usize {
                     let t = previous.t + gap * (m as f64 / steps);

@@ -73,11 +73,7 @@ fn turn(log: &LogDir, beyond: (bool, bool), report: &mut Report) {
         ),
         _ => return,
     };
-    if beyond
-        || reference
-            .iter()
-            .any(|(_, h)| h.abs() > 2.0 * core::f64::consts::PI)
-    {
+    if beyond {
         return; // angle_range reports it.
     }
     // The reference sample of largest unwrapped change from the first.
@@ -121,6 +117,8 @@ fn turn(log: &LogDir, beyond: (bool, bool), report: &mut Report) {
     };
     if (40.0..=80.0).contains(&ratio) {
         report.error(msg("deg/s? the format is rad/s"));
+    } else if (1.0 / 80.0..=1.0 / 40.0).contains(&ratio) {
+        report.error(msg("the reference in degrees? the format is radians"));
     } else if (-1.5..=-0.5).contains(&ratio) {
         report.error(msg("FLU axes (z up)? the format is FRD (z down)"));
     } else if !(0.5..=1.5).contains(&ratio) {

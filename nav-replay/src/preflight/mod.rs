@@ -309,7 +309,7 @@ impl<'m> Scan<'m> {
             frozen_imu: frozen_imu::Fold::new(meta, options),
             time_gaps: time_gaps::Fold::new(options),
             partial_rows: partial_rows::Fold::default(),
-            angle_range: angle_range::Fold::default(),
+            angle_range: angle_range::Fold::new(meta),
             depth: depth_consistency::Fold::default(),
             aiding: aiding_plausibility::Fold::default(),
             truth: truth_values::Fold::default(),

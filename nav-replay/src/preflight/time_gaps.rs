@@ -8,6 +8,13 @@ use super::{lines_text, PreflightOptions, Report};
 /// Aiding rows further than this outside the IMU span are a clock error, s.
 const CLOCK_JUMP: f64 = 3600.0;
 
+/// Longest IMU gap propagated without `--lenient`, s: real loggers drop
+/// data for a second or two (a bus hiccup, a full buffer), and holding the
+/// sample before the gap for that long costs the navigation at most the
+/// rate change over it, which the replay reports; a longer gap is missing
+/// data or a clock jump and is refused.
+pub const SHORT_GAP_SECONDS: f64 = 5.0;
+
 /// Rows this close outside the IMU span are not reported, s.
 const MARGIN: f64 = 1.0;
 
@@ -49,7 +56,10 @@ pub(super) struct Fold {
     previous: Option<(Option<u64>, f64)>,
     period: Option<f64>,
     gaps: usize,
-    listed: Vec<Warning>,
+    /// Gaps longer than [`SHORT_GAP_SECONDS`].
+    long_gaps: usize,
+    /// The first gaps, each with whether it is short enough to propagate.
+    listed: Vec<(Warning, bool)>,
     outside: [Option<Outside>; 9],
 }
 
@@ -61,6 +71,7 @@ impl Fold {
             previous: None,
             period: None,
             gaps: 0,
+            long_gaps: 0,
             listed: Vec::new(),
             outside: [None; 9],
         }
@@ -108,16 +119,23 @@ impl Fold {
             return;
         }
         self.gaps += 1;
+        let short = dt <= SHORT_GAP_SECONDS;
+        self.long_gaps += usize::from(!short);
         if self.gaps > LISTED {
             return;
         }
         let between = lines_text(line_a, line_b, " and ").unwrap_or_else(|| "two rows".into());
+        let what = if short {
+            format!("propagated holding the sample before it (at most {SHORT_GAP_SECONDS} s is)")
+        } else {
+            format!("missing data or a clock jump (more than {SHORT_GAP_SECONDS} s)")
+        };
         let mut w = Warning::about(
             WarningKind::ImuGap,
             ImuRow::FILE,
             format!(
                 "gap of {dt:.6} s between {between} (t = {ta} and t = {tb}; IMU period \
-                 {period:.6} s, limit {} periods): missing data or a clock jump",
+                 {period:.6} s, limit {} periods): {what}",
                 self.max_gap_periods
             ),
         )
@@ -125,7 +143,7 @@ impl Fold {
         if let Some(a) = line_a {
             w = w.at_line(a);
         }
-        self.listed.push(w);
+        self.listed.push((w, short));
     }
 
     /// A row of file `index` (not the IMU) at `t`; `span` is the IMU span.
@@ -154,8 +172,9 @@ impl Fold {
         }
     }
 
-    /// IMU gaps longer than `max_gap_periods` median periods are errors
-    /// naming both lines (warnings with `--lenient`); fewer than 2 IMU rows
+    /// IMU gaps longer than `max_gap_periods` median periods are warnings
+    /// naming both lines when at most [`SHORT_GAP_SECONDS`] long (the replay
+    /// propagates them), errors beyond (warnings with `--lenient`); fewer than 2 IMU rows
     /// is an error; then the rows of each file outside the IMU span.
     pub(super) fn finish(
         mut self,
@@ -175,16 +194,22 @@ impl Fold {
         if self.period.is_none() {
             self.settle();
         }
-        for w in std::mem::take(&mut self.listed) {
-            report.error_unless(options.lenient, w);
+        let mut long_listed = 0;
+        for (w, short) in std::mem::take(&mut self.listed) {
+            long_listed += usize::from(!short);
+            report.error_unless(options.lenient || short, w);
         }
         if self.gaps > LISTED {
             report.error_unless(
-                options.lenient,
+                options.lenient || self.long_gaps == long_listed,
                 Warning::about(
                     WarningKind::ImuGap,
                     ImuRow::FILE,
-                    format!("{} more IMU gaps", self.gaps - LISTED),
+                    format!(
+                        "{} more IMU gaps, {} of them longer than {SHORT_GAP_SECONDS} s",
+                        self.gaps - LISTED,
+                        self.long_gaps - long_listed
+                    ),
                 ),
             );
         }
