@@ -2,6 +2,7 @@
 //! registry `navsim` runs them from. Add new scenarios and models here.
 
 use nav_replay::ins::InsReplay;
+use nav_runtime::log::did_you_mean;
 
 use crate::demo;
 use crate::harness::{ReplayModel, RunError, Scenario};
@@ -53,7 +54,8 @@ pub fn find_scenario(name: &str) -> Result<Box<dyn Scenario>, RunError> {
     let valid = names.join(", ");
     all.into_iter().find(|s| s.name() == name).ok_or_else(|| {
         RunError::Invalid(format!(
-            "unknown scenario `{name}`; valid scenarios: {valid}"
+            "unknown scenario `{name}`; valid scenarios: {valid}{}",
+            did_you_mean(name, &names)
         ))
     })
 }
@@ -63,9 +65,12 @@ pub fn find_replay_model(name: &str) -> Result<Box<dyn ReplayModel>, RunError> {
     let all = replay_models();
     let names: Vec<&str> = all.iter().map(|s| s.name()).collect();
     let valid = names.join(", ");
-    all.into_iter()
-        .find(|s| s.name() == name)
-        .ok_or_else(|| RunError::Invalid(format!("unknown model `{name}`; valid models: {valid}")))
+    all.into_iter().find(|s| s.name() == name).ok_or_else(|| {
+        RunError::Invalid(format!(
+            "unknown model `{name}`; valid models: {valid}{}",
+            did_you_mean(name, &names)
+        ))
+    })
 }
 
 /// The scenario run without a command.

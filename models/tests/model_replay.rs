@@ -155,6 +155,37 @@ fn broken_mappings_and_logs_are_errors_naming_the_key() {
             "[sensors.Fixx]",
             &["sensors.Fixx", "did you mean `Fix`"],
         ),
+        // One suggestion rule for every name (case, one edit, a swap).
+        (
+            "replay.toml",
+            "[sensors.Fix]",
+            "[sensors.fix]",
+            &["sensors.fix", "did you mean `Fix`"],
+        ),
+        (
+            "replay.toml",
+            "[sensors.Fix]",
+            "[sensors.Fxi]",
+            &["sensors.Fxi", "did you mean `Fix`"],
+        ),
+        (
+            "replay.toml",
+            "z = [\"north\", \"east\"]",
+            "z = [\"North\", \"east\"]",
+            &["gnss.csv has no column `North`", "did you mean `north`"],
+        ),
+        (
+            "replay.toml",
+            "[inputs]",
+            "[INPUTS]",
+            &["`INPUTS`", "did you mean `inputs`"],
+        ),
+        (
+            "replay.toml",
+            "speed_noise =",
+            "speed_noies =",
+            &["noise.speed_noies", "did you mean `speed_noise`"],
+        ),
         (
             "replay.toml",
             "z = [\"north\", \"east\"]",
@@ -850,4 +881,61 @@ fn a_quaternion_truth_of_the_other_sign_is_the_same_attitude() {
             "{name}: RMS {rms} (the sign of the truth counted as an error?)"
         );
     }
+}
+
+/// One non-physical reading in a sensor file of a model replay (a glitch) is
+/// a rejected row with a `rejected_reading` warning naming the file and
+/// line, not a broken log and not a value handed to the filter; the replay
+/// runs on. One row per file and value.
+#[test]
+fn a_glitch_in_a_mapped_sensor_file_is_a_rejected_row() {
+    let dir = TempDir::new("glitch");
+    // (file, column, value)
+    let cases: &[(&str, usize, &str)] = &[
+        ("gnss.csv", 1, "1e300"),
+        ("gnss.csv", 2, "-1e300"),
+        ("gnss.csv", 1, "NaN"),
+        ("beacon.csv", 1, "inf"),
+        ("beacon.csv", 2, "1e300"),
+        ("landmarks.csv", 3, "1e300"),
+    ];
+    let mut failures = Vec::new();
+    for (k, &(file, column, value)) in cases.iter().enumerate() {
+        let log = dir.0.join(format!("glitch-{k}"));
+        write_log(&log, 4, SI, DRIVE_STEPS);
+        let path = log.join(file);
+        let text = std::fs::read_to_string(&path).unwrap();
+        let mut lines: Vec<String> = text.lines().map(String::from).collect();
+        // Line 6 of the file (data row 5).
+        let mut cells: Vec<String> = lines[5].split(',').map(String::from).collect();
+        cells[column] = value.to_string();
+        lines[5] = cells.join(",");
+        std::fs::write(&path, lines.join("\n") + "\n").unwrap();
+        match rover().replay(&log, None, &RunOptions::default(), None) {
+            Ok(run) => {
+                let hit = run.warnings.iter().any(|w| {
+                    w.kind == nav_runtime::log::WarningKind::RejectedReading
+                        && w.file.as_deref() == Some(file)
+                        && w.line == Some(6)
+                });
+                if !hit {
+                    failures.push(format!("{file} {value}: no warning in {:?}", run.warnings));
+                }
+            }
+            Err(e) => failures.push(format!("{file} {value}: refused: {e}")),
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    // Every fix non-physical: a unit or column mistake, not glitches.
+    let log = dir.0.join("all-rejected");
+    write_log(&log, 4, SI, DRIVE_STEPS);
+    edit_rows(&log.join("gnss.csv"), |_, c| c[1] = 1e300);
+    let e = rover()
+        .replay(&log, None, &RunOptions::default(), None)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("gnss.csv") && e.contains("rejected as non-physical"),
+        "{e}"
+    );
 }

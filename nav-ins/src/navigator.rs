@@ -492,7 +492,7 @@ impl<V: InsVehicle<N>, const N: usize> Builder<V, N> {
                 "vehicle {vehicle} declares no sensor `{name}` to feed by name (those it has: {})",
                 if names.is_empty() { "none".to_string() } else { names.join(", ") }
             );
-            if let Some(close) = nav_runtime::model::closest_name(name, &names) {
+            if let Some(close) = nav_runtime::suggestion::closest_name(name, &names) {
                 m.push_str(&format!("; did you mean `{close}`?"));
             }
             return setup(m);
@@ -554,7 +554,7 @@ impl<V: InsVehicle<N>, const N: usize> Builder<V, N> {
                     blocks.join(", ")
                 }
             ));
-            if let Some(close) = nav_runtime::model::closest_name(name, &blocks) {
+            if let Some(close) = nav_runtime::suggestion::closest_name(name, &blocks) {
                 m.push_str(&format!("; did you mean `{close}`?"));
             }
             return Err(NavigatorError::Setup(m));
@@ -594,7 +594,7 @@ impl<V: InsVehicle<N>, const N: usize> Builder<V, N> {
                     blocks.join(", ")
                 }
             );
-            if let Some(close) = nav_runtime::model::closest_name(name, &blocks) {
+            if let Some(close) = nav_runtime::suggestion::closest_name(name, &blocks) {
                 m.push_str(&format!("; did you mean `{close}`?"));
             }
             return Err(NavigatorError::Setup(m));

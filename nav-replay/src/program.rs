@@ -45,7 +45,7 @@ use serde_json::{json, Map, Value};
 
 use nav_ins::vehicle::{Layout, Present};
 use nav_ins::InsVehicle;
-use nav_runtime::log::Warning;
+use nav_runtime::log::{Warning, WarningKind};
 
 use crate::ins::InsReplay;
 use crate::output::interrupt::Pending;
@@ -328,7 +328,15 @@ pub fn replay_with(model: &dyn ReplayModel, args: &ReplayArgs) -> Result<(), Run
             for file in &read.unknown_files {
                 eprintln!("warning: ignored unknown file {file}");
             }
-            let mut notes = output.warnings.clone();
+            // A frozen IMU the preflight listed is not listed again by the
+            // replay that met it.
+            let preflight_frozen = report.warnings().any(|w| w.kind == WarningKind::FrozenImu);
+            let mut notes: Vec<Warning> = output
+                .warnings
+                .iter()
+                .filter(|w| !(preflight_frozen && w.kind == WarningKind::FrozenImu))
+                .cloned()
+                .collect();
             preflight::weigh_nees(&mut notes, report);
             // A model's notes carry their file in the message already.
             for w in &notes {

@@ -35,6 +35,8 @@ pub mod log;
 pub mod model;
 #[cfg(feature = "simulation")]
 pub mod simulation;
+#[cfg(feature = "std")]
+pub mod suggestion;
 #[cfg(all(test, feature = "std"))]
 mod testmodels;
 

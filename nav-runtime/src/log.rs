@@ -71,6 +71,7 @@ use std::fs;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
+pub use crate::suggestion::{closest_name, did_you_mean, TWO_EDITS_FROM};
 pub use axes::Axes;
 pub use error::{CsvProblem, LogError, SkippedRow};
 pub use log_file::{is_gzip, open_confined, LogFile};
@@ -79,8 +80,8 @@ pub use mapping::{
     IMU_INCREMENT_COLUMNS, MAPPED_SENSORS, STANDARD_GRAVITY,
 };
 pub use meta::{
-    closest_name, ImuNoise, Initial, InitialSigma, Meta, Mounting, SensorNoise, Sensors,
-    UsblTransducer, AIDING_SENSORS,
+    ImuNoise, Initial, InitialSigma, Meta, Mounting, SensorNoise, Sensors, UsblTransducer,
+    AIDING_SENSORS,
 };
 pub use read_ahead::{ReadAhead, READ_AHEAD_ROWS};
 pub use rejected::{

@@ -270,35 +270,6 @@ pub fn blocks<'a>(names: &[&'a str]) -> Vec<&'a str> {
     out
 }
 
-#[cfg(feature = "std")]
-/// The valid name closest to `name` (edit distance at most 2, or a
-/// case-insensitive match), if any.
-pub fn closest_name<'a>(name: &str, valid: &[&'a str]) -> Option<&'a str> {
-    let lower = name.to_ascii_lowercase();
-    valid
-        .iter()
-        .map(|v| (edit_distance(&lower, v), *v))
-        .filter(|(d, v)| *d <= 2 && *d < v.len())
-        .min_by_key(|(d, _)| *d)
-        .map(|(_, v)| v)
-}
-
-#[cfg(feature = "std")]
-/// Levenshtein distance of two short strings (bytes).
-fn edit_distance(a: &str, b: &str) -> usize {
-    let (a, b) = (a.as_bytes(), b.as_bytes());
-    let mut prev: Vec<usize> = (0..=b.len()).collect();
-    for (i, ca) in a.iter().enumerate() {
-        let mut cur = vec![i + 1; b.len() + 1];
-        for (j, cb) in b.iter().enumerate() {
-            let sub = prev[j] + usize::from(ca != cb);
-            cur[j + 1] = sub.min(prev[j + 1] + 1).min(cur[j] + 1);
-        }
-        prev = cur;
-    }
-    prev[b.len()]
-}
-
 #[cfg(all(test, feature = "std"))]
 mod name_tests {
     use super::{blocks, scalars_of};

@@ -256,8 +256,9 @@ fn run_options(
                 scenario.faults().join(", ")
             };
             return Err(RunError::Invalid(format!(
-                "unknown fault `{f}` for scenario {}; valid faults: {valid}",
-                scenario.name()
+                "unknown fault `{f}` for scenario {}; valid faults: {valid}{}",
+                scenario.name(),
+                nav_runtime::log::did_you_mean(f, scenario.faults())
             )));
         }
         if !list.iter().any(|x| x == f) {

@@ -106,6 +106,13 @@ fn scale(dir: &Path, file: &str, cols: &[usize], k: f64) {
     });
 }
 
+/// Adds `k` to column `col` of every row.
+fn add_to(dir: &Path, file: &str, col: usize, k: f64) {
+    rows(dir, file, |_, c| {
+        c[col] = format!("{}", c[col].parse::<f64>().unwrap() + k);
+    });
+}
+
 /// Sets column `col` of data row `row` to `value`.
 fn cell(dir: &Path, file: &str, row: usize, col: usize, value: &str) {
     rows(dir, file, |i, c| {
@@ -216,6 +223,12 @@ fn last_time(dir: &Path, file: &str) -> f64 {
 
 /// Freezes the gyro triple of IMU rows `from..to` at the value of row `from`.
 fn freeze(dir: &Path, from: usize, to: usize) {
+    freeze_columns(dir, from, to, 1..4);
+}
+
+/// Holds columns `columns` of `imu.csv` (1-3 gyro, 4-6 accelerometer) at
+/// their values of data row `from` over data rows `from..to`.
+fn freeze_columns(dir: &Path, from: usize, to: usize, columns: std::ops::Range<usize>) {
     let text = std::fs::read_to_string(dir.join("imu.csv")).unwrap();
     let frozen: Vec<String> = text
         .lines()
@@ -226,7 +239,7 @@ fn freeze(dir: &Path, from: usize, to: usize) {
         .collect();
     rows(dir, "imu.csv", |i, c| {
         if (from..to).contains(&i) {
-            c[1..4].clone_from_slice(&frozen[1..4]);
+            c[columns.clone()].clone_from_slice(&frozen[columns.clone()]);
         }
     });
 }
@@ -345,6 +358,44 @@ fn cases() -> Vec<Case> {
             Here,
         ),
         (
+            "heading unwrapped: two turns before the log",
+            "valid",
+            |d| add_to(d, "heading.csv", 1, 2.0 * std::f64::consts::TAU),
+            SDINS,
+            Correct,
+            Here,
+        ),
+        (
+            "heading unwrapped: one turn before the log",
+            "valid",
+            |d| add_to(d, "heading.csv", 1, std::f64::consts::TAU),
+            SDINS,
+            Correct,
+            Here,
+        ),
+        (
+            "truth yaw unwrapped: one turn before the log",
+            "valid",
+            |d| add_to(d, "truth.csv", 9, std::f64::consts::TAU),
+            SDINS,
+            Correct,
+            Here,
+        ),
+        (
+            "heading in degrees, one turn added (wraps at 360)",
+            "units",
+            |d| {
+                rows(d, "heading.csv", |i, c| {
+                    let deg = c[1].parse::<f64>().unwrap().to_degrees() + 355.0;
+                    // Past 360 the logger wraps to 0.
+                    c[1] = format!("{}", if i % 2 == 0 { deg } else { deg - 360.0 });
+                })
+            },
+            SDINS,
+            Error(&["heading.csv", "degrees?"]),
+            Here,
+        ),
+        (
             "truth yaw in degrees",
             "units",
             |d| {
@@ -418,6 +469,22 @@ fn cases() -> Vec<Case> {
             |d| scale(d, "dvl.csv", &[1, 2, 3], 1000.0),
             SDINS,
             Error(&["dvl.csv", "mm/s?"]),
+            Here,
+        ),
+        (
+            "compass cell 1e300",
+            "values",
+            |d| cell(d, "heading.csv", 7, 1, "1e300"),
+            SDINS,
+            Warn("rejected_reading", "heading.csv:9"),
+            Here,
+        ),
+        (
+            "depth cell -1e300",
+            "values",
+            |d| cell(d, "depth.csv", 12, 1, "-1e300"),
+            SDINS,
+            Warn("rejected_reading", "depth.csv:14"),
             Here,
         ),
         (
@@ -745,6 +812,68 @@ fn cases() -> Vec<Case> {
             Here,
         ),
         (
+            "2 s IMU hole",
+            "gaps",
+            |d| drop_rows(d, "imu.csv", 1000, 1200),
+            SDINS,
+            Warn("imu_gap", "imu.csv:1001"),
+            Here,
+        ),
+        (
+            "0.3 s IMU hole",
+            "gaps",
+            |d| drop_rows(d, "imu.csv", 2000, 2030),
+            SDINS,
+            Warn("imu_gap", "propagated"),
+            Here,
+        ),
+        (
+            "4.5 s IMU hole",
+            "gaps",
+            |d| drop_rows(d, "imu.csv", 3000, 3450),
+            SDINS,
+            Warn("imu_gap", "imu.csv:3001"),
+            Here,
+        ),
+        (
+            "five 1 s IMU holes",
+            "gaps",
+            |d| {
+                rows(d, "imu.csv", |i, c| {
+                    if (1..=5).any(|k| (k * 900..k * 900 + 100).contains(&i)) {
+                        c.clear();
+                    }
+                })
+            },
+            SDINS,
+            Warn("imu_gap", "propagated"),
+            Here,
+        ),
+        (
+            "8 s IMU hole",
+            "gaps",
+            |d| drop_rows(d, "imu.csv", 1000, 1800),
+            SDINS,
+            Error(&["imu.csv:1001", "gap of", "more than 5 s"]),
+            Here,
+        ),
+        (
+            "four 1 s holes and one of 8 s",
+            "gaps",
+            |d| {
+                rows(d, "imu.csv", |i, c| {
+                    if (1..=4).any(|k| (k * 900..k * 900 + 100).contains(&i))
+                        || (4000..4800).contains(&i)
+                    {
+                        c.clear();
+                    }
+                })
+            },
+            SDINS,
+            Error(&["imu.csv", "gap"]),
+            Here,
+        ),
+        (
             "clock jump of an hour",
             "clocks",
             |d| shift_from(d, "imu.csv", 2000, 3600.0),
@@ -873,6 +1002,65 @@ fn cases() -> Vec<Case> {
             |d| freeze(d, 1000, 3500),
             LENIENT,
             Warn("frozen_imu", "imu.csv:1002"),
+            Here,
+        ),
+        (
+            "gyro frozen for 20 s",
+            "frozen",
+            |d| freeze(d, 1000, 3000),
+            SDINS,
+            Error(&["imu.csv:1002", "gx,gy,gz", "frozen IMU"]),
+            Here,
+        ),
+        (
+            "gyro frozen for 3 s",
+            "frozen",
+            |d| freeze(d, 2000, 2300),
+            SDINS,
+            Error(&["imu.csv:2002", "frozen IMU"]),
+            Here,
+        ),
+        (
+            "gz alone frozen for 10 s",
+            "frozen",
+            |d| freeze_columns(d, 1500, 2500, 3..4),
+            SDINS,
+            Error(&["imu.csv:1502", "gyro gz", "frozen IMU"]),
+            Here,
+        ),
+        (
+            "accelerometer frozen for 5 s",
+            "frozen",
+            |d| freeze_columns(d, 3000, 3500, 4..7),
+            SDINS,
+            Error(&["imu.csv:3002", "accelerometer ax,ay,az", "frozen IMU"]),
+            Here,
+        ),
+        (
+            "gyro frozen for 20 s, lenient",
+            "frozen",
+            |d| freeze(d, 1000, 3000),
+            LENIENT,
+            Warn("frozen_imu", "imu.csv:1002"),
+            Here,
+        ),
+        (
+            "gyro frozen for 20 s, no [sensors.imu]",
+            "frozen",
+            |d| {
+                meta_drop_section(d, "sensors.imu");
+                freeze(d, 1000, 3000);
+            },
+            SDINS,
+            Warn("frozen_imu", "imu.csv:1002"),
+            Here,
+        ),
+        (
+            "gyro repeated for 0.3 s (a logger catching up)",
+            "frozen",
+            |d| freeze(d, 1000, 1030),
+            SDINS,
+            Correct,
             Here,
         ),
         // -- scoring

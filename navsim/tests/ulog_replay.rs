@@ -351,3 +351,57 @@ fn missing_aiding_and_partial_references_are_warnings() {
         );
     }
 }
+
+/// One non-physical reading in any aiding file of an imported flight (GNSS
+/// position, height, velocity or accuracy, barometer, magnetometer) is a
+/// rejected row with a `rejected_reading` warning naming the file and line,
+/// for both models that read it; the replay runs on.
+#[test]
+fn a_glitch_in_any_aiding_file_is_a_rejected_row() {
+    let tmp = TempDir::new("ulog-glitch");
+    let dir = import(&tmp);
+    // (model, file, column, value)
+    let cases: &[(&str, &str, usize, &str)] = &[
+        ("gnss-ins", "gnss.csv", 1, "1e300"),
+        ("gnss-ins", "gnss.csv", 3, "-1e300"),
+        ("gnss-ins", "gnss.csv", 4, "inf"),
+        ("gnss-ins", "gnss.csv", 6, "NaN"),
+        ("gnss-ins", "gnss.csv", 9, "1e300"),
+        ("gnss-ins", "baro.csv", 1, "1e300"),
+        ("gnss-ins", "mag.csv", 2, "1e300"),
+        ("ahrs", "mag.csv", 1, "-1e300"),
+        ("ahrs", "mag.csv", 3, "NaN"),
+    ];
+    let mut failures = Vec::new();
+    for (k, &(model, file, column, value)) in cases.iter().enumerate() {
+        let case = tmp.path().join(format!("glitch-{k}"));
+        std::fs::create_dir_all(&case).unwrap();
+        for e in std::fs::read_dir(&dir).unwrap() {
+            let e = e.unwrap();
+            std::fs::copy(e.path(), case.join(e.file_name())).unwrap();
+        }
+        let path = case.join(file);
+        let text = std::fs::read_to_string(&path).unwrap();
+        let mut lines: Vec<String> = text.lines().map(String::from).collect();
+        // Line 41 of the file.
+        let mut cells: Vec<String> = lines[40].split(',').map(String::from).collect();
+        cells[column] = value.to_string();
+        lines[40] = cells.join(",");
+        std::fs::write(&path, lines.join("\n") + "\n").unwrap();
+        let o = navsim(&["replay", case.to_str().unwrap(), "--model", model, "--json"]);
+        if !o.status.success() {
+            failures.push(format!("{model} {file} {value}: {}", stderr(&o)));
+            continue;
+        }
+        let v: Value = serde_json::from_str(&stdout(&o)).unwrap();
+        let hit = v["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|w| w["kind"] == "rejected_reading" && w["file"] == file && w["line"] == 41);
+        if !hit {
+            failures.push(format!("{model} {file} {value}: {}", v["warnings"]));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}

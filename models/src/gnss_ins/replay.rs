@@ -145,7 +145,8 @@ pub fn replay_source(
     out: Option<&Path>,
 ) -> Result<ReplayOutput, RunError> {
     let filter_options = FilterOptions {
-        max_imu_step: options.lenient.then_some(LENIENT_IMU_STEP_PERIODS),
+        max_imu_step: Some(LENIENT_IMU_STEP_PERIODS),
+        gap_warnings: options.lenient,
         ..FilterOptions::default()
     };
     // Its only position and velocity aiding: without it the INS drifts

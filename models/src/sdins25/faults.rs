@@ -182,8 +182,9 @@ pub fn apply(log: &mut LogDir, faults: &[String], seed: u64) -> Result<Injected,
             DELAYED | REORDERED => 0,
             other => {
                 return Err(RunError::Invalid(format!(
-                    "unknown fault `{other}`; valid faults: {}",
-                    ALL.join(", ")
+                    "unknown fault `{other}`; valid faults: {}{}",
+                    ALL.join(", "),
+                    nav_runtime::log::did_you_mean(other, &ALL)
                 )))
             }
         };

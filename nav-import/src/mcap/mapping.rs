@@ -239,9 +239,10 @@ impl Mapping {
                 .ok_or_else(|| {
                     let names: Vec<&str> = Sensor::NAMES.iter().map(|(n, _)| *n).collect();
                     err(format!(
-                        "`topics.\"{topic}\".sensor`: `{}`, one of {} expected",
+                        "`topics.\"{topic}\".sensor`: `{}`, one of {} expected{}",
                         t.sensor,
-                        names.join(", ")
+                        names.join(", "),
+                        nav_runtime::log::did_you_mean(&t.sensor, &names)
                     ))
                 })?;
             let body_flu = match t.body_frame.as_deref() {

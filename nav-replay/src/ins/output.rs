@@ -114,7 +114,8 @@ pub(super) fn replay_source<V: InsVehicle<N>, const N: usize>(
     let filter_options = FilterOptions {
         smooth: options.smooth,
         observability: options.observability,
-        max_imu_step: options.lenient.then_some(LENIENT_IMU_STEP_PERIODS),
+        max_imu_step: Some(LENIENT_IMU_STEP_PERIODS),
+        gap_warnings: options.lenient,
         ..FilterOptions::default()
     };
     let truth = source.rows::<TruthRow>()?;

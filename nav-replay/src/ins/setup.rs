@@ -102,6 +102,9 @@ pub struct FilterOptions {
     /// before the gap, with a warning naming the two lines (`--lenient`);
     /// `None`: one step whatever its length.
     pub max_imu_step: Option<f64>,
+    /// Whether a gap propagated in steps ([`Self::max_imu_step`]) is also a
+    /// warning of the run (`false` where the preflight has listed it).
+    pub gap_warnings: bool,
     /// Record the run and smooth it afterwards (fixed-interval
     /// Rauch-Tung-Striebel smoother, [`nav_runtime::smoother`]): the run then
     /// also has [`InsRun::smoothed`].
@@ -112,7 +115,9 @@ pub struct FilterOptions {
     pub observability: bool,
 }
 
-/// [`FilterOptions::max_imu_step`] of `--lenient` replays (IMU periods).
+/// [`FilterOptions::max_imu_step`] of the command-line replays (IMU
+/// periods): a gap the preflight lets through (a short one, any with
+/// `--lenient`) is propagated in steps of at most this many periods.
 pub const LENIENT_IMU_STEP_PERIODS: f64 = 10.0;
 
 /// Most steps a gap is propagated in; a longer gap is an error.
@@ -180,6 +185,7 @@ impl Default for FilterOptions {
             stuck_false_alarm: Some(StuckDetector::DEFAULT_FALSE_ALARM),
             bounds: Bounds::default(),
             max_imu_step: None,
+            gap_warnings: true,
             smooth: false,
             observability: false,
         }

@@ -502,6 +502,10 @@ where
                 .push((rows.file().to_string(), rows.skipped_rows));
             run.skip_reasons.extend(rows.skipped.iter().cloned());
         }
+        // Sensor glitches: rows skipped, never fed to the filter.
+        if let Some(r) = &rows.rejected {
+            run.warnings.push(r.warning());
+        }
     }
     warn_about_result(&mut run, truth.as_ref().map(|t| t.rows.file()));
     run.runtime_s = start.elapsed().as_secs_f64();

@@ -6,7 +6,8 @@
 use std::path::Path;
 
 use nav_runtime::log::{
-    closest_name, open_confined, CsvProblem, LogError, LogFile, SkippedRow, MAX_COLUMNS,
+    closest_name, open_confined, plausible_limit, CsvProblem, LogError, LogFile, Rejected,
+    SkippedRow, MAX_COLUMNS, REJECTED_FLOOR, REJECTED_ONE_IN,
 };
 
 use super::mapping::{Cell, Column, Source};
@@ -41,6 +42,14 @@ pub struct MappedRows {
     pub skipped_rows: u64,
     /// Rows read.
     pub rows: u64,
+    /// Whether a non-physical reading (non-finite, or beyond
+    /// [`plausible_limit`] once in SI units) in a value column is a
+    /// rejected row rather than a bad one: a sensor file's.
+    rejects_readings: bool,
+    /// The rows rejected as non-physical readings, with the first.
+    pub rejected: Option<Rejected>,
+    /// Data rows met (read, skipped or rejected).
+    data_rows: u64,
 }
 
 /// The skipped rows a reader keeps the reason of.
@@ -164,6 +173,9 @@ impl MappedRows {
             skipped: Vec::new(),
             skipped_rows: 0,
             rows: 0,
+            rejects_readings: source.section.starts_with("sensors."),
+            rejected: None,
+            data_rows: 0,
         }))
     }
 
@@ -200,15 +212,61 @@ impl MappedRows {
             if self.record.iter().all(str::is_empty) {
                 continue;
             }
+            self.data_rows += 1;
             match self.parse(line) {
                 Ok(t) => {
                     self.previous_t = Some(t);
                     self.rows += 1;
                     return Ok(Some((line, t)));
                 }
-                Err(e) => self.skip_or(e)?,
+                Err((e, true)) if self.rejects_readings => self.reject_reading(e)?,
+                Err((e, _)) => self.skip_or(e)?,
             }
         }
+    }
+
+    /// Skips a row of a non-physical reading (a sensor glitch), counted and
+    /// reported; a strict reader refuses the file once more than
+    /// [`REJECTED_FLOOR`] rows and more than one in [`REJECTED_ONE_IN`] are
+    /// rejected (a unit or column mistake, not glitches), as the log
+    /// reader does.
+    fn reject_reading(&mut self, e: LogError) -> Result<(), LogError> {
+        let LogError::Csv {
+            file,
+            line,
+            column,
+            problem,
+        } = e
+        else {
+            return Err(e);
+        };
+        let r = self.rejected.get_or_insert_with(|| Rejected {
+            count: 0,
+            first: SkippedRow {
+                file,
+                line,
+                column,
+                problem,
+            },
+        });
+        r.count += 1;
+        let rows = usize::try_from(self.data_rows).unwrap_or(usize::MAX);
+        if !self.lenient
+            && r.count > REJECTED_FLOOR
+            && r.count.saturating_mul(REJECTED_ONE_IN) > rows
+        {
+            return Err(LogError::Csv {
+                file: r.first.file.clone(),
+                line: r.first.line,
+                column: r.first.column.clone(),
+                problem: CsvProblem::TooManyRejected {
+                    count: r.count,
+                    rows,
+                    first: Box::new(r.first.problem.clone()),
+                },
+            });
+        }
+        Ok(())
     }
 
     /// The values of the row [`MappedRows::next_row`] returned last.
@@ -240,7 +298,9 @@ impl MappedRows {
         Ok(())
     }
 
-    fn parse(&mut self, line: u64) -> Result<f64, LogError> {
+    /// Parses the current record: its time, or the error and whether it is
+    /// a non-physical reading in a value column (a glitch).
+    fn parse(&mut self, line: u64) -> Result<f64, (LogError, bool)> {
         let err = |column: usize, problem: CsvProblem| LogError::Csv {
             file: self.file.clone(),
             line,
@@ -285,12 +345,15 @@ impl MappedRows {
         // A row with more cells than the header is not read by position: a
         // decimal comma (`1,5`) or a shifted column would move every value.
         if self.record.len() != self.headers.len() {
-            return Err(err(
-                self.record.len().min(self.headers.len()),
-                CsvProblem::ColumnCount {
-                    expected: self.headers.len(),
-                    found: self.record.len(),
-                },
+            return Err((
+                err(
+                    self.record.len().min(self.headers.len()),
+                    CsvProblem::ColumnCount {
+                        expected: self.headers.len(),
+                        found: self.record.len(),
+                    },
+                ),
+                false,
             ));
         }
         // A finite cell can overflow once converted (`1e306` km).
@@ -309,22 +372,54 @@ impl MappedRows {
                 ))
             }
         };
-        let t = converted(self.time.0, self.time.1)?;
+        let t = converted(self.time.0, self.time.1).map_err(|e| (e, false))?;
         if let Some(previous) = self.previous_t {
             if t < previous {
-                return Err(err(self.time.0, CsvProblem::TimeBackwards { previous, t }));
+                return Err((
+                    err(self.time.0, CsvProblem::TimeBackwards { previous, t }),
+                    false,
+                ));
             }
             if t == previous {
-                return Err(err(self.time.0, CsvProblem::DuplicateTime { t }));
+                return Err((err(self.time.0, CsvProblem::DuplicateTime { t }), false));
             }
         }
-        for k in 0..self.cells.len() {
-            self.values[k] = match self.cells[k] {
-                Read::Column(i, f) => converted(i, f)?,
+        let mut values = std::mem::take(&mut self.values);
+        for (k, value) in values.iter_mut().enumerate() {
+            *value = match self.cells[k] {
+                Read::Column(i, f) => {
+                    // Non-finite as read or once converted: a glitch; so is
+                    // a magnitude beyond any sensor's.
+                    let x = converted(i, f).map_err(|e| {
+                        let glitch = matches!(
+                            &e,
+                            LogError::Csv {
+                                problem: CsvProblem::NonFinite { .. }
+                                    | CsvProblem::OutOfRange { .. },
+                                ..
+                            }
+                        );
+                        (e, glitch)
+                    });
+                    let x = match x {
+                        Ok(x) => x,
+                        Err(e) => {
+                            self.values = values;
+                            return Err(e);
+                        }
+                    };
+                    let (limit, allowed) = plausible_limit(&self.headers[i]);
+                    if x.abs() > limit {
+                        self.values = values;
+                        return Err((err(i, CsvProblem::OutOfRange { value: x, allowed }), true));
+                    }
+                    x
+                }
                 Read::Constant(v) => v,
                 Read::Absent => f64::NAN,
             };
         }
+        self.values = values;
         Ok(t)
     }
 }

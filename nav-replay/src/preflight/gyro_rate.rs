@@ -95,11 +95,7 @@ fn turn(
         ),
         _ => return,
     };
-    if beyond
-        || reference
-            .iter()
-            .any(|(_, h)| h.abs() > 2.0 * core::f64::consts::PI)
-    {
+    if beyond {
         return; // angle_range reports it.
     }
     let Some((imu_t0, imu_t1)) = log.imu_time_span() else {

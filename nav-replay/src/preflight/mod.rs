@@ -32,7 +32,7 @@ mod depth_consistency;
 mod dvl_frame;
 mod earth_rate;
 mod finding;
-mod frozen_imu;
+pub(crate) mod frozen_imu;
 mod gyro_rate;
 mod heading_units;
 mod partial_rows;
@@ -44,6 +44,7 @@ mod truth_values;
 
 pub use alongside::{check_alongside, refusal, weigh_nees};
 pub use finding::{Finding, Report, Severity};
+pub use frozen_imu::FROZEN_FLOOR_SECONDS;
 pub use summary::{FileSummary, ImuSummary, LogSummary};
 
 use nav_runtime::log::{
@@ -59,8 +60,9 @@ pub struct PreflightOptions {
     pub lenient: bool,
     /// An IMU interval longer than this many median IMU periods is a gap.
     pub max_gap_periods: f64,
-    /// A gyro triple repeated for at least this long (s), and for more samples
-    /// than noise and resolution explain, is a frozen IMU.
+    /// An IMU channel repeating one value for at least this long (s), and
+    /// for more samples than noise and resolution explain, is a frozen IMU
+    /// (default [`FROZEN_FLOOR_SECONDS`]).
     pub frozen_seconds: f64,
     /// Span of the log's start over which the vehicle is assumed near rest
     /// for the specific-force checks, s.
@@ -87,7 +89,7 @@ impl Default for PreflightOptions {
         PreflightOptions {
             lenient: false,
             max_gap_periods: 10.0,
-            frozen_seconds: 20.0,
+            frozen_seconds: FROZEN_FLOOR_SECONDS,
             settle_seconds: 5.0,
             aiding_seconds: 60.0,
             head_seconds: HEAD_SECONDS,
@@ -351,7 +353,7 @@ impl<'m> Scan<'m> {
             frozen_imu: frozen_imu::Fold::new(meta, options),
             time_gaps: time_gaps::Fold::new(options),
             partial_rows: partial_rows::Fold::default(),
-            angle_range: angle_range::Fold::default(),
+            angle_range: angle_range::Fold::new(meta),
             depth: depth_consistency::Fold::default(),
             aiding: aiding_plausibility::Fold::default(),
             truth: truth_values::Fold::default(),

@@ -16,6 +16,13 @@ const LOST_INCREMENT_PERIODS: f64 = 1.5;
 /// 100 Hz IMU stamped in milliseconds has a period of 10).
 const MAX_IMU_PERIOD: f64 = 1.0;
 
+/// Longest IMU gap propagated without `--lenient`, s: real loggers drop
+/// data for a second or two (a bus hiccup, a full buffer), and holding the
+/// sample before the gap for that long costs the navigation at most the
+/// rate change over it, which the replay reports; a longer gap is missing
+/// data or a clock jump and is refused.
+pub const SHORT_GAP_SECONDS: f64 = 5.0;
+
 /// Rows this close outside the IMU span are not reported, s.
 const MARGIN: f64 = 1.0;
 
@@ -57,8 +64,11 @@ pub(super) struct Fold {
     previous: Option<(Option<u64>, f64)>,
     period: Option<f64>,
     gaps: usize,
-    /// The first gaps, with the line of the row after each.
-    listed: Vec<(Warning, Option<u64>, f64)>,
+    /// Gaps longer than [`SHORT_GAP_SECONDS`].
+    long_gaps: usize,
+    /// The first gaps, with the line and time of the row after each and
+    /// whether it is short enough to propagate.
+    listed: Vec<(Warning, Option<u64>, f64, bool)>,
     outside: [Option<Outside>; 9],
     /// Whether `imu.csv` holds increments: then any interval longer than
     /// [`LOST_INCREMENT_PERIODS`] lost the motion of the rows missing.
@@ -76,6 +86,7 @@ impl Fold {
             previous: None,
             period: None,
             gaps: 0,
+            long_gaps: 0,
             listed: Vec::new(),
             outside: [None; 9],
             increments: false,
@@ -130,16 +141,23 @@ impl Fold {
             return;
         }
         self.gaps += 1;
+        let short = dt <= SHORT_GAP_SECONDS;
+        self.long_gaps += usize::from(!short);
         if self.gaps > LISTED {
             return;
         }
         let between = lines_text(line_a, line_b, " and ").unwrap_or_else(|| "two rows".into());
+        let what = if short {
+            format!("propagated holding the sample before it (at most {SHORT_GAP_SECONDS} s is)")
+        } else {
+            format!("missing data or a clock jump (more than {SHORT_GAP_SECONDS} s)")
+        };
         let mut w = Warning::about(
             WarningKind::ImuGap,
             ImuRow::FILE,
             format!(
                 "gap of {dt:.6} s between {between} (t = {ta} and t = {tb}; IMU period \
-                 {period:.6} s, limit {} periods): missing data or a clock jump",
+                 {period:.6} s, limit {} periods): {what}",
                 self.max_gap_periods
             ),
         )
@@ -147,7 +165,7 @@ impl Fold {
         if let Some(a) = line_a {
             w = w.at_line(a);
         }
-        self.listed.push((w, line_b, tb));
+        self.listed.push((w, line_b, tb, short));
     }
 
     /// A row of file `index` (not the IMU) at `t`; `span` is the IMU span.
@@ -176,10 +194,11 @@ impl Fold {
         }
     }
 
-    /// IMU gaps longer than `max_gap_periods` median periods are errors
-    /// naming both lines (warnings with `--lenient`), at the row before the
-    /// gap, or at the row after it when that is the last row (a last stamp
-    /// far in the future is that row's mistake); fewer than 2 IMU rows
+    /// IMU gaps longer than `max_gap_periods` median periods are warnings
+    /// naming both lines when at most [`SHORT_GAP_SECONDS`] long (the replay
+    /// propagates them), errors beyond (warnings with `--lenient`), at the
+    /// row before the gap, or at the row after it when that is the last row
+    /// (a last stamp far in the future is that row's mistake); fewer than 2 IMU rows
     /// is an error; then the rows of each file outside the IMU span.
     pub(super) fn finish(
         mut self,
@@ -239,22 +258,28 @@ impl Fold {
             report.warn(w);
         }
         let last = self.previous;
-        for (mut w, line_b, tb) in std::mem::take(&mut self.listed) {
+        let mut long_listed = 0;
+        for (mut w, line_b, tb, short) in std::mem::take(&mut self.listed) {
             // A gap before the last row: that row's stamp is the odd one.
             if let (Some(b), Some((Some(last_line), last_t))) = (line_b, last) {
                 if b == last_line && tb == last_t {
                     w = w.at_line(b);
                 }
             }
-            report.error_unless(options.lenient, w);
+            long_listed += usize::from(!short);
+            report.error_unless(options.lenient || short, w);
         }
         if self.gaps > LISTED {
             report.error_unless(
-                options.lenient,
+                options.lenient || self.long_gaps == long_listed,
                 Warning::about(
                     WarningKind::ImuGap,
                     ImuRow::FILE,
-                    format!("{} more IMU gaps", self.gaps - LISTED),
+                    format!(
+                        "{} more IMU gaps, {} of them longer than {SHORT_GAP_SECONDS} s",
+                        self.gaps - LISTED,
+                        self.long_gaps - long_listed
+                    ),
                 ),
             );
         }

@@ -484,14 +484,15 @@ fn parse_section(
                 return Err(cx.err(
                     &key,
                     format!(
-                        "unknown unit `{unit}` for {} ({}); expected one of: {}",
+                        "unknown unit `{unit}` for {} ({}); expected one of: {}{}",
                         if is_column {
                             format!("column `{k}`")
                         } else {
                             format!("every `{k}` column")
                         },
                         q.key().replace('_', " "),
-                        q.units().join(", ")
+                        q.units().join(", "),
+                        super::did_you_mean(unit, &q.units())
                     ),
                 ));
             }
@@ -543,7 +544,10 @@ fn parse_section(
                 _ => {
                     return Err(cx.err(
                         &m.key("body_frame"),
-                        format!("unknown body frame `{f}`; expected one of: FRD, FLU"),
+                        format!(
+                            "unknown body frame `{f}`; expected one of: FRD, FLU{}",
+                            super::did_you_mean(f, &["FRD", "FLU"])
+                        ),
                     ))
                 }
             };
@@ -576,7 +580,10 @@ fn parse_section(
                 _ => {
                     return Err(cx.err(
                         &m.key("nav_frame"),
-                        format!("unknown navigation frame `{f}`; expected one of: NED, ENU"),
+                        format!(
+                            "unknown navigation frame `{f}`; expected one of: NED, ENU{}",
+                            super::did_you_mean(f, &["NED", "ENU"])
+                        ),
                     ))
                 }
             };
@@ -591,7 +598,10 @@ fn parse_section(
             Some(f) => {
                 return Err(cx.err(
                     &m.key("form"),
-                    format!("unknown IMU form `{f}`; expected one of: rates, increments"),
+                    format!(
+                        "unknown IMU form `{f}`; expected one of: rates, increments{}",
+                        super::did_you_mean(f, &["rates", "increments"])
+                    ),
                 ))
             }
             None if increment_keys => Some(ImuForm::Increments),

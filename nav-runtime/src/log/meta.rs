@@ -5,6 +5,7 @@ use std::fmt::Write as _;
 use super::error::LogError;
 use super::mapping::LogMapping;
 use super::warning::{Warning, WarningKind};
+use crate::suggestion::closest_name;
 
 /// `[initial]`: the initial estimate (not necessarily the truth). Angles in rad.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -281,6 +282,17 @@ impl Meta {
                 );
                 if let Some(close) = closest_name(name, TOP_LEVEL) {
                     message.push_str(&format!("; did you mean `{close}`?"));
+                    // A misspelling of a section the file lacks would leave
+                    // its values to defaults without a word: refused.
+                    if !table.contains_key(close) {
+                        return Err(cx.err(
+                            name,
+                            format!(
+                                "unknown section; expected one of: {}; did you mean `{close}`?",
+                                TOP_LEVEL.join(", ")
+                            ),
+                        ));
+                    }
                 }
                 warnings.push(Warning {
                     kind: WarningKind::UnknownSection,
@@ -534,8 +546,6 @@ impl Meta {
 
 /// The top-level sections `meta.toml` is read from.
 const TOP_LEVEL: &[&str] = &["initial", "initial_sigma", "sensors", "usbl", "files"];
-
-pub use crate::model::closest_name;
 
 #[derive(Clone, Copy)]
 enum Range {

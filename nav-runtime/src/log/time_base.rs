@@ -141,7 +141,10 @@ impl TimeBase {
                 other => {
                     return Err(cx.err(
                         &key("stamp"),
-                        format!("unknown stamp `{other}`; expected one of: start, middle, end"),
+                        format!(
+                            "unknown stamp `{other}`; expected one of: start, middle, end{}",
+                            super::did_you_mean(other, &["start", "middle", "end"])
+                        ),
                     ))
                 }
             },

@@ -1,0 +1,95 @@
+//! `runtime_s`, the time spent in the filter, on logs with several sensor
+//! mixes: one row of [`MIXES`] per mix, each replayed over a short and a
+//! three times longer log. Every run must measure a time (a sampled clock
+//! read 0.0 on most runs of a log with USBL fixes), and the longer log must
+//! take longer in proportion (within a wide band: the machine is shared),
+//! which says the figure is the filter's work and not noise. No absolute
+//! time is asserted.
+
+mod common;
+
+use std::path::Path;
+
+use common::{navsim, stderr, stdout, TempDir};
+use models::sdins25::simulation::{simulate, SimConfig};
+use serde_json::Value;
+
+/// (name, files removed from the survey log)
+const MIXES: &[(&str, &[&str])] = &[
+    ("IMU, DVL, depth, compass, USBL", &[]),
+    ("without USBL", &["usbl.csv"]),
+    ("IMU and depth", &["usbl.csv", "dvl.csv", "heading.csv"]),
+    ("IMU and USBL", &["dvl.csv", "heading.csv", "depth.csv"]),
+];
+
+/// Runs per log; the median is compared.
+const RUNS: usize = 5;
+
+/// A USBL survey log of `seconds`, written under `dir`.
+fn survey(dir: &Path, seconds: f64) -> std::path::PathBuf {
+    let path = dir.join(format!("log-{seconds}"));
+    let config = SimConfig {
+        duration: seconds,
+        ..SimConfig::usbl()
+    };
+    simulate(&config, 9).log.write(&path).unwrap();
+    path
+}
+
+/// `runtime_s` of `RUNS` replays of `log`, sorted.
+fn runtimes(log: &Path, mix: &str) -> Vec<f64> {
+    let mut times: Vec<f64> = (0..RUNS)
+        .map(|_| {
+            let o = navsim(&[
+                "replay",
+                log.to_str().unwrap(),
+                "--model",
+                "sdins25",
+                "--json",
+            ]);
+            assert!(o.status.success(), "{mix}: {}", stderr(&o));
+            let v: Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+            v["runtime_s"].as_f64().expect("runtime_s is a number")
+        })
+        .collect();
+    times.sort_by(f64::total_cmp);
+    times
+}
+
+#[test]
+fn runtime_is_measured_and_grows_with_the_log_for_every_sensor_mix() {
+    let dir = TempDir::new("filter-time");
+    let short = survey(dir.path(), 20.0);
+    let long = survey(dir.path(), 60.0);
+    let mut failures = Vec::new();
+    for (mix, removed) in MIXES {
+        let mut medians = [0.0; 2];
+        for (k, base) in [&short, &long].into_iter().enumerate() {
+            let log = dir.path().join(format!("{mix}-{k}"));
+            std::fs::create_dir_all(&log).unwrap();
+            for e in std::fs::read_dir(base).unwrap() {
+                let e = e.unwrap();
+                let name = e.file_name();
+                if !removed.iter().any(|r| name == **r) {
+                    std::fs::copy(e.path(), log.join(&name)).unwrap();
+                }
+            }
+            let times = runtimes(&log, mix);
+            if times.iter().any(|&t| t <= 0.0) {
+                failures.push(format!("{mix}, log {k}: runtime_s {times:?} has a zero"));
+            }
+            eprintln!("{mix}, log {k}: runtime_s {times:?}");
+            medians[k] = times[RUNS / 2];
+        }
+        // Three times the samples: more than 1.5 and less than 8 times the
+        // time (fixed costs and a busy machine widen it both ways).
+        let ratio = medians[1] / medians[0];
+        if !(1.5..8.0).contains(&ratio) {
+            failures.push(format!(
+                "{mix}: runtime_s {:.4} s (20 s log) against {:.4} s (60 s log), ratio {ratio:.2}",
+                medians[0], medians[1]
+            ));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
