@@ -9,7 +9,7 @@ use nav_runtime::ekf::Ekf;
 use nav_runtime::log::{Meta, Warning};
 use nav_runtime::nalgebra::{SMatrix, SVector, Vector3};
 
-use super::model::{Ahrs, AhrsNoise, AhrsParams};
+use super::model::{Ahrs, AhrsInput, AhrsNoise, AhrsParams};
 use super::nominal::{AhrsFilter, AhrsNominal};
 use crate::harness::RunError;
 
@@ -137,6 +137,8 @@ impl AhrsSettings {
             c_bn: Euler::new(roll, pitch, yaw).c_bn(),
             gyro_bias: Vector3::zeros(),
         };
-        Ok(AhrsFilter::new(ekf, nominal))
+        // Gravity and the magnetometer often share an epoch: the second is
+        // linearized about the attitude the first corrected.
+        Ok(AhrsFilter::new(ekf, nominal).with_sensor_input(|n| AhrsInput { c_bn: n.c_bn }))
     }
 }

@@ -240,7 +240,7 @@ impl MappedRows {
         else {
             return Err(e);
         };
-        let r = self.rejected.get_or_insert_with(|| Rejected {
+        let r = self.rejected.get_or_insert(Rejected {
             count: 0,
             first: SkippedRow {
                 file,
