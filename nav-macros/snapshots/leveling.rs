@@ -637,6 +637,24 @@ Total ops: 289*/
             }
         }
     }
+    const DECLARED_SENSORS: &'static [&'static str] = &["Moving", "Stationary"];
+    fn visit_sensor<V: ::nav_runtime::model::SensorVisitor<Self, 6, f64>>(
+        name: &str,
+        visitor: V,
+    ) -> ::core::option::Option<V::Output> {
+        match name {
+            "Moving" => {
+                ::core::option::Option::Some(visitor.visit::<Leveling6Moving, 2>())
+            }
+            "Stationary" => {
+                ::core::option::Option::Some(visitor.visit::<Leveling6Stationary, 4>())
+            }
+            _ => {
+                let _ = visitor;
+                ::core::option::Option::None
+            }
+        }
+    }
 }
 /// Moving: forward speed log and the unit-norm constraint (eqs. 29-30).
 ///

@@ -796,6 +796,31 @@ Total ops: 683*/
             }
         }
     }
+    const DECLARED_SENSORS: &'static [&'static str] = &[
+        "Dvl",
+        "Depth",
+        "MarkerFix",
+        "MarkerRelative",
+    ];
+    fn visit_sensor<V: ::nav_runtime::model::SensorVisitor<Self, 9, f64>>(
+        name: &str,
+        visitor: V,
+    ) -> ::core::option::Option<V::Output> {
+        match name {
+            "Dvl" => ::core::option::Option::Some(visitor.visit::<Marker9Dvl, 3>()),
+            "Depth" => ::core::option::Option::Some(visitor.visit::<Marker9Depth, 1>()),
+            "MarkerFix" => {
+                ::core::option::Option::Some(visitor.visit::<Marker9MarkerFix, 2>())
+            }
+            "MarkerRelative" => {
+                ::core::option::Option::Some(visitor.visit::<Marker9MarkerRelative, 3>())
+            }
+            _ => {
+                let _ = visitor;
+                ::core::option::Option::None
+            }
+        }
+    }
 }
 /// DVL body-frame velocity, m/s.
 ///

@@ -1671,6 +1671,35 @@ Total ops: 126*/
             ],
         );
     }
+    const DECLARED_SENSORS: &'static [&'static str] = &[
+        "Depth",
+        "Dvl",
+        "CompassSmallAngle",
+        "Compass",
+        "Usbl",
+    ];
+    fn visit_sensor<V: ::nav_runtime::model::SensorVisitor<Self, 25, f64>>(
+        name: &str,
+        visitor: V,
+    ) -> ::core::option::Option<V::Output> {
+        match name {
+            "Depth" => ::core::option::Option::Some(visitor.visit::<Sdins25Depth, 1>()),
+            "Dvl" => ::core::option::Option::Some(visitor.visit::<Sdins25Dvl, 3>()),
+            "CompassSmallAngle" => {
+                ::core::option::Option::Some(
+                    visitor.visit::<Sdins25CompassSmallAngle, 1>(),
+                )
+            }
+            "Compass" => {
+                ::core::option::Option::Some(visitor.visit::<Sdins25Compass, 1>())
+            }
+            "Usbl" => ::core::option::Option::Some(visitor.visit::<Sdins25Usbl, 2>()),
+            _ => {
+                let _ = visitor;
+                ::core::option::Option::None
+            }
+        }
+    }
 }
 /// Depth meter, height convention: `h^ - h_meas = dh - b_depth` (eq. 10).
 ///

@@ -388,6 +388,21 @@ Total ops: 9*/
             }
         }
     }
+    const DECLARED_SENSORS: &'static [&'static str] = &["Dvl"];
+    fn visit_sensor<V: ::nav_runtime::model::SensorVisitor<Self, 3, f64>>(
+        name: &str,
+        visitor: V,
+    ) -> ::core::option::Option<V::Output> {
+        match name {
+            "Dvl" => {
+                ::core::option::Option::Some(visitor.visit::<VelocityFilterDvl, 1>())
+            }
+            _ => {
+                let _ = visitor;
+                ::core::option::Option::None
+            }
+        }
+    }
 }
 /// DVL forward speed, eq. 9: `z = V + v` (the DVL velocity rotated to the
 /// body forward axis with the Euler angles, eq. 5).
@@ -1524,6 +1539,20 @@ Total ops: 258*/
         for i in 0..9 {
             for j in 0..i {
                 cov[(i, j)] = cov[(j, i)];
+            }
+        }
+    }
+    const DECLARED_SENSORS: &'static [&'static str] = &["Dvl", "Rpm"];
+    fn visit_sensor<V: ::nav_runtime::model::SensorVisitor<Self, 9, f64>>(
+        name: &str,
+        visitor: V,
+    ) -> ::core::option::Option<V::Output> {
+        match name {
+            "Dvl" => ::core::option::Option::Some(visitor.visit::<Nav9Dvl, 3>()),
+            "Rpm" => ::core::option::Option::Some(visitor.visit::<Nav9Rpm, 3>()),
+            _ => {
+                let _ = visitor;
+                ::core::option::Option::None
             }
         }
     }
