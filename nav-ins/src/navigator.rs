@@ -531,43 +531,14 @@ impl<V: InsVehicle<N>, const N: usize> Builder<V, N> {
     /// sigma that is not finite and >= 0.
     pub fn state_sigma(&mut self, name: &str, sigma: f64) -> Result<(), NavigatorError> {
         let absorbed = self.absorbed()?;
-        let scalars = nav_runtime::model::scalars_of(&V::STATE_NAMES, name);
-        let extra: Vec<&str> = (0..N)
-            .filter(|&i| !absorbed[i])
-            .map(|i| V::STATE_NAMES[i])
-            .collect();
-        if scalars.is_empty() || scalars.iter().any(|&i| absorbed[i]) {
-            let mut m = if scalars.is_empty() {
-                format!("vehicle {} has no state `{name}`", V::REPLAY_NAME)
-            } else {
-                format!(
-                    "state `{name}` of vehicle {} is kept by the navigator (its sigma comes from the initial state, the IMU or the sensor settings)",
-                    V::REPLAY_NAME
-                )
-            };
-            let blocks = nav_runtime::model::blocks(&extra);
-            m.push_str(&format!(
-                "; states given by name: {}",
-                if blocks.is_empty() {
-                    "none".to_string()
-                } else {
-                    blocks.join(", ")
-                }
-            ));
-            if let Some(close) = nav_runtime::suggestion::closest_name(name, &blocks) {
-                m.push_str(&format!("; did you mean `{close}`?"));
-            }
-            return Err(NavigatorError::Setup(m));
-        }
+        let given: Vec<usize> = (0..N).filter(|&i| !absorbed[i]).collect();
+        let scalars = given_by_name::<V, N>(&V::STATE_NAMES, &given, name, "state")?;
         if !(sigma >= 0.0 && (sigma * sigma).is_finite()) {
             return Err(NavigatorError::Setup(format!(
                 "state `{name}`: sigma {sigma} is not a sigma (finite, >= 0)"
             )));
         }
-        for i in scalars {
-            self.state_sigma.retain(|(k, _)| *k != i);
-            self.state_sigma.push((i, sigma));
-        }
+        set_values(&mut self.state_sigma, &scalars, sigma);
         Ok(())
     }
 
@@ -580,34 +551,13 @@ impl<V: InsVehicle<N>, const N: usize> Builder<V, N> {
     /// a value that is not finite and >= 0.
     pub fn process_noise(&mut self, name: &str, value: f64) -> Result<(), NavigatorError> {
         let names = <V::Noise as Record>::NAMES;
-        let extra = extra_noise::<V, N>();
-        let scalars = nav_runtime::model::scalars_of(names, name);
-        if scalars.is_empty() || scalars.iter().any(|i| !extra.contains(i)) {
-            let given: Vec<&str> = extra.iter().map(|&i| names[i]).collect();
-            let blocks = nav_runtime::model::blocks(&given);
-            let mut m = format!(
-                "vehicle {} has no process noise `{name}` given by name (those it has: {})",
-                V::REPLAY_NAME,
-                if blocks.is_empty() {
-                    "none".to_string()
-                } else {
-                    blocks.join(", ")
-                }
-            );
-            if let Some(close) = nav_runtime::suggestion::closest_name(name, &blocks) {
-                m.push_str(&format!("; did you mean `{close}`?"));
-            }
-            return Err(NavigatorError::Setup(m));
-        }
+        let scalars = given_by_name::<V, N>(names, &extra_noise::<V, N>(), name, "process noise")?;
         if !(value >= 0.0 && value.is_finite()) {
             return Err(NavigatorError::Setup(format!(
                 "process noise `{name}`: {value} is not a noise intensity (finite, >= 0)"
             )));
         }
-        for i in scalars {
-            self.process_noise.retain(|(k, _)| *k != i);
-            self.process_noise.push((i, value));
-        }
+        set_values(&mut self.process_noise, &scalars, value);
         Ok(())
     }
 
@@ -803,6 +753,39 @@ impl<V: InsVehicle<N>, const N: usize> Builder<V, N> {
         }
         Ok(filter)
     }
+}
+
+/// The scalars of `names` that `name` stands for (a whole declared block
+/// or one scalar), all of them among `given` (those the builder takes by
+/// name); else a setup error listing those, with "did you mean".
+fn given_by_name<V: InsVehicle<N>, const N: usize>(
+    names: &[&str],
+    given: &[usize],
+    name: &str,
+    what: &str,
+) -> Result<Vec<usize>, NavigatorError> {
+    let scalars = nav_runtime::model::scalars_of(names, name);
+    if !scalars.is_empty() && scalars.iter().all(|i| given.contains(i)) {
+        return Ok(scalars);
+    }
+    let given_names: Vec<&str> = given.iter().map(|&i| names[i]).collect();
+    let blocks = nav_runtime::model::blocks(&given_names);
+    let listed = if blocks.is_empty() {
+        "none".to_string()
+    } else {
+        blocks.join(", ")
+    };
+    Err(NavigatorError::Setup(format!(
+        "vehicle {} has no {what} `{name}` given by name (those it has: {listed}; the others come from the initial state, the IMU and the sensor settings){}",
+        V::REPLAY_NAME,
+        nav_runtime::suggestion::did_you_mean(name, &blocks)
+    )))
+}
+
+/// Sets `value` for `scalars` in `list`, replacing earlier values.
+fn set_values(list: &mut Vec<(usize, f64)>, scalars: &[usize], value: f64) {
+    list.retain(|(k, _)| !scalars.contains(k));
+    list.extend(scalars.iter().map(|&i| (i, value)));
 }
 
 /// IMU steps between the scheduler's checkpoints for a history of `window`

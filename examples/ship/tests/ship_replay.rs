@@ -241,7 +241,7 @@ fn the_ship_mapping_mistakes_are_named() {
         ("[sensors.WaterSped]\nfile = \"water_speed.csv\"\nz = \"speed\"\nsigma = 0.03\n[noise]\ncurrent_noise = 1e-8\n[initial.sigma]\ncurrent = 1.0\nlog_scale = 0.05\n", "did you mean `WaterSpeed`"),
         ("[sensors.WaterSpeed]\nfile = \"water_speed.csv\"\ntime = \"time\"\nz = \"speed\"\nsigma = 0.03\n[initial.sigma]\ncurrent = 1.0\nlog_scale = 0.05\n", "current_noise"),
         ("[sensors.WaterSpeed]\nfile = \"water_speed.csv\"\ntime = \"time\"\nz = \"speed\"\nsigma = 0.03\n[noise]\ncurrent_noise = 1e-8\n[initial.sigma]\ncurrent = 1.0\n", "log_scale"),
-        ("[sensors.GnssFix]\nfile = \"gnss.csv\"\nz = [\"lat\", \"lon\", \"height\"]\nsigma = 1.0\n", "fed by gnss.csv"),
+        ("[sensors.WaterSpeed]\nfile = \"water_speed.csv\"\ntime = \"time\"\nz = \"speed\"\nsigma = 0.03\n[sensors.GnssFix]\nfile = \"gnss.csv\"\nz = [\"lat\", \"lon\", \"height\"]\nsigma = 1.0\n", "fed by gnss.csv"),
         ("[sensors.WaterSpeed]\nfile = \"../water_speed.csv\"\ntime = \"time\"\nz = \"speed\"\nsigma = 0.03\n[noise]\ncurrent_noise = 1e-8\n[initial.sigma]\ncurrent = 1.0\nlog_scale = 0.05\n", "water_speed.csv"),
     ];
     for (mapping, expected) in cases {

@@ -491,11 +491,16 @@ mod tests {
         q_b: 1e-6,
     };
 
-    /// For a linear model, the feedback error-state filter and the full-state
-    /// filter are the same estimator: the corrected nominal equals the
-    /// full-state estimate and the covariances agree.
-    #[test]
-    fn feedback_filter_equals_full_state_filter() {
+    /// Runs the full-state filter and the error-state filter over `nominal`
+    /// side by side on the same accelerometer and position-fix samples (seed
+    /// `seed`), checking at every fix that their NIS agree and calling
+    /// `at_fix` with the error-state filter; returns both and the true bias.
+    fn side_by_side<Nom: Mechanization<Cvb, 3, Imu = CvbInput>>(
+        nominal: Nom,
+        position: fn(&Nom) -> f64,
+        seed: u64,
+        mut at_fix: impl FnMut(&ErrorStateFilter<Cvb, Nom, 3>),
+    ) -> (Ekf<Cvb, 3>, ErrorStateFilter<Cvb, Nom, 3>, f64) {
         let x0 = SVector::<f64, 3>::new(1.0, 0.5, 0.02);
         let mut full = Ekf::<Cvb, 3>::new(x0, p0(), (), NOISE)
             .unwrap()
@@ -503,15 +508,8 @@ mod tests {
         let err = Ekf::<Cvb, 3>::new(SVector::zeros(), p0(), (), NOISE)
             .unwrap()
             .with_default_gate(None);
-        let mut esf = ErrorStateFilter::new(
-            err,
-            Toy {
-                p: 1.0,
-                v: 0.5,
-                b: 0.02,
-            },
-        );
-        let mut g = Gauss::new(7);
+        let mut esf = ErrorStateFilter::new(err, nominal);
+        let mut g = Gauss::new(seed);
         let r = SMatrix::<f64, 1, 1>::new(0.5);
         let dt = 0.01;
         let (mut p_true, mut v_true, b_true) = (0.0, 0.0, 0.05);
@@ -527,18 +525,39 @@ mod tests {
                 let rf = full
                     .update::<Pos, 1>(&SVector::<f64, 1>::new(z), &r, &Offset::default())
                     .unwrap();
-                let residual = esf.nominal().p - z;
+                let residual = position(esf.nominal()) - z;
                 let re = esf
                     .update::<Pos, 1>(&SVector::<f64, 1>::new(residual), &r, &Offset::default())
                     .unwrap();
                 assert!((rf.nis - re.nis).abs() < 1e-9 * (1.0 + rf.nis));
+                at_fix(&esf);
+            }
+        }
+        (full, esf, b_true)
+    }
+
+    /// For a linear model, the feedback error-state filter and the full-state
+    /// filter are the same estimator: the corrected nominal equals the
+    /// full-state estimate and the covariances agree.
+    #[test]
+    fn feedback_filter_equals_full_state_filter() {
+        let toy = Toy {
+            p: 1.0,
+            v: 0.5,
+            b: 0.02,
+        };
+        let (full, esf, b_true) = side_by_side(
+            toy,
+            |n| n.p,
+            7,
+            |esf| {
                 assert_eq!(
                     esf.ekf().state(),
                     &SVector::<f64, 3>::zeros(),
                     "reset after feedback"
                 );
-            }
-        }
+            },
+        );
         let n = esf.nominal();
         let got = SVector::<f64, 3>::new(n.p, n.v, n.b);
         assert!(
@@ -578,44 +597,20 @@ mod tests {
     /// still the full-state estimate, and the kept state is never reset.
     #[test]
     fn a_state_the_nominal_does_not_keep_stays_in_the_filter() {
-        let x0 = SVector::<f64, 3>::new(1.0, 0.5, 0.02);
-        let mut full = Ekf::<Cvb, 3>::new(x0, p0(), (), NOISE)
-            .unwrap()
-            .with_default_gate(None);
-        let err = Ekf::<Cvb, 3>::new(SVector::zeros(), p0(), (), NOISE)
-            .unwrap()
-            .with_default_gate(None);
-        let toy = Toy {
+        let toy = ToyKeepingBias(Toy {
             p: 1.0,
             v: 0.5,
             b: 0.02,
-        };
-        let mut esf = ErrorStateFilter::new(err, ToyKeepingBias(toy));
-        let mut g = Gauss::new(11);
-        let r = SMatrix::<f64, 1, 1>::new(0.5);
-        let dt = 0.01;
-        let (mut p_true, mut v_true, b_true) = (0.0, 0.0, 0.05);
-        for k in 0..20_000 {
-            let a_true = (k as f64 * 0.003).sin();
-            let a_meas = a_true + b_true + 0.03 * g.normal();
-            p_true += v_true * dt;
-            v_true += a_true * dt;
-            full.predict(dt, &CvbInput { a: a_meas }).unwrap();
-            Propagate::propagate(&mut esf, dt, &CvbInput { a: a_meas }).unwrap();
-            if k % 50 == 49 {
-                let z = p_true + 0.7 * g.normal();
-                let rf = full
-                    .update::<Pos, 1>(&SVector::<f64, 1>::new(z), &r, &Offset::default())
-                    .unwrap();
-                let residual = esf.nominal().0.p - z;
-                let re = esf
-                    .update::<Pos, 1>(&SVector::<f64, 1>::new(residual), &r, &Offset::default())
-                    .unwrap();
-                assert!((rf.nis - re.nis).abs() < 1e-9 * (1.0 + rf.nis));
+        });
+        let (full, esf, b_true) = side_by_side(
+            toy,
+            |n| n.0.p,
+            11,
+            |esf| {
                 let x = esf.ekf().state();
                 assert_eq!((x[0], x[1]), (0.0, 0.0), "absorbed states reset");
-            }
-        }
+            },
+        );
         let (n, x) = (esf.nominal().0, *esf.ekf().state());
         assert_eq!(n.b, 0.02, "the nominal never saw the bias");
         let got = SVector::<f64, 3>::new(n.p - x[0], n.v - x[1], n.b - x[2]);

@@ -179,46 +179,70 @@ mod tests {
     use crate::error_state::ErrorStateFilter;
     use crate::testmodels::{Cvb, CvbInput, CvbNoise, Offset, Pos, Toy};
 
-    const TOY: Toy = Toy {
-        p: 0.0,
-        v: 0.0,
-        b: 0.0,
-    };
+    /// Prior sigmas of the position, velocity and bias.
+    const SIGMA: [f64; 3] = [2.0, 0.5, 0.1];
 
-    /// The constant-velocity-and-bias model with position fixes: the
-    /// Gramian of the recorded run equals `sum Phi^T H^T R^-1 H Phi`
-    /// written by hand, and the accelerometer bias is learned only once the
-    /// run is long enough for it to move the position.
-    #[test]
-    fn the_gramian_of_a_linear_model_is_the_hand_written_one() {
-        let p0 = SMatrix::<f64, 3, 3>::from_diagonal(&SVector::<f64, 3>::new(4.0, 0.25, 0.01));
+    /// The observability of a run of the constant-velocity-and-bias filter
+    /// (no process noise) that `run` drives, recorded from the start.
+    fn recorded(
+        directions: usize,
+        run: impl FnOnce(&mut ErrorStateFilter<Cvb, Toy, 3>),
+    ) -> Observability<3> {
+        let p0 = SMatrix::<f64, 3, 3>::from_diagonal(
+            &SVector::from(SIGMA).component_mul(&SVector::from(SIGMA)),
+        );
         let noise = CvbNoise { q_a: 0.0, q_b: 0.0 };
         let ekf = Ekf::<Cvb, 3>::new(SVector::zeros(), p0, (), noise)
             .unwrap()
             .with_default_gate(None);
-        let mut ekf = ErrorStateFilter::new(ekf, TOY);
-        let file = EpochFile::<3, 0>::create(None).unwrap();
-        ekf.start_recording(file, 0.0).unwrap();
-        let r = SMatrix::<f64, 1, 1>::new(0.5);
-        let dt = 0.1;
+        let toy = Toy {
+            p: 0.0,
+            v: 0.0,
+            b: 0.0,
+        };
+        let mut filter = ErrorStateFilter::new(ekf, toy);
+        filter
+            .start_recording(EpochFile::<3, 0>::create(None).unwrap(), 0.0)
+            .unwrap();
+        run(&mut filter);
+        let store = filter.finish_recording().unwrap().unwrap();
+        observability(&mut store.borrow_mut(), &SIGMA, 1e-9, directions).unwrap()
+    }
+
+    /// A position fix of variance `r`.
+    fn fix(filter: &mut ErrorStateFilter<Cvb, Toy, 3>, r: f64) {
+        filter
+            .update::<Pos, 1>(
+                &SVector::<f64, 1>::new(0.0),
+                &SMatrix::<f64, 1, 1>::new(r),
+                &Offset::default(),
+            )
+            .unwrap();
+    }
+
+    /// The constant-velocity-and-bias model with position fixes: the
+    /// Gramian of the recorded run equals `sum Phi^T H^T R^-1 H Phi`
+    /// written by hand.
+    #[test]
+    fn the_gramian_of_a_linear_model_is_the_hand_written_one() {
+        let (r, dt) = (0.5, 0.1);
         let mut hand = SMatrix::<f64, 3, 3>::zeros();
         let h = SMatrix::<f64, 1, 3>::new(1.0, 0.0, 0.0);
-        for k in 1..=40 {
-            Propagate::propagate(&mut ekf, dt, &CvbInput { a: 0.0 }).unwrap();
-            if k % 10 == 0 {
-                ekf.update::<Pos, 1>(&SVector::<f64, 1>::new(0.0), &r, &Offset::default())
-                    .unwrap();
-                // Phi(t, 0) of p' = v, v' = -b, as the filter discretizes
-                // it: k first-order steps (I + F dt)^k.
-                let step = SMatrix::<f64, 3, 3>::new(1.0, dt, 0.0, 0.0, 1.0, -dt, 0.0, 0.0, 1.0);
-                let phi = step.pow(k as u32);
-                hand += phi.transpose() * h.transpose() * r.try_inverse().unwrap() * h * phi;
+        let o = recorded(3, |filter| {
+            for k in 1..=40 {
+                Propagate::propagate(filter, dt, &CvbInput { a: 0.0 }).unwrap();
+                if k % 10 == 0 {
+                    fix(filter, r);
+                    // Phi(t, 0) of p' = v, v' = -b, as the filter
+                    // discretizes it: k first-order steps (I + F dt)^k.
+                    let step =
+                        SMatrix::<f64, 3, 3>::new(1.0, dt, 0.0, 0.0, 1.0, -dt, 0.0, 0.0, 1.0);
+                    let phi = step.pow(k as u32);
+                    hand += phi.transpose() * h.transpose() * h * phi / r;
+                }
             }
-        }
-        let store = ekf.finish_recording().unwrap().unwrap();
-        let sigma = [2.0, 0.5, 0.1];
-        let o = observability(&mut store.borrow_mut(), &sigma, 1e-9, 3).unwrap();
-        let d = SMatrix::<f64, 3, 3>::from_diagonal(&SVector::<f64, 3>::new(2.0, 0.5, 0.1));
+        });
+        let d = SMatrix::<f64, 3, 3>::from_diagonal(&SVector::from(SIGMA));
         let expected = (SMatrix::identity() + d * hand * d).try_inverse().unwrap();
         for i in 0..3 {
             let want = 1.0 - expected[(i, i)].sqrt();
@@ -232,28 +256,12 @@ mod tests {
         assert!(o.weakest[0].learned <= o.weakest[1].learned);
     }
 
-    /// Position fixes of a vehicle at rest teach the position but not a
-    /// bias that never moves it (a model whose bias has no path to the
-    /// measurement): not learned, and the weakest direction is that bias.
+    /// One position fix, no time for velocity or bias to act on the
+    /// position: the position is learned, velocity and bias are not, and
+    /// the weakest direction has no position in it.
     #[test]
     fn a_state_no_measurement_reaches_is_not_learned() {
-        let p0 = SMatrix::<f64, 3, 3>::from_diagonal(&SVector::<f64, 3>::new(4.0, 0.25, 0.01));
-        let noise = CvbNoise { q_a: 0.0, q_b: 0.0 };
-        let ekf = Ekf::<Cvb, 3>::new(SVector::zeros(), p0, (), noise)
-            .unwrap()
-            .with_default_gate(None);
-        let mut ekf = ErrorStateFilter::new(ekf, TOY);
-        ekf.start_recording(EpochFile::<3, 0>::create(None).unwrap(), 0.0)
-            .unwrap();
-        // One fix, no time for velocity or bias to act on the position.
-        ekf.update::<Pos, 1>(
-            &SVector::<f64, 1>::new(0.0),
-            &SMatrix::<f64, 1, 1>::new(0.01),
-            &Offset::default(),
-        )
-        .unwrap();
-        let store = ekf.finish_recording().unwrap().unwrap();
-        let o = observability(&mut store.borrow_mut(), &[2.0, 0.5, 0.1], 1e-9, 2).unwrap();
+        let o = recorded(2, |filter| fix(filter, 0.01));
         assert!(o.learned[0] > 0.9, "{:?}", o.learned);
         assert!(
             o.learned[1] < 1e-9 && o.learned[2] < 1e-9,
