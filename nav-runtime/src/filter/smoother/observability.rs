@@ -206,7 +206,8 @@ mod tests {
             .unwrap();
         run(&mut filter);
         let store = filter.finish_recording().unwrap().unwrap();
-        observability(&mut store.borrow_mut(), &SIGMA, 1e-9, directions).unwrap()
+        let mut file = store.borrow_mut();
+        observability(&mut file, &SIGMA, 1e-9, directions).unwrap()
     }
 
     /// A position fix of variance `r`.
