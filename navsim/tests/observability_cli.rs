@@ -13,6 +13,9 @@ use common::{navsim, stderr, stdout, TempDir};
 use nav_runtime::earth::Geodetic;
 use nav_runtime::simulation::imu::{rates, ImuModel, ImuSpec};
 use nav_runtime::simulation::trajectory::{Trajectory, TrajectorySpec, TruthSource};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rand_distr::StandardNormal;
 use serde_json::Value;
 
 /// `learned` of `state` in a replay's JSON.
@@ -53,11 +56,16 @@ fn write_at_rest(dir: &Path, seconds: f64) {
         );
     }
     std::fs::write(dir.join("imu.csv"), text).unwrap();
+    // Noisy readings, as a sensor gives: exact repeats would be refused as
+    // a frozen sensor after a few rows.
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let mut noise = |sigma: f64| sigma * rng.sample::<f64, _>(StandardNormal);
     let (mut dvl, mut depth) = (String::from("t,vx,vy,vz\n"), String::from("t,depth\n"));
     for k in 1..=(seconds as usize * 2) {
         let t = k as f64 * 0.5;
-        let _ = writeln!(dvl, "{t:?},0.0,0.0,0.0");
-        let _ = writeln!(depth, "{t:?},20.0");
+        let (vx, vy, vz) = (noise(0.01), noise(0.01), noise(0.01));
+        let _ = writeln!(dvl, "{t:?},{vx:?},{vy:?},{vz:?}");
+        let _ = writeln!(depth, "{t:?},{:?}", 20.0 + noise(0.05));
     }
     std::fs::write(dir.join("dvl.csv"), dvl).unwrap();
     std::fs::write(dir.join("depth.csv"), depth).unwrap();
@@ -122,12 +130,12 @@ fn a_survey_without_position_fixes_does_not_learn_the_position() {
     assert!(made_of(&["position_error[2]", "depth_bias"]), "{weakest:?}");
 }
 
-/// At rest without a compass: heading and the vertical gyro bias are not
-/// learned (a rotation about the vertical changes no reading in two
-/// minutes), and tilt is learned only together with the horizontal
-/// accelerometer bias (the weakest direction holds both: at rest a tilt and
-/// a bias give the same specific force). The report agrees with the
-/// filter's own covariance, which keeps these states at their priors.
+/// At rest without a compass, with noisy zero-velocity DVL and depth
+/// readings: heading and the vertical gyro bias are not learned (a rotation
+/// about the vertical changes no reading in two minutes); tilt and the
+/// horizontal accelerometer bias only together (at rest they give the same
+/// specific force: each is learned by about 1 - 1/sqrt(2)); the horizontal
+/// gyro biases are (a tilt growing in time is told from a constant one).
 #[test]
 fn at_rest_without_a_compass_heading_and_vertical_gyro_bias_are_not_learned() {
     let tmp = TempDir::new("obs-rest");
@@ -135,24 +143,27 @@ fn at_rest_without_a_compass_heading_and_vertical_gyro_bias_are_not_learned() {
     std::fs::create_dir_all(&dir).unwrap();
     write_at_rest(&dir, 120.0);
     let v = replay(&dir, "sdins20");
+    let o = &v["observability"];
     for state in ["attitude_error[2]", "gyro_bias[2]"] {
-        assert!(learned(&v, state) < 0.2, "{state}: {}", v["observability"]);
+        assert!(learned(&v, state) < 0.05, "{state}: {o}");
     }
-    assert!(
-        learned(&v, "velocity_error[0]") > 0.5,
-        "{}",
-        v["observability"]
-    );
-    let weakest = v["observability"]["weakest"].as_array().unwrap();
-    assert!(
-        weakest.iter().any(|d| {
-            let c = d["combination"].as_object().unwrap();
-            d["learned"].as_f64().unwrap() < 0.01
-                && c.keys().any(|k| k.starts_with("attitude_error["))
-                && c.keys().any(|k| k.starts_with("accel_bias["))
-        }),
-        "{weakest:?}"
-    );
+    for state in [
+        "attitude_error[0]",
+        "attitude_error[1]",
+        "accel_bias[0]",
+        "accel_bias[1]",
+    ] {
+        let l = learned(&v, state);
+        assert!((0.1..0.5).contains(&l), "{state}: {l}: {o}");
+    }
+    for state in [
+        "gyro_bias[0]",
+        "gyro_bias[1]",
+        "velocity_error[0]",
+        "accel_bias[2]",
+    ] {
+        assert!(learned(&v, state) > 0.8, "{state}: {o}");
+    }
 }
 
 /// A model without the report says so instead of ignoring the flag.
