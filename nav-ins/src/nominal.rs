@@ -77,6 +77,8 @@ pub struct InsNominal<V, const N: usize> {
     layout: Layout,
     /// Per error state: kept by this nominal ([`Layout::absorbed`]).
     absorbed: [bool; N],
+    /// Every error state kept (no state of a block the nominal does not know).
+    absorbs_all: bool,
     vehicle: PhantomData<fn() -> V>,
 }
 
@@ -142,6 +144,7 @@ impl<V: InsVehicle<N>, const N: usize> InsNominal<V, N> {
             specific_force: Vector3::zeros(),
             layout,
             absorbed: layout.absorbed(),
+            absorbs_all: layout.absorbed::<N>().iter().all(|a| *a),
             vehicle: PhantomData,
         })
     }
@@ -155,6 +158,10 @@ impl<V: InsVehicle<N>, const N: usize> InsNominal<V, N> {
 impl<V: InsVehicle<N>, const N: usize> NominalState<N> for InsNominal<V, N> {
     fn absorbs(&self, i: usize) -> bool {
         self.absorbed.get(i).copied().unwrap_or(true)
+    }
+
+    fn absorbs_all(&self) -> bool {
+        self.absorbs_all
     }
 
     fn inject(&mut self, e: &SVector<f64, N>) {

@@ -197,7 +197,11 @@ impl<V: InsVehicle<N>, const N: usize> OwnSensors<V, N> {
     ///
     /// # Errors
     /// A row that cannot be read (strict reading).
+    #[inline]
     pub(super) fn push_due(&mut self, t: f64, nav: &mut Navigator<V, N>) -> Result<(), RunError> {
+        if self.feeds.is_empty() {
+            return Ok(());
+        }
         for feed in &mut self.feeds {
             while feed.next.is_some_and(|tr| tr <= t) {
                 feed.push(nav);

@@ -106,24 +106,27 @@ impl Channel {
             }
         }
         self.previous = Some(v);
+        let fresh = Run {
+            value: v,
+            first_t: t,
+            first_line: line,
+            last_t: t,
+            last_line: line,
+            count: 1,
+        };
         match &mut self.run {
             Some(run) if run.value == v => {
                 run.count += 1;
                 run.last_t = t;
                 run.last_line = line;
             }
+            // The common case of a live sensor: a one-sample run is never
+            // frozen; it is replaced in place.
+            Some(run) if run.count == 1 => *run = fresh,
             _ => {
-                if let Some(run) = self.run.take() {
+                if let Some(run) = self.run.replace(fresh) {
                     self.close(run, frozen_seconds);
                 }
-                self.run = Some(Run {
-                    value: v,
-                    first_t: t,
-                    first_line: line,
-                    last_t: t,
-                    last_line: line,
-                    count: 1,
-                });
             }
         }
     }

@@ -71,6 +71,13 @@ pub trait NominalState<const N: usize> {
         let _ = i;
         true
     }
+
+    /// Whether [`NominalState::absorbs`] is true for every state (the
+    /// default): the feedback then resets the whole error state without
+    /// asking state by state.
+    fn absorbs_all(&self) -> bool {
+        true
+    }
 }
 
 /// A nominal state that integrates its own IMU samples (the strapdown
@@ -288,6 +295,14 @@ impl<Mo: Model<N>, Nom: NominalState<N>, const N: usize> ErrorStateFilter<Mo, No
     /// error fed back when every state is absorbed.
     fn feedback(&mut self, before: &SVector<f64, N>) -> SVector<f64, N> {
         let estimate = *self.ekf.state();
+        if self.nominal.absorbs_all() {
+            // Every state fed back: the state before the update was zero.
+            self.nominal.inject(&estimate);
+            self.ekf.reset_state();
+            self.resets += 1;
+            self.fed_back += estimate;
+            return estimate;
+        }
         let mut absorbed = estimate;
         let mut kept = false;
         for (i, e) in absorbed.iter_mut().enumerate() {
