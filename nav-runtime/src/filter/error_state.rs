@@ -72,11 +72,12 @@ pub trait NominalState<const N: usize> {
         true
     }
 
-    /// Whether [`NominalState::absorbs`] is true for every state (the
-    /// default): the feedback then resets the whole error state without
-    /// asking state by state.
+    /// Whether [`NominalState::absorbs`] is true for every state: the
+    /// feedback then resets the whole error state without asking state by
+    /// state. The default asks [`NominalState::absorbs`] (a constant for a
+    /// nominal that keeps the default); a nominal may cache it.
     fn absorbs_all(&self) -> bool {
-        true
+        (0..N).all(|i| self.absorbs(i))
     }
 }
 
