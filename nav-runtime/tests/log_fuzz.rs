@@ -168,8 +168,29 @@ proptest! {
             Err(LogError::Csv { line, problem: CsvProblem::WrongHeader { .. }, .. }) => {
                 prop_assert!(line >= 1 && line <= lines);
             }
+            // A header naming a column twice is the header's error (lenient
+            // reading skips bad rows, not a bad header).
+            Err(LogError::Csv { line, problem: CsvProblem::DuplicateColumn { .. }, .. }) => {
+                prop_assert!(line >= 1 && line <= lines);
+            }
             Err(LogError::EmptyFile { .. }) => {}
             Err(other) => prop_assert!(false, "unexpected lenient error {:?}", other),
         }
+    }
+}
+
+/// The case the mutation test found: a header naming `t` twice is refused
+/// by the lenient reader as the header's error, at line 1 and the column.
+#[test]
+fn a_header_naming_a_column_twice_is_refused_in_lenient_reading() {
+    let text = b"t,vx,vy,vz,t\n0.5,1.0,0.0,0.0,0.5\n";
+    match parse_csv::<DvlRow>(&text[..], Strictness::Lenient) {
+        Err(LogError::Csv {
+            line: 1,
+            column,
+            problem: CsvProblem::DuplicateColumn { .. },
+            ..
+        }) => assert_eq!(column, "t"),
+        other => panic!("{other:?}"),
     }
 }
