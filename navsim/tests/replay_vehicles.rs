@@ -196,8 +196,23 @@ fn navsim_replays_composed_vehicles() {
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
 
-    // (b) A log without USBL: the same keys, the same final error.
-    let (a, _) = replay(&dvl, "sdins25");
+    // (b) A log without USBL: the same keys, the same final error; sdins25
+    // says that its declared USBL is fed by no file, sdins20 has none.
+    let (a, warn) = replay(&dvl, "sdins25");
+    let unfed: Vec<&Value> = a["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|w| w["kind"] == "missing_sensor_section")
+        .collect();
+    assert_eq!(unfed.len(), 1, "{}", a["warnings"]);
+    assert_eq!(unfed[0]["file"], "usbl.csv");
+    let message = unfed[0]["message"].as_str().unwrap();
+    assert!(
+        message.contains("sensor Usbl of vehicle sdins25"),
+        "{message}"
+    );
+    assert!(warn.contains(message), "{warn}");
     let (b, warn) = replay(&dvl, "sdins20");
     assert!(warn.is_empty(), "{warn}");
     assert_eq!(b["model"], "sdins20");

@@ -27,7 +27,8 @@ use crate::preflight::{PreflightOptions, Report};
 use crate::RunError;
 use nav_ins::vehicle::{Layout, Slot};
 use nav_ins::{
-    Estimate, ImuSample, InsVehicle, NavigatorError, ESTIMATE_SCALARS, SENSORS, SENSOR_NAMES,
+    CompassForm, Estimate, ImuSample, InsVehicle, NavigatorError, ESTIMATE_SCALARS, SENSORS,
+    SENSOR_NAMES,
 };
 
 /// Runs the filter of vehicle `V` over `log`, recording estimates at
@@ -131,6 +132,22 @@ where
         source.has::<MagRow>()?,
     ];
     let ignored = aiding.ignored(has_file);
+    // A sensor of the vehicle that no file of the log feeds.
+    let unfed: Vec<Warning> = (0..SENSORS)
+        .filter(|&i| aiding.present[i] && !has_file[i])
+        .map(|i| {
+            let file = format!("{}.csv", SENSOR_NAMES[i]);
+            Warning::about(
+                WarningKind::MissingSensorSection,
+                &file,
+                format!(
+                    "sensor {} of vehicle {} is fed by no file: the log has no {file}",
+                    slot_sensor_name::<V, N>(i, options.compass),
+                    V::REPLAY_NAME
+                ),
+            )
+        })
+        .collect();
 
     let mut requests = requests;
     let tolerance = 0.5 * plan.imu.period_s + 1e-9;
@@ -372,6 +389,7 @@ where
     let mut all_warnings = aiding.warnings;
     all_warnings.extend(warnings);
     all_warnings.append(&mut own.warnings);
+    all_warnings.extend(unfed);
     all_warnings.extend(frozen_warnings(frozen));
     // The four SDINS sensors always; the others when the vehicle has them
     // or the log has their file.
@@ -395,6 +413,22 @@ where
         observability,
         warnings: all_warnings,
     })
+}
+
+/// The declared name of the sensor in the slot of log sensor `i` (index in
+/// [`SENSOR_NAMES`]; the compass slot by `compass`).
+fn slot_sensor_name<V: InsVehicle<N>, const N: usize>(
+    i: usize,
+    compass: CompassForm,
+) -> &'static str {
+    let names = nav_ins::declared::slotted_names::<V, N>();
+    match i {
+        0 => names[0],
+        1 => names[1],
+        2 if compass == CompassForm::SmallAngle => names[3],
+        2 => names[2],
+        k => names[k + 1],
+    }
 }
 
 /// Prior sigmas at most this are the navigator's floor (a state known from
