@@ -6,11 +6,11 @@
 
 mod common;
 
-use std::fmt::Write as _;
 use std::path::Path;
 
 use common::{navsim, stderr, stdout, TempDir};
 use nav_runtime::earth::Geodetic;
+use nav_runtime::log::{DepthRow, DvlRow, ImuRow, LogDir, Meta};
 use nav_runtime::simulation::imu::{rates, ImuModel, ImuSpec};
 use nav_runtime::simulation::trajectory::{Trajectory, TrajectorySpec, TruthSource};
 use rand::{Rng, SeedableRng};
@@ -44,43 +44,41 @@ fn write_at_rest(dir: &Path, seconds: f64) {
     let start = Geodetic::new(0.6, 2.2, -20.0);
     let traj = Trajectory::new(TrajectorySpec::new(start, 0.7, 0.0), seconds, 0.1);
     let spec = ImuSpec::sdins25();
+    let s = traj.truth(0.0);
+    let meta = format!(
+        "[initial]\nt = 0.0\nlat = {:?}\nlon = {:?}\ndepth = 20.0\nroll = {:?}\npitch = {:?}\nyaw = {:?}\n\n\
+         [sensors.imu]\ngyro_bias_sigma = {:?}\ngyro_noise_sigma = {:?}\naccel_bias_sigma = {:?}\naccel_noise_sigma = {:?}\n\n\
+         [sensors.dvl]\nnoise_sigma = 0.01\n\n[sensors.depth]\nnoise_sigma = 0.05\n",
+        s.lat, s.lon, s.euler.roll, s.euler.pitch, s.euler.yaw,
+        spec.gyro_bias, spec.gyro_noise, spec.accel_bias, spec.accel_noise
+    );
+    let mut log = LogDir::new(Meta::parse(&meta).unwrap());
     let mut imu = ImuModel::new(spec, 5);
-    let mut text = String::from("t,gx,gy,gz,ax,ay,az\n");
-    for r in rates(&traj, 100.0, seconds) {
-        let r = imu.corrupt_rate(&r);
-        let (w, f) = (r.w_ib_b, r.f_b);
-        let _ = writeln!(
-            text,
-            "{:?},{:?},{:?},{:?},{:?},{:?},{:?}",
-            r.t, w.x, w.y, w.z, f.x, f.y, f.z
-        );
-    }
-    std::fs::write(dir.join("imu.csv"), text).unwrap();
+    log.imu = rates(&traj, 100.0, seconds)
+        .map(|r| {
+            let r = imu.corrupt_rate(&r);
+            let (w, f) = (r.w_ib_b, r.f_b);
+            ImuRow::new(r.t, w.x, w.y, w.z, f.x, f.y, f.z)
+        })
+        .collect();
     // Noisy readings, as a sensor gives: exact repeats would be refused as
     // a frozen sensor after a few rows.
     let mut rng = ChaCha8Rng::seed_from_u64(5);
     let mut noise = |sigma: f64| sigma * rng.sample::<f64, _>(StandardNormal);
-    let (mut dvl, mut depth) = (String::from("t,vx,vy,vz\n"), String::from("t,depth\n"));
+    let (mut dvl, mut depth) = (Vec::new(), Vec::new());
     for k in 1..=(seconds as usize * 2) {
         let t = k as f64 * 0.5;
-        let (vx, vy, vz) = (noise(0.01), noise(0.01), noise(0.01));
-        let _ = writeln!(dvl, "{t:?},{vx:?},{vy:?},{vz:?}");
-        let _ = writeln!(depth, "{t:?},{:?}", 20.0 + noise(0.05));
+        dvl.push(DvlRow::new(
+            t,
+            Some(noise(0.01)),
+            Some(noise(0.01)),
+            Some(noise(0.01)),
+        ));
+        depth.push(DepthRow::new(t, 20.0 + noise(0.05)));
     }
-    std::fs::write(dir.join("dvl.csv"), dvl).unwrap();
-    std::fs::write(dir.join("depth.csv"), depth).unwrap();
-    let s = traj.truth(0.0);
-    std::fs::write(
-        dir.join("meta.toml"),
-        format!(
-            "[initial]\nt = 0.0\nlat = {:?}\nlon = {:?}\ndepth = 20.0\nroll = {:?}\npitch = {:?}\nyaw = {:?}\n\n\
-             [sensors.imu]\ngyro_bias_sigma = {:?}\ngyro_noise_sigma = {:?}\naccel_bias_sigma = {:?}\naccel_noise_sigma = {:?}\n\n\
-             [sensors.dvl]\nnoise_sigma = 0.01\n\n[sensors.depth]\nnoise_sigma = 0.05\n",
-            s.lat, s.lon, s.euler.roll, s.euler.pitch, s.euler.yaw,
-            spec.gyro_bias, spec.gyro_noise, spec.accel_bias, spec.accel_noise
-        ),
-    )
-    .unwrap();
+    log.dvl = Some(dvl);
+    log.depth = Some(depth);
+    log.write(dir).unwrap();
 }
 
 /// A DVL, depth and compass survey without position fixes: the depth is

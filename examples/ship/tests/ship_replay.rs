@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use nav_runtime::earth::{meridian_radius, transverse_radius, Geodetic};
+use nav_runtime::log::{GnssRow, HeadingRow, ImuRow, LogDir, Meta, TruthRow};
 use nav_runtime::nalgebra::Vector3;
 use nav_runtime::simulation::imu::{rates, ImuModel, ImuSpec};
 use nav_runtime::simulation::trajectory::{Trajectory, TrajectorySpec, TruthSource};
@@ -53,7 +54,8 @@ impl Drop for TempDir {
     }
 }
 
-/// Writes the voyage (seed `seed`) into `dir`.
+/// Writes the voyage (seed `seed`) into `dir`: the standard files through
+/// the log writer, the speed log's own file and `replay.toml` by hand.
 fn write_voyage(dir: &Path, seed: u64) {
     let start = Geodetic::new(0.6, 2.2, 0.0);
     let mut spec = TrajectorySpec::new(start, 0.5, 4.0);
@@ -64,79 +66,6 @@ fn write_voyage(dir: &Path, seed: u64) {
     let traj = Trajectory::new(spec, DURATION, 0.1);
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let imu_spec = ImuSpec::sdins25();
-    let mut imu = ImuModel::new(imu_spec, seed);
-    let mut text = String::from("t,gx,gy,gz,ax,ay,az\n");
-    for r in rates(&traj, 100.0, DURATION) {
-        let r = imu.corrupt_rate(&r);
-        let (w, f) = (r.w_ib_b, r.f_b);
-        let _ = writeln!(
-            text,
-            "{:?},{:?},{:?},{:?},{:?},{:?},{:?}",
-            r.t, w.x, w.y, w.z, f.x, f.y, f.z
-        );
-    }
-    std::fs::write(dir.join("imu.csv"), text).unwrap();
-
-    let (mut gnss, mut heading, mut speed, mut truth) = (
-        String::from("t,lat,lon,height,eph,epv,vn,ve,vd,speed_accuracy\n"),
-        String::from("t,heading\n"),
-        String::from("time,speed\n"),
-        String::from("t,lat,lon,depth,vn,ve,vd,roll,pitch,yaw\n"),
-    );
-    let compass_bias = 0.3_f64.to_radians();
-    for k in 1..=(DURATION as usize) {
-        let s = traj.truth(k as f64);
-        let arm = s.c_bn * Vector3::from(ANTENNA);
-        let (rm, rn) = (meridian_radius(s.lat) + s.h, transverse_radius(s.lat) + s.h);
-        let north = arm.x + normal(&mut rng, 1.5);
-        let east = arm.y + normal(&mut rng, 1.5);
-        let _ = writeln!(
-            gnss,
-            "{:?},{:?},{:?},{:?},,,,,,",
-            s.t,
-            s.lat + north / rm,
-            s.lon + east / (rn * s.lat.cos()),
-            s.h - arm.z + normal(&mut rng, 1.5)
-        );
-        let _ = writeln!(
-            heading,
-            "{:?},{:?}",
-            s.t,
-            s.euler.yaw + compass_bias + normal(&mut rng, 0.1_f64.to_radians())
-        );
-        let water = s.c_bn.transpose() * (s.v_n - Vector3::new(CURRENT[0], CURRENT[1], 0.0));
-        let _ = writeln!(
-            speed,
-            "{:?},{:?}",
-            s.t,
-            (1.0 + LOG_SCALE) * water.x + normal(&mut rng, 0.03)
-        );
-    }
-    for k in 0..=(DURATION as usize * 10) {
-        let s = traj.truth(k as f64 * 0.1);
-        let _ = writeln!(
-            truth,
-            "{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?}",
-            s.t,
-            s.lat,
-            s.lon,
-            s.depth(),
-            s.v_n.x,
-            s.v_n.y,
-            s.v_n.z,
-            s.euler.roll,
-            s.euler.pitch,
-            s.euler.yaw
-        );
-    }
-    for (name, text) in [
-        ("gnss.csv", gnss),
-        ("heading.csv", heading),
-        ("water_speed.csv", speed),
-        ("truth.csv", truth),
-    ] {
-        std::fs::write(dir.join(name), text).unwrap();
-    }
     let s0 = traj.truth(0.0);
     let meta = format!(
         "[initial]\nt = 0.0\nlat = {:?}\nlon = {:?}\ndepth = {:?}\nvn = {:?}\nve = {:?}\nvd = 0.0\nroll = {:?}\npitch = {:?}\nyaw = {:?}\n\n\
@@ -157,7 +86,51 @@ fn write_voyage(dir: &Path, seed: u64) {
         imu_spec.accel_bias,
         imu_spec.accel_noise,
     );
-    std::fs::write(dir.join("meta.toml"), meta).unwrap();
+    let mut log = LogDir::new(Meta::parse(&meta).unwrap());
+    let mut imu = ImuModel::new(imu_spec, seed);
+    log.imu = rates(&traj, 100.0, DURATION)
+        .map(|r| {
+            let r = imu.corrupt_rate(&r);
+            let (w, f) = (r.w_ib_b, r.f_b);
+            ImuRow::new(r.t, w.x, w.y, w.z, f.x, f.y, f.z)
+        })
+        .collect();
+    let (mut gnss, mut heading) = (Vec::new(), Vec::new());
+    let mut speed = String::from("time,speed\n");
+    let compass_bias = 0.3_f64.to_radians();
+    for k in 1..=(DURATION as usize) {
+        let s = traj.truth(k as f64);
+        let arm = s.c_bn * Vector3::from(ANTENNA);
+        let (rm, rn) = (meridian_radius(s.lat) + s.h, transverse_radius(s.lat) + s.h);
+        let north = arm.x + normal(&mut rng, 1.5);
+        let east = arm.y + normal(&mut rng, 1.5);
+        gnss.push(GnssRow::new(
+            s.t,
+            s.lat + north / rm,
+            s.lon + east / (rn * s.lat.cos()),
+            s.h - arm.z + normal(&mut rng, 1.5),
+            None,
+            None,
+            None,
+            None,
+            None,
+            None,
+        ));
+        let yaw = s.euler.yaw + compass_bias + normal(&mut rng, 0.1_f64.to_radians());
+        heading.push(HeadingRow::new(s.t, yaw));
+        let water = s.c_bn.transpose() * (s.v_n - Vector3::new(CURRENT[0], CURRENT[1], 0.0));
+        let reading = (1.0 + LOG_SCALE) * water.x + normal(&mut rng, 0.03);
+        let _ = writeln!(speed, "{:?},{reading:?}", s.t);
+    }
+    log.gnss = Some(gnss);
+    log.heading = Some(heading);
+    log.truth = Some(
+        (0..=(DURATION as usize * 10))
+            .map(|k| TruthRow::from(&traj.truth(k as f64 * 0.1)))
+            .collect(),
+    );
+    log.write(dir).unwrap();
+    std::fs::write(dir.join("water_speed.csv"), speed).unwrap();
     std::fs::write(
         dir.join("replay.toml"),
         "# The ship's own sensor, states and noise, by their declared names.\n\

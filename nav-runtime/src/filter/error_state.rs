@@ -132,7 +132,8 @@ impl<Mo: Model<N>, Nom: NominalState<N>, const N: usize> ErrorStateFilter<Mo, No
             recording: None,
         };
         if filter.ekf.state().iter().any(|v| *v != 0.0) {
-            filter.feedback(&SVector::zeros());
+            let before = (!filter.nominal.absorbs_all()).then(SVector::zeros);
+            filter.feedback(before.as_ref());
         }
         filter
     }
@@ -235,10 +236,12 @@ impl<Mo: Model<N>, Nom: NominalState<N>, const N: usize> ErrorStateFilter<Mo, No
         self.refresh_sensor_input();
         #[cfg(feature = "std")]
         let before = self.recording.is_some().then(|| *self.ekf.covariance());
-        let state_before = *self.ekf.state();
+        // The state before the update matters only when some state is kept
+        // in the filter (otherwise it is zero): not copied on the common path.
+        let kept_before = (!self.nominal.absorbs_all()).then(|| *self.ekf.state());
         let report = self.ekf.update::<S, M>(z, r, aux)?;
         if report.accepted {
-            let _error = self.feedback(&state_before);
+            let _error = self.feedback(kept_before.as_ref());
             #[cfg(feature = "std")]
             if let (Some(rec), Some(before)) = (self.recording.as_mut(), before) {
                 rec.updating(&before, SVector::zeros());
@@ -265,10 +268,12 @@ impl<Mo: Model<N>, Nom: NominalState<N>, const N: usize> ErrorStateFilter<Mo, No
         self.refresh_sensor_input();
         #[cfg(feature = "std")]
         let before = self.recording.is_some().then(|| *self.ekf.covariance());
-        let state_before = *self.ekf.state();
+        // The state before the update matters only when some state is kept
+        // in the filter (otherwise it is zero): not copied on the common path.
+        let kept_before = (!self.nominal.absorbs_all()).then(|| *self.ekf.state());
         let report = self.ekf.update_sequential::<S, M>(z, r_diag, aux)?;
         if report.accepted {
-            let _error = self.feedback(&state_before);
+            let _error = self.feedback(kept_before.as_ref());
             #[cfg(feature = "std")]
             if let (Some(rec), Some(before)) = (self.recording.as_mut(), before) {
                 rec.updating(&before, SVector::zeros());
@@ -291,34 +296,29 @@ impl<Mo: Model<N>, Nom: NominalState<N>, const N: usize> ErrorStateFilter<Mo, No
 
     /// Injects the current error estimate into the nominal state and resets
     /// it; states the nominal does not absorb ([`NominalState::absorbs`])
-    /// stay in the filter's state. Returns the update's correction (the
-    /// state after the update minus `before`, the state before it): the
-    /// error fed back when every state is absorbed.
-    fn feedback(&mut self, before: &SVector<f64, N>) -> SVector<f64, N> {
+    /// stay in the filter's state. `kept_before` is the state before the
+    /// update when some state is kept (`None`: every state is absorbed and
+    /// the state before was zero). Returns the update's correction (the
+    /// state after the update minus the state before it): the error fed back
+    /// when every state is absorbed.
+    fn feedback(&mut self, kept_before: Option<&SVector<f64, N>>) -> SVector<f64, N> {
         let estimate = *self.ekf.state();
-        if self.nominal.absorbs_all() {
-            // Every state fed back: the state before the update was zero.
+        let Some(before) = kept_before else {
             self.nominal.inject(&estimate);
             self.ekf.reset_state();
             self.resets += 1;
             self.fed_back += estimate;
             return estimate;
-        }
+        };
         let mut absorbed = estimate;
-        let mut kept = false;
         for (i, e) in absorbed.iter_mut().enumerate() {
             if !self.nominal.absorbs(i) {
                 *e = 0.0;
-                kept = true;
             }
         }
         self.nominal.inject(&absorbed);
-        if kept {
-            // The kept part is finite: the update checked its result.
-            let _ = self.ekf.set_state(estimate - absorbed);
-        } else {
-            self.ekf.reset_state();
-        }
+        // The kept part is finite: the update checked its result.
+        let _ = self.ekf.set_state(estimate - absorbed);
         self.resets += 1;
         self.fed_back += absorbed;
         estimate - before
