@@ -29,6 +29,7 @@ use super::sensor::{Context, Handle, Reading};
 use super::settings::{ImuSettings, InitialState, NavigatorOptions, SensorSettings};
 use super::vehicle::{InsVehicle, Layout, Present};
 use crate::health::SensorHealth;
+use nav_runtime::innovations::InnovationTotals;
 
 /// Smallest prior sigma of any state (in the state's units): a zero variance
 /// would be "repaired" by the filter after every step.
@@ -87,6 +88,7 @@ pub struct Navigator<V: InsVehicle<N>, const N: usize> {
     requests: Rc<RefCell<Requests>>,
     skipped: [u64; SENSORS],
     last_nis: [Option<f64>; SENSORS],
+    innovations: [InnovationTotals; SENSORS],
     declared: Vec<DeclaredFeed<V, N>>,
 }
 
@@ -98,6 +100,7 @@ struct DeclaredFeed<V: InsVehicle<N>, const N: usize> {
     id: SensorId,
     skipped: u64,
     last_nis: Option<f64>,
+    innovations: InnovationTotals,
 }
 
 /// The handle of a sensor fed by its declared name
@@ -242,6 +245,7 @@ impl<V: InsVehicle<N>, const N: usize> Navigator<V, N> {
                 stuck: s.stuck,
             },
             last_nis: feed.last_nis,
+            innovations: feed.innovations,
         }
     }
 
@@ -278,6 +282,7 @@ impl<V: InsVehicle<N>, const N: usize> Navigator<V, N> {
                 nis: 0.0,
                 threshold: None,
                 dof: 0,
+                statistics: Default::default(),
             })
         });
         // A request is refused only for a non-finite time: it stays empty.
@@ -334,6 +339,7 @@ impl<V: InsVehicle<N>, const N: usize> Navigator<V, N> {
                 stuck: s.stuck,
             },
             last_nis: self.last_nis[slot],
+            innovations: self.innovations[slot],
         }
     }
 
@@ -362,12 +368,20 @@ impl<V: InsVehicle<N>, const N: usize> Navigator<V, N> {
             let i = r.sensor.index();
             if let (Some(slot), Ok(o)) = (self.last_nis.get_mut(i), &r.outcome) {
                 *slot = Some(o.nis);
+                if !r.replay {
+                    if let Some(t) = self.innovations.get_mut(i) {
+                        t.add(&o.statistics);
+                    }
+                }
             }
             if let (Some(feed), Ok(o)) = (
                 self.declared.iter_mut().find(|d| d.id == r.sensor),
                 &r.outcome,
             ) {
                 feed.last_nis = Some(o.nis);
+                if !r.replay {
+                    feed.innovations.add(&o.statistics);
+                }
             }
         }
     }
@@ -410,6 +424,10 @@ pub struct SensorReport {
     pub health: SensorHealth,
     /// Normalized innovation squared of the latest applied or gated reading.
     pub last_nis: Option<f64>,
+    /// The innovations of its readings, applied or gated, each counted when
+    /// first applied (not again when a late reading replays it): the mean
+    /// NIS and the noise sigma they support (docs/tuning.md).
+    pub innovations: InnovationTotals,
 }
 
 impl<V: InsVehicle<N>, const N: usize> Builder<V, N> {
@@ -610,6 +628,7 @@ impl<V: InsVehicle<N>, const N: usize> Builder<V, N> {
                 id,
                 skipped: 0,
                 last_nis: None,
+                innovations: InnovationTotals::default(),
             });
         }
         let i = &self.initial;
@@ -637,6 +656,7 @@ impl<V: InsVehicle<N>, const N: usize> Builder<V, N> {
             requests: Rc::new(RefCell::new(Requests::default())),
             skipped: [0; SENSORS],
             last_nis: [None; SENSORS],
+            innovations: [InnovationTotals::default(); SENSORS],
             declared,
         })
     }

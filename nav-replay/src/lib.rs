@@ -18,6 +18,7 @@
 
 pub mod allan;
 mod error;
+pub mod innovations;
 pub mod ins;
 pub mod model_replay;
 pub mod output;
@@ -27,6 +28,7 @@ mod replay_model;
 mod run;
 #[doc(hidden)]
 pub mod temp_dir;
+pub mod tune;
 
 pub use error::RunError;
 pub use nav_ins::{RunHealth, SensorHealth};

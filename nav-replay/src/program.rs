@@ -67,6 +67,31 @@ enum Command {
     Replay(ReplayCommand),
     /// Read a log directory and say what the vehicle would use of it.
     Check(CheckCommand),
+    /// Identify the noise sigmas of meta.toml from the log alone
+    /// (docs/tuning.md).
+    Tune(TuneCommand),
+}
+
+#[derive(Debug, Args)]
+struct TuneCommand {
+    /// Log directory.
+    dir: PathBuf,
+    /// The meta.toml keys to tune, comma-separated (default: every aiding
+    /// sensor's noise_sigma and the IMU's two noise sigmas).
+    #[arg(long, value_name = "LIST", value_delimiter = ',')]
+    params: Vec<String>,
+    /// Write the log's meta.toml with the tuned values to this file.
+    #[arg(long)]
+    write: Option<PathBuf>,
+    /// Most forward replays of the log.
+    #[arg(long, default_value_t = 30, value_name = "N")]
+    max_replays: usize,
+    /// Print one JSON object on stdout.
+    #[arg(long)]
+    json: bool,
+    /// Skip (and count) bad CSV rows instead of stopping.
+    #[arg(long)]
+    lenient: bool,
 }
 
 #[derive(Debug, Args)]
@@ -140,6 +165,19 @@ where
             },
         ),
         Command::Check(c) => check::<V, N>(&c),
+        Command::Tune(c) => crate::tune::tune_with(
+            &InsReplay::<V, N>::new(),
+            &crate::tune::TuneArgs {
+                dir: c.dir,
+                model: V::REPLAY_NAME.to_string(),
+                params: c.params,
+                write: c.write,
+                max_replays: c.max_replays,
+                json: c.json,
+                lenient: c.lenient,
+                max_gap_periods: 10.0,
+            },
+        ),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

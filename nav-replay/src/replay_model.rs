@@ -40,6 +40,10 @@ pub struct ReplayOutput {
     /// `warning: <message>` lines and listed in the JSON's `warnings` with
     /// their kind and file.
     pub warnings: Vec<Warning>,
+    /// Each aiding sensor's innovations (empty for a model that does not
+    /// report them): the JSON's `innovations`, and what noise tuning
+    /// weighs.
+    pub innovations: Vec<crate::innovations::SensorInnovations>,
 }
 
 /// A note of a replay model about no file in particular (kind

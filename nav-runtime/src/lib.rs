@@ -42,7 +42,9 @@ mod testmodels;
 
 use filter::dispatch;
 pub use filter::real::Real;
-pub use filter::{ekf, error_state, gate, lockout, math, propagation, real, setup_error, stuck};
+pub use filter::{
+    ekf, error_state, gate, innovations, lockout, math, propagation, real, setup_error, stuck,
+};
 #[cfg(feature = "std")]
 pub use filter::{scheduler, smoother};
 #[cfg(feature = "inertial")]

@@ -59,6 +59,9 @@ pub enum Command {
     /// IMU noise from a static recording: the Allan deviation of each gyro
     /// and accelerometer axis of the log's imu.csv, and its `[sensors.imu]`.
     Allan(AllanArgs),
+    /// Identify the noise sigmas of the log's meta.toml from the log alone
+    /// (maximum likelihood of the innovations) and write them.
+    Tune(nav_replay::tune::TuneArgs),
 }
 
 /// `navsim allan`.
@@ -357,6 +360,13 @@ pub fn cmd_replay(args: &ReplayArgs) -> Result<(), RunError> {
     replay_with(model.as_ref(), args)
 }
 
+/// `navsim tune`: the noise sigmas of the log's `meta.toml` identified from
+/// the log by the model's own replays (docs/tuning.md).
+pub fn cmd_tune(args: &nav_replay::tune::TuneArgs) -> Result<(), RunError> {
+    let model = find_replay_model(&args.model)?;
+    nav_replay::tune::tune_with(model.as_ref(), args)
+}
+
 /// `navsim check`: runs the preflight over the log as a stream (the log is
 /// not loaded) and prints every finding; fails when there is an error.
 pub fn cmd_check(args: &CheckArgs) -> Result<(), RunError> {
@@ -519,6 +529,7 @@ pub fn run(cli: &Cli) -> Result<(), RunError> {
         Some(Command::Check(a)) => cmd_check(a),
         Some(Command::Import(a)) => cmd_import(a),
         Some(Command::Allan(a)) => cmd_allan(a),
+        Some(Command::Tune(a)) => cmd_tune(a),
         None => cmd_scenario(&ScenarioArgs {
             name: default_scenario().to_string(),
             seed: DEFAULT_SEED,

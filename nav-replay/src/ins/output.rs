@@ -18,6 +18,7 @@ use super::replay_loop::{Every, Listed};
 use super::score::{Keep, Scored, Scorer, COLUMNS, TABLE};
 use super::setup::{replay_vehicle, FilterOptions, InsRun, LENIENT_IMU_STEP_PERIODS};
 use super::{error_values, write_plots, write_smoothed_plot, ERROR_KEYS, SMOOTHED_TABLE};
+use crate::innovations::innovations_json;
 use crate::output::series::TableWriter;
 use crate::{ReplayOptions, ReplayOutput, RunError, SensorHealth};
 use nav_ins::vehicle::{InsVehicle, Layout};
@@ -388,6 +389,11 @@ pub(super) fn output_of<V: InsVehicle<N>, const N: usize>(
     }
     out.metrics
         .insert("health".into(), run.health_counts().json());
+    out.metrics
+        .insert("innovations".into(), innovations_json(&run.innovations));
+    out.warnings
+        .extend(run.innovations.iter().filter_map(|s| s.warning()));
+    out.innovations = run.innovations.clone();
     let last = run.final_filter.nominal().ins.state;
     let e = last.euler();
     out.metrics.insert(

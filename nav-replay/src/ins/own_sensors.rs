@@ -10,6 +10,7 @@ use std::path::Path;
 use nav_runtime::log::{LogSource, Strictness, Warning, WarningKind};
 use nav_runtime::model::Record;
 
+use crate::innovations::SensorInnovations;
 use crate::model_replay::{
     parse_aiding, AidingMapping, Declared, DeclaredSensor as MappedSensor, MappedRows,
     ModelReplayError, MAPPING_FILE,
@@ -221,6 +222,23 @@ impl<V: InsVehicle<N>, const N: usize> OwnSensors<V, N> {
 
     /// Per sensor fed by name: its health (rows read, and the navigator's
     /// counts).
+    /// The innovations of each sensor fed by name (sigmas per output in
+    /// `replay.toml`: no single noise sigma).
+    pub(super) fn innovations(&self, nav: &Navigator<V, N>) -> Vec<SensorInnovations> {
+        self.feeds
+            .iter()
+            .map(|f| {
+                let r = nav.report_declared(f.handle);
+                SensorInnovations {
+                    sensor: f.name.to_string(),
+                    noise_sigma: None,
+                    gated: r.health.gated,
+                    totals: r.innovations,
+                }
+            })
+            .collect()
+    }
+
     pub(super) fn health(&self, nav: &Navigator<V, N>) -> Vec<(&'static str, SensorHealth)> {
         self.feeds
             .iter()

@@ -22,6 +22,7 @@ use nav_runtime::strapdown::RateSamples;
 use super::aiding::{place, Aiding, Travelling};
 use super::own_sensors::OwnSensors;
 use super::setup::{setup_error, FilterOptions, InsRun, LogFacts, LogPlan, MAX_GAP_STEPS};
+use crate::innovations::SensorInnovations;
 use crate::preflight::frozen_imu::Fold as FrozenImu;
 use crate::preflight::{PreflightOptions, Report};
 use crate::RunError;
@@ -393,9 +394,26 @@ where
     all_warnings.extend(frozen_warnings(frozen));
     // The four SDINS sensors always; the others when the vehicle has them
     // or the log has their file.
-    let mut health: Vec<_> = (0..SENSORS)
+    let shown: Vec<usize> = (0..SENSORS)
         .filter(|&i| i < 4 || aiding.present[i] || has_file[i])
-        .map(|i| (SENSOR_NAMES[i], health[i]))
+        .collect();
+    let mut innovations: Vec<SensorInnovations> = shown
+        .iter()
+        .map(|&i| SensorInnovations {
+            sensor: SENSOR_NAMES[i].to_string(),
+            noise_sigma: source
+                .meta()
+                .sensors
+                .aiding(SENSOR_NAMES[i])
+                .map(|s| s.noise_sigma),
+            gated: health[i].gated,
+            totals: nav.report_of(i).innovations,
+        })
+        .collect();
+    innovations.extend(own.innovations(&nav));
+    let mut health: Vec<_> = shown
+        .iter()
+        .map(|&i| (SENSOR_NAMES[i], health[i]))
         .collect();
     health.extend(own.health(&nav));
     Ok(InsRun {
@@ -403,6 +421,7 @@ where
         imu_span: (first.t, previous.t),
         samples,
         health,
+        innovations,
         magnetic_declination: facts.declination.unwrap_or((0.0, 0)),
         repairs,
         runtime_s,

@@ -26,6 +26,7 @@ use nav_ins::lockout::LockoutOptions;
 
 use super::aiding::Handles;
 pub use super::replay_loop::{replay_vehicle, run_vehicle};
+use crate::innovations::SensorInnovations;
 use crate::RunError;
 use nav_ins::RunHealth;
 pub use nav_ins::{
@@ -212,6 +213,8 @@ pub struct InsRun<V: InsVehicle<N>, const N: usize> {
     /// Per-sensor health: depth, dvl, heading, usbl, then gnss, baro and
     /// mag when the vehicle has that sensor or the log has its file.
     pub health: Vec<(&'static str, SensorHealth)>,
+    /// Each aiding sensor's innovations, in the order of `health`.
+    pub innovations: Vec<SensorInnovations>,
     /// Magnetic declination used for the magnetometer (rad, east positive),
     /// and the samples it was averaged over (see
     /// [`nav_ins::heading::mean_declination`]); `(0, 0)` without them.

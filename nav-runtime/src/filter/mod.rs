@@ -10,6 +10,7 @@ pub(crate) mod dispatch;
 pub mod ekf;
 pub mod error_state;
 pub mod gate;
+pub mod innovations;
 pub mod lockout;
 pub mod math;
 pub mod propagation;

@@ -169,6 +169,19 @@ impl LogFiles {
         &self.meta
     }
 
+    /// The same log read with `meta` in place of its `meta.toml` (noise
+    /// tuning replays a log with other sigmas). Shares the stop flag and
+    /// the tally of rejected rows with `self`, as a clone does, but not a
+    /// check's share of `imu.csv` ([`LogFiles::share_imu`]): each such log
+    /// reads its own rows, so several can replay at once.
+    pub fn with_meta(&self, meta: Meta) -> LogFiles {
+        LogFiles {
+            meta,
+            imu_share: Arc::default(),
+            ..self.clone()
+        }
+    }
+
     /// The `[files.<sensor>]` sections of `meta.toml` (empty: every file in
     /// the standard format).
     pub fn mapping(&self) -> &LogMapping {

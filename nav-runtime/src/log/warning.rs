@@ -35,6 +35,9 @@ pub enum WarningKind {
     /// glitches: `1e300`, `inf`); the warning gives their count and the
     /// first one's line.
     RejectedReading,
+    /// A sensor whose innovations say its noise sigma is off by more than a
+    /// factor of two; the warning gives the sigma they support.
+    NoiseSigma,
 }
 
 impl WarningKind {
@@ -53,6 +56,7 @@ impl WarningKind {
             WarningKind::PartialScoring => "partial_scoring",
             WarningKind::Model => "model",
             WarningKind::RejectedReading => "rejected_reading",
+            WarningKind::NoiseSigma => "noise_sigma",
         }
     }
 }

@@ -2,6 +2,7 @@
 
 use nalgebra::{SMatrix, SVector};
 
+use crate::innovations::InnovationStatistics;
 use crate::real::Real;
 
 /// Totals kept by the filter. Per-sensor statistics are the caller's, from the
@@ -44,6 +45,19 @@ pub struct UpdateReport<const M: usize, T: Real = f64> {
     pub innovation: SVector<T, M>,
     /// `S = H P H^T + R` (eq. U2).
     pub innovation_covariance: SMatrix<T, M, M>,
+    /// `R`, the measurement noise covariance of this update (diagonal for
+    /// the sequential update): with `S` it gives the noise's share of the
+    /// innovation that noise tuning and the NIS check weigh
+    /// ([`crate::innovations`]).
+    pub noise: SMatrix<T, M, M>,
     /// Covariance diagonal entries repaired by this update.
     pub repairs: u32,
+}
+
+impl<const M: usize, T: Real> UpdateReport<M, T> {
+    /// What this update says about the noise of its sensor (for the
+    /// innovation likelihood and the tuning of `R`, docs/tuning.md).
+    pub fn statistics(&self) -> InnovationStatistics {
+        InnovationStatistics::of(&self.innovation, &self.innovation_covariance, &self.noise)
+    }
 }

@@ -178,6 +178,7 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
             threshold,
             innovation: nu,
             innovation_covariance: s,
+            noise: r,
             repairs: 0,
         };
         if !report.accepted {
@@ -286,6 +287,7 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
             threshold,
             innovation: nu,
             innovation_covariance: s_full,
+            noise: SMatrix::from_diagonal(r_diag),
             repairs: 0,
         };
         if !report.accepted {

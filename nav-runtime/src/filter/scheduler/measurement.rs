@@ -6,6 +6,7 @@ use nalgebra::{SMatrix, SVector};
 
 use super::MAX_RAW_VALUES;
 use crate::ekf::{Estimator, FilterError, UpdateReport};
+use crate::innovations::InnovationStatistics;
 use crate::model::{Record, Sensor};
 #[cfg(doc)]
 use crate::stuck::StuckDetector;
@@ -42,6 +43,9 @@ pub struct MeasurementOutcome {
     pub threshold: Option<f64>,
     /// Measurement dimension (degrees of freedom of the NIS).
     pub dof: usize,
+    /// The innovation weighed against its covariance and noise (for the
+    /// per-sensor NIS and noise tuning); default when not an update.
+    pub statistics: InnovationStatistics,
 }
 
 impl<const M: usize> From<&UpdateReport<M>> for MeasurementOutcome {
@@ -51,6 +55,7 @@ impl<const M: usize> From<&UpdateReport<M>> for MeasurementOutcome {
             nis: r.nis,
             threshold: r.threshold,
             dof: M,
+            statistics: r.statistics(),
         }
     }
 }

@@ -1,0 +1,109 @@
+//! `navsim tune LOG --model NAME` (and `tune` of a vehicle's replay
+//! program): the tuning of [`super::tune`] with the preflight beside it, a
+//! progress bar, the JSON or human report and `--write`.
+
+use std::path::PathBuf;
+
+use clap::Args;
+use serde_json::Value;
+
+use super::{tune, tuned_meta_text, TuneOptions};
+use crate::preflight;
+use crate::program::{emit, open_log, preflight_options, warnings_json};
+use crate::{progress_bar, ReplayModel, ReplayOptions, RunError};
+
+/// `navsim tune`.
+#[derive(Debug, Args)]
+pub struct TuneArgs {
+    /// Log directory.
+    pub dir: PathBuf,
+    /// Model name.
+    #[arg(long)]
+    pub model: String,
+    /// The `meta.toml` keys to tune, comma-separated
+    /// (`sensors.dvl.noise_sigma,sensors.imu.accel_bias_sigma`); default:
+    /// every aiding sensor's noise_sigma and the IMU's two noise sigmas.
+    #[arg(long, value_name = "LIST", value_delimiter = ',')]
+    pub params: Vec<String>,
+    /// Write the log's meta.toml with the tuned values to this file.
+    #[arg(long)]
+    pub write: Option<PathBuf>,
+    /// Most forward replays of the log.
+    #[arg(long, default_value_t = 30, value_name = "N")]
+    pub max_replays: usize,
+    /// Print one JSON object on stdout.
+    #[arg(long)]
+    pub json: bool,
+    /// Skip (and count) bad CSV rows instead of stopping.
+    #[arg(long)]
+    pub lenient: bool,
+    /// An IMU interval longer than this many IMU periods is a gap (an error,
+    /// a warning with --lenient).
+    #[arg(long, default_value_t = 10.0, value_name = "N")]
+    pub max_gap_periods: f64,
+}
+
+/// `navsim tune` with `model` (`args.model` is not looked up).
+///
+/// # Errors
+/// As [`tune`], a log the preflight refuses, and a `--write` that fails.
+pub fn tune_with(model: &dyn ReplayModel, args: &TuneArgs) -> Result<(), RunError> {
+    let (preflight_options, strictness) =
+        preflight_options(args.lenient, args.max_gap_periods, model.log_files())?;
+    let files = open_log(&args.dir, strictness)?;
+    let options = TuneOptions {
+        params: args.params.clone(),
+        max_replays: args.max_replays,
+        replay: ReplayOptions {
+            lenient: args.lenient,
+            ..ReplayOptions::default()
+        },
+    };
+    let bar = progress_bar(args.max_replays, false);
+    let progress = |done: usize, budget: usize| {
+        bar.set_length(budget as u64);
+        bar.set_position(done as u64);
+    };
+    let (tuning, report, summary) =
+        preflight::check_alongside(&files, &preflight_options, false, || {
+            tune(model, &files, &options, &progress)
+        })?;
+    bar.finish_and_clear();
+    let mut value = tuning.json();
+    let mut warnings = summary.warnings.clone();
+    warnings.extend(files.rejected_warnings());
+    warnings.extend(report.warnings().cloned());
+    // The notes of the tuned run, but not its noise-sigma verdicts: the
+    // tuning's own report says what the log identifies.
+    warnings.extend(
+        tuning
+            .after
+            .warnings
+            .iter()
+            .filter(|w| w.kind != nav_runtime::log::WarningKind::NoiseSigma)
+            .cloned(),
+    );
+    for p in tuning.parameters.iter() {
+        if let Some(why) = &p.not_identifiable {
+            eprintln!("warning: {}: not identifiable: {why}", p.key);
+        }
+    }
+    if !tuning.converged {
+        eprintln!(
+            "warning: the parameters still moved after {} replays (--max-replays): the values are the last step's",
+            tuning.replays
+        );
+    }
+    if let Some(path) = &args.write {
+        let source = files.dir().join("meta.toml");
+        let text = std::fs::read_to_string(&source).map_err(|e| RunError::io(&source, e))?;
+        let tuned = tuned_meta_text(&text, &tuning.identified_values())?;
+        std::fs::write(path, tuned).map_err(|e| RunError::io(path, e))?;
+        value["written"] = Value::from(path.display().to_string());
+    }
+    if let Value::Object(m) = &mut value {
+        m.insert("warnings".into(), warnings_json(&warnings));
+    }
+    emit(&value, args.json);
+    Ok(())
+}

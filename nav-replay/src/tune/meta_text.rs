@@ -1,0 +1,108 @@
+//! The log's `meta.toml` with tuned values: the file as the user wrote it
+//! (comments, order, mapping sections) with only the tuned keys' values
+//! changed, checked by reading it back.
+
+use nav_runtime::log::Meta;
+
+use crate::RunError;
+
+/// `text` (a `meta.toml`) with each `(key, value)` of `values` set, keys as
+/// `sensors.<sensor>.<name>`. Only the value of each key's line changes
+/// (the rest of the line, a comment, is kept).
+///
+/// # Errors
+/// A key whose line is not found under its `[sensors.<sensor>]` header (a
+/// file that writes its sections as inline tables), or a result that does
+/// not read back to the values asked for.
+pub fn tuned_meta_text(text: &str, values: &[(String, f64)]) -> Result<String, RunError> {
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    for (key, value) in values {
+        let Some((section, name)) = key.rsplit_once('.') else {
+            return Err(RunError::Invalid(format!("{key}: not a meta.toml key")));
+        };
+        let mut current = String::new();
+        let mut done = false;
+        for line in lines.iter_mut() {
+            let code = line.split('#').next().unwrap_or("").trim();
+            if code.starts_with('[') {
+                current = code
+                    .trim_matches(|c| c == '[' || c == ']')
+                    .trim()
+                    .to_string();
+                continue;
+            }
+            if current != section {
+                continue;
+            }
+            let Some((k, rest)) = line.split_once('=') else {
+                continue;
+            };
+            if k.trim() != name {
+                continue;
+            }
+            let comment = rest.find('#').map(|i| &rest[i..]).unwrap_or("");
+            let indent = &line[..line.len() - line.trim_start().len()];
+            let new = if comment.is_empty() {
+                format!("{indent}{name} = {value:?}")
+            } else {
+                format!("{indent}{name} = {value:?}  {comment}")
+            };
+            *line = new;
+            done = true;
+            break;
+        }
+        if !done {
+            return Err(RunError::Invalid(format!(
+                "meta.toml: `{key}` is not on a line of its own under [{section}]: the tuned file cannot be written by changing its value"
+            )));
+        }
+    }
+    let mut out = lines.join("\n");
+    out.push('\n');
+    let (meta, _, _) = Meta::parse_log(&out).map_err(RunError::from)?;
+    for (key, value) in values {
+        if meta.noise_parameter(key) != Some(*value) {
+            return Err(RunError::Invalid(format!(
+                "meta.toml: `{key}` does not read back as {value} after writing"
+            )));
+        }
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const META: &str = "# survey 12\n[initial]\nlat = 0.6\nlon = 2.2\ndepth = 10.0\n\n[sensors.imu]\ngyro_noise_sigma = 1e-6   # data sheet\naccel_noise_sigma = 1e-3\n\n[sensors.dvl]\nnoise_sigma = 0.02\nbias_sigma = 0.01\n\n[sensors.depth]\nnoise_sigma = 0.1\n";
+
+    #[test]
+    fn only_the_tuned_values_change_and_the_file_reads_back() {
+        let values = vec![
+            ("sensors.dvl.noise_sigma".to_string(), 0.0312),
+            ("sensors.imu.gyro_noise_sigma".to_string(), 2.5e-6),
+        ];
+        let out = tuned_meta_text(META, &values).unwrap();
+        assert!(out.contains("noise_sigma = 0.0312\n"), "{out}");
+        assert!(
+            out.contains("gyro_noise_sigma = 2.5e-6  # data sheet"),
+            "{out}"
+        );
+        assert!(out.contains("# survey 12"));
+        // The depth sensor's noise_sigma is another section's: unchanged.
+        assert!(out.contains("[sensors.depth]\nnoise_sigma = 0.1"), "{out}");
+        let meta = Meta::parse(&out).unwrap();
+        assert_eq!(
+            meta.noise_parameter("sensors.dvl.noise_sigma"),
+            Some(0.0312)
+        );
+        assert_eq!(meta.noise_parameter("sensors.dvl.bias_sigma"), Some(0.01));
+    }
+
+    #[test]
+    fn a_key_that_is_not_on_its_own_line_is_an_error_naming_it() {
+        let inline = "[initial]\nlat = 0.6\nlon = 2.2\ndepth = 10.0\n[sensors]\ndvl = { noise_sigma = 0.02 }\n";
+        let e = tuned_meta_text(inline, &[("sensors.dvl.noise_sigma".into(), 0.03)]).unwrap_err();
+        assert!(e.to_string().contains("sensors.dvl.noise_sigma"), "{e}");
+    }
+}

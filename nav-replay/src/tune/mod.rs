@@ -1,0 +1,429 @@
+//! Noise parameters identified from the log alone (`navsim tune`,
+//! docs/tuning.md): the innovation likelihood of the replay (eq. T1 of
+//! [`nav_runtime::innovations`]) maximised over the sigmas of `meta.toml`.
+//!
+//! - A sensor's noise sigma takes the fixed-point step of eq. T3 from the
+//!   innovations of one replay (no extra replay per sensor);
+//! - any other parameter (the IMU noise, a bias sigma) takes a Newton step
+//!   in `ln sigma` on the likelihood, from two more replays with the
+//!   parameter `x2` and `/2`, all replays of a step run at once on the
+//!   cores;
+//! - the standard error of each result is the inverse square root of the
+//!   likelihood's curvature (eq. T4 for a sensor; the finite difference for
+//!   the others); one above [`MAX_LOG_SIGMA_ERROR`] means the log does not
+//!   identify the parameter: the given value is kept and said so, never a
+//!   value that wandered.
+//!
+//! Any replay model that reads its sigmas from `meta.toml` and reports its
+//! sensors' innovations ([`ReplayOutput::innovations`]) can be tuned: the
+//! replays run through [`ReplayModel::replay_files`] on the same log with
+//! another [`Meta`](nav_runtime::log::Meta).
+
+mod command;
+mod meta_text;
+mod report;
+
+use std::collections::BTreeMap;
+
+use nav_runtime::innovations::InnovationTotals;
+use nav_runtime::log::LogFiles;
+use rayon::prelude::*;
+
+use crate::{ReplayModel, ReplayOptions, ReplayOutput, RunError};
+pub use command::{tune_with, TuneArgs};
+pub use meta_text::tuned_meta_text;
+
+/// A parameter whose `ln sigma` is known to worse than this standard error
+/// (a factor of about 1.28 either way) is not identified by the log.
+pub const MAX_LOG_SIGMA_ERROR: f64 = 0.25;
+
+/// Step of the finite differences in `ln sigma` (a factor of 2).
+const STEP: f64 = core::f64::consts::LN_2;
+
+/// Largest change of `ln sigma` in one iteration (a factor of 10).
+const MAX_MOVE: f64 = core::f64::consts::LN_10;
+
+/// Converged when no parameter moves more than this in `ln sigma` (1 %).
+const CONVERGED: f64 = 0.01;
+
+/// A probe must raise the log-likelihood by this much to move a parameter
+/// (a likelihood ratio of e^2, about the 95 % level of one parameter).
+const SIGNIFICANT: f64 = 2.0;
+
+/// Fewer updates of a sensor than this identify nothing.
+const MIN_UPDATES: u64 = 10;
+
+/// What to tune and how long.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TuneOptions {
+    /// The `meta.toml` keys to tune (`sensors.dvl.noise_sigma`, ...);
+    /// empty: every aiding sensor's `noise_sigma` and the IMU's two noise
+    /// sigmas.
+    pub params: Vec<String>,
+    /// Most forward replays of the log (the budget).
+    pub max_replays: usize,
+    /// Options of every replay.
+    pub replay: ReplayOptions,
+}
+
+impl Default for TuneOptions {
+    fn default() -> Self {
+        Self {
+            params: Vec::new(),
+            max_replays: 30,
+            replay: ReplayOptions::default(),
+        }
+    }
+}
+
+/// How a parameter is identified.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ParameterKind {
+    /// A sensor's noise sigma: from its own innovations (eq. T3).
+    SensorNoise,
+    /// Anything else: from the likelihood of the whole run.
+    Likelihood,
+}
+
+/// One tuned parameter.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TunedParameter {
+    /// Its `meta.toml` key.
+    pub key: String,
+    /// How it was identified.
+    pub kind: ParameterKind,
+    /// The value in `meta.toml`.
+    pub initial: f64,
+    /// The tuned value (the initial one when not identifiable).
+    pub value: f64,
+    /// Standard error of `ln value` (about the relative standard error).
+    pub log_standard_error: f64,
+    /// `None` when the log identifies it; otherwise why not.
+    pub not_identifiable: Option<String>,
+}
+
+/// The result of a tuning.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Tuning {
+    /// The model tuned.
+    pub model: String,
+    /// Every parameter asked for.
+    pub parameters: Vec<TunedParameter>,
+    /// Forward replays of the log used.
+    pub replays: usize,
+    /// Whether the parameters stopped moving within the budget.
+    pub converged: bool,
+    /// Innovation log-likelihood with the given and with the tuned values.
+    pub log_likelihood: (f64, f64),
+    /// Per sensor, the mean NIS per degree of freedom with the given and
+    /// with the tuned values.
+    pub nis: BTreeMap<String, (Option<f64>, Option<f64>)>,
+    /// The replay with the tuned values.
+    pub after: ReplayOutput,
+}
+
+/// The parameters asked for, checked against the log's `meta.toml`.
+fn chosen(files: &LogFiles, asked: &[String]) -> Result<Vec<(String, f64)>, RunError> {
+    let all = files.meta().noise_parameters();
+    if asked.is_empty() {
+        let default: Vec<_> = all
+            .into_iter()
+            .filter(|(k, _)| {
+                k == "sensors.imu.gyro_noise_sigma"
+                    || k == "sensors.imu.accel_noise_sigma"
+                    || (k.ends_with(".noise_sigma") && !k.starts_with("sensors.imu."))
+            })
+            .collect();
+        if default.is_empty() {
+            return Err(RunError::Invalid(
+                "meta.toml has no [sensors.*] noise sigma to tune".into(),
+            ));
+        }
+        return Ok(default);
+    }
+    let mut out: Vec<(String, f64)> = Vec::new();
+    for key in asked {
+        let Some(v) = files.meta().noise_parameter(key) else {
+            // The error names the key and the parameters there are.
+            let mut meta = *files.meta();
+            return Err(meta.set_noise_parameter(key, 1.0).err().map_or_else(
+                || RunError::Invalid(format!("--params {key}")),
+                RunError::from,
+            ));
+        };
+        if out.iter().any(|(k, _)| k == key) {
+            return Err(RunError::Invalid(format!("--params: {key} given twice")));
+        }
+        out.push((key.clone(), v));
+    }
+    Ok(out)
+}
+
+/// The sensor whose noise sigma `key` is (`sensors.dvl.noise_sigma` ->
+/// `dvl`), not the IMU's.
+fn sensor_of(key: &str) -> Option<&str> {
+    let rest = key.strip_prefix("sensors.")?;
+    let sensor = rest.strip_suffix(".noise_sigma")?;
+    (sensor != "imu" && !sensor.contains('.')).then_some(sensor)
+}
+
+/// One replay's answer: the output and the total log-likelihood.
+struct Run {
+    output: ReplayOutput,
+    log_likelihood: f64,
+}
+
+fn replay(
+    model: &dyn ReplayModel,
+    files: &LogFiles,
+    options: &ReplayOptions,
+    values: &[(String, f64)],
+) -> Result<Run, RunError> {
+    let mut meta = *files.meta();
+    for (k, v) in values {
+        meta.set_noise_parameter(k, *v).map_err(RunError::from)?;
+    }
+    let output = model.replay_files(&files.with_meta(meta), options, None)?;
+    let mut total = InnovationTotals::default();
+    for s in &output.innovations {
+        total.merge(&s.totals);
+    }
+    Ok(Run {
+        output,
+        log_likelihood: total.log_likelihood(),
+    })
+}
+
+fn totals_of<'a>(run: &'a Run, sensor: &str) -> Option<&'a InnovationTotals> {
+    run.output
+        .innovations
+        .iter()
+        .find(|s| s.sensor == sensor)
+        .map(|s| &s.totals)
+}
+
+/// Why a sensor's sigma cannot be identified from `totals`, if it cannot.
+fn sensor_verdict(sensor: &str, totals: Option<&InnovationTotals>) -> Option<String> {
+    match totals {
+        None => Some(format!(
+            "the model reports no innovations of {sensor}: it does not use {sensor}.csv, or the log has none"
+        )),
+        Some(t) if t.updates == 0 => Some(format!(
+            "{sensor} never reported (no row of {sensor}.csv was applied or gated)"
+        )),
+        Some(t) if t.updates < MIN_UPDATES => Some(format!(
+            "only {} updates of {sensor}: the log is too short to tell its noise",
+            t.updates
+        )),
+        Some(t) if t.log_sigma_standard_error() > MAX_LOG_SIGMA_ERROR => Some(format!(
+            "{sensor}'s noise is hidden by the filter's own uncertainty (standard error of ln sigma {:.2})",
+            t.log_sigma_standard_error()
+        )),
+        _ => None,
+    }
+}
+
+/// Tunes the noise parameters of `model` on the log of `files`. `progress`
+/// is told the replays done so far and the budget.
+///
+/// # Errors
+/// A parameter that `meta.toml` does not give, a model that reports no
+/// innovations, and any error of the replay with the given values (a log
+/// that cannot be replayed cannot be tuned).
+pub fn tune(
+    model: &dyn ReplayModel,
+    files: &LogFiles,
+    options: &TuneOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Tuning, RunError> {
+    let params = chosen(files, &options.params)?;
+    if options.max_replays < 2 {
+        return Err(RunError::Invalid(format!(
+            "--max-replays {}: at least 2 (the given and the tuned values)",
+            options.max_replays
+        )));
+    }
+    let opts = &options.replay;
+    let mut values = params.clone();
+    let mut replays = 0usize;
+    let before = replay(model, files, opts, &values)?;
+    replays += 1;
+    progress(replays, options.max_replays);
+    if before
+        .output
+        .innovations
+        .iter()
+        .all(|s| s.totals.updates == 0)
+    {
+        return Err(RunError::Invalid(format!(
+            "model {} reported no sensor innovations on this log: nothing to tune from",
+            model.name()
+        )));
+    }
+    let kinds: Vec<ParameterKind> = params
+        .iter()
+        .map(|(k, _)| match sensor_of(k) {
+            Some(_) => ParameterKind::SensorNoise,
+            None => ParameterKind::Likelihood,
+        })
+        .collect();
+    let likelihood_params: Vec<usize> = (0..params.len())
+        .filter(|&i| kinds[i] == ParameterKind::Likelihood)
+        .collect();
+    let per_step = 1 + 2 * likelihood_params.len();
+    // Curvature (per unit ln sigma squared) of each likelihood parameter at
+    // the last step.
+    let mut curvature = vec![f64::NAN; params.len()];
+    let before_nis = nis_of(&before.output);
+    let before_log_likelihood = before.log_likelihood;
+    let mut center = before;
+    let mut converged = false;
+    // A step needs its replays, and one is kept for the replay with the
+    // given values of parameters the log does not identify.
+    while replays + per_step < options.max_replays {
+        let mut moves = vec![0.0; params.len()];
+        for (i, (key, _)) in params.iter().enumerate() {
+            if let Some(sensor) = sensor_of(key) {
+                let t = totals_of(&center, sensor);
+                if sensor_verdict(sensor, t).is_none() {
+                    if let Some(f) = t.and_then(InnovationTotals::sigma_factor) {
+                        moves[i] = f.ln().clamp(-MAX_MOVE, MAX_MOVE);
+                    }
+                }
+            }
+        }
+        if !likelihood_params.is_empty() {
+            let probes: Vec<(usize, f64)> = likelihood_params
+                .iter()
+                .flat_map(|&i| [(i, STEP), (i, -STEP)])
+                .collect();
+            let runs: Vec<Result<Run, RunError>> = probes
+                .par_iter()
+                .map(|&(i, d)| {
+                    let mut v = values.clone();
+                    v[i].1 *= d.exp();
+                    replay(model, files, opts, &v)
+                })
+                .collect();
+            replays += runs.len();
+            progress(replays.min(options.max_replays), options.max_replays);
+            for (k, &i) in likelihood_params.iter().enumerate() {
+                // A probe that fails (a sigma so small that the run diverges)
+                // is a likelihood of minus infinity.
+                let l = |r: &Result<Run, RunError>| {
+                    r.as_ref().map_or(f64::NEG_INFINITY, |r| r.log_likelihood)
+                };
+                let (up, down, mid) = (l(&runs[2 * k]), l(&runs[2 * k + 1]), center.log_likelihood);
+                let c = (up - 2.0 * mid + down) / (STEP * STEP);
+                let g = (up - down) / (2.0 * STEP);
+                curvature[i] = c;
+                // Only a clearly better likelihood moves a parameter (one
+                // where it is flat stays where the user put it).
+                moves[i] = if up.max(down) - mid < SIGNIFICANT {
+                    0.0
+                } else if c < 0.0 && c.is_finite() {
+                    (-g / c).clamp(-MAX_MOVE, MAX_MOVE)
+                } else if up > down {
+                    STEP
+                } else {
+                    -STEP
+                };
+            }
+        }
+        let previous = values.clone();
+        for (v, m) in values.iter_mut().zip(&moves) {
+            v.1 *= m.exp();
+        }
+        replays += 1;
+        match replay(model, files, opts, &values) {
+            Ok(run) => center = run,
+            Err(_) => {
+                // The step went where the filter cannot run: stay before it.
+                values = previous;
+                progress(replays.min(options.max_replays), options.max_replays);
+                break;
+            }
+        }
+        progress(replays.min(options.max_replays), options.max_replays);
+        if moves.iter().all(|m| m.abs() < CONVERGED) {
+            converged = true;
+            break;
+        }
+    }
+    // The verdicts, at the last replay; parameters the log does not
+    // identify go back to their given values.
+    let mut parameters = Vec::with_capacity(params.len());
+    let mut reset = false;
+    for (i, (key, initial)) in params.iter().enumerate() {
+        let (error, why) = match sensor_of(key) {
+            Some(sensor) => {
+                let t = totals_of(&center, sensor);
+                let e = t.map_or(f64::INFINITY, InnovationTotals::log_sigma_standard_error);
+                (e, sensor_verdict(sensor, t))
+            }
+            None => {
+                let c = curvature[i];
+                let e = if c < 0.0 {
+                    (-c).sqrt().recip()
+                } else {
+                    f64::INFINITY
+                };
+                let why = (e > MAX_LOG_SIGMA_ERROR).then(|| {
+                    if likelihood_params.is_empty() || c.is_nan() {
+                        "the budget of replays allowed no step".to_string()
+                    } else {
+                        format!(
+                            "the likelihood is flat in it (standard error of ln sigma {}): the log has too little excitation or too few updates to tell it",
+                            if e.is_finite() { format!("{e:.2}") } else { "infinite".into() }
+                        )
+                    }
+                });
+                (e, why)
+            }
+        };
+        if why.is_some() && values[i].1 != *initial {
+            values[i].1 = *initial;
+            reset = true;
+        }
+        parameters.push(TunedParameter {
+            key: key.clone(),
+            kind: kinds[i],
+            initial: *initial,
+            value: values[i].1,
+            log_standard_error: error,
+            not_identifiable: why,
+        });
+    }
+    if reset {
+        center = replay(model, files, opts, &values)?;
+        replays += 1;
+        progress(replays.min(options.max_replays), options.max_replays);
+    }
+    let after_nis = nis_of(&center.output);
+    let mut nis: BTreeMap<String, (Option<f64>, Option<f64>)> = BTreeMap::new();
+    for (sensor, n) in &before_nis {
+        nis.entry(sensor.clone()).or_default().0 = *n;
+    }
+    for (sensor, n) in after_nis {
+        nis.entry(sensor).or_default().1 = n;
+    }
+    Ok(Tuning {
+        model: model.name().to_string(),
+        parameters,
+        replays,
+        converged,
+        log_likelihood: (before_log_likelihood, center.log_likelihood),
+        nis,
+        after: center.output,
+    })
+}
+
+/// Mean NIS per degree of freedom of each sensor with updates.
+fn nis_of(output: &ReplayOutput) -> Vec<(String, Option<f64>)> {
+    output
+        .innovations
+        .iter()
+        .filter(|s| s.totals.updates > 0)
+        .map(|s| (s.sensor.clone(), s.totals.nis_per_dof()))
+        .collect()
+}
