@@ -1,0 +1,261 @@
+//! `navsim tune` and the per-sensor innovations of `navsim replay` on
+//! simulated surveys whose true sigmas are known (the simulation writes
+//! them into `meta.toml`): sigmas started 10 x too large or too small come
+//! back within 25 % of the truth, the IMU noise that a DVL survey cannot
+//! tell is said to be not identifiable and kept, and logs that cannot be
+//! tuned say why.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+use common::{navsim, stderr, stdout, TempDir};
+use nav_runtime::log::Meta;
+use serde_json::Value;
+
+/// The 500-s USBL survey of seed 31 (IMU, DVL, depth, compass, USBL,
+/// truth), written once.
+fn survey() -> &'static Path {
+    static DIR: OnceLock<TempDir> = OnceLock::new();
+    DIR.get_or_init(|| {
+        let d = TempDir::new("tune-survey");
+        let log = d.path().join("log");
+        let o = navsim(&[
+            "simulate",
+            "lawnmower-usbl",
+            "--seed",
+            "31",
+            "--out",
+            log.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        d
+    })
+    .path()
+}
+
+/// A copy of the survey with `meta.toml` changed by `edit`.
+fn variant(tag: &str, edit: impl Fn(&mut Meta)) -> (TempDir, PathBuf) {
+    let d = TempDir::new(tag);
+    let dir = d.path().join("log");
+    std::fs::create_dir_all(&dir).unwrap();
+    for e in std::fs::read_dir(survey().join("log")).unwrap() {
+        let e = e.unwrap();
+        std::fs::copy(e.path(), dir.join(e.file_name())).unwrap();
+    }
+    let mut meta = true_meta();
+    edit(&mut meta);
+    std::fs::write(dir.join("meta.toml"), meta.to_toml()).unwrap();
+    (d, dir)
+}
+
+fn true_meta() -> Meta {
+    let text = std::fs::read_to_string(survey().join("log/meta.toml")).unwrap();
+    Meta::parse(&text).unwrap()
+}
+
+fn json(args: &[&str]) -> Value {
+    let o = navsim(args);
+    assert!(o.status.success(), "{args:?}: {}", stderr(&o));
+    serde_json::from_str(&stdout(&o)).unwrap_or_else(|e| panic!("{e}: {}", stdout(&o)))
+}
+
+fn replay(dir: &Path) -> Value {
+    json(&[
+        "replay",
+        dir.to_str().unwrap(),
+        "--model",
+        "sdins25",
+        "--json",
+    ])
+}
+
+const SENSORS: [&str; 4] = ["dvl", "depth", "heading", "usbl"];
+
+#[test]
+fn sigmas_started_ten_times_off_are_tuned_to_within_a_quarter_of_the_truth() {
+    let truth = true_meta();
+    let true_rms = replay(&survey().join("log"))["horizontal_error_rms_m"]
+        .as_f64()
+        .unwrap();
+    // (tag, factor on each sensor sigma in SENSORS order, factor on the
+    // IMU noise sigmas)
+    let cases: [(&str, [f64; 4], f64); 2] = [
+        ("tune-mixed", [10.0, 0.1, 10.0, 0.1], 10.0),
+        ("tune-inverse", [0.1, 10.0, 0.1, 10.0], 0.1),
+    ];
+    for (tag, factors, imu_factor) in cases {
+        let (_d, dir) = variant(tag, |m| {
+            for (s, f) in SENSORS.iter().zip(factors) {
+                let key = format!("sensors.{s}.noise_sigma");
+                let v = m.noise_parameter(&key).unwrap();
+                m.set_noise_parameter(&key, v * f).unwrap();
+            }
+            for k in [
+                "sensors.imu.gyro_noise_sigma",
+                "sensors.imu.accel_noise_sigma",
+            ] {
+                let v = m.noise_parameter(k).unwrap();
+                m.set_noise_parameter(k, v * imu_factor).unwrap();
+            }
+        });
+        let written = dir.parent().unwrap().join("tuned.toml");
+        let t = json(&[
+            "tune",
+            dir.to_str().unwrap(),
+            "--model",
+            "sdins25",
+            "--json",
+            "--write",
+            written.to_str().unwrap(),
+        ]);
+        assert!(
+            t["replays"].as_u64().unwrap() <= 30,
+            "{tag}: {}",
+            t["replays"]
+        );
+        for s in SENSORS {
+            let key = format!("sensors.{s}.noise_sigma");
+            let p = &t["parameters"][&key];
+            assert_eq!(p["identifiable"], true, "{tag} {key}: {p}");
+            let tuned = p["value"].as_f64().unwrap();
+            let want = truth.noise_parameter(&key).unwrap();
+            assert!(
+                (tuned / want - 1.0).abs() < 0.25,
+                "{tag} {key}: tuned {tuned}, true {want}"
+            );
+            let after = t["nis"][s]["after"].as_f64().unwrap();
+            assert!((0.7..1.3).contains(&after), "{tag} {s}: NIS after {after}");
+        }
+        // A DVL survey cannot tell a navigation-grade IMU's white noise
+        // (its velocity random walk over a DVL period is far below the DVL
+        // noise): said so, and the given value kept.
+        for k in [
+            "sensors.imu.gyro_noise_sigma",
+            "sensors.imu.accel_noise_sigma",
+        ] {
+            let p = &t["parameters"][k];
+            if p["identifiable"] == false {
+                assert_eq!(p["value"], p["initial"], "{tag} {k}: {p}");
+                assert!(p["reason"].as_str().unwrap().contains("flat"), "{p}");
+            }
+        }
+        // The written file is the log's meta.toml with the tuned values:
+        // replayed with it, the filter is as good as with the true sigmas.
+        std::fs::copy(&written, dir.join("meta.toml")).unwrap();
+        let r = replay(&dir);
+        let rms = r["horizontal_error_rms_m"].as_f64().unwrap();
+        assert!(rms < 1.1 * true_rms, "{tag}: RMS {rms} against {true_rms}");
+        let sigma_warnings = r["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|w| w["kind"] == "noise_sigma")
+            .count();
+        assert_eq!(sigma_warnings, 0, "{tag}: {}", r["warnings"]);
+    }
+}
+
+#[test]
+fn a_replay_reports_each_sensors_innovations_and_warns_of_a_sigma_ten_times_off() {
+    let r = replay(&survey().join("log"));
+    for s in SENSORS {
+        let i = &r["innovations"][s];
+        let nis = i["nis_per_dof"].as_f64().unwrap();
+        assert!((0.6..1.5).contains(&nis), "{s}: {i}");
+        assert!(i["gated_share"].as_f64().unwrap() < 0.05, "{s}: {i}");
+        assert!(i["supported_sigma"].as_f64().is_some(), "{s}: {i}");
+    }
+    assert!(
+        !r["warnings"].to_string().contains("noise_sigma"),
+        "{}",
+        r["warnings"]
+    );
+    for (tag, factor, word) in [
+        ("nis-small", 0.1, "too small"),
+        ("nis-large", 10.0, "too large"),
+    ] {
+        let (_d, dir) = variant(tag, |m| {
+            let v = m.noise_parameter("sensors.dvl.noise_sigma").unwrap();
+            m.set_noise_parameter("sensors.dvl.noise_sigma", v * factor)
+                .unwrap();
+        });
+        let r = replay(&dir);
+        let w: Vec<&Value> = r["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|w| w["kind"] == "noise_sigma")
+            .collect();
+        assert_eq!(w.len(), 1, "{tag}: {}", r["warnings"]);
+        assert_eq!(w[0]["key"], "sensors.dvl.noise_sigma");
+        let message = w[0]["message"].as_str().unwrap();
+        assert!(message.contains(word), "{message}");
+        let supported = r["innovations"]["dvl"]["supported_sigma"].as_f64().unwrap();
+        let want = true_meta()
+            .noise_parameter("sensors.dvl.noise_sigma")
+            .unwrap();
+        assert!((supported / want - 1.0).abs() < 0.25, "{tag}: {supported}");
+    }
+}
+
+/// Logs and requests that cannot be tuned: each a clear statement of what
+/// and why.
+#[test]
+fn what_cannot_be_tuned_is_said_with_the_reason() {
+    // A depth meter that never reports: its sigma is not identifiable.
+    let (_d, silent) = variant("tune-silent", |_| {});
+    std::fs::write(silent.join("depth.csv"), "t,depth\n").unwrap();
+    let t = json(&[
+        "tune",
+        silent.to_str().unwrap(),
+        "--model",
+        "sdins25",
+        "--json",
+    ]);
+    let p = &t["parameters"]["sensors.depth.noise_sigma"];
+    assert_eq!(p["identifiable"], false, "{p}");
+    assert!(
+        p["reason"].as_str().unwrap().contains("never reported"),
+        "{p}"
+    );
+    assert_eq!(p["value"], p["initial"]);
+    assert_eq!(
+        t["parameters"]["sensors.dvl.noise_sigma"]["identifiable"],
+        true
+    );
+
+    // (arguments after the log directory, what the error must say)
+    let errors: [(&[&str], &str); 4] = [
+        (
+            &["--model", "sdins25", "--params", "sensors.dvl.noise_sigmaa"],
+            "sensors.dvl.noise_sigma",
+        ),
+        (
+            &[
+                "--model",
+                "sdins25",
+                "--params",
+                "sensors.dvl.noise_sigma,sensors.dvl.noise_sigma",
+            ],
+            "given twice",
+        ),
+        (
+            &["--model", "sdins25", "--max-replays", "1"],
+            "--max-replays 1",
+        ),
+        // A model that reports no innovations has nothing to tune from.
+        (&["--model", "demo-depth-kf"], "no sensor innovations"),
+    ];
+    let log = survey().join("log");
+    for (args, says) in errors {
+        let mut all = vec!["tune", log.to_str().unwrap()];
+        all.extend_from_slice(args);
+        let o = navsim(&all);
+        assert!(!o.status.success(), "{args:?}");
+        let e = stderr(&o);
+        assert!(e.contains(says), "{args:?}: {e}");
+        assert!(stdout(&o).is_empty(), "{args:?}");
+    }
+}
