@@ -83,6 +83,10 @@ pub fn tune_with(model: &dyn ReplayModel, args: &TuneArgs) -> Result<(), RunErro
             .filter(|w| w.kind != nav_runtime::log::WarningKind::NoiseSigma)
             .cloned(),
     );
+    for n in &tuning.notes {
+        eprintln!("warning: {n}");
+        warnings.push(crate::model_note(n.clone()));
+    }
     for p in tuning.parameters.iter() {
         if let Some(why) = &p.not_identifiable {
             eprintln!("warning: {}: not identifiable: {why}", p.key);

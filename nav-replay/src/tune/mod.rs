@@ -2,8 +2,8 @@
 //! docs/tuning.md): the innovation likelihood of the replay (eq. T1 of
 //! [`nav_runtime::innovations`]) maximised over the sigmas of `meta.toml`.
 //!
-//! - A sensor's noise sigma takes the fixed-point step of eq. T3 from the
-//!   innovations of one replay (no extra replay per sensor);
+//! - A sensor's noise sigma takes the covariance-matching step of eq. T3
+//!   from the innovations of one replay (no extra replay per sensor);
 //! - any other parameter (the IMU noise, a bias sigma) takes a Newton step
 //!   in `ln sigma` on the likelihood, from two more replays with the
 //!   parameter `x2` and `/2`, all replays of a step run at once on the
@@ -22,6 +22,8 @@
 mod command;
 mod meta_text;
 mod report;
+#[cfg(test)]
+mod tests;
 
 use std::collections::BTreeMap;
 
@@ -49,6 +51,10 @@ const CONVERGED: f64 = 0.01;
 /// A probe must raise the log-likelihood by this much to move a parameter
 /// (a likelihood ratio of e^2, about the 95 % level of one parameter).
 const SIGNIFICANT: f64 = 2.0;
+
+/// Times the tuned sigmas are made 10 x larger when the filter diverges
+/// with the given ones.
+const DIVERGED_RETRIES: i32 = 2;
 
 /// Fewer updates of a sensor than this identify nothing.
 const MIN_UPDATES: u64 = 10;
@@ -113,8 +119,11 @@ pub struct Tuning {
     pub replays: usize,
     /// Whether the parameters stopped moving within the budget.
     pub converged: bool,
-    /// Innovation log-likelihood with the given and with the tuned values.
-    pub log_likelihood: (f64, f64),
+    /// Innovation log-likelihood with the given (`None`: the filter
+    /// diverged with them) and with the tuned values.
+    pub log_likelihood: (Option<f64>, f64),
+    /// What the user should know about how the tuning went.
+    pub notes: Vec<String>,
     /// Per sensor, the mean NIS per degree of freedom with the given and
     /// with the tuned values.
     pub nis: BTreeMap<String, (Option<f64>, Option<f64>)>,
@@ -246,9 +255,50 @@ pub fn tune(
     let opts = &options.replay;
     let mut values = params.clone();
     let mut replays = 0usize;
-    let before = replay(model, files, opts, &values)?;
+    let mut notes = Vec::new();
+    let given = replay(model, files, opts, &values);
     replays += 1;
     progress(replays, options.max_replays);
+    let (before, before_log_likelihood) = match given {
+        Ok(run) => {
+            let l = run.log_likelihood;
+            (run, Some(l))
+        }
+        // The given sigmas make the filter diverge (too small a noise
+        // lets it trust a reading or its own solution too much): start
+        // from larger ones, which the likelihood then brings down.
+        Err(RunError::Diverged(why)) => {
+            let mut started = None;
+            for power in 1..=DIVERGED_RETRIES {
+                let scale = 10f64.powi(power);
+                let larger: Vec<(String, f64)> =
+                    params.iter().map(|(k, v)| (k.clone(), v * scale)).collect();
+                replays += 1;
+                progress(replays, options.max_replays);
+                match replay(model, files, opts, &larger) {
+                    Ok(run) => {
+                        values = larger;
+                        notes.push(format!(
+                            "with the given sigmas the filter diverged ({}); the tuning started from every tuned sigma x {scale}",
+                            crate::program::one_line(&why)
+                        ));
+                        started = Some(run);
+                        break;
+                    }
+                    Err(RunError::Diverged(_)) => continue,
+                    Err(e) => return Err(e),
+                }
+            }
+            match started {
+                Some(run) => (run, None),
+                None => return Err(RunError::Diverged(format!(
+                    "{why}; with every tuned sigma up to {} times larger too: nothing to tune from",
+                    10f64.powi(DIVERGED_RETRIES)
+                ))),
+            }
+        }
+        Err(e) => return Err(e),
+    };
     if before
         .output
         .innovations
@@ -274,8 +324,11 @@ pub fn tune(
     // Curvature (per unit ln sigma squared) of each likelihood parameter at
     // the last step.
     let mut curvature = vec![f64::NAN; params.len()];
-    let before_nis = nis_of(&before.output);
-    let before_log_likelihood = before.log_likelihood;
+    let before_nis = if before_log_likelihood.is_some() {
+        nis_of(&before.output)
+    } else {
+        Vec::new()
+    };
     let mut center = before;
     let mut converged = false;
     // A step needs its replays, and one is kept for the replay with the
@@ -284,11 +337,12 @@ pub fn tune(
         let mut moves = vec![0.0; params.len()];
         for (i, (key, _)) in params.iter().enumerate() {
             if let Some(sensor) = sensor_of(key) {
-                let t = totals_of(&center, sensor);
-                if sensor_verdict(sensor, t).is_none() {
-                    if let Some(f) = t.and_then(InnovationTotals::sigma_factor) {
-                        moves[i] = f.ln().clamp(-MAX_MOVE, MAX_MOVE);
-                    }
+                // Every step moves a sensor with enough updates, also one
+                // whose noise the filter's uncertainty still hides: a sigma
+                // far too small is such a sensor until it has moved.
+                let t = totals_of(&center, sensor).filter(|t| t.updates >= MIN_UPDATES);
+                if let Some(f) = t.and_then(InnovationTotals::sigma_factor) {
+                    moves[i] = f.ln().clamp(-MAX_MOVE, MAX_MOVE);
                 }
             }
         }
@@ -353,6 +407,7 @@ pub fn tune(
     // The verdicts, at the last replay; parameters the log does not
     // identify go back to their given values.
     let mut parameters = Vec::with_capacity(params.len());
+    let center_values = values.clone();
     let mut reset = false;
     for (i, (key, initial)) in params.iter().enumerate() {
         let (error, why) = match sensor_of(key) {
@@ -395,9 +450,26 @@ pub fn tune(
         });
     }
     if reset {
-        center = replay(model, files, opts, &values)?;
         replays += 1;
         progress(replays.min(options.max_replays), options.max_replays);
+        match replay(model, files, opts, &values) {
+            Ok(run) => center = run,
+            // The given value of a parameter the log does not tell makes
+            // the filter diverge: the tuned one stays, said so.
+            Err(RunError::Diverged(_)) => {
+                for p in parameters
+                    .iter_mut()
+                    .filter(|p| p.not_identifiable.is_some())
+                {
+                    let i = params.iter().position(|(k, _)| *k == p.key).unwrap_or(0);
+                    p.value = center_values[i].1;
+                    if let Some(why) = p.not_identifiable.as_mut() {
+                        why.push_str("; kept at the last step's value: the given one makes the filter diverge");
+                    }
+                }
+            }
+            Err(e) => return Err(e),
+        }
     }
     let after_nis = nis_of(&center.output);
     let mut nis: BTreeMap<String, (Option<f64>, Option<f64>)> = BTreeMap::new();
@@ -414,6 +486,7 @@ pub fn tune(
         converged,
         log_likelihood: (before_log_likelihood, center.log_likelihood),
         nis,
+        notes,
         after: center.output,
     })
 }

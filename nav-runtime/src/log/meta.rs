@@ -938,3 +938,62 @@ impl Cx<'_> {
             .ok_or_else(|| self.err(&join(section, key), "missing key"))
     }
 }
+
+#[cfg(test)]
+mod noise_parameter_tests {
+    use super::*;
+
+    const META: &str = "[initial]\nlat = 0.6\nlon = 2.2\ndepth = 10.0\n\n[sensors.imu]\ngyro_noise_sigma = 1e-6\naccel_noise_sigma = 1e-3\n\n[sensors.dvl]\nnoise_sigma = 0.02\nbias_sigma = 0.01\n";
+
+    #[test]
+    fn noise_parameters_are_listed_read_and_set_by_key() {
+        let mut m = Meta::parse(META).unwrap();
+        let keys: Vec<String> = m.noise_parameters().into_iter().map(|(k, _)| k).collect();
+        assert_eq!(
+            keys,
+            [
+                "sensors.imu.gyro_noise_sigma",
+                "sensors.imu.accel_noise_sigma",
+                "sensors.imu.gyro_bias_sigma",
+                "sensors.imu.accel_bias_sigma",
+                "sensors.dvl.noise_sigma",
+                "sensors.dvl.bias_sigma",
+            ]
+        );
+        m.set_noise_parameter("sensors.dvl.noise_sigma", 0.05)
+            .unwrap();
+        m.set_noise_parameter("sensors.imu.accel_noise_sigma", 2e-3)
+            .unwrap();
+        assert_eq!(m.sensors.dvl.unwrap().noise_sigma, 0.05);
+        assert_eq!(
+            m.noise_parameter("sensors.imu.accel_noise_sigma"),
+            Some(2e-3)
+        );
+        assert_eq!(m.sensors.aiding("dvl").map(|s| s.bias_sigma), Some(0.01));
+        assert!(m.sensors.aiding("depth").is_none());
+    }
+
+    #[test]
+    fn a_key_the_file_lacks_or_a_value_that_is_no_sigma_is_an_error_naming_the_key() {
+        // (key, value, what the message says)
+        let cases = [
+            (
+                "sensors.dvl.noise_sigmaa",
+                1.0,
+                "did you mean `sensors.dvl.noise_sigma`",
+            ),
+            ("sensors.depth.noise_sigma", 1.0, "not a noise parameter"),
+            ("sensors.dvl", 1.0, "not a noise parameter"),
+            ("initial.lat", 1.0, "not a noise parameter"),
+            ("sensors.dvl.noise_sigma", -1.0, "not a sigma"),
+            ("sensors.dvl.noise_sigma", f64::NAN, "not a sigma"),
+        ];
+        for (key, value, says) in cases {
+            let mut m = Meta::parse(META).unwrap();
+            let before = m;
+            let e = m.set_noise_parameter(key, value).unwrap_err().to_string();
+            assert!(e.contains(key) && e.contains(says), "{key}: {e}");
+            assert_eq!(m, before, "{key}: changed on error");
+        }
+    }
+}

@@ -1,0 +1,179 @@
+//! The tuning loop on a model whose likelihood is known: a DVL-like sensor
+//! with a true sigma of 0.1 and a filter uncertainty that hides part of it,
+//! a parameter that changes nothing (flat likelihood), and a filter that
+//! diverges below a sigma.
+
+use nav_runtime::innovations::{InnovationStatistics, InnovationTotals};
+use nav_runtime::log::{LogDir, LogFiles, Strictness};
+use nav_runtime::nalgebra::{SMatrix, SVector};
+
+use super::*;
+use crate::innovations::SensorInnovations;
+use crate::temp_dir::TempDir;
+
+/// The true noise sigma of the sensor.
+const TRUE_SIGMA: f64 = 0.1;
+/// `H P H^T` of every update (the filter's own share of `S`).
+const HPH: f64 = 0.002;
+
+/// Innovations of a consistent world: `nu ~ N(0, HPH + TRUE_SIGMA^2)`,
+/// drawn once (a fixed sequence of standard normal quantiles), weighed by
+/// a filter that assumes `sigma`.
+struct Known {
+    /// Below this sigma the filter "diverges".
+    diverges_below: f64,
+}
+
+impl ReplayModel for Known {
+    fn name(&self) -> &'static str {
+        "known"
+    }
+    fn replay(&self, _: &LogDir, _: &ReplayOptions) -> Result<ReplayOutput, RunError> {
+        unreachable!("tuning replays through replay_files")
+    }
+    fn replay_files(
+        &self,
+        files: &LogFiles,
+        _: &ReplayOptions,
+        _: Option<&std::path::Path>,
+    ) -> Result<ReplayOutput, RunError> {
+        let sigma = files.meta().sensors.dvl.map_or(f64::NAN, |s| s.noise_sigma);
+        if sigma < self.diverges_below {
+            return Err(RunError::Diverged(format!("sigma {sigma} too small")));
+        }
+        let mut totals = InnovationTotals::default();
+        let n = 2000;
+        // Evenly spaced quantiles of the logistic approximation of N(0, 1),
+        // scaled to a sample variance of exactly 1: deterministic.
+        let z: Vec<f64> = (0..n)
+            .map(|k| {
+                let p = (k as f64 + 0.5) / n as f64;
+                (p / (1.0 - p)).ln()
+            })
+            .collect();
+        let scale = (z.iter().map(|v| v * v).sum::<f64>() / n as f64).sqrt();
+        for z in z {
+            let nu = z / scale * (HPH + TRUE_SIGMA * TRUE_SIGMA).sqrt();
+            totals.add(&InnovationStatistics::of(
+                &SVector::<f64, 1>::new(nu),
+                &SMatrix::<f64, 1, 1>::new(HPH + sigma * sigma),
+                &SMatrix::<f64, 1, 1>::new(sigma * sigma),
+            ));
+        }
+        Ok(ReplayOutput {
+            innovations: vec![SensorInnovations {
+                sensor: "dvl".into(),
+                noise_sigma: Some(sigma),
+                gated: 0,
+                totals,
+            }],
+            ..ReplayOutput::default()
+        })
+    }
+}
+
+fn log_with(dvl_sigma: f64) -> (TempDir, LogFiles) {
+    let d = TempDir::new("tune-known");
+    let meta = format!(
+        "[initial]\nlat = 0.6\nlon = 2.2\ndepth = 10.0\n\n[sensors.imu]\ngyro_noise_sigma = 1e-6\naccel_noise_sigma = 1e-3\n\n[sensors.dvl]\nnoise_sigma = {dvl_sigma:?}\n"
+    );
+    std::fs::write(d.0.join("meta.toml"), meta).unwrap();
+    let files = LogFiles::open(&d.0, Strictness::Strict).unwrap();
+    (d, files)
+}
+
+#[test]
+fn a_sensor_sigma_is_found_from_ten_times_either_side_and_a_flat_parameter_stays() {
+    // (given sigma, the filter diverges below)
+    let cases = [(1.0, 0.0), (0.01, 0.0), (0.001, 0.005)];
+    for (given, diverges_below) in cases {
+        let (_d, files) = log_with(given);
+        let calls = std::sync::atomic::AtomicUsize::new(0);
+        let t = tune(
+            &Known { diverges_below },
+            &files,
+            &TuneOptions::default(),
+            &|done, budget| {
+                assert!(done <= budget);
+                calls.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            },
+        )
+        .unwrap();
+        assert!(t.replays <= 30, "{given}: {}", t.replays);
+        assert!(calls.into_inner() > 0);
+        let dvl = &t
+            .parameters
+            .iter()
+            .find(|p| p.key == "sensors.dvl.noise_sigma")
+            .unwrap();
+        assert!(dvl.not_identifiable.is_none(), "{given}: {dvl:?}");
+        assert!(
+            (dvl.value / TRUE_SIGMA - 1.0).abs() < 0.05,
+            "{given}: {dvl:?}"
+        );
+        assert!(dvl.log_standard_error < 0.05, "{dvl:?}");
+        // The IMU's sigmas change nothing here: flat, kept as given.
+        for key in [
+            "sensors.imu.gyro_noise_sigma",
+            "sensors.imu.accel_noise_sigma",
+        ] {
+            let p = t.parameters.iter().find(|p| p.key == key).unwrap();
+            assert!(
+                p.not_identifiable.as_deref().unwrap().contains("flat"),
+                "{p:?}"
+            );
+            assert_eq!(p.value, p.initial, "{p:?}");
+        }
+        assert!(t.converged, "{given}");
+        let after = t.nis["dvl"].1.unwrap();
+        assert!((after - 1.0).abs() < 0.05, "{given}: NIS after {after}");
+        // A start where the filter diverged has no "before", and says so.
+        assert_eq!(
+            t.log_likelihood.0.is_none(),
+            given < diverges_below,
+            "{given}"
+        );
+        assert_eq!(
+            t.notes.len(),
+            usize::from(given < diverges_below),
+            "{:?}",
+            t.notes
+        );
+    }
+}
+
+#[test]
+fn a_filter_that_diverges_from_every_start_is_an_error_saying_so() {
+    let (_d, files) = log_with(0.001);
+    let e = tune(
+        &Known {
+            diverges_below: 10.0,
+        },
+        &files,
+        &TuneOptions::default(),
+        &|_, _| {},
+    )
+    .unwrap_err();
+    assert!(matches!(e, RunError::Diverged(_)), "{e}");
+    assert!(e.to_string().contains("nothing to tune from"), "{e}");
+}
+
+#[test]
+fn the_budget_of_replays_is_kept() {
+    for max_replays in [2, 3, 5, 8] {
+        let (_d, files) = log_with(1.0);
+        let t = tune(
+            &Known {
+                diverges_below: 0.0,
+            },
+            &files,
+            &TuneOptions {
+                max_replays,
+                ..TuneOptions::default()
+            },
+            &|_, _| {},
+        )
+        .unwrap();
+        assert!(t.replays <= max_replays, "{max_replays}: {}", t.replays);
+    }
+}
