@@ -211,6 +211,24 @@ fn totals_of<'a>(run: &'a Run, sensor: &str) -> Option<&'a InnovationTotals> {
         .map(|s| &s.totals)
 }
 
+/// The step of `ln sigma` of each sensor noise among `params` from the
+/// innovations of `run` (eq. T3); 0 for the other parameters. Every step
+/// moves a sensor with enough updates, also one whose noise the filter's
+/// uncertainty still hides: a sigma far too small is such a sensor until
+/// it has moved.
+fn sensor_moves(params: &[(String, f64)], run: &Run) -> Vec<f64> {
+    params
+        .iter()
+        .map(|(key, _)| {
+            sensor_of(key)
+                .and_then(|sensor| totals_of(run, sensor))
+                .filter(|t| t.updates >= MIN_UPDATES)
+                .and_then(InnovationTotals::sigma_factor)
+                .map_or(0.0, |f| f.ln().clamp(-MAX_MOVE, MAX_MOVE))
+        })
+        .collect()
+}
+
 /// Why a sensor's sigma cannot be identified from `totals`, if it cannot.
 fn sensor_verdict(sensor: &str, totals: Option<&InnovationTotals>) -> Option<String> {
     match totals {
@@ -291,10 +309,12 @@ pub fn tune(
             }
             match started {
                 Some(run) => (run, None),
-                None => return Err(RunError::Diverged(format!(
+                None => {
+                    return Err(RunError::Diverged(format!(
                     "{why}; with every tuned sigma up to {} times larger too: nothing to tune from",
                     10f64.powi(DIVERGED_RETRIES)
-                ))),
+                )))
+                }
             }
         }
         Err(e) => return Err(e),
@@ -334,18 +354,7 @@ pub fn tune(
     // A step needs its replays, and one is kept for the replay with the
     // given values of parameters the log does not identify.
     while replays + per_step < options.max_replays {
-        let mut moves = vec![0.0; params.len()];
-        for (i, (key, _)) in params.iter().enumerate() {
-            if let Some(sensor) = sensor_of(key) {
-                // Every step moves a sensor with enough updates, also one
-                // whose noise the filter's uncertainty still hides: a sigma
-                // far too small is such a sensor until it has moved.
-                let t = totals_of(&center, sensor).filter(|t| t.updates >= MIN_UPDATES);
-                if let Some(f) = t.and_then(InnovationTotals::sigma_factor) {
-                    moves[i] = f.ln().clamp(-MAX_MOVE, MAX_MOVE);
-                }
-            }
-        }
+        let mut moves = sensor_moves(&params, &center);
         if !likelihood_params.is_empty() {
             let probes: Vec<(usize, f64)> = likelihood_params
                 .iter()
@@ -404,73 +413,105 @@ pub fn tune(
             break;
         }
     }
-    // The verdicts, at the last replay; parameters the log does not
-    // identify go back to their given values.
-    let mut parameters = Vec::with_capacity(params.len());
-    let center_values = values.clone();
+    // The likelihood parameters the log does not identify go back to their
+    // given values, and the sensors' sigmas are stepped again with them.
+    let mut center_values = values.clone();
+    let mut why_not: Vec<Option<String>> = vec![None; params.len()];
+    let mut errors = vec![f64::INFINITY; params.len()];
     let mut reset = false;
-    for (i, (key, initial)) in params.iter().enumerate() {
-        let (error, why) = match sensor_of(key) {
-            Some(sensor) => {
-                let t = totals_of(&center, sensor);
-                let e = t.map_or(f64::INFINITY, InnovationTotals::log_sigma_standard_error);
-                (e, sensor_verdict(sensor, t))
-            }
-            None => {
-                let c = curvature[i];
-                let e = if c < 0.0 {
-                    (-c).sqrt().recip()
-                } else {
-                    f64::INFINITY
-                };
-                let why = (e > MAX_LOG_SIGMA_ERROR).then(|| {
-                    if likelihood_params.is_empty() || c.is_nan() {
-                        "the budget of replays allowed no step".to_string()
-                    } else {
-                        format!(
-                            "the likelihood is flat in it (standard error of ln sigma {}): the log has too little excitation or too few updates to tell it",
-                            if e.is_finite() { format!("{e:.2}") } else { "infinite".into() }
-                        )
-                    }
-                });
-                (e, why)
-            }
+    for &i in &likelihood_params {
+        let c = curvature[i];
+        let e = if c < 0.0 {
+            (-c).sqrt().recip()
+        } else {
+            f64::INFINITY
         };
-        if why.is_some() && values[i].1 != *initial {
-            values[i].1 = *initial;
-            reset = true;
+        errors[i] = e;
+        if e > MAX_LOG_SIGMA_ERROR {
+            why_not[i] = Some(if c.is_nan() {
+                "the budget of replays allowed no step".to_string()
+            } else {
+                format!(
+                    "the likelihood is flat in it (standard error of ln sigma {}): the log has too little excitation or too few updates to tell it",
+                    if e.is_finite() { format!("{e:.2}") } else { "infinite".into() }
+                )
+            });
+            reset |= values[i].1 != params[i].1;
+            values[i].1 = params[i].1;
         }
-        parameters.push(TunedParameter {
-            key: key.clone(),
-            kind: kinds[i],
-            initial: *initial,
-            value: values[i].1,
-            log_standard_error: error,
-            not_identifiable: why,
-        });
     }
-    if reset {
+    // So does a sensor whose sigma the log does not tell.
+    for (i, (key, initial)) in params.iter().enumerate() {
+        if let Some(sensor) = sensor_of(key) {
+            let t = totals_of(&center, sensor);
+            errors[i] = t.map_or(f64::INFINITY, InnovationTotals::log_sigma_standard_error);
+            why_not[i] = sensor_verdict(sensor, t);
+            if why_not[i].is_some() {
+                reset |= values[i].1 != *initial;
+                values[i].1 = *initial;
+            }
+        }
+    }
+    while reset {
         replays += 1;
         progress(replays.min(options.max_replays), options.max_replays);
         match replay(model, files, opts, &values) {
-            Ok(run) => center = run,
-            // The given value of a parameter the log does not tell makes
-            // the filter diverge: the tuned one stays, said so.
+            Ok(run) => {
+                center = run;
+                center_values.clone_from(&values);
+            }
+            // The given value of such a parameter makes the filter
+            // diverge: the last step's value stays, said so.
             Err(RunError::Diverged(_)) => {
-                for p in parameters
-                    .iter_mut()
-                    .filter(|p| p.not_identifiable.is_some())
-                {
-                    let i = params.iter().position(|(k, _)| *k == p.key).unwrap_or(0);
-                    p.value = center_values[i].1;
-                    if let Some(why) = p.not_identifiable.as_mut() {
-                        why.push_str("; kept at the last step's value: the given one makes the filter diverge");
+                for &i in &likelihood_params {
+                    if let Some(why) = why_not[i].as_mut() {
+                        if center_values[i].1 != params[i].1 {
+                            why.push_str("; kept at the last step's value: the given one makes the filter diverge");
+                        }
                     }
                 }
+                values.clone_from(&center_values);
+                break;
             }
             Err(e) => return Err(e),
         }
+        let mut moves = sensor_moves(&params, &center);
+        for (m, why) in moves.iter_mut().zip(&why_not) {
+            if why.is_some() {
+                *m = 0.0;
+            }
+        }
+        if replays >= options.max_replays || moves.iter().all(|m| m.abs() < CONVERGED) {
+            break;
+        }
+        for (v, m) in values.iter_mut().zip(&moves) {
+            v.1 *= m.exp();
+        }
     }
+    let parameters: Vec<TunedParameter> = params
+        .iter()
+        .enumerate()
+        .map(|(i, (key, initial))| {
+            let (log_standard_error, not_identifiable) = match sensor_of(key) {
+                // A sensor's verdict at the final replay, unless the log
+                // already failed to tell it.
+                Some(sensor) if why_not[i].is_none() => {
+                    let t = totals_of(&center, sensor);
+                    let e = t.map_or(f64::INFINITY, InnovationTotals::log_sigma_standard_error);
+                    (e, sensor_verdict(sensor, t))
+                }
+                _ => (errors[i], why_not[i].clone()),
+            };
+            TunedParameter {
+                key: key.clone(),
+                kind: kinds[i],
+                initial: *initial,
+                value: values[i].1,
+                log_standard_error,
+                not_identifiable,
+            }
+        })
+        .collect();
     let after_nis = nis_of(&center.output);
     let mut nis: BTreeMap<String, (Option<f64>, Option<f64>)> = BTreeMap::new();
     for (sensor, n) in &before_nis {
