@@ -156,6 +156,19 @@ fn dvl_mounting_converges_on_a_survey_with_turns() {
             assert!((m.scale.value[0] - 1.0).abs() < 1e-12, "scale {}", m.scale.value[0]);
         }
         assert!(out.rms < fixed.rms, "{estimate}: {} vs {}", out.rms, fixed.rms);
+        // The replay JSON of the registered vehicle gives the same values.
+        let model = models::registry::find_replay_model("sdins20-dvl-cal").expect("registered");
+        let json = model
+            .replay(&with_estimate(&log, estimate), &Default::default())
+            .expect("replay")
+            .metrics;
+        let c = &json["dvl_calibration"];
+        assert_eq!(c["lever_arm_m"]["estimated"], true, "{c}");
+        assert_eq!(c["scale"]["estimated"], scale, "{c}");
+        let x = c["lever_arm_m"]["value"][0].as_f64().expect("lever_arm_m.value");
+        assert!((x - m.lever_arm.value[0]).abs() < 1e-9, "{x} {c}");
+        let yaw = c["misalignment_deg"]["value"][2].as_f64().expect("degrees");
+        assert!((yaw - m.misalignment.value[2].to_degrees()).abs() < 1e-9, "{yaw} {c}");
     }
 }
 
