@@ -118,16 +118,28 @@ fn dvl_mounting_converges_on_a_survey_with_turns() {
         fixed.rms, fixed.last, fixed.dvl.0, fixed.dvl.1, plain.rms, plain.last, plain.dvl.0, plain.dvl.1
     );
     // Nothing listed: the calibrated vehicle is sdins20 with the given values.
-    assert!((fixed.rms - plain.rms).abs() < 1e-3 * plain.rms, "{} {}", fixed.rms, plain.rms);
+    assert!(
+        (fixed.rms - plain.rms).abs() < 1e-3 * plain.rms,
+        "{} {}",
+        fixed.rms,
+        plain.rms
+    );
     let truth_angles = MISALIGNMENT_DEG.map(f64::to_radians);
     // (estimate, lever arm, misalignment, scale estimated)
     let cases = [
-        ("\"lever_arm\", \"misalignment\", \"scale\"", true, true, true),
+        (
+            "\"lever_arm\", \"misalignment\", \"scale\"",
+            true,
+            true,
+            true,
+        ),
         ("\"lever_arm\"", true, false, false),
     ];
     for (estimate, arm, angles, scale) in cases {
         let out = score::<27, Sdins20DvlCal>(&with_estimate(&log, estimate));
-        let m = out.mounting.expect("the calibrated vehicle reports its mounting");
+        let m = out
+            .mounting
+            .expect("the calibrated vehicle reports its mounting");
         eprintln!(
             "estimate [{estimate}]: horizontal error RMS {:.2} m, final {:.2} m, DVL rows {}/{}",
             out.rms, out.last, out.dvl.0, out.dvl.1
@@ -136,26 +148,60 @@ fn dvl_mounting_converges_on_a_survey_with_turns() {
             for (k, (value, sigma, truth)) in c.iter().enumerate() {
                 eprintln!("  {what}[{k}]: {value:.4} +- {sigma:.4} (truth {truth:.4}, prior sigma {prior:.4})");
                 if listed {
-                    assert!((value - truth).abs() < 4.0 * sigma, "{estimate}: {what}[{k}]");
+                    assert!(
+                        (value - truth).abs() < 4.0 * sigma,
+                        "{estimate}: {what}[{k}]"
+                    );
                     assert!(*sigma < prior, "{estimate}: {what}[{k}] sigma");
                 }
             }
         };
-        let zip3 = |c: &nav_replay::ins::calibration::Calibrated<3>, t: [f64; 3]| -> Vec<(f64, f64, f64)> {
+        let zip3 = |c: &nav_replay::ins::calibration::Calibrated<3>,
+                    t: [f64; 3]|
+         -> Vec<(f64, f64, f64)> {
             (0..3).map(|k| (c.value[k], c.sigma[k], t[k])).collect()
         };
-        check("lever_arm", arm, &zip3(&m.lever_arm, LEVER_ARM), m.lever_arm.prior_sigma);
-        check("misalignment", angles, &zip3(&m.misalignment, truth_angles), m.misalignment.prior_sigma);
-        check("scale", scale, &[(m.scale.value[0], m.scale.sigma[0], SCALE)], m.scale.prior_sigma);
+        check(
+            "lever_arm",
+            arm,
+            &zip3(&m.lever_arm, LEVER_ARM),
+            m.lever_arm.prior_sigma,
+        );
+        check(
+            "misalignment",
+            angles,
+            &zip3(&m.misalignment, truth_angles),
+            m.misalignment.prior_sigma,
+        );
+        check(
+            "scale",
+            scale,
+            &[(m.scale.value[0], m.scale.sigma[0], SCALE)],
+            m.scale.prior_sigma,
+        );
         assert_eq!(m.lever_arm.estimated, arm);
         if !angles {
             // Not listed: zero prior sigma (floored at 1e-9), so the value
             // stays the given one.
-            let moved = m.misalignment.value.iter().map(|v| v.abs()).fold(0.0, f64::max);
+            let moved = m
+                .misalignment
+                .value
+                .iter()
+                .map(|v| v.abs())
+                .fold(0.0, f64::max);
             assert!(moved < 1e-12, "misalignment moved by {moved}");
-            assert!((m.scale.value[0] - 1.0).abs() < 1e-12, "scale {}", m.scale.value[0]);
+            assert!(
+                (m.scale.value[0] - 1.0).abs() < 1e-12,
+                "scale {}",
+                m.scale.value[0]
+            );
         }
-        assert!(out.rms < fixed.rms, "{estimate}: {} vs {}", out.rms, fixed.rms);
+        assert!(
+            out.rms < fixed.rms,
+            "{estimate}: {} vs {}",
+            out.rms,
+            fixed.rms
+        );
         // The replay JSON of the registered vehicle gives the same values.
         let model = models::registry::find_replay_model("sdins20-dvl-cal").expect("registered");
         let json = model
@@ -165,10 +211,15 @@ fn dvl_mounting_converges_on_a_survey_with_turns() {
         let c = &json["dvl_calibration"];
         assert_eq!(c["lever_arm_m"]["estimated"], true, "{c}");
         assert_eq!(c["scale"]["estimated"], scale, "{c}");
-        let x = c["lever_arm_m"]["value"][0].as_f64().expect("lever_arm_m.value");
+        let x = c["lever_arm_m"]["value"][0]
+            .as_f64()
+            .expect("lever_arm_m.value");
         assert!((x - m.lever_arm.value[0]).abs() < 1e-9, "{x} {c}");
         let yaw = c["misalignment_deg"]["value"][2].as_f64().expect("degrees");
-        assert!((yaw - m.misalignment.value[2].to_degrees()).abs() < 1e-9, "{yaw} {c}");
+        assert!(
+            (yaw - m.misalignment.value[2].to_degrees()).abs() < 1e-9,
+            "{yaw} {c}"
+        );
     }
 }
 
@@ -180,5 +231,8 @@ fn estimate_on_a_vehicle_without_calibration_states_is_an_error() {
         panic!("sdins20 cannot estimate the DVL scale");
     };
     let e = e.to_string();
-    assert!(e.contains("sensors.dvl.estimate") && e.contains("sdins20"), "{e}");
+    assert!(
+        e.contains("sensors.dvl.estimate") && e.contains("sdins20"),
+        "{e}"
+    );
 }

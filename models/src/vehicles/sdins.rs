@@ -263,6 +263,35 @@ mod tests {
         }
     }
 
+    /// `sdins20-dvl-cal` fits the navigator, and its DVL mounting states
+    /// are the ones the nominal solution does not keep (total states in the
+    /// filter, docs/calibration.md); everything else is `sdins20`'s.
+    #[test]
+    fn the_calibrated_dvl_vehicle_keeps_its_mounting_states_in_the_filter() {
+        let layout =
+            crate::sdins25::vehicle::Layout::of::<Sdins20DvlCal, 27>().expect("fits the navigator");
+        let absorbed = layout.absorbed::<27>();
+        let names = <Sdins20DvlCal as Model<27>>::STATE_NAMES;
+        let kept: Vec<&str> = (0..27)
+            .filter(|&i| !absorbed[i])
+            .map(|i| names[i])
+            .collect();
+        assert_eq!(
+            kept,
+            [
+                "dvl_scale",
+                "dvl_misalignment[0]",
+                "dvl_misalignment[1]",
+                "dvl_misalignment[2]",
+                "dvl_lever_arm[0]",
+                "dvl_lever_arm[1]",
+                "dvl_lever_arm[2]",
+            ]
+        );
+        let others: Vec<&str> = (0..27).filter(|&i| absorbed[i]).map(|i| names[i]).collect();
+        assert_eq!(others, <Sdins20 as Model<20>>::STATE_NAMES);
+    }
+
     #[test]
     fn same_layout_as_the_monolithic_declaration() {
         assert_eq!(Sdins25Composed::N, 25);

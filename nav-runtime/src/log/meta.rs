@@ -594,10 +594,11 @@ impl Meta {
                     let names: Vec<String> =
                         cal.names().iter().map(|n| format!("\"{n}\"")).collect();
                     let _ = writeln!(s, "estimate = [{}]", names.join(", "));
-                    for (key, sigma) in CALIBRATION_KEYS[1..]
-                        .iter()
-                        .zip([cal.lever_arm, cal.misalignment, cal.scale])
-                    {
+                    for (key, sigma) in CALIBRATION_KEYS[1..].iter().zip([
+                        cal.lever_arm,
+                        cal.misalignment,
+                        cal.scale,
+                    ]) {
                         if let Some(sigma) = sigma {
                             let _ = writeln!(s, "{key} = {}", f(sigma));
                         }
