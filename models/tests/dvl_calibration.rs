@@ -236,3 +236,61 @@ fn estimate_on_a_vehicle_without_calibration_states_is_an_error() {
         "{e}"
     );
 }
+
+/// The log up to `end` s.
+fn until(log: &LogDir, end: f64) -> LogDir {
+    let mut log = log.clone();
+    log.imu.retain(|r| r.t <= end);
+    for rows in [&mut log.dvl].into_iter().flatten() {
+        rows.retain(|r| r.t <= end);
+    }
+    for rows in [&mut log.depth].into_iter().flatten() {
+        rows.retain(|r| r.t <= end);
+    }
+    for rows in [&mut log.heading].into_iter().flatten() {
+        rows.retain(|r| r.t <= end);
+    }
+    for rows in [&mut log.altitude].into_iter().flatten() {
+        rows.retain(|r| r.t <= end);
+    }
+    for rows in [&mut log.truth].into_iter().flatten() {
+        rows.retain(|r| r.t <= end);
+    }
+    log
+}
+
+/// What the trajectory makes observable (docs/calibration.md): on the
+/// straight first leg (95 s, before the first turn; one 5 m dive) the
+/// lateral lever arm `r_y` is not learned (no yaw or roll rate), while the
+/// survey with its turns learns it to centimetres.
+#[test]
+fn the_lateral_lever_arm_needs_turning() {
+    let log = with_estimate(
+        &mounted_log(7),
+        "\"lever_arm\", \"misalignment\", \"scale\"",
+    );
+    let straight = score::<27, Sdins20DvlCal>(&until(&log, 95.0))
+        .mounting
+        .expect("mounting");
+    let survey = score::<27, Sdins20DvlCal>(&log).mounting.expect("mounting");
+    let (s, t) = (straight.lever_arm, survey.lever_arm);
+    eprintln!(
+        "lever arm sigma, straight leg: {:.3?} m; survey with turns: {:.3?} m (prior {} m); \
+         misalignment sigma (deg), straight: {:.2?}, survey: {:.2?}",
+        s.sigma,
+        t.sigma,
+        s.prior_sigma,
+        straight.misalignment.sigma.map(f64::to_degrees),
+        survey.misalignment.sigma.map(f64::to_degrees),
+    );
+    assert!(
+        s.sigma[1] > 0.5 * s.prior_sigma,
+        "straight: r_y learned {:?}",
+        s.sigma
+    );
+    assert!(
+        t.sigma[1] < 0.05 * t.prior_sigma,
+        "survey: r_y not learned {:?}",
+        t.sigma
+    );
+}
