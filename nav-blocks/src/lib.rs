@@ -171,30 +171,38 @@ nav_runtime::model! {
         }
     }
 
-    /// DVL with bias, scale factor, mounting misalignment and a lever arm. An
-    /// alternative to `Dvl` (both declare `dvl_bias`, so a vehicle takes one).
+    /// DVL with bias, scale factor, mounting misalignment and a lever arm
+    /// whose given value may be off: the mounting calibration states of
+    /// docs/calibration.md. An alternative to `Dvl` (both declare
+    /// `dvl_bias`, so a vehicle takes one). The scale, misalignment and
+    /// lever-arm states are corrections to the values the log gives (prior
+    /// zero); the navigator keeps them in the filter as total states.
     #[macro_export]
     pub block DvlCalibrated {
         states {
             /// DVL body-frame velocity bias, m/s.
             dvl_bias: 3,
-            /// DVL scale-factor error (dimensionless).
+            /// DVL scale-factor error (dimensionless): the DVL reads `1 + s` times the speed.
             dvl_scale,
-            /// DVL mounting misalignment (small angles, DVL axes from body axes), rad.
+            /// DVL mounting misalignment: small rotation of the DVL axes from
+            /// the body axes (after the log's given mounting), rad.
             dvl_misalignment: 3,
+            /// Error of the given DVL lever arm: true minus given, body axes, m.
+            dvl_lever_arm: 3,
         }
         needs { velocity: 3, c_bn: 3x3, velocity_error: 3, attitude_error: 3 }
-        /// `z = V^n - C^_b^n v_meas` with `v_meas = (1 + s)(I + [m x]) (C^T V + w x r) + b`.
+        /// `z = V^ - C^_b^n v_meas` with
+        /// `v_meas = (1 + s)(I - [m x])(C^T V + w x (r + dr)) + b`.
         sensor DvlCalibrated: 3 {
             inputs {
-                /// DVL position in body axes relative to the IMU, m.
+                /// Given DVL position in body axes relative to the IMU, m.
                 lever_arm: 3,
-                /// Body angular rate (gyro minus bias and Earth rate), rad/s.
+                /// Body angular rate (bias-corrected gyro), rad/s.
                 body_rate: 3,
             }
             let c_true = c_bn + skew(attitude_error) * c_bn;
-            let v_body = transpose(c_true) * (velocity - velocity_error) + cross(body_rate, lever_arm);
-            h = velocity - c_bn * ((1.0 + dvl_scale) * (v_body + cross(dvl_misalignment, v_body)) + dvl_bias);
+            let v_body = transpose(c_true) * (velocity - velocity_error) + cross(body_rate, lever_arm + dvl_lever_arm);
+            h = velocity - c_bn * ((1.0 + dvl_scale) * (v_body - cross(dvl_misalignment, v_body)) + dvl_bias);
         }
     }
 

@@ -80,6 +80,11 @@ pub fn dvl_measurement<V: InsVehicle<N>, const N: usize>(
 /// is `v_n - C (v - b - omega x r)`. The block's Jacobian leaves out the
 /// gyro-bias error's share of `omega x r` (`r x delta b_g`: 0.1 mm/s for a
 /// 1 m arm and a 1e-4 rad/s bias error, far below a DVL's noise).
+///
+/// For a vehicle whose DVL slot holds the `DvlCalibrated` block, the
+/// residual is `v_n - C (v - b)` and the block's `h` predicts the reading
+/// from the lever arm (given value plus its estimated error), the
+/// misalignment and the scale states (docs/calibration.md).
 pub fn dvl_measurement_at<V: InsVehicle<N>, const N: usize>(
     v: Vector3<f64>,
     sigma: f64,
@@ -91,9 +96,18 @@ pub fn dvl_measurement_at<V: InsVehicle<N>, const N: usize>(
         move |f: &mut InsFilter<V, N>| {
             let nom = f.nominal();
             let s = &nom.ins.state;
-            let arm = nom.body_rate.cross(&lever_arm);
-            let z = s.v_n - s.c_bn * (v - nom.dvl_bias - arm);
-            outcome(V::Dvl::update(f, &z, &r, &[]))
+            if <V::Dvl as Slot<V, N, 3>>::AUX_NAMES.is_empty() {
+                let arm = nom.body_rate.cross(&lever_arm);
+                let z = s.v_n - s.c_bn * (v - nom.dvl_bias - arm);
+                return outcome(V::Dvl::update(f, &z, &r, &[]));
+            }
+            // A calibrated DVL block (`DvlCalibrated`): its `h` carries the
+            // lever arm (given value plus its error state), the scale and
+            // the misalignment, so the residual is the reading's alone.
+            let w = nom.body_rate;
+            let aux = [lever_arm.x, lever_arm.y, lever_arm.z, w.x, w.y, w.z];
+            let z = s.v_n - s.c_bn * (v - nom.dvl_bias);
+            outcome(V::Dvl::update(f, &z, &r, &aux))
         },
     ))
 }

@@ -66,10 +66,15 @@ pub trait InsVehicle<const N: usize>: Model<N> {
     const DEPTH_SENSOR: &'static str = "Depth";
     /// The bias state of the depth slot's block.
     const DEPTH_BIAS: &'static str = "depth_bias";
+    /// Declared name of the sensor in the DVL slot: the `Dvl` block's, or
+    /// `DvlCalibrated` (mounting calibration states; its auxiliary input is
+    /// [`DVL_CALIBRATED_AUX_NAMES`]).
+    const DVL_SENSOR: &'static str = "Dvl";
     /// The depth sensor (block `Depth`, or the block of
     /// [`InsVehicle::DEPTH_SENSOR`]), fed by `depth.csv`.
     type Depth: Slot<Self, N, 1>;
-    /// The `Dvl` sensor (block `Dvl`), fed by `dvl.csv`.
+    /// The DVL sensor (block `Dvl`, or the block of
+    /// [`InsVehicle::DVL_SENSOR`]), fed by `dvl.csv`.
     type Dvl: Slot<Self, N, 3>;
     /// The exact `Compass` sensor (block `Compass`), fed by `heading.csv`.
     type Compass: Slot<Self, N, 1>;
@@ -201,6 +206,17 @@ pub const ANTENNA_AUX_NAMES: [&str; 3] = [
 /// The auxiliary input of a depth sensor at a lever arm (body axes, m).
 pub const LEVER_ARM_AUX_NAMES: [&str; 3] = ["lever_arm[0]", "lever_arm[1]", "lever_arm[2]"];
 
+/// The auxiliary input of the calibrated DVL block's sensor: the given
+/// lever arm (body axes, m) and the bias-corrected body rate (rad/s).
+pub const DVL_CALIBRATED_AUX_NAMES: [&str; 6] = [
+    "lever_arm[0]",
+    "lever_arm[1]",
+    "lever_arm[2]",
+    "body_rate[0]",
+    "body_rate[1]",
+    "body_rate[2]",
+];
+
 /// The auxiliary input of the USBL block's sensor.
 pub const USBL_AUX_NAMES: [&str; 3] = [
     "relative_position[0]",
@@ -327,7 +343,7 @@ impl Layout {
                 .ok_or_else(|| format!("no state `{name}` (the INS core block's)"))
         };
         check_slot::<V, V::Depth, N, 1>(V::DEPTH_SENSOR)?;
-        check_slot::<V, V::Dvl, N, 3>("Dvl")?;
+        check_slot::<V, V::Dvl, N, 3>(V::DVL_SENSOR)?;
         check_slot::<V, V::Compass, N, 1>("Compass")?;
         check_slot::<V, V::CompassSmallAngle, N, 1>("CompassSmallAngle")?;
         check_slot::<V, V::Usbl, N, 2>("Usbl")?;
@@ -354,6 +370,12 @@ impl Layout {
         if present.depth && !depth_aux.is_empty() && depth_aux != LEVER_ARM_AUX_NAMES {
             return Err(format!(
                 "its depth sensor's auxiliary input {depth_aux:?} is not {LEVER_ARM_AUX_NAMES:?}"
+            ));
+        }
+        let dvl_aux = <V::Dvl as Slot<V, N, 3>>::AUX_NAMES;
+        if present.dvl && !dvl_aux.is_empty() && dvl_aux != DVL_CALIBRATED_AUX_NAMES {
+            return Err(format!(
+                "its DVL sensor's auxiliary input {dvl_aux:?} is not {DVL_CALIBRATED_AUX_NAMES:?}"
             ));
         }
         if present.usbl && <V::Usbl as Slot<V, N, 2>>::AUX_NAMES != USBL_AUX_NAMES {

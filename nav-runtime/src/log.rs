@@ -80,8 +80,9 @@ pub use mapping::{
     IMU_INCREMENT_COLUMNS, MAPPED_SENSORS, STANDARD_GRAVITY,
 };
 pub use meta::{
-    ImuNoise, Initial, InitialSigma, Meta, Mounting, SensorNoise, Sensors, UsblTransducer,
-    AIDING_SENSORS,
+    DvlCalibration, ImuNoise, Initial, InitialSigma, Meta, Mounting, SensorNoise, Sensors,
+    UsblTransducer, AIDING_SENSORS, ESTIMATE_NAMES, LEVER_ARM_SIGMA_DEFAULT,
+    MISALIGNMENT_SIGMA_DEFAULT, SCALE_SIGMA_DEFAULT,
 };
 pub use read_ahead::{ReadAhead, READ_AHEAD_ROWS};
 pub use rejected::{

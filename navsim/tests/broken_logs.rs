@@ -586,6 +586,23 @@ fn cases() -> Vec<Case> {
             Error(&["meta.toml", "initial.lat"]),
             Here,
         ),
+        // -- DVL mounting calibration (docs/calibration.md)
+        (
+            "DVL estimate with a misspelt name",
+            "sigmas",
+            |d| meta_key(d, "sensors.dvl", "estimate", "estimate = [\"scael\"]"),
+            SDINS,
+            Error(&["meta.toml", "sensors.dvl.estimate", "did you mean `scale`"]),
+            Here,
+        ),
+        (
+            "DVL estimate on a vehicle without calibration states",
+            "sigmas",
+            |d| meta_key(d, "sensors.dvl", "estimate", "estimate = [\"lever_arm\"]"),
+            SDINS,
+            Error(&["sensors.dvl.estimate", "vehicle sdins25 cannot estimate"]),
+            Here,
+        ),
         // -- zero and bad sigmas
         (
             "DVL noise sigma 0",

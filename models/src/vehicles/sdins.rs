@@ -11,7 +11,7 @@
 //! generator flags it; the declaration accepts it with `allow_unused`.
 
 use crate::sdins25::vehicle::{Absent, InsVehicle};
-use nav_blocks::{Compass, Depth, Dvl, InsCore, Usbl};
+use nav_blocks::{Compass, Depth, Dvl, DvlCalibrated, InsCore, Usbl};
 
 nav_runtime::model! {
     /// SDINS-25 assembled from blocks, in the paper's state order.
@@ -36,6 +36,13 @@ nav_runtime::model! {
 
     /// SDINS-25 without USBL: 20 states.
     pub model Sdins20 = InsCore + Depth + Dvl + Compass {
+        allow_unused { position_error[1] }
+    }
+
+    /// [`Sdins20`] with the calibrated DVL: the DVL's scale, misalignment
+    /// and lever-arm error as filter states (27 states), estimated when the
+    /// log's `[sensors.dvl] estimate` lists them (docs/calibration.md).
+    pub model Sdins20DvlCal = InsCore + Depth + DvlCalibrated + Compass {
         allow_unused { position_error[1] }
     }
 }
@@ -65,6 +72,21 @@ impl InsVehicle<20> for Sdins20 {
     type Dvl = Sdins20Dvl;
     type Compass = Sdins20Compass;
     type CompassSmallAngle = Sdins20CompassSmallAngle;
+    type Usbl = Absent;
+    type Gnss = Absent;
+    type Baro = Absent;
+    type Mag = Absent;
+}
+
+impl InsVehicle<27> for Sdins20DvlCal {
+    const REPLAY_NAME: &'static str = "sdins20-dvl-cal";
+    const DESCRIPTION: &'static str =
+        "sdins20 with the DVL's lever arm, misalignment and scale as states (27), estimated per meta.toml [sensors.dvl] estimate";
+    const DVL_SENSOR: &'static str = "DvlCalibrated";
+    type Depth = Sdins20DvlCalDepth;
+    type Dvl = Sdins20DvlCalDvlCalibrated;
+    type Compass = Sdins20DvlCalCompass;
+    type CompassSmallAngle = Sdins20DvlCalCompassSmallAngle;
     type Usbl = Absent;
     type Gnss = Absent;
     type Baro = Absent;
@@ -239,6 +261,35 @@ mod tests {
             );
             assert!(sensors < sensor_bound, "dt {dt}: sensor errors {sensors}");
         }
+    }
+
+    /// `sdins20-dvl-cal` fits the navigator, and its DVL mounting states
+    /// are the ones the nominal solution does not keep (total states in the
+    /// filter, docs/calibration.md); everything else is `sdins20`'s.
+    #[test]
+    fn the_calibrated_dvl_vehicle_keeps_its_mounting_states_in_the_filter() {
+        let layout =
+            crate::sdins25::vehicle::Layout::of::<Sdins20DvlCal, 27>().expect("fits the navigator");
+        let absorbed = layout.absorbed::<27>();
+        let names = <Sdins20DvlCal as Model<27>>::STATE_NAMES;
+        let kept: Vec<&str> = (0..27)
+            .filter(|&i| !absorbed[i])
+            .map(|i| names[i])
+            .collect();
+        assert_eq!(
+            kept,
+            [
+                "dvl_scale",
+                "dvl_misalignment[0]",
+                "dvl_misalignment[1]",
+                "dvl_misalignment[2]",
+                "dvl_lever_arm[0]",
+                "dvl_lever_arm[1]",
+                "dvl_lever_arm[2]",
+            ]
+        );
+        let others: Vec<&str> = (0..27).filter(|&i| absorbed[i]).map(|i| names[i]).collect();
+        assert_eq!(others, <Sdins20 as Model<20>>::STATE_NAMES);
     }
 
     #[test]

@@ -11,6 +11,7 @@
 //! - [`plots`]: the SVG plots of a scored run.
 
 mod aiding;
+pub mod calibration;
 pub mod output;
 mod own_sensors;
 pub mod plots;

@@ -422,6 +422,9 @@ pub(super) fn output_of<V: InsVehicle<N>, const N: usize>(
     if !own.is_empty() {
         out.metrics.insert("own_states".into(), Value::Object(own));
     }
+    if let Some(m) = &run.dvl_mounting {
+        out.metrics.insert("dvl_calibration".into(), m.json());
+    }
     if let Some(o) = &run.observability {
         let (json, unlearned) = observability_json::<V, N>(o, &absorbed);
         out.metrics.insert("observability".into(), json);

@@ -112,6 +112,7 @@ where
     let mut own = OwnSensors::<V, N>::read(source)?;
     let (mut builder, handles) = plan.builder::<V, N>(options);
     own.register(&mut builder, source)?;
+    super::calibration::register(&mut builder, source.meta())?;
     let samples = match source.imu_form()? {
         ImuForm::Rates => RateSamples::Instantaneous,
         ImuForm::Increments => RateSamples::IntervalAverage,
@@ -426,11 +427,12 @@ where
         repairs,
         runtime_s,
         replays,
-        final_filter,
         ignored,
         smoothed: None,
         observability,
         warnings: all_warnings,
+        dvl_mounting: super::calibration::DvlMounting::of(&final_filter, source.meta()),
+        final_filter,
     })
 }
 

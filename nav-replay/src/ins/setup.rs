@@ -237,6 +237,9 @@ pub struct InsRun<V: InsVehicle<N>, const N: usize> {
     pub smoothed: Option<Vec<Option<Estimate>>>,
     /// With [`FilterOptions::observability`]: what the log taught each state.
     pub observability: Option<nav_runtime::smoother::Observability<N>>,
+    /// The DVL mounting at the end of the run, for a vehicle with the DVL
+    /// calibration states (`None` for the others; docs/calibration.md).
+    pub dvl_mounting: Option<super::calibration::DvlMounting>,
 }
 
 impl<V: InsVehicle<N>, const N: usize> InsRun<V, N> {
@@ -275,7 +278,8 @@ pub fn initial_vehicle_filter<V: InsVehicle<N>, const N: usize>(
     log.meta.initial.position_for(V::REPLAY_NAME)?;
     let (facts, _, _) = LogFacts::of(&LogSource::Memory(log), options)?;
     let plan = LogPlan::new(&log.meta, &facts, [0.0; SENSORS], V::INITIAL_SIGMA)?;
-    let (builder, _) = plan.builder::<V, N>(options);
+    let (mut builder, _) = plan.builder::<V, N>(options);
+    super::calibration::register(&mut builder, &log.meta)?;
     builder.initial_filter(&plan.first).map_err(setup_error)
 }
 

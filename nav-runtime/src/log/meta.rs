@@ -153,7 +153,58 @@ pub struct Sensors {
     /// [`AIDING_SENSORS`] order (`None`: neither key given); see
     /// [`Sensors::mounting`].
     pub mountings: [Option<Mounting>; AIDING_SENSORS.len()],
+    /// `[sensors.dvl] estimate`: which DVL mounting values the filter
+    /// estimates, with their prior sigmas (docs/calibration.md).
+    pub dvl_calibration: DvlCalibration,
 }
+
+/// `[sensors.dvl] estimate = [..]` (any subset of [`ESTIMATE_NAMES`]) and
+/// the prior sigmas: each field is the prior sigma of a value the filter
+/// estimates (`None`: not listed, the given value is taken as exact). The
+/// prior means are the section's `lever_arm` and `misalignment` (zero when
+/// absent) and a scale of 1.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct DvlCalibration {
+    /// Per lever-arm component, m (`lever_arm_sigma`, default
+    /// [`LEVER_ARM_SIGMA_DEFAULT`]).
+    pub lever_arm: Option<f64>,
+    /// Per misalignment angle, rad (`misalignment_sigma`, default
+    /// [`MISALIGNMENT_SIGMA_DEFAULT`]).
+    pub misalignment: Option<f64>,
+    /// Of the scale factor, dimensionless (`scale_sigma`, default
+    /// [`SCALE_SIGMA_DEFAULT`]).
+    pub scale: Option<f64>,
+}
+
+impl DvlCalibration {
+    /// Whether anything is estimated.
+    pub fn any(&self) -> bool {
+        self.lever_arm.is_some() || self.misalignment.is_some() || self.scale.is_some()
+    }
+
+    /// The names listed, in [`ESTIMATE_NAMES`] order.
+    pub fn names(&self) -> Vec<&'static str> {
+        [self.lever_arm, self.misalignment, self.scale]
+            .iter()
+            .zip(ESTIMATE_NAMES)
+            .filter(|(s, _)| s.is_some())
+            .map(|(_, n)| n)
+            .collect()
+    }
+}
+
+/// The names `[sensors.dvl] estimate` accepts.
+pub const ESTIMATE_NAMES: [&str; 3] = ["lever_arm", "misalignment", "scale"];
+
+/// Prior sigma of each DVL lever-arm component when `estimate` lists
+/// `lever_arm` without `lever_arm_sigma`, m: an arm taken off a drawing.
+pub const LEVER_ARM_SIGMA_DEFAULT: f64 = 0.5;
+/// Prior sigma of each DVL misalignment angle without
+/// `misalignment_sigma`, rad: 2 deg, a mounting not calibrated.
+pub const MISALIGNMENT_SIGMA_DEFAULT: f64 = 0.034_906_585_039_886_59;
+/// Prior sigma of the DVL scale factor without `scale_sigma`: 2 %, the
+/// sound-speed error of an uncorrected DVL.
+pub const SCALE_SIGMA_DEFAULT: f64 = 0.02;
 
 impl Sensors {
     /// The mounting of aiding sensor `name` (`dvl`, `usbl`, ...), if
@@ -535,7 +586,13 @@ impl Meta {
                 if *name == "usbl" {
                     keys.push("misalignment_sigma");
                 }
+                if *name == "dvl" {
+                    keys.extend(CALIBRATION_KEYS);
+                }
                 cx.check_keys(t, &sec, &keys)?;
+                if *name == "dvl" {
+                    sensors.dvl_calibration = cx.dvl_calibration(t, &sec)?;
+                }
                 if *name == "usbl" {
                     sensors.usbl_misalignment_sigma =
                         cx.opt(t, &sec, "misalignment_sigma", Range::AngleSigma)?;
@@ -674,6 +731,21 @@ impl Meta {
                     let _ = writeln!(s, "lever_arm = {}", v(m.lever_arm));
                     let _ = writeln!(s, "misalignment = {}", v(m.misalignment));
                 }
+                let cal = &sn.dvl_calibration;
+                if name == "dvl" && cal.any() {
+                    let names: Vec<String> =
+                        cal.names().iter().map(|n| format!("\"{n}\"")).collect();
+                    let _ = writeln!(s, "estimate = [{}]", names.join(", "));
+                    for (key, sigma) in CALIBRATION_KEYS[1..].iter().zip([
+                        cal.lever_arm,
+                        cal.misalignment,
+                        cal.scale,
+                    ]) {
+                        if let Some(sigma) = sigma {
+                            let _ = writeln!(s, "{key} = {}", f(sigma));
+                        }
+                    }
+                }
             }
         }
         if let Some(u) = &self.usbl {
@@ -685,6 +757,15 @@ impl Meta {
         s
     }
 }
+
+/// The keys of `[sensors.dvl]` for its mounting calibration: the list,
+/// then the prior sigma of each name of [`ESTIMATE_NAMES`] in its order.
+const CALIBRATION_KEYS: [&str; 4] = [
+    "estimate",
+    "lever_arm_sigma",
+    "misalignment_sigma",
+    "scale_sigma",
+];
 
 /// The top-level sections `meta.toml` is read from.
 const TOP_LEVEL: &[&str] = &["initial", "initial_sigma", "sensors", "usbl", "files"];
@@ -875,6 +956,81 @@ impl Cx<'_> {
             .check(v)
             .map_err(|allowed| self.err(&dotted, format!("value {v} out of range ({allowed})")))?;
         Ok(Some(v))
+    }
+
+    /// `[sensors.dvl] estimate` and the prior sigmas of the names it lists:
+    /// an unknown, repeated or non-string name, and a sigma for a name not
+    /// listed, are errors naming the key.
+    fn dvl_calibration(&self, t: &toml::Table, sec: &str) -> Result<DvlCalibration, LogError> {
+        let key = join(sec, "estimate");
+        let accepted = ESTIMATE_NAMES.join(", ");
+        let mut listed = [false; 3];
+        match t.get("estimate") {
+            None => {}
+            Some(toml::Value::Array(items)) => {
+                for item in items {
+                    let toml::Value::String(name) = item else {
+                        return Err(self.err(
+                            &key,
+                            format!(
+                                "expected an array of names (strings) out of {accepted}, found an item of type {}",
+                                item.type_str()
+                            ),
+                        ));
+                    };
+                    let Some(i) = ESTIMATE_NAMES.iter().position(|n| n == name) else {
+                        let problem = if name == "time_offset" {
+                            format!("`time_offset` is not estimated by this version; accepted: {accepted}")
+                        } else {
+                            format!(
+                                "unknown name `{name}`; accepted: {accepted}{}",
+                                crate::suggestion::did_you_mean(name, &ESTIMATE_NAMES)
+                            )
+                        };
+                        return Err(self.err(&key, problem));
+                    };
+                    if listed[i] {
+                        return Err(self.err(&key, format!("`{name}` is listed twice")));
+                    }
+                    listed[i] = true;
+                }
+            }
+            Some(other) => {
+                return Err(self.err(
+                    &key,
+                    format!(
+                        "expected an array of names out of {accepted} (e.g. estimate = [\"lever_arm\"]), found {}",
+                        other.type_str()
+                    ),
+                ))
+            }
+        }
+        let ranges = [Range::Noise, Range::AngleNoise, Range::Noise];
+        let defaults = [
+            LEVER_ARM_SIGMA_DEFAULT,
+            MISALIGNMENT_SIGMA_DEFAULT,
+            SCALE_SIGMA_DEFAULT,
+        ];
+        let mut sigma = [None; 3];
+        for i in 0..3 {
+            let sigma_key = CALIBRATION_KEYS[i + 1];
+            let given = self.opt(t, sec, sigma_key, ranges[i])?;
+            if given.is_some() && !listed[i] {
+                return Err(self.err(
+                    &join(sec, sigma_key),
+                    format!(
+                        "a prior sigma for `{}`, which `estimate` does not list (add it there, or drop this key)",
+                        ESTIMATE_NAMES[i]
+                    ),
+                ));
+            }
+            sigma[i] = listed[i].then(|| given.unwrap_or(defaults[i]));
+        }
+        Ok(DvlCalibration {
+            lever_arm: sigma[0],
+            misalignment: sigma[1],
+            scale: sigma[2],
+        })
     }
 
     /// An optional array of three numbers, each in `range`.

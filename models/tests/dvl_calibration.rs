@@ -1,0 +1,296 @@
+//! The DVL's mounting estimated as filter states (docs/calibration.md): a
+//! simulated survey with turns whose DVL sits at a known lever arm, with a
+//! known misalignment and scale, replayed with `[sensors.dvl] estimate`.
+
+use models::sdins25::simulation::{simulate, trajectory, SimConfig};
+use models::vehicles::sdins::{Sdins20, Sdins20DvlCal};
+use nav_replay::ins::calibration::DvlMounting;
+use nav_replay::ins::setup::{run_vehicle, FilterOptions, InsRun};
+use nav_runtime::earth::{meridian_radius, transverse_radius};
+use nav_runtime::log::{DvlRow, LogDir, Meta, SensorNoise};
+use nav_runtime::nalgebra::{Rotation3, Vector3};
+use nav_runtime::sensors::normal;
+use nav_runtime::trajectory::TruthSource;
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+/// True DVL position from the IMU, body axes, m.
+const LEVER_ARM: [f64; 3] = [1.0, 0.3, 0.5];
+/// True misalignment of the DVL axes from the body axes, deg.
+const MISALIGNMENT_DEG: [f64; 3] = [0.5, -0.3, 1.0];
+/// True scale factor.
+const SCALE: f64 = 1.01;
+/// DVL noise per axis, m/s (a current 600 kHz DVL at 1.5 m/s).
+const DVL_NOISE: f64 = 0.02;
+
+/// The SDINS-25 lawn-mower survey (eight 90 deg turns at up to 6 deg/s,
+/// four 5 m depth changes; DVL, depth meter, compass) with its DVL rows
+/// replaced by those of a DVL mounted as above, without bias.
+fn mounted_log(seed: u64) -> LogDir {
+    let config = SimConfig::dvl();
+    let mut log = simulate(&config, seed).log;
+    let truth = trajectory(config.start_depth, config.duration);
+    let misalignment = Vector3::from(MISALIGNMENT_DEG.map(f64::to_radians));
+    // Components in DVL axes of a body vector: the DVL axes are the body
+    // axes turned by `misalignment`.
+    let to_dvl = Rotation3::new(misalignment).inverse();
+    let arm = Vector3::from(LEVER_ARM);
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0xD71);
+    let rows = log.dvl.as_mut().expect("the survey has a DVL");
+    for row in rows.iter_mut() {
+        let s = truth.truth(row.t);
+        let v = (to_dvl * (s.v_body() + s.w_nb_b.cross(&arm))) * SCALE;
+        let v = v + Vector3::from_fn(|_, _| normal(&mut rng, DVL_NOISE));
+        *row = DvlRow::new(row.t, Some(v.x), Some(v.y), Some(v.z));
+    }
+    log.meta.sensors.dvl = Some(SensorNoise {
+        bias_sigma: 0.01,
+        noise_sigma: DVL_NOISE,
+    });
+    log
+}
+
+/// The log with `estimate` (and a lever-arm prior of 1 m: the given arm is
+/// zero, 1 m off in x) in `[sensors.dvl]`, through `meta.toml` text.
+fn with_estimate(log: &LogDir, estimate: &str) -> LogDir {
+    let mut log = log.clone();
+    let mut text = log.meta.to_toml();
+    if !estimate.is_empty() {
+        let at = text.find("[sensors.dvl]\n").expect("a dvl section") + "[sensors.dvl]\n".len();
+        let mut keys = format!("estimate = [{estimate}]\n");
+        if estimate.contains("lever_arm") {
+            keys.push_str("lever_arm_sigma = 1.0\n");
+        }
+        text.insert_str(at, &keys);
+    }
+    log.meta = Meta::parse(&text).expect("meta.toml");
+    log
+}
+
+struct Outcome {
+    mounting: Option<DvlMounting>,
+    /// RMS and final horizontal position error, m.
+    rms: f64,
+    last: f64,
+    /// DVL rows accepted of all.
+    dvl: (u64, u64),
+}
+
+fn score<const N: usize, V: nav_ins::InsVehicle<N>>(log: &LogDir) -> Outcome {
+    let truth = log.truth.as_ref().expect("truth.csv");
+    let times: Vec<f64> = truth.iter().map(|r| r.t).collect();
+    let run: InsRun<V, N> =
+        run_vehicle::<V, N>(log, &FilterOptions::default(), &times).expect("replay");
+    let errors: Vec<f64> = truth
+        .iter()
+        .zip(&run.estimates)
+        .filter_map(|(r, e)| {
+            let e = e.as_ref()?;
+            let north = (e.nav.lat - r.lat) * meridian_radius(r.lat);
+            let east = (e.nav.lon - r.lon) * transverse_radius(r.lat) * r.lat.cos();
+            Some(north.hypot(east))
+        })
+        .collect();
+    let rms = (errors.iter().map(|e| e * e).sum::<f64>() / errors.len() as f64).sqrt();
+    let dvl = run
+        .health
+        .iter()
+        .find(|(n, _)| *n == "dvl")
+        .map_or((0, 0), |(_, h)| (h.accepted, h.rows));
+    Outcome {
+        mounting: run.dvl_mounting,
+        rms,
+        last: *errors.last().expect("estimates"),
+        dvl,
+    }
+}
+
+/// Each listed value ends within 4 sigma of the truth with a sigma below
+/// its prior; the values not listed stay at the given ones; the horizontal
+/// error is smaller than without estimation on the same log.
+#[test]
+fn dvl_mounting_converges_on_a_survey_with_turns() {
+    let log = mounted_log(7);
+    let fixed = score::<27, Sdins20DvlCal>(&with_estimate(&log, ""));
+    let plain = score::<20, Sdins20>(&log);
+    eprintln!(
+        "without estimation: horizontal error RMS {:.2} m, final {:.2} m, DVL rows {}/{} (sdins20: {:.2} m, {:.2} m, {}/{})",
+        fixed.rms, fixed.last, fixed.dvl.0, fixed.dvl.1, plain.rms, plain.last, plain.dvl.0, plain.dvl.1
+    );
+    // Nothing listed: the calibrated vehicle is sdins20 with the given values.
+    assert!(
+        (fixed.rms - plain.rms).abs() < 1e-3 * plain.rms,
+        "{} {}",
+        fixed.rms,
+        plain.rms
+    );
+    let truth_angles = MISALIGNMENT_DEG.map(f64::to_radians);
+    // (estimate, lever arm, misalignment, scale estimated)
+    let cases = [
+        (
+            "\"lever_arm\", \"misalignment\", \"scale\"",
+            true,
+            true,
+            true,
+        ),
+        ("\"lever_arm\"", true, false, false),
+    ];
+    for (estimate, arm, angles, scale) in cases {
+        let out = score::<27, Sdins20DvlCal>(&with_estimate(&log, estimate));
+        let m = out
+            .mounting
+            .expect("the calibrated vehicle reports its mounting");
+        eprintln!(
+            "estimate [{estimate}]: horizontal error RMS {:.2} m, final {:.2} m, DVL rows {}/{}",
+            out.rms, out.last, out.dvl.0, out.dvl.1
+        );
+        let check = |what: &str, listed: bool, c: &[(f64, f64, f64)], prior: f64| {
+            for (k, (value, sigma, truth)) in c.iter().enumerate() {
+                eprintln!("  {what}[{k}]: {value:.4} +- {sigma:.4} (truth {truth:.4}, prior sigma {prior:.4})");
+                if listed {
+                    assert!(
+                        (value - truth).abs() < 4.0 * sigma,
+                        "{estimate}: {what}[{k}]"
+                    );
+                    assert!(*sigma < prior, "{estimate}: {what}[{k}] sigma");
+                }
+            }
+        };
+        let zip3 = |c: &nav_replay::ins::calibration::Calibrated<3>,
+                    t: [f64; 3]|
+         -> Vec<(f64, f64, f64)> {
+            (0..3).map(|k| (c.value[k], c.sigma[k], t[k])).collect()
+        };
+        check(
+            "lever_arm",
+            arm,
+            &zip3(&m.lever_arm, LEVER_ARM),
+            m.lever_arm.prior_sigma,
+        );
+        check(
+            "misalignment",
+            angles,
+            &zip3(&m.misalignment, truth_angles),
+            m.misalignment.prior_sigma,
+        );
+        check(
+            "scale",
+            scale,
+            &[(m.scale.value[0], m.scale.sigma[0], SCALE)],
+            m.scale.prior_sigma,
+        );
+        assert_eq!(m.lever_arm.estimated, arm);
+        if !angles {
+            // Not listed: zero prior sigma (floored at 1e-9), so the value
+            // stays the given one.
+            let moved = m
+                .misalignment
+                .value
+                .iter()
+                .map(|v| v.abs())
+                .fold(0.0, f64::max);
+            assert!(moved < 1e-12, "misalignment moved by {moved}");
+            assert!(
+                (m.scale.value[0] - 1.0).abs() < 1e-12,
+                "scale {}",
+                m.scale.value[0]
+            );
+        }
+        assert!(
+            out.rms < fixed.rms,
+            "{estimate}: {} vs {}",
+            out.rms,
+            fixed.rms
+        );
+        // The replay JSON of the registered vehicle gives the same values.
+        let model = models::registry::find_replay_model("sdins20-dvl-cal").expect("registered");
+        let json = model
+            .replay(&with_estimate(&log, estimate), &Default::default())
+            .expect("replay")
+            .metrics;
+        let c = &json["dvl_calibration"];
+        assert_eq!(c["lever_arm_m"]["estimated"], true, "{c}");
+        assert_eq!(c["scale"]["estimated"], scale, "{c}");
+        let x = c["lever_arm_m"]["value"][0]
+            .as_f64()
+            .expect("lever_arm_m.value");
+        assert!((x - m.lever_arm.value[0]).abs() < 1e-9, "{x} {c}");
+        let yaw = c["misalignment_deg"]["value"][2].as_f64().expect("degrees");
+        assert!(
+            (yaw - m.misalignment.value[2].to_degrees()).abs() < 1e-9,
+            "{yaw} {c}"
+        );
+    }
+}
+
+/// `estimate` on a vehicle without the calibration states is refused.
+#[test]
+fn estimate_on_a_vehicle_without_calibration_states_is_an_error() {
+    let log = with_estimate(&mounted_log(8), "\"scale\"");
+    let Err(e) = run_vehicle::<Sdins20, 20>(&log, &FilterOptions::default(), &[]) else {
+        panic!("sdins20 cannot estimate the DVL scale");
+    };
+    let e = e.to_string();
+    assert!(
+        e.contains("sensors.dvl.estimate") && e.contains("sdins20"),
+        "{e}"
+    );
+}
+
+/// The log up to `end` s.
+fn until(log: &LogDir, end: f64) -> LogDir {
+    let mut log = log.clone();
+    log.imu.retain(|r| r.t <= end);
+    for rows in [&mut log.dvl].into_iter().flatten() {
+        rows.retain(|r| r.t <= end);
+    }
+    for rows in [&mut log.depth].into_iter().flatten() {
+        rows.retain(|r| r.t <= end);
+    }
+    for rows in [&mut log.heading].into_iter().flatten() {
+        rows.retain(|r| r.t <= end);
+    }
+    for rows in [&mut log.altitude].into_iter().flatten() {
+        rows.retain(|r| r.t <= end);
+    }
+    for rows in [&mut log.truth].into_iter().flatten() {
+        rows.retain(|r| r.t <= end);
+    }
+    log
+}
+
+/// What the trajectory makes observable (docs/calibration.md): on the
+/// straight first leg (95 s, before the first turn; one 5 m dive) the
+/// lateral lever arm `r_y` is not learned (no yaw or roll rate), while the
+/// survey with its turns learns it to centimetres.
+#[test]
+fn the_lateral_lever_arm_needs_turning() {
+    let log = with_estimate(
+        &mounted_log(7),
+        "\"lever_arm\", \"misalignment\", \"scale\"",
+    );
+    let straight = score::<27, Sdins20DvlCal>(&until(&log, 95.0))
+        .mounting
+        .expect("mounting");
+    let survey = score::<27, Sdins20DvlCal>(&log).mounting.expect("mounting");
+    let (s, t) = (straight.lever_arm, survey.lever_arm);
+    eprintln!(
+        "lever arm sigma, straight leg: {:.3?} m; survey with turns: {:.3?} m (prior {} m); \
+         misalignment sigma (deg), straight: {:.2?}, survey: {:.2?}",
+        s.sigma,
+        t.sigma,
+        s.prior_sigma,
+        straight.misalignment.sigma.map(f64::to_degrees),
+        survey.misalignment.sigma.map(f64::to_degrees),
+    );
+    assert!(
+        s.sigma[1] > 0.5 * s.prior_sigma,
+        "straight: r_y learned {:?}",
+        s.sigma
+    );
+    assert!(
+        t.sigma[1] < 0.05 * t.prior_sigma,
+        "survey: r_y not learned {:?}",
+        t.sigma
+    );
+}

@@ -1,0 +1,180 @@
+//! The DVL's mounting calibration states (docs/calibration.md): the
+//! `[sensors.dvl] estimate` of a log's `meta.toml` sets the prior sigma of
+//! each of the `DvlCalibrated` block's states (the listed ones from the
+//! log, the others zero: fixed at the given value), and the run's final
+//! estimate is read back as calibrated values with sigmas.
+//!
+//! One vehicle serves every subset of `estimate`: its state vector is fixed
+//! when it is compiled, and a state with a zero prior sigma gets no gain, so
+//! it stays at its prior (the given value) exactly.
+
+use nav_ins::{Builder, InsFilter, InsVehicle};
+use nav_runtime::log::{DvlCalibration, Meta};
+
+use crate::RunError;
+
+/// The calibration states of the `DvlCalibrated` block, in the order of
+/// [`nav_runtime::log::ESTIMATE_NAMES`]: (state, scalars).
+const STATES: [(&str, usize); 3] = [
+    ("dvl_lever_arm", 3),
+    ("dvl_misalignment", 3),
+    ("dvl_scale", 1),
+];
+
+/// Whether vehicle `V` carries the DVL calibration states.
+pub fn can_calibrate<V: InsVehicle<N>, const N: usize>() -> bool {
+    STATES.iter().all(|(name, len)| {
+        let first = if *len == 1 {
+            (*name).to_string()
+        } else {
+            format!("{name}[0]")
+        };
+        V::STATE_NAMES.contains(&first.as_str())
+    })
+}
+
+/// Sets the prior sigmas of `V`'s calibration states from `meta`.
+///
+/// # Errors
+/// [`RunError::Invalid`] naming the key when `estimate` lists something and
+/// `V` has no calibration states; the builder's setup errors.
+pub(super) fn register<V: InsVehicle<N>, const N: usize>(
+    builder: &mut Builder<V, N>,
+    meta: &Meta,
+) -> Result<(), RunError> {
+    let cal = &meta.sensors.dvl_calibration;
+    if !can_calibrate::<V, N>() {
+        if cal.any() {
+            return Err(RunError::Invalid(format!(
+                "meta.toml: sensors.dvl.estimate = {:?}: vehicle {} cannot estimate the DVL's mounting \
+                 (its DVL block has no calibration states); replay with a vehicle whose DVL is the \
+                 `DvlCalibrated` block (sdins20-dvl-cal), or drop the key",
+                cal.names(),
+                V::REPLAY_NAME
+            )));
+        }
+        return Ok(());
+    }
+    for ((name, _), sigma) in STATES.iter().zip(sigmas(cal)) {
+        builder.state_sigma(name, sigma)?;
+    }
+    Ok(())
+}
+
+/// Prior sigma of each state of [`STATES`]: the log's, zero when not listed.
+fn sigmas(cal: &DvlCalibration) -> [f64; 3] {
+    [cal.lever_arm, cal.misalignment, cal.scale].map(|s| s.unwrap_or(0.0))
+}
+
+/// One calibrated value: the estimate and its sigma, per component.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Calibrated<const K: usize> {
+    /// Whether `estimate` lists it (else it is the given value, sigma 0).
+    pub estimated: bool,
+    /// Estimate: the given value plus the state.
+    pub value: [f64; K],
+    /// Its sigma (the state's).
+    pub sigma: [f64; K],
+    /// Prior sigma.
+    pub prior_sigma: f64,
+}
+
+/// The DVL mounting at the end of a run of a vehicle with calibration
+/// states.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DvlMounting {
+    /// Lever arm, body axes (FRD) relative to the IMU, m.
+    pub lever_arm: Calibrated<3>,
+    /// Misalignment: small rotation of the DVL axes from the body axes
+    /// beyond the log's given `misalignment`, rad.
+    pub misalignment: Calibrated<3>,
+    /// Scale factor (the DVL reads this many times the speed).
+    pub scale: Calibrated<1>,
+}
+
+impl DvlMounting {
+    /// The mounting in `filter` (of a vehicle that has the states; `None`
+    /// otherwise), with the given values of `meta`.
+    pub fn of<V: InsVehicle<N>, const N: usize>(
+        filter: &InsFilter<V, N>,
+        meta: &Meta,
+    ) -> Option<Self> {
+        if !can_calibrate::<V, N>() {
+            return None;
+        }
+        let x = filter.ekf().state();
+        let p = filter.covariance();
+        let at = |name: &str| V::STATE_NAMES.iter().position(|n| *n == name);
+        let given = meta
+            .sensors
+            .mounting("dvl")
+            .map_or([0.0; 3], |m| m.lever_arm);
+        let cal = &meta.sensors.dvl_calibration;
+        let [arm_prior, angle_prior, scale_prior] = sigmas(cal);
+        fn read<const K: usize>(
+            first: Option<usize>,
+            base: [f64; K],
+            x: &[f64],
+            sigma: impl Fn(usize) -> f64,
+            estimated: bool,
+            prior_sigma: f64,
+        ) -> Calibrated<K> {
+            let i = first.unwrap_or(0);
+            Calibrated {
+                estimated,
+                value: core::array::from_fn(|k| base[k] + x[i + k]),
+                sigma: core::array::from_fn(|k| if estimated { sigma(i + k) } else { 0.0 }),
+                prior_sigma,
+            }
+        }
+        let sigma = |i: usize| p[(i, i)].max(0.0).sqrt();
+        let x = x.as_slice();
+        Some(Self {
+            lever_arm: read(
+                at("dvl_lever_arm[0]"),
+                given,
+                x,
+                sigma,
+                cal.lever_arm.is_some(),
+                arm_prior,
+            ),
+            misalignment: read(
+                at("dvl_misalignment[0]"),
+                [0.0; 3],
+                x,
+                sigma,
+                cal.misalignment.is_some(),
+                angle_prior,
+            ),
+            scale: read(
+                at("dvl_scale"),
+                [1.0],
+                x,
+                sigma,
+                cal.scale.is_some(),
+                scale_prior,
+            ),
+        })
+    }
+
+    /// The replay JSON's `dvl_calibration` (docs/cli-and-json.md): per
+    /// value whether it was estimated, the estimate, its sigma and the
+    /// prior sigma; angles in degrees.
+    pub fn json(&self) -> serde_json::Value {
+        fn entry<const K: usize>(c: &Calibrated<K>, unit: f64) -> serde_json::Value {
+            let v: Vec<f64> = c.value.iter().map(|v| v * unit).collect();
+            let s: Vec<f64> = c.sigma.iter().map(|v| v * unit).collect();
+            serde_json::json!({
+                "estimated": c.estimated,
+                "value": if K == 1 { serde_json::json!(v[0]) } else { serde_json::json!(v) },
+                "sigma": if K == 1 { serde_json::json!(s[0]) } else { serde_json::json!(s) },
+                "prior_sigma": c.prior_sigma * unit,
+            })
+        }
+        serde_json::json!({
+            "lever_arm_m": entry(&self.lever_arm, 1.0),
+            "misalignment_deg": entry(&self.misalignment, 180.0 / core::f64::consts::PI),
+            "scale": entry(&self.scale, 1.0),
+        })
+    }
+}
