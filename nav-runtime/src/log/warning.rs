@@ -35,6 +35,10 @@ pub enum WarningKind {
     /// glitches: `1e300`, `inf`); the warning gives their count and the
     /// first one's line.
     RejectedReading,
+    /// The filter recovered from a lock-out into divergence: a sensor's
+    /// readings were refused for longer than its horizon while plausible and
+    /// agreeing with one another (`nav_runtime::recovery`).
+    LockoutRecovery,
 }
 
 impl WarningKind {
@@ -53,6 +57,7 @@ impl WarningKind {
             WarningKind::PartialScoring => "partial_scoring",
             WarningKind::Model => "model",
             WarningKind::RejectedReading => "rejected_reading",
+            WarningKind::LockoutRecovery => "lockout_recovery",
         }
     }
 }

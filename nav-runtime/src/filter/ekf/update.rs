@@ -179,6 +179,7 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
             innovation: nu,
             innovation_covariance: s,
             repairs: 0,
+            recovered: None,
         };
         if !report.accepted {
             return Ok(report);
@@ -287,6 +288,7 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
             innovation: nu,
             innovation_covariance: s_full,
             repairs: 0,
+            recovered: None,
         };
         if !report.accepted {
             return Ok(report);

@@ -42,6 +42,9 @@ pub struct MeasurementOutcome {
     pub threshold: Option<f64>,
     /// Measurement dimension (degrees of freedom of the NIS).
     pub dof: usize,
+    /// `Some(s)`: the filter recovered after this refused reading, which
+    /// ended a run of refusals `s` seconds long ([`crate::recovery`]).
+    pub recovered: Option<f64>,
 }
 
 impl<const M: usize> From<&UpdateReport<M>> for MeasurementOutcome {
@@ -51,6 +54,7 @@ impl<const M: usize> From<&UpdateReport<M>> for MeasurementOutcome {
             nis: r.nis,
             threshold: r.threshold,
             dof: M,
+            recovered: r.recovered,
         }
     }
 }
