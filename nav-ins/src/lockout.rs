@@ -69,7 +69,11 @@ pub struct RecoveryRules {
     pub depth: RecoveryRule,
     /// DVL (reading: body velocity, m/s): 5 s and 3 readings; plausible up to
     /// 5 m/s in magnitude (a survey AUV cruises at 1.5-2 m/s); each axis
-    /// changes by at most 2 m/s per s.
+    /// changes by at most 2 m/s per s. A recovery also scales the velocity
+    /// and tilt errors (eq. R1; [`configure`] names them): a velocity error
+    /// the DVL cannot explain comes from a tilt error, which only the
+    /// velocity's growth over the next readings shows. Not the heading
+    /// error: without a compass nothing would hold it.
     pub dvl: RecoveryRule,
     /// Compass (reading: heading, rad): 5 s and 3 readings; any heading is
     /// plausible; the heading changes by at most 0.5 rad/s (29 deg/s).
@@ -89,6 +93,7 @@ impl Default for RecoveryRules {
                 min_refusals: u32::MAX,
                 reading_bound: 0.0,
                 rate_bound: 0.0,
+                scaled_states: 0,
             })
         };
         Self {
@@ -127,9 +132,23 @@ pub fn configure<V: InsVehicle<N>, const N: usize>(
         }
     }
     if let Some(r) = o.recovery {
+        let dvl_states = [
+            "velocity_error[0]",
+            "velocity_error[1]",
+            "velocity_error[2]",
+            "attitude_error[0]",
+            "attitude_error[1]",
+        ]
+        .iter()
+        .filter_map(|name| V::STATE_NAMES.iter().position(|s| s == name))
+        .filter(|&j| j < 64)
+        .fold(0u64, |mask, j| mask | (1u64 << j));
         let rules = [
             (<V::Depth as Slot<V, N, 1>>::NAME, r.depth),
-            (<V::Dvl as Slot<V, N, 3>>::NAME, r.dvl),
+            (
+                <V::Dvl as Slot<V, N, 3>>::NAME,
+                r.dvl.with_scaled_states(dvl_states),
+            ),
             (<V::Compass as Slot<V, N, 1>>::NAME, r.heading),
             (<V::CompassSmallAngle as Slot<V, N, 1>>::NAME, r.heading),
             (<V::Usbl as Slot<V, N, 2>>::NAME, r.usbl),

@@ -78,6 +78,10 @@ pub struct RecoveryRule {
     /// Largest change of each reading component per second that the vehicle
     /// can produce (reading units per s).
     pub rate_bound: f64,
+    /// States whose covariance a recovery scales (bit `j` = state `j`;
+    /// states beyond 63 cannot be named): eq. R1 of docs/lockout.md scales
+    /// those the sensor observes by `sqrt(NIS / M)`. 0: only eq. R2.
+    pub scaled_states: u64,
 }
 
 impl RecoveryRule {
@@ -114,7 +118,16 @@ impl RecoveryRule {
             min_refusals,
             reading_bound,
             rate_bound,
+            scaled_states: 0,
         })
+    }
+
+    /// The same rule scaling the states of mask `states` on a recovery
+    /// (see [`RecoveryRule::scaled_states`]).
+    #[must_use]
+    pub fn with_scaled_states(mut self, states: u64) -> Self {
+        self.scaled_states = states;
+        self
     }
 }
 
@@ -400,20 +413,20 @@ mod tests {
             what: "a step beyond the rate bound is a sensor fault: never recovers",
             steps: &[
                 (0.0, 1.0, true),
-                (1.0, 7.0, false),
-                (2.0, 7.0, false),
-                (3.0, 7.0, false),
-                (4.0, 7.0, false),
-                (5.0, 7.0, false),
-                (6.0, 7.0, false),
-                (7.0, 7.0, false),
-                (8.0, 7.0, false),
-                (9.0, 7.0, false),
-                (10.0, 7.0, false),
+                (1.0, 4.8, false),
+                (2.0, 4.8, false),
+                (3.0, 4.8, false),
+                (4.0, 4.8, false),
+                (5.0, 4.8, false),
+                (6.0, 4.8, false),
+                (7.0, 4.8, false),
+                (8.0, 4.8, false),
+                (9.0, 4.8, false),
+                (10.0, 4.8, false),
             ],
             // Latched after the third miss; once the allowance has grown to
-            // the step (t = 6 s) its readings join the chain, but never recover.
-            expected: &[A, X, X, X, X, X, F, F, F, F, F],
+            // the step (t = 4 s) its readings join the chain, but never recover.
+            expected: &[A, X, X, X, F, F, F, F, F, F, F],
         },
         Case {
             what: "an implausible reading (beyond the bound) is a miss",
@@ -441,17 +454,17 @@ mod tests {
             what: "a fault run is cleared by an accepted reading",
             steps: &[
                 (0.0, 1.0, true),
-                (1.0, 7.0, false),
-                (2.0, 7.0, false),
-                (3.0, 7.0, false),
-                (4.0, 7.0, false),
+                (1.0, 4.8, false),
+                (2.0, 4.8, false),
+                (3.0, 4.8, false),
+                (4.0, 4.8, false),
                 (5.0, 1.0, true),
                 (6.0, 1.1, false),
                 (7.0, 1.2, false),
                 (8.0, 1.3, false),
                 (9.0, 1.4, false),
             ],
-            expected: &[A, X, X, X, X, A, W, W, W, R3],
+            expected: &[A, X, X, X, F, A, W, W, W, R3],
         },
         Case {
             what: "a run restarts after a recovery",
