@@ -295,7 +295,7 @@ impl Recovery {
             };
             return Judgement::Anchored;
         }
-        let norm = reading.iter().map(|v| v * v).sum::<f64>().sqrt();
+        let norm = libm::sqrt(reading.iter().map(|v| v * v).sum::<f64>());
         let agrees = match chain.last {
             None => true,
             Some((last, at)) => {

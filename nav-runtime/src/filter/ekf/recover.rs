@@ -60,7 +60,7 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
         let mut scaled = self.p;
         if mask != 0 {
             let h = S::jacobian(&self.x, &self.input, &self.params, aux);
-            let k = T::of((report.nis / M as f64).max(1.0).sqrt());
+            let k = T::of(libm::sqrt((report.nis / M as f64).max(1.0)));
             let mut scale = [T::one(); N];
             for (j, s) in scale.iter_mut().enumerate() {
                 let in_mask = j < 64 && mask & (1u64 << j) != 0;
