@@ -25,6 +25,7 @@ mod measurement;
 #[allow(clippy::module_inception)]
 mod navigator;
 mod nominal;
+mod recovery;
 mod sensor;
 mod settings;
 pub mod vehicle;
@@ -41,6 +42,7 @@ pub use navigator::{
     Builder, DeclaredHandle, Navigator, NavigatorError, SensorReport, Ticket, SENSORS, SENSOR_NAMES,
 };
 pub use nominal::{Estimate, ImuSample, InsFilter, InsNominal, ESTIMATE_SCALARS};
+pub use recovery::Recovery;
 pub use sensor::{
     BaroReading, DepthReading, DvlReading, GnssFix, Handle, HeadingReading, MagReading, Reading,
     UsblFix,

@@ -9,9 +9,16 @@
 //! (depth 1.5 m, compass 10 deg) and far below the gross faults they must
 //! stop (a 100 m depth step, a 180 deg compass flip, a DVL reading 30 m/s, a
 //! USBL fix 10 km off).
+//!
+//! Those bounds are on the innovation, so they also keep a filter that has
+//! diverged (its error seen through the sensor beyond the bound) locked out
+//! for good. The recovery rule of each sensor ([`nav_runtime::recovery`],
+//! [`RecoveryRules`]) judges the sensor's *readings* instead and recovers
+//! such a filter.
 
 use nav_runtime::ekf::{Ekf, SetupError};
 use nav_runtime::lockout::LockoutRelease;
+use nav_runtime::recovery::RecoveryRule;
 
 use super::vehicle::{InsVehicle, Slot};
 
@@ -32,6 +39,8 @@ pub struct LockoutOptions {
     /// 14 times the Trackpoint II noise plus bias (18 m each) and 100 times
     /// the aided INS's drift over the 500 s survey.
     pub usbl_m: f64,
+    /// Recovery from a lock-out into divergence (`None`: never).
+    pub recovery: Option<RecoveryRules>,
 }
 
 impl Default for LockoutOptions {
@@ -42,6 +51,56 @@ impl Default for LockoutOptions {
             dvl_m_s: 3.0,
             heading_rad: core::f64::consts::FRAC_PI_4,
             usbl_m: 500.0,
+            recovery: Some(RecoveryRules::default()),
+        }
+    }
+}
+
+/// The recovery rule of each aiding sensor ([`nav_runtime::recovery`];
+/// docs/lockout.md, "Recovery"): how long its readings must be refused
+/// while plausible and agreeing with one another before the filter is
+/// taken to be wrong, how large a plausible reading is, and how fast the
+/// vehicle can change it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RecoveryRules {
+    /// Depth meter (reading: depth, m): 5 s and 3 readings; plausible
+    /// within 11 000 m (the deepest ocean); the depth changes by at most
+    /// 3 m/s (an AUV dives at well under 1 m/s).
+    pub depth: RecoveryRule,
+    /// DVL (reading: body velocity, m/s): 5 s and 3 readings; plausible up to
+    /// 5 m/s in magnitude (a survey AUV cruises at 1.5-2 m/s); each axis
+    /// changes by at most 2 m/s per s. A recovery also scales the velocity
+    /// and tilt errors (eq. R1; [`configure`] names them): a velocity error
+    /// the DVL cannot explain comes from a tilt error, which only the
+    /// velocity's growth over the next readings shows. Not the heading
+    /// error: without a compass nothing would hold it.
+    pub dvl: RecoveryRule,
+    /// Compass (reading: heading, rad): 5 s and 3 readings; any heading is
+    /// plausible; the heading changes by at most 0.5 rad/s (29 deg/s).
+    pub heading: RecoveryRule,
+    /// USBL (reading: fix north and east of the transducer, m): 30 s and 3
+    /// fixes; any position is plausible; each axis changes by at most 5 m/s.
+    pub usbl: RecoveryRule,
+}
+
+impl Default for RecoveryRules {
+    fn default() -> Self {
+        // Every value below is valid (tested), so the fallback, a rule that
+        // never recovers in practice, is not reached.
+        let rule = |horizon_s, refusals, bound, rate| {
+            RecoveryRule::new(horizon_s, refusals, bound, rate).unwrap_or(RecoveryRule {
+                horizon_s: f64::MAX,
+                min_refusals: u32::MAX,
+                reading_bound: 0.0,
+                rate_bound: 0.0,
+                scaled_states: 0,
+            })
+        };
+        Self {
+            depth: rule(5.0, 3, 11_000.0, 3.0),
+            dvl: rule(5.0, 3, 5.0, 2.0),
+            heading: rule(5.0, 3, f64::INFINITY, 0.5),
+            usbl: rule(30.0, 3, f64::INFINITY, 5.0),
         }
     }
 }
@@ -72,5 +131,53 @@ pub fn configure<V: InsVehicle<N>, const N: usize>(
             ekf.set_lockout_bound(name, bound)?;
         }
     }
+    if let Some(r) = o.recovery {
+        let dvl_states = [
+            "velocity_error[0]",
+            "velocity_error[1]",
+            "velocity_error[2]",
+            "attitude_error[0]",
+            "attitude_error[1]",
+        ]
+        .iter()
+        .filter_map(|name| V::STATE_NAMES.iter().position(|s| s == name))
+        .filter(|&j| j < 64)
+        .fold(0u64, |mask, j| mask | (1u64 << j));
+        let rules = [
+            (<V::Depth as Slot<V, N, 1>>::NAME, r.depth),
+            (
+                <V::Dvl as Slot<V, N, 3>>::NAME,
+                r.dvl.with_scaled_states(dvl_states),
+            ),
+            (<V::Compass as Slot<V, N, 1>>::NAME, r.heading),
+            (<V::CompassSmallAngle as Slot<V, N, 1>>::NAME, r.heading),
+            (<V::Usbl as Slot<V, N, 2>>::NAME, r.usbl),
+        ];
+        for (name, rule) in rules {
+            if !name.is_empty() {
+                ekf.set_recovery_rule(name, Some(rule))?;
+            }
+        }
+    }
     Ok(ekf)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_recovery_rules_are_valid() {
+        let r = RecoveryRules::default();
+        for rule in [r.depth, r.dvl, r.heading, r.usbl] {
+            let again = RecoveryRule::new(
+                rule.horizon_s,
+                rule.min_refusals,
+                rule.reading_bound,
+                rule.rate_bound,
+            );
+            assert_eq!(again, Ok(rule));
+        }
+        assert_eq!(r.dvl.horizon_s, 5.0);
+    }
 }

@@ -5,7 +5,7 @@
 //! replayed at its own time sees the nominal of that time).
 
 use nav_runtime::attitude::euler_from_c_bn;
-use nav_runtime::earth::{meridian_radius, transverse_radius, LocalNed};
+use nav_runtime::earth::{meridian_radius, transverse_radius, Geodetic, LocalNed};
 use nav_runtime::ekf::FilterError;
 use nav_runtime::math::wrap_angle;
 use nav_runtime::nalgebra::{SVector, Vector2, Vector3};
@@ -29,6 +29,27 @@ fn outcome<const M: usize>(
     r: Result<nav_runtime::ekf::UpdateReport<M>, FilterError>,
 ) -> Result<MeasurementOutcome, FilterError> {
     r.map(|rep| MeasurementOutcome::from(&rep))
+}
+
+/// [`Slot::update`] of slot `S`, then its recovery step
+/// ([`Slot::recover`]) with the sensor's own `reading` and its noise.
+fn update_and_recover<V, S, const N: usize, const M: usize>(
+    f: &mut InsFilter<V, N>,
+    z: &SVector<f64, M>,
+    r: &SVector<f64, M>,
+    aux: &[f64],
+    reading: &[f64],
+    sigma: &[f64],
+) -> Result<MeasurementOutcome, FilterError>
+where
+    V: InsVehicle<N>,
+    S: Slot<V, N, M>,
+{
+    let mut result = S::update(f, z, r, aux);
+    if let Ok(report) = result.as_mut() {
+        S::recover(f, report, reading, sigma, aux);
+    }
+    outcome(result)
 }
 
 /// A depth-meter measurement (`depth`: m, positive down) with noise sigma (m),
@@ -59,7 +80,14 @@ pub fn depth_measurement_at<V: InsVehicle<N>, const N: usize>(
             let s = &nom.ins.state;
             let sensor_h = s.h - (s.c_bn * lever_arm)[2];
             let z = SVector::<f64, 1>::new(sensor_h - (h_meas - nom.depth_bias));
-            outcome(V::Depth::update(f, &z, &r, lever_arm.as_slice()))
+            update_and_recover::<V, V::Depth, N, 1>(
+                f,
+                &z,
+                &r,
+                lever_arm.as_slice(),
+                &[depth],
+                &[sigma],
+            )
         },
     ))
 }
@@ -99,7 +127,14 @@ pub fn dvl_measurement_at<V: InsVehicle<N>, const N: usize>(
             if <V::Dvl as Slot<V, N, 3>>::AUX_NAMES.is_empty() {
                 let arm = nom.body_rate.cross(&lever_arm);
                 let z = s.v_n - s.c_bn * (v - nom.dvl_bias - arm);
-                return outcome(V::Dvl::update(f, &z, &r, &[]));
+                return update_and_recover::<V, V::Dvl, N, 3>(
+                    f,
+                    &z,
+                    &r,
+                    &[],
+                    v.as_slice(),
+                    &[sigma; 3],
+                );
             }
             // A calibrated DVL block (`DvlCalibrated`): its `h` carries the
             // lever arm (given value plus its error state), the scale and
@@ -107,7 +142,7 @@ pub fn dvl_measurement_at<V: InsVehicle<N>, const N: usize>(
             let w = nom.body_rate;
             let aux = [lever_arm.x, lever_arm.y, lever_arm.z, w.x, w.y, w.z];
             let z = s.v_n - s.c_bn * (v - nom.dvl_bias);
-            outcome(V::Dvl::update(f, &z, &r, &aux))
+            update_and_recover::<V, V::Dvl, N, 3>(f, &z, &r, &aux, v.as_slice(), &[sigma; 3])
         },
     ))
 }
@@ -127,8 +162,17 @@ pub fn heading_measurement<V: InsVehicle<N>, const N: usize>(
             let yaw = euler_from_c_bn(&nom.ins.state.c_bn).yaw;
             let z = SVector::<f64, 1>::new(wrap_angle(yaw - (psi - nom.compass_bias)));
             match form {
-                CompassForm::Exact => outcome(V::Compass::update(f, &z, &r, &[])),
-                CompassForm::SmallAngle => outcome(V::CompassSmallAngle::update(f, &z, &r, &[])),
+                CompassForm::Exact => {
+                    update_and_recover::<V, V::Compass, N, 1>(f, &z, &r, &[], &[psi], &[sigma])
+                }
+                CompassForm::SmallAngle => update_and_recover::<V, V::CompassSmallAngle, N, 1>(
+                    f,
+                    &z,
+                    &r,
+                    &[],
+                    &[psi],
+                    &[sigma],
+                ),
             }
         },
     ))
@@ -171,7 +215,16 @@ pub fn usbl_measurement_at<V: InsVehicle<N>, const N: usize>(
                 (transverse_radius(s.lat) + s.h) * s.lat.cos() * wrap_angle(s.lon - lon) + arm.y;
             let tilt = nom.usbl_misalignment.cross(&rel);
             let z = Vector2::new(dn, de) + nom.usbl_bias + Vector2::new(tilt.x, tilt.y);
-            outcome(V::Usbl::update(f, &z, &r, rel.as_slice()))
+            // The fix itself, in metres north and east of the transducer.
+            let fix = frame.geodetic_to_ned(&Geodetic::new(lat, lon, s.h));
+            update_and_recover::<V, V::Usbl, N, 2>(
+                f,
+                &z,
+                &r,
+                rel.as_slice(),
+                &[fix.x, fix.y],
+                &[sigma; 2],
+            )
         },
     ))
 }

@@ -29,6 +29,7 @@ use super::sensor::{Context, Handle, Reading};
 use super::settings::{ImuSettings, InitialState, NavigatorOptions, SensorSettings};
 use super::vehicle::{InsVehicle, Layout, Present};
 use crate::health::SensorHealth;
+use crate::recovery::Recovery;
 use nav_runtime::innovations::InnovationTotals;
 
 /// Smallest prior sigma of any state (in the state's units): a zero variance
@@ -90,6 +91,8 @@ pub struct Navigator<V: InsVehicle<N>, const N: usize> {
     last_nis: [Option<f64>; SENSORS],
     innovations: [InnovationTotals; SENSORS],
     declared: Vec<DeclaredFeed<V, N>>,
+    /// Recoveries so far, in the order they happened.
+    recoveries: Vec<Recovery>,
 }
 
 /// A declared sensor fed by name ([`Builder::declared_sensor`]).
@@ -283,6 +286,7 @@ impl<V: InsVehicle<N>, const N: usize> Navigator<V, N> {
                 threshold: None,
                 dof: 0,
                 statistics: Default::default(),
+                recovered: None,
             })
         });
         // A request is refused only for a non-finite time: it stays empty.
@@ -363,8 +367,48 @@ impl<V: InsVehicle<N>, const N: usize> Navigator<V, N> {
         self.start
     }
 
+    /// The recoveries from a lock-out into divergence so far (each log
+    /// sensor's; [`nav_runtime::recovery`]), in time order of the readings.
+    pub fn recoveries(&self) -> &[Recovery] {
+        &self.recoveries
+    }
+
+    /// Records the recovery a report says happened; a late reading's
+    /// replay that now recovers differently replaces or removes the record
+    /// of the same reading.
+    fn note_recovery(&mut self, r: &Report) {
+        let i = r.sensor.index();
+        if self.ids.get(i) != Some(&r.sensor) {
+            return;
+        }
+        let Some(&sensor) = SENSOR_NAMES.get(i) else {
+            return;
+        };
+        let recovered = r.outcome.as_ref().ok().and_then(|o| o.recovered);
+        let same = |e: &Recovery| e.sensor == sensor && e.t_s == r.time;
+        match (recovered, self.recoveries.iter().position(same)) {
+            (Some(d), Some(k)) => self.recoveries[k].refused_for_s = d,
+            (Some(d), None) => {
+                let at = self.recoveries.partition_point(|e| e.t_s <= r.time);
+                self.recoveries.insert(
+                    at,
+                    Recovery {
+                        sensor,
+                        t_s: r.time,
+                        refused_for_s: d,
+                    },
+                );
+            }
+            (None, Some(k)) if r.replay => {
+                self.recoveries.remove(k);
+            }
+            (None, _) => {}
+        }
+    }
+
     fn note(&mut self, reports: &[Report]) {
         for r in reports {
+            self.note_recovery(r);
             let i = r.sensor.index();
             if let (Some(slot), Ok(o)) = (self.last_nis.get_mut(i), &r.outcome) {
                 *slot = Some(o.nis);
@@ -657,6 +701,7 @@ impl<V: InsVehicle<N>, const N: usize> Builder<V, N> {
             skipped: [0; SENSORS],
             last_nis: [None; SENSORS],
             innovations: [InnovationTotals::default(); SENSORS],
+            recoveries: Vec::new(),
             declared,
         })
     }

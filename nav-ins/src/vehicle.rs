@@ -117,6 +117,19 @@ pub trait Slot<Mo: Model<N>, const N: usize, const M: usize> {
         r_diag: &SVector<f64, M>,
         aux: &[f64],
     ) -> Result<UpdateReport<M>, FilterError>;
+
+    /// The recovery step after [`Slot::update`] returned `report` for the
+    /// sensor's own `reading` (its values, 1-sigma noise `sigma` per
+    /// component; [`nav_runtime::recovery`]): may inflate the covariance
+    /// and set `report.recovered`. Nothing for [`Absent`].
+    fn recover<Nom: NominalState<N>>(
+        _f: &mut ErrorStateFilter<Mo, Nom, N>,
+        _report: &mut UpdateReport<M>,
+        _reading: &[f64],
+        _sigma: &[f64],
+        _aux: &[f64],
+    ) {
+    }
 }
 
 impl<S, Mo, const N: usize, const M: usize> Slot<Mo, N, M> for S
@@ -135,6 +148,18 @@ where
     ) -> Result<UpdateReport<M>, FilterError> {
         let aux = <S::Aux as Record>::from_fn(|i| aux.get(i).copied().unwrap_or(f64::NAN));
         f.update_sequential::<S, M>(z, r_diag, &aux)
+    }
+
+    fn recover<Nom: NominalState<N>>(
+        f: &mut ErrorStateFilter<Mo, Nom, N>,
+        report: &mut UpdateReport<M>,
+        reading: &[f64],
+        sigma: &[f64],
+        aux: &[f64],
+    ) {
+        let aux = <S::Aux as Record>::from_fn(|i| aux.get(i).copied().unwrap_or(f64::NAN));
+        f.ekf_mut()
+            .recover_after_refusal::<S, M>(report, reading, sigma, &aux);
     }
 }
 

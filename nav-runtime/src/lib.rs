@@ -9,7 +9,7 @@
 //!
 //! | domain | folder | feature | modules |
 //! |---|---|---|---|
-//! | filter core | [`filter`] | always (`no_std`; the scheduler needs `std`) | `ekf`, `gate`, `lockout`, `error_state`, `propagation`, `stuck`, `math`, `setup_error`, `scheduler`, `smoother` |
+//! | filter core | [`filter`] | always (`no_std`; the scheduler needs `std`) | `ekf`, `gate`, `lockout`, `recovery`, `error_state`, `propagation`, `stuck`, `math`, `setup_error`, `scheduler`, `smoother` |
 //! | inertial navigation | `inertial` | `inertial` (`no_std`) | `earth`, `attitude`, `strapdown` |
 //! | simulation | `simulation` | `simulation` | `trajectory`, `imu`, `sensors`, `vehicle`, `camera`, `stats` |
 //! | guidance | `guidance` | `guidance` | `guidance` (heading QP, RRT, line of sight) |
@@ -43,7 +43,8 @@ mod testmodels;
 use filter::dispatch;
 pub use filter::real::Real;
 pub use filter::{
-    ekf, error_state, gate, innovations, lockout, math, propagation, real, setup_error, stuck,
+    ekf, error_state, gate, innovations, lockout, math, propagation, real, recovery, setup_error,
+    stuck,
 };
 #[cfg(feature = "std")]
 pub use filter::{scheduler, smoother};

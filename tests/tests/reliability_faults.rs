@@ -580,6 +580,14 @@ fn gross_outliers_are_never_released() {
             let released = run.final_filter.ekf().counters().updates_released;
             let base_released = base_run.final_filter.ekf().counters().updates_released;
             assert_eq!(released, base_released, "{} seed {seed}", g.what);
+            // Nor does the recovery from a lock-out into divergence: the
+            // faulty readings are implausible or jump (docs/lockout.md).
+            assert!(
+                run.recoveries.is_empty() && base_run.recoveries.is_empty(),
+                "{} seed {seed}: {:?}",
+                g.what,
+                run.recoveries
+            );
             for (name, a, b) in [
                 (
                     "final error",

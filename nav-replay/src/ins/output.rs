@@ -394,6 +394,17 @@ pub(super) fn output_of<V: InsVehicle<N>, const N: usize>(
     out.warnings
         .extend(run.innovations.iter().filter_map(|s| s.warning()));
     out.innovations = run.innovations.clone();
+    out.metrics.insert(
+        "recoveries".into(),
+        Value::Array(
+            run.recoveries
+                .iter()
+                .map(
+                    |r| json!({"sensor": r.sensor, "t_s": r.t_s, "refused_for_s": r.refused_for_s}),
+                )
+                .collect(),
+        ),
+    );
     let last = run.final_filter.nominal().ins.state;
     let e = last.euler();
     out.metrics.insert(

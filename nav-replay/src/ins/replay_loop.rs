@@ -393,6 +393,8 @@ where
     all_warnings.append(&mut own.warnings);
     all_warnings.extend(unfed);
     all_warnings.extend(frozen_warnings(frozen));
+    let recoveries = nav.recoveries().to_vec();
+    all_warnings.extend(recoveries.iter().map(recovery_warning));
     // The four SDINS sensors always; the others when the vehicle has them
     // or the log has their file.
     let shown: Vec<usize> = (0..SENSORS)
@@ -433,7 +435,23 @@ where
         warnings: all_warnings,
         dvl_mounting: super::calibration::DvlMounting::of(&final_filter, source.meta()),
         final_filter,
+        recoveries,
     })
+}
+
+/// The warning of one recovery, about the sensor's file.
+fn recovery_warning(r: &nav_ins::Recovery) -> Warning {
+    let sensor = r.sensor;
+    Warning::about(
+        WarningKind::LockoutRecovery,
+        &format!("{sensor}.csv"),
+        format!(
+            "t = {:.3} s: every {sensor} reading refused for {:.1} s while plausible and agreeing \
+             with one another: the filter, not the {sensor}, was taken to be wrong and the \
+             covariance of the states the {sensor} observes was inflated (lock-out recovery)",
+            r.t_s, r.refused_for_s
+        ),
+    )
 }
 
 /// The declared name of the sensor in the slot of log sensor `i` (index in

@@ -232,6 +232,9 @@ pub struct InsRun<V: InsVehicle<N>, const N: usize> {
     pub ignored: Vec<&'static str>,
     /// Rows not used for a reason the output must show (file and line).
     pub warnings: Vec<Warning>,
+    /// Recoveries from a lock-out into divergence, in time order
+    /// ([`nav_ins::Recovery`]; each is also a warning).
+    pub recoveries: Vec<nav_ins::Recovery>,
     /// With [`FilterOptions::smooth`]: the smoothed estimates at the same
     /// times as [`InsRun::estimates`].
     pub smoothed: Option<Vec<Option<Estimate>>>,

@@ -77,7 +77,7 @@ impl InnovationStatistics {
                 .l_dirty()
                 .diagonal()
                 .iter()
-                .map(|d| d.ln())
+                .map(|d| libm::log(*d))
                 .sum::<f64>();
         let s_inv_nu = chol.solve(&nu);
         let w = chol.solve(&r);
@@ -180,7 +180,7 @@ impl InnovationTotals {
         let n = self.nis / self.dof as f64;
         let w = self.noise_share / self.dof as f64;
         let f = ((n - 1.0 + w) / w).clamp(1.0 / MAX_VARIANCE_STEP, MAX_VARIANCE_STEP);
-        f.is_finite().then(|| f.sqrt())
+        f.is_finite().then(|| libm::sqrt(f))
     }
 
     /// The standard error of `ln sigma` from the Fisher information of
@@ -188,7 +188,7 @@ impl InnovationTotals {
     /// the supported sigma.
     pub fn log_sigma_standard_error(&self) -> f64 {
         if self.noise_information > 0.0 {
-            (2.0 * self.noise_information).sqrt().recip()
+            libm::sqrt(2.0 * self.noise_information).recip()
         } else {
             f64::INFINITY
         }

@@ -208,6 +208,8 @@ pub(crate) struct Lockout {
     rule: Option<LockoutRelease>,
     bounds: [Option<(&'static str, f64)>; MAX_LOCKOUT_BOUNDS],
     runs: [Option<(TypeId, Evidence)>; MAX_LOCKOUT_SENSORS],
+    /// The recovery from a lock-out into divergence ([`crate::recovery`]).
+    pub(crate) recovery: crate::recovery::Recovery,
 }
 
 impl Lockout {
@@ -217,6 +219,7 @@ impl Lockout {
             rule: None,
             bounds: [None; MAX_LOCKOUT_BOUNDS],
             runs: [None; MAX_LOCKOUT_SENSORS],
+            recovery: crate::recovery::Recovery::new(),
         }
     }
 
@@ -250,8 +253,8 @@ impl Lockout {
         }
     }
 
-    /// Forgets the run of `sensor` (after an accepted sample).
-    fn clear(&mut self, sensor: TypeId) {
+    /// Forgets the run of `sensor` (after an accepted sample or a recovery).
+    pub(crate) fn clear(&mut self, sensor: TypeId) {
         if let Some(slot) = self
             .runs
             .iter_mut()
@@ -374,7 +377,7 @@ impl Lockout {
 
 /// Eq. L4: `P + d d^T` with `d = U C^-1 b` (`U = P H^T`, `C = H P H^T`);
 /// `None` if `C` has no Cholesky factor or the result is not finite.
-fn inflation<T: Real, const N: usize, const M: usize>(
+pub(crate) fn inflation<T: Real, const N: usize, const M: usize>(
     p: &SMatrix<T, N, N>,
     u: &SMatrix<T, N, M>,
     hph: &SMatrix<T, M, M>,

@@ -15,6 +15,7 @@ pub mod lockout;
 pub mod math;
 pub mod propagation;
 pub mod real;
+pub mod recovery;
 #[cfg(feature = "std")]
 pub mod scheduler;
 pub mod setup_error;

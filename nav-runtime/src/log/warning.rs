@@ -38,6 +38,10 @@ pub enum WarningKind {
     /// A sensor whose innovations say its noise sigma is off by more than a
     /// factor of two; the warning gives the sigma they support.
     NoiseSigma,
+    /// The filter recovered from a lock-out into divergence: a sensor's
+    /// readings were refused for longer than its horizon while plausible and
+    /// agreeing with one another (`nav_runtime::recovery`).
+    LockoutRecovery,
 }
 
 impl WarningKind {
@@ -57,6 +61,7 @@ impl WarningKind {
             WarningKind::Model => "model",
             WarningKind::RejectedReading => "rejected_reading",
             WarningKind::NoiseSigma => "noise_sigma",
+            WarningKind::LockoutRecovery => "lockout_recovery",
         }
     }
 }

@@ -65,6 +65,9 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
             .after_gate::<S, T, N, M>(report, p, x, u, par, aux)
         {
             self.counters.updates_released += 1;
+            // The release acted on this sensor: its recovery horizon counts
+            // again from here.
+            self.lockout.recovery.restart_run(TypeId::of::<S>());
             // Inflated outside the update's checks.
             self.clean = false;
         }

@@ -49,6 +49,7 @@ mod error;
 mod gating;
 mod joseph;
 mod predict;
+mod recover;
 mod report;
 mod setup;
 #[cfg(all(test, feature = "std"))]

@@ -66,6 +66,7 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
                 Mo::normalize_state(&mut self.x);
                 self.input = *input;
                 self.counters.predictions += 1;
+                self.lockout.recovery.advance(dt.to_f64());
                 self.counters.covariance_repairs += u64::from(repairs);
                 Ok(())
             }

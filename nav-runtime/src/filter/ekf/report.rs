@@ -27,6 +27,11 @@ pub struct FilterCounters {
     /// states they observe was inflated (see [`crate::lockout`]; no
     /// measurement is applied by a release).
     pub updates_released: u64,
+    /// Recoveries from a lock-out into divergence: runs of refused readings
+    /// of one sensor that were plausible and agreed with one another for
+    /// longer than the sensor's horizon, after which the covariance of the
+    /// states it observes was inflated (see [`crate::recovery`]).
+    pub recoveries: u64,
 }
 
 /// The outcome of one measurement update.
@@ -52,6 +57,10 @@ pub struct UpdateReport<const M: usize, T: Real = f64> {
     pub noise: SMatrix<T, M, M>,
     /// Covariance diagonal entries repaired by this update.
     pub repairs: u32,
+    /// `Some(s)`: this refused reading ended a run of refusals `s` seconds
+    /// long after which the filter recovered ([`crate::recovery`]); set by
+    /// [`crate::ekf::Ekf::recover_after_refusal`], `None` otherwise.
+    pub recovered: Option<f64>,
 }
 
 impl<const M: usize, T: Real> UpdateReport<M, T> {

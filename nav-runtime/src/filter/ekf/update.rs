@@ -180,6 +180,7 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
             innovation_covariance: s,
             noise: r,
             repairs: 0,
+            recovered: None,
         };
         if !report.accepted {
             return Ok(report);
@@ -289,6 +290,7 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
             innovation_covariance: s_full,
             noise: SMatrix::from_diagonal(r_diag),
             repairs: 0,
+            recovered: None,
         };
         if !report.accepted {
             return Ok(report);

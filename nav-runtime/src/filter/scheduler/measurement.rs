@@ -46,6 +46,9 @@ pub struct MeasurementOutcome {
     /// The innovation weighed against its covariance and noise (for the
     /// per-sensor NIS and noise tuning); default when not an update.
     pub statistics: InnovationStatistics,
+    /// `Some(s)`: the filter recovered after this refused reading, which
+    /// ended a run of refusals `s` seconds long ([`crate::recovery`]).
+    pub recovered: Option<f64>,
 }
 
 impl<const M: usize> From<&UpdateReport<M>> for MeasurementOutcome {
@@ -56,6 +59,7 @@ impl<const M: usize> From<&UpdateReport<M>> for MeasurementOutcome {
             threshold: r.threshold,
             dof: M,
             statistics: r.statistics(),
+            recovered: r.recovered,
         }
     }
 }
