@@ -9,6 +9,10 @@ use crate::model::{Model, Sensor};
 use crate::real::Real;
 use crate::recovery::{Judgement, INFLATION_FACTOR};
 
+/// Largest factor on a state's sigma in step R1 of a recovery: sigmas grow
+/// at most a hundredfold, however large the refused readings' NIS (docs/lockout.md).
+const MAX_RECOVERY_SCALE: f64 = 100.0;
+
 impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
     /// The recovery step after an update of sensor `S` that returned
     /// `report` for the reading `reading` (the sensor's own values, each
@@ -60,7 +64,9 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
         let mut scaled = self.p;
         if mask != 0 {
             let h = S::jacobian(&self.x, &self.input, &self.params, aux);
-            let k = T::of(libm::sqrt((report.nis / M as f64).max(1.0)));
+            // Held below MAX_RECOVERY_SCALE: a NIS of 1e12 (a filter fed
+            // garbage) would scale the covariance past any meaning.
+            let k = T::of(libm::sqrt((report.nis / M as f64).max(1.0)).min(MAX_RECOVERY_SCALE));
             let mut scale = [T::one(); N];
             for (j, s) in scale.iter_mut().enumerate() {
                 let in_mask = j < 64 && mask & (1u64 << j) != 0;
@@ -78,7 +84,9 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
         // R2 (eq. L4 with the refused innovation) on the scaled `P`.
         let (_, u, hph) = S::innovation_terms(&scaled, &self.x, &self.input, &self.params, aux);
         let b = report.innovation * T::of(INFLATION_FACTOR);
-        match crate::lockout::inflation(&scaled, &u, &hph, &b) {
+        match crate::lockout::inflation(&scaled, &u, &hph, &b)
+            .filter(|p| p.iter().all(|v| v.is_finite()))
+        {
             Some(inflated) => {
                 self.p = inflated;
                 self.clean = false;
