@@ -452,40 +452,42 @@ pub fn tune(
             }
         }
     }
-    while reset {
-        replays += 1;
-        progress(replays.min(options.max_replays), options.max_replays);
-        match replay(model, files, opts, &values) {
-            Ok(run) => {
-                center = run;
-                center_values.clone_from(&values);
-            }
-            // The given value of such a parameter makes the filter
-            // diverge: the last step's value stays, said so.
-            Err(RunError::Diverged(_)) => {
-                for &i in &likelihood_params {
-                    if let Some(why) = why_not[i].as_mut() {
-                        if center_values[i].1 != params[i].1 {
-                            why.push_str("; kept at the last step's value: the given one makes the filter diverge");
+    if reset {
+        loop {
+            replays += 1;
+            progress(replays.min(options.max_replays), options.max_replays);
+            match replay(model, files, opts, &values) {
+                Ok(run) => {
+                    center = run;
+                    center_values.clone_from(&values);
+                }
+                // The given value of such a parameter makes the filter
+                // diverge: the last step's value stays, said so.
+                Err(RunError::Diverged(_)) => {
+                    for i in 0..params.len() {
+                        if let Some(why) = why_not[i].as_mut() {
+                            if center_values[i].1 != params[i].1 {
+                                why.push_str("; kept at the last step's value: the given one makes the filter diverge");
+                            }
                         }
                     }
+                    values.clone_from(&center_values);
+                    break;
                 }
-                values.clone_from(&center_values);
+                Err(e) => return Err(e),
+            }
+            let mut moves = sensor_moves(&params, &center);
+            for (m, why) in moves.iter_mut().zip(&why_not) {
+                if why.is_some() {
+                    *m = 0.0;
+                }
+            }
+            if replays >= options.max_replays || moves.iter().all(|m| m.abs() < CONVERGED) {
                 break;
             }
-            Err(e) => return Err(e),
-        }
-        let mut moves = sensor_moves(&params, &center);
-        for (m, why) in moves.iter_mut().zip(&why_not) {
-            if why.is_some() {
-                *m = 0.0;
+            for (v, m) in values.iter_mut().zip(&moves) {
+                v.1 *= m.exp();
             }
-        }
-        if replays >= options.max_replays || moves.iter().all(|m| m.abs() < CONVERGED) {
-            break;
-        }
-        for (v, m) in values.iter_mut().zip(&moves) {
-            v.1 *= m.exp();
         }
     }
     let parameters: Vec<TunedParameter> = params

@@ -174,7 +174,9 @@ impl InnovationTotals {
     /// [`MAX_VARIANCE_STEP`] either way); `None` when the noise is no
     /// measurable part of the innovations.
     pub fn sigma_factor(&self) -> Option<f64> {
-        if self.dof == 0 || !(self.noise_share > 0.0) {
+        // A NaN share fails `> 0` too.
+        if self.dof == 0 || self.noise_share.partial_cmp(&0.0) != Some(core::cmp::Ordering::Greater)
+        {
             return None;
         }
         let n = self.nis / self.dof as f64;
