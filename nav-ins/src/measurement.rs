@@ -48,8 +48,47 @@ where
     let mut result = S::update(f, z, r, aux);
     if let Ok(report) = result.as_mut() {
         S::recover(f, report, reading, sigma, aux);
+        if report.recovered.is_some() {
+            bound_tilt(f);
+        }
     }
     outcome(result)
+}
+
+/// Largest tilt sigma (rad, about north and east) a lock-out recovery
+/// leaves: 0.5 rad (29 deg). The recovery inflates the states a refused
+/// sensor observes by the size of its innovation; an innovation of tens
+/// of m/s (an INS fed rates in the wrong unit) would allot radians of tilt,
+/// and the small-angle feedback of such a correction ends in a solution
+/// that is not finite instead of the out-of-bounds error that names the
+/// doubtful input.
+pub const MAX_RECOVERED_TILT_SIGMA: f64 = 0.5;
+
+/// `D P D`, with `D` shrinking the tilt rows and columns whose sigma is
+/// above [`MAX_RECOVERED_TILT_SIGMA`] to it (symmetric and positive
+/// semi-definite as `P` is).
+fn bound_tilt<V: InsVehicle<N>, const N: usize>(f: &mut InsFilter<V, N>) {
+    let nav = f.nominal().layout().navigation();
+    let mut p = *f.covariance();
+    let mut d = [1.0; N];
+    let mut changed = false;
+    for i in [nav[6], nav[7]] {
+        let variance = p[(i, i)];
+        if variance > MAX_RECOVERED_TILT_SIGMA * MAX_RECOVERED_TILT_SIGMA {
+            d[i] = MAX_RECOVERED_TILT_SIGMA / variance.sqrt();
+            changed = true;
+        }
+    }
+    if !changed {
+        return;
+    }
+    for i in 0..N {
+        for j in 0..N {
+            p[(i, j)] *= d[i] * d[j];
+        }
+    }
+    // A covariance that was valid stays valid; if not, it stays as it was.
+    let _ = f.ekf_mut().set_covariance(p);
 }
 
 /// A depth-meter measurement (`depth`: m, positive down) with noise sigma (m),
