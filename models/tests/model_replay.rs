@@ -939,3 +939,78 @@ fn a_glitch_in_a_mapped_sensor_file_is_a_rejected_row() {
         "{e}"
     );
 }
+
+/// `tune` of a declared model (docs/tuning.md): the rover's sensor sigmas in
+/// its `replay.toml` started ten times too large or too small come back
+/// within 25 % of the ones the log was drawn with, through the library call
+/// and through the program's `tune --write`, whose mapping then reads back
+/// with the tuned values (a two-output sigma scaled as one).
+#[test]
+fn a_declared_models_sigmas_are_tuned_from_its_log() {
+    use nav_replay::model_replay::MappingTuning;
+    use nav_replay::tune::{tune, with_values, TuneOptions};
+    let dir = TempDir::new("tune");
+    let log = dir.0.join("log");
+    write_log(&log, 41, SI, DRIVE_STEPS);
+    let (name, truth) = rover().mapping(&log, None).unwrap();
+    let given = |k: usize| truth.sensors[k].as_ref().unwrap().sigma.clone();
+    // (key, sensor index, factor on its sigmas)
+    let off = [
+        ("sensors.Fix.sigma", 0, 10.0),
+        ("sensors.RangeBearing.sigma", 1, 0.1),
+        ("sensors.LandmarkRange.sigma", 2, 10.0),
+    ];
+    let mut start = truth.clone();
+    for (_, k, f) in off {
+        if let Some(s) = start.sensors[k].as_mut() {
+            s.sigma.iter_mut().for_each(|v| *v *= f);
+        }
+    }
+    let replay = rover();
+    let tunable = MappingTuning::new(&replay, &log, name, start.clone(), RunOptions::default());
+    let t = tune(&tunable, &TuneOptions::default(), &|_, _| {}).unwrap();
+    assert!(t.replays <= 30, "{}", t.replays);
+    for (key, k, _) in off {
+        let p = t.parameters.iter().find(|p| p.key == key).unwrap();
+        assert!(p.not_identifiable.is_none(), "{p:?}");
+        let ratio = p.value / given(k)[0];
+        assert!((ratio - 1.0).abs() < 0.25, "{key}: {ratio}");
+    }
+
+    // The program: the same from a replay.toml with the wrong sigmas.
+    let text = std::fs::read_to_string(log.join("replay.toml")).unwrap();
+    let wrong: Vec<(String, String)> = off
+        .iter()
+        .map(|(key, k, f)| {
+            let s: Vec<String> = given(*k).iter().map(|v| format!("{:?}", v * f)).collect();
+            let value = if s.len() == 1 {
+                s[0].clone()
+            } else {
+                format!("[{}]", s.join(", "))
+            };
+            (key.to_string(), value)
+        })
+        .collect();
+    std::fs::write(
+        log.join("replay.toml"),
+        with_values(&text, "replay.toml", &wrong).unwrap(),
+    )
+    .unwrap();
+    let out = dir.0.join("tuned.toml");
+    let code = rover().main_with([
+        "rover",
+        "tune",
+        log.to_str().unwrap(),
+        "--json",
+        "--write",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, std::process::ExitCode::SUCCESS);
+    let (_, tuned) = rover().mapping(&log, Some(&out)).unwrap();
+    for (key, k, _) in off {
+        let (a, b) = (&tuned.sensors[k].as_ref().unwrap().sigma, given(k));
+        for (x, y) in a.iter().zip(&b) {
+            assert!((x / y - 1.0).abs() < 0.25, "{key}: {a:?} against {b:?}");
+        }
+    }
+}

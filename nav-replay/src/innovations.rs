@@ -28,6 +28,9 @@ pub struct SensorInnovations {
     pub noise_sigma: Option<f64>,
     /// Rows refused by the gate (their innovations are counted too).
     pub gated: u64,
+    /// Where its sigma is set: the file (`meta.toml`, `replay.toml`) and
+    /// the key (`sensors.dvl.noise_sigma`), for the warning.
+    pub setting: (String, String),
     /// The sums over its updates.
     pub totals: InnovationTotals,
 }
@@ -93,15 +96,15 @@ impl SensorInnovations {
         Some(
             Warning::about(
                 WarningKind::NoiseSigma,
-                "meta.toml",
+                &self.setting.0,
                 format!(
                     "{}: mean NIS {nis:.2} per component over {} updates ({} gated): its \
-                     sigma looks {direction}: {given}; `navsim tune` identifies the noise \
-                     from the log",
+                     sigma looks {direction}: {given}; `tune` identifies the noise from the \
+                     log",
                     self.sensor, self.totals.updates, self.gated
                 ),
             )
-            .with_key(&format!("sensors.{}.noise_sigma", self.sensor)),
+            .with_key(&self.setting.1),
         )
     }
 }
@@ -139,6 +142,7 @@ mod tests {
             sensor: "dvl".into(),
             noise_sigma: Some(0.1),
             gated: 0,
+            setting: ("meta.toml".into(), "sensors.dvl.noise_sigma".into()),
             totals,
         }
     }

@@ -233,6 +233,7 @@ impl<V: InsVehicle<N>, const N: usize> OwnSensors<V, N> {
                     sensor: f.name.to_string(),
                     noise_sigma: None,
                     gated: r.health.gated,
+                    setting: ("replay.toml".into(), format!("sensors.{}.sigma", f.name)),
                     totals: r.innovations,
                 }
             })

@@ -410,6 +410,10 @@ where
                 .aiding(SENSOR_NAMES[i])
                 .map(|s| s.noise_sigma),
             gated: health[i].gated,
+            setting: (
+                "meta.toml".into(),
+                format!("sensors.{}.noise_sigma", SENSOR_NAMES[i]),
+            ),
             totals: nav.report_of(i).innovations,
         })
         .collect();

@@ -45,6 +45,7 @@ mod mapping;
 mod program;
 mod run;
 mod table;
+mod tuning;
 pub mod units;
 
 use std::path::Path;
@@ -62,6 +63,7 @@ pub use mapping::{
 pub use program::run_json;
 pub use run::{angle_states, quaternion_blocks, ModelRun, RunOptions, SensorSummary, TruthScore};
 pub(crate) use table::MappedRows;
+pub use tuning::MappingTuning;
 
 /// The replay of declared model `M` (`N` states) and its registered
 /// sensors (see the module docs).

@@ -12,6 +12,7 @@ use serde_json::{json, Map, Value};
 use super::mapping::Mapping;
 use super::run::{ModelRun, RunOptions};
 use super::table::MappedRows;
+use super::tuning::MappingTuning;
 use super::{ModelReplay, ModelReplayError};
 use crate::program::{emit, note, one_line, parse_failure, warnings_json, write_out};
 use crate::RunError;
@@ -29,6 +30,8 @@ enum Command {
     Replay(ReplayCommand),
     /// Check the mapping against the declaration and read every row.
     Check(CheckCommand),
+    /// Identify the sensors' sigmas from the log alone (docs/tuning.md).
+    Tune(TuneCommand),
 }
 
 #[derive(Debug, Args)]
@@ -59,6 +62,24 @@ struct ReplayCommand {
     every: f64,
 }
 
+/// Identify the sensors' sigmas (and, with `--params`, the `[noise]`
+/// entries) of the mapping from the log alone (docs/tuning.md).
+#[derive(Debug, Args)]
+struct TuneCommand {
+    #[command(flatten)]
+    common: Common,
+    /// The mapping keys to tune, comma-separated (`sensors.Fix.sigma`,
+    /// `noise.speed_noise`); default: every mapped sensor's sigma.
+    #[arg(long, value_name = "LIST", value_delimiter = ',')]
+    params: Vec<String>,
+    /// Write the mapping with the tuned values to this file.
+    #[arg(long)]
+    write: Option<PathBuf>,
+    /// Most forward replays of the log.
+    #[arg(long, default_value_t = 30, value_name = "N")]
+    max_replays: usize,
+}
+
 #[derive(Debug, Args)]
 struct CheckCommand {
     #[command(flatten)]
@@ -79,6 +100,7 @@ where
     let result = match program.command {
         Command::Replay(c) => cmd_replay(replay, &c),
         Command::Check(c) => cmd_check(replay, &c.common),
+        Command::Tune(c) => cmd_tune(replay, &c),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -144,6 +166,124 @@ where
     Ok(())
 }
 
+/// `tune`: the mapping's sigmas from the log (`crate::tune`), the tuned
+/// mapping written with `--write`.
+fn cmd_tune<M: Model<N>, const N: usize>(
+    replay: &ModelReplay<M, N>,
+    c: &TuneCommand,
+) -> Result<(), RunError>
+where
+    Ekf<M, N>: Clone,
+{
+    let (name, mapping) = replay
+        .mapping(&c.common.dir, c.common.mapping.as_deref())
+        .map_err(invalid)?;
+    let tunable = MappingTuning::new(
+        replay,
+        &c.common.dir,
+        name.clone(),
+        mapping,
+        RunOptions {
+            lenient: c.common.lenient,
+            output_period: 0.0,
+        },
+    );
+    let bar = crate::progress_bar(c.max_replays, false);
+    let progress = |done: usize, budget: usize| {
+        bar.set_length(budget as u64);
+        bar.set_position(done as u64);
+    };
+    let options = crate::tune::TuneOptions {
+        params: c.params.clone(),
+        max_replays: c.max_replays,
+    };
+    let tuning = crate::tune::tune(&tunable, &options, &progress)?;
+    bar.finish_and_clear();
+    let mut value = tuning.json();
+    let mut warnings = tuning
+        .notes
+        .iter()
+        .map(|n| crate::model_note(n.clone()))
+        .collect::<Vec<_>>();
+    warnings.extend(
+        tuning
+            .after
+            .warnings
+            .iter()
+            .filter(|w| w.kind != nav_runtime::log::WarningKind::NoiseSigma)
+            .cloned(),
+    );
+    for w in &warnings {
+        eprintln!("warning: {}", w.message);
+    }
+    for p in &tuning.parameters {
+        if let Some(why) = &p.not_identifiable {
+            eprintln!("warning: {}: not identifiable: {why}", p.key);
+        }
+    }
+    if let Some(path) = &c.write {
+        let source = c
+            .common
+            .mapping
+            .clone()
+            .unwrap_or_else(|| c.common.dir.join(super::MAPPING_FILE));
+        let text = std::fs::read_to_string(&source).map_err(|e| RunError::io(&source, e))?;
+        let values = tuning.identified_values();
+        let tuned = tunable.mapping_with(&values);
+        let texts: Vec<(String, String)> = values
+            .iter()
+            .map(|(key, v)| {
+                let text = match key
+                    .strip_prefix("sensors.")
+                    .and_then(|k| k.strip_suffix(".sigma"))
+                {
+                    Some(sensor) => {
+                        let k = replay
+                            .declared()
+                            .sensors
+                            .iter()
+                            .position(|d| d.name == sensor);
+                        let sigma = k
+                            .and_then(|k| tuned.sensors.get(k))
+                            .and_then(Option::as_ref)
+                            .map_or_else(|| vec![*v], |m| m.sigma.clone());
+                        if sigma.len() == 1 {
+                            format!("{:?}", sigma[0])
+                        } else {
+                            let cells: Vec<String> =
+                                sigma.iter().map(|s| format!("{s:?}")).collect();
+                            format!("[{}]", cells.join(", "))
+                        }
+                    }
+                    None => format!("{v:?}"),
+                };
+                (key.clone(), text)
+            })
+            .collect();
+        let out = crate::tune::with_values(&text, &name, &texts)?;
+        // Read back: the written mapping must give the tuned values.
+        let back = super::mapping::parse(&out, &name, &replay.declared()).map_err(invalid)?;
+        let same = back
+            .sensors
+            .iter()
+            .zip(&tuned.sensors)
+            .all(|(a, b)| a.as_ref().map(|m| &m.sigma) == b.as_ref().map(|m| &m.sigma))
+            && back.noise == tuned.noise;
+        if !same {
+            return Err(RunError::Invalid(format!(
+                "{name}: the written mapping does not read back to the tuned values"
+            )));
+        }
+        std::fs::write(path, out).map_err(|e| RunError::io(path, e))?;
+        value["written"] = Value::from(path.display().to_string());
+    }
+    if let Value::Object(m) = &mut value {
+        m.insert("warnings".into(), warnings_json(&warnings));
+    }
+    emit(&value, c.common.json);
+    Ok(())
+}
+
 /// The JSON object of a run (`docs/model-replay.md`, "Output").
 pub fn run_json(name: &str, model: &str, run: &ModelRun, lenient: bool) -> Value {
     let mut sensors = Map::new();
@@ -182,6 +322,23 @@ pub fn run_json(name: &str, model: &str, run: &ModelRun, lenient: bool) -> Value
     );
     m.insert("runtime_s".into(), Value::from(run.runtime_s));
     m.insert("sensors".into(), Value::Object(sensors));
+    // Each sensor's innovations (docs/tuning.md): its sigmas are per
+    // output, so the supported sigma is a factor on them.
+    let innovations: Vec<crate::innovations::SensorInnovations> = run
+        .sensors
+        .iter()
+        .map(|s| crate::innovations::SensorInnovations {
+            sensor: s.name.to_string(),
+            noise_sigma: None,
+            gated: s.gated,
+            setting: (String::new(), format!("sensors.{}.sigma", s.name)),
+            totals: s.innovations,
+        })
+        .collect();
+    m.insert(
+        "innovations".into(),
+        crate::innovations::innovations_json(&innovations),
+    );
     m.insert(
         "final".into(),
         json!({ "t": run.span.1, "state": state, "sigma": sigma }),

@@ -11,6 +11,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use nav_runtime::ekf::Ekf;
+use nav_runtime::innovations::InnovationTotals;
 use nav_runtime::log::{SkippedRow, Warning, WarningKind};
 use nav_runtime::math::wrap_angle;
 use nav_runtime::model::{Model, Record};
@@ -64,6 +65,8 @@ pub struct SensorSummary {
     pub outputs: usize,
     /// Its gate probability (`None`: no gate).
     pub gate: Option<f64>,
+    /// The innovations of its updates, applied or gated (docs/tuning.md).
+    pub innovations: InnovationTotals,
 }
 
 /// The truth score of a run.
@@ -296,8 +299,12 @@ where
                 Ok(o) if o.accepted => {
                     s.accepted += 1;
                     nis_sum[k] += o.nis;
+                    s.innovations.add(&o.statistics);
                 }
-                Ok(_) => s.gated += 1,
+                Ok(o) => {
+                    s.gated += 1;
+                    s.innovations.add(&o.statistics);
+                }
                 Err(_) => s.rejected += 1,
             }
         }
@@ -389,7 +396,7 @@ where
                     tm,
                     feeds[k].measurement(p.rows.values(), &m.sigma),
                 ) {
-                    add_nis(&reports, &mut nis_sum);
+                    add_nis(&reports, &mut nis_sum, &mut run.sensors);
                 }
                 p.next = p.rows.next_row()?;
             }
@@ -431,13 +438,13 @@ where
             for m in 1..steps as usize {
                 let tm = t_last + dt * (m as f64 / steps);
                 let reports = scheduler.push_imu(tm, input).map_err(refused)?;
-                add_nis(&reports, &mut nis_sum);
+                add_nis(&reports, &mut nis_sum, &mut run.sensors);
             }
         } else if dt > 0.0 {
             shortest = shortest.min(dt);
         }
         let reports = scheduler.push_imu(t, input).map_err(refused)?;
-        add_nis(&reports, &mut nis_sum);
+        add_nis(&reports, &mut nis_sum, &mut run.sensors);
         run.samples += 1;
         t_last = t;
         write(t, scheduler.filter(), truth.as_mut())?;
@@ -641,12 +648,18 @@ fn to_micro(seconds: f64) -> f64 {
 }
 
 /// The accepted NIS of the reports, summed per sensor.
-fn add_nis(reports: &[Report], nis_sum: &mut [f64]) {
+fn add_nis(reports: &[Report], nis_sum: &mut [f64], sensors: &mut [SensorSummary]) {
     for r in reports {
         if let Ok(o) = &r.outcome {
             if o.accepted {
                 if let Some(s) = nis_sum.get_mut(r.sensor.index()) {
                     *s += o.nis;
+                }
+            }
+            // Each update counted once, when first applied.
+            if !r.replay {
+                if let Some(s) = sensors.get_mut(r.sensor.index()) {
+                    s.innovations.add(&o.statistics);
                 }
             }
         }

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use clap::Args;
 use serde_json::Value;
 
-use super::{tune, tuned_meta_text, TuneOptions};
+use super::{tune, tuned_meta_text, LogTuning, TuneOptions};
 use crate::preflight;
 use crate::program::{emit, open_log, preflight_options, warnings_json};
 use crate::{progress_bar, ReplayModel, ReplayOptions, RunError};
@@ -54,11 +54,15 @@ pub fn tune_with(model: &dyn ReplayModel, args: &TuneArgs) -> Result<(), RunErro
     let options = TuneOptions {
         params: args.params.clone(),
         max_replays: args.max_replays,
-        replay: ReplayOptions {
+    };
+    let tunable = LogTuning::new(
+        model,
+        &files,
+        ReplayOptions {
             lenient: args.lenient,
             ..ReplayOptions::default()
         },
-    };
+    );
     let bar = progress_bar(args.max_replays, false);
     let progress = |done: usize, budget: usize| {
         bar.set_length(budget as u64);
@@ -66,7 +70,7 @@ pub fn tune_with(model: &dyn ReplayModel, args: &TuneArgs) -> Result<(), RunErro
     };
     let (tuning, report, summary) =
         preflight::check_alongside(&files, &preflight_options, false, || {
-            tune(model, &files, &options, &progress)
+            tune(&tunable, &options, &progress)
         })?;
     bar.finish_and_clear();
     let mut value = tuning.json();

@@ -15,10 +15,39 @@ use crate::RunError;
 /// file that writes its sections as inline tables), or a result that does
 /// not read back to the values asked for.
 pub fn tuned_meta_text(text: &str, values: &[(String, f64)]) -> Result<String, RunError> {
+    let texts: Vec<(String, String)> = values
+        .iter()
+        .map(|(k, v)| (k.clone(), format!("{v:?}")))
+        .collect();
+    let out = with_values(text, "meta.toml", &texts)?;
+    let (meta, _, _) = Meta::parse_log(&out).map_err(RunError::from)?;
+    for (key, value) in values {
+        if meta.noise_parameter(key) != Some(*value) {
+            return Err(RunError::Invalid(format!(
+                "meta.toml: `{key}` does not read back as {value} after writing"
+            )));
+        }
+    }
+    Ok(out)
+}
+
+/// `text` (the TOML file `file`) with the value of each dotted key of
+/// `values` replaced by the given TOML text, on the key's own line under
+/// its section's header; the rest of each line (a comment) is kept.
+///
+/// # Errors
+/// A key that is not on a line of its own under its section's header.
+pub fn with_values(
+    text: &str,
+    file: &str,
+    values: &[(String, String)],
+) -> Result<String, RunError> {
     let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
     for (key, value) in values {
         let Some((section, name)) = key.rsplit_once('.') else {
-            return Err(RunError::Invalid(format!("{key}: not a meta.toml key")));
+            return Err(RunError::Invalid(format!(
+                "{file}: `{key}`: not a key of a section"
+            )));
         };
         let mut current = String::new();
         let mut done = false;
@@ -43,9 +72,9 @@ pub fn tuned_meta_text(text: &str, values: &[(String, f64)]) -> Result<String, R
             let comment = rest.find('#').map(|i| &rest[i..]).unwrap_or("");
             let indent = &line[..line.len() - line.trim_start().len()];
             let new = if comment.is_empty() {
-                format!("{indent}{name} = {value:?}")
+                format!("{indent}{name} = {value}")
             } else {
-                format!("{indent}{name} = {value:?}  {comment}")
+                format!("{indent}{name} = {value}  {comment}")
             };
             *line = new;
             done = true;
@@ -53,20 +82,12 @@ pub fn tuned_meta_text(text: &str, values: &[(String, f64)]) -> Result<String, R
         }
         if !done {
             return Err(RunError::Invalid(format!(
-                "meta.toml: `{key}` is not on a line of its own under [{section}]: the tuned file cannot be written by changing its value"
+                "{file}: `{key}` is not on a line of its own under [{section}]: the tuned file cannot be written by changing its value"
             )));
         }
     }
     let mut out = lines.join("\n");
     out.push('\n');
-    let (meta, _, _) = Meta::parse_log(&out).map_err(RunError::from)?;
-    for (key, value) in values {
-        if meta.noise_parameter(key) != Some(*value) {
-            return Err(RunError::Invalid(format!(
-                "meta.toml: `{key}` does not read back as {value} after writing"
-            )));
-        }
-    }
     Ok(out)
 }
 

@@ -24,16 +24,17 @@ mod meta_text;
 mod report;
 #[cfg(test)]
 mod tests;
+mod tunable;
 
 use std::collections::BTreeMap;
 
 use nav_runtime::innovations::InnovationTotals;
-use nav_runtime::log::LogFiles;
 use rayon::prelude::*;
 
-use crate::{ReplayModel, ReplayOptions, ReplayOutput, RunError};
+use crate::RunError;
 pub use command::{tune_with, TuneArgs};
-pub use meta_text::tuned_meta_text;
+pub use meta_text::{tuned_meta_text, with_values};
+pub use tunable::{LogTuning, Replayed, Tunable};
 
 /// A parameter whose `ln sigma` is known to worse than this standard error
 /// (a factor of about 1.28 either way) is not identified by the log.
@@ -68,8 +69,6 @@ pub struct TuneOptions {
     pub params: Vec<String>,
     /// Most forward replays of the log (the budget).
     pub max_replays: usize,
-    /// Options of every replay.
-    pub replay: ReplayOptions,
 }
 
 impl Default for TuneOptions {
@@ -77,7 +76,6 @@ impl Default for TuneOptions {
         Self {
             params: Vec::new(),
             max_replays: 30,
-            replay: ReplayOptions::default(),
         }
     }
 }
@@ -128,71 +126,45 @@ pub struct Tuning {
     /// with the tuned values.
     pub nis: BTreeMap<String, (Option<f64>, Option<f64>)>,
     /// The replay with the tuned values.
-    pub after: ReplayOutput,
+    pub after: Replayed,
 }
 
-/// The parameters asked for, checked against the log's `meta.toml`.
-fn chosen(files: &LogFiles, asked: &[String]) -> Result<Vec<(String, f64)>, RunError> {
-    let all = files.meta().noise_parameters();
-    if asked.is_empty() {
-        let default: Vec<_> = all
-            .into_iter()
-            .filter(|(k, _)| {
-                k == "sensors.imu.gyro_noise_sigma"
-                    || k == "sensors.imu.accel_noise_sigma"
-                    || (k.ends_with(".noise_sigma") && !k.starts_with("sensors.imu."))
-            })
-            .collect();
+/// The parameters asked for, checked against the model's.
+fn chosen(t: &dyn Tunable, asked: &[String]) -> Result<Vec<(String, f64)>, RunError> {
+    let all = t.parameters();
+    let asked = if asked.is_empty() {
+        let default = t.default_parameters();
         if default.is_empty() {
-            return Err(RunError::Invalid(
-                "meta.toml has no [sensors.*] noise sigma to tune".into(),
-            ));
+            return Err(RunError::Invalid(format!(
+                "model {} has no noise sigma to tune on this log",
+                t.model()
+            )));
         }
-        return Ok(default);
-    }
+        default
+    } else {
+        asked.to_vec()
+    };
     let mut out: Vec<(String, f64)> = Vec::new();
-    for key in asked {
-        let Some(v) = files.meta().noise_parameter(key) else {
-            // The error names the key and the parameters there are.
-            let mut meta = *files.meta();
-            return Err(meta.set_noise_parameter(key, 1.0).err().map_or_else(
-                || RunError::Invalid(format!("--params {key}")),
-                RunError::from,
-            ));
+    for key in &asked {
+        let Some((_, v)) = all.iter().find(|(k, _)| k == key) else {
+            return Err(t.unknown(key));
         };
         if out.iter().any(|(k, _)| k == key) {
             return Err(RunError::Invalid(format!("--params: {key} given twice")));
         }
-        out.push((key.clone(), v));
+        out.push((key.clone(), *v));
     }
     Ok(out)
 }
 
-/// The sensor whose noise sigma `key` is (`sensors.dvl.noise_sigma` ->
-/// `dvl`), not the IMU's.
-fn sensor_of(key: &str) -> Option<&str> {
-    let rest = key.strip_prefix("sensors.")?;
-    let sensor = rest.strip_suffix(".noise_sigma")?;
-    (sensor != "imu" && !sensor.contains('.')).then_some(sensor)
-}
-
-/// One replay's answer: the output and the total log-likelihood.
+/// One replay's answer and its total log-likelihood.
 struct Run {
-    output: ReplayOutput,
+    output: Replayed,
     log_likelihood: f64,
 }
 
-fn replay(
-    model: &dyn ReplayModel,
-    files: &LogFiles,
-    options: &ReplayOptions,
-    values: &[(String, f64)],
-) -> Result<Run, RunError> {
-    let mut meta = *files.meta();
-    for (k, v) in values {
-        meta.set_noise_parameter(k, *v).map_err(RunError::from)?;
-    }
-    let output = model.replay_files(&files.with_meta(meta), options, None)?;
+fn replay(t: &dyn Tunable, values: &[(String, f64)]) -> Result<Run, RunError> {
+    let output = t.replay(values)?;
     let mut total = InnovationTotals::default();
     for s in &output.innovations {
         total.merge(&s.totals);
@@ -216,11 +188,11 @@ fn totals_of<'a>(run: &'a Run, sensor: &str) -> Option<&'a InnovationTotals> {
 /// moves a sensor with enough updates, also one whose noise the filter's
 /// uncertainty still hides: a sigma far too small is such a sensor until
 /// it has moved.
-fn sensor_moves(params: &[(String, f64)], run: &Run) -> Vec<f64> {
+fn sensor_moves(t: &dyn Tunable, params: &[(String, f64)], run: &Run) -> Vec<f64> {
     params
         .iter()
         .map(|(key, _)| {
-            sensor_of(key)
+            t.sensor_of(key)
                 .and_then(|sensor| totals_of(run, sensor))
                 .filter(|t| t.updates >= MIN_UPDATES)
                 .and_then(InnovationTotals::sigma_factor)
@@ -250,31 +222,30 @@ fn sensor_verdict(sensor: &str, totals: Option<&InnovationTotals>) -> Option<Str
     }
 }
 
-/// Tunes the noise parameters of `model` on the log of `files`. `progress`
-/// is told the replays done so far and the budget.
+/// Tunes the noise parameters of `t` (a model on a log: [`LogTuning`] for a
+/// replay model reading `meta.toml`). `progress` is told the replays done
+/// so far and the budget.
 ///
 /// # Errors
-/// A parameter that `meta.toml` does not give, a model that reports no
+/// A parameter the model does not have, a model that reports no
 /// innovations, and any error of the replay with the given values (a log
 /// that cannot be replayed cannot be tuned).
 pub fn tune(
-    model: &dyn ReplayModel,
-    files: &LogFiles,
+    t: &dyn Tunable,
     options: &TuneOptions,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<Tuning, RunError> {
-    let params = chosen(files, &options.params)?;
+    let params = chosen(t, &options.params)?;
     if options.max_replays < 2 {
         return Err(RunError::Invalid(format!(
             "--max-replays {}: at least 2 (the given and the tuned values)",
             options.max_replays
         )));
     }
-    let opts = &options.replay;
     let mut values = params.clone();
     let mut replays = 0usize;
     let mut notes = Vec::new();
-    let given = replay(model, files, opts, &values);
+    let given = replay(t, &values);
     replays += 1;
     progress(replays, options.max_replays);
     let (before, before_log_likelihood) = match given {
@@ -293,7 +264,7 @@ pub fn tune(
                     params.iter().map(|(k, v)| (k.clone(), v * scale)).collect();
                 replays += 1;
                 progress(replays, options.max_replays);
-                match replay(model, files, opts, &larger) {
+                match replay(t, &larger) {
                     Ok(run) => {
                         values = larger;
                         notes.push(format!(
@@ -327,12 +298,12 @@ pub fn tune(
     {
         return Err(RunError::Invalid(format!(
             "model {} reported no sensor innovations on this log: nothing to tune from",
-            model.name()
+            t.model()
         )));
     }
     let kinds: Vec<ParameterKind> = params
         .iter()
-        .map(|(k, _)| match sensor_of(k) {
+        .map(|(k, _)| match t.sensor_of(k) {
             Some(_) => ParameterKind::SensorNoise,
             None => ParameterKind::Likelihood,
         })
@@ -354,7 +325,7 @@ pub fn tune(
     // A step needs its replays, and one is kept for the replay with the
     // given values of parameters the log does not identify.
     while replays + per_step < options.max_replays {
-        let mut moves = sensor_moves(&params, &center);
+        let mut moves = sensor_moves(t, &params, &center);
         if !likelihood_params.is_empty() {
             let probes: Vec<(usize, f64)> = likelihood_params
                 .iter()
@@ -365,7 +336,7 @@ pub fn tune(
                 .map(|&(i, d)| {
                     let mut v = values.clone();
                     v[i].1 *= d.exp();
-                    replay(model, files, opts, &v)
+                    replay(t, &v)
                 })
                 .collect();
             replays += runs.len();
@@ -398,7 +369,7 @@ pub fn tune(
             v.1 *= m.exp();
         }
         replays += 1;
-        match replay(model, files, opts, &values) {
+        match replay(t, &values) {
             Ok(run) => center = run,
             Err(_) => {
                 // The step went where the filter cannot run: stay before it.
@@ -442,7 +413,7 @@ pub fn tune(
     }
     // So does a sensor whose sigma the log does not tell.
     for (i, (key, initial)) in params.iter().enumerate() {
-        if let Some(sensor) = sensor_of(key) {
+        if let Some(sensor) = t.sensor_of(key) {
             let t = totals_of(&center, sensor);
             errors[i] = t.map_or(f64::INFINITY, InnovationTotals::log_sigma_standard_error);
             why_not[i] = sensor_verdict(sensor, t);
@@ -456,7 +427,7 @@ pub fn tune(
         loop {
             replays += 1;
             progress(replays.min(options.max_replays), options.max_replays);
-            match replay(model, files, opts, &values) {
+            match replay(t, &values) {
                 Ok(run) => {
                     center = run;
                     center_values.clone_from(&values);
@@ -476,7 +447,7 @@ pub fn tune(
                 }
                 Err(e) => return Err(e),
             }
-            let mut moves = sensor_moves(&params, &center);
+            let mut moves = sensor_moves(t, &params, &center);
             for (m, why) in moves.iter_mut().zip(&why_not) {
                 if why.is_some() {
                     *m = 0.0;
@@ -494,7 +465,7 @@ pub fn tune(
         .iter()
         .enumerate()
         .map(|(i, (key, initial))| {
-            let (log_standard_error, not_identifiable) = match sensor_of(key) {
+            let (log_standard_error, not_identifiable) = match t.sensor_of(key) {
                 // A sensor's verdict at the final replay, unless the log
                 // already failed to tell it.
                 Some(sensor) if why_not[i].is_none() => {
@@ -523,7 +494,7 @@ pub fn tune(
         nis.entry(sensor).or_default().1 = n;
     }
     Ok(Tuning {
-        model: model.name().to_string(),
+        model: t.model().to_string(),
         parameters,
         replays,
         converged,
@@ -535,7 +506,7 @@ pub fn tune(
 }
 
 /// Mean NIS per degree of freedom of each sensor with updates.
-fn nis_of(output: &ReplayOutput) -> Vec<(String, Option<f64>)> {
+fn nis_of(output: &Replayed) -> Vec<(String, Option<f64>)> {
     output
         .innovations
         .iter()

@@ -10,6 +10,7 @@ use nav_runtime::nalgebra::{SMatrix, SVector};
 use super::*;
 use crate::innovations::SensorInnovations;
 use crate::temp_dir::TempDir;
+use crate::{ReplayModel, ReplayOptions, ReplayOutput};
 
 /// The true noise sigma of the sensor.
 const TRUE_SIGMA: f64 = 0.1;
@@ -65,6 +66,7 @@ impl ReplayModel for Known {
                 sensor: "dvl".into(),
                 noise_sigma: Some(sigma),
                 gated: 0,
+                setting: ("meta.toml".into(), "sensors.dvl.noise_sigma".into()),
                 totals,
             }],
             ..ReplayOutput::default()
@@ -89,9 +91,9 @@ fn a_sensor_sigma_is_found_from_ten_times_either_side_and_a_flat_parameter_stays
     for (given, diverges_below) in cases {
         let (_d, files) = log_with(given);
         let calls = std::sync::atomic::AtomicUsize::new(0);
+        let known = Known { diverges_below };
         let t = tune(
-            &Known { diverges_below },
-            &files,
+            &LogTuning::new(&known, &files, ReplayOptions::default()),
             &TuneOptions::default(),
             &|done, budget| {
                 assert!(done <= budget);
@@ -146,10 +148,13 @@ fn a_sensor_sigma_is_found_from_ten_times_either_side_and_a_flat_parameter_stays
 fn a_filter_that_diverges_from_every_start_is_an_error_saying_so() {
     let (_d, files) = log_with(0.001);
     let e = tune(
-        &Known {
-            diverges_below: 10.0,
-        },
-        &files,
+        &LogTuning::new(
+            &Known {
+                diverges_below: 10.0,
+            },
+            &files,
+            ReplayOptions::default(),
+        ),
         &TuneOptions::default(),
         &|_, _| {},
     )
@@ -163,10 +168,13 @@ fn the_budget_of_replays_is_kept() {
     for max_replays in [2, 3, 5, 8] {
         let (_d, files) = log_with(1.0);
         let t = tune(
-            &Known {
-                diverges_below: 0.0,
-            },
-            &files,
+            &LogTuning::new(
+                &Known {
+                    diverges_below: 0.0,
+                },
+                &files,
+                ReplayOptions::default(),
+            ),
             &TuneOptions {
                 max_replays,
                 ..TuneOptions::default()

@@ -1,0 +1,152 @@
+//! A declared model replayed from `replay.toml`, as something noise tuning
+//! can tune ([`crate::tune::Tunable`]): each mapped sensor's `sigma` (all
+//! its outputs scaled together, the value reported is the first output's)
+//! and, when asked for, each scalar `[noise]` entry.
+
+use std::path::Path;
+
+use nav_runtime::ekf::Ekf;
+use nav_runtime::model::Model;
+
+use super::run::{run, RunOptions, SensorSummary};
+use super::{Mapping, ModelReplay, ModelReplayError};
+use crate::innovations::SensorInnovations;
+use crate::tune::{Replayed, Tunable};
+use crate::RunError;
+
+/// `replay` of a log directory with the mapping `mapping` (read from
+/// `mapping_file`).
+pub struct MappingTuning<'a, M: Model<N>, const N: usize> {
+    replay: &'a ModelReplay<M, N>,
+    dir: &'a Path,
+    mapping_file: String,
+    mapping: Mapping,
+    options: RunOptions,
+}
+
+impl<'a, M: Model<N>, const N: usize> MappingTuning<'a, M, N> {
+    /// The model of `replay` on the log in `dir` with its mapping.
+    pub fn new(
+        replay: &'a ModelReplay<M, N>,
+        dir: &'a Path,
+        mapping_file: String,
+        mapping: Mapping,
+        options: RunOptions,
+    ) -> Self {
+        Self {
+            replay,
+            dir,
+            mapping_file,
+            mapping,
+            options,
+        }
+    }
+
+    /// The mapping with `values` in place of the given ones.
+    pub fn mapping_with(&self, values: &[(String, f64)]) -> Mapping {
+        let mut m = self.mapping.clone();
+        let declared = self.replay.declared();
+        for (key, value) in values {
+            if let Some(name) = sensor_key(key) {
+                let k = declared.sensors.iter().position(|s| s.name == name);
+                if let Some(Some(s)) = k.and_then(|k| m.sensors.get_mut(k)) {
+                    let factor = value / s.sigma[0];
+                    s.sigma.iter_mut().for_each(|v| *v *= factor);
+                }
+            } else if let Some(name) = key.strip_prefix("noise.") {
+                if let Some(i) = declared.noise.iter().position(|n| *n == name) {
+                    m.noise[i] = *value;
+                }
+            }
+        }
+        m
+    }
+
+    fn summary_innovations(&self, s: &SensorSummary) -> SensorInnovations {
+        let k = self
+            .replay
+            .declared()
+            .sensors
+            .iter()
+            .position(|d| d.name == s.name);
+        let sigma = k
+            .and_then(|k| self.mapping.sensors.get(k))
+            .and_then(Option::as_ref)
+            .and_then(|m| (m.sigma.len() == 1).then(|| m.sigma[0]));
+        SensorInnovations {
+            sensor: s.name.to_string(),
+            noise_sigma: sigma,
+            gated: s.gated,
+            setting: (
+                self.mapping_file.clone(),
+                format!("sensors.{}.sigma", s.name),
+            ),
+            totals: s.innovations,
+        }
+    }
+}
+
+/// The sensor of key `sensors.<name>.sigma`.
+fn sensor_key(key: &str) -> Option<&str> {
+    let name = key.strip_prefix("sensors.")?.strip_suffix(".sigma")?;
+    (!name.contains('.')).then_some(name)
+}
+
+impl<M: Model<N>, const N: usize> Tunable for MappingTuning<'_, M, N>
+where
+    Ekf<M, N>: Clone,
+{
+    fn model(&self) -> &str {
+        self.replay.name()
+    }
+    fn parameters(&self) -> Vec<(String, f64)> {
+        let declared = self.replay.declared();
+        let mut out = Vec::new();
+        for (d, m) in declared.sensors.iter().zip(&self.mapping.sensors) {
+            // A sensor fed by the log whose sigmas are all positive (a
+            // zero sigma has no scale to find).
+            if let Some(m) = m.as_ref().filter(|m| m.sigma.iter().all(|s| *s > 0.0)) {
+                out.push((format!("sensors.{}.sigma", d.name), m.sigma[0]));
+            }
+        }
+        for (name, q) in declared.noise.iter().zip(&self.mapping.noise) {
+            if *q > 0.0 && !name.contains('[') {
+                out.push((format!("noise.{name}"), *q));
+            }
+        }
+        out
+    }
+    fn default_parameters(&self) -> Vec<String> {
+        self.parameters()
+            .into_iter()
+            .map(|(k, _)| k)
+            .filter(|k| sensor_key(k).is_some())
+            .collect()
+    }
+    fn sensor_of<'k>(&self, key: &'k str) -> Option<&'k str> {
+        sensor_key(key)
+    }
+    fn replay(&self, values: &[(String, f64)]) -> Result<Replayed, RunError> {
+        let mapping = self.mapping_with(values);
+        let r = run::<M, N>(
+            self.dir,
+            &self.mapping_file,
+            &mapping,
+            &self.replay.feeds,
+            &self.options,
+            None,
+        )
+        .map_err(|e| match e {
+            ModelReplayError::Log(e) => RunError::Log(e),
+            e => RunError::Invalid(e.to_string()),
+        })?;
+        Ok(Replayed {
+            innovations: r
+                .sensors
+                .iter()
+                .map(|s| self.summary_innovations(s))
+                .collect(),
+            warnings: r.warnings,
+        })
+    }
+}
