@@ -76,16 +76,8 @@ enum Command {
 struct TuneCommand {
     /// Log directory.
     dir: PathBuf,
-    /// The meta.toml keys to tune, comma-separated (default: every aiding
-    /// sensor's noise_sigma and the IMU's two noise sigmas).
-    #[arg(long, value_name = "LIST", value_delimiter = ',')]
-    params: Vec<String>,
-    /// Write the log's meta.toml with the tuned values to this file.
-    #[arg(long)]
-    write: Option<PathBuf>,
-    /// Most forward replays of the log.
-    #[arg(long, default_value_t = 30, value_name = "N")]
-    max_replays: usize,
+    #[command(flatten)]
+    flags: crate::tune::TuneFlags,
     /// Print one JSON object on stdout.
     #[arg(long)]
     json: bool,
@@ -170,9 +162,7 @@ where
             &crate::tune::TuneArgs {
                 dir: c.dir,
                 model: V::REPLAY_NAME.to_string(),
-                params: c.params,
-                write: c.write,
-                max_replays: c.max_replays,
+                flags: c.flags,
                 json: c.json,
                 lenient: c.lenient,
                 max_gap_periods: 10.0,

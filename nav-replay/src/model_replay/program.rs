@@ -68,16 +68,8 @@ struct ReplayCommand {
 struct TuneCommand {
     #[command(flatten)]
     common: Common,
-    /// The mapping keys to tune, comma-separated (`sensors.Fix.sigma`,
-    /// `noise.speed_noise`); default: every mapped sensor's sigma.
-    #[arg(long, value_name = "LIST", value_delimiter = ',')]
-    params: Vec<String>,
-    /// Write the mapping with the tuned values to this file.
-    #[arg(long)]
-    write: Option<PathBuf>,
-    /// Most forward replays of the log.
-    #[arg(long, default_value_t = 30, value_name = "N")]
-    max_replays: usize,
+    #[command(flatten)]
+    flags: crate::tune::TuneFlags,
 }
 
 #[derive(Debug, Args)]
@@ -188,40 +180,10 @@ where
             output_period: 0.0,
         },
     );
-    let bar = crate::progress_bar(c.max_replays, false);
-    let progress = |done: usize, budget: usize| {
-        bar.set_length(budget as u64);
-        bar.set_position(done as u64);
-    };
-    let options = crate::tune::TuneOptions {
-        params: c.params.clone(),
-        max_replays: c.max_replays,
-    };
-    let tuning = crate::tune::tune(&tunable, &options, &progress)?;
-    bar.finish_and_clear();
+    let tuning = crate::tune::tune_with_progress(&tunable, &c.flags)?;
     let mut value = tuning.json();
-    let mut warnings = tuning
-        .notes
-        .iter()
-        .map(|n| crate::model_note(n.clone()))
-        .collect::<Vec<_>>();
-    warnings.extend(
-        tuning
-            .after
-            .warnings
-            .iter()
-            .filter(|w| w.kind != nav_runtime::log::WarningKind::NoiseSigma)
-            .cloned(),
-    );
-    for w in &warnings {
-        eprintln!("warning: {}", w.message);
-    }
-    for p in &tuning.parameters {
-        if let Some(why) = &p.not_identifiable {
-            eprintln!("warning: {}: not identifiable: {why}", p.key);
-        }
-    }
-    if let Some(path) = &c.write {
+    let warnings = crate::tune::tuning_warnings(&tuning);
+    if let Some(path) = &c.flags.write {
         let source = c
             .common
             .mapping

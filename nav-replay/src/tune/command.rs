@@ -7,10 +7,31 @@ use std::path::PathBuf;
 use clap::Args;
 use serde_json::Value;
 
-use super::{tune, tuned_meta_text, LogTuning, TuneOptions};
+use nav_runtime::log::{Warning, WarningKind};
+
+use super::{tune, tuned_meta_text, LogTuning, Tunable, TuneOptions, Tuning};
 use crate::preflight;
 use crate::program::{emit, open_log, preflight_options, warnings_json};
 use crate::{progress_bar, ReplayModel, ReplayOptions, RunError};
+
+/// What every `tune` command takes: the parameters, the output and the
+/// budget.
+#[derive(Debug, Args)]
+pub struct TuneFlags {
+    /// The keys to tune, comma-separated (`sensors.dvl.noise_sigma`,
+    /// `sensors.imu.accel_bias_sigma`; `sensors.Fix.sigma`, `noise.speed_noise`
+    /// for a declared model's mapping); default: every sensor's noise sigma
+    /// (and the IMU's two for an INS vehicle).
+    #[arg(long, value_name = "LIST", value_delimiter = ',')]
+    pub params: Vec<String>,
+    /// Write the log's meta.toml (or the mapping) with the tuned values to
+    /// this file.
+    #[arg(long)]
+    pub write: Option<PathBuf>,
+    /// Most forward replays of the log.
+    #[arg(long, default_value_t = 30, value_name = "N")]
+    pub max_replays: usize,
+}
 
 /// `navsim tune`.
 #[derive(Debug, Args)]
@@ -20,17 +41,9 @@ pub struct TuneArgs {
     /// Model name.
     #[arg(long)]
     pub model: String,
-    /// The `meta.toml` keys to tune, comma-separated
-    /// (`sensors.dvl.noise_sigma,sensors.imu.accel_bias_sigma`); default:
-    /// every aiding sensor's noise_sigma and the IMU's two noise sigmas.
-    #[arg(long, value_name = "LIST", value_delimiter = ',')]
-    pub params: Vec<String>,
-    /// Write the log's meta.toml with the tuned values to this file.
-    #[arg(long)]
-    pub write: Option<PathBuf>,
-    /// Most forward replays of the log.
-    #[arg(long, default_value_t = 30, value_name = "N")]
-    pub max_replays: usize,
+    /// The parameters, the output and the budget.
+    #[command(flatten)]
+    pub flags: TuneFlags,
     /// Print one JSON object on stdout.
     #[arg(long)]
     pub json: bool,
@@ -43,55 +56,47 @@ pub struct TuneArgs {
     pub max_gap_periods: f64,
 }
 
-/// `navsim tune` with `model` (`args.model` is not looked up).
+/// [`tune`] of `t` as `flags` ask, with a progress bar on a terminal.
 ///
 /// # Errors
-/// As [`tune`], a log the preflight refuses, and a `--write` that fails.
-pub fn tune_with(model: &dyn ReplayModel, args: &TuneArgs) -> Result<(), RunError> {
-    let (preflight_options, strictness) =
-        preflight_options(args.lenient, args.max_gap_periods, model.log_files())?;
-    let files = open_log(&args.dir, strictness)?;
+/// As [`tune`].
+pub fn tune_with_progress(t: &dyn Tunable, flags: &TuneFlags) -> Result<Tuning, RunError> {
     let options = TuneOptions {
-        params: args.params.clone(),
-        max_replays: args.max_replays,
+        params: flags.params.clone(),
+        max_replays: flags.max_replays,
     };
-    let tunable = LogTuning::new(
-        model,
-        &files,
-        ReplayOptions {
-            lenient: args.lenient,
-            ..ReplayOptions::default()
-        },
-    );
-    let bar = progress_bar(args.max_replays, false);
+    let bar = progress_bar(flags.max_replays, false);
     let progress = |done: usize, budget: usize| {
         bar.set_length(budget as u64);
         bar.set_position(done as u64);
     };
-    let (tuning, report, summary) =
-        preflight::check_alongside(&files, &preflight_options, false, || {
-            tune(&tunable, &options, &progress)
-        })?;
+    let tuning = tune(t, &options, &progress);
     bar.finish_and_clear();
-    let mut value = tuning.json();
-    let mut warnings = summary.warnings.clone();
-    warnings.extend(files.rejected_warnings());
-    warnings.extend(report.warnings().cloned());
-    // The notes of the tuned run, but not its noise-sigma verdicts: the
-    // tuning's own report says what the log identifies.
+    tuning
+}
+
+/// The warnings of a tuning for its JSON: its notes and the tuned run's
+/// own, but not the run's noise-sigma verdicts (the tuning's report says
+/// what the log identifies). Prints them, the parameters the log does not
+/// identify and a budget that ran out, on stderr.
+pub fn tuning_warnings(tuning: &Tuning) -> Vec<Warning> {
+    let mut warnings: Vec<Warning> = tuning
+        .notes
+        .iter()
+        .map(|n| crate::model_note(n.clone()))
+        .collect();
     warnings.extend(
         tuning
             .after
             .warnings
             .iter()
-            .filter(|w| w.kind != nav_runtime::log::WarningKind::NoiseSigma)
+            .filter(|w| w.kind != WarningKind::NoiseSigma)
             .cloned(),
     );
-    for n in &tuning.notes {
-        eprintln!("warning: {n}");
-        warnings.push(crate::model_note(n.clone()));
+    for w in &warnings {
+        eprintln!("warning: {}", w.message);
     }
-    for p in tuning.parameters.iter() {
+    for p in &tuning.parameters {
         if let Some(why) = &p.not_identifiable {
             eprintln!("warning: {}: not identifiable: {why}", p.key);
         }
@@ -102,7 +107,35 @@ pub fn tune_with(model: &dyn ReplayModel, args: &TuneArgs) -> Result<(), RunErro
             tuning.replays
         );
     }
-    if let Some(path) = &args.write {
+    warnings
+}
+
+/// `navsim tune` with `model` (`args.model` is not looked up).
+///
+/// # Errors
+/// As [`tune`], a log the preflight refuses, and a `--write` that fails.
+pub fn tune_with(model: &dyn ReplayModel, args: &TuneArgs) -> Result<(), RunError> {
+    let (preflight_options, strictness) =
+        preflight_options(args.lenient, args.max_gap_periods, model.log_files())?;
+    let files = open_log(&args.dir, strictness)?;
+    let tunable = LogTuning::new(
+        model,
+        &files,
+        ReplayOptions {
+            lenient: args.lenient,
+            ..ReplayOptions::default()
+        },
+    );
+    let (tuning, report, summary) =
+        preflight::check_alongside(&files, &preflight_options, false, || {
+            tune_with_progress(&tunable, &args.flags)
+        })?;
+    let mut value = tuning.json();
+    let mut warnings = summary.warnings.clone();
+    warnings.extend(files.rejected_warnings());
+    warnings.extend(report.warnings().cloned());
+    warnings.extend(tuning_warnings(&tuning));
+    if let Some(path) = &args.flags.write {
         let source = files.dir().join("meta.toml");
         let text = std::fs::read_to_string(&source).map_err(|e| RunError::io(&source, e))?;
         let tuned = tuned_meta_text(&text, &tuning.identified_values())?;

@@ -14,10 +14,14 @@
 //!   identify the parameter: the given value is kept and said so, never a
 //!   value that wandered.
 //!
-//! Any replay model that reads its sigmas from `meta.toml` and reports its
-//! sensors' innovations ([`ReplayOutput::innovations`]) can be tuned: the
-//! replays run through [`ReplayModel::replay_files`] on the same log with
-//! another [`Meta`](nav_runtime::log::Meta).
+//! What can be tuned is a [`Tunable`]: a replay model that reads its
+//! sigmas from `meta.toml` and reports its sensors' innovations
+//! ([`ReplayOutput::innovations`](crate::ReplayOutput::innovations)),
+//! replayed through
+//! [`ReplayModel::replay_files`](crate::ReplayModel::replay_files) with
+//! another [`Meta`](nav_runtime::log::Meta) ([`LogTuning`]), or a declared
+//! model replayed from its mapping
+//! ([`MappingTuning`](crate::model_replay::MappingTuning)).
 
 mod command;
 mod meta_text;
@@ -32,7 +36,7 @@ use nav_runtime::innovations::InnovationTotals;
 use rayon::prelude::*;
 
 use crate::RunError;
-pub use command::{tune_with, TuneArgs};
+pub use command::{tune_with, tune_with_progress, tuning_warnings, TuneArgs, TuneFlags};
 pub use meta_text::{tuned_meta_text, with_values};
 pub use tunable::{LogTuning, Replayed, Tunable};
 
