@@ -216,39 +216,73 @@ impl Sensors {
 
     /// The `[sensors.<name>]` section of aiding sensor `name` (one of
     /// [`AIDING_SENSORS`]), if `meta.toml` has it.
-    pub fn aiding(&self, name: &str) -> Option<&SensorNoise> {
-        match name {
-            "dvl" => &self.dvl,
-            "depth" => &self.depth,
-            "heading" => &self.heading,
-            "usbl" => &self.usbl,
-            "speed" => &self.speed,
-            "rpm" => &self.rpm,
-            "altitude" => &self.altitude,
-            "mag" => &self.mag,
-            "baro" => &self.baro,
-            "gnss" => &self.gnss,
-            _ => return None,
-        }
-        .as_ref()
+    pub fn aiding(&self, name: &str) -> Option<SensorNoise> {
+        let mut copy = *self;
+        copy.aiding_mut(name).and_then(|s| *s)
     }
 
     /// The section of aiding sensor `name`, to change or add.
     pub fn aiding_mut(&mut self, name: &str) -> Option<&mut Option<SensorNoise>> {
-        Some(match name {
-            "dvl" => &mut self.dvl,
-            "depth" => &mut self.depth,
-            "heading" => &mut self.heading,
-            "usbl" => &mut self.usbl,
-            "speed" => &mut self.speed,
-            "rpm" => &mut self.rpm,
-            "altitude" => &mut self.altitude,
-            "mag" => &mut self.mag,
-            "baro" => &mut self.baro,
-            "gnss" => &mut self.gnss,
-            _ => return None,
-        })
+        self.sections_mut()
+            .into_iter()
+            .find(|(n, _)| *n == name)
+            .map(|(_, s)| s)
     }
+
+    /// Every aiding sensor's section by name, in [`AIDING_SENSORS`] order:
+    /// the one table from names to fields.
+    fn sections_mut(&mut self) -> [(&'static str, &mut Option<SensorNoise>); 10] {
+        let Sensors {
+            dvl,
+            depth,
+            heading,
+            usbl,
+            speed,
+            rpm,
+            altitude,
+            mag,
+            baro,
+            gnss,
+            ..
+        } = self;
+        [
+            ("dvl", dvl),
+            ("depth", depth),
+            ("heading", heading),
+            ("usbl", usbl),
+            ("speed", speed),
+            ("rpm", rpm),
+            ("altitude", altitude),
+            ("mag", mag),
+            ("baro", baro),
+            ("gnss", gnss),
+        ]
+    }
+}
+
+/// The sigmas of `[sensors.imu]` by key, in the order they are listed.
+fn imu_sigmas(imu: &mut ImuNoise) -> [(&'static str, &mut f64); 4] {
+    let ImuNoise {
+        gyro_bias_sigma,
+        gyro_noise_sigma,
+        accel_bias_sigma,
+        accel_noise_sigma,
+    } = imu;
+    [
+        ("gyro_noise_sigma", gyro_noise_sigma),
+        ("accel_noise_sigma", accel_noise_sigma),
+        ("gyro_bias_sigma", gyro_bias_sigma),
+        ("accel_bias_sigma", accel_bias_sigma),
+    ]
+}
+
+/// The sigmas of an aiding sensor's section by key.
+fn aiding_sigmas(s: &mut SensorNoise) -> [(&'static str, &mut f64); 2] {
+    let SensorNoise {
+        noise_sigma,
+        bias_sigma,
+    } = s;
+    [("noise_sigma", noise_sigma), ("bias_sigma", bias_sigma)]
 }
 
 /// The noise parameters of `meta.toml` by their key (`sensors.dvl.noise_sigma`,
@@ -259,21 +293,18 @@ impl Meta {
     /// order (the IMU's, then the aiding sensors' in [`AIDING_SENSORS`]
     /// order; noise sigmas and bias sigmas).
     pub fn noise_parameters(&self) -> Vec<(String, f64)> {
+        let mut copy = *self;
         let mut out = Vec::new();
-        if let Some(imu) = &self.sensors.imu {
-            for (k, v) in [
-                ("gyro_noise_sigma", imu.gyro_noise_sigma),
-                ("accel_noise_sigma", imu.accel_noise_sigma),
-                ("gyro_bias_sigma", imu.gyro_bias_sigma),
-                ("accel_bias_sigma", imu.accel_bias_sigma),
-            ] {
-                out.push((format!("sensors.imu.{k}"), v));
+        if let Some(imu) = copy.sensors.imu.as_mut() {
+            for (k, v) in imu_sigmas(imu) {
+                out.push((format!("sensors.imu.{k}"), *v));
             }
         }
-        for name in AIDING_SENSORS {
-            if let Some(s) = self.sensors.aiding(name) {
-                out.push((format!("sensors.{name}.noise_sigma"), s.noise_sigma));
-                out.push((format!("sensors.{name}.bias_sigma"), s.bias_sigma));
+        for (name, section) in copy.sensors.sections_mut() {
+            if let Some(s) = section {
+                for (k, v) in aiding_sigmas(s) {
+                    out.push((format!("sensors.{name}.{k}"), *v));
+                }
             }
         }
         out
@@ -281,17 +312,32 @@ impl Meta {
 
     /// The value of noise parameter `key` (see [`Meta::noise_parameters`]).
     pub fn noise_parameter(&self, key: &str) -> Option<f64> {
-        self.noise_parameters()
-            .into_iter()
-            .find(|(k, _)| k == key)
-            .map(|(_, v)| v)
+        let mut copy = *self;
+        copy.noise_parameter_mut(key).map(|v| *v)
+    }
+
+    /// The place of noise parameter `key`, if the file gives it.
+    fn noise_parameter_mut(&mut self, key: &str) -> Option<&mut f64> {
+        let mut parts = key.split('.');
+        let (Some("sensors"), Some(sensor), Some(field), None) =
+            (parts.next(), parts.next(), parts.next(), parts.next())
+        else {
+            return None;
+        };
+        let slots: Vec<(&str, &mut f64)> = if sensor == "imu" {
+            imu_sigmas(self.sensors.imu.as_mut()?).into()
+        } else {
+            aiding_sigmas(self.sensors.aiding_mut(sensor)?.as_mut()?).into()
+        };
+        slots.into_iter().find(|(k, _)| *k == field).map(|(_, v)| v)
     }
 
     /// Sets noise parameter `key` (which the file must give) to `value`.
     ///
     /// # Errors
     /// [`LogError::Meta`] naming the key when `meta.toml` has no such
-    /// parameter or `value` is not a finite sigma (not negative).
+    /// parameter (with the closest one) or `value` is not a finite sigma
+    /// (not negative).
     pub fn set_noise_parameter(&mut self, key: &str, value: f64) -> Result<(), LogError> {
         if !(value.is_finite() && value >= 0.0) {
             return Err(LogError::meta(
@@ -304,56 +350,18 @@ impl Meta {
             .into_iter()
             .map(|(k, _)| k)
             .collect();
-        let error = LogError::meta(
-            key,
-            format!(
-                "not a noise parameter of this meta.toml{}",
-                crate::suggestion::did_you_mean(
-                    key,
-                    &known.iter().map(String::as_str).collect::<Vec<_>>()
-                )
-            ),
-        );
-        if !known.iter().any(|k| k == key) {
-            return Err(error);
-        }
-        // Not reached for a key listed above.
-        let unknown = || LogError::meta(key, "not a noise parameter of this meta.toml");
-        let mut parts = key.split('.');
-        let (Some("sensors"), Some(sensor), Some(field), None) =
-            (parts.next(), parts.next(), parts.next(), parts.next())
-        else {
-            return Err(unknown());
+        let Some(slot) = self.noise_parameter_mut(key) else {
+            let known: Vec<&str> = known.iter().map(String::as_str).collect();
+            return Err(LogError::meta(
+                key,
+                format!(
+                    "not a noise parameter of this meta.toml{}",
+                    crate::suggestion::did_you_mean(key, &known)
+                ),
+            ));
         };
-        if sensor == "imu" {
-            let Some(imu) = self.sensors.imu.as_mut() else {
-                return Err(unknown());
-            };
-            let slot = match field {
-                "gyro_noise_sigma" => &mut imu.gyro_noise_sigma,
-                "accel_noise_sigma" => &mut imu.accel_noise_sigma,
-                "gyro_bias_sigma" => &mut imu.gyro_bias_sigma,
-                "accel_bias_sigma" => &mut imu.accel_bias_sigma,
-                _ => return Err(unknown()),
-            };
-            *slot = value;
-            return Ok(());
-        }
-        let found = match self.sensors.aiding_mut(sensor) {
-            Some(Some(s)) => match field {
-                "noise_sigma" => Some(&mut s.noise_sigma),
-                "bias_sigma" => Some(&mut s.bias_sigma),
-                _ => None,
-            },
-            _ => None,
-        };
-        match found {
-            Some(slot) => {
-                *slot = value;
-                Ok(())
-            }
-            None => Err(unknown()),
-        }
+        *slot = value;
+        Ok(())
     }
 }
 
