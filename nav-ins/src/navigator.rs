@@ -815,6 +815,9 @@ impl<V: InsVehicle<N>, const N: usize> Builder<V, N> {
         if self.options.smooth {
             let file = EpochFile::create(None).map_err(|e| NavigatorError::Setup(e.to_string()))?;
             filter.start_recording(file, t0).map_err(err)?;
+            if self.options.sensor_information {
+                filter.track_sensor_information();
+            }
         }
         Ok(filter)
     }

@@ -177,6 +177,10 @@ pub struct NavigatorOptions {
     /// Record the run for the fixed-interval smoother
     /// ([`nav_runtime::smoother`]).
     pub smooth: bool,
+    /// With `smooth`: also keep the information each sensor's updates give
+    /// ([`nav_runtime::smoother::SensorInformation`], for the per-sensor
+    /// observability report).
+    pub sensor_information: bool,
     /// False-alarm probability of the frozen-value check (`None`: off).
     pub stuck_false_alarm: Option<f64>,
     /// Physical bounds of the estimate.
@@ -190,6 +194,7 @@ impl Default for NavigatorOptions {
             gate_probability: Some(Gate::DEFAULT_PROBABILITY),
             lockout_release: Some(crate::lockout::LockoutOptions::default()),
             smooth: false,
+            sensor_information: false,
             stuck_false_alarm: Some(StuckDetector::DEFAULT_FALSE_ALARM),
             bounds: Bounds::default(),
         }

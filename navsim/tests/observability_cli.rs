@@ -126,6 +126,32 @@ fn a_survey_without_position_fixes_does_not_learn_the_position() {
         "{weakest:?}"
     );
     assert!(made_of(&["position_error[2]", "depth_bias"]), "{weakest:?}");
+    // Per sensor: each state is taught by the sensors that see it, and no
+    // sensor alone teaches more than all of them together.
+    let by = |state: &str, sensor: &str| {
+        v["observability"]["states"][state]["by_sensor"][sensor]
+            .as_f64()
+            .unwrap_or_else(|| panic!("no by_sensor.{sensor} for {state}"))
+    };
+    let cases: &[(&str, &str, bool)] = &[
+        ("compass_bias", "Compass", true),
+        ("compass_bias", "Dvl", false),
+        ("compass_bias", "Depth", false),
+        ("depth_bias", "Depth", true),
+        ("depth_bias", "Dvl", false),
+        ("position_error[2]", "Depth", true),
+        ("position_error[2]", "Dvl", false),
+        ("velocity_error[0]", "Dvl", true),
+        ("velocity_error[0]", "Depth", false),
+        ("velocity_error[0]", "Compass", false),
+        ("dvl_bias[0]", "Dvl", true),
+        ("dvl_bias[0]", "Compass", false),
+    ];
+    for &(state, sensor, teaches) in cases {
+        let l = by(state, sensor);
+        assert_eq!(l > 0.05, teaches, "{state} by {sensor}: {l}");
+        assert!(l <= learned(&v, state) + 0.01, "{state} by {sensor}: {l}");
+    }
 }
 
 /// At rest without a compass, with noisy zero-velocity DVL and depth

@@ -12,6 +12,7 @@ use nav_runtime::log::{Event, LogDir};
 use nav_runtime::math::wrap_angle;
 use nav_runtime::model::{Model, Sensor};
 use nav_runtime::nalgebra::{Matrix2, Matrix4, SMatrix, SVector, Vector2, Vector3, Vector4};
+use nav_runtime::smoother::{learned_by_sensor, observability, EpochFile, Recorder, SmootherError};
 
 /// How the filter is set up.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -237,15 +238,77 @@ impl LevelingModel<8> for Leveling8 {
 /// `options.tuning.bias_states`.
 pub fn run(log: &LogDir, options: &LevelingOptions) -> Result<LevelingRun, FilterError> {
     if options.tuning.bias_states {
-        run_model::<Leveling8, 8>(log, options)
+        run_model::<Leveling8, 8>(log, options, None)
     } else {
-        run_model::<Leveling6, 6>(log, options)
+        run_model::<Leveling6, 6>(log, options, None)
     }
+}
+
+/// What a run of [`Leveling8`] over `log` taught each of its states
+/// (`velocity[0..3]`, `gravity_direction[0..3]`, `accel_bias[0..2]`, in
+/// that order) and its weakest `directions`, by the same recording and
+/// analysis as an INS replay's `--observability` (docs/observability.md):
+/// the generic report checked against the leveling work's known answer.
+///
+/// # Errors
+/// A filter error of the run, or a recording error (as text).
+pub fn observability_of_run(
+    log: &LogDir,
+    options: &LevelingOptions,
+    directions: usize,
+) -> Result<nav_runtime::smoother::Observability<8>, String> {
+    let smoother = |e: SmootherError| e.to_string();
+    let file = EpochFile::<8, 0>::create(None).map_err(smoother)?;
+    let (_, p0) = Leveling8::initial(0.0, &Vector3::z(), &options.tuning);
+    let prior_sigma: [f64; 8] = std::array::from_fn(|i| p0[(i, i)].sqrt());
+    // The run starts at the first IMU row (the first step follows the second).
+    let start = log.imu.first().map_or(0.0, |row| row.t);
+    let mut recorder = Recorder::new(file, start, &p0, SVector::zeros());
+    recorder.track_sensor_information();
+    run_model::<Leveling8, 8>(log, options, Some(&mut recorder)).map_err(|e| e.to_string())?;
+    recorder.finish().map_err(smoother)?;
+    let information = recorder.sensor_information().cloned();
+    let store = recorder.store();
+    let mut file = store.borrow_mut();
+    let mut o = observability(&mut file, &prior_sigma, 0.0, directions).map_err(smoother)?;
+    if let Some(information) = information {
+        o.by_sensor = learned_by_sensor(&information, &prior_sigma, 0.0);
+    }
+    Ok(o)
+}
+
+/// Sensor `S`'s update, recorded (the covariance before and after, the
+/// correction, and its information) when `recorder` is given.
+fn recorded_update<S, M, const N: usize, const K: usize>(
+    ekf: &mut Ekf<M, N>,
+    recorder: &mut Option<&mut Recorder<N, 0>>,
+    z: &SVector<f64, K>,
+    r: &SMatrix<f64, K, K>,
+) -> Result<nav_runtime::ekf::UpdateReport<K>, FilterError>
+where
+    M: Model<N>,
+    S: Sensor<N, K, Model = M, Aux = ()>,
+{
+    let Some(rec) = recorder.as_deref_mut() else {
+        return ekf.update::<S, K>(z, r, &());
+    };
+    let (x, p) = (*ekf.state(), *ekf.covariance());
+    let h = S::jacobian(&x, ekf.input(), ekf.params(), &());
+    let report = ekf.update::<S, K>(z, r, &())?;
+    if report.accepted {
+        rec.updating(&p, SVector::zeros());
+        rec.updated(&(x - ekf.state()), ekf.covariance(), SVector::zeros());
+        if let Some(c) = r.cholesky() {
+            rec.sensor_update(S::NAME, &h, &c.inverse());
+        }
+    }
+    Ok(report)
 }
 
 fn run_model<M: LevelingModel<N>, const N: usize>(
     log: &LogDir,
     options: &LevelingOptions,
+    mut recorder: Option<&mut Recorder<N, 0>>,
 ) -> Result<LevelingRun, FilterError> {
     let init = &log.meta.initial;
     let lat = init.lat;
@@ -292,8 +355,16 @@ fn run_model<M: LevelingModel<N>, const N: usize>(
                 let input = M::input(gyro, Vector3::new(row.ax, row.ay, row.az), earth_rate_body);
                 if let Some((t_prev, prev)) = last_imu {
                     let dt = row.t - t_prev;
+                    let before = *ekf.state();
                     match ekf.predict(dt, &prev) {
-                        Ok(()) => {}
+                        Ok(()) => {
+                            if let Some(rec) = recorder.as_deref_mut() {
+                                rec.propagated::<M>(
+                                    &M::jacobian(&before, &prev, ekf.params(), dt),
+                                    dt,
+                                );
+                            }
+                        }
                         Err(_) => {
                             out.rejected += 1;
                             continue;
@@ -310,7 +381,12 @@ fn run_model<M: LevelingModel<N>, const N: usize>(
                     let z = Vector4::new(0.0, 0.0, 0.0, 1.0);
                     count(
                         &mut out,
-                        ekf.update::<M::Stationary, 4>(&z, &r_stationary, &()),
+                        recorded_update::<M::Stationary, M, N, 4>(
+                            &mut ekf,
+                            &mut recorder,
+                            &z,
+                            &r_stationary,
+                        ),
                     );
                 }
                 out.estimates
@@ -321,11 +397,24 @@ fn run_model<M: LevelingModel<N>, const N: usize>(
                     let z = Vector4::new(0.0, 0.0, 0.0, 1.0);
                     count(
                         &mut out,
-                        ekf.update::<M::Stationary, 4>(&z, &r_stationary, &()),
+                        recorded_update::<M::Stationary, M, N, 4>(
+                            &mut ekf,
+                            &mut recorder,
+                            &z,
+                            &r_stationary,
+                        ),
                     );
                 } else {
                     let z = Vector2::new(row.speed, 1.0);
-                    count(&mut out, ekf.update::<M::Moving, 2>(&z, &r_moving, &()));
+                    count(
+                        &mut out,
+                        recorded_update::<M::Moving, M, N, 2>(
+                            &mut ekf,
+                            &mut recorder,
+                            &z,
+                            &r_moving,
+                        ),
+                    );
                 }
                 if t.upright {
                     keep_upright(&mut ekf)?;

@@ -212,4 +212,62 @@ mod tests {
         // pitch rate couples it into the forward speed); it does not touch the tilt.
         assert!(strength_of(&weave, VZ, VZ, 1.0) < 1e-6);
     }
+
+    /// The replay's observability report (recorded along the filter's own
+    /// estimate, docs/observability.md) on the S-track, against the answer
+    /// above: the forward accelerometer bias is learned least of the two,
+    /// and a weakest direction is the forward bias against the tilt it
+    /// causes; the vertical velocity is not learned at all.
+    #[test]
+    fn the_run_report_finds_the_forward_bias_against_the_tilt_on_the_s_track() {
+        use super::super::filter::{observability_of_run, LevelingOptions};
+        use super::super::simulation::{simulate, Biases};
+        let log = simulate(Motion::SType, Biases::OneSigma, 11);
+        let truth = simulation::trajectory(Motion::SType).truth(0.0);
+        let options = LevelingOptions {
+            stationary: false,
+            initial_attitude: Some((truth.euler.roll, truth.euler.pitch)),
+            tuning: Tuning {
+                bias_states: true,
+                ..Tuning::default()
+            },
+        };
+        let o = observability_of_run(&log, &options, 4).unwrap();
+        eprintln!("learned {:?}", o.learned);
+        for d in &o.weakest {
+            eprintln!("  {:.3e}  {:?}", d.learned, d.coefficients);
+        }
+        // Measured (seed 11): b_x 0.005, b_y 0.21, v_z 1e-8, tilt 0.97-0.999.
+        assert!(o.learned[BX] < 0.05, "{:?}", o.learned);
+        assert!(o.learned[BY] > 4.0 * o.learned[BX], "{:?}", o.learned);
+        assert!(o.learned[VZ] < 1e-6, "{:?}", o.learned);
+        assert!(
+            o.learned[A1] > 0.9 && o.learned[A2] > 0.9,
+            "{:?}",
+            o.learned
+        );
+        // The weakest direction after v_z: the forward bias with the tilt
+        // that hides it, `g da1 = db_x`, which in prior-sigma units is a
+        // coefficient of sigma_b / (g sigma_a) on a1 (sigma_a = 1: the tilt
+        // is known far better than the bias, relative to their priors).
+        let bias = o
+            .weakest
+            .iter()
+            .find(|d| d.coefficients[BX] == 1.0)
+            .unwrap_or_else(|| panic!("no direction led by b_x: {:?}", o.weakest));
+        assert!(bias.learned < 0.01, "{}", bias.learned);
+        let expected = options.tuning.accel_bias_sigma / 9.81;
+        let a1 = bias.coefficients[A1].abs();
+        assert!((0.5..1.5).contains(&(a1 / expected)), "{a1} vs {expected}");
+        assert!(
+            bias.coefficients[BY].abs() < 0.01,
+            "{:?}",
+            bias.coefficients
+        );
+        // One sensor (the speed log with the unit norm): all of it.
+        assert_eq!(o.by_sensor.len(), 1);
+        for (i, l) in o.by_sensor[0].1.iter().enumerate() {
+            assert!((l - o.learned[i]).abs() < 1e-6, "{i}");
+        }
+    }
 }

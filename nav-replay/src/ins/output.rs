@@ -486,7 +486,16 @@ fn observability_json<V: InsVehicle<N>, const N: usize>(
             states.insert((*name).to_string(), json!({"learned": null, "fixed": true}));
             continue;
         }
-        states.insert((*name).to_string(), json!({"learned": learned}));
+        let mut entry = json!({"learned": learned});
+        if !o.by_sensor.is_empty() {
+            let by_sensor: Map<String, Value> = o
+                .by_sensor
+                .iter()
+                .map(|(sensor, l)| ((*sensor).to_string(), Value::from(l[i])))
+                .collect();
+            entry["by_sensor"] = Value::Object(by_sensor);
+        }
+        states.insert((*name).to_string(), entry);
         if learned < NOT_LEARNED && !navigation(name) {
             let whose = if absorbed[i] {
                 ""

@@ -16,7 +16,9 @@ use nav_runtime::log::{
     LogSource, MagRow, UsblRow, Warning, WarningKind,
 };
 use nav_runtime::nalgebra::Vector3;
-use nav_runtime::smoother::{observability, smooth_states, EpochFile, SmootherError, SpillFile};
+use nav_runtime::smoother::{
+    learned_by_sensor, observability, smooth_states, EpochFile, SmootherError, SpillFile,
+};
 use nav_runtime::strapdown::RateSamples;
 
 use super::aiding::{place, Aiding, Travelling};
@@ -362,20 +364,25 @@ where
         h.stuck = r.stuck;
     }
     let mut final_filter = nav.filter().clone();
+    let sensor_information = final_filter.sensor_information().cloned();
     let recording = final_filter
         .finish_recording()
         .map_err(|e| RunError::Invalid(e.to_string()))?;
     let layout = *final_filter.nominal().layout();
     let observability = match (&recording, options.observability) {
-        (Some(store), true) => Some(
-            observability(
+        (Some(store), true) => {
+            let mut o = observability(
                 &mut store.borrow_mut(),
                 &prior_sigma,
                 OBSERVABILITY_FLOOR,
                 OBSERVABILITY_DIRECTIONS,
             )
-            .map_err(smoother_error)?,
-        ),
+            .map_err(smoother_error)?;
+            if let Some(information) = &sensor_information {
+                o.by_sensor = learned_by_sensor(information, &prior_sigma, OBSERVABILITY_FLOOR);
+            }
+            Some(o)
+        }
         _ => None,
     };
     if let (Some(store), Some(forward)) = (recording, smoothing.as_mut()) {

@@ -735,6 +735,7 @@ impl LogPlan {
                 stuck_false_alarm: options.stuck_false_alarm,
                 bounds: options.bounds,
                 smooth: options.smooth || options.observability,
+                sensor_information: options.observability,
             })
             .usbl_transducer(self.transducer)
             .magnetic_declination(self.declination);

@@ -239,6 +239,8 @@ impl<Mo: Model<N>, Nom: NominalState<N>, const N: usize> ErrorStateFilter<Mo, No
         // The state before the update matters only when some state is kept
         // in the filter (otherwise it is zero): not copied on the common path.
         let kept_before = (!self.nominal.absorbs_all()).then(|| *self.ekf.state());
+        #[cfg(feature = "std")]
+        let jacobian = self.information_jacobian::<S, M>(aux);
         let report = self.ekf.update::<S, M>(z, r, aux)?;
         if report.accepted {
             let _error = self.feedback(kept_before.as_ref());
@@ -246,6 +248,9 @@ impl<Mo: Model<N>, Nom: NominalState<N>, const N: usize> ErrorStateFilter<Mo, No
             if let (Some(rec), Some(before)) = (self.recording.as_mut(), before) {
                 rec.updating(&before, SVector::zeros());
                 rec.updated(&_error, self.ekf.covariance(), SVector::zeros());
+                if let (Some(h), Some(r_inverse)) = (jacobian, r.cholesky().map(|c| c.inverse())) {
+                    rec.sensor_update(S::NAME, &h, &r_inverse);
+                }
             }
         }
         Ok(report)
@@ -271,6 +276,8 @@ impl<Mo: Model<N>, Nom: NominalState<N>, const N: usize> ErrorStateFilter<Mo, No
         // The state before the update matters only when some state is kept
         // in the filter (otherwise it is zero): not copied on the common path.
         let kept_before = (!self.nominal.absorbs_all()).then(|| *self.ekf.state());
+        #[cfg(feature = "std")]
+        let jacobian = self.information_jacobian::<S, M>(aux);
         let report = self.ekf.update_sequential::<S, M>(z, r_diag, aux)?;
         if report.accepted {
             let _error = self.feedback(kept_before.as_ref());
@@ -278,9 +285,25 @@ impl<Mo: Model<N>, Nom: NominalState<N>, const N: usize> ErrorStateFilter<Mo, No
             if let (Some(rec), Some(before)) = (self.recording.as_mut(), before) {
                 rec.updating(&before, SVector::zeros());
                 rec.updated(&_error, self.ekf.covariance(), SVector::zeros());
+                if let Some(h) = jacobian {
+                    rec.sensor_update(S::NAME, &h, &crate::smoother::diagonal_inverse(r_diag));
+                }
             }
         }
         Ok(report)
+    }
+
+    /// `H` of sensor `S` at the state the update is about to be made at,
+    /// when the recording keeps each sensor's information (`None`
+    /// otherwise: the common path computes nothing).
+    #[cfg(feature = "std")]
+    fn information_jacobian<S, const M: usize>(&self, aux: &S::Aux) -> Option<SMatrix<f64, M, N>>
+    where
+        S: Sensor<N, M, Model = Mo>,
+    {
+        let rec = self.recording.as_ref()?;
+        rec.tracks_sensor_information()
+            .then(|| S::jacobian(self.ekf.state(), self.ekf.input(), self.ekf.params(), aux))
     }
 
     /// Sets the input the sensors read from the nominal solution as it stands
@@ -361,6 +384,22 @@ impl<Mo: Model<N>, Nom: NominalState<N>, const N: usize> ErrorStateFilter<Mo, No
         if let Some(rec) = self.recording.as_mut() {
             rec.mark(time, self.ekf.covariance(), SVector::zeros());
         }
+    }
+
+    /// Keeps, beside the recording, the information each sensor's updates
+    /// give about the state at its start
+    /// ([`crate::smoother::SensorInformation`]); call right after
+    /// [`ErrorStateFilter::start_recording`]. Does nothing when not recording.
+    pub fn track_sensor_information(&mut self) {
+        if let Some(rec) = self.recording.as_mut() {
+            rec.track_sensor_information();
+        }
+    }
+
+    /// Each sensor's information about the start of the recording, when
+    /// tracked ([`ErrorStateFilter::track_sensor_information`]).
+    pub fn sensor_information(&self) -> Option<&crate::smoother::SensorInformation<N>> {
+        self.recording.as_ref()?.sensor_information()
     }
 
     /// `true` while recording.

@@ -27,7 +27,7 @@
 
 use nalgebra::{DMatrix, SMatrix, SVector, SymmetricEigen};
 
-use super::{Epoch, EpochFile, SmootherError};
+use super::{Epoch, EpochFile, SensorInformation, SmootherError};
 
 /// A combination of states a run left (nearly) undetermined.
 #[derive(Clone, Debug, PartialEq)]
@@ -52,6 +52,55 @@ pub struct Observability<const N: usize> {
     /// Epochs whose information could not be formed (a covariance without
     /// a Cholesky factor); skipped.
     pub skipped_epochs: usize,
+    /// Per sensor (in the order first seen), how much its updates alone
+    /// would have taught each state, as [`Observability::learned`]; empty
+    /// unless the recording kept each sensor's information
+    /// ([`learned_by_sensor`]).
+    pub by_sensor: Vec<(&'static str, [f64; N])>,
+}
+
+/// Per sensor, how much its updates alone taught each state, in `[0, 1]`
+/// (`1 - sqrt([(I + W~_s)^-1]_ii)` with `W~_s` that sensor's information in
+/// coordinates scaled by `prior_sigma`); NaN for the states whose prior
+/// sigma is at most `floor`, as in [`observability`]. A sensor's figures
+/// are not shares: two sensors that each pin a state alone both read near 1.
+pub fn learned_by_sensor<const N: usize>(
+    information: &SensorInformation<N>,
+    prior_sigma: &[f64; N],
+    floor: f64,
+) -> Vec<(&'static str, [f64; N])> {
+    let used: [bool; N] = core::array::from_fn(|i| prior_sigma[i] > floor);
+    information
+        .sensors()
+        .map(|(name, w)| {
+            let scaled = SMatrix::<f64, N, N>::from_fn(|r, c| {
+                if used[r] && used[c] {
+                    prior_sigma[r] * w[(r, c)] * prior_sigma[c]
+                } else {
+                    0.0
+                }
+            });
+            (
+                name,
+                learned_from(&((scaled + scaled.transpose()) * 0.5), &used),
+            )
+        })
+        .collect()
+}
+
+/// Per used state, `1 - sqrt([(I + w)^-1]_ii)` for the scaled information
+/// `w`; NaN for a state left out.
+fn learned_from<const N: usize>(w: &SMatrix<f64, N, N>, used: &[bool; N]) -> [f64; N] {
+    let posterior = (SMatrix::<f64, N, N>::identity() + w)
+        .try_inverse()
+        .unwrap_or_else(SMatrix::identity);
+    core::array::from_fn(|i| {
+        if used[i] {
+            (1.0 - posterior[(i, i)].max(0.0).sqrt()).clamp(0.0, 1.0)
+        } else {
+            f64::NAN
+        }
+    })
 }
 
 /// The observability of the run recorded in `file`, whose states started
@@ -95,16 +144,7 @@ pub fn observability<const N: usize, const S: usize>(
         return Err(SmootherError::NonFinite { time: f64::NAN });
     }
     let w = (*information + information.transpose()) * 0.5;
-    let posterior = (SMatrix::<f64, N, N>::identity() + w)
-        .try_inverse()
-        .unwrap_or_else(SMatrix::identity);
-    let learned = core::array::from_fn(|i| {
-        if used[i] {
-            (1.0 - posterior[(i, i)].max(0.0).sqrt()).clamp(0.0, 1.0)
-        } else {
-            f64::NAN
-        }
-    });
+    let learned = learned_from(&w, &used);
     // Dynamic-size for the decomposition (a const-generic size has no
     // eigen solver); once per run.
     let eigen = SymmetricEigen::new(DMatrix::from_fn(N, N, |r, c| w[(r, c)]));
@@ -143,6 +183,7 @@ pub fn observability<const N: usize, const S: usize>(
         learned,
         weakest,
         skipped_epochs: skipped,
+        by_sensor: Vec::new(),
     })
 }
 
@@ -177,7 +218,7 @@ mod tests {
     use crate::ekf::Ekf;
     use crate::ekf::Propagate;
     use crate::error_state::ErrorStateFilter;
-    use crate::testmodels::{Cvb, CvbInput, CvbNoise, Offset, Pos, Toy};
+    use crate::testmodels::{Cvb, CvbInput, CvbNoise, Offset, Pos, PosVel, Toy};
 
     /// Prior sigmas of the position, velocity and bias.
     const SIGMA: [f64; 3] = [2.0, 0.5, 0.1];
@@ -204,10 +245,14 @@ mod tests {
         filter
             .start_recording(EpochFile::<3, 0>::create(None).unwrap(), 0.0)
             .unwrap();
+        filter.track_sensor_information();
         run(&mut filter);
+        let information = filter.sensor_information().unwrap().clone();
         let store = filter.finish_recording().unwrap().unwrap();
         let mut file = store.borrow_mut();
-        observability(&mut file, &SIGMA, 1e-9, directions).unwrap()
+        let mut o = observability(&mut file, &SIGMA, 1e-9, directions).unwrap();
+        o.by_sensor = learned_by_sensor(&information, &SIGMA, 1e-9);
+        o
     }
 
     /// A position fix of variance `r`.
@@ -255,6 +300,62 @@ mod tests {
         }
         assert_eq!(o.weakest.len(), 3);
         assert!(o.weakest[0].learned <= o.weakest[1].learned);
+        // One sensor: its information is the run's.
+        assert_eq!(o.by_sensor.len(), 1);
+        assert_eq!(o.by_sensor[0].0, "pos");
+        for i in 0..3 {
+            assert!((o.by_sensor[0].1[i] - o.learned[i]).abs() < 1e-6);
+        }
+    }
+
+    /// Position fixes (batch updates) and position-velocity readings
+    /// (sequential), some at the same epoch: each sensor's information is
+    /// its own `sum (H Phi)^T R^-1 (H Phi)`, and the two sum to the run's
+    /// Gramian.
+    #[test]
+    fn each_sensor_keeps_its_own_information_and_they_sum_to_the_run() {
+        let dt = 0.1;
+        let step = SMatrix::<f64, 3, 3>::new(1.0, dt, 0.0, 0.0, 1.0, -dt, 0.0, 0.0, 1.0);
+        let (r_pos, r_pv) = (0.5, SVector::<f64, 2>::new(0.2, 0.01));
+        let mut hand_pos = SMatrix::<f64, 3, 3>::zeros();
+        let mut hand_pv = SMatrix::<f64, 3, 3>::zeros();
+        let h_pos = SMatrix::<f64, 1, 3>::new(1.0, 0.0, 0.0);
+        let h_pv = SMatrix::<f64, 2, 3>::new(1.0, 0.0, 0.0, 0.0, 1.0, 0.0);
+        let r_pv_inverse = SMatrix::<f64, 2, 2>::from_diagonal(&r_pv.map(|v| 1.0 / v));
+        let mut information = None;
+        let o = recorded(3, |filter| {
+            for k in 1..=60 {
+                Propagate::propagate(filter, dt, &CvbInput { a: 0.0 }).unwrap();
+                let phi = step.pow(k as u32);
+                if k % 10 == 0 {
+                    fix(filter, r_pos);
+                    hand_pos += phi.transpose() * h_pos.transpose() * h_pos * phi / r_pos;
+                }
+                if k % 15 == 0 {
+                    filter
+                        .update_sequential::<PosVel, 2>(&SVector::zeros(), &r_pv, &())
+                        .unwrap();
+                    hand_pv += phi.transpose() * h_pv.transpose() * r_pv_inverse * h_pv * phi;
+                }
+            }
+            information = filter.sensor_information().cloned();
+        });
+        let information = information.unwrap();
+        let by_name: Vec<_> = information.sensors().collect();
+        assert_eq!(by_name.len(), 2);
+        assert_eq!(by_name[0].0, "pos");
+        assert_eq!(by_name[1].0, "posvel");
+        assert!((by_name[0].1 - hand_pos).abs().max() < 1e-9 * hand_pos.abs().max());
+        assert!((by_name[1].1 - hand_pv).abs().max() < 1e-9 * hand_pv.abs().max());
+        // Scaled, summed: the run's learned fractions.
+        let d = SMatrix::<f64, 3, 3>::from_diagonal(&SVector::from(SIGMA));
+        let total = learned_from(&(d * (hand_pos + hand_pv) * d), &[true; 3]);
+        for i in 0..3 {
+            assert!((total[i] - o.learned[i]).abs() < 1e-6, "{i}");
+        }
+        // The velocity readings teach the velocity more than the fixes do.
+        let velocity = |s: usize| o.by_sensor[s].1[1];
+        assert!(velocity(1) > velocity(0), "{:?}", o.by_sensor);
     }
 
     /// One position fix, no time for velocity or bias to act on the

@@ -6,6 +6,7 @@ use std::rc::Rc;
 use nalgebra::{SMatrix, SVector};
 
 use super::epoch::Epoch;
+use super::sensor_information::SensorInformation;
 use super::store::{EpochFile, SmootherError};
 use crate::model::Model;
 
@@ -51,6 +52,10 @@ pub struct Recorder<const N: usize, const S: usize> {
     staged: Vec<f64>,
     /// `true` while [`Recorder::staged`] holds the step in progress.
     staged_valid: bool,
+    /// Each sensor's information about the start, when tracked
+    /// ([`Recorder::track_sensor_information`]); part of the history, so a
+    /// clone copies it.
+    information: Option<Box<SensorInformation<N>>>,
 }
 
 impl<const N: usize, const S: usize> Clone for Recorder<N, S> {
@@ -65,6 +70,7 @@ impl<const N: usize, const S: usize> Clone for Recorder<N, S> {
             scratch: [[0.0; N]; N],
             staged: Vec::with_capacity(self.staged.capacity()),
             staged_valid: false,
+            information: self.information.clone(),
         }
     }
 
@@ -88,6 +94,8 @@ impl<const N: usize, const S: usize> Clone for Recorder<N, S> {
         self.staged.clear();
         self.staged.reserve_exact(source.staged.capacity());
         self.staged_valid = false;
+        // In place: the box and its sensor list are reused.
+        self.information.clone_from(&source.information);
     }
 }
 
@@ -110,6 +118,49 @@ impl<const N: usize, const S: usize> Recorder<N, S> {
             scratch: [[0.0; N]; N],
             staged: Vec::new(),
             staged_valid: false,
+            information: None,
+        }
+    }
+
+    /// Keeps, from now on, the information each sensor's updates give about
+    /// the state at the start ([`SensorInformation`]), fed by
+    /// [`Recorder::sensor_update`]. Call it right after [`Recorder::new`],
+    /// before any prediction step: the transition to the start is then the
+    /// identity.
+    pub fn track_sensor_information(&mut self) {
+        self.information = Some(Box::new(SensorInformation::new()));
+    }
+
+    /// `true` when [`Recorder::track_sensor_information`] was called.
+    pub fn tracks_sensor_information(&self) -> bool {
+        self.information.is_some()
+    }
+
+    /// Each sensor's information about the start so far (`None` unless
+    /// tracked).
+    pub fn sensor_information(&self) -> Option<&SensorInformation<N>> {
+        self.information.as_deref()
+    }
+
+    /// An accepted update of `sensor`, made with Jacobian `jacobian` and
+    /// noise inverse `noise_inverse`, at the current time (call after
+    /// [`Recorder::updating`]); nothing unless the information is tracked.
+    /// No allocation.
+    pub fn sensor_update<const M: usize>(
+        &mut self,
+        sensor: &'static str,
+        jacobian: &SMatrix<f64, M, N>,
+        noise_inverse: &SMatrix<f64, M, M>,
+    ) {
+        let Some(information) = self.information.as_deref_mut() else {
+            return;
+        };
+        // After `updating` the steps since the epoch are the identity.
+        if self.rows == SMatrix::<f64, N, N>::identity() {
+            information.add(sensor, jacobian, noise_inverse, None);
+        } else {
+            let since = self.rows.transpose();
+            information.add(sensor, jacobian, noise_inverse, Some(&since));
         }
     }
 
@@ -259,6 +310,9 @@ impl<const N: usize, const S: usize> Recorder<N, S> {
     pub fn updating(&mut self, covariance: &SMatrix<f64, N, N>, snapshot: SVector<f64, S>) {
         if self.open.is_none() {
             let transition = self.rows.transpose();
+            if let Some(information) = self.information.as_deref_mut() {
+                information.to_start = transition * information.to_start;
+            }
             self.open = Some(Epoch::at(self.time, transition, *covariance, snapshot));
             self.rows = SMatrix::identity();
         }
