@@ -3,9 +3,12 @@
 # USBL survey whose true sigmas are in its meta.toml; every sensor sigma and
 # the IMU's two noise sigmas started 10x too large or 10x too small (a
 # pattern drawn from the seed); tuned; replayed with the tuned meta.toml and
-# with the true one. Prints one CSV row per seed and the summary.
+# with the true one. Prints one CSV row per seed and the summary. With
+# CLOCK=1 the DVL's times are also written late by an offset drawn from the
+# seed (-1.5 .. 1.5 s), which the tuning must find (its clock offset is then
+# minus that); without it every true clock offset is 0.
 #
-#   scripts/tune-monte-carlo.sh [FIRST_SEED] [RUNS] [SCENARIO]
+#   [CLOCK=1] scripts/tune-monte-carlo.sh [FIRST_SEED] [RUNS] [SCENARIO]
 #
 # Needs the release binary (`cargo build --release`) and python3.
 set -euo pipefail
@@ -23,6 +26,20 @@ for ((seed = first; seed < first + runs; seed++)); do
     "$navsim" simulate "$scenario" --seed "$seed" --out "$log" >/dev/null
     cp "$log/meta.toml" "$work/true.toml"
     true_json="$("$navsim" replay "$log" --model sdins25 --json 2>/dev/null)"
+    late=0
+    if [[ "${CLOCK:-0}" == 1 ]]; then
+        late=$(python3 -c "import sys; print(((int(sys.argv[1]) * 7919) % 301 - 150) / 100)" "$seed")
+        python3 - "$log/dvl.csv" "$late" <<'EOF'
+import sys
+path, late = sys.argv[1], float(sys.argv[2])
+lines = open(path).read().splitlines()
+out = [lines[0]]
+for line in lines[1:]:
+    t, rest = line.split(",", 1)
+    out.append(f"{float(t) + late!r},{rest}")
+open(path, "w").write("\n".join(out) + "\n")
+EOF
+    fi
     python3 - "$log/meta.toml" "$seed" <<'EOF'
 import re, sys
 path, seed = sys.argv[1], int(sys.argv[2])
@@ -53,19 +70,25 @@ EOF
     fi
     cp "$work/tuned.toml" "$log/meta.toml"
     tuned_json="$("$navsim" replay "$log" --model sdins25 --json 2>/dev/null)"
-    python3 - "$seed" "$work/true.toml" <<EOF >>"$rows"
+    python3 - "$seed" "$work/true.toml" "$late" <<EOF >>"$rows"
 import json, sys, tomllib
 seed = int(sys.argv[1])
+late = float(sys.argv[3])
 true = tomllib.load(open(sys.argv[2], "rb"))["sensors"]
 t = json.loads('''$tune_json''')
 a = json.loads('''$true_json''')
 b = json.loads('''$tuned_json''')
 ratios = {}
+clocks = {}
 for k, p in t["parameters"].items():
+    if k.startswith("files."):
+        truth = -late if k == "files.dvl.time.offset_s" else 0.0
+        clocks[k] = {"error": p["value"] - truth, "identifiable": p["identifiable"]}
+        continue
     _, s, name = k.split(".")
     ratios[k] = {"ratio": p["value"] / true[s][name], "identifiable": p["identifiable"]}
 print(json.dumps({"seed": seed, "replays": t["replays"], "converged": t["converged"],
-    "ratios": ratios,
+    "ratios": ratios, "clocks": clocks, "late": late,
     "rms_true": a["horizontal_error_rms_m"], "rms_tuned": b["horizontal_error_rms_m"],
     "nees_true": a["nees_mean"], "nees_tuned": b["nees_mean"]}))
 EOF
@@ -92,6 +115,16 @@ for k in rows[0]["ratios"]:
     if ident:
         err = [abs(x - 1) for x in ident]
         line += f", within 25 % in {within}/{len(ident)}, |tuned/true - 1| median {statistics.median(err):.3f} p95 {pct(err, 0.95):.3f} max {max(err):.3f}"
+    print(line)
+for k in rows[0]["clocks"]:
+    found = [r for r in rows if r["clocks"][k]["identifiable"]]
+    err = [abs(r["clocks"][k]["error"]) for r in found]
+    kept = [abs(r["clocks"][k]["error"]) for r in rows if not r["clocks"][k]["identifiable"]]
+    line = f"{k}: identified in {len(found)}/{n}"
+    if err:
+        line += f", |found - true| median {statistics.median(err):.3f} s p95 {pct(err, 0.95):.3f} s max {max(err):.3f} s"
+    if kept:
+        line += f"; kept at the given value in {len(kept)} (|given - true| max {max(kept):.3f} s)"
     print(line)
 ratio = [r["rms_tuned"] / r["rms_true"] for r in rows]
 print(f"horizontal RMS tuned / true sigmas: median {statistics.median(ratio):.3f} p95 {pct(ratio, 0.95):.3f} max {max(ratio):.3f}; within 10 % in {sum(x <= 1.1 for x in ratio)}/{n}")

@@ -97,7 +97,7 @@ fn estimate_mistakes_are_errors_naming_the_key() {
             "estimate = [\"time_offset\"]\n",
             "sensors.dvl.estimate",
             7,
-            &["`time_offset` is not estimated"],
+            &["`time_offset` is not a state", "navsim tune"],
         ),
         (
             "sigma without the name",

@@ -6,6 +6,7 @@
 //! score against truth.csv, so `navsim simulate` followed by `navsim replay
 //! --model sdins25` reproduces `navsim scenario` exactly.
 
+pub mod clock_survey;
 pub mod faults;
 pub mod filter;
 pub mod model;

@@ -29,7 +29,7 @@ pub struct TuneFlags {
     #[arg(long)]
     pub write: Option<PathBuf>,
     /// Most forward replays of the log.
-    #[arg(long, default_value_t = 30, value_name = "N")]
+    #[arg(long, default_value_t = 40, value_name = "N")]
     pub max_replays: usize,
 }
 

@@ -4,6 +4,7 @@
 
 use nav_runtime::log::Meta;
 
+use super::clock_of;
 use crate::RunError;
 
 /// `text` (a `meta.toml`) with each `(key, value)` of `values` set, keys as
@@ -17,18 +18,109 @@ use crate::RunError;
 pub fn tuned_meta_text(text: &str, values: &[(String, f64)]) -> Result<String, RunError> {
     let texts: Vec<(String, String)> = values
         .iter()
+        .filter(|(k, _)| clock_of(k).is_none())
         .map(|(k, v)| (k.clone(), format!("{v:?}")))
         .collect();
-    let out = with_values(text, "meta.toml", &texts)?;
-    let (meta, _, _) = Meta::parse_log(&out).map_err(RunError::from)?;
+    let mut out = with_values(text, "meta.toml", &texts)?;
     for (key, value) in values {
-        if meta.noise_parameter(key) != Some(*value) {
+        if let Some(sensor) = clock_of(key) {
+            out = with_clock_offset(&out, sensor, *value)?;
+        }
+    }
+    let (meta, mapping, _) = Meta::parse_log(&out).map_err(RunError::from)?;
+    for (key, value) in values {
+        let read = match clock_of(key) {
+            Some(sensor) => mapping.time_offset(sensor),
+            None => meta.noise_parameter(key),
+        };
+        if read != Some(*value) {
             return Err(RunError::Invalid(format!(
                 "meta.toml: `{key}` does not read back as {value} after writing"
             )));
         }
     }
     Ok(out)
+}
+
+/// `text` (a `meta.toml`) with `offset_s` of `[files.<sensor>] time` set
+/// to `value`: in the section's one-line `time = { ... }` table (the key
+/// replaced or added), or in its `[files.<sensor>.time]` table, or as a
+/// new `time = { offset_s = ... }` line under the section's header, or in
+/// a new section at the end.
+///
+/// # Errors
+/// A `time` table of the section that spans several lines.
+fn with_clock_offset(text: &str, sensor: &str, value: f64) -> Result<String, RunError> {
+    let section = format!("files.{sensor}");
+    let subtable = format!("{section}.time");
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    let header_of = |line: &str| {
+        let code = line.split('#').next().unwrap_or("").trim();
+        code.starts_with('[').then(|| {
+            code.trim_matches(|c| c == '[' || c == ']')
+                .trim()
+                .to_string()
+        })
+    };
+    let mut current = String::new();
+    let mut header_at = None;
+    for (n, line) in lines.iter().enumerate() {
+        if let Some(h) = header_of(line) {
+            current = h;
+            if current == section {
+                header_at = Some(n);
+            }
+            if current == subtable {
+                let key = format!("{subtable}.offset_s");
+                let done = with_values(text, "meta.toml", &[(key, format!("{value:?}"))]);
+                return done.or_else(|_| {
+                    lines.insert(n + 1, format!("offset_s = {value:?}"));
+                    Ok(lines.join("\n") + "\n")
+                });
+            }
+            continue;
+        }
+        if current != section {
+            continue;
+        }
+        let Some((k, rest)) = line.split_once('=') else {
+            continue;
+        };
+        if k.trim() != "time" {
+            continue;
+        }
+        let (Some(open), Some(close)) = (rest.find('{'), rest.rfind('}')) else {
+            return Err(RunError::Invalid(format!(
+                "meta.toml: `{section}.time` is not a one-line table: the tuned clock offset cannot be written into it"
+            )));
+        };
+        let inner = &rest[open + 1..close];
+        let mut entries: Vec<String> = inner
+            .split(',')
+            .map(str::trim)
+            .filter(|e| !e.is_empty() && e.split('=').next().map(str::trim) != Some("offset_s"))
+            .map(str::to_string)
+            .collect();
+        entries.push(format!("offset_s = {value:?}"));
+        let prefix = &line[..line.len() - rest.len()];
+        let new = format!(
+            "{prefix}{}{{ {} }}{}",
+            &rest[..open],
+            entries.join(", "),
+            &rest[close + 1..]
+        );
+        lines[n] = new;
+        return Ok(lines.join("\n") + "\n");
+    }
+    match header_at {
+        Some(n) => lines.insert(n + 1, format!("time = {{ offset_s = {value:?} }}")),
+        None => {
+            lines.push(String::new());
+            lines.push(format!("[{section}]"));
+            lines.push(format!("time = {{ offset_s = {value:?} }}"));
+        }
+    }
+    Ok(lines.join("\n") + "\n")
 }
 
 /// `text` (the TOML file `file`) with the value of each dotted key of
@@ -118,6 +210,39 @@ mod tests {
             Some(0.0312)
         );
         assert_eq!(meta.noise_parameter("sensors.dvl.bias_sigma"), Some(0.01));
+    }
+
+    /// A clock offset goes into the file's one-line `time` table (replaced
+    /// or added), its `[files.<sensor>.time]` table, a new `time` line, or
+    /// a new section; each reads back.
+    #[test]
+    fn a_clock_offset_is_written_where_the_file_keeps_its_time() {
+        let key = "files.dvl.time.offset_s".to_string();
+        let cases: [(&str, &str); 5] = [
+            (
+                "[files.dvl]\nfile = \"raw.csv\"\ntime = { from_index = true, period_s = 1.0, offset_s = -0.45 }  # fitted\n",
+                "time = { from_index = true, period_s = 1.0, offset_s = 1.0 }  # fitted",
+            ),
+            (
+                "[files.dvl]\ntime = { from_index = true, period_s = 1.0 }\n",
+                "time = { from_index = true, period_s = 1.0, offset_s = 1.0 }",
+            ),
+            (
+                "[files.dvl.time]\noffset_s = 0.2\n",
+                "offset_s = 1.0",
+            ),
+            ("[files.dvl]\nfile = \"raw.csv\"\n", "time = { offset_s = 1.0 }"),
+            ("", "[files.dvl]\ntime = { offset_s = 1.0 }"),
+        ];
+        for (section, expected) in cases {
+            let text = format!("{META}{section}");
+            let out = tuned_meta_text(&text, &[(key.clone(), 1.0)])
+                .unwrap_or_else(|e| panic!("{section}: {e}"));
+            assert!(out.contains(expected), "{section}\n---\n{out}");
+            assert!(out.contains("# survey 12"));
+        }
+        let several = format!("{META}[files.dvl]\ntime = {{\n  offset_s = 0.1 }}\n");
+        assert!(tuned_meta_text(&several, &[(key, 1.0)]).is_err());
     }
 
     #[test]

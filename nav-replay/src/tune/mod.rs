@@ -38,7 +38,7 @@ use rayon::prelude::*;
 use crate::RunError;
 pub use command::{tune_with, tune_with_progress, tuning_warnings, TuneArgs, TuneFlags};
 pub use meta_text::{tuned_meta_text, with_values};
-pub use tunable::{LogTuning, Replayed, Tunable};
+pub use tunable::{clock_key, clock_of, LogTuning, Replayed, Tunable};
 
 /// A parameter whose `ln sigma` is known to worse than this standard error
 /// (a factor of about 1.28 either way) is not identified by the log.
@@ -64,12 +64,42 @@ const DIVERGED_RETRIES: i32 = 2;
 /// Fewer updates of a sensor than this identify nothing.
 const MIN_UPDATES: u64 = 10;
 
+/// The clock offsets tried around the given one, s: a grid over +-2 s
+/// every 0.5 s (the innovation likelihood of a 1 Hz DVL falls off within
+/// about +-0.4 s of its best offset, so the grid lands within its bowl).
+const CLOCK_GRID: [f64; 8] = [-2.0, -1.5, -1.0, -0.5, 0.5, 1.0, 1.5, 2.0];
+
+/// Half-width of the first parabola fitted around the best grid offset, s.
+const CLOCK_STEP: f64 = 0.25;
+
+/// A clock offset known to worse than this standard error (s) is not
+/// identified by the log.
+pub const MAX_CLOCK_ERROR: f64 = 0.1;
+
+/// A clock offset moves only when the sensor's innovations fit clearly
+/// better: the geometric mean of their variances (at the best scale of
+/// `S`) must fall by this share. The likelihood-ratio test alone is met by
+/// shifts that change a 1000-row sensor's fit by a tenth of a percent,
+/// which a model's small mismatches produce at any offset.
+const MIN_CLOCK_GAIN: f64 = 0.2;
+
+/// Parabola refinements after the grid (two replays each; the step shrinks
+/// by 2.5 each time: 0.25, 0.1, 0.04 s).
+const CLOCK_REFINEMENTS: usize = 3;
+
+/// Covariance-matching steps of the sensors' sigmas before a clock search.
+const CLOCK_PRE_STEPS: usize = 3;
+
+/// Replays a clock search takes: the grid, two per refinement, and the
+/// replay with the offsets found.
+const CLOCK_REPLAYS: usize = CLOCK_GRID.len() + 2 * CLOCK_REFINEMENTS + 1;
+
 /// What to tune and how long.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TuneOptions {
-    /// The `meta.toml` keys to tune (`sensors.dvl.noise_sigma`, ...);
-    /// empty: every aiding sensor's `noise_sigma` and the IMU's two noise
-    /// sigmas.
+    /// The `meta.toml` keys to tune (`sensors.dvl.noise_sigma`,
+    /// `files.dvl.time.offset_s`, ...); empty: every aiding sensor's
+    /// `noise_sigma` and clock offset and the IMU's two noise sigmas.
     pub params: Vec<String>,
     /// Most forward replays of the log (the budget).
     pub max_replays: usize,
@@ -79,7 +109,7 @@ impl Default for TuneOptions {
     fn default() -> Self {
         Self {
             params: Vec::new(),
-            max_replays: 30,
+            max_replays: 40,
         }
     }
 }
@@ -91,6 +121,9 @@ pub enum ParameterKind {
     SensorNoise,
     /// Anything else: from the likelihood of the whole run.
     Likelihood,
+    /// A sensor file's clock offset (s, added to its times): the best of a
+    /// grid of its own innovation likelihood, refined by a parabola.
+    ClockOffset,
 }
 
 /// One tuned parameter.
@@ -104,7 +137,8 @@ pub struct TunedParameter {
     pub initial: f64,
     /// The tuned value (the initial one when not identifiable).
     pub value: f64,
-    /// Standard error of `ln value` (about the relative standard error).
+    /// Standard error of `ln value` (about the relative standard error);
+    /// for a [`ParameterKind::ClockOffset`], of the value itself (s).
     pub log_standard_error: f64,
     /// `None` when the log identifies it; otherwise why not.
     pub not_identifiable: Option<String>,
@@ -264,8 +298,14 @@ pub fn tune(
             let mut started = None;
             for power in 1..=DIVERGED_RETRIES {
                 let scale = 10f64.powi(power);
-                let larger: Vec<(String, f64)> =
-                    params.iter().map(|(k, v)| (k.clone(), v * scale)).collect();
+                // Sigmas only: a clock offset is not a scale.
+                let larger: Vec<(String, f64)> = params
+                    .iter()
+                    .map(|(k, v)| match clock_of(k) {
+                        Some(_) => (k.clone(), *v),
+                        None => (k.clone(), v * scale),
+                    })
+                    .collect();
                 replays += 1;
                 progress(replays, options.max_replays);
                 match replay(t, &larger) {
@@ -307,9 +347,10 @@ pub fn tune(
     }
     let kinds: Vec<ParameterKind> = params
         .iter()
-        .map(|(k, _)| match t.sensor_of(k) {
-            Some(_) => ParameterKind::SensorNoise,
-            None => ParameterKind::Likelihood,
+        .map(|(k, _)| match (t.sensor_of(k), clock_of(k)) {
+            (Some(_), _) => ParameterKind::SensorNoise,
+            (None, Some(_)) => ParameterKind::ClockOffset,
+            (None, None) => ParameterKind::Likelihood,
         })
         .collect();
     let likelihood_params: Vec<usize> = (0..params.len())
@@ -325,6 +366,44 @@ pub fn tune(
         Vec::new()
     };
     let mut center = before;
+    // The clocks first: a reading taken at the wrong time makes every
+    // sigma look too small. But not with sigmas ten times off, whose
+    // gating and recoveries make the fit at any offset a matter of chance:
+    // the sensors' sigmas take a few covariance-matching steps before.
+    if kinds.contains(&ParameterKind::ClockOffset) {
+        for _ in 0..CLOCK_PRE_STEPS {
+            let moves = sensor_moves(t, &params, &center);
+            if moves.iter().all(|m| m.abs() < CONVERGED)
+                || replays + CLOCK_REPLAYS + 2 >= options.max_replays
+            {
+                break;
+            }
+            let previous = values.clone();
+            for (v, m) in values.iter_mut().zip(&moves) {
+                v.1 *= m.exp();
+            }
+            replays += 1;
+            progress(replays.min(options.max_replays), options.max_replays);
+            match replay(t, &values) {
+                Ok(run) => center = run,
+                Err(_) => {
+                    values = previous;
+                    break;
+                }
+            }
+        }
+    }
+    let clocks = search_clocks(
+        t,
+        &params,
+        &kinds,
+        &mut values,
+        center,
+        &mut replays,
+        options,
+        progress,
+    );
+    let mut center = clocks.center;
     let mut converged = false;
     // A step needs its replays, and one is kept for the replay with the
     // given values of parameters the log does not identify.
@@ -477,6 +556,9 @@ pub fn tune(
                     let e = t.map_or(f64::INFINITY, InnovationTotals::log_sigma_standard_error);
                     (e, sensor_verdict(sensor, t))
                 }
+                _ if kinds[i] == ParameterKind::ClockOffset => {
+                    (clocks.errors[i], clocks.why_not[i].clone())
+                }
                 _ => (errors[i], why_not[i].clone()),
             };
             TunedParameter {
@@ -507,6 +589,214 @@ pub fn tune(
         notes,
         after: center.output,
     })
+}
+
+/// What a clock search leaves: the replay to go on from, and per
+/// parameter the standard error of a clock offset (s) and why it was not
+/// identified (unused for the other parameters).
+struct Clocks {
+    center: Run,
+    errors: Vec<f64>,
+    why_not: Vec<Option<String>>,
+}
+
+/// The profile innovation log-likelihood of `sensor` in `run`
+/// ([`InnovationTotals::profile_log_likelihood`]: at the best scale of its
+/// innovation covariance, so that a sigma still far off does not decide
+/// the clock), minus infinity for a run that failed or a sensor with too
+/// few updates.
+fn own_likelihood(run: Option<&Run>, sensor: &str) -> f64 {
+    run.and_then(|r| totals_of(r, sensor))
+        .filter(|t| t.updates >= MIN_UPDATES)
+        .map_or(f64::NEG_INFINITY, InnovationTotals::profile_log_likelihood)
+}
+
+/// The rise of `sensor`'s profile likelihood that moves its clock: at
+/// least [`SIGNIFICANT`], and the rise that a fall of [`MIN_CLOCK_GAIN`]
+/// in the geometric mean of its innovation variances gives.
+fn clock_gain_needed(run: &Run, sensor: &str) -> f64 {
+    let dof = totals_of(run, sensor).map_or(0.0, |t| t.dof as f64);
+    SIGNIFICANT.max(-0.5 * dof * (1.0 - MIN_CLOCK_GAIN).ln())
+}
+
+/// The fall of the geometric mean of `sensor`'s innovation variances that
+/// a rise `gain` of its profile likelihood means.
+fn variance_fall(run: &Run, sensor: &str, gain: f64) -> f64 {
+    let dof = totals_of(run, sensor).map_or(0.0, |t| t.dof as f64);
+    if dof > 0.0 {
+        1.0 - (-2.0 * gain.max(0.0) / dof).exp()
+    } else {
+        0.0
+    }
+}
+
+/// Finds the clock offset of every [`ParameterKind::ClockOffset`] among
+/// `params`: the grid [`CLOCK_GRID`] around the given offsets (all sensors
+/// moved together, each judged by its own profile likelihood, since a
+/// sensor's clock moves its own innovations far more than the others'),
+/// then [`CLOCK_REFINEMENTS`] parabolas through the best point and a step either
+/// side. An offset moves only when its likelihood rises by
+/// [`SIGNIFICANT`] and by [`MIN_CLOCK_GAIN`] of its innovation variance,
+/// and its standard error (the parabola's curvature) is at most
+/// [`MAX_CLOCK_ERROR`]; `values` gets the offsets found and the replay
+/// with them becomes the center. Without clock parameters, or without the
+/// budget for the search, nothing is replayed.
+#[allow(clippy::too_many_arguments)]
+fn search_clocks(
+    t: &dyn Tunable,
+    params: &[(String, f64)],
+    kinds: &[ParameterKind],
+    values: &mut [(String, f64)],
+    center: Run,
+    replays: &mut usize,
+    options: &TuneOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Clocks {
+    let clocks: Vec<(usize, &str)> = params
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| kinds[*i] == ParameterKind::ClockOffset)
+        .filter_map(|(i, (k, _))| Some((i, clock_of(k)?)))
+        .collect();
+    let mut out = Clocks {
+        center,
+        errors: vec![f64::INFINITY; params.len()],
+        why_not: vec![None; params.len()],
+    };
+    if clocks.is_empty() {
+        return out;
+    }
+    if *replays + CLOCK_REPLAYS + 2 > options.max_replays {
+        for &(i, _) in &clocks {
+            out.why_not[i] = Some(format!(
+                "the budget of replays allowed no clock search ({CLOCK_REPLAYS} replays)"
+            ));
+        }
+        return out;
+    }
+    let shifted = |shift: &dyn Fn(usize) -> f64| -> Vec<(String, f64)> {
+        let mut v = values.to_vec();
+        for &(i, _) in &clocks {
+            v[i].1 = params[i].1 + shift(i);
+        }
+        v
+    };
+    let grid: Vec<Result<Run, RunError>> = CLOCK_GRID
+        .par_iter()
+        .map(|&g| replay(t, &shifted(&|_| g)))
+        .collect();
+    *replays += grid.len();
+    progress((*replays).min(options.max_replays), options.max_replays);
+    // Per clock: the best grid shift and its likelihood, and the given one's.
+    let best: Vec<(f64, f64, f64)> = clocks
+        .iter()
+        .map(|&(_, sensor)| {
+            let at_given = own_likelihood(Some(&out.center), sensor);
+            let (shift, l) = CLOCK_GRID
+                .iter()
+                .zip(&grid)
+                .map(|(g, r)| (*g, own_likelihood(r.as_ref().ok(), sensor)))
+                .fold((0.0, at_given), |b, c| if c.1 > b.1 { c } else { b });
+            (shift, l, at_given)
+        })
+        .collect();
+    // Refined: a parabola through the best point and `h` either side, its
+    // vertex (or the best of the three) the next center, `h` shrinking.
+    let previous = values.to_vec();
+    let mut center_shift: Vec<f64> = best.iter().map(|b| b.0).collect();
+    let mut center_l: Vec<f64> = best.iter().map(|b| b.1).collect();
+    let mut curvature = vec![f64::NAN; clocks.len()];
+    let mut h = CLOCK_STEP;
+    for _ in 0..CLOCK_REFINEMENTS {
+        let around: Vec<Result<Run, RunError>> = [-h, h]
+            .par_iter()
+            .map(|&d| {
+                replay(
+                    t,
+                    &shifted(&|i| {
+                        let k = clocks.iter().position(|c| c.0 == i).unwrap_or(0);
+                        center_shift[k] + d
+                    }),
+                )
+            })
+            .collect();
+        *replays += around.len();
+        progress((*replays).min(options.max_replays), options.max_replays);
+        for (k, &(_, sensor)) in clocks.iter().enumerate() {
+            let (down, mid, up) = (
+                own_likelihood(around[0].as_ref().ok(), sensor),
+                center_l[k],
+                own_likelihood(around[1].as_ref().ok(), sensor),
+            );
+            let c = (up - 2.0 * mid + down) / (h * h);
+            if c < 0.0 && c.is_finite() {
+                // The finest step with a bowl gives the standard error (at
+                // a step of hundredths of a second, the rows that cross
+                // the gate make the likelihood ragged).
+                curvature[k] = c;
+                center_shift[k] += (-(up - down) / (2.0 * h * c)).clamp(-h, h);
+                // The vertex's value, as the parabola has it.
+                center_l[k] = mid - (up - down).powi(2) / (8.0 * h * h * c);
+            } else if up.max(down) > mid {
+                center_shift[k] += if up > down { h } else { -h };
+                center_l[k] = up.max(down);
+            }
+        }
+        h /= 2.5;
+    }
+    for (k, &(i, sensor)) in clocks.iter().enumerate() {
+        let (mid, at_given, c) = (center_l[k], best[k].2, curvature[k]);
+        let error = if c < 0.0 && c.is_finite() {
+            (-c).sqrt().recip()
+        } else {
+            f64::INFINITY
+        };
+        out.errors[i] = error;
+        out.why_not[i] = if !best[k].1.is_finite() {
+            Some(format!(
+                "{sensor} has fewer than {MIN_UPDATES} updates: nothing to time it by"
+            ))
+        } else if mid - at_given < clock_gain_needed(&out.center, sensor) {
+            Some(format!(
+                "no offset within {} s of the given one fits {sensor}'s readings clearly better (their variance falls by {:.0} %, {:.0} % needed)",
+                CLOCK_GRID[CLOCK_GRID.len() - 1],
+                100.0 * variance_fall(&out.center, sensor, mid - at_given),
+                100.0 * MIN_CLOCK_GAIN
+            ))
+        } else if error > MAX_CLOCK_ERROR {
+            Some(format!(
+                "{sensor}'s likelihood is too flat in its clock offset (standard error {}): the log has too little motion to time it",
+                if error.is_finite() { format!("{error:.2} s") } else { "infinite".into() }
+            ))
+        } else {
+            None
+        };
+        values[i].1 = match out.why_not[i] {
+            None => params[i].1 + center_shift[k],
+            Some(_) => params[i].1,
+        };
+    }
+    if values.iter().zip(&previous).all(|(a, b)| a.1 == b.1) {
+        return out;
+    }
+    *replays += 1;
+    progress((*replays).min(options.max_replays), options.max_replays);
+    match replay(t, values) {
+        Ok(run) => out.center = run,
+        Err(e) => {
+            // The offsets found make the filter fail: keep the given ones.
+            for &(i, _) in &clocks {
+                if out.why_not[i].is_none() {
+                    out.why_not[i] = Some(format!(
+                        "the replay with the offsets found failed ({}): the given one is kept",
+                        crate::program::one_line(&e.to_string())
+                    ));
+                }
+            }
+            values.clone_from_slice(&previous);
+        }
+    }
+    out
 }
 
 /// Mean NIS per degree of freedom of each sensor with updates.

@@ -7,7 +7,8 @@ use super::{ParameterKind, Tuning};
 
 impl Tuning {
     /// `model`, `replays`, `converged`, `parameters` (per key: `initial`,
-    /// `value`, `log_standard_error`, `identifiable`, `reason`, `method`),
+    /// `value`, `log_standard_error` (a clock offset: `standard_error_s`),
+    /// `identifiable`, `reason`, `method`),
     /// `nis` (per sensor: `before`, `after`) and `log_likelihood`
     /// (`before`, `after`).
     pub fn json(&self) -> Value {
@@ -16,20 +17,23 @@ impl Tuning {
             .iter()
             .map(|p| {
                 let e = p.log_standard_error;
-                (
-                    p.key.clone(),
-                    json!({
-                        "initial": p.initial,
-                        "value": p.value,
-                        "log_standard_error": e.is_finite().then_some(e),
-                        "identifiable": p.not_identifiable.is_none(),
-                        "reason": p.not_identifiable,
-                        "method": match p.kind {
-                            ParameterKind::SensorNoise => "sensor innovations",
-                            ParameterKind::Likelihood => "likelihood",
-                        },
-                    }),
-                )
+                let mut entry = json!({
+                    "initial": p.initial,
+                    "value": p.value,
+                    "identifiable": p.not_identifiable.is_none(),
+                    "reason": p.not_identifiable,
+                    "method": match p.kind {
+                        ParameterKind::SensorNoise => "sensor innovations",
+                        ParameterKind::Likelihood => "likelihood",
+                        ParameterKind::ClockOffset => "clock search",
+                    },
+                });
+                let error_key = match p.kind {
+                    ParameterKind::ClockOffset => "standard_error_s",
+                    _ => "log_standard_error",
+                };
+                entry[error_key] = json!(e.is_finite().then_some(e));
+                (p.key.clone(), entry)
             })
             .collect();
         let nis: Map<String, Value> = self

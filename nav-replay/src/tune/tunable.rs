@@ -32,13 +32,7 @@ pub trait Tunable: Sync {
     /// The error for a key that is not a parameter (naming it and the
     /// closest one).
     fn unknown(&self, key: &str) -> RunError {
-        let known: Vec<String> = self.parameters().into_iter().map(|(k, _)| k).collect();
-        let known: Vec<&str> = known.iter().map(String::as_str).collect();
-        RunError::Invalid(format!(
-            "--params {key}: not a noise parameter of model {}{}",
-            self.model(),
-            nav_runtime::suggestion::did_you_mean(key, &known)
-        ))
+        unknown_parameter(self, key)
     }
     /// One forward replay with `values` in place of the given ones.
     ///
@@ -46,6 +40,31 @@ pub trait Tunable: Sync {
     /// As the model's replay; [`RunError::Diverged`] when the filter
     /// diverges with these values.
     fn replay(&self, values: &[(String, f64)]) -> Result<Replayed, RunError>;
+}
+
+/// The sensor whose clock offset `key` is (`files.<sensor>.time.offset_s`,
+/// the offset in seconds added to the times of its file: found by
+/// searching the sensor's innovation likelihood), `None` for the others.
+pub fn clock_of(key: &str) -> Option<&str> {
+    let sensor = key.strip_prefix("files.")?.strip_suffix(".time.offset_s")?;
+    (!sensor.is_empty() && !sensor.contains('.')).then_some(sensor)
+}
+
+/// The key of `sensor`'s clock offset.
+pub fn clock_key(sensor: &str) -> String {
+    format!("files.{sensor}.time.offset_s")
+}
+
+/// `--params KEY` that `t` does not have: an error naming it and the
+/// closest key.
+fn unknown_parameter<T: Tunable + ?Sized>(t: &T, key: &str) -> RunError {
+    let known: Vec<String> = t.parameters().into_iter().map(|(k, _)| k).collect();
+    let known: Vec<&str> = known.iter().map(String::as_str).collect();
+    RunError::Invalid(format!(
+        "--params {key}: not a noise parameter of model {}{}",
+        t.model(),
+        nav_runtime::suggestion::did_you_mean(key, &known)
+    ))
 }
 
 /// A replay model on a log directory whose sigmas are in `meta.toml`.
@@ -70,8 +89,17 @@ impl Tunable for LogTuning<'_> {
     fn model(&self) -> &str {
         self.model.name()
     }
+    /// The sigmas of `meta.toml`, then the clock offset of each aiding
+    /// sensor that has a noise sigma (its file's `time.offset_s`).
     fn parameters(&self) -> Vec<(String, f64)> {
-        self.files.meta().noise_parameters()
+        let mut out = self.files.meta().noise_parameters();
+        let clocks: Vec<(String, f64)> = out
+            .iter()
+            .filter_map(|(k, _)| self.sensor_of(k))
+            .filter_map(|s| Some((clock_key(s), self.files.mapping().time_offset(s)?)))
+            .collect();
+        out.extend(clocks);
+        out
     }
     fn default_parameters(&self) -> Vec<String> {
         self.parameters()
@@ -81,6 +109,7 @@ impl Tunable for LogTuning<'_> {
                 k == "sensors.imu.gyro_noise_sigma"
                     || k == "sensors.imu.accel_noise_sigma"
                     || self.sensor_of(k).is_some()
+                    || clock_of(k).is_some()
             })
             .collect()
     }
@@ -89,6 +118,9 @@ impl Tunable for LogTuning<'_> {
         (sensor != "imu" && !sensor.contains('.')).then_some(sensor)
     }
     fn unknown(&self, key: &str) -> RunError {
+        if key.starts_with("files.") {
+            return unknown_parameter(self, key);
+        }
         // The meta's own error names the key and the closest one.
         let mut meta = *self.files.meta();
         meta.set_noise_parameter(key, 1.0).err().map_or_else(
@@ -98,12 +130,18 @@ impl Tunable for LogTuning<'_> {
     }
     fn replay(&self, values: &[(String, f64)]) -> Result<Replayed, RunError> {
         let mut meta = *self.files.meta();
-        for (k, v) in values {
+        for (k, v) in values.iter().filter(|(k, _)| clock_of(k).is_none()) {
             meta.set_noise_parameter(k, *v).map_err(RunError::from)?;
         }
-        let output = self
-            .model
-            .replay_files(&self.files.with_meta(meta), &self.options, None)?;
+        let mut files = self.files.with_meta(meta);
+        for (k, v) in values {
+            if let Some(sensor) = clock_of(k) {
+                files = files
+                    .with_time_offset(sensor, *v)
+                    .ok_or_else(|| unknown_parameter(self, k))?;
+            }
+        }
+        let output = self.model.replay_files(&files, &self.options, None)?;
         Ok(Replayed {
             innovations: output.innovations,
             warnings: output.warnings,

@@ -169,6 +169,19 @@ impl InnovationTotals {
         -0.5 * (self.log_det_s + self.nis + self.dof as f64 * LN_2PI)
     }
 
+    /// The innovation log-likelihood (eq. T1) with every `S` scaled by the
+    /// factor that maximises it (`NIS / dof`): a measure of how well the
+    /// readings fit that does not depend on how well the sigmas are set
+    /// (tuning compares clock offsets by it before the sigmas are tuned).
+    /// Minus infinity without updates.
+    pub fn profile_log_likelihood(&self) -> f64 {
+        if self.dof == 0 || self.nis.partial_cmp(&0.0) != Some(core::cmp::Ordering::Greater) {
+            return f64::NEG_INFINITY;
+        }
+        let dof = self.dof as f64;
+        -0.5 * (self.log_det_s + dof * libm::log(self.nis / dof) + dof + dof * LN_2PI)
+    }
+
     /// The factor on the sensor's noise sigma that the innovations support
     /// (the square root of eq. T3, its variance factor held within
     /// [`MAX_VARIANCE_STEP`] either way); `None` when the noise is no
@@ -221,6 +234,36 @@ mod tests {
             epsilon = 1e-12
         );
         approx::assert_relative_eq!(st.noise_information, (w * w).trace(), epsilon = 1e-12);
+    }
+
+    /// The profile likelihood is the likelihood at the best scale of `S`,
+    /// and the same whatever scale `S` was given with.
+    #[test]
+    fn the_profile_likelihood_is_the_best_over_a_scale_of_s() {
+        let nu = [Vector2::new(0.3, -0.2), Vector2::new(-0.1, 0.4)];
+        let s = Matrix2::new(0.05, 0.01, 0.01, 0.02);
+        let totals = |scale: f64| {
+            let mut t = InnovationTotals::default();
+            for n in &nu {
+                t.add(&InnovationStatistics::of(n, &(s * scale), &(s * scale)));
+            }
+            t
+        };
+        let best = totals(1.0).profile_log_likelihood();
+        for scale in [0.1, 0.5, 2.0, 30.0] {
+            approx::assert_relative_eq!(
+                totals(scale).profile_log_likelihood(),
+                best,
+                epsilon = 1e-9
+            );
+            assert!(totals(scale).log_likelihood() <= best + 1e-12);
+        }
+        let k = totals(1.0).nis / 4.0;
+        approx::assert_relative_eq!(totals(k).log_likelihood(), best, epsilon = 1e-9);
+        assert_eq!(
+            InnovationTotals::default().profile_log_likelihood(),
+            f64::NEG_INFINITY
+        );
     }
 
     #[test]

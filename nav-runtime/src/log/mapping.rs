@@ -231,9 +231,14 @@ pub struct FileMapping {
 impl FileMapping {
     /// The standard format of `R`'s file.
     pub fn standard<R: Row>() -> FileMapping {
+        Self::standard_named(sensor_of(R::FILE), R::FILE)
+    }
+
+    /// The standard format of `sensor`'s file `file`.
+    fn standard_named(sensor: &str, file: &str) -> FileMapping {
         FileMapping {
-            sensor: sensor_of(R::FILE).to_string(),
-            file: R::FILE.to_string(),
+            sensor: sensor.to_string(),
+            file: file.to_string(),
             declared_file: false,
             columns: Vec::new(),
             units: Vec::new(),
@@ -319,6 +324,45 @@ impl LogMapping {
     /// The section of `sensor`, if declared.
     pub fn get(&self, sensor: &str) -> Option<&FileMapping> {
         self.files.iter().find(|m| m.sensor == sensor)
+    }
+
+    /// `time.offset_s` of `sensor`'s file (0 without a section); `None`
+    /// for a name that is not a mapped sensor.
+    pub fn time_offset(&self, sensor: &str) -> Option<f64> {
+        MAPPED_SENSORS
+            .iter()
+            .any(|(s, _)| *s == sensor)
+            .then(|| self.get(sensor).map_or(0.0, |m| m.time.offset_s))
+    }
+
+    /// Sets `time.offset_s` of `sensor`'s file (s), giving a sensor read
+    /// in the standard format a section of its own that changes nothing
+    /// else (noise tuning replays a log with other clock offsets); `false`,
+    /// and nothing changed, for a name that is not a mapped sensor.
+    pub fn set_time_offset(&mut self, sensor: &str, offset_s: f64) -> bool {
+        let Some(index) = MAPPED_SENSORS.iter().position(|(s, _)| *s == sensor) else {
+            return false;
+        };
+        if let Some(m) = self.files.iter_mut().find(|m| m.sensor == sensor) {
+            m.time.offset_s = offset_s;
+            return true;
+        }
+        let (_, file) = MAPPED_SENSORS[index];
+        let mut m = FileMapping::standard_named(sensor, file);
+        m.time.offset_s = offset_s;
+        // In [`MAPPED_SENSORS`] order, as parsed sections are.
+        let at = self
+            .files
+            .iter()
+            .position(|f| {
+                MAPPED_SENSORS
+                    .iter()
+                    .position(|(s, _)| *s == f.sensor)
+                    .is_some_and(|i| i > index)
+            })
+            .unwrap_or(self.files.len());
+        self.files.insert(at, m);
+        true
     }
 
     /// Whether `name` (a file directly in the log directory) is read by some
@@ -669,4 +713,36 @@ pub fn relative_log_path(file: &str) -> Result<String, String> {
         return Err(format!("`{file}` is the metadata file"));
     }
     Ok(normal)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_clock_offset_is_set_on_a_section_or_one_made_for_it() {
+        let mut mapping = LogMapping::default();
+        assert_eq!(mapping.time_offset("dvl"), Some(0.0));
+        assert_eq!(mapping.time_offset("sonar"), None);
+        assert!(!mapping.set_time_offset("sonar", 1.0));
+        assert!(mapping.set_time_offset("usbl", -0.5));
+        assert!(mapping.set_time_offset("dvl", 1.25));
+        // A section made for it reads the standard file, in sensor order.
+        let sensors: Vec<&str> = mapping.files.iter().map(|m| m.sensor.as_str()).collect();
+        assert_eq!(sensors, ["dvl", "usbl"]);
+        let dvl = mapping.get("dvl").unwrap();
+        assert_eq!((dvl.file.as_str(), dvl.declared), ("dvl.csv", false));
+        assert_eq!(dvl.time.time(3, 10.0), 11.25);
+        // An existing section keeps everything but its offset.
+        let mut declared = FileMapping::standard_named("dvl", "raw.csv");
+        declared.time.from_index = true;
+        declared.time.period_s = Some(1.0);
+        let mut mapping = LogMapping {
+            files: vec![declared.clone()],
+        };
+        assert!(mapping.set_time_offset("dvl", -0.45));
+        declared.time.offset_s = -0.45;
+        assert_eq!(mapping.files, vec![declared]);
+        assert_eq!(mapping.time_offset("dvl"), Some(-0.45));
+    }
 }

@@ -988,7 +988,7 @@ impl Cx<'_> {
                     };
                     let Some(i) = ESTIMATE_NAMES.iter().position(|n| n == name) else {
                         let problem = if name == "time_offset" {
-                            format!("`time_offset` is not estimated by this version; accepted: {accepted}")
+                            format!("`time_offset` is not a state: `navsim tune` finds the DVL file's clock offset from its innovations and writes it to `files.dvl.time.offset_s`; accepted: {accepted}")
                         } else {
                             format!(
                                 "unknown name `{name}`; accepted: {accepted}{}",

@@ -182,6 +182,19 @@ impl LogFiles {
         }
     }
 
+    /// The same log with `sensor`'s file read `offset_s` seconds later than
+    /// its mapping says (`time.offset_s` replaced; noise tuning replays a
+    /// log with other clock offsets), sharing what [`LogFiles::with_meta`]
+    /// shares; `None` for a name that is not a mapped sensor.
+    pub fn with_time_offset(&self, sensor: &str, offset_s: f64) -> Option<LogFiles> {
+        let mut mapping = self.mapping.clone();
+        mapping.set_time_offset(sensor, offset_s).then(|| LogFiles {
+            mapping,
+            imu_share: Arc::default(),
+            ..self.clone()
+        })
+    }
+
     /// The `[files.<sensor>]` sections of `meta.toml` (empty: every file in
     /// the standard format).
     pub fn mapping(&self) -> &LogMapping {

@@ -350,8 +350,8 @@ mod tests {
         // Scaled, summed: the run's learned fractions.
         let d = SMatrix::<f64, 3, 3>::from_diagonal(&SVector::from(SIGMA));
         let total = learned_from(&(d * (hand_pos + hand_pv) * d), &[true; 3]);
-        for i in 0..3 {
-            assert!((total[i] - o.learned[i]).abs() < 1e-6, "{i}");
+        for (i, (t, l)) in total.iter().zip(o.learned).enumerate() {
+            assert!((t - l).abs() < 1e-6, "{i}");
         }
         // The velocity readings teach the velocity more than the fixes do.
         let velocity = |s: usize| o.by_sensor[s].1[1];
