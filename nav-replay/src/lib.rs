@@ -21,6 +21,7 @@ mod error;
 pub mod innovations;
 pub mod ins;
 pub mod model_replay;
+pub mod observability;
 pub mod output;
 pub mod preflight;
 pub mod program;

@@ -1,8 +1,8 @@
 //! `navsim replay --observability` on logs whose answer is known: a DVL
 //! survey without position fixes (absolute horizontal position is not
 //! observable), a vehicle at rest without a compass (heading and the
-//! vertical gyro bias are not), and the refusal for a model without the
-//! report.
+//! vertical gyro bias are not), the leveling filter on its weave, and the
+//! refusal for a model without the report.
 
 mod common;
 
@@ -208,9 +208,45 @@ fn a_model_without_the_report_refuses_the_flag() {
         "replay",
         dir.to_str().unwrap(),
         "--model",
-        "leveling6",
+        "ahrs",
         "--observability",
     ]);
     assert!(!o.status.success());
     assert!(stderr(&o).contains("--observability"), "{}", stderr(&o));
+}
+
+/// The leveling filter (a direct-state model) on the S-type track: the
+/// vertical body velocity is not learned (no pitch rate couples it into
+/// the forward speed), the gravity direction is, all of it by the speed
+/// log with the unit norm.
+#[test]
+fn the_leveling_filter_reports_what_the_weave_taught() {
+    let tmp = TempDir::new("obs-leveling");
+    let dir = tmp.path().join("log");
+    let o = navsim(&[
+        "simulate",
+        "leveling-moving",
+        "--seed",
+        "3",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v = replay(&dir, "leveling6");
+    assert!(learned(&v, "velocity[2]") < 1e-6, "{}", v["observability"]);
+    for state in [
+        "gravity_direction[0]",
+        "gravity_direction[1]",
+        "velocity[0]",
+    ] {
+        let l = learned(&v, state);
+        assert!(l > 0.9, "{state}: {l}");
+        let by = v["observability"]["states"][state]["by_sensor"]["Moving"]
+            .as_f64()
+            .unwrap();
+        assert!((by - l).abs() < 1e-6, "{state}: {by} against {l}");
+    }
+    let weakest = &v["observability"]["weakest"][0]["combination"];
+    assert_eq!(weakest.as_object().unwrap().len(), 1, "{weakest}");
+    assert_eq!(weakest["velocity[2]"], 1.0, "{weakest}");
 }

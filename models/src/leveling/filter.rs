@@ -257,15 +257,28 @@ pub fn observability_of_run(
     options: &LevelingOptions,
     directions: usize,
 ) -> Result<nav_runtime::smoother::Observability<8>, String> {
+    run_observed::<Leveling8, 8>(log, options, directions).map(|(_, o)| o)
+}
+
+/// The run of `M` over `log`, recorded, and what it taught each state
+/// (`leveling6 --observability`, [`observability_of_run`]).
+///
+/// # Errors
+/// A filter error of the run, or a recording error (as text).
+pub fn run_observed<M: LevelingModel<N>, const N: usize>(
+    log: &LogDir,
+    options: &LevelingOptions,
+    directions: usize,
+) -> Result<(LevelingRun, nav_runtime::smoother::Observability<N>), String> {
     let smoother = |e: SmootherError| e.to_string();
-    let file = EpochFile::<8, 0>::create(None).map_err(smoother)?;
-    let (_, p0) = Leveling8::initial(0.0, &Vector3::z(), &options.tuning);
-    let prior_sigma: [f64; 8] = std::array::from_fn(|i| p0[(i, i)].sqrt());
+    let file = EpochFile::<N, 0>::create(None).map_err(smoother)?;
+    let (_, p0) = M::initial(0.0, &Vector3::z(), &options.tuning);
+    let prior_sigma: [f64; N] = std::array::from_fn(|i| p0[(i, i)].sqrt());
     // The run starts at the first IMU row (the first step follows the second).
     let start = log.imu.first().map_or(0.0, |row| row.t);
     let mut recorder = Recorder::new(file, start, &p0, SVector::zeros());
     recorder.track_sensor_information();
-    run_model::<Leveling8, 8>(log, options, Some(&mut recorder)).map_err(|e| e.to_string())?;
+    let run = run_model::<M, N>(log, options, Some(&mut recorder)).map_err(|e| e.to_string())?;
     recorder.finish().map_err(smoother)?;
     let information = recorder.sensor_information().cloned();
     let store = recorder.store();
@@ -274,7 +287,7 @@ pub fn observability_of_run(
     if let Some(information) = information {
         o.by_sensor = learned_by_sensor(&information, &prior_sigma, 0.0);
     }
-    Ok(o)
+    Ok((run, o))
 }
 
 /// Sensor `S`'s update, recorded (the covariance before and after, the

@@ -464,6 +464,9 @@ pub fn looks_stationary(log: &LogDir) -> bool {
     slow && still
 }
 
+/// Weakest directions reported by `leveling6 --observability`.
+const OBSERVABILITY_DIRECTIONS: usize = 3;
+
 impl ReplayModel for Leveling6Replay {
     fn name(&self) -> &'static str {
         "leveling6"
@@ -472,6 +475,9 @@ impl ReplayModel for Leveling6Replay {
         "LEVELING-6 roll/pitch alignment over imu.csv + speed.csv (stationary detected or --stationary)"
     }
     fn has_stationary_mode(&self) -> bool {
+        true
+    }
+    fn can_observe(&self) -> bool {
         true
     }
     fn log_files(&self) -> Option<&'static [&'static str]> {
@@ -487,13 +493,31 @@ impl ReplayModel for Leveling6Replay {
             tuning: Tuning::default(),
         };
         let start = std::time::Instant::now();
-        let run = filter::run(log, &opts).map_err(|e| RunError::Invalid(e.to_string()))?;
+        let (run, observed) = if options.observability {
+            let (run, o) =
+                filter::run_observed::<model::Leveling6, 6>(log, &opts, OBSERVABILITY_DIRECTIONS)
+                    .map_err(RunError::Invalid)?;
+            (run, Some(o))
+        } else {
+            let run = filter::run(log, &opts).map_err(|e| RunError::Invalid(e.to_string()))?;
+            (run, None)
+        };
         let runtime_s = start.elapsed().as_secs_f64();
         let mut out = ReplayOutput {
             samples: run.samples,
             runtime_s,
             ..Default::default()
         };
+        if let Some(o) = &observed {
+            // Velocity and gravity direction: the solution itself, no
+            // estimated sensor state to warn about.
+            let (json, _) = nav_replay::observability::json(
+                o,
+                &<model::Leveling6 as nav_runtime::model::Model<6>>::STATE_NAMES,
+                |_, _| None,
+            );
+            out.metrics.insert("observability".into(), json);
+        }
         out.metrics
             .insert("stationary".into(), Value::from(stationary));
         if let Some(truth) = &log.truth {

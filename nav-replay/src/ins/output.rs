@@ -437,7 +437,16 @@ pub(super) fn output_of<V: InsVehicle<N>, const N: usize>(
         out.metrics.insert("dvl_calibration".into(), m.json());
     }
     if let Some(o) = &run.observability {
-        let (json, unlearned) = observability_json::<V, N>(o, &absorbed);
+        let (json, unlearned) = crate::observability::json(o, &V::STATE_NAMES, |i, name| {
+            let navigation = ["position_error", "velocity_error", "attitude_error"]
+                .iter()
+                .any(|n| name.starts_with(n));
+            match (navigation, absorbed[i]) {
+                (true, _) => None,
+                (false, true) => Some(""),
+                (false, false) => Some(" (a state of the vehicle's own block)"),
+            }
+        });
         out.metrics.insert("observability".into(), json);
         out.warnings.extend(unlearned);
     }
@@ -456,77 +465,4 @@ pub(super) fn output_of<V: InsVehicle<N>, const N: usize>(
         out.metrics.insert("warnings".into(), Value::Array(list));
     }
     Ok(out)
-}
-
-/// A state asked to be estimated (a sensor bias, a state of the user's own
-/// block) that the log taught less than this is a warning.
-const NOT_LEARNED: f64 = 0.1;
-
-/// Coefficients smaller than this are left out of a direction.
-const SMALL_COEFFICIENT: f64 = 0.05;
-
-/// `observability` of the JSON (`docs/observability.md`): per state its
-/// `learned` fraction, the weakest directions with their coefficients by
-/// state name; and a warning per estimated state (not a navigation error)
-/// the log did not teach.
-fn observability_json<V: InsVehicle<N>, const N: usize>(
-    o: &nav_runtime::smoother::Observability<N>,
-    absorbed: &[bool; N],
-) -> (Value, Vec<Warning>) {
-    let navigation = |name: &str| {
-        ["position_error", "velocity_error", "attitude_error"]
-            .iter()
-            .any(|n| name.starts_with(n))
-    };
-    let mut states = Map::new();
-    let mut warnings = Vec::new();
-    for (i, name) in V::STATE_NAMES.iter().enumerate() {
-        let learned = o.learned[i];
-        if learned.is_nan() {
-            states.insert((*name).to_string(), json!({"learned": null, "fixed": true}));
-            continue;
-        }
-        let mut entry = json!({"learned": learned});
-        if !o.by_sensor.is_empty() {
-            let by_sensor: Map<String, Value> = o
-                .by_sensor
-                .iter()
-                .map(|(sensor, l)| ((*sensor).to_string(), Value::from(l[i])))
-                .collect();
-            entry["by_sensor"] = Value::Object(by_sensor);
-        }
-        states.insert((*name).to_string(), entry);
-        if learned < NOT_LEARNED && !navigation(name) {
-            let whose = if absorbed[i] {
-                ""
-            } else {
-                " (a state of the vehicle's own block)"
-            };
-            warnings.push(Warning::about(
-                WarningKind::Suspicious,
-                "observability",
-                format!(
-                    "state {name}{whose} was not learned on this log ({:.0} % of its prior sigma): its estimate is its prior",
-                    learned * 100.0
-                ),
-            ));
-        }
-    }
-    let weakest: Vec<Value> = o
-        .weakest
-        .iter()
-        .map(|d| {
-            let combination: Map<String, Value> = V::STATE_NAMES
-                .iter()
-                .zip(d.coefficients)
-                .filter(|(_, c)| c.abs() >= SMALL_COEFFICIENT)
-                .map(|(n, c)| ((*n).to_string(), Value::from(c)))
-                .collect();
-            json!({"learned": d.learned, "combination": combination})
-        })
-        .collect();
-    (
-        json!({"states": states, "weakest": weakest, "skipped_epochs": o.skipped_epochs}),
-        warnings,
-    )
 }
