@@ -94,12 +94,7 @@ pub fn simulate(motion: Motion, biases: Biases, seed: u64) -> LogDir {
     let mut speed_log = ScalarSensor::new(speed_spec, derive_seed(seed, "leveling-speed"));
 
     let imu_rows: Vec<ImuRow> = imu::rates(&truth, IMU_RATE, DURATION)
-        .map(|r| {
-            let m = imu_model.corrupt_rate(&r);
-            ImuRow::new(
-                m.t, m.w_ib_b.x, m.w_ib_b.y, m.w_ib_b.z, m.f_b.x, m.f_b.y, m.f_b.z,
-            )
-        })
+        .map(|r| ImuRow::from(&imu_model.corrupt_rate(&r)))
         .collect();
     let n_speed = (DURATION * SPEED_RATE).round() as usize;
     let speed_rows: Vec<SpeedRow> = (1..=n_speed)

@@ -35,12 +35,7 @@ pub fn clock_survey(seed: u64, late_s: f64) -> LogDir {
     let imu_spec = ImuSpec::sdins25();
     let mut imu_model = ImuModel::new(imu_spec, derive_seed(seed, "clock-survey-imu"));
     let imu_rows: Vec<ImuRow> = imu::rates(&truth, IMU_RATE, DURATION)
-        .map(|r| {
-            let m = imu_model.corrupt_rate(&r);
-            ImuRow::new(
-                m.t, m.w_ib_b.x, m.w_ib_b.y, m.w_ib_b.z, m.f_b.x, m.f_b.y, m.f_b.z,
-            )
-        })
+        .map(|r| ImuRow::from(&imu_model.corrupt_rate(&r)))
         .collect();
     let mut meta = initial_meta(&truth.truth(0.0), seed);
     meta.sensors.imu = Some(ImuNoise {

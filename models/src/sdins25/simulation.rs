@@ -275,12 +275,7 @@ pub fn simulate_from(config: &SimConfig, reference: &Reference, seed: u64) -> Si
     let imu_rows: Vec<ImuRow> = reference
         .imu
         .iter()
-        .map(|r| {
-            let m = imu_model.corrupt_rate(r);
-            ImuRow::new(
-                m.t, m.w_ib_b.x, m.w_ib_b.y, m.w_ib_b.z, m.f_b.x, m.f_b.y, m.f_b.z,
-            )
-        })
+        .map(|r| ImuRow::from(&imu_model.corrupt_rate(r)))
         .collect();
 
     let s0 = truth.truth(0.0);

@@ -60,6 +60,15 @@ pub struct ImuRate {
     pub f_b: Vector3<f64>,
 }
 
+/// The log row of a rate sample (`imu.csv`, rates form).
+#[cfg(feature = "log")]
+impl From<&ImuRate> for crate::log::ImuRow {
+    fn from(r: &ImuRate) -> Self {
+        let (w, f) = (r.w_ib_b, r.f_b);
+        Self::new(r.t, w.x, w.y, w.z, f.x, f.y, f.z)
+    }
+}
+
 /// 4-point Gauss-Legendre nodes on [-1, 1] and weights.
 const GL4: [(f64, f64); 4] = [
     (-0.861_136_311_594_052_6, 0.347_854_845_137_453_85),
