@@ -208,7 +208,7 @@ fn a_model_without_the_report_refuses_the_flag() {
         "replay",
         dir.to_str().unwrap(),
         "--model",
-        "ahrs",
+        "demo-depth-kf",
         "--observability",
     ]);
     assert!(!o.status.success());

@@ -405,3 +405,32 @@ fn a_glitch_in_any_aiding_file_is_a_rejected_row() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// `ahrs --observability` on the imported fixture: the tilt and the
+/// horizontal gyro biases are taught by gravity, the heading and the
+/// vertical gyro bias by the magnetometer, and neither sensor teaches what
+/// the other does.
+#[test]
+fn ahrs_reports_what_gravity_and_the_magnetometer_taught() {
+    let tmp = TempDir::new("ulog-ahrs-obs");
+    let dir = import(&tmp);
+    let v = replay(&dir, "ahrs", &["--observability"]);
+    let states = &v["observability"]["states"];
+    // (state, the sensor that teaches it, the one that does not)
+    let cases = [
+        ("attitude_error[0]", "Gravity", "Heading"),
+        ("attitude_error[1]", "Gravity", "Heading"),
+        ("attitude_error[2]", "Heading", "Gravity"),
+        ("gyro_bias[0]", "Gravity", "Heading"),
+        ("gyro_bias[2]", "Heading", "Gravity"),
+    ];
+    for (state, teaches, not) in cases {
+        let s = &states[state];
+        let learned = s["learned"].as_f64().unwrap();
+        let by = |sensor: &str| s["by_sensor"][sensor].as_f64().unwrap();
+        assert!(learned > 0.5, "{state}: {s}");
+        assert!(by(teaches) > 0.5, "{state} by {teaches}: {s}");
+        assert!(by(not) < 0.05, "{state} by {not}: {s}");
+    }
+    assert_eq!(v["observability"]["weakest"].as_array().unwrap().len(), 3);
+}

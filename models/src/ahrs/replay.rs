@@ -55,6 +55,9 @@ pub const ESTIMATES_COLUMNS: [&str; 10] = [
     "sig_phi_d_deg",
 ];
 
+/// Weakest directions reported by `ahrs --observability`.
+const OBSERVABILITY_DIRECTIONS: usize = 3;
+
 /// The replay model `ahrs`.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct AhrsReplay;
@@ -68,6 +71,9 @@ impl ReplayModel for AhrsReplay {
     }
     fn log_files(&self) -> Option<&'static [&'static str]> {
         Some(FILES)
+    }
+    fn can_observe(&self) -> bool {
+        true
     }
     fn replay(&self, log: &LogDir, options: &ReplayOptions) -> Result<ReplayOutput, RunError> {
         replay_source(&LogSource::Memory(log), options, None)
@@ -219,7 +225,11 @@ pub fn replay_source(
             )?)
         })
         .transpose()?;
-    let mut stream = AhrsStream::new(settings)?;
+    let mut stream = if options.observability {
+        AhrsStream::observed(settings)?
+    } else {
+        AhrsStream::new(settings)?
+    };
     let mut events = source.events()?.with_rows(imu);
     let (mut baro_rows, mut gnss_rows) = (0usize, 0usize);
     let (mut first_t, mut last_t) = (None::<f64>, 0.0);
@@ -267,6 +277,7 @@ pub fn replay_source(
         }
     }
     let counts = stream.finish()?;
+    let observed = stream.observability(OBSERVABILITY_DIRECTIONS)?;
 
     let mut output = ReplayOutput {
         samples: counts.samples,
@@ -274,6 +285,17 @@ pub fn replay_source(
         warnings,
         ..Default::default()
     };
+    if let Some(o) = &observed {
+        // The attitude is the solution; the gyro bias is estimated, and a
+        // bias the log did not teach is said.
+        let (json, unlearned) = nav_replay::observability::json(
+            o,
+            &<super::Ahrs as nav_runtime::model::Model<6>>::STATE_NAMES,
+            |_, name| name.starts_with("gyro_bias").then_some(""),
+        );
+        output.metrics.insert("observability".into(), json);
+        output.warnings.extend(unlearned);
+    }
     for (file, rows) in [("baro.csv", baro_rows), ("gnss.csv", gnss_rows)] {
         if rows > 0 {
             output.warnings.push(Warning::about(

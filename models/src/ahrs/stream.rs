@@ -15,6 +15,9 @@
 
 use nav_runtime::log::MagRow;
 use nav_runtime::scheduler::{Measurement, MeasurementOutcome, Scheduler, SensorId, SensorStats};
+use nav_runtime::smoother::{
+    learned_by_sensor, observability, EpochFile, Observability, SmootherError,
+};
 
 use super::gravity_window::{GravityWindow, GRAVITY_PERIOD_S};
 use super::heading::magnetic_heading;
@@ -89,6 +92,51 @@ impl AhrsStream {
     /// A filter set-up error.
     pub fn new(settings: AhrsSettings) -> Result<Self, RunError> {
         let filter = settings.filter()?;
+        Self::with_filter(settings, filter)
+    }
+
+    /// As [`AhrsStream::new`], with the run recorded (and each sensor's
+    /// information kept) for [`AhrsStream::observability`].
+    ///
+    /// # Errors
+    /// A filter set-up error, or an epoch file that cannot be made.
+    pub fn observed(settings: AhrsSettings) -> Result<Self, RunError> {
+        let setup = |e: String| RunError::Invalid(format!("ahrs: {e}"));
+        let mut filter = settings.filter()?;
+        let file = EpochFile::create(None).map_err(|e| setup(e.to_string()))?;
+        filter
+            .start_recording(file, 0.0)
+            .map_err(|e| setup(e.to_string()))?;
+        filter.track_sensor_information();
+        Self::with_filter(settings, filter)
+    }
+
+    /// What the recorded run taught each state and the `directions`
+    /// weakest combinations (docs/observability.md); `None` unless the
+    /// stream was made by [`AhrsStream::observed`]. Call after
+    /// [`AhrsStream::finish`].
+    ///
+    /// # Errors
+    /// A recording that failed, or information that is not finite.
+    pub fn observability(&self, directions: usize) -> Result<Option<Observability<6>>, RunError> {
+        let fail = |e: SmootherError| RunError::Invalid(format!("ahrs: observability: {e}"));
+        let mut filter = self.filter().clone();
+        let information = filter.sensor_information().cloned();
+        let Some(store) = filter.finish_recording().map_err(fail)? else {
+            return Ok(None);
+        };
+        let s = &self.settings;
+        let (level, heading, bias) = (s.level_sigma, s.heading_sigma, s.gyro_bias_sigma);
+        let prior = [level, level, heading, bias, bias, bias];
+        let mut o =
+            observability(&mut store.borrow_mut(), &prior, 0.0, directions).map_err(fail)?;
+        if let Some(information) = information {
+            o.by_sensor = learned_by_sensor(&information, &prior, 0.0);
+        }
+        Ok(Some(o))
+    }
+
+    fn with_filter(settings: AhrsSettings, filter: AhrsFilter) -> Result<Self, RunError> {
         let (scheduler, mag_id, gravity_id) = scheduler_at(filter, 0.0)?;
         Ok(AhrsStream {
             settings,
