@@ -122,8 +122,8 @@ fn estimates_are_written_at_the_output_period() {
     let out = dir.0.join("out");
     std::fs::create_dir_all(&out).unwrap();
     let options = RunOptions {
-        lenient: false,
         output_period: 1.0,
+        ..RunOptions::default()
     };
     let run = rover().replay(&log, None, &options, Some(&out)).unwrap();
     let text = std::fs::read_to_string(out.join("estimates.csv")).unwrap();
@@ -443,7 +443,7 @@ fn lenient_reading_and_refused_sensors_are_in_the_warnings() {
     assert_eq!(program(&["--lenient"]), std::process::ExitCode::SUCCESS);
     let options = RunOptions {
         lenient: true,
-        output_period: 0.0,
+        ..RunOptions::default()
     };
     let run = rover().replay(&log, None, &options, None).unwrap();
     assert_eq!(run.skipped_rows, vec![("gnss.csv".to_string(), 1)]);
@@ -680,7 +680,10 @@ proptest::proptest! {
         }
         std::fs::write(&path, bytes).unwrap();
         for lenient in [false, true] {
-            let options = RunOptions { lenient, output_period: 0.0 };
+            let options = RunOptions {
+                lenient,
+                ..RunOptions::default()
+            };
             if let Ok(run) = rover().replay(&log, None, &options, None) {
                 for (_, v, s) in &run.final_state {
                     proptest::prop_assert!(v.is_finite() && s.is_finite());
@@ -722,7 +725,7 @@ fn an_input_gap_is_refused_or_stepped_and_said() {
     );
     let options = RunOptions {
         lenient: true,
-        output_period: 0.0,
+        ..RunOptions::default()
     };
     let run = rover().replay(&log, None, &options, None).unwrap();
     assert!(
@@ -1013,4 +1016,36 @@ fn a_declared_models_sigmas_are_tuned_from_its_log() {
             assert!((x / y - 1.0).abs() < 0.25, "{key}: {a:?} against {b:?}");
         }
     }
+}
+
+/// `--observability` of a declared model: the same estimate as without it,
+/// every state learned on the drive, and what each sensor taught (the
+/// position fixes the position, and the heading through the motion between
+/// them).
+#[test]
+fn the_observability_report_of_a_declared_model() {
+    let dir = TempDir::new("observability");
+    let log = dir.0.join("log");
+    write_log(&log, 3, SI, DRIVE_STEPS);
+    let plain = rover()
+        .replay(&log, None, &RunOptions::default(), None)
+        .unwrap();
+    let options = RunOptions {
+        observability: true,
+        ..RunOptions::default()
+    };
+    let run = rover().replay(&log, None, &options, None).unwrap();
+    assert_eq!(run.final_state, plain.final_state);
+    assert!(plain.observability.is_none());
+    let o = run.observability.expect("the report");
+    let states = &o["states"];
+    for state in ["position[0]", "position[1]", "heading"] {
+        assert!(
+            states[state]["learned"].as_f64().unwrap() > 0.9,
+            "{state}: {o}"
+        );
+    }
+    let by = |state: &str, sensor: &str| states[state]["by_sensor"][sensor].as_f64().unwrap();
+    assert!(by("position[0]", "Fix") > 0.9, "{o}");
+    assert_eq!(o["weakest"].as_array().unwrap().len(), 3);
 }

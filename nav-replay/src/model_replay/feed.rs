@@ -4,13 +4,14 @@
 
 use std::marker::PhantomData;
 
-use nav_runtime::ekf::{Ekf, FilterError, Propagate};
+use nav_runtime::ekf::{FilterError, Propagate};
 use nav_runtime::gate::Gate;
 use nav_runtime::model::{Model, Record, Sensor};
 use nav_runtime::nalgebra::SVector;
 use nav_runtime::scheduler::{Measurement, MeasurementOutcome, SensorUpdate};
 
 use super::declared::DeclaredSensor;
+use super::ModelFilter;
 
 /// A sensor of model `M` fed from a log file (see the module docs).
 pub trait Feed<M: Model<N>, const N: usize>: Send + Sync {
@@ -20,18 +21,23 @@ pub trait Feed<M: Model<N>, const N: usize>: Send + Sync {
     ///
     /// # Errors
     /// An invalid probability, or too many sensor gates on one filter.
-    fn set_gate(&self, ekf: &mut Ekf<M, N>, probability: Option<f64>) -> Result<(), String>;
+    fn set_gate(
+        &self,
+        filter: &mut ModelFilter<M, N>,
+        probability: Option<f64>,
+    ) -> Result<(), String>;
     /// The update of one row: `values` holds the `K` outputs, then the
     /// auxiliary inputs; `sigma` the noise sigma per output.
-    fn measurement(&self, values: &[f64], sigma: &[f64]) -> Box<dyn Measurement<Ekf<M, N>>>;
-    /// Applies one row to `ekf` directly (a row at the initial epoch,
+    fn measurement(&self, values: &[f64], sigma: &[f64])
+        -> Box<dyn Measurement<ModelFilter<M, N>>>;
+    /// Applies one row to `filter` directly (a row at the initial epoch,
     /// before the scheduler starts).
     ///
     /// # Errors
-    /// As [`Ekf::update_sequential`].
+    /// As [`nav_runtime::ekf::Ekf::update_sequential`].
     fn apply(
         &self,
-        ekf: &mut Ekf<M, N>,
+        filter: &mut ModelFilter<M, N>,
         values: &[f64],
         sigma: &[f64],
     ) -> Result<MeasurementOutcome, FilterError>;
@@ -61,33 +67,45 @@ impl<M, S, const N: usize, const K: usize> Feed<M, N> for FeedOf<S, K>
 where
     M: Model<N>,
     S: Sensor<N, K, Model = M>,
-    Ekf<M, N>: Propagate + Clone + 'static,
+    ModelFilter<M, N>: Propagate + Clone + 'static,
 {
     fn declared(&self) -> DeclaredSensor {
         DeclaredSensor::of::<S, N, K>()
     }
 
-    fn set_gate(&self, ekf: &mut Ekf<M, N>, probability: Option<f64>) -> Result<(), String> {
+    fn set_gate(
+        &self,
+        filter: &mut ModelFilter<M, N>,
+        probability: Option<f64>,
+    ) -> Result<(), String> {
         let gate = probability
             .map(Gate::new)
             .transpose()
             .map_err(|e| e.to_string())?;
-        ekf.set_sensor_gate::<S, K>(gate).map_err(|e| e.to_string())
+        filter
+            .ekf_mut()
+            .set_sensor_gate::<S, K>(gate)
+            .map_err(|e| e.to_string())
     }
 
-    fn measurement(&self, values: &[f64], sigma: &[f64]) -> Box<dyn Measurement<Ekf<M, N>>> {
+    fn measurement(
+        &self,
+        values: &[f64],
+        sigma: &[f64],
+    ) -> Box<dyn Measurement<ModelFilter<M, N>>> {
         let (z, r, aux) = parts::<S, N, K>(values, sigma);
         Box::new(SensorUpdate::<S, N, K>::sequential(z, r, aux))
     }
 
     fn apply(
         &self,
-        ekf: &mut Ekf<M, N>,
+        filter: &mut ModelFilter<M, N>,
         values: &[f64],
         sigma: &[f64],
     ) -> Result<MeasurementOutcome, FilterError> {
         let (z, r, aux) = parts::<S, N, K>(values, sigma);
-        ekf.update_sequential::<S, K>(&z, &r, &aux)
+        filter
+            .update_sequential::<S, K>(&z, &r, &aux)
             .map(|report| MeasurementOutcome::from(&report))
     }
 }

@@ -51,7 +51,14 @@ pub mod units;
 use std::path::Path;
 
 use nav_runtime::ekf::Ekf;
+use nav_runtime::error_state::{ErrorStateFilter, TotalState};
 use nav_runtime::model::{Model, Sensor};
+
+/// The filter a declared model is replayed with: its EKF behind the
+/// error-state filter's interface over [`TotalState`] (every state a
+/// total-state estimate; the same numbers as the plain EKF), so that the
+/// run can be recorded as an INS vehicle's is (`--observability`).
+pub type ModelFilter<M, const N: usize> = ErrorStateFilter<M, TotalState<M>, N>;
 
 pub use declared::{Declared, DeclaredSensor};
 pub use error::ModelReplayError;

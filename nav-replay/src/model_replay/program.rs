@@ -60,6 +60,9 @@ struct ReplayCommand {
     /// Write an estimate at most every this many seconds (0: every input sample).
     #[arg(long, default_value_t = 0.0, value_name = "S")]
     every: f64,
+    /// Report what the log taught each state (docs/observability.md).
+    #[arg(long)]
+    observability: bool,
 }
 
 /// Identify the sensors' sigmas (and, with `--params`, the `[noise]`
@@ -126,6 +129,7 @@ where
     let options = RunOptions {
         lenient: c.common.lenient,
         output_period: c.every,
+        observability: c.observability,
     };
     let run = |out: Option<&Path>| {
         replay
@@ -177,7 +181,7 @@ where
         mapping,
         RunOptions {
             lenient: c.common.lenient,
-            output_period: 0.0,
+            ..RunOptions::default()
         },
     );
     let tuning = crate::tune::tune_with_progress(&tunable, &c.flags)?;
@@ -327,6 +331,9 @@ pub fn run_json(name: &str, model: &str, run: &ModelRun, lenient: bool) -> Value
         .map(|(f, n)| (f.clone(), Value::from(*n)))
         .collect();
     m.insert("skipped_rows".into(), Value::Object(skipped));
+    if let Some(o) = &run.observability {
+        m.insert("observability".into(), o.clone());
+    }
     m.insert("warnings".into(), warnings_json(&run.warnings));
     Value::Object(m)
 }
@@ -347,7 +354,7 @@ where
     // (its outputs are discarded).
     let options = RunOptions {
         lenient: c.lenient,
-        output_period: 0.0,
+        ..RunOptions::default()
     };
     replay
         .replay(&c.dir, c.mapping.as_deref(), &options, None)

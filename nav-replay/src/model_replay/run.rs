@@ -11,17 +11,19 @@ use std::path::Path;
 use std::time::Instant;
 
 use nav_runtime::ekf::Ekf;
+use nav_runtime::error_state::TotalState;
 use nav_runtime::innovations::InnovationTotals;
 use nav_runtime::log::{SkippedRow, Warning, WarningKind};
 use nav_runtime::math::wrap_angle;
 use nav_runtime::model::{Model, Record};
 use nav_runtime::nalgebra::{Cholesky, SMatrix, SVector};
 use nav_runtime::scheduler::{Report, Scheduler};
+use nav_runtime::smoother::{learned_by_sensor, observability, EpochFile, SmootherError};
 
 use super::feed::Feed;
 use super::mapping::Mapping;
 use super::table::MappedRows;
-use super::ModelReplayError;
+use super::{ModelFilter, ModelReplayError};
 
 /// An input interval longer than this many of the shortest interval seen
 /// is a gap: an error, or with [`RunOptions::lenient`] propagated in steps.
@@ -39,6 +41,9 @@ pub struct RunOptions {
     /// Write an estimate at most every this many seconds (`0`: after every
     /// input sample).
     pub output_period: f64,
+    /// Record the run and report what it taught each state
+    /// (`observability` of the JSON, docs/observability.md).
+    pub observability: bool,
 }
 
 /// What happened to one sensor's rows.
@@ -106,6 +111,9 @@ pub struct ModelRun {
     pub skip_reasons: Vec<SkippedRow>,
     /// What the user should know about the result.
     pub warnings: Vec<Warning>,
+    /// What the run taught each state, as the JSON's `observability`
+    /// (with [`RunOptions::observability`]).
+    pub observability: Option<serde_json::Value>,
 }
 
 /// States the model's [`Model::normalize_state`] wraps to (-pi, pi]: the
@@ -253,8 +261,16 @@ where
     ));
     let params = <M::Params as Record>::from_fn(|i| mapping.params[i]);
     let noise = <M::Noise as Record>::from_fn(|i| mapping.noise[i]);
-    let mut ekf = Ekf::<M, N>::new(x0, p0, params, noise)
+    let ekf = Ekf::<M, N>::new(x0, p0, params, noise)
         .map_err(|e| ModelReplayError::Setup(format!("{mapping_file}: {e}")))?;
+    let mut ekf = ModelFilter::<M, N>::new(ekf, TotalState::default());
+    if options.observability {
+        let setup = |e: String| ModelReplayError::Setup(format!("--observability: {e}"));
+        let file = EpochFile::create(None).map_err(|e| setup(e.to_string()))?;
+        ekf.start_recording(file, epoch)
+            .map_err(|e| setup(e.to_string()))?;
+        ekf.track_sensor_information();
+    }
     for (feed, m) in feeds.iter().zip(&mapping.sensors) {
         if let Some(m) = m {
             feed.set_gate(&mut ekf, m.gate).map_err(|e| {
@@ -354,19 +370,26 @@ where
     let tolerance = 0.5 * period.max(1e-9);
     let mut last_written = f64::NEG_INFINITY;
     let mut t_last = epoch;
-    let mut write =
-        |t: f64, f: &Ekf<M, N>, truth: Option<&mut Truth>| -> Result<(), ModelReplayError> {
-            if let Some(values) = truth.map(|tr| tr.at(t, tolerance)).transpose()?.flatten() {
-                score.add(f.state(), f.covariance(), values, (&angles, &quaternions));
+    let mut write = |t: f64,
+                     f: &ModelFilter<M, N>,
+                     truth: Option<&mut Truth>|
+     -> Result<(), ModelReplayError> {
+        if let Some(values) = truth.map(|tr| tr.at(t, tolerance)).transpose()?.flatten() {
+            score.add(
+                f.ekf().state(),
+                f.covariance(),
+                values,
+                (&angles, &quaternions),
+            );
+        }
+        if let Some(w) = estimates.as_mut() {
+            if t - last_written >= options.output_period * (1.0 - 1e-9) {
+                w.push(t, f.ekf().state(), f.covariance())?;
+                last_written = t;
             }
-            if let Some(w) = estimates.as_mut() {
-                if t - last_written >= options.output_period * (1.0 - 1e-9) {
-                    w.push(t, f.state(), f.covariance())?;
-                    last_written = t;
-                }
-            }
-            Ok(())
-        };
+        }
+        Ok(())
+    };
     write(epoch, scheduler.filter(), truth.as_mut())?;
     let mut shortest = if period > 0.0 { period } else { f64::INFINITY };
     // Gaps propagated in steps: how many, and the first.
@@ -496,9 +519,21 @@ where
     run.final_state = M::STATE_NAMES
         .iter()
         .enumerate()
-        .map(|(i, n)| (*n, filter.state()[i], filter.covariance()[(i, i)].sqrt()))
+        .map(|(i, n)| {
+            (
+                *n,
+                filter.ekf().state()[i],
+                filter.covariance()[(i, i)].sqrt(),
+            )
+        })
         .collect();
-    run.covariance_repairs = filter.counters().covariance_repairs;
+    run.covariance_repairs = filter.ekf().counters().covariance_repairs;
+    if options.observability {
+        let prior: [f64; N] = std::array::from_fn(|i| mapping.initial.sigma[i]);
+        let (json, unlearned) = observed(filter.clone(), &prior)?;
+        run.observability = json;
+        run.warnings.extend(unlearned);
+    }
     run.truth = score.finish(&M::STATE_NAMES);
     for rows in std::iter::once(&inputs)
         .chain(sensors.iter().flatten().map(|p| &p.rows))
@@ -517,6 +552,36 @@ where
     warn_about_result(&mut run, truth.as_ref().map(|t| t.rows.file()));
     run.runtime_s = start.elapsed().as_secs_f64();
     Ok(run)
+}
+
+/// Weakest directions reported with `--observability`.
+const OBSERVABILITY_DIRECTIONS: usize = 3;
+
+/// The `observability` JSON of the recorded run of `filter`, whose states
+/// started with the sigmas `prior` (a zero sigma: known, left out), and a
+/// warning per state the log did not teach: every state of a declared
+/// model is one the user asked to estimate.
+fn observed<M: Model<N>, const N: usize>(
+    mut filter: ModelFilter<M, N>,
+    prior: &[f64; N],
+) -> Result<(Option<serde_json::Value>, Vec<Warning>), ModelReplayError> {
+    let fail = |e: SmootherError| ModelReplayError::Setup(format!("--observability: {e}"));
+    let information = filter.sensor_information().cloned();
+    let Some(store) = filter.finish_recording().map_err(fail)? else {
+        return Ok((None, Vec::new()));
+    };
+    let mut o = observability(
+        &mut store.borrow_mut(),
+        prior,
+        0.0,
+        OBSERVABILITY_DIRECTIONS,
+    )
+    .map_err(fail)?;
+    if let Some(information) = information {
+        o.by_sensor = learned_by_sensor(&information, prior, 0.0);
+    }
+    let (json, warnings) = crate::observability::json(&o, &M::STATE_NAMES, |_, _| Some(""));
+    Ok((Some(json), warnings))
 }
 
 /// The warnings a result needs to be read right: a sensor that never

@@ -95,6 +95,49 @@ pub trait Mechanization<Mo: Model<N>, const N: usize>: NominalState<N> + Clone {
     fn mechanize(&mut self, dt: f64, imu: &Self::Imu) -> Mo::Input;
 }
 
+/// The nominal solution of a model without one: every state stays in the
+/// filter as a total-state estimate and the scheduler's input sample is
+/// the model's input as it is. An [`ErrorStateFilter`] over it is the
+/// plain [`Ekf`] of the model (the same numbers), with the error-state
+/// filter's recording for the smoother and the observability report: what
+/// a declared direct-state model is replayed with.
+#[derive(Debug)]
+pub struct TotalState<Mo>(core::marker::PhantomData<fn() -> Mo>);
+
+impl<Mo> Default for TotalState<Mo> {
+    fn default() -> Self {
+        TotalState(core::marker::PhantomData)
+    }
+}
+
+impl<Mo> Clone for TotalState<Mo> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<Mo> Copy for TotalState<Mo> {}
+
+impl<Mo, const N: usize> NominalState<N> for TotalState<Mo> {
+    fn inject(&mut self, _error: &SVector<f64, N>) {}
+    fn absorbs(&self, _i: usize) -> bool {
+        false
+    }
+    fn absorbs_all(&self) -> bool {
+        false
+    }
+}
+
+impl<Mo: Model<N>, const N: usize> Mechanization<Mo, N> for TotalState<Mo>
+where
+    Mo::Input: Record,
+{
+    type Imu = Mo::Input;
+    fn mechanize(&mut self, _dt: f64, input: &Mo::Input) -> Mo::Input {
+        *input
+    }
+}
+
 /// An [`Ekf`] on the error state of model `Mo`, with feedback into `Nom`.
 ///
 /// The error model's input (nominal solution, IMU sample) is passed to
@@ -624,6 +667,37 @@ mod tests {
         assert_eq!(esf.resets(), 400);
         // The bias is observable through position: estimated within 3 sigma.
         assert!((n.b - b_true).abs() < 3.0 * full.covariance()[(2, 2)].sqrt());
+    }
+
+    /// Over [`TotalState`] the error-state filter is the plain EKF of the
+    /// model: the same state and covariance, bit for bit, through
+    /// predictions and updates.
+    #[test]
+    fn over_a_total_state_it_is_the_plain_ekf() {
+        let p0 = SMatrix::<f64, 3, 3>::from_diagonal(&SVector::from([1.0, 0.25, 0.01]));
+        let noise = CvbNoise {
+            q_a: 0.01,
+            q_b: 1e-4,
+        };
+        let x0 = SVector::<f64, 3>::new(0.5, -0.2, 0.01);
+        let mut plain = Ekf::<Cvb, 3>::new(x0, p0, (), noise).unwrap();
+        let mut total = ErrorStateFilter::new(plain.clone(), TotalState::<Cvb>::default());
+        for k in 1..=200 {
+            let input = CvbInput {
+                a: (0.05 * f64::from(k)).sin(),
+            };
+            plain.predict(0.01, &input).unwrap();
+            Propagate::propagate(&mut total, 0.01, &input).unwrap();
+            if k % 10 == 0 {
+                let z = SVector::<f64, 1>::new(0.1 * f64::from(k).sqrt());
+                let r = SVector::<f64, 1>::new(0.04);
+                let a = plain.update_sequential::<Pos, 1>(&z, &r, &Offset::default());
+                let b = total.update_sequential::<Pos, 1>(&z, &r, &Offset::default());
+                assert_eq!(a.unwrap().nis, b.unwrap().nis);
+            }
+        }
+        assert_eq!(plain.state(), total.ekf().state());
+        assert_eq!(plain.covariance(), total.covariance());
     }
 
     /// [`Toy`] that leaves the bias to the filter ([`NominalState::absorbs`]).
