@@ -434,3 +434,31 @@ fn ahrs_reports_what_gravity_and_the_magnetometer_taught() {
     }
     assert_eq!(v["observability"]["weakest"].as_array().unwrap().len(), 3);
 }
+
+/// `gnss-ins --observability` on the fixture: the GNSS teaches position and
+/// velocity, the magnetometer the heading, and the weakest direction of a
+/// flight that hardly tilts is the horizontal accelerometer bias against
+/// the tilt (at rest they give the same specific force).
+#[test]
+fn gnss_ins_reports_the_accelerometer_bias_against_the_tilt() {
+    let tmp = TempDir::new("ulog-gnss-obs");
+    let dir = import(&tmp);
+    let v = replay(&dir, "gnss-ins", &["--observability"]);
+    let states = &v["observability"]["states"];
+    let by = |state: &str, sensor: &str| {
+        states[state]["by_sensor"][sensor]
+            .as_f64()
+            .unwrap_or_else(|| panic!("{state} by {sensor}: {}", states[state]))
+    };
+    assert!(by("position_error[0]", "GnssFix") > 0.5);
+    assert!(by("velocity_error[1]", "GnssFix") > 0.5);
+    assert!(by("attitude_error[2]", "MagneticHeading") > 0.5);
+    assert!(by("attitude_error[2]", "GnssFix") < 0.05);
+    let weakest = &v["observability"]["weakest"][0]["combination"];
+    let names: Vec<&String> = weakest.as_object().unwrap().keys().collect();
+    assert!(
+        names.iter().any(|n| n.starts_with("accel_bias"))
+            && names.iter().any(|n| n.starts_with("attitude_error")),
+        "{weakest}"
+    );
+}

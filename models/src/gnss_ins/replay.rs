@@ -147,6 +147,7 @@ pub fn replay_source(
     let filter_options = FilterOptions {
         max_imu_step: Some(LENIENT_IMU_STEP_PERIODS),
         gap_warnings: options.lenient,
+        observability: options.observability,
         ..FilterOptions::default()
     };
     // Its only position and velocity aiding: without it the INS drifts
@@ -204,6 +205,18 @@ pub fn replay_source(
         runtime_s: run.runtime_s,
         ..Default::default()
     };
+    if let Some(o) = &run.observability {
+        // The navigation errors are the solution; the biases are estimated,
+        // and one the log did not teach is said.
+        let navigation = ["position_error", "velocity_error", "attitude_error"];
+        let (json, unlearned) = nav_replay::observability::json(
+            o,
+            &<GnssIns as nav_runtime::model::Model<N>>::STATE_NAMES,
+            |_, name| (!navigation.iter().any(|n| name.starts_with(n))).then_some(""),
+        );
+        output.metrics.insert("observability".into(), json);
+        output.warnings.extend(unlearned);
+    }
     let warnings = &mut output.warnings;
     for name in &run.ignored {
         let rows = run
@@ -308,6 +321,9 @@ impl ReplayModel for GnssInsReplay {
     }
     fn log_files(&self) -> Option<&'static [&'static str]> {
         Some(FILES)
+    }
+    fn can_observe(&self) -> bool {
+        true
     }
     fn replay(&self, log: &LogDir, options: &ReplayOptions) -> Result<ReplayOutput, RunError> {
         replay_source(&LogSource::Memory(log), options, None)
