@@ -101,7 +101,19 @@ impl Tunable for LogTuning<'_> {
         out.extend(clocks);
         out
     }
+    /// The IMU's two noise sigmas, every aiding sensor's noise sigma, and
+    /// the clock offset of every aiding file whose times the mapping makes
+    /// (a `time` table in its `[files.<sensor>]` section: times from the
+    /// row index, an offset or a stamp, a clock already in doubt). A file
+    /// with its own time column is trusted unless `--params` names its
+    /// clock.
     fn default_parameters(&self) -> Vec<String> {
+        let mapped_time = |sensor: &str| {
+            self.files
+                .mapping()
+                .get(sensor)
+                .is_some_and(|m| !m.time.is_identity())
+        };
         self.parameters()
             .into_iter()
             .map(|(k, _)| k)
@@ -109,7 +121,7 @@ impl Tunable for LogTuning<'_> {
                 k == "sensors.imu.gyro_noise_sigma"
                     || k == "sensors.imu.accel_noise_sigma"
                     || self.sensor_of(k).is_some()
-                    || clock_of(k).is_some()
+                    || clock_of(k).is_some_and(mapped_time)
             })
             .collect()
     }
