@@ -89,9 +89,18 @@ impl SensorInnovations {
             None => format!("its sigmas support {f:.3} times the given ones"),
         };
         let direction = if f > 1.0 {
-            "too small (or the filter's process noise is)"
+            "too small (or the filter's process noise is, or the file's clock is off)"
         } else {
             "too large"
+        };
+        // A sensor of meta.toml reads a file whose clock tuning can search.
+        let clock = if self.setting.0 == "meta.toml" {
+            format!(
+                " (and its file's clock: `--params files.{}.time.offset_s`)",
+                self.sensor
+            )
+        } else {
+            String::new()
         };
         Some(
             Warning::about(
@@ -100,7 +109,7 @@ impl SensorInnovations {
                 format!(
                     "{}: mean NIS {nis:.2} per component over {} updates ({} gated): its \
                      sigma looks {direction}: {given}; `tune` identifies the noise from the \
-                     log",
+                     log{clock}",
                     self.sensor, self.totals.updates, self.gated
                 ),
             )

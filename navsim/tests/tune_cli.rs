@@ -197,6 +197,11 @@ fn a_replay_reports_each_sensors_innovations_and_warns_of_a_sigma_ten_times_off(
         assert_eq!(w[0]["key"], "sensors.dvl.noise_sigma");
         let message = w[0]["message"].as_str().unwrap();
         assert!(message.contains(word), "{message}");
+        // The file's clock is named as the other suspect, with its key.
+        assert!(
+            message.contains("--params files.dvl.time.offset_s"),
+            "{message}"
+        );
         let supported = r["innovations"]["dvl"]["supported_sigma"].as_f64().unwrap();
         let want = true_meta()
             .noise_parameter("sensors.dvl.noise_sigma")
