@@ -53,18 +53,12 @@ print(json.dumps({"seed": seed, "late": late, "found": p["value"], "identifiable
 EOF
     echo "seed $seed done" >&2
 done
-python3 - "$rows" <<'EOF'
-import json, statistics, sys
-rows = [json.loads(l) for l in open(sys.argv[1])]
-failed = [r for r in rows if r.get("failed")]
-for r in failed:
-    print(f"seed {r['seed']}: tune failed: {r['failed']}")
-rows = [r for r in rows if not r.get("failed")]
+python3 - "$rows" "$root/scripts" <<'EOF'
+import statistics, sys
+sys.path.insert(0, sys.argv[2])
+from monte_carlo_rows import pct, read
+rows = read(sys.argv[1])
 n = len(rows)
-def pct(xs, q):
-    xs = sorted(xs)
-    return xs[min(len(xs) - 1, int(q * len(xs)))]
-print(f"runs {n}, seeds {rows[0]['seed']}..{rows[-1]['seed']}, tunings failed {len(failed)}")
 found = [r for r in rows if r["identifiable"]]
 err = [abs(r["found"] + r["late"]) for r in found]
 print(f"DVL clock found in {len(found)}/{n}; |found - true| median {statistics.median(err):.3f} s, p95 {pct(err, 0.95):.3f} s, max {max(err):.3f} s; within 0.1 s in {sum(e <= 0.1 for e in err)}")

@@ -102,19 +102,12 @@ print(json.dumps({"seed": seed, "replays": t["replays"], "converged": t["converg
 EOF
     echo "seed $seed done" >&2
 done
-python3 - "$rows" <<'EOF'
-import json, statistics, sys
-rows = [json.loads(l) for l in open(sys.argv[1])]
-failed = [r for r in rows if r.get("failed")]
-for r in failed:
-    print(f"seed {r['seed']}: tune failed: {r['failed']}")
-print(f"tunings failed: {len(failed)} of {len(rows)}")
-rows = [r for r in rows if not r.get("failed")]
+python3 - "$rows" "$root/scripts" <<'EOF'
+import statistics, sys
+sys.path.insert(0, sys.argv[2])
+from monte_carlo_rows import pct, read
+rows = read(sys.argv[1])
 n = len(rows)
-def pct(xs, q):
-    xs = sorted(xs)
-    return xs[min(len(xs) - 1, int(q * len(xs)))]
-print(f"runs {n}, seeds {rows[0]['seed']}..{rows[-1]['seed']}")
 print(f"replays per tuning: median {statistics.median(r['replays'] for r in rows)}, max {max(r['replays'] for r in rows)}; converged {sum(r['converged'] for r in rows)}/{n}")
 for k in rows[0]["ratios"]:
     ident = [r["ratios"][k]["ratio"] for r in rows if r["ratios"][k]["identifiable"]]

@@ -15,9 +15,7 @@
 
 use nav_runtime::log::MagRow;
 use nav_runtime::scheduler::{Measurement, MeasurementOutcome, Scheduler, SensorId, SensorStats};
-use nav_runtime::smoother::{
-    learned_by_sensor, observability, EpochFile, Observability, SmootherError,
-};
+use nav_runtime::smoother::{EpochFile, Observability, SmootherError};
 
 use super::gravity_window::{GravityWindow, GRAVITY_PERIOD_S};
 use super::heading::magnetic_heading;
@@ -120,20 +118,13 @@ impl AhrsStream {
     /// A recording that failed, or information that is not finite.
     pub fn observability(&self, directions: usize) -> Result<Option<Observability<6>>, RunError> {
         let fail = |e: SmootherError| RunError::Invalid(format!("ahrs: observability: {e}"));
-        let mut filter = self.filter().clone();
-        let information = filter.sensor_information().cloned();
-        let Some(store) = filter.finish_recording().map_err(fail)? else {
-            return Ok(None);
-        };
         let s = &self.settings;
         let (level, heading, bias) = (s.level_sigma, s.heading_sigma, s.gyro_bias_sigma);
         let prior = [level, level, heading, bias, bias, bias];
-        let mut o =
-            observability(&mut store.borrow_mut(), &prior, 0.0, directions).map_err(fail)?;
-        if let Some(information) = information {
-            o.by_sensor = learned_by_sensor(&information, &prior, 0.0);
-        }
-        Ok(Some(o))
+        let mut filter = self.filter().clone();
+        filter
+            .finish_observed(&prior, 0.0, directions)
+            .map_err(fail)
     }
 
     fn with_filter(settings: AhrsSettings, filter: AhrsFilter) -> Result<Self, RunError> {

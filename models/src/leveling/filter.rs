@@ -12,7 +12,7 @@ use nav_runtime::log::{Event, LogDir};
 use nav_runtime::math::wrap_angle;
 use nav_runtime::model::{Model, Sensor};
 use nav_runtime::nalgebra::{Matrix2, Matrix4, SMatrix, SVector, Vector2, Vector3, Vector4};
-use nav_runtime::smoother::{learned_by_sensor, observability, EpochFile, Recorder, SmootherError};
+use nav_runtime::smoother::{observability, EpochFile, Recorder, SmootherError};
 
 /// How the filter is set up.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -283,10 +283,14 @@ pub fn run_observed<M: LevelingModel<N>, const N: usize>(
     let information = recorder.sensor_information().cloned();
     let store = recorder.store();
     let mut file = store.borrow_mut();
-    let mut o = observability(&mut file, &prior_sigma, 0.0, directions).map_err(smoother)?;
-    if let Some(information) = information {
-        o.by_sensor = learned_by_sensor(&information, &prior_sigma, 0.0);
-    }
+    let o = observability(
+        &mut file,
+        &prior_sigma,
+        0.0,
+        directions,
+        information.as_ref(),
+    )
+    .map_err(smoother)?;
     Ok((run, o))
 }
 

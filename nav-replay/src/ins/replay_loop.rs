@@ -16,9 +16,7 @@ use nav_runtime::log::{
     LogSource, MagRow, UsblRow, Warning, WarningKind,
 };
 use nav_runtime::nalgebra::Vector3;
-use nav_runtime::smoother::{
-    learned_by_sensor, observability, smooth_states, EpochFile, SmootherError, SpillFile,
-};
+use nav_runtime::smoother::{observability, smooth_states, EpochFile, SmootherError, SpillFile};
 use nav_runtime::strapdown::RateSamples;
 
 use super::aiding::{place, Aiding, Travelling};
@@ -371,16 +369,14 @@ where
     let layout = *final_filter.nominal().layout();
     let observability = match (&recording, options.observability) {
         (Some(store), true) => {
-            let mut o = observability(
+            let o = observability(
                 &mut store.borrow_mut(),
                 &prior_sigma,
                 OBSERVABILITY_FLOOR,
                 OBSERVABILITY_DIRECTIONS,
+                sensor_information.as_ref(),
             )
             .map_err(smoother_error)?;
-            if let Some(information) = &sensor_information {
-                o.by_sensor = learned_by_sensor(information, &prior_sigma, OBSERVABILITY_FLOOR);
-            }
             Some(o)
         }
         _ => None,

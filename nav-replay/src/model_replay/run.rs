@@ -18,7 +18,7 @@ use nav_runtime::math::wrap_angle;
 use nav_runtime::model::{Model, Record};
 use nav_runtime::nalgebra::{Cholesky, SMatrix, SVector};
 use nav_runtime::scheduler::{Report, Scheduler};
-use nav_runtime::smoother::{learned_by_sensor, observability, EpochFile, SmootherError};
+use nav_runtime::smoother::{EpochFile, SmootherError};
 
 use super::feed::Feed;
 use super::mapping::Mapping;
@@ -566,20 +566,12 @@ fn observed<M: Model<N>, const N: usize>(
     prior: &[f64; N],
 ) -> Result<(Option<serde_json::Value>, Vec<Warning>), ModelReplayError> {
     let fail = |e: SmootherError| ModelReplayError::Setup(format!("--observability: {e}"));
-    let information = filter.sensor_information().cloned();
-    let Some(store) = filter.finish_recording().map_err(fail)? else {
+    let Some(o) = filter
+        .finish_observed(prior, 0.0, OBSERVABILITY_DIRECTIONS)
+        .map_err(fail)?
+    else {
         return Ok((None, Vec::new()));
     };
-    let mut o = observability(
-        &mut store.borrow_mut(),
-        prior,
-        0.0,
-        OBSERVABILITY_DIRECTIONS,
-    )
-    .map_err(fail)?;
-    if let Some(information) = information {
-        o.by_sensor = learned_by_sensor(&information, prior, 0.0);
-    }
     let (json, warnings) = crate::observability::json(&o, &M::STATE_NAMES, |_, _| Some(""));
     Ok((Some(json), warnings))
 }

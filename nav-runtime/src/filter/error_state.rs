@@ -445,6 +445,36 @@ impl<Mo: Model<N>, Nom: NominalState<N>, const N: usize> ErrorStateFilter<Mo, No
         self.recording.as_ref()?.sensor_information()
     }
 
+    /// Ends the recording ([`ErrorStateFilter::finish_recording`]) and
+    /// reports what the run taught each state, from the states' prior sigmas
+    /// `prior_sigma` (those at most `floor` left out), with the `directions`
+    /// weakest directions, and per sensor when the information was tracked
+    /// ([`crate::smoother::observability`]); `None` when not recording.
+    ///
+    /// # Errors
+    /// As [`ErrorStateFilter::finish_recording`] and
+    /// [`crate::smoother::observability`].
+    pub fn finish_observed(
+        &mut self,
+        prior_sigma: &[f64; N],
+        floor: f64,
+        directions: usize,
+    ) -> Result<Option<crate::smoother::Observability<N>>, crate::smoother::SmootherError> {
+        let information = self.sensor_information().cloned();
+        let Some(store) = self.finish_recording()? else {
+            return Ok(None);
+        };
+        let mut file = store.borrow_mut();
+        crate::smoother::observability(
+            &mut file,
+            prior_sigma,
+            floor,
+            directions,
+            information.as_ref(),
+        )
+        .map(Some)
+    }
+
     /// `true` while recording.
     pub fn is_recording(&self) -> bool {
         self.recording.is_some()

@@ -55,7 +55,7 @@ mod store;
 
 pub use backward::{smooth, smooth_states, SmoothedEpoch, States};
 pub use epoch::Epoch;
-pub use observability::{learned_by_sensor, observability, Direction, Observability};
+pub use observability::{observability, Direction, Observability};
 pub use recorder::Recorder;
 pub use sensor_information::{diagonal_inverse, SensorInformation, MAX_TRACKED_SENSORS};
 pub use spill::SpillFile;

@@ -54,8 +54,7 @@ pub struct Observability<const N: usize> {
     pub skipped_epochs: usize,
     /// Per sensor (in the order first seen), how much its updates alone
     /// would have taught each state, as [`Observability::learned`]; empty
-    /// unless the recording kept each sensor's information
-    /// ([`learned_by_sensor`]).
+    /// without each sensor's information (`sensors` of [`observability`]).
     pub by_sensor: Vec<(&'static str, [f64; N])>,
 }
 
@@ -64,7 +63,7 @@ pub struct Observability<const N: usize> {
 /// coordinates scaled by `prior_sigma`); NaN for the states whose prior
 /// sigma is at most `floor`, as in [`observability`]. A sensor's figures
 /// are not shares: two sensors that each pin a state alone both read near 1.
-pub fn learned_by_sensor<const N: usize>(
+fn learned_by_sensor<const N: usize>(
     information: &SensorInformation<N>,
     prior_sigma: &[f64; N],
     floor: f64,
@@ -105,8 +104,9 @@ fn learned_from<const N: usize>(w: &SMatrix<f64, N, N>, used: &[bool; N]) -> [f6
 
 /// The observability of the run recorded in `file`, whose states started
 /// with the sigmas `prior_sigma` (in the states' units): per state, and the
-/// `directions` weakest directions. States whose prior sigma is at most
-/// `floor` are known from the start and left out.
+/// `directions` weakest directions; with `sensors` (each sensor's
+/// information, kept beside the recording), per sensor too. States whose
+/// prior sigma is at most `floor` are known from the start and left out.
 ///
 /// # Errors
 /// [`SmootherError::Io`] on a failed read; [`SmootherError::NonFinite`] if
@@ -116,6 +116,7 @@ pub fn observability<const N: usize, const S: usize>(
     prior_sigma: &[f64; N],
     floor: f64,
     directions: usize,
+    sensors: Option<&SensorInformation<N>>,
 ) -> Result<Observability<N>, SmootherError> {
     let used: [bool; N] = core::array::from_fn(|i| prior_sigma[i] > floor);
     let scale: SVector<f64, N> =
@@ -183,7 +184,7 @@ pub fn observability<const N: usize, const S: usize>(
         learned,
         weakest,
         skipped_epochs: skipped,
-        by_sensor: Vec::new(),
+        by_sensor: sensors.map_or_else(Vec::new, |s| learned_by_sensor(s, prior_sigma, floor)),
     })
 }
 
@@ -250,9 +251,7 @@ mod tests {
         let information = filter.sensor_information().unwrap().clone();
         let store = filter.finish_recording().unwrap().unwrap();
         let mut file = store.borrow_mut();
-        let mut o = observability(&mut file, &SIGMA, 1e-9, directions).unwrap();
-        o.by_sensor = learned_by_sensor(&information, &SIGMA, 1e-9);
-        o
+        observability(&mut file, &SIGMA, 1e-9, directions, Some(&information)).unwrap()
     }
 
     /// A position fix of variance `r`.
