@@ -97,6 +97,15 @@ for line in sys.stdin:
     x32=$(count PROPAGATE_ONLY px4_ekf24_precision/generated_f32 '*px4_propagate_f32*' "$propagation_bin")
     printf "%-20s %12s %12s %14.3f\n" "PX4 24-state" "$x64" "$x32" "$(echo "$x32 / $x64" | bc -l)"
     echo "propagate.px4_ekf24_f32 = $x32" >>"$measured"
+    # The same model declared in the bench crate with the rotation written as
+    # a matrix (textbook and homogeneous forms), against the builtin's.
+    builtin=$(awk -F' = ' '$1 == "propagate.px4_ekf24" { print $2 }' "$measured")
+    printf "\n%-20s %12s %12s %14s\n" "PX4 rotation as" instructions quat_to_dcm ratio
+    for m in rotation_matrix homogeneous_matrix; do
+        r=$(count PROPAGATE_ONLY "px4_$m/generated" '*generated_propagate*' "$propagation_bin")
+        printf "%-20s %12s %12s %14.3f\n" "$m" "$r" "$builtin" "$(echo "$r / $builtin" | bc -l)"
+        echo "propagate.px4_$m = $r" >>"$measured"
+    done
     printf "\n%-20s %12s %12s %14s\n" "update (SDINS-25)" generated dense generated/dense
     for s in dvl compass usbl depth; do
         g=$(count UPDATE_ONLY "$s/generated" '*generated_update*' "$update_bin")

@@ -16,11 +16,16 @@
 //! `f64` (`generated_f64`, the baseline) and in `f32` (`generated_f32`,
 //! `scalar f32;`) at the same operating point; `propagate/px4_ekf24_precision`
 //! the same for PX4's 24-state model (`models::px4_ekf24`), which also has
-//! the group `propagate/px4_ekf24` of the variants above.
+//! the group `propagate/px4_ekf24` of the variants above, and two more:
+//! `rotation_matrix` and `homogeneous_matrix`, the same model declared in
+//! this crate with the rotation written as a matrix of the quaternion's
+//! components (`common/px4_rotation_matrix.rs`).
 //!
 //! Run: `cargo bench -p models --bench propagation` (ratios: `scripts/bench.sh`).
 
 mod common;
+#[path = "common/px4_rotation_matrix.rs"]
+mod px4_rotation_matrix;
 
 use common::*;
 use criterion::{criterion_group, Criterion};
@@ -32,6 +37,9 @@ use models::vehicles::sdins::{Sdins25Composed, Sdins25Single};
 use nav_runtime::model::Model;
 use nav_runtime::model::Record;
 use nav_runtime::nalgebra::{SMatrix, SVector};
+use px4_rotation_matrix::{
+    homogeneous_matrix_point, rotation_matrix_point, Px4HomogeneousMatrix, Px4RotationMatrix,
+};
 use std::hint::black_box;
 
 /// Covariance steps between restores of the initial `P` (10 s at 100 Hz).
@@ -144,14 +152,55 @@ fn propagation(c: &mut Criterion) {
         0.02,
         |_| {},
     );
-    bench_model::<Px4Ekf24, 24>(
-        c,
-        "px4_ekf24",
-        px4_ekf24_point(),
-        px4_ekf24_covariance(),
+    let p0 = px4_ekf24_covariance();
+    let (x, u, par, q) = px4_ekf24_point();
+    let matrix = rotation_matrix_point(&u, &par, &q);
+    let homogeneous = homogeneous_matrix_point(&u, &par, &q);
+    // The textbook matrix is the builtin's function: the same result.
+    let (mut builtin, mut written) = (p0, p0);
+    generated_propagate::<Px4Ekf24, 24>(&mut builtin, &x, &u, &par, &q, 0.01);
+    generated_propagate::<Px4RotationMatrix, 24>(
+        &mut written,
+        &x,
+        &matrix.0,
+        &matrix.1,
+        &matrix.2,
         0.01,
-        |_| {},
     );
+    assert!(
+        rel_diff(&builtin, &written) < 1e-12,
+        "rotation matrix != quat_to_dcm"
+    );
+    bench_model::<Px4Ekf24, 24>(c, "px4_ekf24", (x, u, par, q), p0, 0.01, |g| {
+        g.bench_function("rotation_matrix", |b| {
+            b.iter_custom(|iters| {
+                time_in_place(iters, &p0, RESET_EVERY, |p| {
+                    generated_propagate::<Px4RotationMatrix, 24>(
+                        p,
+                        black_box(&x),
+                        black_box(&matrix.0),
+                        black_box(&matrix.1),
+                        black_box(&matrix.2),
+                        0.01,
+                    )
+                })
+            })
+        });
+        g.bench_function("homogeneous_matrix", |b| {
+            b.iter_custom(|iters| {
+                time_in_place(iters, &p0, RESET_EVERY, |p| {
+                    generated_propagate::<Px4HomogeneousMatrix, 24>(
+                        p,
+                        black_box(&x),
+                        black_box(&homogeneous.0),
+                        black_box(&homogeneous.1),
+                        black_box(&homogeneous.2),
+                        0.01,
+                    )
+                })
+            })
+        });
+    });
     px4_precision(c);
 }
 
@@ -379,6 +428,16 @@ fn only(which: &str) {
         Some(("px4_ekf24", v)) => {
             run::<Px4Ekf24, 24>(v, calls, px4_ekf24_point(), px4_ekf24_covariance(), 0.01)
         }
+        Some(("px4_rotation_matrix", v)) => {
+            let (x, u, p, q) = px4_ekf24_point();
+            let (u, p, q) = rotation_matrix_point(&u, &p, &q);
+            run::<Px4RotationMatrix, 24>(v, calls, (x, u, p, q), px4_ekf24_covariance(), 0.01)
+        }
+        Some(("px4_homogeneous_matrix", v)) => {
+            let (x, u, p, q) = px4_ekf24_point();
+            let (u, p, q) = homogeneous_matrix_point(&u, &p, &q);
+            run::<Px4HomogeneousMatrix, 24>(v, calls, (x, u, p, q), px4_ekf24_covariance(), 0.01)
+        }
         Some(("sdins25", v)) => {
             run::<Sdins25, 25>(v, calls, sdins25_point(), sdins25_covariance(), DT_SDINS)
         }
@@ -389,7 +448,7 @@ fn only(which: &str) {
             run::<Marker9, 9>(v, calls, marker9_point(), marker9_covariance(), 0.02)
         }
         _ => panic!(
-            "PROPAGATE_ONLY={which}: expected <sdins25|leveling6|marker9|px4_ekf24>/<variant>"
+            "PROPAGATE_ONLY={which}: expected <sdins25|leveling6|marker9|px4_ekf24|px4_rotation_matrix|px4_homogeneous_matrix>/<variant>"
         ),
     }
 }

@@ -430,6 +430,9 @@ Total ops: 3*/
         out
     }
 }
+impl ::nav_runtime::propagation::StaticStructure for Leveling6 {
+    const STRUCTURE: ::nav_runtime::propagation::Structure<'static> = Self::PROPAGATION_STRUCTURE;
+}
 #[allow(clippy::possible_missing_comma)]
 impl ::nav_runtime::model::Model<6, f64> for Leveling6 {
     type Input = Leveling6Input;

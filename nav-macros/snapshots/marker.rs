@@ -443,6 +443,9 @@ Total ops: 0*/
         out
     }
 }
+impl ::nav_runtime::propagation::StaticStructure for Marker9 {
+    const STRUCTURE: ::nav_runtime::propagation::Structure<'static> = Self::PROPAGATION_STRUCTURE;
+}
 #[allow(clippy::possible_missing_comma)]
 impl ::nav_runtime::model::Model<9, f64> for Marker9 {
     type Input = Marker9Input;

@@ -930,6 +930,9 @@ Total ops: 45*/
         out
     }
 }
+impl ::nav_runtime::propagation::StaticStructure for Sdins25 {
+    const STRUCTURE: ::nav_runtime::propagation::Structure<'static> = Self::PROPAGATION_STRUCTURE;
+}
 #[allow(clippy::possible_missing_comma)]
 impl ::nav_runtime::model::Model<25, f64> for Sdins25 {
     type Input = Sdins25Input;
@@ -1442,7 +1445,7 @@ Total ops: 126*/
         }
         out
     }
-    ///`P <- Phi P Phi^T + Qd`: the 60 nonzero coefficients of `Phi` in its 9 changed rows and the 12 nonzeros of `Qd` (368 ops), then `nav_runtime::propagation::propagate` over [`Self::PROPAGATION_STRUCTURE`]. `P` must be symmetric; the result is exactly symmetric.
+    ///`P <- Phi P Phi^T + Qd`: the 60 nonzero coefficients of `Phi` in its 9 changed rows and the 12 nonzeros of `Qd` (368 ops), then `nav_runtime::propagation::propagate_static` over [`Self::PROPAGATION_STRUCTURE`]. `P` must be symmetric; the result is exactly symmetric.
     fn propagate_covariance(
         cov: &mut ::nav_runtime::nalgebra::SMatrix<f64, 25, 25>,
         x: &::nav_runtime::nalgebra::SVector<f64, 25>,
@@ -1456,7 +1459,7 @@ Total ops: 126*/
     const PROPAGATION: ::core::option::Option<
         ::nav_runtime::propagation::Structure<'static>,
     > = ::core::option::Option::Some(Self::PROPAGATION_STRUCTURE);
-    /// The coefficients of `C` go to `observe`, then `nav_runtime::propagation::propagate`
+    /// The coefficients of `C` go to `observe`, then `nav_runtime::propagation::propagate_static`
     /// runs over [`Self::PROPAGATION_STRUCTURE`].
     #[inline]
     fn propagate_covariance_observed<F: FnOnce(&[f64])>(
@@ -1631,13 +1634,15 @@ Total ops: 126*/
             _t0 * u.c_bn[(2, 2)],
         ];
         observe(&coefficients);
-        ::nav_runtime::propagation::propagate::<
+        ::nav_runtime::propagation::propagate_static::<
             f64,
             25,
             9,
+            60,
+            12,
+            Self,
         >(
             cov,
-            &Self::PROPAGATION_STRUCTURE,
             &coefficients,
             &[
                 dt * (_t47 * _t75 + _t46 * _t76 + _t48 * _t77),

@@ -294,6 +294,9 @@ Total ops: 0*/
         out
     }
 }
+impl ::nav_runtime::propagation::StaticStructure for VelocityFilter {
+    const STRUCTURE: ::nav_runtime::propagation::Structure<'static> = Self::PROPAGATION_STRUCTURE;
+}
 #[allow(clippy::possible_missing_comma)]
 impl ::nav_runtime::model::Model<3, f64> for VelocityFilter {
     type Input = VelocityFilterInput;
@@ -1316,6 +1319,9 @@ Total ops: 0*/
         out[(8, 5)] = 1.0;
         out
     }
+}
+impl ::nav_runtime::propagation::StaticStructure for Nav9 {
+    const STRUCTURE: ::nav_runtime::propagation::Structure<'static> = Self::PROPAGATION_STRUCTURE;
 }
 #[allow(clippy::possible_missing_comma)]
 impl ::nav_runtime::model::Model<9, f64> for Nav9 {

@@ -80,7 +80,7 @@ pub trait Model<const N: usize, T: Real = f64>: Sized + 'static {
     /// `false` (the default) is always safe.
     const ZERO_IS_FIXED: bool = false;
     /// The structure [`Model::propagate_covariance`] runs
-    /// [`crate::propagation::propagate`] over, `Phi = I + C` or `Phi = C`
+    /// [`crate::propagation::propagate_static`] over, `Phi = I + C` or `Phi = C`
     /// with the nonzeros of `C` in its changed rows; `None` (the default)
     /// when the propagation is unrolled or written by hand.
     const PROPAGATION: Option<crate::propagation::Structure<'static>> = None;
@@ -117,7 +117,7 @@ pub trait Model<const N: usize, T: Real = f64>: Sized + 'static {
     /// `G`: structural zeros and unit rows of `Phi` cost nothing. `P` must be
     /// symmetric (the filter keeps it exactly so); the result is exactly
     /// symmetric. Small models are unrolled entry by entry, larger ones run
-    /// [`crate::propagation::propagate`] over their structure.
+    /// [`crate::propagation::propagate_static`] over their structure.
     fn propagate_covariance(
         cov: &mut SMatrix<T, N, N>,
         x: &SVector<T, N>,

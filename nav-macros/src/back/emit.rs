@@ -675,13 +675,14 @@ impl<'a> Emitter<'a> {
                 let (lets, coefficients, noise_values) =
                     (&pb.lets, &pb.exprs[..nc], &pb.exprs[nc..]);
                 let (n, changed) = (&self.n, lit(pr.rows.len()));
+                let (nc_lit, nq_lit) = (lit(nc), lit(pr.noise.len()));
                 let body = quote! {
                     Self::propagate_covariance_observed(cov, x, u, p, q, dt, |_| ());
                 };
                 let observed = quote! {
                     const PROPAGATION: ::core::option::Option<::nav_runtime::propagation::Structure<'static>> =
                         ::core::option::Option::Some(Self::PROPAGATION_STRUCTURE);
-                    /// The coefficients of `C` go to `observe`, then `nav_runtime::propagation::propagate`
+                    /// The coefficients of `C` go to `observe`, then `nav_runtime::propagation::propagate_static`
                     /// runs over [`Self::PROPAGATION_STRUCTURE`].
                     #[inline]
                     fn propagate_covariance_observed<F: FnOnce(&[#scalar])>(
@@ -691,9 +692,8 @@ impl<'a> Emitter<'a> {
                         #lets
                         let coefficients = [#(#coefficients),*];
                         observe(&coefficients);
-                        ::nav_runtime::propagation::propagate::<#scalar, #n, #changed>(
+                        ::nav_runtime::propagation::propagate_static::<#scalar, #n, #changed, #nc_lit, #nq_lit, Self>(
                             cov,
-                            &Self::PROPAGATION_STRUCTURE,
                             &coefficients,
                             &[#(#noise_values),*],
                         );
@@ -702,7 +702,7 @@ impl<'a> Emitter<'a> {
                 let body_ops = lit(pb.ops);
                 let text = format!(
                     "`P <- Phi P Phi^T + Qd`: the {nc} nonzero coefficients of `Phi` in its {} changed rows and \
-                     the {} nonzeros of `Qd` ({} ops), then `nav_runtime::propagation::propagate` over \
+                     the {} nonzeros of `Qd` ({} ops), then `nav_runtime::propagation::propagate_static` over \
                      [`Self::PROPAGATION_STRUCTURE`]. `P` must be symmetric; the result is exactly symmetric.",
                     pr.rows.len(),
                     pr.noise.len(),
@@ -844,6 +844,11 @@ impl<'a> Emitter<'a> {
                     #gb_fill
                     out
                 }
+            }
+
+            impl ::nav_runtime::propagation::StaticStructure for #name {
+                const STRUCTURE: ::nav_runtime::propagation::Structure<'static> =
+                    Self::PROPAGATION_STRUCTURE;
             }
 
             #[allow(clippy::possible_missing_comma)]

@@ -77,5 +77,31 @@ macro_rules! avx_dispatch {
             $portable::<$t, $($c,)* false, { $crate::dispatch::FUSED }>($($arg),*)
         }
     };
+    // The same with a last type parameter `S` (a table known at compile time
+    // through a trait's associated constant), written after a `;` and passed
+    // on to the portable body before `AVX` and `FUSED`.
+    (
+        $(#[$meta:meta])*
+        $vis:vis fn $name:ident<$t:ident: Real, $(const $c:ident: usize),*; $s:ident: $bound:path>($($arg:ident: $ty:ty),* $(,)?)
+            $(-> $ret:ty)? => $portable:ident;
+    ) => {
+        $(#[$meta])*
+        #[inline]
+        $vis fn $name<$t: $crate::real::Real, $(const $c: usize,)* $s: $bound>($($arg: $ty),*) $(-> $ret)? {
+            #[cfg(all(feature = "std", target_arch = "x86_64"))]
+            {
+                #[cfg_attr(not(feature = "fma"), target_feature(enable = "avx"))]
+                #[cfg_attr(feature = "fma", target_feature(enable = "avx,fma"))]
+                unsafe fn with_avx<$t: $crate::real::Real, $(const $c: usize,)* $s: $bound>($($arg: $ty),*) $(-> $ret)? {
+                    $portable::<$t, $($c,)* $s, true, { $crate::dispatch::FUSED }>($($arg),*)
+                }
+                if $crate::dispatch::has_avx() {
+                    // SAFETY: the CPU executes AVX instructions (checked above).
+                    return unsafe { with_avx::<$t, $($c,)* $s>($($arg),*) };
+                }
+            }
+            $portable::<$t, $($c,)* $s, false, { $crate::dispatch::FUSED }>($($arg),*)
+        }
+    };
 }
 pub(crate) use avx_dispatch;

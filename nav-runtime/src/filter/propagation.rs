@@ -1,7 +1,9 @@
 //! `P <- Phi P Phi^T + Qd` over the structure of `Phi` and `Qd` that `model!`
 //! knows at compile time. The generated `Model::propagate_covariance` evaluates
 //! the nonzero coefficients and noise entries (symbolic, CSE'd) and calls
-//! [`propagate`] with its constant [`Structure`].
+//! [`propagate_static`], compiled for the model's constant [`Structure`]
+//! ([`StaticStructure`]); [`propagate`] takes a structure at run time (for
+//! hand-written models and tests) and gives the same results bit for bit.
 //!
 //! Why a loop over tables and not generated straight-line code: the product
 //! unrolled entry by entry is, for a 25-state INS, about 48 KB of scalar code
@@ -104,6 +106,67 @@ crate::dispatch::avx_dispatch! {
     ) => propagate_steps;
 }
 
+/// A structure known at compile time: a model's [`Structure`] as the
+/// associated constant of a type (the generated model implements it).
+/// [`propagate_static`] is compiled once per such type, so the tables are
+/// constants inside the kernel wherever the caller's code is compiled.
+pub trait StaticStructure {
+    /// The structure of `Phi` and `Qd`.
+    const STRUCTURE: Structure<'static>;
+}
+
+/// [`propagate`] over `S::STRUCTURE`: the same four steps and the same
+/// results bit for bit, compiled for that one structure. The generated
+/// models call this. Over a structure passed at run time, the kernel is
+/// shared by every model of the same size in a crate, and whether the
+/// compiler sees the tables as constants depends on how it partitions the
+/// crate: the same 24-state model cost 3,904 or 4,844 instructions per
+/// call by where it was declared (docs/performance.md).
+#[inline]
+pub fn propagate_static<
+    T: Real,
+    const N: usize,
+    const D: usize,
+    const C: usize,
+    const Q: usize,
+    S: StaticStructure,
+>(
+    cov: &mut SMatrix<T, N, N>,
+    coefficients: &[T; C],
+    noise: &[T; Q],
+) {
+    static_kernel::<T, N, D, C, Q, S>(cov, coefficients, noise);
+}
+
+crate::dispatch::avx_dispatch! {
+    /// The kernel of [`propagate_static`], compiled for AVX where the CPU has it.
+    fn static_kernel<T: Real, const N: usize, const D: usize, const C: usize, const Q: usize; S: StaticStructure>(
+        cov: &mut SMatrix<T, N, N>,
+        coefficients: &[T; C],
+        noise: &[T; Q],
+    ) => static_steps;
+}
+
+/// [`propagate_steps`] over `S::STRUCTURE`, with the lengths of the
+/// coefficients and noise values known at compile time too.
+#[inline(always)]
+fn static_steps<
+    T: Real,
+    const N: usize,
+    const D: usize,
+    const C: usize,
+    const Q: usize,
+    S: StaticStructure,
+    const AVX: bool,
+    const FUSED: bool,
+>(
+    cov: &mut SMatrix<T, N, N>,
+    coefficients: &[T; C],
+    noise: &[T; Q],
+) {
+    propagate_steps::<T, N, D, AVX, FUSED>(cov, &S::STRUCTURE, coefficients, noise);
+}
+
 /// The four steps of [`propagate`].
 #[inline(always)]
 fn propagate_steps<T: Real, const N: usize, const D: usize, const AVX: bool, const FUSED: bool>(
@@ -115,11 +178,14 @@ fn propagate_steps<T: Real, const N: usize, const D: usize, const AVX: bool, con
     let s = structure;
     // Column-major storage of a symmetric P: column k is row k.
     let cols: &mut [[T; N]; N] = &mut cov.data.0;
-    // The nonzeros of each changed row, as slices (no index arithmetic below).
-    let terms: [(&[usize], &[T]); D] = core::array::from_fn(|r| {
+    // The nonzeros of each changed row, as slices (no index arithmetic
+    // below). A plain loop, not `array::from_fn`, for the reason given at
+    // step 3.
+    let mut terms: [(&[usize], &[T]); D] = [(&[], &[]); D];
+    for (r, term) in terms.iter_mut().enumerate() {
         let range = s.start[r]..s.start[r + 1];
-        (&s.columns[range.clone()], &coefficients[range])
-    });
+        *term = (&s.columns[range.clone()], &coefficients[range]);
+    }
     // Step 1: A = (Phi P)[D, :], one row operation per nonzero, in column
     // blocks whose accumulators stay in registers across the nonzeros.
     let mut a = [[T::zero(); N]; D];
@@ -407,6 +473,70 @@ mod tests {
         let apart = (fused - unfused).amax() / want.amax();
         assert!(apart < 1e-14, "fused and unfused {apart} apart");
         FUSED_DIFFERS.fetch_or(fused != unfused, core::sync::atomic::Ordering::Relaxed);
+    }
+
+    /// Two structures known at compile time: changed rows contiguous with
+    /// `Phi = I + C`, and scattered with `Phi = C`.
+    struct Contiguous;
+    impl StaticStructure for Contiguous {
+        const STRUCTURE: Structure<'static> = Structure {
+            identity: true,
+            rows: &[1, 2, 3],
+            start: &[0, 3, 5, 8],
+            columns: &[0, 2, 6, 1, 3, 0, 4, 6],
+            noise: &[(1, 1), (1, 3), (3, 3), (5, 6)],
+        };
+    }
+    struct Scattered;
+    impl StaticStructure for Scattered {
+        const STRUCTURE: Structure<'static> = Structure {
+            identity: false,
+            rows: &[0, 4, 6],
+            start: &[0, 2, 5, 7],
+            columns: &[0, 5, 1, 4, 6, 3, 6],
+            noise: &[(0, 0), (0, 6), (2, 2), (6, 6)],
+        };
+    }
+
+    /// [`propagate_static`] gives [`propagate`]'s result over the same
+    /// structure, bit for bit.
+    fn check_static<S: StaticStructure, const D: usize>(seed: u64) {
+        let mut seed = seed;
+        let s = S::STRUCTURE;
+        let coefficients: [f64; 8] = core::array::from_fn(|_| value(&mut seed));
+        let coefficients = &coefficients[..s.columns.len()];
+        let noise: [f64; 4] = core::array::from_fn(|_| value(&mut seed).abs());
+        let l = SMatrix::<f64, 7, 7>::from_fn(|_, _| value(&mut seed));
+        let p = l * l.transpose() + SMatrix::<f64, 7, 7>::identity();
+        let mut at_run_time = p;
+        propagate::<f64, 7, D>(&mut at_run_time, &s, coefficients, &noise);
+        let mut compiled = p;
+        match coefficients.len() {
+            8 => {
+                let c: [f64; 8] = coefficients.try_into().unwrap();
+                propagate_static::<f64, 7, D, 8, 4, S>(&mut compiled, &c, &noise);
+            }
+            _ => {
+                let c: [f64; 7] = coefficients.try_into().unwrap();
+                propagate_static::<f64, 7, D, 7, 4, S>(&mut compiled, &c, &noise);
+            }
+        }
+        assert!(
+            compiled
+                .iter()
+                .zip(&at_run_time)
+                .all(|(a, b)| a.to_bits() == b.to_bits()),
+            "seed {seed}: static and run-time structures differ"
+        );
+        assert_ne!(compiled, p);
+    }
+
+    #[test]
+    fn a_static_structure_gives_the_same_bits() {
+        for seed in 0..10 {
+            check_static::<Contiguous, 3>(seed);
+            check_static::<Scattered, 3>(seed);
+        }
     }
 
     /// Whether some case's fused result differed from the unfused one.
