@@ -84,6 +84,10 @@ struct TuneCommand {
     /// Skip (and count) bad CSV rows instead of stopping.
     #[arg(long)]
     lenient: bool,
+    /// Write the log's replay.toml with the tuned sigmas of the vehicle's
+    /// own sensors to this file.
+    #[arg(long, value_name = "FILE")]
+    write_mapping: Option<PathBuf>,
 }
 
 #[derive(Debug, Args)]
@@ -166,6 +170,7 @@ where
                 json: c.json,
                 lenient: c.lenient,
                 max_gap_periods: 10.0,
+                write_mapping: c.write_mapping,
             },
         ),
     };

@@ -122,6 +122,20 @@ pub trait ReplayModel: Send + Sync {
     fn shares_imu(&self) -> bool {
         false
     }
+    /// The sigmas (per output) of the sensors the model feeds by their
+    /// declared names from the log's `replay.toml` (a vehicle's own
+    /// sensors), what noise tuning tunes as `sensors.<name>.sigma`.
+    /// Default: none.
+    ///
+    /// # Errors
+    /// The mapping's errors.
+    fn sensor_sigmas(
+        &self,
+        files: &nav_runtime::log::LogFiles,
+    ) -> Result<Vec<(String, Vec<f64>)>, RunError> {
+        let _ = files;
+        Ok(Vec::new())
+    }
     /// Whether `--smooth` is supported.
     fn can_smooth(&self) -> bool {
         false

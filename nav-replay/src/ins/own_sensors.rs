@@ -34,6 +34,8 @@ pub(super) struct OwnSensors<V: InsVehicle<N>, const N: usize> {
 /// One declared sensor's file as the replay reads it.
 struct Feed {
     name: &'static str,
+    /// The sensor's sigma when it has one output.
+    sigma: Option<f64>,
     handle: DeclaredHandle,
     rows: MappedRows,
     outputs: usize,
@@ -136,6 +138,18 @@ impl<V: InsVehicle<N>, const N: usize> OwnSensors<V, N> {
         Ok(own)
     }
 
+    /// The sigmas (per output) `replay.toml` gives each sensor it feeds.
+    pub(super) fn sigmas(&self) -> Vec<(&'static str, Vec<f64>)> {
+        let Some(mapping) = &self.mapping else {
+            return Vec::new();
+        };
+        self.sensors
+            .iter()
+            .zip(&mapping.sensors)
+            .filter_map(|(s, m)| Some((s.name, m.as_ref()?.sigma.clone())))
+            .collect()
+    }
+
     /// Registers what the mapping gives with the navigator's builder and
     /// opens the sensors' files.
     ///
@@ -161,7 +175,8 @@ impl<V: InsVehicle<N>, const N: usize> OwnSensors<V, N> {
         let lenient = files.strictness() == Strictness::Lenient;
         for (sensor, m) in self.sensors.iter().zip(&mapping.sensors) {
             let Some(m) = m else { continue };
-            let handle = builder.declared_sensor(sensor.name, &m.sigma)?;
+            let sigma = scaled_sigma(&m.sigma, files.sensor_sigma(sensor.name));
+            let handle = builder.declared_sensor(sensor.name, &sigma)?;
             if m.gate != Some(crate::model_replay::DEFAULT_GATE) {
                 self.warnings.push(
                     Warning::about(
@@ -182,6 +197,7 @@ impl<V: InsVehicle<N>, const N: usize> OwnSensors<V, N> {
             };
             let mut feed = Feed {
                 name: sensor.name,
+                sigma: (sigma.len() == 1).then(|| sigma[0]),
                 handle,
                 rows,
                 outputs: sensor.outputs,
@@ -220,10 +236,8 @@ impl<V: InsVehicle<N>, const N: usize> OwnSensors<V, N> {
         self.push_due(f64::INFINITY, nav)
     }
 
-    /// Per sensor fed by name: its health (rows read, and the navigator's
-    /// counts).
-    /// The innovations of each sensor fed by name (sigmas per output in
-    /// `replay.toml`: no single noise sigma).
+    /// The innovations of each sensor fed by name (the noise sigma given
+    /// for a sensor of one output; several outputs have no single one).
     pub(super) fn innovations(&self, nav: &Navigator<V, N>) -> Vec<SensorInnovations> {
         self.feeds
             .iter()
@@ -231,7 +245,7 @@ impl<V: InsVehicle<N>, const N: usize> OwnSensors<V, N> {
                 let r = nav.report_declared(f.handle);
                 SensorInnovations {
                     sensor: f.name.to_string(),
-                    noise_sigma: None,
+                    noise_sigma: f.sigma,
                     gated: r.health.gated,
                     setting: ("replay.toml".into(), format!("sensors.{}.sigma", f.name)),
                     totals: r.innovations,
@@ -240,6 +254,8 @@ impl<V: InsVehicle<N>, const N: usize> OwnSensors<V, N> {
             .collect()
     }
 
+    /// Per sensor fed by name: its health (rows read, and the navigator's
+    /// counts).
     pub(super) fn health(&self, nav: &Navigator<V, N>) -> Vec<(&'static str, SensorHealth)> {
         self.feeds
             .iter()
@@ -275,6 +291,18 @@ impl Feed {
 }
 
 /// `replay.toml` of the log directory, if it has one (confined to it).
+/// The sigmas of `replay.toml` (per output) with the first set to
+/// `first`, every output scaled by the same ratio (noise tuning's
+/// [`LogFiles::with_sensor_sigma`](nav_runtime::log::LogFiles::with_sensor_sigma));
+/// as given without one, or when the first is not positive.
+fn scaled_sigma(given: &[f64], first: Option<f64>) -> Vec<f64> {
+    match (first, given.first()) {
+        (Some(v), Some(&g)) if g > 0.0 => crate::tune::scaled_sigmas(given, v),
+        _ => given.to_vec(),
+    }
+}
+
+/// The text of the log's `replay.toml`, `None` without one.
 fn read_mapping(dir: &Path) -> Result<Option<String>, RunError> {
     let Some(mut file) = nav_runtime::log::open_confined(dir, MAPPING_FILE, MAPPING_FILE)? else {
         return Ok(None);

@@ -196,37 +196,21 @@ where
         let text = std::fs::read_to_string(&source).map_err(|e| RunError::io(&source, e))?;
         let values = tuning.identified_values();
         let tuned = tunable.mapping_with(&values);
-        let texts: Vec<(String, String)> = values
+        let values: Vec<(String, Vec<f64>)> = values
             .iter()
             .map(|(key, v)| {
-                let text = match key
-                    .strip_prefix("sensors.")
-                    .and_then(|k| k.strip_suffix(".sigma"))
-                {
-                    Some(sensor) => {
-                        let k = replay
-                            .declared()
-                            .sensors
-                            .iter()
-                            .position(|d| d.name == sensor);
-                        let sigma = k
-                            .and_then(|k| tuned.sensors.get(k))
-                            .and_then(Option::as_ref)
-                            .map_or_else(|| vec![*v], |m| m.sigma.clone());
-                        if sigma.len() == 1 {
-                            format!("{:?}", sigma[0])
-                        } else {
-                            let cells: Vec<String> =
-                                sigma.iter().map(|s| format!("{s:?}")).collect();
-                            format!("[{}]", cells.join(", "))
-                        }
-                    }
-                    None => format!("{v:?}"),
-                };
-                (key.clone(), text)
+                let sigma = crate::tune::own_sensor(key).and_then(|sensor| {
+                    let k = replay
+                        .declared()
+                        .sensors
+                        .iter()
+                        .position(|d| d.name == sensor)?;
+                    Some(tuned.sensors.get(k)?.as_ref()?.sigma.clone())
+                });
+                (key.clone(), sigma.unwrap_or_else(|| vec![*v]))
             })
             .collect();
-        let out = crate::tune::with_values(&text, &name, &texts)?;
+        let out = crate::tune::tuned_mapping_text(&text, &name, &values)?;
         // Read back: the written mapping must give the tuned values.
         let back = super::mapping::parse(&out, &name, &replay.declared()).map_err(invalid)?;
         let same = back

@@ -11,7 +11,7 @@ use nav_runtime::model::Model;
 use super::run::{run, RunOptions, SensorSummary};
 use super::{Mapping, ModelReplay, ModelReplayError};
 use crate::innovations::SensorInnovations;
-use crate::tune::{Replayed, Tunable};
+use crate::tune::{own_sensor, Replayed, Tunable};
 use crate::RunError;
 
 /// `replay` of a log directory with the mapping `mapping` (read from
@@ -47,11 +47,10 @@ impl<'a, M: Model<N>, const N: usize> MappingTuning<'a, M, N> {
         let mut m = self.mapping.clone();
         let declared = self.replay.declared();
         for (key, value) in values {
-            if let Some(name) = sensor_key(key) {
+            if let Some(name) = own_sensor(key) {
                 let k = declared.sensors.iter().position(|s| s.name == name);
                 if let Some(Some(s)) = k.and_then(|k| m.sensors.get_mut(k)) {
-                    let factor = value / s.sigma[0];
-                    s.sigma.iter_mut().for_each(|v| *v *= factor);
+                    s.sigma = crate::tune::scaled_sigmas(&s.sigma, *value);
                 }
             } else if let Some(name) = key.strip_prefix("noise.") {
                 if let Some(i) = declared.noise.iter().position(|n| *n == name) {
@@ -86,12 +85,6 @@ impl<'a, M: Model<N>, const N: usize> MappingTuning<'a, M, N> {
     }
 }
 
-/// The sensor of key `sensors.<name>.sigma`.
-fn sensor_key(key: &str) -> Option<&str> {
-    let name = key.strip_prefix("sensors.")?.strip_suffix(".sigma")?;
-    (!name.contains('.')).then_some(name)
-}
-
 impl<M: Model<N>, const N: usize> Tunable for MappingTuning<'_, M, N>
 where
     Ekf<M, N>: Clone,
@@ -120,11 +113,11 @@ where
         self.parameters()
             .into_iter()
             .map(|(k, _)| k)
-            .filter(|k| sensor_key(k).is_some())
+            .filter(|k| own_sensor(k).is_some())
             .collect()
     }
     fn sensor_of<'k>(&self, key: &'k str) -> Option<&'k str> {
-        sensor_key(key)
+        own_sensor(key)
     }
     fn replay(&self, values: &[(String, f64)]) -> Result<Replayed, RunError> {
         let mapping = self.mapping_with(values);

@@ -9,7 +9,10 @@ use serde_json::Value;
 
 use nav_runtime::log::{Warning, WarningKind};
 
-use super::{tune, tuned_meta_text, LogTuning, Tunable, TuneOptions, Tuning};
+use super::{
+    scaled_sigmas, tune, tuned_mapping_text, tuned_meta_text, LogTuning, Tunable, TuneOptions,
+    Tuning,
+};
 use crate::preflight;
 use crate::program::{emit, open_log, preflight_options, warnings_json};
 use crate::{progress_bar, ReplayModel, ReplayOptions, RunError};
@@ -54,6 +57,10 @@ pub struct TuneArgs {
     /// a warning with --lenient).
     #[arg(long, default_value_t = 10.0, value_name = "N")]
     pub max_gap_periods: f64,
+    /// Write the log's replay.toml with the tuned sigmas of the sensors it
+    /// feeds by name (a vehicle's own sensors) to this file.
+    #[arg(long, value_name = "FILE")]
+    pub write_mapping: Option<PathBuf>,
 }
 
 /// [`tune`] of `t` as `flags` ask, with a progress bar on a terminal.
@@ -125,7 +132,7 @@ pub fn tune_with(model: &dyn ReplayModel, args: &TuneArgs) -> Result<(), RunErro
             lenient: args.lenient,
             ..ReplayOptions::default()
         },
-    );
+    )?;
     let (tuning, report, summary) =
         preflight::check_alongside(&files, &preflight_options, false, || {
             tune_with_progress(&tunable, &args.flags)
@@ -135,12 +142,43 @@ pub fn tune_with(model: &dyn ReplayModel, args: &TuneArgs) -> Result<(), RunErro
     warnings.extend(files.rejected_warnings());
     warnings.extend(report.warnings().cloned());
     warnings.extend(tuning_warnings(&tuning));
+    let identified = tuning.identified_values();
     if let Some(path) = &args.flags.write {
         let source = files.dir().join("meta.toml");
         let text = std::fs::read_to_string(&source).map_err(|e| RunError::io(&source, e))?;
-        let tuned = tuned_meta_text(&text, &tuning.identified_values())?;
+        let tuned = tuned_meta_text(&text, &identified)?;
         std::fs::write(path, tuned).map_err(|e| RunError::io(path, e))?;
         value["written"] = Value::from(path.display().to_string());
+    }
+    // The sigmas of sensors fed by name, scaled together per sensor.
+    let own: Vec<(String, Vec<f64>)> = identified
+        .iter()
+        .filter_map(|(key, v)| {
+            let given = tunable.own_sigmas(key)?;
+            Some((key.clone(), scaled_sigmas(given, *v)))
+        })
+        .collect();
+    match &args.write_mapping {
+        Some(path) => {
+            let source = files.dir().join(crate::model_replay::MAPPING_FILE);
+            let text = std::fs::read_to_string(&source).map_err(|e| RunError::io(&source, e))?;
+            let tuned = tuned_mapping_text(&text, crate::model_replay::MAPPING_FILE, &own)?;
+            std::fs::write(path, tuned).map_err(|e| RunError::io(path, e))?;
+            value["written_mapping"] = Value::from(path.display().to_string());
+        }
+        None if args.flags.write.is_some() && !own.is_empty() => warnings.push(
+            Warning::about(
+                WarningKind::Model,
+                crate::model_replay::MAPPING_FILE,
+                format!(
+                    "{} tuned in {}: --write writes meta.toml only; --write-mapping FILE writes these",
+                    own.iter().map(|(k, _)| k.as_str()).collect::<Vec<_>>().join(", "),
+                    crate::model_replay::MAPPING_FILE
+                ),
+            )
+            .with_key(&own[0].0),
+        ),
+        None => {}
     }
     if let Value::Object(m) = &mut value {
         m.insert("warnings".into(), warnings_json(&warnings));

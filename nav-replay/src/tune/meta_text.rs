@@ -5,6 +5,7 @@
 use nav_runtime::log::Meta;
 
 use super::clock_of;
+use super::tunable::own_sensor;
 use crate::RunError;
 
 /// `text` (a `meta.toml`) with each `(key, value)` of `values` set, keys as
@@ -16,19 +17,25 @@ use crate::RunError;
 /// file that writes its sections as inline tables), or a result that does
 /// not read back to the values asked for.
 pub fn tuned_meta_text(text: &str, values: &[(String, f64)]) -> Result<String, RunError> {
+    // The sigmas of sensors fed by name are `replay.toml`'s.
+    let values: Vec<(String, f64)> = values
+        .iter()
+        .filter(|(k, _)| own_sensor(k).is_none())
+        .cloned()
+        .collect();
     let texts: Vec<(String, String)> = values
         .iter()
         .filter(|(k, _)| clock_of(k).is_none())
         .map(|(k, v)| (k.clone(), format!("{v:?}")))
         .collect();
     let mut out = with_values(text, "meta.toml", &texts)?;
-    for (key, value) in values {
+    for (key, value) in &values {
         if let Some(sensor) = clock_of(key) {
             out = with_clock_offset(&out, sensor, *value)?;
         }
     }
     let (meta, mapping, _) = Meta::parse_log(&out).map_err(RunError::from)?;
-    for (key, value) in values {
+    for (key, value) in &values {
         let read = match clock_of(key) {
             Some(sensor) => mapping.time_offset(sensor),
             None => meta.noise_parameter(key),
@@ -121,6 +128,59 @@ fn with_clock_offset(text: &str, sensor: &str, value: f64) -> Result<String, Run
         }
     }
     Ok(lines.join("\n") + "\n")
+}
+
+/// `text` (the TOML file `file`, a `replay.toml`) with each key of
+/// `values` (`sensors.<name>.sigma`, `noise.<name>`) set to its values: a
+/// number for one value, an array for several. Only the values change, as
+/// in [`with_values`]; the result is read back.
+///
+/// # Errors
+/// As [`with_values`]; a result whose values do not read back.
+pub fn tuned_mapping_text(
+    text: &str,
+    file: &str,
+    values: &[(String, Vec<f64>)],
+) -> Result<String, RunError> {
+    let texts: Vec<(String, String)> = values
+        .iter()
+        .map(|(key, v)| {
+            let cells: Vec<String> = v.iter().map(|s| format!("{s:?}")).collect();
+            let value = match cells.as_slice() {
+                [one] => one.clone(),
+                _ => format!("[{}]", cells.join(", ")),
+            };
+            (key.clone(), value)
+        })
+        .collect();
+    let out = with_values(text, file, &texts)?;
+    let table: toml::Table = out
+        .parse()
+        .map_err(|e| RunError::Invalid(format!("{file}: not TOML after writing: {e}")))?;
+    for (key, want) in values {
+        let mut node = Some(&table);
+        let mut value = None;
+        let parts: Vec<&str> = key.split('.').collect();
+        for (i, part) in parts.iter().enumerate() {
+            let v = node.and_then(|t| t.get(*part));
+            if i + 1 == parts.len() {
+                value = v;
+            } else {
+                node = v.and_then(toml::Value::as_table);
+            }
+        }
+        let read: Option<Vec<f64>> = match value {
+            Some(toml::Value::Float(f)) => Some(vec![*f]),
+            Some(toml::Value::Array(a)) => a.iter().map(toml::Value::as_float).collect(),
+            _ => None,
+        };
+        if read.as_ref() != Some(want) {
+            return Err(RunError::Invalid(format!(
+                "{file}: `{key}` does not read back as {want:?} after writing"
+            )));
+        }
+    }
+    Ok(out)
 }
 
 /// `text` (the TOML file `file`) with the value of each dotted key of

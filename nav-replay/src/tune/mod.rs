@@ -37,8 +37,8 @@ use rayon::prelude::*;
 
 use crate::RunError;
 pub use command::{tune_with, tune_with_progress, tuning_warnings, TuneArgs, TuneFlags};
-pub use meta_text::{tuned_meta_text, with_values};
-pub use tunable::{clock_key, clock_of, LogTuning, Replayed, Tunable};
+pub use meta_text::{tuned_mapping_text, tuned_meta_text, with_values};
+pub use tunable::{clock_key, clock_of, own_sensor, scaled_sigmas, LogTuning, Replayed, Tunable};
 
 /// A parameter whose `ln sigma` is known to worse than this standard error
 /// (a factor of about 1.28 either way) is not identified by the log.

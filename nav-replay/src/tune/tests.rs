@@ -93,7 +93,7 @@ fn a_sensor_sigma_is_found_from_ten_times_either_side_and_a_flat_parameter_stays
         let calls = std::sync::atomic::AtomicUsize::new(0);
         let known = Known { diverges_below };
         let t = tune(
-            &LogTuning::new(&known, &files, ReplayOptions::default()),
+            &LogTuning::new(&known, &files, ReplayOptions::default()).unwrap(),
             &TuneOptions::default(),
             &|done, budget| {
                 assert!(done <= budget);
@@ -154,7 +154,8 @@ fn a_filter_that_diverges_from_every_start_is_an_error_saying_so() {
             },
             &files,
             ReplayOptions::default(),
-        ),
+        )
+        .unwrap(),
         &TuneOptions::default(),
         &|_, _| {},
     )
@@ -174,7 +175,8 @@ fn the_budget_of_replays_is_kept() {
                 },
                 &files,
                 ReplayOptions::default(),
-            ),
+            )
+            .unwrap(),
             &TuneOptions {
                 max_replays,
                 ..TuneOptions::default()

@@ -67,22 +67,60 @@ fn unknown_parameter<T: Tunable + ?Sized>(t: &T, key: &str) -> RunError {
     ))
 }
 
-/// A replay model on a log directory whose sigmas are in `meta.toml`.
+/// A replay model on a log directory whose sigmas are in `meta.toml`, and
+/// for a vehicle's own sensors in `replay.toml`.
 pub struct LogTuning<'a> {
     model: &'a dyn ReplayModel,
     files: &'a LogFiles,
     options: ReplayOptions,
+    /// The sigmas (per output) of the sensors fed by name from
+    /// `replay.toml`.
+    own: Vec<(String, Vec<f64>)>,
 }
 
 impl<'a> LogTuning<'a> {
     /// `model` on the log of `files`, each replay with `options`.
-    pub fn new(model: &'a dyn ReplayModel, files: &'a LogFiles, options: ReplayOptions) -> Self {
-        Self {
+    ///
+    /// # Errors
+    /// The errors of the log's `replay.toml`, for a model that reads one.
+    pub fn new(
+        model: &'a dyn ReplayModel,
+        files: &'a LogFiles,
+        options: ReplayOptions,
+    ) -> Result<Self, RunError> {
+        Ok(Self {
             model,
             files,
             options,
-        }
+            own: model.sensor_sigmas(files)?,
+        })
     }
+
+    /// The sigmas `replay.toml` gives the sensor of key
+    /// `sensors.<name>.sigma`, if it feeds one by that name.
+    pub fn own_sigmas(&self, key: &str) -> Option<&[f64]> {
+        let name = own_sensor(key)?;
+        self.own
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, s)| s.as_slice())
+    }
+}
+
+/// A sensor's sigmas (per output) with the first set to `first` and the
+/// others scaled by the same ratio (a sensor's outputs are tuned together).
+pub fn scaled_sigmas(given: &[f64], first: f64) -> Vec<f64> {
+    let ratio = first / given[0];
+    let mut out: Vec<f64> = given.iter().map(|s| s * ratio).collect();
+    out[0] = first;
+    out
+}
+
+/// The sensor of key `sensors.<name>.sigma` (a sensor fed by name from
+/// `replay.toml`; `meta.toml`'s keys end in `noise_sigma` and the like).
+pub fn own_sensor(key: &str) -> Option<&str> {
+    let name = key.strip_prefix("sensors.")?.strip_suffix(".sigma")?;
+    (!name.is_empty() && !name.contains('.')).then_some(name)
 }
 
 impl Tunable for LogTuning<'_> {
@@ -90,7 +128,9 @@ impl Tunable for LogTuning<'_> {
         self.model.name()
     }
     /// The sigmas of `meta.toml`, then the clock offset of each aiding
-    /// sensor that has a noise sigma (its file's `time.offset_s`).
+    /// sensor that has a noise sigma (its file's `time.offset_s`), then the
+    /// sigma of each sensor `replay.toml` feeds by name whose sigmas are
+    /// all positive (the first output's; all are scaled together).
     fn parameters(&self) -> Vec<(String, f64)> {
         let mut out = self.files.meta().noise_parameters();
         let clocks: Vec<(String, f64)> = out
@@ -99,6 +139,11 @@ impl Tunable for LogTuning<'_> {
             .filter_map(|s| Some((clock_key(s), self.files.mapping().time_offset(s)?)))
             .collect();
         out.extend(clocks);
+        for (name, sigma) in &self.own {
+            if !sigma.is_empty() && sigma.iter().all(|s| *s > 0.0) {
+                out.push((format!("sensors.{name}.sigma"), sigma[0]));
+            }
+        }
         out
     }
     /// The IMU's two noise sigmas, every aiding sensor's noise sigma, and
@@ -126,11 +171,14 @@ impl Tunable for LogTuning<'_> {
             .collect()
     }
     fn sensor_of<'k>(&self, key: &'k str) -> Option<&'k str> {
+        if let Some(name) = own_sensor(key) {
+            return self.own_sigmas(key).is_some().then_some(name);
+        }
         let sensor = key.strip_prefix("sensors.")?.strip_suffix(".noise_sigma")?;
         (sensor != "imu" && !sensor.contains('.')).then_some(sensor)
     }
     fn unknown(&self, key: &str) -> RunError {
-        if key.starts_with("files.") {
+        if key.starts_with("files.") || own_sensor(key).is_some() {
             return unknown_parameter(self, key);
         }
         // The meta's own error names the key and the closest one.
@@ -141,8 +189,9 @@ impl Tunable for LogTuning<'_> {
         )
     }
     fn replay(&self, values: &[(String, f64)]) -> Result<Replayed, RunError> {
+        let in_meta = |k: &str| clock_of(k).is_none() && own_sensor(k).is_none();
         let mut meta = *self.files.meta();
-        for (k, v) in values.iter().filter(|(k, _)| clock_of(k).is_none()) {
+        for (k, v) in values.iter().filter(|(k, _)| in_meta(k)) {
             meta.set_noise_parameter(k, *v).map_err(RunError::from)?;
         }
         let mut files = self.files.with_meta(meta);
@@ -151,6 +200,11 @@ impl Tunable for LogTuning<'_> {
                 files = files
                     .with_time_offset(sensor, *v)
                     .ok_or_else(|| unknown_parameter(self, k))?;
+            } else if let Some(sensor) = own_sensor(k) {
+                if self.own_sigmas(k).is_none() {
+                    return Err(unknown_parameter(self, k));
+                }
+                files = files.with_sensor_sigma(sensor, *v);
             }
         }
         let output = self.model.replay_files(&files, &self.options, None)?;

@@ -45,6 +45,9 @@ pub struct LogFiles {
     rejected: RejectedTally,
     /// How non-physical values of aiding files are treated.
     non_physical: NonPhysical,
+    /// Sigmas of sensors fed by their declared names from the log's
+    /// `replay.toml`, in place of the file's ([`LogFiles::with_sensor_sigma`]).
+    sensor_sigmas: Vec<(String, f64)>,
 }
 
 /// One file of a log opened for reading (plain or gzip, confined to the
@@ -121,6 +124,7 @@ impl LogFiles {
             imu_share: Arc::default(),
             rejected: RejectedTally::default(),
             non_physical: NonPhysical::default(),
+            sensor_sigmas: Vec::new(),
         })
     }
 
@@ -193,6 +197,30 @@ impl LogFiles {
             imu_share: Arc::default(),
             ..self.clone()
         })
+    }
+
+    /// The same log with the sigma of `sensor`, a sensor fed by its
+    /// declared name from the log's `replay.toml`, set to `sigma` (that of
+    /// its first output; every output scaled by the same ratio): noise
+    /// tuning replays a log with other sigmas. Shares what
+    /// [`LogFiles::with_meta`] shares.
+    pub fn with_sensor_sigma(&self, sensor: &str, sigma: f64) -> LogFiles {
+        let mut sensor_sigmas = self.sensor_sigmas.clone();
+        sensor_sigmas.retain(|(s, _)| s != sensor);
+        sensor_sigmas.push((sensor.to_string(), sigma));
+        LogFiles {
+            sensor_sigmas,
+            imu_share: Arc::default(),
+            ..self.clone()
+        }
+    }
+
+    /// The sigma [`LogFiles::with_sensor_sigma`] set for `sensor`, if any.
+    pub fn sensor_sigma(&self, sensor: &str) -> Option<f64> {
+        self.sensor_sigmas
+            .iter()
+            .find(|(s, _)| s == sensor)
+            .map(|(_, v)| *v)
     }
 
     /// The `[files.<sensor>]` sections of `meta.toml` (empty: every file in
