@@ -59,6 +59,7 @@ mod log_file;
 mod mapping;
 mod meta;
 mod read_ahead;
+mod reference_point;
 mod rejected;
 mod rows;
 mod shared;
@@ -85,6 +86,7 @@ pub use meta::{
     MISALIGNMENT_SIGMA_DEFAULT, SCALE_SIGMA_DEFAULT,
 };
 pub use read_ahead::{ReadAhead, READ_AHEAD_ROWS};
+pub use reference_point::{AtImu, ReferencePoint};
 pub use rejected::{
     plausible_limit, NonPhysical, Rejected, RejectedTally, REJECTED_FLOOR, REJECTED_ONE_IN,
 };
@@ -341,6 +343,14 @@ impl LogDir {
             warnings: files.warnings().to_vec(),
             imu_form,
         };
+        // The truth as its users take it: moved to the IMU, as the
+        // streamed rows are (`LogTable::as_used`).
+        if let (Some(truth), Some(point)) = (
+            log.truth.as_mut(),
+            ReferencePoint::new(files.mapping().of::<TruthRow>().lever_arm),
+        ) {
+            point.move_all(truth);
+        }
         log.warnings.extend(rj);
         log.warnings
             .extend(skipped_row_warnings(&log.skipped_rows, &log.skip_reasons));

@@ -135,6 +135,25 @@ fn conversions() -> Vec<Conversion> {
             "truth.csv", "t,lat,lon,depth,v_east,v_north,v_up,roll,pitch,yaw\n0.5,10,20,5,1,2,0.5,3,-4,90\n",
             "truth",
             vec![0.5, 10.0 * D, 20.0 * D, 5.0, 2.0, 1.0, -0.5, 3.0 * D, -4.0 * D, 90.0 * D]),
+        // Heading east, the point 2 m ahead of the IMU and 0.5 m below it:
+        // the IMU is 2 m west and 0.5 m shallower (the first row has no
+        // turn rate: its velocity is as read).
+        ("truth of a point ahead of the IMU",
+            "[files.truth]\nlever_arm = [2.0, 0.0, 0.5]\n",
+            "truth.csv", "t,lat,lon,depth,vn,ve,vd,roll,pitch,yaw\n0.5,0.2,0.3,5,1,2,0.5,0,0,1.5707963267948966\n",
+            "truth",
+            vec![
+                0.5,
+                0.2,
+                0.3 - 2.0 / ((nav_runtime::earth::transverse_radius(0.2) - 5.0) * 0.2f64.cos()),
+                4.5,
+                1.0,
+                2.0,
+                0.5,
+                0.0,
+                0.0,
+                std::f64::consts::FRAC_PI_2,
+            ]),
     ]
 }
 
@@ -220,6 +239,18 @@ fn errors() -> Vec<ErrorCase> {
             "[files.truth]\nnav_frame = \"NWU\"\n",
             vec![],
             Meta("files.truth.nav_frame", "expected one of: NED, ENU"),
+        ),
+        (
+            "truth lever arm of two numbers",
+            "[files.truth]\nlever_arm = [1.0, 2.0]\n",
+            vec![],
+            Meta("files.truth.lever_arm", "expected an array of 3 numbers"),
+        ),
+        (
+            "lever arm on another file",
+            "[files.dvl]\nlever_arm = [1.0, 0.0, 0.0]\n",
+            vec![],
+            Meta("files.dvl.lever_arm", "unknown key"),
         ),
         (
             "frame on a sensor without vectors",

@@ -226,6 +226,11 @@ pub struct FileMapping {
     pub time: TimeBase,
     /// Sign and permutation of the body-frame vector axes (`axes`).
     pub axes: Axes,
+    /// `truth.csv` only: where on the vehicle the point the file describes
+    /// sits, body axes (FRD) from the IMU, m (`lever_arm`); its rows are
+    /// moved to the IMU before use ([`super::ReferencePoint`]). Zero: the
+    /// truth is of the IMU.
+    pub lever_arm: [f64; 3],
 }
 
 impl FileMapping {
@@ -249,6 +254,7 @@ impl FileMapping {
             declared: false,
             time: TimeBase::default(),
             axes: Axes::default(),
+            lever_arm: [0.0; 3],
         }
     }
 
@@ -434,7 +440,7 @@ fn parse_section(
         keys.extend(["body_frame", "axes"]);
     }
     if sensor == "truth" {
-        keys.push("nav_frame");
+        keys.extend(["nav_frame", "lever_arm"]);
     }
     if sensor == "imu" {
         keys.push("form");
@@ -463,6 +469,7 @@ fn parse_section(
         declared: true,
         time: TimeBase::default(),
         axes: Axes::default(),
+        lever_arm: [0.0; 3],
     };
     if let Some(file) = string("file")? {
         m.file = relative_log_path(file).map_err(|p| cx.err(&m.key("file"), p))?;
@@ -617,6 +624,9 @@ fn parse_section(
         m.time = TimeBase::parse(cx, &sec, time, sensor == "imu", column_named)?;
     }
     if sensor == "truth" {
+        if let Some(arm) = cx.lever_arm(t, &sec, "lever_arm")? {
+            m.lever_arm = arm;
+        }
         if let Some(f) = string("nav_frame")? {
             m.nav_frame = match f {
                 "NED" => NavFrame::Ned,

@@ -1041,6 +1041,17 @@ impl Cx<'_> {
         })
     }
 
+    /// An optional lever arm `key` of `section`: three numbers, m, each
+    /// within the bounds of a lever arm on a vehicle.
+    pub(super) fn lever_arm(
+        &self,
+        t: &toml::Table,
+        section: &str,
+        key: &str,
+    ) -> Result<Option<[f64; 3]>, LogError> {
+        self.vec3(t, section, key, Range::LeverArm)
+    }
+
     /// An optional array of three numbers, each in `range`.
     fn vec3(
         &self,

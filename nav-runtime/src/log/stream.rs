@@ -16,6 +16,7 @@ use std::sync::Arc;
 
 use super::log_file::{open_confined, LogFile};
 use super::mapping::{ImuForm, LogMapping};
+use super::reference_point::{AtImu, ReferencePoint};
 use super::rejected::{NonPhysical, RejectedTally};
 use super::rows::RowReader;
 use super::{
@@ -713,6 +714,31 @@ streamed_rows! {
 pub trait LogTable: Row + 'static {
     /// The rows of this file in `log` (`None` when the file is absent).
     fn table(log: &LogDir) -> Option<&[Self]>;
+    /// The rows of this file as the log's users take them, from the rows
+    /// as read with the mapping of `files`: as read, except the truth,
+    /// moved to the IMU by `[files.truth] lever_arm` ([`ReferencePoint`]).
+    fn as_used<'a>(
+        rows: Box<dyn RowSource<Self> + 'a>,
+        files: &LogFiles,
+    ) -> Box<dyn RowSource<Self> + 'a> {
+        let _ = files;
+        rows
+    }
+}
+
+impl LogTable for super::TruthRow {
+    fn table(log: &LogDir) -> Option<&[Self]> {
+        log.truth.as_deref()
+    }
+    fn as_used<'a>(
+        rows: Box<dyn RowSource<Self> + 'a>,
+        files: &LogFiles,
+    ) -> Box<dyn RowSource<Self> + 'a> {
+        match ReferencePoint::new(files.mapping().of::<Self>().lever_arm) {
+            Some(point) => Box::new(AtImu::new(rows, point)),
+            None => rows,
+        }
+    }
 }
 
 macro_rules! log_tables {
@@ -733,7 +759,6 @@ log_tables! {
     SpeedRow => speed,
     RpmRow => rpm,
     AltitudeRow => altitude,
-    super::TruthRow => truth,
     super::MagRow => mag,
     super::BaroRow => baro,
     super::GnssRow => gnss,
@@ -777,7 +802,7 @@ impl<'a> LogSource<'a> {
             }
             LogSource::Files(files) => files
                 .rows::<R>()?
-                .map(|r| Box::new(super::ReadAhead::new(r)) as Box<_>),
+                .map(|r| R::as_used(Box::new(super::ReadAhead::new(r)), files)),
         })
     }
 

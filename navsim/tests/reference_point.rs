@@ -1,0 +1,114 @@
+//! `[files.truth] lever_arm`: a truth written at a point of the vehicle
+//! other than the IMU (here 1.85 m ahead of it and 0.3 m below), as a
+//! post-processed reference often is, scores the filter as the IMU's truth
+//! does once the arm is declared, and worse without it.
+
+mod common;
+
+use common::{navsim, stderr, stdout, TempDir};
+use nav_runtime::attitude::Euler;
+use nav_runtime::earth::{Geodetic, LocalNed};
+use nav_runtime::log::{LogDir, Strictness, TruthRow};
+use nav_runtime::nalgebra::Vector3;
+use serde_json::Value;
+
+const ARM: [f64; 3] = [1.85, 0.0, 0.3];
+
+fn replay(log: &str) -> Value {
+    let o = navsim(&["replay", log, "--model", "sdins25", "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    serde_json::from_str(&stdout(&o)).expect("one JSON object")
+}
+
+/// The truth rows moved from the IMU to the point `ARM`: position through
+/// the local level frame, velocity with the body rate of the central
+/// difference of the attitude (independent of the replay's transport).
+fn at_reference(truth: &[TruthRow]) -> Vec<TruthRow> {
+    let arm = Vector3::from(ARM);
+    let c = |r: &TruthRow| {
+        Euler {
+            roll: r.roll,
+            pitch: r.pitch,
+            yaw: r.yaw,
+        }
+        .c_bn()
+    };
+    (0..truth.len())
+        .map(|i| {
+            let r = truth[i];
+            let (a, b) = (
+                truth[i.saturating_sub(1)],
+                truth[(i + 1).min(truth.len() - 1)],
+            );
+            let turn = c(&a).transpose() * c(&b);
+            let omega = nav_runtime::attitude::rotvec_from_rotation(&turn) / (b.t - a.t);
+            let c_bn = c(&r);
+            let frame = LocalNed::new(Geodetic::new(r.lat, r.lon, -r.depth));
+            let at = frame.ned_to_geodetic(&(c_bn * arm));
+            let v = Vector3::new(r.vn, r.ve, r.vd) + c_bn * omega.cross(&arm);
+            TruthRow {
+                lat: at.lat,
+                lon: at.lon,
+                depth: -at.h,
+                vn: v.x,
+                ve: v.y,
+                vd: v.z,
+                ..r
+            }
+        })
+        .collect()
+}
+
+#[test]
+fn a_declared_reference_point_scores_as_the_imu_truth() {
+    let dir = TempDir::new("reference-point");
+    let log = dir.path().join("log");
+    let o = navsim(&[
+        "simulate",
+        "lawnmower-dvl",
+        "--seed",
+        "5",
+        "--out",
+        log.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let log_str = log.to_str().unwrap();
+    let at_imu = replay(log_str);
+
+    let mut read = LogDir::read(&log, Strictness::Strict).unwrap();
+    read.truth = Some(at_reference(read.truth.as_ref().unwrap()));
+    read.write(&log).unwrap();
+    let undeclared = replay(log_str);
+    let meta = std::fs::read_to_string(log.join("meta.toml")).unwrap();
+    std::fs::write(
+        log.join("meta.toml"),
+        format!(
+            "{meta}\n[files.truth]\nlever_arm = [{}, {}, {}]\n",
+            ARM[0], ARM[1], ARM[2]
+        ),
+    )
+    .unwrap();
+    let declared = replay(log_str);
+
+    let rms = |v: &Value| v["horizontal_error_rms_m"].as_f64().unwrap();
+    let nees = |v: &Value| v["nees_mean"].as_f64().unwrap();
+    assert!(
+        (rms(&declared) - rms(&at_imu)).abs() < 0.005,
+        "RMS {} declared, {} at the IMU",
+        rms(&declared),
+        rms(&at_imu)
+    );
+    assert!(
+        (nees(&declared) / nees(&at_imu) - 1.0).abs() < 0.05,
+        "NEES {} declared, {} at the IMU",
+        nees(&declared),
+        nees(&at_imu)
+    );
+    // Undeclared, the arm's turning is scored as the filter's error.
+    assert!(
+        nees(&undeclared) > 2.0 * nees(&at_imu),
+        "NEES {} undeclared, {} at the IMU",
+        nees(&undeclared),
+        nees(&at_imu)
+    );
+}
