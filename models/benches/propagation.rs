@@ -172,36 +172,35 @@ fn propagation(c: &mut Criterion) {
         "rotation matrix != quat_to_dcm"
     );
     bench_model::<Px4Ekf24, 24>(c, "px4_ekf24", (x, u, par, q), p0, 0.01, |g| {
-        g.bench_function("rotation_matrix", |b| {
-            b.iter_custom(|iters| {
-                time_in_place(iters, &p0, RESET_EVERY, |p| {
-                    generated_propagate::<Px4RotationMatrix, 24>(
-                        p,
-                        black_box(&x),
-                        black_box(&matrix.0),
-                        black_box(&matrix.1),
-                        black_box(&matrix.2),
-                        0.01,
-                    )
-                })
-            })
-        });
-        g.bench_function("homogeneous_matrix", |b| {
-            b.iter_custom(|iters| {
-                time_in_place(iters, &p0, RESET_EVERY, |p| {
-                    generated_propagate::<Px4HomogeneousMatrix, 24>(
-                        p,
-                        black_box(&x),
-                        black_box(&homogeneous.0),
-                        black_box(&homogeneous.1),
-                        black_box(&homogeneous.2),
-                        0.01,
-                    )
-                })
-            })
-        });
+        bench_declaration::<Px4RotationMatrix>(g, "rotation_matrix", &x, &matrix, &p0);
+        bench_declaration::<Px4HomogeneousMatrix>(g, "homogeneous_matrix", &x, &homogeneous, &p0);
     });
     px4_precision(c);
+}
+
+/// The generated propagation of another declaration of PX4's model, as
+/// variant `name` of group `g`.
+fn bench_declaration<Mo: Model<24>>(
+    g: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
+    name: &str,
+    x: &SVector<f64, 24>,
+    (u, par, q): &(Mo::Input, Mo::Params, Mo::Noise),
+    p0: &SMatrix<f64, 24, 24>,
+) {
+    g.bench_function(name, |b| {
+        b.iter_custom(|iters| {
+            time_in_place(iters, p0, RESET_EVERY, |p| {
+                generated_propagate::<Mo, 24>(
+                    p,
+                    black_box(x),
+                    black_box(u),
+                    black_box(par),
+                    black_box(q),
+                    0.01,
+                )
+            })
+        })
+    });
 }
 
 /// PX4's model in both precisions, at the same point.
