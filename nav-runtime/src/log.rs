@@ -85,7 +85,7 @@ pub use meta::{
     UsblTransducer, AIDING_SENSORS, ESTIMATE_NAMES, LEVER_ARM_SIGMA_DEFAULT,
     MISALIGNMENT_SIGMA_DEFAULT, SCALE_SIGMA_DEFAULT,
 };
-pub use read_ahead::{ReadAhead, READ_AHEAD_ROWS};
+pub use read_ahead::{reading_time, ReadAhead, READ_AHEAD_ROWS};
 pub use reference_point::{AtImu, ReferencePoint};
 pub use rejected::{
     plausible_limit, NonPhysical, Rejected, RejectedTally, REJECTED_FLOOR, REJECTED_ONE_IN,

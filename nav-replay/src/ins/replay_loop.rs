@@ -12,8 +12,8 @@ use std::iter::Peekable;
 use std::time::{Duration, Instant};
 
 use nav_runtime::log::{
-    BaroRow, DepthRow, DvlRow, Event as LogEvent, GnssRow, HeadingRow, ImuForm, ImuRow, LogDir,
-    LogSource, MagRow, UsblRow, Warning, WarningKind,
+    reading_time, BaroRow, DepthRow, DvlRow, Event as LogEvent, GnssRow, HeadingRow, ImuForm,
+    ImuRow, LogDir, LogSource, MagRow, UsblRow, Warning, WarningKind,
 };
 use nav_runtime::nalgebra::Vector3;
 use nav_runtime::smoother::{observability, smooth_states, EpochFile, SmootherError, SpillFile};
@@ -161,7 +161,7 @@ where
         .then(|| SpillFile::create(None, ESTIMATE_SCALARS))
         .transpose()
         .map_err(smoother_error)?;
-    let clock = FilterTime::default();
+    let clock = FilterTime::start();
     let mut out = |p: P, e: Option<&Estimate>| -> Result<(), RunError> {
         if let Some(file) = smoothing.as_mut() {
             file.push(&Estimate::to_scalars(e))
@@ -203,7 +203,7 @@ where
     if first_to_push.is_none() {
         let next_t = stream.next_imu_t()?;
         if requests.take(first.t, next_t, tolerance, &mut waiting)? {
-            clock.filter(|| nav.request_estimate(first.t));
+            nav.request_estimate(first.t);
         }
         waiting.hand_unmatched(&mut out)?;
     }
@@ -260,19 +260,17 @@ where
                     let t = previous.t + gap * (m as f64 / steps);
                     own.push_due(t, &mut nav)?;
                     while let Some(ev) = aiding.due(t) {
-                        clock.filter(|| ev.push(&mut nav, &handles));
+                        ev.push(&mut nav, &handles);
                         last_input = Some(ev);
                     }
-                    clock.filter(|| nav.push_imu(t, held)).map_err(|e| {
+                    nav.push_imu(t, held).map_err(|e| {
                         RunError::Invalid(format!("imu.csv gap between {lines} at t = {t} s: {e}"))
                     })?;
                     let mut result = Ok(());
-                    clock.filter(|| {
-                        nav.final_estimates(|_, e| {
-                            if result.is_ok() {
-                                result = waiting.hand(e, &mut out);
-                            }
-                        })
+                    nav.final_estimates(|_, e| {
+                        if result.is_ok() {
+                            result = waiting.hand(e, &mut out);
+                        }
                     });
                     result?;
                 }
@@ -280,29 +278,25 @@ where
         }
         own.push_due(row.t, &mut nav)?;
         while let Some(ev) = aiding.due(row.t) {
-            clock.filter(|| ev.push(&mut nav, &handles));
+            ev.push(&mut nav, &handles);
             last_input = Some(ev);
         }
         let next_t = stream.next_imu_t()?;
         let ticket = requests.take(row.t, next_t, tolerance, &mut waiting)?;
         if ticket {
-            clock.filter(|| nav.request_estimate(row.t));
+            nav.request_estimate(row.t);
         }
         waiting.hand_unmatched(&mut out)?;
-        // One timed block per sample: the step and the estimates it makes
-        // final (the output they are handed to is left out).
+        // The step and the estimates it makes final.
         let mut result = Ok(());
-        let pushed = clock.filter(|| {
-            let pushed = nav.push_imu(row.t, sample(&row));
-            if pushed.is_ok() {
-                nav.final_estimates(|_, e| {
-                    if result.is_ok() {
-                        result = waiting.hand(e, &mut out);
-                    }
-                });
-            }
-            pushed
-        });
+        let pushed = nav.push_imu(row.t, sample(&row));
+        if pushed.is_ok() {
+            nav.final_estimates(|_, e| {
+                if result.is_ok() {
+                    result = waiting.hand(e, &mut out);
+                }
+            });
+        }
         pushed.map_err(|e| match e {
             NavigatorError::Imu(e) => {
                 RunError::Invalid(format!("imu.csv at t = {} s ({}): {e}", row.t, here()))
@@ -337,16 +331,14 @@ where
         aiding.take(&ev);
     }
     while let Some(ev) = aiding.next() {
-        clock.filter(|| ev.push(&mut nav, &handles));
+        ev.push(&mut nav, &handles);
     }
     own.push_rest(&mut nav)?;
     let mut result = Ok(());
-    clock.filter(|| {
-        nav.flush_estimates(|_, e| {
-            if result.is_ok() {
-                result = waiting.hand(e, &mut out);
-            }
-        })
+    nav.flush_estimates(|_, e| {
+        if result.is_ok() {
+            result = waiting.hand(e, &mut out);
+        }
     });
     result?;
     waiting.hand_unmatched(&mut out)?;
@@ -505,28 +497,30 @@ fn frozen_warnings(frozen: FrozenImu) -> Vec<Warning> {
         .collect()
 }
 
-/// The time spent inside the filter ([`InsRun::runtime_s`]), measured
-/// exactly: every call into the navigator (predict, update, scheduler) is
-/// timed on its own, and the time of the estimates handed on from inside
-/// such a call (written to the output) is measured and left out. A clock
-/// read costs some 20-40 ns against the microseconds of a filter step;
-/// sampling one call in many instead aliased with the pattern of calls
-/// (a USBL log read 0.0 s on most runs).
-#[derive(Default)]
+/// The time spent in the filter ([`InsRun::runtime_s`]): the replay loop's
+/// time less the time reading and parsing the log (measured per run of
+/// rows read ahead, [`reading_time`]) and the time handing estimates on to
+/// the output (measured per estimate). What is left is the filter's work
+/// and the loop's own bookkeeping around it. No clock is read per sample:
+/// two reads cost about 46 ns on this kind of machine, 6 % of a replayed
+/// SDINS-25 sample (docs/performance-replay.md); sampling one call in many
+/// instead aliased with the pattern of calls (a USBL log read 0.0 s on most
+/// runs).
 struct FilterTime {
-    /// Time inside filter calls, output included.
-    inside: Cell<Duration>,
-    /// Time handing estimates on (writing output) inside filter calls.
+    start: Instant,
+    reading_at_start: Duration,
+    /// Time handing estimates on (writing output).
     output: Cell<Duration>,
 }
 
 impl FilterTime {
-    /// Runs `f`, a call into the filter, and counts its time.
-    fn filter<T>(&self, f: impl FnOnce() -> T) -> T {
-        let t0 = Instant::now();
-        let r = f();
-        self.inside.set(self.inside.get() + t0.elapsed());
-        r
+    /// Starts the clock.
+    fn start() -> Self {
+        FilterTime {
+            start: Instant::now(),
+            reading_at_start: reading_time(),
+            output: Cell::new(Duration::ZERO),
+        }
     }
 
     /// Runs `f`, handing an estimate on, and counts its time as output.
@@ -537,11 +531,12 @@ impl FilterTime {
         r
     }
 
-    /// The filter's time: the time of the filter calls less the output
-    /// handed on from inside them, s.
+    /// The filter's time so far, s.
     fn seconds(&self) -> f64 {
-        self.inside
-            .get()
+        let reading = reading_time().saturating_sub(self.reading_at_start);
+        self.start
+            .elapsed()
+            .saturating_sub(reading)
             .saturating_sub(self.output.get())
             .as_secs_f64()
     }
