@@ -46,6 +46,17 @@ pub struct ReplayOutput {
     pub innovations: Vec<crate::innovations::SensorInnovations>,
 }
 
+/// The values a log's `replay.toml` gives a model's own sensors and noise
+/// ([`ReplayModel::own_mapping`]).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct OwnMapping {
+    /// Per sensor fed by its declared name: its sigmas, per output.
+    pub sigmas: Vec<(String, Vec<f64>)>,
+    /// The declared process noise beyond the core's, per scalar: its name
+    /// (`current_noise[0]`) and value.
+    pub noise: Vec<(String, f64)>,
+}
+
 /// A note of a replay model about no file in particular (kind
 /// [`WarningKind::Model`]).
 pub fn model_note(message: impl Into<String>) -> Warning {
@@ -122,19 +133,15 @@ pub trait ReplayModel: Send + Sync {
     fn shares_imu(&self) -> bool {
         false
     }
-    /// The sigmas (per output) of the sensors the model feeds by their
-    /// declared names from the log's `replay.toml` (a vehicle's own
-    /// sensors), what noise tuning tunes as `sensors.<name>.sigma`.
-    /// Default: none.
+    /// What the log's `replay.toml` gives the model's own sensors and
+    /// process noise (a vehicle's own block): what noise tuning can tune
+    /// there. Default: nothing.
     ///
     /// # Errors
     /// The mapping's errors.
-    fn sensor_sigmas(
-        &self,
-        files: &nav_runtime::log::LogFiles,
-    ) -> Result<Vec<(String, Vec<f64>)>, RunError> {
+    fn own_mapping(&self, files: &nav_runtime::log::LogFiles) -> Result<OwnMapping, RunError> {
         let _ = files;
-        Ok(Vec::new())
+        Ok(OwnMapping::default())
     }
     /// Whether `--smooth` is supported.
     fn can_smooth(&self) -> bool {

@@ -57,6 +57,12 @@ impl Drop for TempDir {
 /// Writes the voyage (seed `seed`) into `dir`: the standard files through
 /// the log writer, the speed log's own file and `replay.toml` by hand.
 fn write_voyage(dir: &Path, seed: u64) {
+    write_voyage_with(dir, seed, 0.0);
+}
+
+/// [`write_voyage`] with a water current that walks from [`CURRENT`] with
+/// intensity `current_q` ((m/s)^2/s per axis; 0: constant).
+fn write_voyage_with(dir: &Path, seed: u64, current_q: f64) {
     let start = Geodetic::new(0.6, 2.2, 0.0);
     let mut spec = TrajectorySpec::new(start, 0.5, 4.0);
     let mut t = 120.0;
@@ -98,6 +104,7 @@ fn write_voyage(dir: &Path, seed: u64) {
     let (mut gnss, mut heading) = (Vec::new(), Vec::new());
     let mut speed = String::from("time,speed\n");
     let compass_bias = 0.3_f64.to_radians();
+    let mut current = CURRENT;
     for k in 1..=(DURATION as usize) {
         let s = traj.truth(k as f64);
         let arm = s.c_bn * Vector3::from(ANTENNA);
@@ -118,7 +125,12 @@ fn write_voyage(dir: &Path, seed: u64) {
         ));
         let yaw = s.euler.yaw + compass_bias + normal(&mut rng, 0.1_f64.to_radians());
         heading.push(HeadingRow::new(s.t, yaw));
-        let water = s.c_bn.transpose() * (s.v_n - Vector3::new(CURRENT[0], CURRENT[1], 0.0));
+        if current_q > 0.0 {
+            for c in &mut current {
+                *c += normal(&mut rng, current_q.sqrt());
+            }
+        }
+        let water = s.c_bn.transpose() * (s.v_n - Vector3::new(current[0], current[1], 0.0));
         let reading = (1.0 + LOG_SCALE) * water.x + normal(&mut rng, 0.03);
         let _ = writeln!(speed, "{:?},{reading:?}", s.t);
     }
@@ -249,6 +261,52 @@ fn the_ship_tunes_its_own_sensor() {
     }
 }
 
+/// The water current's random walk (`[noise] current_noise` of
+/// `replay.toml`, a process noise of the ship's own block) tuned on the
+/// likelihood when asked for, from 10 times too small and too large, on a
+/// voyage whose current walks with a known intensity; `--write-mapping`
+/// writes both scalars of the noise vector.
+#[test]
+fn the_ship_tunes_its_own_process_noise() {
+    const TRUE_Q: f64 = 1e-4;
+    let log = TempDir::new("tune-noise");
+    write_voyage_with(&log.0, 13, TRUE_Q);
+    let given = std::fs::read_to_string(log.0.join("replay.toml")).unwrap();
+    for start in ["1e-5", "1e-3"] {
+        std::fs::write(
+            log.0.join("replay.toml"),
+            given.replace("current_noise = 1e-8", &format!("current_noise = {start}")),
+        )
+        .unwrap();
+        let written = log.0.join("tuned-noise.toml");
+        let (ok, stdout, stderr) = ship(&[
+            "tune",
+            log.0.to_str().unwrap(),
+            "--json",
+            "--params",
+            "noise.current_noise,sensors.WaterSpeed.sigma",
+            "--write-mapping",
+            written.to_str().unwrap(),
+        ]);
+        assert!(ok, "{stderr}\n{stdout}");
+        let v: Value = serde_json::from_str(&stdout).unwrap();
+        let p = &v["parameters"]["noise.current_noise"];
+        assert_eq!(p["identifiable"], true, "from {start}: {p}");
+        let tuned = p["value"].as_f64().unwrap();
+        // Within 25 % in the random walk's sigma (the square root).
+        let ratio = (tuned / TRUE_Q).sqrt();
+        assert!(
+            (0.75..1.25).contains(&ratio),
+            "from {start}: {tuned} for {TRUE_Q} ({p})"
+        );
+        let text = std::fs::read_to_string(&written).unwrap();
+        assert!(
+            text.contains(&format!("current_noise = [{tuned:?}, {tuned:?}]")),
+            "{text}"
+        );
+    }
+}
+
 /// `--write` alone does not write `replay.toml` and says so; a misspelled
 /// key of it gets the closest one.
 #[test]
@@ -271,66 +329,117 @@ fn the_ship_tuning_names_its_mapping() {
             && w["message"].as_str().unwrap().contains("--write-mapping")
     });
     assert!(said, "{v}");
-    let (ok, _, stderr) = ship(&[
-        "tune",
-        log.0.to_str().unwrap(),
-        "--params",
-        "sensors.WaterSped.sigma",
-    ]);
-    assert!(!ok);
-    assert!(
-        stderr.contains("sensors.WaterSped.sigma")
-            && stderr.contains("did you mean `sensors.WaterSpeed.sigma`"),
-        "{stderr}"
-    );
+    for (key, closest) in [
+        ("sensors.WaterSped.sigma", "sensors.WaterSpeed.sigma"),
+        ("noise.curent_noise", "noise.current_noise"),
+    ] {
+        let (ok, _, stderr) = ship(&["tune", log.0.to_str().unwrap(), "--params", key]);
+        assert!(!ok);
+        assert!(
+            stderr.contains(key) && stderr.contains(&format!("did you mean `{closest}`")),
+            "{stderr}"
+        );
+    }
 }
 
-/// The speed-log sigma tuned over many voyages (`SHIP_TUNE_SEEDS=first,count`,
-/// default 9100,100), started 10 times too large (even seeds) or too small
-/// (odd): prints how many are within 25 % of the true 0.03 and the median,
-/// 95th percentile and largest relative error. A measurement, run by hand:
+/// One tuning measured over many voyages: the key tuned, the voyage's true
+/// current walk, the `replay.toml` text replaced by the 10 times too large
+/// and too small starts, the true value and the extra arguments.
+struct TuningCase {
+    name: &'static str,
+    seeds: &'static str,
+    key: &'static str,
+    current_q: f64,
+    given: &'static str,
+    starts: [&'static str; 2],
+    truth: f64,
+    args: &'static [&'static str],
+    /// Whether the error is taken on the square root (a variance).
+    variance: bool,
+}
+
+const TUNING_CASES: [TuningCase; 2] = [
+    TuningCase {
+        name: "speed-log sigma",
+        seeds: "9100,100",
+        key: "sensors.WaterSpeed.sigma",
+        current_q: 0.0,
+        given: "sigma = 0.03",
+        starts: ["sigma = 0.3", "sigma = 0.003"],
+        truth: 0.03,
+        args: &[],
+        variance: false,
+    },
+    TuningCase {
+        name: "current random walk",
+        seeds: "9200,100",
+        key: "noise.current_noise",
+        current_q: 1e-4,
+        given: "current_noise = 1e-8",
+        starts: ["current_noise = 1e-3", "current_noise = 1e-5"],
+        truth: 1e-4,
+        args: &["--params", "noise.current_noise,sensors.WaterSpeed.sigma"],
+        variance: true,
+    },
+];
+
+/// Each of [`TUNING_CASES`] over its voyages (`SHIP_TUNE_SEEDS=first,count`
+/// overrides the seeds), started 10 times too large (even seeds) or too
+/// small (odd): prints how many are identified and within 25 % of the true
+/// value (of its square root for a variance) and the median, 95th
+/// percentile and largest relative error (`SHIP_TUNE_ROWS=1`: a row per
+/// voyage too). A measurement, run by hand:
 /// `cargo test --release -p ship --test ship_replay -- --ignored --nocapture`.
 #[test]
 #[ignore]
 fn ship_tuning_monte_carlo() {
-    let seeds = std::env::var("SHIP_TUNE_SEEDS").unwrap_or_else(|_| "9100,100".into());
-    let (first, count) = seeds.split_once(',').unwrap();
-    let (first, count): (u64, u64) = (first.parse().unwrap(), count.parse().unwrap());
-    let mut errors = Vec::new();
-    let mut replays = Vec::new();
-    for seed in first..first + count {
-        let log = TempDir::new(&format!("mc-{seed}"));
-        write_voyage(&log.0, seed);
-        let start = if seed % 2 == 0 { "0.3" } else { "0.003" };
-        let given = std::fs::read_to_string(log.0.join("replay.toml")).unwrap();
-        std::fs::write(
-            log.0.join("replay.toml"),
-            given.replace("sigma = 0.03", &format!("sigma = {start}")),
-        )
-        .unwrap();
-        let (ok, stdout, stderr) = ship(&["tune", log.0.to_str().unwrap(), "--json"]);
-        assert!(ok, "seed {seed}: {stderr}");
-        let v: Value = serde_json::from_str(&stdout).unwrap();
-        let tuned = v["parameters"]["sensors.WaterSpeed.sigma"]["value"]
-            .as_f64()
-            .unwrap();
-        errors.push((tuned / 0.03 - 1.0).abs());
-        replays.push(v["replays"].as_u64().unwrap());
+    for case in &TUNING_CASES {
+        let seeds = std::env::var("SHIP_TUNE_SEEDS").unwrap_or_else(|_| case.seeds.into());
+        let (first, count) = seeds.split_once(',').unwrap();
+        let (first, count): (u64, u64) = (first.parse().unwrap(), count.parse().unwrap());
+        let (mut errors, mut replays, mut identified, mut converged) =
+            (Vec::new(), Vec::new(), 0, 0);
+        for seed in first..first + count {
+            let log = TempDir::new(&format!("mc-{seed}"));
+            write_voyage_with(&log.0, seed, case.current_q);
+            let given = std::fs::read_to_string(log.0.join("replay.toml")).unwrap();
+            let start = case.starts[(seed % 2) as usize];
+            std::fs::write(log.0.join("replay.toml"), given.replace(case.given, start)).unwrap();
+            let mut args = vec!["tune", log.0.to_str().unwrap(), "--json"];
+            args.extend(case.args);
+            let (ok, stdout, stderr) = ship(&args);
+            assert!(ok, "seed {seed}: {stderr}");
+            let v: Value = serde_json::from_str(&stdout).unwrap();
+            let p = &v["parameters"][case.key];
+            let ratio = p["value"].as_f64().unwrap() / case.truth;
+            let ratio = if case.variance { ratio.sqrt() } else { ratio };
+            if std::env::var_os("SHIP_TUNE_ROWS").is_some() {
+                println!(
+                    "{seed} {start}: ratio {ratio:.3}, log standard error {}, replays {}, converged {}",
+                    p["log_standard_error"], v["replays"], v["converged"]
+                );
+            }
+            errors.push((ratio - 1.0).abs());
+            replays.push(v["replays"].as_u64().unwrap());
+            identified += usize::from(p["identifiable"] == true);
+            converged += usize::from(v["converged"] == true);
+        }
+        errors.sort_by(f64::total_cmp);
+        replays.sort_unstable();
+        let at = |q: f64| errors[((errors.len() - 1) as f64 * q).round() as usize];
+        println!(
+            "{}, seeds {first}-{}: identified {identified}, within 25 %: {}/{}; relative error median {:.4}, p95 {:.4}, max {:.4}; replays median {}, max {}; converged {converged}",
+            case.name,
+            first + count - 1,
+            errors.iter().filter(|e| **e < 0.25).count(),
+            errors.len(),
+            at(0.5),
+            at(0.95),
+            at(1.0),
+            replays[replays.len() / 2],
+            replays[replays.len() - 1]
+        );
     }
-    errors.sort_by(f64::total_cmp);
-    replays.sort_unstable();
-    let at = |q: f64| errors[((errors.len() - 1) as f64 * q).round() as usize];
-    println!(
-        "seeds {first}..{}: within 25 %: {}/{}; relative error median {:.4}, p95 {:.4}, max {:.4}; replays median {}, max {}",
-        first + count - 1,
-        errors.iter().filter(|e| **e < 0.25).count(),
-        errors.len(),
-        at(0.5),
-        at(0.95),
-        at(1.0),
-        replays[replays.len() / 2],
-        replays[replays.len() - 1]
-    );
 }
 
 /// Mistakes in the ship's `replay.toml` are errors naming the key.

@@ -207,13 +207,8 @@ impl<V: InsVehicle<N>, const N: usize> ReplayModel for InsReplay<V, N> {
     fn shares_imu(&self) -> bool {
         true
     }
-    fn sensor_sigmas(&self, files: &LogFiles) -> Result<Vec<(String, Vec<f64>)>, RunError> {
-        let own = own_sensors::OwnSensors::<V, N>::read(&LogSource::Files(files))?;
-        Ok(own
-            .sigmas()
-            .into_iter()
-            .map(|(name, sigma)| (name.to_string(), sigma))
-            .collect())
+    fn own_mapping(&self, files: &LogFiles) -> Result<crate::OwnMapping, RunError> {
+        Ok(own_sensors::OwnSensors::<V, N>::read(&LogSource::Files(files))?.own_mapping())
     }
     fn can_smooth(&self) -> bool {
         true

@@ -138,16 +138,26 @@ impl<V: InsVehicle<N>, const N: usize> OwnSensors<V, N> {
         Ok(own)
     }
 
-    /// The sigmas (per output) `replay.toml` gives each sensor it feeds.
-    pub(super) fn sigmas(&self) -> Vec<(&'static str, Vec<f64>)> {
+    /// The sigmas (per output) `replay.toml` gives each sensor it feeds,
+    /// and the values of its process noise.
+    pub(super) fn own_mapping(&self) -> crate::OwnMapping {
         let Some(mapping) = &self.mapping else {
-            return Vec::new();
+            return crate::OwnMapping::default();
         };
-        self.sensors
-            .iter()
-            .zip(&mapping.sensors)
-            .filter_map(|(s, m)| Some((s.name, m.as_ref()?.sigma.clone())))
-            .collect()
+        crate::OwnMapping {
+            sigmas: self
+                .sensors
+                .iter()
+                .zip(&mapping.sensors)
+                .filter_map(|(s, m)| Some((s.name.to_string(), m.as_ref()?.sigma.clone())))
+                .collect(),
+            noise: self
+                .noise
+                .iter()
+                .zip(&mapping.noise)
+                .map(|(n, q)| (n.to_string(), *q))
+                .collect(),
+        }
     }
 
     /// Registers what the mapping gives with the navigator's builder and
@@ -166,16 +176,25 @@ impl<V: InsVehicle<N>, const N: usize> OwnSensors<V, N> {
         for (name, sigma) in self.states.iter().zip(&mapping.sigma) {
             builder.state_sigma(name, *sigma)?;
         }
-        for (name, q) in self.noise.iter().zip(&mapping.noise) {
+        let files = match source {
+            LogSource::Files(files) => Some(*files),
+            LogSource::Memory(_) => None,
+        };
+        let mut noise = mapping.noise.clone();
+        if let Some(files) = files {
+            crate::tune::with_noise_values(&self.noise, &mut noise, |key| files.mapping_value(key));
+        }
+        for (name, q) in self.noise.iter().zip(&noise) {
             builder.process_noise(name, *q)?;
         }
-        let LogSource::Files(files) = source else {
+        let Some(files) = files else {
             return Ok(());
         };
         let lenient = files.strictness() == Strictness::Lenient;
         for (sensor, m) in self.sensors.iter().zip(&mapping.sensors) {
             let Some(m) = m else { continue };
-            let sigma = scaled_sigma(&m.sigma, files.sensor_sigma(sensor.name));
+            let key = format!("sensors.{}.sigma", sensor.name);
+            let sigma = scaled_sigma(&m.sigma, files.mapping_value(&key));
             let handle = builder.declared_sensor(sensor.name, &sigma)?;
             if m.gate != Some(crate::model_replay::DEFAULT_GATE) {
                 self.warnings.push(
@@ -293,7 +312,7 @@ impl Feed {
 /// `replay.toml` of the log directory, if it has one (confined to it).
 /// The sigmas of `replay.toml` (per output) with the first set to
 /// `first`, every output scaled by the same ratio (noise tuning's
-/// [`LogFiles::with_sensor_sigma`](nav_runtime::log::LogFiles::with_sensor_sigma));
+/// [`LogFiles::with_mapping_value`](nav_runtime::log::LogFiles::with_mapping_value));
 /// as given without one, or when the first is not positive.
 fn scaled_sigma(given: &[f64], first: Option<f64>) -> Vec<f64> {
     match (first, given.first()) {

@@ -1,7 +1,8 @@
 //! A declared model replayed from `replay.toml`, as something noise tuning
 //! can tune ([`crate::tune::Tunable`]): each mapped sensor's `sigma` (all
 //! its outputs scaled together, the value reported is the first output's)
-//! and, when asked for, each scalar `[noise]` entry.
+//! and, when asked for, each `[noise]` entry (a vector's scalars scaled
+//! together).
 
 use std::path::Path;
 
@@ -11,7 +12,7 @@ use nav_runtime::model::Model;
 use super::run::{run, RunOptions, SensorSummary};
 use super::{Mapping, ModelReplay, ModelReplayError};
 use crate::innovations::SensorInnovations;
-use crate::tune::{own_sensor, Replayed, Tunable};
+use crate::tune::{noise_parameters, own_sensor, with_noise_values, Replayed, Tunable};
 use crate::RunError;
 
 /// `replay` of a log directory with the mapping `mapping` (read from
@@ -52,12 +53,11 @@ impl<'a, M: Model<N>, const N: usize> MappingTuning<'a, M, N> {
                 if let Some(Some(s)) = k.and_then(|k| m.sensors.get_mut(k)) {
                     s.sigma = crate::tune::scaled_sigmas(&s.sigma, *value);
                 }
-            } else if let Some(name) = key.strip_prefix("noise.") {
-                if let Some(i) = declared.noise.iter().position(|n| *n == name) {
-                    m.noise[i] = *value;
-                }
             }
         }
+        with_noise_values(&declared.noise, &mut m.noise, |key| {
+            values.iter().find(|(k, _)| k == key).map(|(_, v)| *v)
+        });
         m
     }
 
@@ -102,11 +102,7 @@ where
                 out.push((format!("sensors.{}.sigma", d.name), m.sigma[0]));
             }
         }
-        for (name, q) in declared.noise.iter().zip(&self.mapping.noise) {
-            if *q > 0.0 && !name.contains('[') {
-                out.push((format!("noise.{name}"), *q));
-            }
-        }
+        out.extend(noise_parameters(&declared.noise, &self.mapping.noise));
         out
     }
     fn default_parameters(&self) -> Vec<String> {

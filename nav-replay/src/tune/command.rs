@@ -150,12 +150,13 @@ pub fn tune_with(model: &dyn ReplayModel, args: &TuneArgs) -> Result<(), RunErro
         std::fs::write(path, tuned).map_err(|e| RunError::io(path, e))?;
         value["written"] = Value::from(path.display().to_string());
     }
-    // The sigmas of sensors fed by name, scaled together per sensor.
+    // The sigmas of sensors fed by name and the own noise, each scaled
+    // together per sensor or noise vector.
     let own: Vec<(String, Vec<f64>)> = identified
         .iter()
         .filter_map(|(key, v)| {
-            let given = tunable.own_sigmas(key)?;
-            Some((key.clone(), scaled_sigmas(given, *v)))
+            let given = tunable.own_values(key)?;
+            Some((key.clone(), scaled_sigmas(&given, *v)))
         })
         .collect();
     match &args.write_mapping {

@@ -5,7 +5,7 @@
 use nav_runtime::log::Meta;
 
 use super::clock_of;
-use super::tunable::own_sensor;
+use super::tunable::in_mapping;
 use crate::RunError;
 
 /// `text` (a `meta.toml`) with each `(key, value)` of `values` set, keys as
@@ -17,10 +17,10 @@ use crate::RunError;
 /// file that writes its sections as inline tables), or a result that does
 /// not read back to the values asked for.
 pub fn tuned_meta_text(text: &str, values: &[(String, f64)]) -> Result<String, RunError> {
-    // The sigmas of sensors fed by name are `replay.toml`'s.
+    // The sigmas of sensors fed by name and the own noise are `replay.toml`'s.
     let values: Vec<(String, f64)> = values
         .iter()
-        .filter(|(k, _)| own_sensor(k).is_none())
+        .filter(|(k, _)| !in_mapping(k))
         .cloned()
         .collect();
     let texts: Vec<(String, String)> = values

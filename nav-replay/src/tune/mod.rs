@@ -38,7 +38,10 @@ use rayon::prelude::*;
 use crate::RunError;
 pub use command::{tune_with, tune_with_progress, tuning_warnings, TuneArgs, TuneFlags};
 pub use meta_text::{tuned_mapping_text, tuned_meta_text, with_values};
-pub use tunable::{clock_key, clock_of, own_sensor, scaled_sigmas, LogTuning, Replayed, Tunable};
+pub use tunable::{
+    clock_key, clock_of, in_mapping, noise_parameters, own_sensor, scaled_sigmas,
+    with_noise_values, LogTuning, Replayed, Tunable,
+};
 
 /// A parameter whose `ln sigma` is known to worse than this standard error
 /// (a factor of about 1.28 either way) is not identified by the log.
@@ -52,6 +55,10 @@ const MAX_MOVE: f64 = core::f64::consts::LN_10;
 
 /// Converged when no parameter moves more than this in `ln sigma` (1 %).
 const CONVERGED: f64 = 0.01;
+
+/// Halvings of a step that lowers the likelihood before it is taken as it
+/// is.
+const MAX_HALVINGS: usize = 3;
 
 /// A probe must raise the log-likelihood by this much to move a parameter
 /// (a likelihood ratio of e^2, about the 95 % level of one parameter).
@@ -439,7 +446,18 @@ pub fn tune(
                 moves[i] = if up.max(down) - mid < SIGNIFICANT {
                     0.0
                 } else if c < 0.0 && c.is_finite() {
-                    (-g / c).clamp(-MAX_MOVE, MAX_MOVE)
+                    // Far from the optimum the quadratic under-steps (a
+                    // process noise started ten times too large took twelve
+                    // steps to halve): the better probe, a factor of 2
+                    // away, is known to raise the likelihood, so the step
+                    // goes at least that far.
+                    let newton = (-g / c).clamp(-MAX_MOVE, MAX_MOVE);
+                    let probe = if up > down { STEP } else { -STEP };
+                    if newton.abs() < STEP && newton * probe > 0.0 {
+                        probe
+                    } else {
+                        newton
+                    }
                 } else if up > down {
                     STEP
                 } else {
@@ -447,22 +465,52 @@ pub fn tune(
                 };
             }
         }
+        // The step, halved while it lowers the likelihood (a sensor's
+        // sigma matched to its innovations and a process noise that feeds
+        // the same innovations, stepped together, overshoot each other and
+        // oscillate) or the filter cannot run with it.
         let previous = values.clone();
-        for (v, m) in values.iter_mut().zip(&moves) {
-            v.1 *= m.exp();
-        }
-        replays += 1;
-        match replay(t, &values) {
-            Ok(run) => center = run,
-            Err(_) => {
-                // The step went where the filter cannot run: stay before it.
-                values = previous;
-                progress(replays.min(options.max_replays), options.max_replays);
-                break;
+        let mut step = moves;
+        let mut moved = None;
+        let mut at_optimum = false;
+        for halving in 0..=MAX_HALVINGS {
+            values = previous.clone();
+            for (v, m) in values.iter_mut().zip(&step) {
+                v.1 *= m.exp();
+            }
+            replays += 1;
+            progress(replays.min(options.max_replays), options.max_replays);
+            match replay(t, &values) {
+                Ok(run)
+                    if !center.log_likelihood.is_finite()
+                        || run.log_likelihood >= center.log_likelihood - SIGNIFICANT =>
+                {
+                    moved = Some(run);
+                    break;
+                }
+                result => {
+                    if halving == MAX_HALVINGS {
+                        // An eighth of the step still lowers it: the
+                        // parameters are at the optimum the steps can see.
+                        at_optimum = result.is_ok();
+                        break;
+                    }
+                    if replays + 1 >= options.max_replays {
+                        break;
+                    }
+                    step.iter_mut().for_each(|m| *m *= 0.5);
+                }
             }
         }
-        progress(replays.min(options.max_replays), options.max_replays);
-        if moves.iter().all(|m| m.abs() < CONVERGED) {
+        let Some(run) = moved else {
+            // No step the filter can run with raises the likelihood: stay
+            // before it.
+            values = previous;
+            converged = at_optimum;
+            break;
+        };
+        center = run;
+        if step.iter().all(|m| m.abs() < CONVERGED) {
             converged = true;
             break;
         }

@@ -187,3 +187,37 @@ fn the_budget_of_replays_is_kept() {
         assert!(t.replays <= max_replays, "{max_replays}: {}", t.replays);
     }
 }
+
+/// A declared process noise is tuned per block: a scalar, or a vector's
+/// scalars scaled together; a block with a zero has no scale to find.
+#[test]
+fn noise_is_tuned_per_block() {
+    let names = [
+        "speed_noise",
+        "current_noise[0]",
+        "current_noise[1]",
+        "drift[0]",
+        "drift[1]",
+    ];
+    let values = [0.1, 1e-8, 2e-8, 0.0, 1.0];
+    assert_eq!(
+        noise_parameters(&names, &values),
+        vec![
+            ("noise.speed_noise".to_string(), 0.1),
+            ("noise.current_noise".to_string(), 1e-8),
+        ]
+    );
+    let cases: [(&str, f64, [f64; 5]); 3] = [
+        ("noise.current_noise", 1e-6, [0.1, 1e-6, 2e-6, 0.0, 1.0]),
+        ("noise.speed_noise", 0.4, [0.4, 1e-8, 2e-8, 0.0, 1.0]),
+        // A block with a zero first scalar is not scaled.
+        ("noise.drift", 3.0, values),
+    ];
+    for (key, value, want) in cases {
+        let mut got = values;
+        with_noise_values(&names, &mut got, |k| (k == key).then_some(value));
+        for (g, w) in got.iter().zip(want) {
+            assert!((g - w).abs() <= 1e-15 * w.abs(), "{key}: {got:?}");
+        }
+    }
+}

@@ -6,7 +6,9 @@
 use nav_runtime::log::{LogFiles, Warning};
 
 use crate::innovations::SensorInnovations;
-use crate::{ReplayModel, ReplayOptions, RunError};
+use nav_runtime::model::{block_of, blocks};
+
+use crate::{OwnMapping, ReplayModel, ReplayOptions, RunError};
 
 /// What one replay of a tuning returns.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -68,14 +70,13 @@ fn unknown_parameter<T: Tunable + ?Sized>(t: &T, key: &str) -> RunError {
 }
 
 /// A replay model on a log directory whose sigmas are in `meta.toml`, and
-/// for a vehicle's own sensors in `replay.toml`.
+/// for a vehicle's own sensors and noise in `replay.toml`.
 pub struct LogTuning<'a> {
     model: &'a dyn ReplayModel,
     files: &'a LogFiles,
     options: ReplayOptions,
-    /// The sigmas (per output) of the sensors fed by name from
-    /// `replay.toml`.
-    own: Vec<(String, Vec<f64>)>,
+    /// What `replay.toml` gives the sensors fed by name and the own noise.
+    own: OwnMapping,
 }
 
 impl<'a> LogTuning<'a> {
@@ -92,19 +93,90 @@ impl<'a> LogTuning<'a> {
             model,
             files,
             options,
-            own: model.sensor_sigmas(files)?,
+            own: model.own_mapping(files)?,
         })
     }
 
-    /// The sigmas `replay.toml` gives the sensor of key
-    /// `sensors.<name>.sigma`, if it feeds one by that name.
-    pub fn own_sigmas(&self, key: &str) -> Option<&[f64]> {
-        let name = own_sensor(key)?;
-        self.own
+    /// The values `replay.toml` gives key `sensors.<name>.sigma` (the
+    /// sensor's sigmas per output) or `noise.<name>` (the scalars of that
+    /// noise), if it gives that key.
+    pub fn own_values(&self, key: &str) -> Option<Vec<f64>> {
+        if let Some(name) = own_sensor(key) {
+            return self
+                .own
+                .sigmas
+                .iter()
+                .find(|(n, _)| n == name)
+                .map(|(_, s)| s.clone());
+        }
+        let block = key.strip_prefix("noise.")?;
+        let values: Vec<f64> = self
+            .own
+            .noise
             .iter()
-            .find(|(n, _)| n == name)
-            .map(|(_, s)| s.as_slice())
+            .filter(|(n, _)| block_of(n) == block)
+            .map(|(_, q)| *q)
+            .collect();
+        (!values.is_empty()).then_some(values)
     }
+}
+
+/// The sensor of key `sensors.<name>.sigma` (a sensor fed by name from
+/// `replay.toml`; `meta.toml`'s keys end in `noise_sigma` and the like).
+pub fn own_sensor(key: &str) -> Option<&str> {
+    let name = key.strip_prefix("sensors.")?.strip_suffix(".sigma")?;
+    (!name.is_empty() && !name.contains('.')).then_some(name)
+}
+
+/// The keys `noise.<block>` of a declared process noise (scalar `names`
+/// with their `values`): one per block (a scalar, or a whole vector tuned
+/// as one), with its first scalar's value; a block with a value that is
+/// not positive has no scale to find and is left out.
+pub fn noise_parameters(names: &[&str], values: &[f64]) -> Vec<(String, f64)> {
+    blocks(names)
+        .into_iter()
+        .filter_map(|block| {
+            let v: Vec<f64> = names
+                .iter()
+                .zip(values)
+                .filter(|(n, _)| block_of(n) == block)
+                .map(|(_, q)| *q)
+                .collect();
+            v.iter()
+                .all(|q| *q > 0.0)
+                .then(|| (format!("noise.{block}"), v[0]))
+        })
+        .collect()
+}
+
+/// `values` (of the scalar noise `names`) with each block whose key
+/// `noise.<block>` `value_of` gives set to it: its first scalar to that
+/// value, the others scaled by the same ratio.
+pub fn with_noise_values(
+    names: &[&str],
+    values: &mut [f64],
+    value_of: impl Fn(&str) -> Option<f64>,
+) {
+    for block in blocks(names) {
+        let Some(first) = value_of(&format!("noise.{block}")) else {
+            continue;
+        };
+        let at: Vec<usize> = (0..names.len())
+            .filter(|&i| block_of(names[i]) == block)
+            .collect();
+        let given: Vec<f64> = at.iter().map(|&i| values[i]).collect();
+        if given[0] > 0.0 {
+            for (&i, v) in at.iter().zip(scaled_sigmas(&given, first)) {
+                values[i] = v;
+            }
+        }
+    }
+}
+
+/// Whether `key` is a value of `replay.toml` (`sensors.<name>.sigma`,
+/// `noise.<name>`) rather than of `meta.toml`.
+pub fn in_mapping(key: &str) -> bool {
+    own_sensor(key).is_some() || key.starts_with("noise.")
 }
 
 /// A sensor's sigmas (per output) with the first set to `first` and the
@@ -116,13 +188,6 @@ pub fn scaled_sigmas(given: &[f64], first: f64) -> Vec<f64> {
     out
 }
 
-/// The sensor of key `sensors.<name>.sigma` (a sensor fed by name from
-/// `replay.toml`; `meta.toml`'s keys end in `noise_sigma` and the like).
-pub fn own_sensor(key: &str) -> Option<&str> {
-    let name = key.strip_prefix("sensors.")?.strip_suffix(".sigma")?;
-    (!name.is_empty() && !name.contains('.')).then_some(name)
-}
-
 impl Tunable for LogTuning<'_> {
     fn model(&self) -> &str {
         self.model.name()
@@ -130,7 +195,8 @@ impl Tunable for LogTuning<'_> {
     /// The sigmas of `meta.toml`, then the clock offset of each aiding
     /// sensor that has a noise sigma (its file's `time.offset_s`), then the
     /// sigma of each sensor `replay.toml` feeds by name whose sigmas are
-    /// all positive (the first output's; all are scaled together).
+    /// all positive (the first output's; all are scaled together) and each
+    /// block of its `[noise]` ([`noise_parameters`]).
     fn parameters(&self) -> Vec<(String, f64)> {
         let mut out = self.files.meta().noise_parameters();
         let clocks: Vec<(String, f64)> = out
@@ -139,11 +205,14 @@ impl Tunable for LogTuning<'_> {
             .filter_map(|s| Some((clock_key(s), self.files.mapping().time_offset(s)?)))
             .collect();
         out.extend(clocks);
-        for (name, sigma) in &self.own {
+        for (name, sigma) in &self.own.sigmas {
             if !sigma.is_empty() && sigma.iter().all(|s| *s > 0.0) {
                 out.push((format!("sensors.{name}.sigma"), sigma[0]));
             }
         }
+        let names: Vec<&str> = self.own.noise.iter().map(|(n, _)| n.as_str()).collect();
+        let values: Vec<f64> = self.own.noise.iter().map(|(_, q)| *q).collect();
+        out.extend(noise_parameters(&names, &values));
         out
     }
     /// The IMU's two noise sigmas, every aiding sensor's noise sigma, and
@@ -172,13 +241,13 @@ impl Tunable for LogTuning<'_> {
     }
     fn sensor_of<'k>(&self, key: &'k str) -> Option<&'k str> {
         if let Some(name) = own_sensor(key) {
-            return self.own_sigmas(key).is_some().then_some(name);
+            return self.own_values(key).is_some().then_some(name);
         }
         let sensor = key.strip_prefix("sensors.")?.strip_suffix(".noise_sigma")?;
         (sensor != "imu" && !sensor.contains('.')).then_some(sensor)
     }
     fn unknown(&self, key: &str) -> RunError {
-        if key.starts_with("files.") || own_sensor(key).is_some() {
+        if key.starts_with("files.") || key.starts_with("noise.") || own_sensor(key).is_some() {
             return unknown_parameter(self, key);
         }
         // The meta's own error names the key and the closest one.
@@ -189,7 +258,7 @@ impl Tunable for LogTuning<'_> {
         )
     }
     fn replay(&self, values: &[(String, f64)]) -> Result<Replayed, RunError> {
-        let in_meta = |k: &str| clock_of(k).is_none() && own_sensor(k).is_none();
+        let in_meta = |k: &str| clock_of(k).is_none() && !in_mapping(k);
         let mut meta = *self.files.meta();
         for (k, v) in values.iter().filter(|(k, _)| in_meta(k)) {
             meta.set_noise_parameter(k, *v).map_err(RunError::from)?;
@@ -200,11 +269,11 @@ impl Tunable for LogTuning<'_> {
                 files = files
                     .with_time_offset(sensor, *v)
                     .ok_or_else(|| unknown_parameter(self, k))?;
-            } else if let Some(sensor) = own_sensor(k) {
-                if self.own_sigmas(k).is_none() {
+            } else if in_mapping(k) {
+                if self.own_values(k).is_none() {
                     return Err(unknown_parameter(self, k));
                 }
-                files = files.with_sensor_sigma(sensor, *v);
+                files = files.with_mapping_value(k, *v);
             }
         }
         let output = self.model.replay_files(&files, &self.options, None)?;

@@ -46,9 +46,9 @@ pub struct LogFiles {
     rejected: RejectedTally,
     /// How non-physical values of aiding files are treated.
     non_physical: NonPhysical,
-    /// Sigmas of sensors fed by their declared names from the log's
-    /// `replay.toml`, in place of the file's ([`LogFiles::with_sensor_sigma`]).
-    sensor_sigmas: Vec<(String, f64)>,
+    /// Values of the log's `replay.toml` in place of the file's
+    /// ([`LogFiles::with_mapping_value`]).
+    mapping_values: Vec<(String, f64)>,
 }
 
 /// One file of a log opened for reading (plain or gzip, confined to the
@@ -125,7 +125,7 @@ impl LogFiles {
             imu_share: Arc::default(),
             rejected: RejectedTally::default(),
             non_physical: NonPhysical::default(),
-            sensor_sigmas: Vec::new(),
+            mapping_values: Vec::new(),
         })
     }
 
@@ -200,27 +200,28 @@ impl LogFiles {
         })
     }
 
-    /// The same log with the sigma of `sensor`, a sensor fed by its
-    /// declared name from the log's `replay.toml`, set to `sigma` (that of
-    /// its first output; every output scaled by the same ratio): noise
-    /// tuning replays a log with other sigmas. Shares what
-    /// [`LogFiles::with_meta`] shares.
-    pub fn with_sensor_sigma(&self, sensor: &str, sigma: f64) -> LogFiles {
-        let mut sensor_sigmas = self.sensor_sigmas.clone();
-        sensor_sigmas.retain(|(s, _)| s != sensor);
-        sensor_sigmas.push((sensor.to_string(), sigma));
+    /// The same log with value `key` of its `replay.toml` (the mapping of
+    /// a vehicle's own sensors and noise) set to `value`: noise tuning
+    /// replays a log with other values. Keys: `sensors.<name>.sigma` (the
+    /// sigma of its first output; every output scaled by the same ratio)
+    /// and `noise.<name>` (a process noise, every scalar of a vector scaled
+    /// together). Shares what [`LogFiles::with_meta`] shares.
+    pub fn with_mapping_value(&self, key: &str, value: f64) -> LogFiles {
+        let mut mapping_values = self.mapping_values.clone();
+        mapping_values.retain(|(k, _)| k != key);
+        mapping_values.push((key.to_string(), value));
         LogFiles {
-            sensor_sigmas,
+            mapping_values,
             imu_share: Arc::default(),
             ..self.clone()
         }
     }
 
-    /// The sigma [`LogFiles::with_sensor_sigma`] set for `sensor`, if any.
-    pub fn sensor_sigma(&self, sensor: &str) -> Option<f64> {
-        self.sensor_sigmas
+    /// The value [`LogFiles::with_mapping_value`] set for `key`, if any.
+    pub fn mapping_value(&self, key: &str) -> Option<f64> {
+        self.mapping_values
             .iter()
-            .find(|(s, _)| s == sensor)
+            .find(|(k, _)| k == key)
             .map(|(_, v)| *v)
     }
 
