@@ -217,93 +217,60 @@ fn the_ship_replays_through_its_own_program() {
     assert!(out_dir.join("estimates.csv").is_file());
 }
 
-/// `tune` identifies the speed log's sigma (in `replay.toml`) with the
-/// sigmas of `meta.toml`, from 10 times too large and too small, and
-/// `--write-mapping` writes the mapping with the tuned value.
+/// `tune` identifies each of [`TUNING_CASES`] (the speed log's sigma with
+/// the sigmas of `meta.toml`; the water current's random walk, a process
+/// noise of the ship's own block, when asked for) on one voyage, from 10
+/// times too large and too small, and `--write-mapping` writes the mapping
+/// with the tuned values (both scalars of the noise vector).
 #[test]
-fn the_ship_tunes_its_own_sensor() {
-    let log = TempDir::new("tune");
-    write_voyage(&log.0, 11);
-    let given = std::fs::read_to_string(log.0.join("replay.toml")).unwrap();
-    for start in ["0.3", "0.003"] {
-        std::fs::write(
-            log.0.join("replay.toml"),
-            given.replace("sigma = 0.03", &format!("sigma = {start}")),
-        )
-        .unwrap();
-        let written = log.0.join("tuned.toml");
-        let (ok, stdout, stderr) = ship(&[
-            "tune",
-            log.0.to_str().unwrap(),
-            "--json",
-            "--write-mapping",
-            written.to_str().unwrap(),
-        ]);
-        assert!(ok, "{stderr}\n{stdout}");
-        let v: Value = serde_json::from_str(&stdout).unwrap();
-        let p = &v["parameters"]["sensors.WaterSpeed.sigma"];
-        let tuned = p["value"]
-            .as_f64()
-            .unwrap_or_else(|| panic!("no speed-log sigma in {v}"));
-        assert!(
-            (tuned / 0.03 - 1.0).abs() < 0.25,
-            "from {start}: {tuned} for a true 0.03 ({p})"
-        );
-        let text = std::fs::read_to_string(&written).unwrap();
-        assert!(text.starts_with("# The ship's own sensor"), "{text}");
-        let sigma: f64 = text
-            .lines()
-            .find_map(|l| l.strip_prefix("sigma = "))
-            .and_then(|v| v.parse().ok())
-            .unwrap_or_else(|| panic!("no sigma line in {text}"));
-        assert!((sigma / tuned - 1.0).abs() < 1e-12, "{text}");
-        assert!(text.contains("current_noise = 1e-8"), "{text}");
-    }
-}
-
-/// The water current's random walk (`[noise] current_noise` of
-/// `replay.toml`, a process noise of the ship's own block) tuned on the
-/// likelihood when asked for, from 10 times too small and too large, on a
-/// voyage whose current walks with a known intensity; `--write-mapping`
-/// writes both scalars of the noise vector.
-#[test]
-fn the_ship_tunes_its_own_process_noise() {
-    const TRUE_Q: f64 = 1e-4;
-    let log = TempDir::new("tune-noise");
-    write_voyage_with(&log.0, 13, TRUE_Q);
-    let given = std::fs::read_to_string(log.0.join("replay.toml")).unwrap();
-    for start in ["1e-5", "1e-3"] {
-        std::fs::write(
-            log.0.join("replay.toml"),
-            given.replace("current_noise = 1e-8", &format!("current_noise = {start}")),
-        )
-        .unwrap();
-        let written = log.0.join("tuned-noise.toml");
-        let (ok, stdout, stderr) = ship(&[
-            "tune",
-            log.0.to_str().unwrap(),
-            "--json",
-            "--params",
-            "noise.current_noise,sensors.WaterSpeed.sigma",
-            "--write-mapping",
-            written.to_str().unwrap(),
-        ]);
-        assert!(ok, "{stderr}\n{stdout}");
-        let v: Value = serde_json::from_str(&stdout).unwrap();
-        let p = &v["parameters"]["noise.current_noise"];
-        assert_eq!(p["identifiable"], true, "from {start}: {p}");
-        let tuned = p["value"].as_f64().unwrap();
-        // Within 25 % in the random walk's sigma (the square root).
-        let ratio = (tuned / TRUE_Q).sqrt();
-        assert!(
-            (0.75..1.25).contains(&ratio),
-            "from {start}: {tuned} for {TRUE_Q} ({p})"
-        );
-        let text = std::fs::read_to_string(&written).unwrap();
-        assert!(
-            text.contains(&format!("current_noise = [{tuned:?}, {tuned:?}]")),
-            "{text}"
-        );
+fn the_ship_tunes_its_own_values() {
+    for case in &TUNING_CASES {
+        let log = TempDir::new(&format!("tune-{}", case.dev_seed));
+        write_voyage_with(&log.0, case.dev_seed, case.current_q);
+        let given = std::fs::read_to_string(log.0.join("replay.toml")).unwrap();
+        for start in case.starts {
+            std::fs::write(log.0.join("replay.toml"), given.replace(case.given, start)).unwrap();
+            let written = log.0.join("tuned.toml");
+            let mut args = vec![
+                "tune",
+                log.0.to_str().unwrap(),
+                "--json",
+                "--write-mapping",
+                written.to_str().unwrap(),
+            ];
+            args.extend(case.args);
+            let (ok, stdout, stderr) = ship(&args);
+            assert!(ok, "{stderr}\n{stdout}");
+            let v: Value = serde_json::from_str(&stdout).unwrap();
+            let p = &v["parameters"][case.key];
+            assert_eq!(p["identifiable"], true, "{}, from {start}: {v}", case.name);
+            let tuned = p["value"].as_f64().unwrap();
+            let ratio = tuned / case.truth;
+            let ratio = if case.variance { ratio.sqrt() } else { ratio };
+            assert!(
+                (0.75..1.25).contains(&ratio),
+                "{}, from {start}: {tuned} for {} ({p})",
+                case.name,
+                case.truth
+            );
+            // The written line: the key's value, one per scalar.
+            let text = std::fs::read_to_string(&written).unwrap();
+            assert!(text.starts_with("# The ship's own sensor"), "{text}");
+            let name = case.key.rsplit('.').next().unwrap();
+            let line = text
+                .lines()
+                .find_map(|l| l.strip_prefix(&format!("{name} = ")))
+                .unwrap_or_else(|| panic!("no {name} in {text}"));
+            let values: Vec<f64> = line
+                .trim_matches(|c| c == '[' || c == ']')
+                .split(',')
+                .map(|x| x.trim().parse().unwrap())
+                .collect();
+            assert_eq!(values.len(), case.scalars, "{line}");
+            for w in values {
+                assert!((w / tuned - 1.0).abs() < 1e-12, "{text}");
+            }
+        }
     }
 }
 
@@ -356,6 +323,10 @@ struct TuningCase {
     args: &'static [&'static str],
     /// Whether the error is taken on the square root (a variance).
     variance: bool,
+    /// Scalars the written value has.
+    scalars: usize,
+    /// The voyage of the test (`the_ship_tunes_its_own_values`).
+    dev_seed: u64,
 }
 
 const TUNING_CASES: [TuningCase; 2] = [
@@ -369,6 +340,8 @@ const TUNING_CASES: [TuningCase; 2] = [
         truth: 0.03,
         args: &[],
         variance: false,
+        scalars: 1,
+        dev_seed: 11,
     },
     TuningCase {
         name: "current random walk",
@@ -380,6 +353,8 @@ const TUNING_CASES: [TuningCase; 2] = [
         truth: 1e-4,
         args: &["--params", "noise.current_noise,sensors.WaterSpeed.sigma"],
         variance: true,
+        scalars: 2,
+        dev_seed: 13,
     },
 ];
 
