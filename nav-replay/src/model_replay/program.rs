@@ -194,30 +194,8 @@ where
             .clone()
             .unwrap_or_else(|| c.common.dir.join(super::MAPPING_FILE));
         let text = std::fs::read_to_string(&source).map_err(|e| RunError::io(&source, e))?;
-        let values = tuning.identified_values();
-        let tuned = tunable.mapping_with(&values);
-        let declared = replay.declared();
-        let values: Vec<(String, Vec<f64>)> = values
-            .iter()
-            .map(|(key, v)| {
-                let sigma = crate::tune::own_sensor(key).and_then(|sensor| {
-                    let k = declared.sensors.iter().position(|d| d.name == sensor)?;
-                    Some(tuned.sensors.get(k)?.as_ref()?.sigma.clone())
-                });
-                // A noise vector: every scalar of its block.
-                let noise = key.strip_prefix("noise.").map(|block| {
-                    declared
-                        .noise
-                        .iter()
-                        .zip(&tuned.noise)
-                        .filter(|(n, _)| nav_runtime::model::block_of(n) == block)
-                        .map(|(_, q)| *q)
-                        .collect::<Vec<f64>>()
-                });
-                let written = sigma.or(noise.filter(|n| !n.is_empty()));
-                (key.clone(), written.unwrap_or_else(|| vec![*v]))
-            })
-            .collect();
+        let tuned = tunable.mapping_with(&tuning.identified_values());
+        let values = crate::tune::tuned_mapping_values(&tunable, &tuning.identified_values());
         let out = crate::tune::tuned_mapping_text(&text, &name, &values)?;
         // Read back: the written mapping must give the tuned values.
         let back = super::mapping::parse(&out, &name, &replay.declared()).map_err(invalid)?;

@@ -12,7 +12,9 @@ use nav_runtime::model::Model;
 use super::run::{run, RunOptions, SensorSummary};
 use super::{Mapping, ModelReplay, ModelReplayError};
 use crate::innovations::SensorInnovations;
-use crate::tune::{noise_parameters, own_sensor, with_noise_values, Replayed, Tunable};
+use crate::tune::{
+    noise_block, noise_parameters, own_sensor, with_noise_values, Replayed, Tunable,
+};
 use crate::RunError;
 
 /// `replay` of a log directory with the mapping `mapping` (read from
@@ -114,6 +116,14 @@ where
     }
     fn sensor_of<'k>(&self, key: &'k str) -> Option<&'k str> {
         own_sensor(key)
+    }
+    fn mapping_values(&self, key: &str) -> Option<Vec<f64>> {
+        let declared = self.replay.declared();
+        if let Some(name) = own_sensor(key) {
+            let k = declared.sensors.iter().position(|d| d.name == name)?;
+            return Some(self.mapping.sensors.get(k)?.as_ref()?.sigma.clone());
+        }
+        noise_block(&declared.noise, &self.mapping.noise, key)
     }
     fn replay(&self, values: &[(String, f64)]) -> Result<Replayed, RunError> {
         let mapping = self.mapping_with(values);

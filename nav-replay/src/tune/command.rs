@@ -10,8 +10,8 @@ use serde_json::Value;
 use nav_runtime::log::{Warning, WarningKind};
 
 use super::{
-    scaled_sigmas, tune, tuned_mapping_text, tuned_meta_text, LogTuning, Tunable, TuneOptions,
-    Tuning,
+    tune, tuned_mapping_text, tuned_mapping_values, tuned_meta_text, LogTuning, Tunable,
+    TuneOptions, Tuning,
 };
 use crate::preflight;
 use crate::program::{emit, open_log, preflight_options, warnings_json};
@@ -150,15 +150,8 @@ pub fn tune_with(model: &dyn ReplayModel, args: &TuneArgs) -> Result<(), RunErro
         std::fs::write(path, tuned).map_err(|e| RunError::io(path, e))?;
         value["written"] = Value::from(path.display().to_string());
     }
-    // The sigmas of sensors fed by name and the own noise, each scaled
-    // together per sensor or noise vector.
-    let own: Vec<(String, Vec<f64>)> = identified
-        .iter()
-        .filter_map(|(key, v)| {
-            let given = tunable.own_values(key)?;
-            Some((key.clone(), scaled_sigmas(&given, *v)))
-        })
-        .collect();
+    // The sigmas of sensors fed by name and the own noise.
+    let own = tuned_mapping_values(&tunable, &identified);
     match &args.write_mapping {
         Some(path) => {
             let source = files.dir().join(crate::model_replay::MAPPING_FILE);

@@ -31,6 +31,14 @@ pub trait Tunable: Sync {
     /// The sensor whose noise sigma parameter `key` is (tuned from its own
     /// innovations, eq. T3), `None` for the others.
     fn sensor_of<'k>(&self, key: &'k str) -> Option<&'k str>;
+    /// The given values of parameter `key` when it is a value of a
+    /// `replay.toml` (`sensors.<name>.sigma`: per output; `noise.<name>`:
+    /// per scalar), what `--write` of that file scales; `None` for the
+    /// others.
+    fn mapping_values(&self, key: &str) -> Option<Vec<f64>> {
+        let _ = key;
+        None
+    }
     /// The error for a key that is not a parameter (naming it and the
     /// closest one).
     fn unknown(&self, key: &str) -> RunError {
@@ -96,29 +104,6 @@ impl<'a> LogTuning<'a> {
             own: model.own_mapping(files)?,
         })
     }
-
-    /// The values `replay.toml` gives key `sensors.<name>.sigma` (the
-    /// sensor's sigmas per output) or `noise.<name>` (the scalars of that
-    /// noise), if it gives that key.
-    pub fn own_values(&self, key: &str) -> Option<Vec<f64>> {
-        if let Some(name) = own_sensor(key) {
-            return self
-                .own
-                .sigmas
-                .iter()
-                .find(|(n, _)| n == name)
-                .map(|(_, s)| s.clone());
-        }
-        let block = key.strip_prefix("noise.")?;
-        let values: Vec<f64> = self
-            .own
-            .noise
-            .iter()
-            .filter(|(n, _)| block_of(n) == block)
-            .map(|(_, q)| *q)
-            .collect();
-        (!values.is_empty()).then_some(values)
-    }
 }
 
 /// The sensor of key `sensors.<name>.sigma` (a sensor fed by name from
@@ -136,16 +121,33 @@ pub fn noise_parameters(names: &[&str], values: &[f64]) -> Vec<(String, f64)> {
     blocks(names)
         .into_iter()
         .filter_map(|block| {
-            let v: Vec<f64> = names
-                .iter()
-                .zip(values)
-                .filter(|(n, _)| block_of(n) == block)
-                .map(|(_, q)| *q)
-                .collect();
-            v.iter()
-                .all(|q| *q > 0.0)
-                .then(|| (format!("noise.{block}"), v[0]))
+            let key = format!("noise.{block}");
+            let v = noise_block(names, values, &key)?;
+            v.iter().all(|q| *q > 0.0).then(|| (key, v[0]))
         })
+        .collect()
+}
+
+/// The values of the scalars of noise key `noise.<block>` (of the scalar
+/// noise `names` with their `values`), `None` for another key.
+pub fn noise_block(names: &[&str], values: &[f64], key: &str) -> Option<Vec<f64>> {
+    let block = key.strip_prefix("noise.")?;
+    let v: Vec<f64> = names
+        .iter()
+        .zip(values)
+        .filter(|(n, _)| block_of(n) == block)
+        .map(|(_, q)| *q)
+        .collect();
+    (!v.is_empty()).then_some(v)
+}
+
+/// The identified `values` that are values of a `replay.toml`, each with
+/// every scalar of its sensor or noise vector ([`Tunable::mapping_values`]
+/// scaled by [`scaled_sigmas`]): what `--write` of that file writes.
+pub fn tuned_mapping_values(t: &dyn Tunable, values: &[(String, f64)]) -> Vec<(String, Vec<f64>)> {
+    values
+        .iter()
+        .filter_map(|(key, v)| Some((key.clone(), scaled_sigmas(&t.mapping_values(key)?, *v))))
         .collect()
 }
 
@@ -241,13 +243,22 @@ impl Tunable for LogTuning<'_> {
     }
     fn sensor_of<'k>(&self, key: &'k str) -> Option<&'k str> {
         if let Some(name) = own_sensor(key) {
-            return self.own_values(key).is_some().then_some(name);
+            return self.mapping_values(key).is_some().then_some(name);
         }
         let sensor = key.strip_prefix("sensors.")?.strip_suffix(".noise_sigma")?;
         (sensor != "imu" && !sensor.contains('.')).then_some(sensor)
     }
+    fn mapping_values(&self, key: &str) -> Option<Vec<f64>> {
+        if let Some(name) = own_sensor(key) {
+            let (_, sigma) = self.own.sigmas.iter().find(|(n, _)| n == name)?;
+            return Some(sigma.clone());
+        }
+        let names: Vec<&str> = self.own.noise.iter().map(|(n, _)| n.as_str()).collect();
+        let values: Vec<f64> = self.own.noise.iter().map(|(_, q)| *q).collect();
+        noise_block(&names, &values, key)
+    }
     fn unknown(&self, key: &str) -> RunError {
-        if key.starts_with("files.") || key.starts_with("noise.") || own_sensor(key).is_some() {
+        if key.starts_with("files.") || in_mapping(key) {
             return unknown_parameter(self, key);
         }
         // The meta's own error names the key and the closest one.
@@ -270,7 +281,7 @@ impl Tunable for LogTuning<'_> {
                     .with_time_offset(sensor, *v)
                     .ok_or_else(|| unknown_parameter(self, k))?;
             } else if in_mapping(k) {
-                if self.own_values(k).is_none() {
+                if self.mapping_values(k).is_none() {
                     return Err(unknown_parameter(self, k));
                 }
                 files = files.with_mapping_value(k, *v);

@@ -76,10 +76,12 @@ impl ReferencePoint {
 
     /// Every row of `rows` (in time order) moved to the IMU.
     pub fn move_all(&self, rows: &mut [TruthRow]) {
-        let read = rows.to_vec();
-        for (i, row) in rows.iter_mut().enumerate() {
-            let before = i.checked_sub(1).map(|k| &read[k]);
-            *row = self.to_imu(before, &read[i], read.get(i + 1));
+        // The row before, as read (the rows after are not moved yet).
+        let mut before: Option<TruthRow> = None;
+        for i in 0..rows.len() {
+            let read = rows[i];
+            rows[i] = self.to_imu(before.as_ref(), &read, rows.get(i + 1));
+            before = Some(read);
         }
     }
 }
