@@ -112,3 +112,83 @@ fn a_declared_reference_point_scores_as_the_imu_truth() {
         nees(&at_imu)
     );
 }
+
+/// An initial position copied from the reference row at the epoch (the
+/// truth's point, not the IMU) is a warning naming `initial.lever_arm`,
+/// and starts the filter off by the arm; with `[initial] lever_arm` it is
+/// moved to the IMU and the warning is gone.
+#[test]
+fn an_initial_position_copied_from_the_reference_is_warned_and_can_be_moved() {
+    let dir = TempDir::new("initial-reference-point");
+    let log = dir.path().join("log");
+    let o = navsim(&[
+        "simulate",
+        "lawnmower-dvl",
+        "--seed",
+        "5",
+        "--out",
+        log.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let mut read = LogDir::read(&log, Strictness::Strict).unwrap();
+    let reference = at_reference(read.truth.as_ref().unwrap());
+    let epoch = read.meta.initial.t.unwrap();
+    let first = reference
+        .iter()
+        .find(|r| (r.t - epoch).abs() < 1e-9)
+        .expect("a truth row at the epoch");
+    read.meta.initial.lat = first.lat;
+    read.meta.initial.lon = first.lon;
+    read.meta.initial.depth = first.depth;
+    read.truth = Some(reference.clone());
+    read.write(&log).unwrap();
+    let meta = read.meta.to_toml();
+    let truth_arm = format!(
+        "\n[files.truth]\nlever_arm = [{:?}, {:?}, {:?}]\n",
+        ARM[0], ARM[1], ARM[2]
+    );
+    let initial_arm = format!(
+        "[initial]\nlever_arm = [{:?}, {:?}, {:?}]\n",
+        ARM[0], ARM[1], ARM[2]
+    );
+    let moved_meta = meta.replacen("[initial]\n", &initial_arm, 1);
+    assert_ne!(moved_meta, meta);
+    // The JSON, and the horizontal error at the epoch (m).
+    let run = |meta: &str| {
+        std::fs::write(log.join("meta.toml"), format!("{meta}{truth_arm}")).unwrap();
+        let out = dir.path().join("out");
+        let args = [
+            "replay",
+            log.to_str().unwrap(),
+            "--model",
+            "sdins25",
+            "--json",
+        ];
+        let o = navsim(&[&args[..], &["--out", out.to_str().unwrap()]].concat());
+        assert!(o.status.success(), "{}", stderr(&o));
+        let json: Value = serde_json::from_str(&stdout(&o)).expect("one JSON object");
+        let errors = std::fs::read_to_string(out.join("errors.csv")).unwrap();
+        let first: Vec<f64> = errors
+            .lines()
+            .nth(1)
+            .unwrap()
+            .split(',')
+            .map(|c| c.parse().unwrap())
+            .collect();
+        assert_eq!(first[0], epoch);
+        (json, first[1].hypot(first[2]))
+    };
+    let warned = |v: &Value| {
+        v["warnings"].as_array().is_some_and(|w| {
+            w.iter()
+                .any(|w| w["key"] == "initial.lever_arm" && w["kind"] == "suspicious")
+        })
+    };
+    let (copied, copied_error) = run(&meta);
+    let (moved, moved_error) = run(&moved_meta);
+    assert!(warned(&copied), "{copied}");
+    assert!(!warned(&moved), "{moved}");
+    // The arm's horizontal part is 1.85 m.
+    assert!(copied_error > 1.8, "{copied_error} m copied");
+    assert!(moved_error < 0.01, "{moved_error} m moved");
+}

@@ -35,6 +35,7 @@ mod finding;
 pub(crate) mod frozen_imu;
 mod gyro_rate;
 mod heading_units;
+mod initial_point;
 mod partial_rows;
 mod sensor_sections;
 mod specific_force;
@@ -240,6 +241,7 @@ struct Scan<'m> {
     depth: depth_consistency::Fold,
     aiding: aiding_plausibility::Fold,
     truth: truth_values::Fold,
+    initial_point: initial_point::Fold,
 }
 
 /// A row type the preflight reads: its place in the read order, its head in
@@ -313,6 +315,8 @@ scanned!(AltitudeRow, 7, altitude, |_scan, _line, _r| {});
 scanned!(TruthRow, 8, truth, |scan, line, r| {
     scan.angle_range.truth(line, r);
     scan.truth.row(line, r);
+    let epoch = scan.epoch();
+    scan.initial_point.row(epoch, r);
 });
 
 /// A file read through (so that its reader refuses what the replay's
@@ -357,6 +361,7 @@ impl<'m> Scan<'m> {
             depth: depth_consistency::Fold::default(),
             aiding: aiding_plausibility::Fold::default(),
             truth: truth_values::Fold::default(),
+            initial_point: initial_point::Fold::default(),
         }
     }
 
@@ -381,6 +386,12 @@ impl<'m> Scan<'m> {
         self.imu_first.map_or(0.0, |r| r.t)
     }
 
+    /// The initial epoch: `[initial] t`, else (near enough for the checks)
+    /// the first IMU time.
+    fn epoch(&self) -> f64 {
+        self.meta.initial.t.unwrap_or_else(|| self.t_start())
+    }
+
     /// The IMU span `(first, last)`, if the IMU has rows.
     fn imu_span(&self) -> Option<(f64, f64)> {
         Some((self.imu_first?.t, self.imu_last_t?))
@@ -402,6 +413,7 @@ impl<'m> Scan<'m> {
         let imu_rows = self.rows[0];
         let span = self.imu_span();
         let t_start = self.t_start();
+        let epoch = self.epoch();
         let epoch_ok = initial_epoch(self.meta, span, self.time_gaps.period(), &mut report);
         self.specific_force.finish(self.meta, &mut report);
         let reference_beyond = self.angle_range.reference_beyond();
@@ -435,6 +447,9 @@ impl<'m> Scan<'m> {
             self.present[TruthRow::INDEX] && self.rows[TruthRow::INDEX] == 0,
             &mut report,
         );
+        let truth_arm = self.mapping.of::<TruthRow>().lever_arm;
+        self.initial_point
+            .finish(self.meta, epoch, truth_arm, &mut report);
         let mut has_rows = [false; 8];
         for (has, rows) in has_rows.iter_mut().zip(self.rows) {
             *has = rows > 0;

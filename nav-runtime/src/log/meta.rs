@@ -4,6 +4,7 @@ use std::fmt::Write as _;
 
 use super::error::LogError;
 use super::mapping::LogMapping;
+use super::reference_point::ReferencePoint;
 use super::warning::{Warning, WarningKind};
 use crate::suggestion::closest_name;
 
@@ -36,6 +37,31 @@ pub struct Initial {
 }
 
 impl Initial {
+    /// Moves the position from the point `point` describes to the IMU
+    /// (`[initial] lever_arm`: the initial position copied from a reference
+    /// that describes another point of the vehicle, docs/log-format.md).
+    /// The velocity is not moved: the body rate at the epoch, which the
+    /// difference `C_b^n (omega x r)` needs, is not part of `[initial]`.
+    ///
+    /// # Errors
+    /// The name of the first of `lat`, `roll`, `pitch`, `yaw` that is
+    /// missing (the move needs a position and a full attitude).
+    fn move_to_imu(&mut self, point: &ReferencePoint) -> Result<(), &'static str> {
+        if !self.has_position() {
+            return Err("lat");
+        }
+        let (Some(roll), Some(pitch), Some(yaw)) = (self.roll, self.pitch, self.yaw) else {
+            return Err(["roll", "pitch", "yaw"][[self.roll, self.pitch, self.yaw]
+                .iter()
+                .position(Option::is_none)
+                .unwrap_or(0)]);
+        };
+        let c_bn = crate::attitude::Euler { roll, pitch, yaw }.c_bn();
+        [self.lat, self.lon, self.depth] =
+            point.position_to_imu([self.lat, self.lon, self.depth], &c_bn);
+        Ok(())
+    }
+
     /// Whether `[initial]` has a position (an attitude-only `meta.toml`, as
     /// an importer writes for a log without any position or GNSS fix, has
     /// none: docs/log-format.md).
@@ -512,7 +538,17 @@ impl Meta {
             initial,
             "initial",
             &[
-                "t", "lat", "lon", "depth", "vn", "ve", "vd", "roll", "pitch", "yaw",
+                "t",
+                "lat",
+                "lon",
+                "depth",
+                "vn",
+                "ve",
+                "vd",
+                "roll",
+                "pitch",
+                "yaw",
+                "lever_arm",
             ],
         )?;
         // None of lat, lon, depth: an attitude-only meta.toml (NaN); some of
@@ -527,7 +563,8 @@ impl Meta {
                 cx.req(initial, "initial", key, range)
             }
         };
-        let initial = Initial {
+        let arm = cx.vec3(initial, "initial", "lever_arm", Range::LeverArm)?;
+        let mut initial = Initial {
             t: cx.opt(initial, "initial", "t", Range::Any)?,
             lat: position("lat", Range::Lat)?,
             lon: position("lon", Range::Lon)?,
@@ -539,6 +576,17 @@ impl Meta {
             pitch: cx.opt(initial, "initial", "pitch", Range::Lat)?,
             yaw: cx.opt(initial, "initial", "yaw", Range::Yaw)?,
         };
+        if let Some(point) = arm.and_then(ReferencePoint::new) {
+            initial.move_to_imu(&point).map_err(|missing| {
+                cx.err(
+                    "initial.lever_arm",
+                    format!(
+                        "moving the initial position to the IMU needs `initial.{missing}`, \
+                         which is not given"
+                    ),
+                )
+            })?;
+        }
 
         let initial_sigma = match cx.section(&table, "", "initial_sigma")? {
             None => None,

@@ -60,18 +60,29 @@ impl ReferencePoint {
         } else {
             Vector3::zeros()
         };
-        let offset = c * self.arm;
         let velocity = c * omega.cross(&self.arm);
-        let h = -row.depth;
+        let [lat, lon, depth] = self.position_to_imu([row.lat, row.lon, row.depth], &c);
         TruthRow {
-            lat: row.lat - offset.x / (meridian_radius(row.lat) + h),
-            lon: row.lon - offset.y / ((transverse_radius(row.lat) + h) * row.lat.cos()),
-            depth: row.depth - offset.z,
+            lat,
+            lon,
+            depth,
             vn: row.vn - velocity.x,
             ve: row.ve - velocity.y,
             vd: row.vd - velocity.z,
             ..*row
         }
+    }
+
+    /// Latitude, longitude (rad) and depth (m) of the point, moved to the
+    /// IMU: `p - C_b^n r`, with `c_bn` the body-to-NED rotation.
+    pub fn position_to_imu(&self, [lat, lon, depth]: [f64; 3], c_bn: &Matrix3<f64>) -> [f64; 3] {
+        let offset = c_bn * self.arm;
+        let h = -depth;
+        [
+            lat - offset.x / (meridian_radius(lat) + h),
+            lon - offset.y / ((transverse_radius(lat) + h) * lat.cos()),
+            depth - offset.z,
+        ]
     }
 
     /// Every row of `rows` (in time order) moved to the IMU.
@@ -202,6 +213,36 @@ mod tests {
         fn next_row(&mut self) -> Result<Option<(Option<u64>, TruthRow)>, LogError> {
             Ok(self.0.next().map(|r| (None, r)))
         }
+    }
+
+    /// `[initial] lever_arm`: an initial position copied from such a
+    /// reference (mid-turn, pitched and rolled) is moved to the IMU's to a
+    /// millimetre; the velocity is kept as given.
+    #[test]
+    fn an_initial_position_of_the_reference_point_is_moved_to_the_imu() {
+        use crate::log::Meta;
+        let arm = Vector3::new(1.85, -0.4, 0.3);
+        let mut spec = TrajectorySpec::new(Geodetic::new(0.6, 2.2, -40.0), 0.3, 1.5);
+        spec.turn(5.0, 2.0);
+        let s = Trajectory::new(spec, 30.0, 0.1).truth(7.0);
+        let attitude = s.euler;
+        let frame = LocalNed::new(Geodetic::new(s.lat, s.lon, s.h));
+        let at = frame.ned_to_geodetic(&(s.c_bn * arm));
+        let text = format!(
+            "[initial]\nlat = {:?}\nlon = {:?}\ndepth = {:?}\nvn = 1.25\nroll = {:?}\n\
+             pitch = {:?}\nyaw = {:?}\nlever_arm = [{:?}, {:?}, {:?}]\n",
+            at.lat, at.lon, -at.h, attitude.roll, attitude.pitch, attitude.yaw, arm.x, arm.y, arm.z
+        );
+        let initial = Meta::parse(&text).unwrap().initial;
+        let (rm, rn) = (meridian_radius(s.lat) + s.h, transverse_radius(s.lat) + s.h);
+        let d = Vector3::new(
+            (initial.lat - s.lat) * rm,
+            (initial.lon - s.lon) * rn * s.lat.cos(),
+            initial.depth + s.h,
+        );
+        assert!(d.norm() < 1e-3, "{d:?}");
+        assert!(s.c_bn * arm != Vector3::zeros() && (s.c_bn * arm).norm() > 1.0);
+        assert_eq!(initial.vn, 1.25);
     }
 
     #[test]
