@@ -32,7 +32,18 @@ fn outcome<const M: usize>(
 }
 
 /// [`Slot::update`] of slot `S`, then its recovery step
-/// ([`Slot::recover`]) with the sensor's own `reading` and its noise.
+/// ([`Slot::recover`]) with the sensor's own `reading` and its noise. After
+/// a recovery of a `velocity` sensor (a DVL: `M` = 3) the tilt sigmas
+/// (about north and east) are raised to at least `|nu_k - nu_k-1| / (g dt)`
+/// (eq. R3 of docs/lockout.md): the tilt whose gravity error makes the
+/// refused innovation grow as it did since the previous reading. Step R1
+/// scales the tilt by the refused innovation's NIS, whose covariance the
+/// sensor noise dominates: a tilt of degrees (a wrong initial attitude)
+/// kept a sigma of hundredths of a degree, the next readings reset the
+/// velocity, left the tilt, and were refused again. A velocity step (a
+/// burst of wrong specific force) makes the innovation jump, not grow, and
+/// is left to R1.
+/// Every tilt sigma is then held at most [`MAX_RECOVERED_TILT_SIGMA`].
 fn update_and_recover<V, S, const N: usize, const M: usize>(
     f: &mut InsFilter<V, N>,
     z: &SVector<f64, M>,
@@ -40,6 +51,7 @@ fn update_and_recover<V, S, const N: usize, const M: usize>(
     aux: &[f64],
     reading: &[f64],
     sigma: &[f64],
+    velocity: bool,
 ) -> Result<MeasurementOutcome, FilterError>
 where
     V: InsVehicle<N>,
@@ -47,9 +59,28 @@ where
 {
     let mut result = S::update(f, z, r, aux);
     if let Ok(report) = result.as_mut() {
+        // The innovation's growth since the previous reading, m/s per s.
+        let mut growth = None;
+        if velocity && M == 3 {
+            let now = f.ekf().clock_s();
+            let nu = Vector3::from_fn(|i, _| report.innovation[i]);
+            if let Some((then, previous)) = f.nominal().dvl_innovation {
+                if now > then {
+                    growth = Some((nu - previous).norm() / (now - then));
+                }
+            }
+            f.nominal_mut().dvl_innovation = Some((now, nu));
+        }
         S::recover(f, report, reading, sigma, aux);
         if report.recovered.is_some() {
-            bound_tilt(f);
+            if let Some(growth) = growth {
+                // Eq. R3: the tilt whose gravity error builds that growth.
+                let floor = growth / nav_runtime::earth::G0;
+                if floor.is_finite() {
+                    set_tilt_sigmas(f, |sigma| sigma.max(floor));
+                }
+            }
+            set_tilt_sigmas(f, |sigma| sigma.min(MAX_RECOVERED_TILT_SIGMA));
         }
     }
     outcome(result)
@@ -64,18 +95,22 @@ where
 /// doubtful input.
 pub const MAX_RECOVERED_TILT_SIGMA: f64 = 0.5;
 
-/// `D P D`, with `D` shrinking the tilt rows and columns whose sigma is
-/// above [`MAX_RECOVERED_TILT_SIGMA`] to it (symmetric and positive
+/// `D P D`, with `D` setting each tilt sigma (rad, about north and east)
+/// to `target(sigma)`; correlations are kept (symmetric and positive
 /// semi-definite as `P` is).
-fn bound_tilt<V: InsVehicle<N>, const N: usize>(f: &mut InsFilter<V, N>) {
+fn set_tilt_sigmas<V: InsVehicle<N>, const N: usize>(
+    f: &mut InsFilter<V, N>,
+    target: impl Fn(f64) -> f64,
+) {
     let nav = f.nominal().layout().navigation();
     let mut p = *f.covariance();
     let mut d = [1.0; N];
     let mut changed = false;
     for i in [nav[6], nav[7]] {
-        let variance = p[(i, i)];
-        if variance > MAX_RECOVERED_TILT_SIGMA * MAX_RECOVERED_TILT_SIGMA {
-            d[i] = MAX_RECOVERED_TILT_SIGMA / variance.sqrt();
+        let sigma = p[(i, i)].max(0.0).sqrt();
+        let wanted = target(sigma);
+        if sigma > 0.0 && wanted != sigma && wanted.is_finite() {
+            d[i] = wanted / sigma;
             changed = true;
         }
     }
@@ -126,6 +161,7 @@ pub fn depth_measurement_at<V: InsVehicle<N>, const N: usize>(
                 lever_arm.as_slice(),
                 &[depth],
                 &[sigma],
+                false,
             )
         },
     ))
@@ -173,6 +209,7 @@ pub fn dvl_measurement_at<V: InsVehicle<N>, const N: usize>(
                     &[],
                     v.as_slice(),
                     &[sigma; 3],
+                    true,
                 );
             }
             // A calibrated DVL block (`DvlCalibrated`): its `h` carries the
@@ -181,7 +218,7 @@ pub fn dvl_measurement_at<V: InsVehicle<N>, const N: usize>(
             let w = nom.body_rate;
             let aux = [lever_arm.x, lever_arm.y, lever_arm.z, w.x, w.y, w.z];
             let z = s.v_n - s.c_bn * (v - nom.dvl_bias);
-            update_and_recover::<V, V::Dvl, N, 3>(f, &z, &r, &aux, v.as_slice(), &[sigma; 3])
+            update_and_recover::<V, V::Dvl, N, 3>(f, &z, &r, &aux, v.as_slice(), &[sigma; 3], true)
         },
     ))
 }
@@ -201,9 +238,15 @@ pub fn heading_measurement<V: InsVehicle<N>, const N: usize>(
             let yaw = euler_from_c_bn(&nom.ins.state.c_bn).yaw;
             let z = SVector::<f64, 1>::new(wrap_angle(yaw - (psi - nom.compass_bias)));
             match form {
-                CompassForm::Exact => {
-                    update_and_recover::<V, V::Compass, N, 1>(f, &z, &r, &[], &[psi], &[sigma])
-                }
+                CompassForm::Exact => update_and_recover::<V, V::Compass, N, 1>(
+                    f,
+                    &z,
+                    &r,
+                    &[],
+                    &[psi],
+                    &[sigma],
+                    false,
+                ),
                 CompassForm::SmallAngle => update_and_recover::<V, V::CompassSmallAngle, N, 1>(
                     f,
                     &z,
@@ -211,6 +254,7 @@ pub fn heading_measurement<V: InsVehicle<N>, const N: usize>(
                     &[],
                     &[psi],
                     &[sigma],
+                    false,
                 ),
             }
         },
@@ -263,6 +307,7 @@ pub fn usbl_measurement_at<V: InsVehicle<N>, const N: usize>(
                 rel.as_slice(),
                 &[fix.x, fix.y],
                 &[sigma; 2],
+                false,
             )
         },
     ))

@@ -73,6 +73,10 @@ pub struct InsNominal<V, const N: usize> {
     pub body_rate: Vector3<f64>,
     /// Bias-corrected specific force of that sample (m/s^2).
     pub specific_force: Vector3<f64>,
+    /// The innovation of the latest DVL reading (m/s) and the filter's
+    /// clock at it (s): its growth to the next reading is the tilt of a
+    /// recovery's eq. R3 (docs/lockout.md).
+    pub dvl_innovation: Option<(f64, Vector3<f64>)>,
     /// Where `V` keeps each error state.
     layout: Layout,
     /// Per error state: kept by this nominal ([`Layout::absorbed`]).
@@ -106,6 +110,7 @@ impl<V, const N: usize> core::fmt::Debug for InsNominal<V, N> {
             .field("baro_bias", &self.baro_bias)
             .field("body_rate", &self.body_rate)
             .field("specific_force", &self.specific_force)
+            .field("dvl_innovation", &self.dvl_innovation)
             .field("layout", &self.layout)
             .finish()
     }
@@ -142,6 +147,7 @@ impl<V: InsVehicle<N>, const N: usize> InsNominal<V, N> {
             baro_bias: 0.0,
             body_rate: Vector3::zeros(),
             specific_force: Vector3::zeros(),
+            dvl_innovation: None,
             layout,
             absorbed: layout.absorbed(),
             absorbs_all: layout.absorbed::<N>().iter().all(|a| *a),

@@ -82,11 +82,12 @@ fn with_transient(log: &LogDir, t: &Transient) -> LogDir {
 const DIVERGED_M: f64 = 500.0;
 
 /// Each transient of the table on seeds 1-3: with the recovery the final
-/// horizontal error stays within the row's bound (seeds 1-3 gave 7-10 m for
-/// the forward burst, 30-145 m for the others, against 0.8-4.9 m without any
-/// transient), at least one DVL recovery is reported, the first after the
-/// transient ended, each also as a `lockout_recovery` warning naming
-/// `dvl.csv` and its time; without it the same log diverges.
+/// horizontal error stays within the row's bound (the bounds were set with
+/// the 5-s horizon and no eq. R3; seeds 1-3 now give 3.7-21.7 m, against
+/// 0.8-4.9 m without any transient), at least one DVL recovery is reported,
+/// the first after the transient started and after the DVL's horizon of
+/// refusals, each also as a `lockout_recovery` warning naming `dvl.csv` and
+/// its time; without it the same log diverges.
 #[test]
 fn imu_transients_recover_instead_of_diverging() {
     let cfg = scenario("lawnmower-dvl").unwrap().config;
@@ -98,6 +99,7 @@ fn imu_transients_recover_instead_of_diverging() {
         }),
         ..FilterOptions::default()
     };
+    let dvl_horizon = nav_ins::lockout::RecoveryRules::default().dvl.horizon_s;
     for seed in [1u64, 2, 3] {
         let sim = simulate(&cfg, seed);
         let bias = Some(sim.errors.compass_bias);
@@ -117,7 +119,7 @@ fn imu_transients_recover_instead_of_diverging() {
                 .unwrap_or_else(|| panic!("{} seed {seed}: no recovery", t.what));
             assert_eq!(first.sensor, "dvl", "{} seed {seed}", t.what);
             assert!(
-                first.t_s > START_S + t.duration_s && first.refused_for_s >= 5.0,
+                first.t_s > START_S && first.refused_for_s >= dvl_horizon,
                 "{} seed {seed}: {first:?}",
                 t.what
             );
@@ -158,5 +160,45 @@ fn imu_transients_recover_instead_of_diverging() {
                 ),
             }
         }
+    }
+}
+
+/// Seeds of the Monte Carlo below (not used while building the recovery).
+const MONTE_CARLO_SEEDS: std::ops::Range<u64> = 4200..4300;
+
+/// The final horizontal error after each transient of the table over
+/// [`MONTE_CARLO_SEEDS`]: median, 95th percentile and maximum (m), and the
+/// runs that ended out of the physical bounds (docs/lockout.md, "Recovery").
+/// `cargo test --release -p tests --test lockout_recovery -- --ignored
+/// --nocapture`.
+#[test]
+#[ignore = "Monte Carlo over 100 seeds; prints the figures of docs/lockout.md"]
+fn transient_monte_carlo() {
+    let cfg = scenario("lawnmower-dvl").unwrap().config;
+    let options = FilterOptions::default();
+    let mut finals: Vec<Vec<f64>> = vec![Vec::new(); TRANSIENTS.len()];
+    let mut out_of_bounds = vec![0usize; TRANSIENTS.len()];
+    for seed in MONTE_CARLO_SEEDS {
+        let sim = simulate(&cfg, seed);
+        let bias = Some(sim.errors.compass_bias);
+        for (k, t) in TRANSIENTS.iter().enumerate() {
+            match run_and_score(&with_transient(&sim.log, t), &options, bias) {
+                Ok((_, scored)) => finals[k].push(scored.unwrap().horizontal_error_final_m),
+                Err(_) => out_of_bounds[k] += 1,
+            }
+        }
+    }
+    for (k, t) in TRANSIENTS.iter().enumerate() {
+        let f = &mut finals[k];
+        f.sort_by(f64::total_cmp);
+        let at = |q: f64| f[((f.len() - 1) as f64 * q).round() as usize];
+        println!(
+            "{}: final error median {:.1} m, p95 {:.1} m, max {:.1} m; out of bounds {}",
+            t.what,
+            at(0.5),
+            at(0.95),
+            at(1.0),
+            out_of_bounds[k]
+        );
     }
 }
