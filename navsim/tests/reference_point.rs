@@ -59,9 +59,10 @@ fn at_reference(truth: &[TruthRow]) -> Vec<TruthRow> {
         .collect()
 }
 
-#[test]
-fn a_declared_reference_point_scores_as_the_imu_truth() {
-    let dir = TempDir::new("reference-point");
+/// A simulated `lawnmower-dvl` log (seed 5) in a new temporary directory,
+/// and its path.
+fn simulated(tag: &str) -> (TempDir, std::path::PathBuf) {
+    let dir = TempDir::new(tag);
     let log = dir.path().join("log");
     let o = navsim(&[
         "simulate",
@@ -72,6 +73,12 @@ fn a_declared_reference_point_scores_as_the_imu_truth() {
         log.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
+    (dir, log)
+}
+
+#[test]
+fn a_declared_reference_point_scores_as_the_imu_truth() {
+    let (_dir, log) = simulated("reference-point");
     let log_str = log.to_str().unwrap();
     let at_imu = replay(log_str);
 
@@ -119,17 +126,7 @@ fn a_declared_reference_point_scores_as_the_imu_truth() {
 /// moved to the IMU and the warning is gone.
 #[test]
 fn an_initial_position_copied_from_the_reference_is_warned_and_can_be_moved() {
-    let dir = TempDir::new("initial-reference-point");
-    let log = dir.path().join("log");
-    let o = navsim(&[
-        "simulate",
-        "lawnmower-dvl",
-        "--seed",
-        "5",
-        "--out",
-        log.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    let (dir, log) = simulated("initial-reference-point");
     let mut read = LogDir::read(&log, Strictness::Strict).unwrap();
     let reference = at_reference(read.truth.as_ref().unwrap());
     let epoch = read.meta.initial.t.unwrap();
