@@ -71,13 +71,13 @@ pub struct RecoveryRules {
     /// 5 m/s in magnitude (a survey AUV cruises at 1.5-2 m/s); each axis
     /// changes by at most 2 m/s per s. A recovery also scales the velocity
     /// and tilt errors (eq. R1; [`configure`] names them) and raises the
-    /// tilt sigmas to the tilt that builds the refused innovation over the
-    /// run (eq. R3): a velocity error the DVL cannot explain comes from a
+    /// tilt sigmas to the tilt that explains the refused innovation's growth
+    /// since the previous reading (eq. R3): a velocity error the DVL cannot explain comes from a
     /// tilt error, which only the velocity's growth over the next readings
     /// shows. Not the heading error: without a compass nothing would hold
     /// it. The horizon was 5 s: an unaided INS with a tilt error of degrees
-    /// gains about 1 m/s of velocity error a second, and a real survey
-    /// whose initial attitude was 7 deg off lost 25 m before it recovered.
+    /// gains about 1 m/s of velocity error a second (`g` times the tilt),
+    /// tens of metres of position error before a 5-s horizon ended.
     pub dvl: RecoveryRule,
     /// Compass (reading: heading, rad): 5 s and 3 readings; any heading is
     /// plausible; the heading changes by at most 0.5 rad/s (29 deg/s).
