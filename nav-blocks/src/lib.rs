@@ -141,6 +141,47 @@ nav_runtime::model! {
         }
     }
 
+    /// USBL fix of a transponder whose given lever arm may be off: `Usbl`
+    /// plus the error of the given transponder position as states
+    /// (docs/calibration.md). An alternative to `Usbl` (both declare
+    /// `usbl_bias` and `usbl_misalignment`, so a vehicle takes one). The
+    /// lever-arm error is a correction to the value the log gives (prior
+    /// zero); the navigator keeps it in the filter as a total state.
+    #[macro_export]
+    pub block UsblCalibrated {
+        states {
+            /// USBL horizontal position bias (N, E), m.
+            usbl_bias: 2,
+            /// USBL array misalignment (small angles), rad.
+            usbl_misalignment: 3,
+            /// Error of the given transponder lever arm: true minus given,
+            /// body axes, m.
+            usbl_lever_arm: 3,
+        }
+        needs { position_error: 3, latitude, height, c_bn: 3x3 }
+        /// `Usbl`'s residual (eq. 17) less the share of the lever-arm error,
+        /// `(C_b^n dr)_NE`: the transponder is `dr` further than the given
+        /// arm says, so the fix is too.
+        sensor UsblCalibrated: 2 {
+            inputs {
+                /// Vector from the USBL transducer to the vehicle, NED, m.
+                relative_position: 3,
+            }
+            let a = 6378137.0;
+            let e2 = 0.0066943799901413165;
+            let s0 = sin(latitude);
+            let k0 = 1.0 - e2 * s0 * s0;
+            let rm0 = a * (1.0 - e2) / (k0 * sqrt(k0));
+            let rn0 = a / sqrt(k0);
+            let tilt = cross(usbl_misalignment, relative_position);
+            let arm = c_bn * usbl_lever_arm;
+            h = [
+                (rm0 + height) * position_error[0] - usbl_bias[0] - tilt[0] - arm[0],
+                (rn0 + height) * cos(latitude) * position_error[1] - usbl_bias[1] - tilt[1] - arm[1]
+            ];
+        }
+    }
+
     /// Depth meter with a bias, at the IMU.
     #[macro_export]
     pub block Depth {
@@ -252,6 +293,44 @@ nav_runtime::model! {
                 (rm0 + height) * position_error[0] + arm_error[0],
                 (rn0 + height) * cos(latitude) * position_error[1] + arm_error[1],
                 position_error[2] - arm_error[2]
+            ];
+        }
+    }
+
+    /// A GNSS fix of an antenna whose given lever arm may be off: `GnssFix`
+    /// plus the error of the given antenna position as states
+    /// (docs/calibration.md). An alternative to `GnssFix`; the navigator
+    /// keeps the states in the filter as total states (prior zero: the given
+    /// arm).
+    #[macro_export]
+    pub block GnssFixCalibrated {
+        states {
+            /// Error of the given antenna lever arm: true minus given, body
+            /// axes, m.
+            gnss_lever_arm: 3,
+        }
+        needs { position_error: 3, attitude_error: 3, latitude, height, c_bn: 3x3 }
+        /// `GnssFix`'s residual less the share of the lever-arm error: the
+        /// antenna is `C_b^n dr` further than the given arm says (north,
+        /// east; its down component with the sign of height).
+        sensor GnssFixCalibrated: 3 {
+            inputs {
+                /// Antenna position in body axes relative to the IMU, m.
+                antenna_lever_arm: 3,
+            }
+            let a = 6378137.0;
+            let e2 = 0.0066943799901413165;
+            let s0 = sin(latitude);
+            let k0 = 1.0 - e2 * s0 * s0;
+            let rm0 = a * (1.0 - e2) / (k0 * sqrt(k0));
+            let rn0 = a / sqrt(k0);
+            let c_true = c_bn + skew(attitude_error) * c_bn;
+            let arm_error = (c_bn - c_true) * antenna_lever_arm;
+            let shift = c_bn * gnss_lever_arm;
+            h = [
+                (rm0 + height) * position_error[0] + arm_error[0] - shift[0],
+                (rn0 + height) * cos(latitude) * position_error[1] + arm_error[1] - shift[1],
+                position_error[2] - arm_error[2] + shift[2]
             ];
         }
     }

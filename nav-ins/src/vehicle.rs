@@ -70,6 +70,14 @@ pub trait InsVehicle<const N: usize>: Model<N> {
     /// `DvlCalibrated` (mounting calibration states; its auxiliary input is
     /// [`DVL_CALIBRATED_AUX_NAMES`]).
     const DVL_SENSOR: &'static str = "Dvl";
+    /// Declared name of the sensor in the USBL slot: the `Usbl` block's, or
+    /// `UsblCalibrated` (the transponder's lever-arm error as states, same
+    /// auxiliary input).
+    const USBL_SENSOR: &'static str = "Usbl";
+    /// Declared name of the sensor in the GNSS slot: the `GnssFix` block's,
+    /// or `GnssFixCalibrated` (the antenna's lever-arm error as states, same
+    /// auxiliary input).
+    const GNSS_SENSOR: &'static str = "GnssFix";
     /// The depth sensor (block `Depth`, or the block of
     /// [`InsVehicle::DEPTH_SENSOR`]), fed by `depth.csv`.
     type Depth: Slot<Self, N, 1>;
@@ -81,10 +89,12 @@ pub trait InsVehicle<const N: usize>: Model<N> {
     /// The small-angle `CompassSmallAngle` sensor (block `Compass`), used for
     /// `heading.csv` with `CompassForm::SmallAngle`.
     type CompassSmallAngle: Slot<Self, N, 1>;
-    /// The `Usbl` sensor (block `Usbl`), fed by `usbl.csv`.
+    /// The USBL sensor (block `Usbl`, or the block of
+    /// [`InsVehicle::USBL_SENSOR`]), fed by `usbl.csv`.
     type Usbl: Slot<Self, N, 2>;
-    /// The `GnssFix` sensor (block `GnssFix`: position of the antenna,
-    /// whose auxiliary input is its lever arm), fed by `gnss.csv`.
+    /// The GNSS sensor (block `GnssFix`: position of the antenna, whose
+    /// auxiliary input is its lever arm; or the block of
+    /// [`InsVehicle::GNSS_SENSOR`]), fed by `gnss.csv`.
     type Gnss: Slot<Self, N, 3>;
     /// The `Barometer` sensor (barometric altitude with a bias state
     /// `baro_bias`), fed by `baro.csv`.
@@ -371,8 +381,8 @@ impl Layout {
         check_slot::<V, V::Dvl, N, 3>(V::DVL_SENSOR)?;
         check_slot::<V, V::Compass, N, 1>("Compass")?;
         check_slot::<V, V::CompassSmallAngle, N, 1>("CompassSmallAngle")?;
-        check_slot::<V, V::Usbl, N, 2>("Usbl")?;
-        check_slot::<V, V::Gnss, N, 3>("GnssFix")?;
+        check_slot::<V, V::Usbl, N, 2>(V::USBL_SENSOR)?;
+        check_slot::<V, V::Gnss, N, 3>(V::GNSS_SENSOR)?;
         check_slot::<V, V::Baro, N, 1>("Barometer")?;
         check_slot::<V, V::Mag, N, 1>("MagneticHeading")?;
         if <V::Input as Record>::NAMES != INPUT_NAMES {

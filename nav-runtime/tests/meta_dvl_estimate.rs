@@ -59,7 +59,7 @@ fn estimate_lists_any_subset_with_prior_sigmas() {
 #[test]
 fn estimate_mistakes_are_errors_naming_the_key() {
     // (what, keys, key named, line, words of the message)
-    let cases: [(&str, &str, &str, u64, &[&str]); 9] = [
+    let cases: [(&str, &str, &str, u64, &[&str]); 12] = [
         (
             "unknown name",
             "estimate = [\"lever_arms\"]\n",
@@ -121,6 +121,34 @@ fn estimate_mistakes_are_errors_naming_the_key() {
             &["degrees?"],
         ),
         (
+            "the USBL's misalignment is its block's",
+            "[sensors.usbl]\nnoise_sigma = 1\nestimate = [\"misalignment\"]\n",
+            "sensors.usbl.estimate",
+            9,
+            &[
+                "`misalignment` is not estimated for the usbl",
+                "accepted: lever_arm",
+                "misalignment_sigma",
+            ],
+        ),
+        (
+            "no GNSS scale",
+            "[sensors.gnss]\nnoise_sigma = 1\nestimate = [\"scale\"]\n",
+            "sensors.gnss.estimate",
+            9,
+            &[
+                "`scale` is not estimated for the gnss",
+                "accepted: lever_arm",
+            ],
+        ),
+        (
+            "no estimate for the depth meter",
+            "[sensors.depth]\nnoise_sigma = 1\nestimate = [\"lever_arm\"]\n",
+            "sensors.depth.estimate",
+            9,
+            &["unknown key"],
+        ),
+        (
             "misspelt sigma key",
             "estimate = [\"scale\"]\nscale_sigm = 0.01\n",
             "sensors.dvl.scale_sigm",
@@ -151,4 +179,28 @@ fn estimate_mistakes_are_errors_naming_the_key() {
     assert!(
         matches!(Meta::parse(text), Err(LogError::Meta { key, .. }) if key == "sensors.depth.estimate")
     );
+}
+
+/// `[sensors.usbl]` and `[sensors.gnss]` take `estimate = ["lever_arm"]`
+/// (the transponder's and the antenna's), with the DVL's default prior, and
+/// write it back.
+#[test]
+fn usbl_and_gnss_estimate_their_lever_arm() {
+    for sensor in ["usbl", "gnss"] {
+        for (keys, sigma) in [
+            ("estimate = [\"lever_arm\"]\n", LEVER_ARM_SIGMA_DEFAULT),
+            ("estimate = [\"lever_arm\"]\nlever_arm_sigma = 2.0\n", 2.0),
+        ] {
+            let text = format!("[sensors.{sensor}]\nnoise_sigma = 1\n{keys}");
+            let meta = parse(&text).unwrap_or_else(|e| panic!("{sensor} {keys:?}: {e}"));
+            let expected = DvlCalibration {
+                lever_arm: Some(sigma),
+                ..DvlCalibration::default()
+            };
+            assert_eq!(meta.sensors.calibration(sensor), expected, "{sensor}");
+            assert_eq!(meta.sensors.dvl_calibration, DvlCalibration::default());
+            let again = Meta::parse(&meta.to_toml()).expect("round trip");
+            assert_eq!(again.sensors.calibration(sensor), expected, "{sensor}");
+        }
+    }
 }

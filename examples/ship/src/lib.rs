@@ -22,7 +22,7 @@
 //! log_scale = 0.05
 //! ```
 
-use nav_blocks::{Compass, GnssFix, InsCore};
+use nav_blocks::{Compass, GnssFix, GnssFixCalibrated, InsCore};
 use nav_ins::{Absent, InsVehicle};
 
 nav_runtime::model! {
@@ -58,6 +58,13 @@ nav_runtime::model! {
     pub model Ship = InsCore + GnssFix + Compass + WaterSpeed;
 }
 
+nav_runtime::model! {
+    /// The ship's INS, gyrocompass and GNSS antenna, with the error of the
+    /// antenna's given lever arm as states (`[sensors.gnss] estimate =
+    /// ["lever_arm"]`, docs/calibration.md); without the speed log.
+    pub model ShipGnssCal = InsCore + GnssFixCalibrated + Compass;
+}
+
 /// Number of states of [`Ship`].
 pub const N: usize = Ship::N;
 
@@ -73,6 +80,21 @@ impl InsVehicle<N> for Ship {
     type CompassSmallAngle = ShipCompassSmallAngle;
     type Usbl = Absent;
     type Gnss = ShipGnssFix;
+    type Baro = Absent;
+    type Mag = Absent;
+}
+
+impl InsVehicle<{ ShipGnssCal::N }> for ShipGnssCal {
+    const REPLAY_NAME: &'static str = "ship-gnss-cal";
+    const DESCRIPTION: &'static str =
+        "the ship's INS, GNSS and gyrocompass with the antenna's lever arm as states";
+    const GNSS_SENSOR: &'static str = "GnssFixCalibrated";
+    type Depth = Absent;
+    type Dvl = Absent;
+    type Compass = ShipGnssCalCompass;
+    type CompassSmallAngle = ShipGnssCalCompassSmallAngle;
+    type Usbl = Absent;
+    type Gnss = ShipGnssCalGnssFixCalibrated;
     type Baro = Absent;
     type Mag = Absent;
 }

@@ -11,7 +11,7 @@
 //! generator flags it; the declaration accepts it with `allow_unused`.
 
 use crate::sdins25::vehicle::{Absent, InsVehicle};
-use nav_blocks::{Compass, Depth, Dvl, DvlCalibrated, InsCore, Usbl};
+use nav_blocks::{Compass, Depth, Dvl, DvlCalibrated, InsCore, Usbl, UsblCalibrated};
 
 nav_runtime::model! {
     /// SDINS-25 assembled from blocks, in the paper's state order.
@@ -45,6 +45,12 @@ nav_runtime::model! {
     pub model Sdins20DvlCal = InsCore + Depth + DvlCalibrated + Compass {
         allow_unused { position_error[1] }
     }
+
+    /// SDINS-25 with the calibrated USBL: the error of the transponder's
+    /// given lever arm as filter states (28 states), estimated when the
+    /// log's `[sensors.usbl] estimate` lists `lever_arm`
+    /// (docs/calibration.md).
+    pub model Sdins25UsblCal = InsCore + UsblCalibrated + Depth + Dvl + Compass;
 }
 
 // Registration for `navsim replay --model ..` (with one line each in
@@ -88,6 +94,21 @@ impl InsVehicle<27> for Sdins20DvlCal {
     type Compass = Sdins20DvlCalCompass;
     type CompassSmallAngle = Sdins20DvlCalCompassSmallAngle;
     type Usbl = Absent;
+    type Gnss = Absent;
+    type Baro = Absent;
+    type Mag = Absent;
+}
+
+impl InsVehicle<28> for Sdins25UsblCal {
+    const REPLAY_NAME: &'static str = "sdins25-usbl-cal";
+    const DESCRIPTION: &'static str =
+        "sdins25 with the USBL transponder's lever arm as states (28), estimated per meta.toml [sensors.usbl] estimate";
+    const USBL_SENSOR: &'static str = "UsblCalibrated";
+    type Depth = Sdins25UsblCalDepth;
+    type Dvl = Sdins25UsblCalDvl;
+    type Compass = Sdins25UsblCalCompass;
+    type CompassSmallAngle = Sdins25UsblCalCompassSmallAngle;
+    type Usbl = Sdins25UsblCalUsblCalibrated;
     type Gnss = Absent;
     type Baro = Absent;
     type Mag = Absent;

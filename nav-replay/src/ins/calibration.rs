@@ -1,8 +1,9 @@
-//! The DVL's mounting calibration states (docs/calibration.md): the
-//! `[sensors.dvl] estimate` of a log's `meta.toml` sets the prior sigma of
-//! each of the `DvlCalibrated` block's states (the listed ones from the
-//! log, the others zero: fixed at the given value), and the run's final
-//! estimate is read back as calibrated values with sigmas.
+//! The mounting calibration states of the DVL, the USBL transponder and
+//! the GNSS antenna (docs/calibration.md): the `[sensors.<name>] estimate`
+//! of a log's `meta.toml` sets the prior sigma of each of the calibrated
+//! block's states (the listed ones from the log, the others zero: fixed at
+//! the given value), and the run's final estimate is read back as
+//! calibrated values with sigmas.
 //!
 //! One vehicle serves every subset of `estimate`: its state vector is fixed
 //! when it is compiled, and a state with a zero prior sigma gets no gain, so
@@ -13,57 +14,134 @@ use nav_runtime::log::{DvlCalibration, Meta};
 
 use crate::RunError;
 
-/// The calibration states of the `DvlCalibrated` block, in the order of
-/// [`nav_runtime::log::ESTIMATE_NAMES`]: (state, scalars).
-const STATES: [(&str, usize); 3] = [
-    ("dvl_lever_arm", 3),
-    ("dvl_misalignment", 3),
-    ("dvl_scale", 1),
+/// A sensor whose mounting a vehicle may carry as states: its
+/// `[sensors.<name>]`, the states of its calibrated block in the order of
+/// [`nav_runtime::log::ESTIMATE_NAMES`] (state, scalars), the block, and a
+/// vehicle that has it.
+struct Calibratable {
+    sensor: &'static str,
+    states: &'static [(&'static str, usize)],
+    block: &'static str,
+    vehicle: &'static str,
+}
+
+const CALIBRATABLE: [Calibratable; 3] = [
+    Calibratable {
+        sensor: "dvl",
+        states: &[
+            ("dvl_lever_arm", 3),
+            ("dvl_misalignment", 3),
+            ("dvl_scale", 1),
+        ],
+        block: "DvlCalibrated",
+        vehicle: "sdins20-dvl-cal",
+    },
+    Calibratable {
+        sensor: "usbl",
+        states: &[("usbl_lever_arm", 3)],
+        block: "UsblCalibrated",
+        vehicle: "sdins25-usbl-cal",
+    },
+    Calibratable {
+        sensor: "gnss",
+        states: &[("gnss_lever_arm", 3)],
+        block: "GnssFixCalibrated",
+        vehicle: "a vehicle of your own, as `ShipGnssCal` of examples/ship",
+    },
 ];
+
+impl Calibratable {
+    /// Whether vehicle `V` carries these states.
+    fn carried_by<V: InsVehicle<N>, const N: usize>(&self) -> bool {
+        self.states.iter().all(|(name, len)| {
+            let first = if *len == 1 {
+                (*name).to_string()
+            } else {
+                format!("{name}[0]")
+            };
+            V::STATE_NAMES.contains(&first.as_str())
+        })
+    }
+}
 
 /// Whether vehicle `V` carries the DVL calibration states.
 pub fn can_calibrate<V: InsVehicle<N>, const N: usize>() -> bool {
-    STATES.iter().all(|(name, len)| {
-        let first = if *len == 1 {
-            (*name).to_string()
-        } else {
-            format!("{name}[0]")
-        };
-        V::STATE_NAMES.contains(&first.as_str())
-    })
+    CALIBRATABLE[0].carried_by::<V, N>()
 }
 
 /// Sets the prior sigmas of `V`'s calibration states from `meta`.
 ///
 /// # Errors
-/// [`RunError::Invalid`] naming the key when `estimate` lists something and
-/// `V` has no calibration states; the builder's setup errors.
+/// [`RunError::Invalid`] naming the key when an `estimate` lists something
+/// and `V` has no calibration states for that sensor; the builder's setup
+/// errors.
 pub(super) fn register<V: InsVehicle<N>, const N: usize>(
     builder: &mut Builder<V, N>,
     meta: &Meta,
 ) -> Result<(), RunError> {
-    let cal = &meta.sensors.dvl_calibration;
-    if !can_calibrate::<V, N>() {
-        if cal.any() {
-            return Err(RunError::Invalid(format!(
-                "meta.toml: sensors.dvl.estimate = {:?}: vehicle {} cannot estimate the DVL's mounting \
-                 (its DVL block has no calibration states); replay with a vehicle whose DVL is the \
-                 `DvlCalibrated` block (sdins20-dvl-cal), or drop the key",
-                cal.names(),
-                V::REPLAY_NAME
-            )));
+    for c in &CALIBRATABLE {
+        let cal = meta.sensors.calibration(c.sensor);
+        if !c.carried_by::<V, N>() {
+            if cal.any() {
+                return Err(RunError::Invalid(format!(
+                    "meta.toml: sensors.{}.estimate = {:?}: vehicle {} cannot estimate the {}'s mounting \
+                     (its {} block has no calibration states); replay with a vehicle whose {} is the \
+                     `{}` block ({}), or drop the key",
+                    c.sensor,
+                    cal.names(),
+                    V::REPLAY_NAME,
+                    c.sensor.to_uppercase(),
+                    c.sensor.to_uppercase(),
+                    c.sensor.to_uppercase(),
+                    c.block,
+                    c.vehicle
+                )));
+            }
+            continue;
         }
-        return Ok(());
-    }
-    for ((name, _), sigma) in STATES.iter().zip(sigmas(cal)) {
-        builder.state_sigma(name, sigma)?;
+        for ((name, _), sigma) in c.states.iter().zip(sigmas(&cal)) {
+            builder.state_sigma(name, sigma)?;
+        }
     }
     Ok(())
 }
 
-/// Prior sigma of each state of [`STATES`]: the log's, zero when not listed.
+/// Prior sigma of each value, in the order of `ESTIMATE_NAMES`: the log's,
+/// zero when not listed.
 fn sigmas(cal: &DvlCalibration) -> [f64; 3] {
     [cal.lever_arm, cal.misalignment, cal.scale].map(|s| s.unwrap_or(0.0))
+}
+
+/// The calibrated value of the `K` states from `first` in `x`: the given
+/// value `base` plus the states, with their sigmas when `estimated`.
+fn read<const K: usize>(
+    first: Option<usize>,
+    base: [f64; K],
+    x: &[f64],
+    sigma: impl Fn(usize) -> f64,
+    estimated: bool,
+    prior_sigma: f64,
+) -> Calibrated<K> {
+    let i = first.unwrap_or(0);
+    Calibrated {
+        estimated,
+        value: core::array::from_fn(|k| base[k] + x[i + k]),
+        sigma: core::array::from_fn(|k| if estimated { sigma(i + k) } else { 0.0 }),
+        prior_sigma,
+    }
+}
+
+/// The JSON of one calibrated value (docs/cli-and-json.md), `unit` times
+/// the values and sigmas.
+fn entry<const K: usize>(c: &Calibrated<K>, unit: f64) -> serde_json::Value {
+    let v: Vec<f64> = c.value.iter().map(|v| v * unit).collect();
+    let s: Vec<f64> = c.sigma.iter().map(|v| v * unit).collect();
+    serde_json::json!({
+        "estimated": c.estimated,
+        "value": if K == 1 { serde_json::json!(v[0]) } else { serde_json::json!(v) },
+        "sigma": if K == 1 { serde_json::json!(s[0]) } else { serde_json::json!(s) },
+        "prior_sigma": c.prior_sigma * unit,
+    })
 }
 
 /// One calibrated value: the estimate and its sigma, per component.
@@ -111,22 +189,6 @@ impl DvlMounting {
             .map_or([0.0; 3], |m| m.lever_arm);
         let cal = &meta.sensors.dvl_calibration;
         let [arm_prior, angle_prior, scale_prior] = sigmas(cal);
-        fn read<const K: usize>(
-            first: Option<usize>,
-            base: [f64; K],
-            x: &[f64],
-            sigma: impl Fn(usize) -> f64,
-            estimated: bool,
-            prior_sigma: f64,
-        ) -> Calibrated<K> {
-            let i = first.unwrap_or(0);
-            Calibrated {
-                estimated,
-                value: core::array::from_fn(|k| base[k] + x[i + k]),
-                sigma: core::array::from_fn(|k| if estimated { sigma(i + k) } else { 0.0 }),
-                prior_sigma,
-            }
-        }
         let sigma = |i: usize| p[(i, i)].max(0.0).sqrt();
         let x = x.as_slice();
         Some(Self {
@@ -161,20 +223,65 @@ impl DvlMounting {
     /// value whether it was estimated, the estimate, its sigma and the
     /// prior sigma; angles in degrees.
     pub fn json(&self) -> serde_json::Value {
-        fn entry<const K: usize>(c: &Calibrated<K>, unit: f64) -> serde_json::Value {
-            let v: Vec<f64> = c.value.iter().map(|v| v * unit).collect();
-            let s: Vec<f64> = c.sigma.iter().map(|v| v * unit).collect();
-            serde_json::json!({
-                "estimated": c.estimated,
-                "value": if K == 1 { serde_json::json!(v[0]) } else { serde_json::json!(v) },
-                "sigma": if K == 1 { serde_json::json!(s[0]) } else { serde_json::json!(s) },
-                "prior_sigma": c.prior_sigma * unit,
-            })
-        }
         serde_json::json!({
             "lever_arm_m": entry(&self.lever_arm, 1.0),
             "misalignment_deg": entry(&self.misalignment, 180.0 / core::f64::consts::PI),
             "scale": entry(&self.scale, 1.0),
         })
+    }
+}
+
+/// The lever arm of a USBL transponder or a GNSS antenna at the end of a run
+/// of a vehicle that carries its calibration state.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LeverArm {
+    /// The log sensor: `usbl` or `gnss`.
+    pub sensor: &'static str,
+    /// Body axes (FRD) relative to the IMU, m.
+    pub lever_arm: Calibrated<3>,
+}
+
+impl LeverArm {
+    /// The calibrated lever arms in `filter` (of the USBL and the GNSS
+    /// antenna, those whose states vehicle `V` carries), with the given
+    /// values of `meta`.
+    pub fn all_of<V: InsVehicle<N>, const N: usize>(
+        filter: &InsFilter<V, N>,
+        meta: &Meta,
+    ) -> Vec<Self> {
+        let x = filter.ekf().state();
+        let p = filter.covariance();
+        CALIBRATABLE[1..]
+            .iter()
+            .filter(|c| c.carried_by::<V, N>())
+            .map(|c| {
+                let (state, _) = c.states[0];
+                let first = V::STATE_NAMES
+                    .iter()
+                    .position(|n| *n == format!("{state}[0]"));
+                let given = meta
+                    .sensors
+                    .mounting(c.sensor)
+                    .map_or([0.0; 3], |m| m.lever_arm);
+                let cal = meta.sensors.calibration(c.sensor);
+                LeverArm {
+                    sensor: c.sensor,
+                    lever_arm: read(
+                        first,
+                        given,
+                        x.as_slice(),
+                        |i| p[(i, i)].max(0.0).sqrt(),
+                        cal.lever_arm.is_some(),
+                        cal.lever_arm.unwrap_or(0.0),
+                    ),
+                }
+            })
+            .collect()
+    }
+
+    /// The replay JSON's `<sensor>_calibration` (docs/cli-and-json.md):
+    /// `lever_arm_m` as the DVL's.
+    pub fn json(&self) -> serde_json::Value {
+        serde_json::json!({ "lever_arm_m": entry(&self.lever_arm, 1.0) })
     }
 }

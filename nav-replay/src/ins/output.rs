@@ -436,6 +436,10 @@ pub(super) fn output_of<V: InsVehicle<N>, const N: usize>(
     if let Some(m) = &run.dvl_mounting {
         out.metrics.insert("dvl_calibration".into(), m.json());
     }
+    for arm in &run.lever_arms {
+        out.metrics
+            .insert(format!("{}_calibration", arm.sensor), arm.json());
+    }
     if let Some(o) = &run.observability {
         let (json, unlearned) = crate::observability::json(o, &V::STATE_NAMES, |i, name| {
             let navigation = ["position_error", "velocity_error", "attitude_error"]

@@ -182,6 +182,12 @@ pub struct Sensors {
     /// `[sensors.dvl] estimate`: which DVL mounting values the filter
     /// estimates, with their prior sigmas (docs/calibration.md).
     pub dvl_calibration: DvlCalibration,
+    /// `[sensors.usbl] estimate`: whether the filter estimates the USBL
+    /// transponder's lever arm (`lever_arm` only), with its prior sigma.
+    pub usbl_calibration: DvlCalibration,
+    /// `[sensors.gnss] estimate`: whether the filter estimates the GNSS
+    /// antenna's lever arm (`lever_arm` only), with its prior sigma.
+    pub gnss_calibration: DvlCalibration,
 }
 
 /// `[sensors.dvl] estimate = [..]` (any subset of [`ESTIMATE_NAMES`]) and
@@ -221,6 +227,32 @@ impl DvlCalibration {
 
 /// The names `[sensors.dvl] estimate` accepts.
 pub const ESTIMATE_NAMES: [&str; 3] = ["lever_arm", "misalignment", "scale"];
+
+/// How many of [`ESTIMATE_NAMES`] (from the first) the `estimate` of
+/// `[sensors.<name>]` accepts: all three for the DVL, the lever arm for the
+/// USBL transponder and the GNSS antenna (the USBL's array misalignment is
+/// already a state of its block, with its own `misalignment_sigma`), none
+/// for the other sensors.
+pub fn estimate_names_of(sensor: &str) -> &'static [&'static str] {
+    match sensor {
+        "dvl" => &ESTIMATE_NAMES,
+        "usbl" | "gnss" => &ESTIMATE_NAMES[..1],
+        _ => &[],
+    }
+}
+
+impl Sensors {
+    /// What `[sensors.<sensor>] estimate` lists (`dvl`, `usbl`, `gnss`;
+    /// nothing for another sensor).
+    pub fn calibration(&self, sensor: &str) -> DvlCalibration {
+        match sensor {
+            "dvl" => self.dvl_calibration,
+            "usbl" => self.usbl_calibration,
+            "gnss" => self.gnss_calibration,
+            _ => DvlCalibration::default(),
+        }
+    }
+}
 
 /// Prior sigma of each DVL lever-arm component when `estimate` lists
 /// `lever_arm` without `lever_arm_sigma`, m: an arm taken off a drawing.
@@ -642,12 +674,16 @@ impl Meta {
                 if *name == "usbl" {
                     keys.push("misalignment_sigma");
                 }
-                if *name == "dvl" {
-                    keys.extend(CALIBRATION_KEYS);
+                let accepted = estimate_names_of(name);
+                if !accepted.is_empty() {
+                    keys.extend(&CALIBRATION_KEYS[..=accepted.len()]);
                 }
                 cx.check_keys(t, &sec, &keys)?;
-                if *name == "dvl" {
-                    sensors.dvl_calibration = cx.dvl_calibration(t, &sec)?;
+                match *name {
+                    "dvl" => sensors.dvl_calibration = cx.dvl_calibration(t, &sec, accepted)?,
+                    "usbl" => sensors.usbl_calibration = cx.dvl_calibration(t, &sec, accepted)?,
+                    "gnss" => sensors.gnss_calibration = cx.dvl_calibration(t, &sec, accepted)?,
+                    _ => {}
                 }
                 if *name == "usbl" {
                     sensors.usbl_misalignment_sigma =
@@ -787,8 +823,8 @@ impl Meta {
                     let _ = writeln!(s, "lever_arm = {}", v(m.lever_arm));
                     let _ = writeln!(s, "misalignment = {}", v(m.misalignment));
                 }
-                let cal = &sn.dvl_calibration;
-                if name == "dvl" && cal.any() {
+                let cal = sn.calibration(name);
+                if cal.any() {
                     let names: Vec<String> =
                         cal.names().iter().map(|n| format!("\"{n}\"")).collect();
                     let _ = writeln!(s, "estimate = [{}]", names.join(", "));
@@ -1017,9 +1053,14 @@ impl Cx<'_> {
     /// `[sensors.dvl] estimate` and the prior sigmas of the names it lists:
     /// an unknown, repeated or non-string name, and a sigma for a name not
     /// listed, are errors naming the key.
-    fn dvl_calibration(&self, t: &toml::Table, sec: &str) -> Result<DvlCalibration, LogError> {
+    fn dvl_calibration(
+        &self,
+        t: &toml::Table,
+        sec: &str,
+        names: &[&str],
+    ) -> Result<DvlCalibration, LogError> {
         let key = join(sec, "estimate");
-        let accepted = ESTIMATE_NAMES.join(", ");
+        let accepted = names.join(", ");
         let mut listed = [false; 3];
         match t.get("estimate") {
             None => {}
@@ -1034,13 +1075,23 @@ impl Cx<'_> {
                             ),
                         ));
                     };
-                    let Some(i) = ESTIMATE_NAMES.iter().position(|n| n == name) else {
+                    let Some(i) = names.iter().position(|n| n == name) else {
+                        let file = sec.trim_start_matches("sensors.");
                         let problem = if name == "time_offset" {
-                            format!("`time_offset` is not a state: `navsim tune` finds the DVL file's clock offset from its innovations and writes it to `files.dvl.time.offset_s`; accepted: {accepted}")
+                            format!("`time_offset` is not a state: `navsim tune` finds the {file} file's clock offset from its innovations and writes it to `files.{file}.time.offset_s`; accepted: {accepted}")
+                        } else if ESTIMATE_NAMES.contains(&name.as_str()) {
+                            format!(
+                                "`{name}` is not estimated for the {file}; accepted: {accepted}{}",
+                                if file == "usbl" && name == "misalignment" {
+                                    " (the USBL's array misalignment is already a state of its block: give its prior as `misalignment_sigma`)"
+                                } else {
+                                    ""
+                                }
+                            )
                         } else {
                             format!(
                                 "unknown name `{name}`; accepted: {accepted}{}",
-                                crate::suggestion::did_you_mean(name, &ESTIMATE_NAMES)
+                                crate::suggestion::did_you_mean(name, names)
                             )
                         };
                         return Err(self.err(&key, problem));
@@ -1068,7 +1119,7 @@ impl Cx<'_> {
             SCALE_SIGMA_DEFAULT,
         ];
         let mut sigma = [None; 3];
-        for i in 0..3 {
+        for i in 0..names.len() {
             let sigma_key = CALIBRATION_KEYS[i + 1];
             let given = self.opt(t, sec, sigma_key, ranges[i])?;
             if given.is_some() && !listed[i] {
