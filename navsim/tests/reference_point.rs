@@ -111,6 +111,19 @@ fn a_declared_reference_point_scores_as_the_imu_truth() {
         nees(&declared),
         nees(&at_imu)
     );
+    // Undeclared, the velocity errors in turns name the point; declared
+    // (or at the IMU), nothing is said.
+    let fitted = |v: &Value| {
+        v["warnings"].as_array().is_some_and(|w| {
+            w.iter()
+                .any(|w| w["key"] == "files.truth.lever_arm" && w["file"] == "truth.csv")
+        })
+    };
+    assert!(fitted(&undeclared), "{undeclared}");
+    assert!(
+        !fitted(&declared) && !fitted(&at_imu),
+        "{declared} {at_imu}"
+    );
     // Undeclared, the arm's turning is scored as the filter's error.
     assert!(
         nees(&undeclared) > 2.0 * nees(&at_imu),

@@ -15,6 +15,7 @@ pub mod calibration;
 pub mod output;
 mod own_sensors;
 pub mod plots;
+pub mod reference_point_fit;
 pub mod replay_loop;
 pub mod score;
 pub mod setup;

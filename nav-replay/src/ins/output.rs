@@ -325,6 +325,9 @@ pub(super) fn output_of<V: InsVehicle<N>, const N: usize>(
                 .iter()
                 .map(|p| Warning::about(WarningKind::PartialScoring, "truth.csv", p.clone())),
         );
+        if let Some(point) = &s.reference_point {
+            out.warnings.push(reference_point_warning(point));
+        }
         // Errors far beyond the filter's own sigmas. Whose fault it is
         // the innovations tell: a filter whose aiding innovations were
         // bad too (many rows gated) is wrong itself (or its inputs are);
@@ -469,4 +472,32 @@ pub(super) fn output_of<V: InsVehicle<N>, const N: usize>(
         out.metrics.insert("warnings".into(), Value::Array(list));
     }
     Ok(out)
+}
+
+/// The warning for a truth that seems to describe another point of the
+/// vehicle than the IMU (docs/log-format.md, "truth.csv").
+fn reference_point_warning(point: &super::reference_point_fit::FittedPoint) -> Warning {
+    let component = |k: usize| {
+        let (v, s) = (point.arm[k], point.sigma[k]);
+        if s.is_finite() {
+            format!("{v:.2} +- {s:.2}")
+        } else {
+            "(not shown by the motion)".to_string()
+        }
+    };
+    let (x, y, z) = (component(0), component(1), component(2));
+    Warning::about(
+        WarningKind::Suspicious,
+        "truth.csv",
+        format!(
+            "its velocities in turns differ from the estimate's as a point {x}, {y}, {z} m \
+             (forward, right, down) from the IMU would \
+             (fitted over {} rows): it seems to describe that point, not the IMU the filter \
+             estimates, and the scores then carry the arm's turning as error. Declare \
+             `[files.truth] lever_arm` (added to any arm declared there), and `[initial] \
+             lever_arm` if the initial position was copied from it",
+            point.rows
+        ),
+    )
+    .with_key("files.truth.lever_arm")
 }

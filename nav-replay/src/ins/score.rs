@@ -7,6 +7,7 @@ use nav_runtime::log::TruthRow;
 use nav_runtime::nalgebra::{Cholesky, SVector};
 use nav_runtime::strapdown::NavState;
 
+use super::reference_point_fit::{FittedPoint, ReferencePointFit};
 use super::setup::{c_bn, Estimate};
 use crate::output::series::{BoundedTable, TableWriter, PLOT_ROWS};
 use crate::RunTable;
@@ -74,6 +75,10 @@ pub struct Scored {
     pub scored_rows: usize,
     /// Set when the scored rows cover less than half of the truth's span.
     pub partial: Option<String>,
+    /// The point of the vehicle the truth seems to describe, when its
+    /// velocity errors in turns say it is not the IMU (beyond a declared
+    /// `[files.truth] lever_arm`).
+    pub reference_point: Option<FittedPoint>,
 }
 
 /// Why a run cannot be scored.
@@ -183,6 +188,7 @@ pub struct Scorer {
     d2: f64,
     nees_sum: f64,
     n: usize,
+    reference_point: ReferencePointFit,
     out: Scored,
 }
 
@@ -206,6 +212,7 @@ impl Scorer {
             d2: 0.0,
             nees_sum: 0.0,
             n: 0,
+            reference_point: ReferencePointFit::default(),
             out: Scored::default(),
         }
     }
@@ -227,9 +234,13 @@ impl Scorer {
         let frame = *self
             .frame
             .get_or_insert_with(|| LocalNed::new(Geodetic::new(row.lat, row.lon, -row.depth)));
-        let Some(e) = estimate else { return Ok(()) };
+        let Some(e) = estimate else {
+            self.reference_point.push(row, None);
+            return Ok(());
+        };
         let tr = truth_state(row);
         let err = e.nav.error_from(&tr);
+        self.reference_point.push(row, Some(err.dv_n));
         let p = err.position_ned(tr.lat, tr.h);
         let x = SVector::<f64, 9>::from([
             p.x, p.y, p.z, err.dv_n.x, err.dv_n.y, err.dv_n.z, err.phi.x, err.phi.y, err.phi.z,
@@ -338,6 +349,7 @@ impl Scorer {
         out.nees_mean = self.nees_sum / k;
         out.scored_seconds = self.t_last - self.t_first;
         out.scored_rows = n;
+        out.reference_point = self.reference_point.finish();
         let truth_span = self.truth_last - truth_first;
         if out.scored_seconds < 0.5 * truth_span {
             out.partial = Some(format!(
