@@ -7,8 +7,9 @@
 use models::sdins25::simulation::{simulate, trajectory, SimConfig, Usbl};
 use models::vehicles::sdins::{Sdins25Composed, Sdins25UsblCal};
 use nav_replay::ins::calibration::LeverArm;
-use nav_replay::ins::setup::{run_vehicle, FilterOptions, InsRun};
-use nav_runtime::earth::{meridian_radius, transverse_radius, Geodetic, LocalNed};
+use nav_replay::ins::run_and_score_vehicle;
+use nav_replay::ins::setup::{run_vehicle, FilterOptions};
+use nav_runtime::earth::{Geodetic, LocalNed};
 use nav_runtime::log::{LogDir, Meta, UsblRow};
 use nav_runtime::nalgebra::Vector3;
 use nav_runtime::trajectory::TruthSource;
@@ -55,22 +56,12 @@ fn with_estimate(log: &LogDir, estimate: &str) -> LogDir {
 
 /// The calibrated arm, and the RMS horizontal position error (m).
 fn score<const N: usize, V: nav_ins::InsVehicle<N>>(log: &LogDir) -> (Vec<LeverArm>, f64) {
-    let truth = log.truth.as_ref().expect("truth.csv");
-    let times: Vec<f64> = truth.iter().map(|r| r.t).collect();
-    let run: InsRun<V, N> =
-        run_vehicle::<V, N>(log, &FilterOptions::default(), &times).expect("replay");
-    let squares: Vec<f64> = truth
-        .iter()
-        .zip(&run.estimates)
-        .filter_map(|(r, e)| {
-            let e = e.as_ref()?;
-            let north = (e.nav.lat - r.lat) * meridian_radius(r.lat);
-            let east = (e.nav.lon - r.lon) * transverse_radius(r.lat) * r.lat.cos();
-            Some(north * north + east * east)
-        })
-        .collect();
-    let rms = (squares.iter().sum::<f64>() / squares.len() as f64).sqrt();
-    (run.lever_arms, rms)
+    let (run, scored) =
+        run_and_score_vehicle::<V, N>(log, &FilterOptions::default(), None).expect("replay");
+    (
+        run.lever_arms,
+        scored.expect("truth.csv").horizontal_error_rms_m,
+    )
 }
 
 /// Listed, the arm's horizontal components end within 4 sigma of the truth

@@ -475,7 +475,8 @@ fn the_ship_without_mapping_says_what_is_missing() {
 /// taken as exact (docs/calibration.md).
 #[test]
 fn the_gnss_antenna_lever_arm_converges() {
-    use nav_replay::ins::setup::{run_vehicle, FilterOptions};
+    use nav_replay::ins::run_and_score_vehicle;
+    use nav_replay::ins::setup::FilterOptions;
     use ship::ShipGnssCal;
     const M: usize = ShipGnssCal::N;
     let dir = TempDir::new("antenna");
@@ -492,20 +493,9 @@ fn the_gnss_antenna_lever_arm_converges() {
             text.insert_str(at, "estimate = [\"lever_arm\"]\nlever_arm_sigma = 3.0\n");
         }
         log.meta = Meta::parse(&text).unwrap();
-        let truth = log.truth.clone().unwrap();
-        let times: Vec<f64> = truth.iter().map(|r| r.t).collect();
-        let run = run_vehicle::<ShipGnssCal, M>(&log, &FilterOptions::default(), &times).unwrap();
-        let squares: Vec<f64> = truth
-            .iter()
-            .zip(&run.estimates)
-            .filter_map(|(r, e)| {
-                let e = e.as_ref()?;
-                let north = (e.nav.lat - r.lat) * meridian_radius(r.lat);
-                let east = (e.nav.lon - r.lon) * transverse_radius(r.lat) * r.lat.cos();
-                Some(north * north + east * east)
-            })
-            .collect();
-        let rms = (squares.iter().sum::<f64>() / squares.len() as f64).sqrt();
+        let (run, scored) =
+            run_and_score_vehicle::<ShipGnssCal, M>(&log, &FilterOptions::default(), None).unwrap();
+        let rms = scored.unwrap().horizontal_error_rms_m;
         (run.lever_arms[0], rms)
     };
     let (fixed, fixed_rms) = run(false);
