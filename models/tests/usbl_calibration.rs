@@ -121,3 +121,47 @@ fn a_vehicle_without_the_states_refuses_the_estimate() {
         "{msg}"
     );
 }
+
+/// Seeds of the Monte Carlo below (not used while building the block).
+const MONTE_CARLO_SEEDS: std::ops::Range<u64> = 6100..6200;
+
+/// The transponder's arm over [`MONTE_CARLO_SEEDS`]: per horizontal
+/// component the mean squared error in the filter's own sigmas (1 for a
+/// consistent estimate) and the median absolute error, and the horizontal
+/// RMS error with the arm estimated against taken as zero (median ratio).
+/// `cargo test --release -p models --test usbl_calibration -- --ignored
+/// --nocapture`; the figures are in docs/calibration.md.
+#[test]
+#[ignore = "Monte Carlo over 100 seeds; prints the figures of docs/calibration.md"]
+fn usbl_lever_arm_monte_carlo() {
+    let (mut squared, mut absolute) = ([0.0; 2], [Vec::new(), Vec::new()]);
+    let mut ratios = Vec::new();
+    for seed in MONTE_CARLO_SEEDS {
+        let log = mounted_log(seed);
+        let (_, fixed) = score::<28, Sdins25UsblCal>(&with_estimate(&log, ""));
+        let (arms, estimated) = score::<28, Sdins25UsblCal>(&with_estimate(&log, "\"lever_arm\""));
+        let arm = arms[0].lever_arm;
+        for k in 0..2 {
+            let error = arm.value[k] - LEVER_ARM[k];
+            squared[k] += (error / arm.sigma[k]).powi(2);
+            absolute[k].push(error.abs());
+        }
+        ratios.push(estimated / fixed);
+    }
+    let runs = MONTE_CARLO_SEEDS.count() as f64;
+    let median = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    for (k, name) in ["forward", "right"].iter().enumerate() {
+        println!(
+            "{name}: mean squared error in sigmas {:.2}, median |error| {:.3} m",
+            squared[k] / runs,
+            median(&mut absolute[k])
+        );
+    }
+    println!(
+        "horizontal RMS, estimated / arm taken as zero: median {:.3}",
+        median(&mut ratios)
+    );
+}
