@@ -83,16 +83,13 @@ pub(super) fn register<V: InsVehicle<N>, const N: usize>(
         let cal = meta.sensors.calibration(c.sensor);
         if !c.carried_by::<V, N>() {
             if cal.any() {
+                let (sensor, upper) = (c.sensor, c.sensor.to_uppercase());
                 return Err(RunError::Invalid(format!(
-                    "meta.toml: sensors.{}.estimate = {:?}: vehicle {} cannot estimate the {}'s mounting \
-                     (its {} block has no calibration states); replay with a vehicle whose {} is the \
-                     `{}` block ({}), or drop the key",
-                    c.sensor,
+                    "meta.toml: sensors.{sensor}.estimate = {:?}: vehicle {} cannot estimate the \
+                     {upper}'s mounting (its {upper} block has no calibration states); replay with a \
+                     vehicle whose {upper} is the `{}` block ({}), or drop the key",
                     cal.names(),
                     V::REPLAY_NAME,
-                    c.sensor.to_uppercase(),
-                    c.sensor.to_uppercase(),
-                    c.sensor.to_uppercase(),
                     c.block,
                     c.vehicle
                 )));
