@@ -12,6 +12,7 @@ use nav_replay::ins::setup::{run_vehicle, FilterOptions};
 use nav_runtime::earth::{Geodetic, LocalNed};
 use nav_runtime::log::{LogDir, Meta, UsblRow};
 use nav_runtime::nalgebra::Vector3;
+use nav_runtime::stats;
 use nav_runtime::trajectory::TruthSource;
 
 /// True transponder position from the IMU, body axes (FRD), m: aft,
@@ -149,19 +150,20 @@ fn usbl_lever_arm_monte_carlo() {
         ratios.push(estimated / fixed);
     }
     let runs = MONTE_CARLO_SEEDS.count() as f64;
-    let median = |v: &mut Vec<f64>| {
-        v.sort_by(f64::total_cmp);
-        v[v.len() / 2]
-    };
     for (k, name) in ["forward", "right"].iter().enumerate() {
+        let mean_squared = squared[k] / runs;
         println!(
-            "{name}: mean squared error in sigmas {:.2}, median |error| {:.3} m",
-            squared[k] / runs,
-            median(&mut absolute[k])
+            "{name}: mean squared error in sigmas {mean_squared:.2}, median |error| {:.3} m",
+            stats::median(&absolute[k])
+        );
+        // The 95 % band of a mean of 100 chi-square(1) values: the arm's
+        // sigmas are honest (docs/calibration.md).
+        assert!(
+            (0.74..=1.30).contains(&mean_squared),
+            "{name}: {mean_squared}"
         );
     }
-    println!(
-        "horizontal RMS, estimated / arm taken as zero: median {:.3}",
-        median(&mut ratios)
-    );
+    let ratio = stats::median(&ratios);
+    println!("horizontal RMS, estimated / arm taken as zero: median {ratio:.3}");
+    assert!(ratio < 1.0, "{ratio}");
 }

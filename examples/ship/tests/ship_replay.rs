@@ -11,6 +11,7 @@ use nav_runtime::earth::{meridian_radius, transverse_radius, Geodetic};
 use nav_runtime::log::{GnssRow, HeadingRow, ImuRow, LogDir, Meta, TruthRow};
 use nav_runtime::nalgebra::Vector3;
 use nav_runtime::simulation::imu::{rates, ImuModel, ImuSpec};
+use nav_runtime::simulation::stats;
 use nav_runtime::simulation::trajectory::{Trajectory, TrajectorySpec, TruthSource};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -553,19 +554,20 @@ fn gnss_lever_arm_monte_carlo() {
         }
         ratios.push(rms / fixed_rms);
     }
-    let median = |v: &mut Vec<f64>| {
-        v.sort_by(f64::total_cmp);
-        v[v.len() / 2]
-    };
     for (k, name) in ["forward", "right"].iter().enumerate() {
+        let mean_squared = squared[k] / runs;
         println!(
-            "{name}: mean squared error in sigmas {:.2}, median |error| {:.3} m",
-            squared[k] / runs,
-            median(&mut absolute[k])
+            "{name}: mean squared error in sigmas {mean_squared:.2}, median |error| {:.3} m",
+            stats::median(&absolute[k])
+        );
+        // The 95 % band of a mean of 100 chi-square(1) values: the arm's
+        // sigmas are honest (docs/calibration.md).
+        assert!(
+            (0.74..=1.30).contains(&mean_squared),
+            "{name}: {mean_squared}"
         );
     }
-    println!(
-        "horizontal RMS, estimated / given arm: median {:.3}",
-        median(&mut ratios)
-    );
+    let ratio = stats::median(&ratios);
+    println!("horizontal RMS, estimated / given arm: median {ratio:.3}");
+    assert!(ratio < 1.0, "{ratio}");
 }

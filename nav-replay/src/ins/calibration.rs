@@ -109,23 +109,36 @@ fn sigmas(cal: &DvlCalibration) -> [f64; 3] {
     [cal.lever_arm, cal.misalignment, cal.scale].map(|s| s.unwrap_or(0.0))
 }
 
-/// The calibrated value of the `K` states from `first` in `x`: the given
-/// value `base` plus the states, with their sigmas when `estimated`.
-fn read<const K: usize>(
-    first: Option<usize>,
+/// The calibrated value of `filter`'s state `state` (`K` scalars, named
+/// `state[0]`.. or `state` for one): the given value `base` plus the
+/// state, with its sigma when `prior` (the prior sigma of a listed value)
+/// is given; a value not listed has sigma 0.
+fn read<V: InsVehicle<N>, const N: usize, const K: usize>(
+    filter: &InsFilter<V, N>,
+    state: &str,
     base: [f64; K],
-    x: &[f64],
-    sigma: impl Fn(usize) -> f64,
-    estimated: bool,
-    prior_sigma: f64,
+    prior: Option<f64>,
 ) -> Calibrated<K> {
-    let i = first.unwrap_or(0);
+    let first = if K == 1 {
+        state.to_string()
+    } else {
+        format!("{state}[0]")
+    };
+    let i = V::STATE_NAMES.iter().position(|n| *n == first).unwrap_or(0);
+    let (x, p) = (filter.ekf().state(), filter.covariance());
     Calibrated {
-        estimated,
+        estimated: prior.is_some(),
         value: core::array::from_fn(|k| base[k] + x[i + k]),
-        sigma: core::array::from_fn(|k| if estimated { sigma(i + k) } else { 0.0 }),
-        prior_sigma,
+        sigma: core::array::from_fn(|k| prior.map_or(0.0, |_| p[(i + k, i + k)].max(0.0).sqrt())),
+        prior_sigma: prior.unwrap_or(0.0),
     }
+}
+
+/// The given lever arm of `sensor` in `meta` (zero when none is given).
+fn given_arm(meta: &Meta, sensor: &str) -> [f64; 3] {
+    meta.sensors
+        .mounting(sensor)
+        .map_or([0.0; 3], |m| m.lever_arm)
 }
 
 /// The JSON of one calibrated value (docs/cli-and-json.md), `unit` times
@@ -177,42 +190,16 @@ impl DvlMounting {
         if !can_calibrate::<V, N>() {
             return None;
         }
-        let x = filter.ekf().state();
-        let p = filter.covariance();
-        let at = |name: &str| V::STATE_NAMES.iter().position(|n| *n == name);
-        let given = meta
-            .sensors
-            .mounting("dvl")
-            .map_or([0.0; 3], |m| m.lever_arm);
         let cal = &meta.sensors.dvl_calibration;
-        let [arm_prior, angle_prior, scale_prior] = sigmas(cal);
-        let sigma = |i: usize| p[(i, i)].max(0.0).sqrt();
-        let x = x.as_slice();
         Some(Self {
             lever_arm: read(
-                at("dvl_lever_arm[0]"),
-                given,
-                x,
-                sigma,
-                cal.lever_arm.is_some(),
-                arm_prior,
+                filter,
+                "dvl_lever_arm",
+                given_arm(meta, "dvl"),
+                cal.lever_arm,
             ),
-            misalignment: read(
-                at("dvl_misalignment[0]"),
-                [0.0; 3],
-                x,
-                sigma,
-                cal.misalignment.is_some(),
-                angle_prior,
-            ),
-            scale: read(
-                at("dvl_scale"),
-                [1.0],
-                x,
-                sigma,
-                cal.scale.is_some(),
-                scale_prior,
-            ),
+            misalignment: read(filter, "dvl_misalignment", [0.0; 3], cal.misalignment),
+            scale: read(filter, "dvl_scale", [1.0], cal.scale),
         })
     }
 
@@ -246,32 +233,17 @@ impl LeverArm {
         filter: &InsFilter<V, N>,
         meta: &Meta,
     ) -> Vec<Self> {
-        let x = filter.ekf().state();
-        let p = filter.covariance();
         CALIBRATABLE[1..]
             .iter()
             .filter(|c| c.carried_by::<V, N>())
-            .map(|c| {
-                let (state, _) = c.states[0];
-                let first = V::STATE_NAMES
-                    .iter()
-                    .position(|n| *n == format!("{state}[0]"));
-                let given = meta
-                    .sensors
-                    .mounting(c.sensor)
-                    .map_or([0.0; 3], |m| m.lever_arm);
-                let cal = meta.sensors.calibration(c.sensor);
-                LeverArm {
-                    sensor: c.sensor,
-                    lever_arm: read(
-                        first,
-                        given,
-                        x.as_slice(),
-                        |i| p[(i, i)].max(0.0).sqrt(),
-                        cal.lever_arm.is_some(),
-                        cal.lever_arm.unwrap_or(0.0),
-                    ),
-                }
+            .map(|c| LeverArm {
+                sensor: c.sensor,
+                lever_arm: read(
+                    filter,
+                    c.states[0].0,
+                    given_arm(meta, c.sensor),
+                    meta.sensors.calibration(c.sensor).lever_arm,
+                ),
             })
             .collect()
     }
