@@ -42,8 +42,10 @@ mod declared;
 mod error;
 mod feed;
 mod mapping;
+mod plots;
 mod program;
 mod run;
+mod smoothing;
 mod table;
 mod tuning;
 pub mod units;
@@ -67,8 +69,12 @@ pub use mapping::{
     parse as parse_mapping, parse_aiding, AidingMapping, Cell, Column, InitialEstimate, Mapping,
     SensorMapping, Source, DEFAULT_GATE, MAPPING_FILE, TRUTH_FILE,
 };
+pub use plots::file_name as plot_file_name;
 pub use program::run_json;
-pub use run::{angle_states, quaternion_blocks, ModelRun, RunOptions, SensorSummary, TruthScore};
+pub use run::{
+    angle_states, quaternion_blocks, ModelRun, RunOptions, SensorSummary, SmoothedRun, TruthScore,
+    ESTIMATES_TABLE, SMOOTHED_TABLE,
+};
 pub(crate) use table::MappedRows;
 pub use tuning::MappingTuning;
 

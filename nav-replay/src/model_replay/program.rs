@@ -10,7 +10,7 @@ use nav_runtime::model::Model;
 use serde_json::{json, Map, Value};
 
 use super::mapping::Mapping;
-use super::run::{ModelRun, RunOptions};
+use super::run::{ModelRun, RunOptions, TruthScore};
 use super::table::MappedRows;
 use super::tuning::MappingTuning;
 use super::{ModelReplay, ModelReplayError};
@@ -54,7 +54,8 @@ struct Common {
 struct ReplayCommand {
     #[command(flatten)]
     common: Common,
-    /// Directory for `estimates.csv` and `summary.json`.
+    /// Directory for `estimates.csv`, the plots (`state-*.svg`), with
+    /// `--smooth` `smoothed.csv`, and `summary.json`.
     #[arg(long)]
     out: Option<PathBuf>,
     /// Write an estimate at most every this many seconds (0: every input sample).
@@ -63,6 +64,9 @@ struct ReplayCommand {
     /// Report what the log taught each state (docs/observability.md).
     #[arg(long)]
     observability: bool,
+    /// Smooth the run after it (fixed-interval smoother, docs/smoother.md).
+    #[arg(long)]
+    smooth: bool,
 }
 
 /// Identify the sensors' sigmas (and, with `--params`, the `[noise]`
@@ -130,6 +134,7 @@ where
         lenient: c.common.lenient,
         output_period: c.every,
         observability: c.observability,
+        smooth: c.smooth,
     };
     let run = |out: Option<&Path>| {
         replay
@@ -220,6 +225,20 @@ where
     Ok(())
 }
 
+/// The keys of a truth score: `state_error_rms`, `nees_mean`, `nees_dof`,
+/// `scored_samples`.
+fn truth_json(t: &TruthScore, m: &mut Map<String, Value>) {
+    let rms: Map<String, Value> = t
+        .rms
+        .iter()
+        .map(|(n, v)| ((*n).to_string(), Value::from(*v)))
+        .collect();
+    m.insert("state_error_rms".into(), Value::Object(rms));
+    m.insert("nees_mean".into(), Value::from(t.nees_mean));
+    m.insert("nees_dof".into(), Value::from(t.nees_dof));
+    m.insert("scored_samples".into(), Value::from(t.scored));
+}
+
 /// The JSON object of a run (`docs/model-replay.md`, "Output").
 pub fn run_json(name: &str, model: &str, run: &ModelRun, lenient: bool) -> Value {
     let mut sensors = Map::new();
@@ -280,15 +299,15 @@ pub fn run_json(name: &str, model: &str, run: &ModelRun, lenient: bool) -> Value
         json!({ "t": run.span.1, "state": state, "sigma": sigma }),
     );
     if let Some(t) = &run.truth {
-        let rms: Map<String, Value> = t
-            .rms
-            .iter()
-            .map(|(n, v)| ((*n).to_string(), Value::from(*v)))
-            .collect();
-        m.insert("state_error_rms".into(), Value::Object(rms));
-        m.insert("nees_mean".into(), Value::from(t.nees_mean));
-        m.insert("nees_dof".into(), Value::from(t.nees_dof));
-        m.insert("scored_samples".into(), Value::from(t.scored));
+        truth_json(t, &mut m);
+    }
+    if let Some(s) = &run.smoothed {
+        let mut smoothed = Map::new();
+        smoothed.insert("estimates".into(), Value::from(s.estimates));
+        if let Some(t) = &s.truth {
+            truth_json(t, &mut smoothed);
+        }
+        m.insert("smoothed".into(), Value::Object(smoothed));
     }
     m.insert(
         "health".into(),

@@ -6,24 +6,26 @@
 //!
 //! The files are streamed: memory does not grow with the log.
 
-use std::io::Write;
 use std::path::Path;
 use std::time::Instant;
 
 use nav_runtime::ekf::Ekf;
 use nav_runtime::error_state::TotalState;
 use nav_runtime::innovations::InnovationTotals;
-use nav_runtime::log::{SkippedRow, Warning, WarningKind};
+use nav_runtime::log::{LogError, SkippedRow, Warning, WarningKind};
 use nav_runtime::math::wrap_angle;
 use nav_runtime::model::{Model, Record};
 use nav_runtime::nalgebra::{Cholesky, SMatrix, SVector};
-use nav_runtime::scheduler::{Report, Scheduler};
-use nav_runtime::smoother::{EpochFile, SmootherError};
+use nav_runtime::scheduler::{FnMeasurement, MeasurementOutcome, Report, Scheduler};
+use nav_runtime::smoother::{observability, EpochFile, SmootherError, SpillFile};
 
 use super::feed::Feed;
 use super::mapping::Mapping;
+use super::plots;
+use super::smoothing::{self, Forward};
 use super::table::MappedRows;
 use super::{ModelFilter, ModelReplayError};
+use crate::output::series::{BoundedTable, SeriesSink, PLOT_ROWS};
 
 /// An input interval longer than this many of the shortest interval seen
 /// is a gap: an error, or with [`RunOptions::lenient`] propagated in steps.
@@ -44,6 +46,9 @@ pub struct RunOptions {
     /// Record the run and report what it taught each state
     /// (`observability` of the JSON, docs/observability.md).
     pub observability: bool,
+    /// Smooth the run after it (`smoothed` of the JSON, `smoothed.csv`;
+    /// `docs/model-replay.md`, "Smoothing").
+    pub smooth: bool,
 }
 
 /// What happened to one sensor's rows.
@@ -87,6 +92,15 @@ pub struct TruthScore {
     pub nees_dof: usize,
 }
 
+/// The smoothed counterpart of a run ([`RunOptions::smooth`]).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct SmoothedRun {
+    /// Forward estimates given their smoothed counterpart.
+    pub estimates: u64,
+    /// Against the truth file, at the samples the forward run was scored.
+    pub truth: Option<TruthScore>,
+}
+
 /// The result of a replay.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct ModelRun {
@@ -103,6 +117,10 @@ pub struct ModelRun {
     /// Against the truth file, when there is one and it scored a sample
     /// (otherwise a warning says so).
     pub truth: Option<TruthScore>,
+    /// With [`RunOptions::smooth`]: the smoothed estimates (one per
+    /// forward estimate) and, with a truth file, their score at the same
+    /// samples as [`ModelRun::truth`].
+    pub smoothed: Option<SmoothedRun>,
     /// Covariance repairs of the filter.
     pub covariance_repairs: u64,
     /// Bad rows skipped (lenient reading), per file.
@@ -264,12 +282,19 @@ where
     let ekf = Ekf::<M, N>::new(x0, p0, params, noise)
         .map_err(|e| ModelReplayError::Setup(format!("{mapping_file}: {e}")))?;
     let mut ekf = ModelFilter::<M, N>::new(ekf, TotalState::default());
-    if options.observability {
-        let setup = |e: String| ModelReplayError::Setup(format!("--observability: {e}"));
+    if options.observability || options.smooth {
+        let flag = if options.smooth {
+            "--smooth"
+        } else {
+            "--observability"
+        };
+        let setup = |e: String| ModelReplayError::Setup(format!("{flag}: {e}"));
         let file = EpochFile::create(None).map_err(|e| setup(e.to_string()))?;
         ekf.start_recording(file, epoch)
             .map_err(|e| setup(e.to_string()))?;
-        ekf.track_sensor_information();
+        if options.observability {
+            ekf.track_sensor_information();
+        }
     }
     for (feed, m) in feeds.iter().zip(&mapping.sensors) {
         if let Some(m) = m {
@@ -343,6 +368,10 @@ where
         .map(|s| (s.accepted, s.gated, s.rejected))
         .collect::<Vec<_>>();
 
+    // The initial estimate is the first the smoother corrects.
+    if options.smooth {
+        ekf.mark_epoch(epoch);
+    }
     let mut scheduler = Scheduler::new(ekf, epoch)
         .map_err(|e| ModelReplayError::Setup(format!("scheduler: {e}")))?;
     let mut ids = Vec::with_capacity(feeds.len());
@@ -353,40 +382,71 @@ where
                 .map_err(|e| ModelReplayError::Setup(format!("scheduler: {e}")))?,
         );
     }
-
-    let mut estimates = match out {
-        Some(dir) => Some(EstimateWriter::create(dir, &M::STATE_NAMES)?),
-        None => None,
+    // Each estimate handed on is an epoch of the recording, marked through
+    // the scheduler after the rows of its time, so that a re-propagation
+    // marks it again.
+    let epochs = if options.smooth {
+        Some(
+            scheduler
+                .add_sensor("estimate epochs", 1.0, 0.0)
+                .map_err(|e| ModelReplayError::Setup(format!("scheduler: {e}")))?,
+        )
+    } else {
+        None
     };
+
+    let columns = estimate_columns(&M::STATE_NAMES);
+    let columns: Vec<&str> = columns.iter().map(String::as_str).collect();
+    let mut estimates = SeriesSink::new(ESTIMATES_TABLE, &columns, out, false).map_err(output)?;
     let mut truth = truth.map(|rows| Truth { rows, next: None });
     if let Some(t) = truth.as_mut() {
         t.next = t.rows.next_row()?;
     }
-    let mut score = Score::<N>::new(
-        truth
-            .as_ref()
-            .map(|t| std::array::from_fn(|i| t.rows.has(i))),
-    );
+    let has: Option<[bool; N]> = truth
+        .as_ref()
+        .map(|t| std::array::from_fn(|i| t.rows.has(i)));
+    let mut score = Score::<N>::new(has);
+    // The truth rows met, thinned, for the plots.
+    let truth_columns: Vec<&str> = std::iter::once("t").chain(M::STATE_NAMES).collect();
+    let mut truth_plot = out
+        .filter(|_| has.is_some())
+        .map(|_| BoundedTable::new(TRUTH_TABLE, &truth_columns, PLOT_ROWS));
+    let mut forward = options
+        .smooth
+        .then(Forward::<N>::create)
+        .transpose()
+        .map_err(|e| smoother(&e))?;
     let tolerance = 0.5 * period.max(1e-9);
     let mut last_written = f64::NEG_INFINITY;
     let mut t_last = epoch;
+    let mut row = Vec::with_capacity(1 + 2 * N);
     let mut write = |t: f64,
                      f: &ModelFilter<M, N>,
                      truth: Option<&mut Truth>|
      -> Result<(), ModelReplayError> {
-        if let Some(values) = truth.map(|tr| tr.at(t, tolerance)).transpose()?.flatten() {
-            score.add(
-                f.ekf().state(),
-                f.covariance(),
-                values,
-                (&angles, &quaternions),
-            );
-        }
-        if let Some(w) = estimates.as_mut() {
-            if t - last_written >= options.output_period * (1.0 - 1e-9) {
-                w.push(t, f.ekf().state(), f.covariance())?;
-                last_written = t;
+        let (x, p) = (f.ekf().state(), f.covariance());
+        let values = truth.map(|tr| tr.at(t, tolerance)).transpose()?.flatten();
+        if let Some(values) = values {
+            score.add(x, p, values, (&angles, &quaternions));
+            if let (Some(plot), Some(has)) = (truth_plot.as_mut(), &has) {
+                row.clear();
+                row.push(t);
+                row.extend((0..N).map(|i| if has[i] { values[i] } else { f64::NAN }));
+                plot.push(&row);
             }
+        }
+        let due = t - last_written >= options.output_period * (1.0 - 1e-9);
+        if due {
+            last_written = t;
+            if estimates.wanted() {
+                estimate_row(&mut row, t, x, p);
+                estimates.push(&row).map_err(output)?;
+            }
+        }
+        if let Some(forward) = forward.as_mut() {
+            forward
+                .push(t, due, x, values, has.as_ref())
+                .map_err(|e| smoother(&e))?;
         }
         Ok(())
     };
@@ -466,6 +526,11 @@ where
         } else if dt > 0.0 {
             shortest = shortest.min(dt);
         }
+        if let Some(id) = epochs {
+            // Refused only for a non-finite time, which the input row
+            // cannot have.
+            let _ = scheduler.push_measurement(id, t, Box::new(epoch_mark(t)));
+        }
         let reports = scheduler.push_imu(t, input).map_err(refused)?;
         add_nis(&reports, &mut nis_sum, &mut run.sensors);
         run.samples += 1;
@@ -502,9 +567,7 @@ where
         run.sensors[k].rows = p.rows.rows;
         run.sensors[k].skipped_rows = p.rows.skipped_rows;
     }
-    if let Some(w) = estimates {
-        w.finish()?;
-    }
+    let estimates = estimates.finish().map_err(output)?;
 
     let filter = scheduler.filter();
     for (k, s) in run.sensors.iter_mut().enumerate() {
@@ -528,13 +591,88 @@ where
         })
         .collect();
     run.covariance_repairs = filter.ekf().counters().covariance_repairs;
-    if options.observability {
+    // The recording, ended on a copy of the filter: what the run taught
+    // each state, and the smoothed pass.
+    let mut recorded = filter.clone();
+    let information = recorded.sensor_information().cloned();
+    let store = recorded.finish_recording().map_err(|e| smoother(&e))?;
+    if let (true, Some(store)) = (options.observability, &store) {
         let prior: [f64; N] = std::array::from_fn(|i| mapping.initial.sigma[i]);
-        let (json, unlearned) = observed(filter.clone(), &prior)?;
-        run.observability = json;
+        let o = observability(
+            &mut store.borrow_mut(),
+            &prior,
+            0.0,
+            OBSERVABILITY_DIRECTIONS,
+            information.as_ref(),
+        )
+        .map_err(|e| ModelReplayError::Setup(format!("--observability: {e}")))?;
+        let (json, unlearned) = crate::observability::json(&o, &M::STATE_NAMES, |_, _| Some(""));
+        run.observability = Some(json);
         run.warnings.extend(unlearned);
     }
     run.truth = score.finish(&M::STATE_NAMES);
+    let mut smoothed = None;
+    if let (Some(forward), Some(store)) = (forward.as_mut(), &store) {
+        let mut sink = SeriesSink::new(SMOOTHED_TABLE, &columns, out, false).map_err(output)?;
+        // The smoothed estimates come latest first: reversed through a
+        // temporary file into `smoothed.csv`.
+        let mut reversed = sink
+            .wanted()
+            .then(|| SpillFile::create(None, 1 + 2 * N))
+            .transpose()
+            .map_err(|e| smoother(&e))?;
+        let mut smoothed_score = Score::<N>::new(has);
+        let mut count = 0u64;
+        let unmatched = smoothing::smooth::<M, N>(&mut store.borrow_mut(), forward, |e| {
+            count += 1;
+            if let Some(truth) = &e.truth {
+                smoothed_score.add(&e.x, &e.p, truth, (&angles, &quaternions));
+            }
+            match reversed.as_mut() {
+                Some(file) if e.written => {
+                    estimate_row(&mut row, e.t, &e.x, &e.p);
+                    file.push(&row)
+                }
+                _ => Ok(()),
+            }
+        })
+        .map_err(|e| smoother(&e))?;
+        if let Some(file) = reversed.as_mut() {
+            row.resize(1 + 2 * N, 0.0);
+            while file.pop(&mut row).map_err(|e| smoother(&e))? {
+                sink.push(&row).map_err(output)?;
+            }
+        }
+        if unmatched > 0 {
+            run.warnings.push(Warning {
+                kind: WarningKind::Model,
+                file: None,
+                line: None,
+                key: None,
+                message: format!(
+                    "--smooth: {unmatched} estimate(s) have no epoch in the recording and no smoothed counterpart"
+                ),
+            });
+        }
+        smoothed = sink.finish().map_err(output)?;
+        run.smoothed = Some(SmoothedRun {
+            estimates: count,
+            truth: smoothed_score.finish(&M::STATE_NAMES),
+        });
+    }
+    if let Some(dir) = out {
+        plots::write(
+            dir,
+            M::NAME,
+            &M::STATE_NAMES,
+            &plots::Tables {
+                estimates: estimates.as_ref(),
+                truth: truth_plot.map(BoundedTable::into_table).as_ref(),
+                smoothed: smoothed.as_ref(),
+            },
+        )
+        .map_err(output)?;
+    }
     for rows in std::iter::once(&inputs)
         .chain(sensors.iter().flatten().map(|p| &p.rows))
         .chain(truth.iter().map(|t| &t.rows))
@@ -556,25 +694,6 @@ where
 
 /// Weakest directions reported with `--observability`.
 const OBSERVABILITY_DIRECTIONS: usize = 3;
-
-/// The `observability` JSON of the recorded run of `filter`, whose states
-/// started with the sigmas `prior` (a zero sigma: known, left out), and a
-/// warning per state the log did not teach: every state of a declared
-/// model is one the user asked to estimate.
-fn observed<M: Model<N>, const N: usize>(
-    mut filter: ModelFilter<M, N>,
-    prior: &[f64; N],
-) -> Result<(Option<serde_json::Value>, Vec<Warning>), ModelReplayError> {
-    let fail = |e: SmootherError| ModelReplayError::Setup(format!("--observability: {e}"));
-    let Some(o) = filter
-        .finish_observed(prior, 0.0, OBSERVABILITY_DIRECTIONS)
-        .map_err(fail)?
-    else {
-        return Ok((None, Vec::new()));
-    };
-    let (json, warnings) = crate::observability::json(&o, &M::STATE_NAMES, |_, _| Some(""));
-    Ok((Some(json), warnings))
-}
 
 /// The warnings a result needs to be read right: a sensor that never
 /// corrected the filter, an NIS or NEES far from its expectation, repairs.
@@ -833,58 +952,66 @@ impl<const N: usize> Score<N> {
     }
 }
 
-/// `estimates.csv`: time, each state and its sigma.
-struct EstimateWriter {
-    path: std::path::PathBuf,
-    file: std::io::BufWriter<std::fs::File>,
+/// Name of the table of forward estimates (`estimates.csv`).
+pub const ESTIMATES_TABLE: &str = "estimates";
+
+/// Name of the table of smoothed estimates (`smoothed.csv`, `--smooth`).
+pub const SMOOTHED_TABLE: &str = "smoothed";
+
+/// Name of the thinned table of truth rows the plots draw.
+const TRUTH_TABLE: &str = "truth";
+
+/// The columns of `estimates.csv` and `smoothed.csv`: time, each state, and
+/// each state's sigma (`sigma_<state>`).
+fn estimate_columns(names: &[&str]) -> Vec<String> {
+    std::iter::once("t".to_string())
+        .chain(names.iter().map(|n| (*n).to_string()))
+        .chain(names.iter().map(|n| format!("sigma_{n}")))
+        .collect()
 }
 
-impl EstimateWriter {
-    fn create(dir: &Path, names: &[&str]) -> Result<Self, ModelReplayError> {
-        let path = dir.join("estimates.csv");
-        let file = std::fs::File::create(&path).map_err(|e| io_error(&path, e))?;
-        let mut w = EstimateWriter {
-            path,
-            file: std::io::BufWriter::new(file),
-        };
-        let mut header = String::from("t");
-        for n in names {
-            header.push(',');
-            header.push_str(n);
-        }
-        for n in names {
-            header.push_str(",sigma_");
-            header.push_str(n);
-        }
-        writeln!(w.file, "{header}").map_err(|e| io_error(&w.path, e))?;
-        Ok(w)
-    }
+/// One row of `estimates.csv` (see [`estimate_columns`]) into `row`.
+fn estimate_row<const N: usize>(
+    row: &mut Vec<f64>,
+    t: f64,
+    x: &SVector<f64, N>,
+    p: &SMatrix<f64, N, N>,
+) {
+    row.clear();
+    row.push(t);
+    row.extend(x.iter());
+    row.extend((0..N).map(|i| p[(i, i)].sqrt()));
+}
 
-    fn push<const N: usize>(
-        &mut self,
-        t: f64,
-        x: &SVector<f64, N>,
-        p: &SMatrix<f64, N, N>,
-    ) -> Result<(), ModelReplayError> {
-        let mut line = format!("{t}");
-        for v in x.iter() {
-            line.push_str(&format!(",{v}"));
-        }
-        for i in 0..N {
-            line.push_str(&format!(",{}", p[(i, i)].sqrt()));
-        }
-        writeln!(self.file, "{line}").map_err(|e| io_error(&self.path, e))
-    }
-
-    fn finish(mut self) -> Result<(), ModelReplayError> {
-        self.file.flush().map_err(|e| io_error(&self.path, e))
+/// An output file that could not be written.
+fn output(e: crate::RunError) -> ModelReplayError {
+    match e {
+        crate::RunError::Io { path, source } => LogError::Io { path, source }.into(),
+        e => ModelReplayError::Setup(e.to_string()),
     }
 }
 
-fn io_error(path: &Path, e: std::io::Error) -> ModelReplayError {
-    nav_runtime::log::LogError::Io {
-        path: path.to_path_buf(),
-        source: e,
-    }
-    .into()
+/// A failure of the recording or of the smoother's temporary files.
+fn smoother(e: &SmootherError) -> ModelReplayError {
+    ModelReplayError::Setup(format!("--smooth: {e}"))
+}
+
+/// The scheduler's measurement that marks the estimate at `t` as an epoch
+/// of the recording ([`RunOptions::smooth`]).
+fn epoch_mark<M: Model<N>, const N: usize>(
+    t: f64,
+) -> FnMeasurement<
+    impl Fn(&mut ModelFilter<M, N>) -> Result<MeasurementOutcome, nav_runtime::ekf::FilterError>,
+> {
+    FnMeasurement::new(&[], move |f: &mut ModelFilter<M, N>| {
+        f.mark_epoch(t);
+        Ok(MeasurementOutcome {
+            accepted: true,
+            nis: 0.0,
+            threshold: None,
+            dof: 0,
+            statistics: Default::default(),
+            recovered: None,
+        })
+    })
 }
