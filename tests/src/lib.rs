@@ -1,6 +1,6 @@
 //! Workspace-level integration tests live in `tests/tests/`.
 //!
-//! The guide chapters of `docs/` that hold Rust examples are included below as
+//! The README and the chapters of `docs/` that hold Rust examples are included below as
 //! documentation of empty modules, so every example in them is compiled and run
 //! as a doctest of this crate (a crate that is neither `nav-blocks` nor
 //! `models`, as a user's crate would be).
@@ -26,3 +26,13 @@ pub mod pipeline {}
 #[allow(clippy::doc_lazy_continuation, clippy::doc_overindented_list_items)]
 #[doc = include_str!("../../docs/model-replay.md")]
 pub mod model_replay {}
+
+/// `docs/language.md`.
+#[allow(clippy::doc_lazy_continuation, clippy::doc_overindented_list_items)]
+#[doc = include_str!("../../docs/language.md")]
+pub mod language {}
+
+/// `README.md`.
+#[allow(clippy::doc_lazy_continuation, clippy::doc_overindented_list_items)]
+#[doc = include_str!("../../README.md")]
+pub mod readme {}
