@@ -155,6 +155,44 @@ fn broken_mappings_and_logs_are_errors_naming_the_key() {
             "[sensors.Fixx]",
             &["sensors.Fixx", "did you mean `Fix`"],
         ),
+        // A file's clock offset: seconds, finite, of a sane size, and a
+        // unit only with the column it is the unit of.
+        (
+            "replay.toml",
+            "file = \"gnss.csv\"",
+            "file = \"gnss.csv\"\ntime = { offset_s = \"0.3\" }",
+            &[
+                "sensors.Fix.time.offset_s",
+                "expected seconds (a number), found string",
+            ],
+        ),
+        (
+            "replay.toml",
+            "file = \"gnss.csv\"",
+            "file = \"gnss.csv\"\ntime = { offset_s = 1e12 }",
+            &["sensors.Fix.time.offset_s", "is not an offset in seconds"],
+        ),
+        (
+            "replay.toml",
+            "file = \"gnss.csv\"",
+            "file = \"gnss.csv\"\ntime = { offset_s = nan }",
+            &[
+                "sensors.Fix.time.offset_s",
+                "NaN is not an offset in seconds",
+            ],
+        ),
+        (
+            "replay.toml",
+            "file = \"gnss.csv\"",
+            "file = \"gnss.csv\"\ntime = { unit = \"ms\", offset_s = 0.1 }",
+            &["sensors.Fix.time", "`unit` or `scale` without `column`"],
+        ),
+        (
+            "replay.toml",
+            "file = \"gnss.csv\"",
+            "file = \"gnss.csv\"\ntime = { column = \"t\", offset = 0.1 }",
+            &["sensors.Fix.time", "unknown key"],
+        ),
         // One suggestion rule for every name (case, one edit, a swap).
         (
             "replay.toml",
@@ -1198,4 +1236,96 @@ fn smoothing_monte_carlo() {
             mean(nees)
         );
     }
+}
+
+/// A mapped file's clock: the beacon's file written with its clock 0.8 s
+/// ahead. Declared (`time = { offset_s = -0.8 }`) the replay is that of the
+/// true clock; not declared, `tune --params` with the sensor's clock finds
+/// it from the innovations and `--write` puts it into the mapping.
+#[test]
+fn a_mapped_files_clock_is_declared_or_found() {
+    use nav_replay::model_replay::MappingTuning;
+    use nav_replay::tune::{tune, TuneOptions};
+    let dir = TempDir::new("clock");
+    let (truth_log, log) = (dir.0.join("truth"), dir.0.join("ahead"));
+    write_log(&truth_log, 43, SI, DRIVE_STEPS);
+    write_log(&log, 43, SI, DRIVE_STEPS);
+    edit_rows(&log.join("beacon.csv"), |_, row| row[0] += 0.8);
+    let replay = |dir: &Path| {
+        rover()
+            .replay(dir, None, &RunOptions::default(), None)
+            .unwrap()
+    };
+    let (right, ahead) = (replay(&truth_log), replay(&log));
+    let rb = |r: &ModelRun| r.sensors[1].nis_mean.unwrap();
+    // The offset shows in the innovations (the precondition of a search).
+    assert!(
+        rb(&ahead) > 1.5 * rb(&right),
+        "{} against {}",
+        rb(&ahead),
+        rb(&right)
+    );
+
+    let mapping = std::fs::read_to_string(log.join("replay.toml")).unwrap();
+    let declared = mapping.replace(
+        "file = \"beacon.csv\"",
+        "file = \"beacon.csv\"\ntime = { offset_s = -0.8 }",
+    );
+    assert_ne!(declared, mapping);
+    std::fs::write(log.join("declared.toml"), &declared).unwrap();
+    let run = rover()
+        .replay(
+            &log,
+            Some(&log.join("declared.toml")),
+            &RunOptions::default(),
+            None,
+        )
+        .unwrap();
+    // The same run but for the rounding of `t + 0.8 - 0.8` (a row a few
+    // 1e-16 s off an input time splits its interval).
+    for ((name, a, sa), (_, b, sb)) in run.final_state.iter().zip(&right.final_state) {
+        let close = |x: f64, y: f64| (x - y).abs() <= 1e-9 * x.abs().max(1.0);
+        assert!(
+            close(*a, *b) && close(*sa, *sb),
+            "{name}: {a} {b}, {sa} {sb}"
+        );
+    }
+    assert_eq!(run.sensors[1].accepted, right.sensors[1].accepted);
+
+    // Found from the innovations, from a zero offset.
+    let (name, given) = rover().mapping(&log, None).unwrap();
+    let replay = rover();
+    let tunable = MappingTuning::new(&replay, &log, name, given, RunOptions::default());
+    let options = TuneOptions {
+        params: vec![
+            "sensors.RangeBearing.sigma".into(),
+            "sensors.RangeBearing.time.offset_s".into(),
+        ],
+        ..TuneOptions::default()
+    };
+    let t = tune(&tunable, &options, &|_, _| {}).unwrap();
+    let clock = t
+        .parameters
+        .iter()
+        .find(|p| p.key == "sensors.RangeBearing.time.offset_s")
+        .unwrap();
+    assert!(clock.not_identifiable.is_none(), "{clock:?}");
+    assert!((clock.value + 0.8).abs() < 0.05, "{clock:?}");
+
+    // The program writes it into the section (which had no `time`).
+    let out = dir.0.join("tuned.toml");
+    let code = rover().main_with([
+        "rover",
+        "tune",
+        log.to_str().unwrap(),
+        "--params",
+        "sensors.RangeBearing.sigma,sensors.RangeBearing.time.offset_s",
+        "--write",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, std::process::ExitCode::SUCCESS);
+    let (_, tuned) = rover().mapping(&log, Some(&out)).unwrap();
+    let offset = tuned.sensors[1].as_ref().unwrap().source.time_offset_s;
+    assert!((offset + 0.8).abs() < 0.05, "{offset}");
+    assert_eq!(tuned.sensors[0].as_ref().unwrap().source.time_offset_s, 0.0);
 }

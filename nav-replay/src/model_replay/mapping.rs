@@ -48,6 +48,10 @@ pub enum Cell {
     Constant(f64),
 }
 
+/// The largest time offset of a file, s (ten years: anything larger is a
+/// time in other units, not an offset).
+pub const MAX_TIME_OFFSET_S: f64 = 3.2e8;
+
 /// A file and where each of its declared scalars comes from.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Source {
@@ -57,6 +61,9 @@ pub struct Source {
     pub section: String,
     /// The time column, s after conversion.
     pub time: Column,
+    /// Added to every time of the file, s (`time = { .., offset_s = .. }`):
+    /// a sensor whose clock runs 0.3 s ahead of the input's takes -0.3.
+    pub time_offset_s: f64,
     /// One cell per scalar.
     pub cells: Vec<Cell>,
     /// `false` for a file that may be absent (the default truth file).
@@ -223,6 +230,7 @@ pub fn parse(text: &str, file: &str, declared: &Declared) -> Result<Mapping> {
                 key: "truth.time".into(),
                 required: true,
             },
+            time_offset_s: 0.0,
             cells: by_name("truth", &states, false),
             required: false,
         },
@@ -458,12 +466,13 @@ impl Cx<'_> {
                     }
                 };
                 let file = cx.file(&key, s)?;
-                let time = cx.time(&key, s)?;
+                let (time, time_offset_s) = cx.time(&key, s)?;
                 sensors[k] = Some(SensorMapping {
                     source: Source {
                         file,
                         section: key,
                         time,
+                        time_offset_s,
                         cells,
                         required: true,
                     },
@@ -797,20 +806,69 @@ impl Cx<'_> {
         }
     }
 
-    fn time(&self, section: &str, table: &Table) -> Result<Column> {
+    /// The time column of a section and the offset added to its times:
+    /// `time = "column"`, `time = { column = .., unit = .., scale = .. }`,
+    /// either table with `offset_s`, or `time = { offset_s = .. }` for the
+    /// default column.
+    fn time(&self, section: &str, table: &Table) -> Result<(Column, f64)> {
         let key = join(section, "time");
-        match table.get("time") {
-            None => Ok(Column {
-                header: TIME_COLUMN.into(),
-                factor: 1.0,
-                key,
-                required: true,
-            }),
-            Some(v) => match self.cell(&key, v)? {
-                Cell::Column(c) => Ok(c),
-                Cell::Constant(_) => Err((self.err)(&key, "expected a column name".into())),
+        let default = Column {
+            header: TIME_COLUMN.into(),
+            factor: 1.0,
+            key: key.clone(),
+            required: true,
+        };
+        let Some(v) = table.get("time") else {
+            return Ok((default, 0.0));
+        };
+        let (column, offset) = match v {
+            Value::Table(t) if t.contains_key("offset_s") => {
+                self.known_keys(&key, t, &["column", "unit", "scale", "offset_s"])?;
+                let offset_key = join(&key, "offset_s");
+                let offset = match t.get("offset_s") {
+                    Some(Value::Integer(i)) => *i as f64,
+                    Some(Value::Float(f)) => *f,
+                    Some(v) => {
+                        return Err((self.err)(
+                            &offset_key,
+                            format!("expected seconds (a number), found {}", v.type_str()),
+                        ))
+                    }
+                    None => 0.0,
+                };
+                if !(offset.is_finite() && offset.abs() <= MAX_TIME_OFFSET_S) {
+                    return Err((self.err)(
+                        &offset_key,
+                        format!("{offset} is not an offset in seconds (finite, at most {MAX_TIME_OFFSET_S:e} in size)"),
+                    ));
+                }
+                let mut rest = t.clone();
+                rest.remove("offset_s");
+                let column = if rest.is_empty() {
+                    default
+                } else if rest.contains_key("column") {
+                    match self.cell(&key, &Value::Table(rest))? {
+                        Cell::Column(c) => c,
+                        Cell::Constant(_) => default,
+                    }
+                } else {
+                    return Err((self.err)(
+                        &key,
+                        "`unit` or `scale` without `column`: name the time column".into(),
+                    ));
+                };
+                (column, offset)
+            }
+            v => match self.cell(&key, v)? {
+                Cell::Column(c) => (c, 0.0),
+                Cell::Constant(_) => return Err((self.err)(
+                    &key,
+                    "expected a column name, `{ column = .., unit = .. }` or `{ offset_s = .. }`"
+                        .into(),
+                )),
             },
-        }
+        };
+        Ok((column, offset))
     }
 
     /// A `[inputs]`-like section: `file`, `time` and `columns`, every scalar
@@ -830,7 +888,7 @@ impl Cx<'_> {
             (None, Some(f)) => f.to_string(),
             _ => self.file(section, table)?,
         };
-        let time = self.time(section, table)?;
+        let (time, time_offset_s) = self.time(section, table)?;
         let mut cells: Vec<Option<Cell>> = vec![None; names.len()];
         if let Some(columns) = self.table(table, "columns")? {
             self.fill(
@@ -852,6 +910,7 @@ impl Cx<'_> {
             file,
             section: section.to_string(),
             time,
+            time_offset_s,
             cells,
             required: true,
         })

@@ -204,12 +204,10 @@ where
         let out = crate::tune::tuned_mapping_text(&text, &name, &values)?;
         // Read back: the written mapping must give the tuned values.
         let back = super::mapping::parse(&out, &name, &replay.declared()).map_err(invalid)?;
-        let same = back
-            .sensors
-            .iter()
-            .zip(&tuned.sensors)
-            .all(|(a, b)| a.as_ref().map(|m| &m.sigma) == b.as_ref().map(|m| &m.sigma))
-            && back.noise == tuned.noise;
+        let same = back.sensors.iter().zip(&tuned.sensors).all(|(a, b)| {
+            a.as_ref().map(|m| (&m.sigma, m.source.time_offset_s))
+                == b.as_ref().map(|m| (&m.sigma, m.source.time_offset_s))
+        }) && back.noise == tuned.noise;
         if !same {
             return Err(RunError::Invalid(format!(
                 "{name}: the written mapping does not read back to the tuned values"

@@ -30,7 +30,8 @@ pub struct MappedRows {
     reader: csv::Reader<LogFile>,
     record: csv::StringRecord,
     headers: Vec<String>,
-    time: (usize, f64),
+    /// The time column, its unit factor and the offset added (s).
+    time: (usize, f64, f64),
     cells: Vec<Read>,
     /// The current row's values, one per cell (NaN for an absent one).
     values: Vec<f64>,
@@ -148,6 +149,7 @@ impl MappedRows {
         let time = (
             find(&source.time).ok_or_else(|| missing(&source.time))?,
             source.time.factor,
+            source.time_offset_s,
         );
         let mut cells = Vec::with_capacity(source.cells.len());
         for c in &source.cells {
@@ -372,7 +374,7 @@ impl MappedRows {
                 ))
             }
         };
-        let t = converted(self.time.0, self.time.1).map_err(|e| (e, false))?;
+        let t = converted(self.time.0, self.time.1).map_err(|e| (e, false))? + self.time.2;
         if let Some(previous) = self.previous_t {
             if t < previous {
                 return Err((

@@ -2,7 +2,8 @@
 //! can tune ([`crate::tune::Tunable`]): each mapped sensor's `sigma` (all
 //! its outputs scaled together, the value reported is the first output's)
 //! and, when asked for, each `[noise]` entry (a vector's scalars scaled
-//! together).
+//! together) and each mapped sensor's clock offset
+//! (`sensors.<Name>.time.offset_s`, found by the clock search).
 
 use std::path::Path;
 
@@ -13,7 +14,8 @@ use super::run::{run, RunOptions, SensorSummary};
 use super::{Mapping, ModelReplay, ModelReplayError};
 use crate::innovations::SensorInnovations;
 use crate::tune::{
-    noise_block, noise_parameters, own_sensor, with_noise_values, Replayed, Tunable,
+    mapped_clock_key, mapped_clock_of, noise_block, noise_parameters, own_sensor,
+    with_noise_values, Replayed, Tunable,
 };
 use crate::RunError;
 
@@ -54,6 +56,12 @@ impl<'a, M: Model<N>, const N: usize> MappingTuning<'a, M, N> {
                 let k = declared.sensors.iter().position(|s| s.name == name);
                 if let Some(Some(s)) = k.and_then(|k| m.sensors.get_mut(k)) {
                     s.sigma = crate::tune::scaled_sigmas(&s.sigma, *value);
+                }
+            }
+            if let Some(name) = mapped_clock_of(key) {
+                let k = declared.sensors.iter().position(|s| s.name == name);
+                if let Some(Some(s)) = k.and_then(|k| m.sensors.get_mut(k)) {
+                    s.source.time_offset_s = *value;
                 }
             }
         }
@@ -105,6 +113,13 @@ where
             }
         }
         out.extend(noise_parameters(&declared.noise, &self.mapping.noise));
+        // Each mapped file's clock: its times come from its own column, so
+        // it is trusted (not in the default set) unless `--params` names it.
+        for (d, m) in declared.sensors.iter().zip(&self.mapping.sensors) {
+            if let Some(m) = m {
+                out.push((mapped_clock_key(d.name), m.source.time_offset_s));
+            }
+        }
         out
     }
     fn default_parameters(&self) -> Vec<String> {
@@ -119,9 +134,15 @@ where
     }
     fn mapping_values(&self, key: &str) -> Option<Vec<f64>> {
         let declared = self.replay.declared();
-        if let Some(name) = own_sensor(key) {
+        let mapped = |name: &str| {
             let k = declared.sensors.iter().position(|d| d.name == name)?;
-            return Some(self.mapping.sensors.get(k)?.as_ref()?.sigma.clone());
+            self.mapping.sensors.get(k)?.as_ref()
+        };
+        if let Some(name) = own_sensor(key) {
+            return Some(mapped(name)?.sigma.clone());
+        }
+        if let Some(name) = mapped_clock_of(key) {
+            return Some(vec![mapped(name)?.source.time_offset_s]);
         }
         noise_block(&declared.noise, &self.mapping.noise, key)
     }

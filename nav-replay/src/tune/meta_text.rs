@@ -4,8 +4,7 @@
 
 use nav_runtime::log::Meta;
 
-use super::clock_of;
-use super::tunable::in_mapping;
+use super::tunable::{file_clock_of, in_mapping, mapped_clock_of};
 use crate::RunError;
 
 /// `text` (a `meta.toml`) with each `(key, value)` of `values` set, keys as
@@ -25,18 +24,18 @@ pub fn tuned_meta_text(text: &str, values: &[(String, f64)]) -> Result<String, R
         .collect();
     let texts: Vec<(String, String)> = values
         .iter()
-        .filter(|(k, _)| clock_of(k).is_none())
+        .filter(|(k, _)| file_clock_of(k).is_none())
         .map(|(k, v)| (k.clone(), format!("{v:?}")))
         .collect();
     let mut out = with_values(text, "meta.toml", &texts)?;
     for (key, value) in &values {
-        if let Some(sensor) = clock_of(key) {
-            out = with_clock_offset(&out, sensor, *value)?;
+        if let Some(sensor) = file_clock_of(key) {
+            out = with_clock_offset(&out, "meta.toml", &format!("files.{sensor}"), *value)?;
         }
     }
     let (meta, mapping, _) = Meta::parse_log(&out).map_err(RunError::from)?;
     for (key, value) in &values {
-        let read = match clock_of(key) {
+        let read = match file_clock_of(key) {
             Some(sensor) => mapping.time_offset(sensor),
             None => meta.noise_parameter(key),
         };
@@ -49,16 +48,22 @@ pub fn tuned_meta_text(text: &str, values: &[(String, f64)]) -> Result<String, R
     Ok(out)
 }
 
-/// `text` (a `meta.toml`) with `offset_s` of `[files.<sensor>] time` set
-/// to `value`: in the section's one-line `time = { ... }` table (the key
-/// replaced or added), or in its `[files.<sensor>.time]` table, or as a
-/// new `time = { offset_s = ... }` line under the section's header, or in
-/// a new section at the end.
+/// `text` (the TOML file `file`: a `meta.toml`, `section` being
+/// `files.<sensor>`, or a `replay.toml`, `sensors.<Name>`) with `offset_s`
+/// of the section's `time` set to `value`: in the section's one-line `time
+/// = { ... }` table (the key replaced or added), a `time = "column"` made
+/// `time = { column = "column", offset_s = ... }`, or in its
+/// `[<section>.time]` table, or as a new `time = { offset_s = ... }` line
+/// under the section's header, or in a new section at the end.
 ///
 /// # Errors
 /// A `time` table of the section that spans several lines.
-fn with_clock_offset(text: &str, sensor: &str, value: f64) -> Result<String, RunError> {
-    let section = format!("files.{sensor}");
+fn with_clock_offset(
+    text: &str,
+    file: &str,
+    section: &str,
+    value: f64,
+) -> Result<String, RunError> {
     let subtable = format!("{section}.time");
     let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
     let header_of = |line: &str| {
@@ -79,7 +84,7 @@ fn with_clock_offset(text: &str, sensor: &str, value: f64) -> Result<String, Run
             }
             if current == subtable {
                 let key = format!("{subtable}.offset_s");
-                let done = with_values(text, "meta.toml", &[(key, format!("{value:?}"))]);
+                let done = with_values(text, file, &[(key, format!("{value:?}"))]);
                 return done.or_else(|_| {
                     lines.insert(n + 1, format!("offset_s = {value:?}"));
                     Ok(lines.join("\n") + "\n")
@@ -96,9 +101,20 @@ fn with_clock_offset(text: &str, sensor: &str, value: f64) -> Result<String, Run
         if k.trim() != "time" {
             continue;
         }
+        let prefix = &line[..line.len() - rest.len()];
+        let code = rest.split('#').next().unwrap_or("");
+        let given = format!("v = {}", code.trim()).parse::<toml::Table>();
+        if let Some(toml::Value::String(column)) = given.ok().and_then(|mut t| t.remove("v")) {
+            // A column name alone: the table of the column and the offset.
+            let comment = &rest[code.len()..];
+            let space = if comment.is_empty() { "" } else { " " };
+            lines[n] =
+                format!("{prefix} {{ column = {column:?}, offset_s = {value:?} }}{space}{comment}");
+            return Ok(lines.join("\n") + "\n");
+        }
         let (Some(open), Some(close)) = (rest.find('{'), rest.rfind('}')) else {
             return Err(RunError::Invalid(format!(
-                "meta.toml: `{section}.time` is not a one-line table: the tuned clock offset cannot be written into it"
+                "{file}: `{section}.time` is not a one-line table: the tuned clock offset cannot be written into it"
             )));
         };
         let inner = &rest[open + 1..close];
@@ -109,7 +125,6 @@ fn with_clock_offset(text: &str, sensor: &str, value: f64) -> Result<String, Run
             .map(str::to_string)
             .collect();
         entries.push(format!("offset_s = {value:?}"));
-        let prefix = &line[..line.len() - rest.len()];
         let new = format!(
             "{prefix}{}{{ {} }}{}",
             &rest[..open],
@@ -144,6 +159,7 @@ pub fn tuned_mapping_text(
 ) -> Result<String, RunError> {
     let texts: Vec<(String, String)> = values
         .iter()
+        .filter(|(key, _)| mapped_clock_of(key).is_none())
         .map(|(key, v)| {
             let cells: Vec<String> = v.iter().map(|s| format!("{s:?}")).collect();
             let value = match cells.as_slice() {
@@ -153,7 +169,12 @@ pub fn tuned_mapping_text(
             (key.clone(), value)
         })
         .collect();
-    let out = with_values(text, file, &texts)?;
+    let mut out = with_values(text, file, &texts)?;
+    for (key, v) in values {
+        if let (Some(name), [value]) = (mapped_clock_of(key), v.as_slice()) {
+            out = with_clock_offset(&out, file, &format!("sensors.{name}"), *value)?;
+        }
+    }
     let table: toml::Table = out
         .parse()
         .map_err(|e| RunError::Invalid(format!("{file}: not TOML after writing: {e}")))?;
@@ -171,6 +192,7 @@ pub fn tuned_mapping_text(
         }
         let read: Option<Vec<f64>> = match value {
             Some(toml::Value::Float(f)) => Some(vec![*f]),
+            Some(toml::Value::Integer(i)) => Some(vec![*i as f64]),
             Some(toml::Value::Array(a)) => a.iter().map(toml::Value::as_float).collect(),
             _ => None,
         };
@@ -303,6 +325,36 @@ mod tests {
         }
         let several = format!("{META}[files.dvl]\ntime = {{\n  offset_s = 0.1 }}\n");
         assert!(tuned_meta_text(&several, &[(key, 1.0)]).is_err());
+    }
+
+    /// The clock of a sensor fed from `replay.toml`: a time column named
+    /// alone becomes the table of the column and the offset.
+    #[test]
+    fn a_mapped_clock_offset_is_written_into_the_sensors_time() {
+        let key = "sensors.Fix.time.offset_s".to_string();
+        let cases: [(&str, &str); 5] = [
+            (
+                "file = \"gnss.csv\"\ntime = \"stamp\"  # receiver time\n",
+                "time = { column = \"stamp\", offset_s = -0.25 } # receiver time",
+            ),
+            (
+                "time = { column = \"ms\", unit = \"ms\" }\n",
+                "time = { column = \"ms\", unit = \"ms\", offset_s = -0.25 }",
+            ),
+            ("time = { offset_s = 0.5 }\n", "time = { offset_s = -0.25 }"),
+            ("file = \"gnss.csv\"\n", "time = { offset_s = -0.25 }"),
+            (
+                "file = \"gnss.csv\"\ntime=\"t\"\n",
+                "time= { column = \"t\", offset_s = -0.25 }",
+            ),
+        ];
+        for (section, expected) in cases {
+            let text = format!("[inputs]\nfile = \"in.csv\"\n\n[sensors.Fix]\n{section}");
+            let out = tuned_mapping_text(&text, "replay.toml", &[(key.clone(), vec![-0.25])])
+                .unwrap_or_else(|e| panic!("{section}: {e}"));
+            assert!(out.contains(expected), "{section}\n---\n{out}");
+            assert!(out.contains("[inputs]\nfile = \"in.csv\""), "{out}");
+        }
     }
 
     #[test]

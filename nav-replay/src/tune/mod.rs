@@ -39,8 +39,9 @@ use crate::RunError;
 pub use command::{tune_with, tune_with_progress, tuning_warnings, TuneArgs, TuneFlags};
 pub use meta_text::{tuned_mapping_text, tuned_meta_text, with_values};
 pub use tunable::{
-    clock_key, clock_of, in_mapping, noise_block, noise_parameters, own_sensor, scaled_sigmas,
-    tuned_mapping_values, with_noise_values, LogTuning, Replayed, Tunable,
+    clock_key, clock_of, file_clock_of, in_mapping, mapped_clock_key, mapped_clock_of, noise_block,
+    noise_parameters, own_sensor, scaled_sigmas, tuned_mapping_values, with_noise_values,
+    LogTuning, Replayed, Tunable,
 };
 
 /// A parameter whose `ln sigma` is known to worse than this standard error

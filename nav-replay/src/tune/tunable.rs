@@ -52,12 +52,32 @@ pub trait Tunable: Sync {
     fn replay(&self, values: &[(String, f64)]) -> Result<Replayed, RunError>;
 }
 
-/// The sensor whose clock offset `key` is (`files.<sensor>.time.offset_s`,
-/// the offset in seconds added to the times of its file: found by
-/// searching the sensor's innovation likelihood), `None` for the others.
+/// The sensor whose clock offset `key` is (the offset in seconds added to
+/// the times of its file, found by searching the sensor's innovation
+/// likelihood): `files.<sensor>.time.offset_s` of a `meta.toml`
+/// ([`file_clock_of`]) or `sensors.<Name>.time.offset_s` of a
+/// `replay.toml` ([`mapped_clock_of`]); `None` for the others.
 pub fn clock_of(key: &str) -> Option<&str> {
+    file_clock_of(key).or_else(|| mapped_clock_of(key))
+}
+
+/// The sensor of a `meta.toml` clock key, `files.<sensor>.time.offset_s`.
+pub fn file_clock_of(key: &str) -> Option<&str> {
     let sensor = key.strip_prefix("files.")?.strip_suffix(".time.offset_s")?;
     (!sensor.is_empty() && !sensor.contains('.')).then_some(sensor)
+}
+
+/// The sensor of a `replay.toml` clock key, `sensors.<Name>.time.offset_s`.
+pub fn mapped_clock_of(key: &str) -> Option<&str> {
+    let name = key
+        .strip_prefix("sensors.")?
+        .strip_suffix(".time.offset_s")?;
+    (!name.is_empty() && !name.contains('.')).then_some(name)
+}
+
+/// The key of the clock offset of `name`, a sensor fed from `replay.toml`.
+pub fn mapped_clock_key(name: &str) -> String {
+    format!("sensors.{name}.time.offset_s")
 }
 
 /// The key of `sensor`'s clock offset.
@@ -176,9 +196,10 @@ pub fn with_noise_values(
 }
 
 /// Whether `key` is a value of `replay.toml` (`sensors.<name>.sigma`,
-/// `noise.<name>`) rather than of `meta.toml`.
+/// `sensors.<name>.time.offset_s`, `noise.<name>`) rather than of
+/// `meta.toml`.
 pub fn in_mapping(key: &str) -> bool {
-    own_sensor(key).is_some() || key.starts_with("noise.")
+    own_sensor(key).is_some() || mapped_clock_of(key).is_some() || key.starts_with("noise.")
 }
 
 /// A sensor's sigmas (per output) with the first set to `first` and the
@@ -237,7 +258,7 @@ impl Tunable for LogTuning<'_> {
                 k == "sensors.imu.gyro_noise_sigma"
                     || k == "sensors.imu.accel_noise_sigma"
                     || self.sensor_of(k).is_some()
-                    || clock_of(k).is_some_and(mapped_time)
+                    || file_clock_of(k).is_some_and(mapped_time)
             })
             .collect()
     }
@@ -269,14 +290,14 @@ impl Tunable for LogTuning<'_> {
         )
     }
     fn replay(&self, values: &[(String, f64)]) -> Result<Replayed, RunError> {
-        let in_meta = |k: &str| clock_of(k).is_none() && !in_mapping(k);
+        let in_meta = |k: &str| file_clock_of(k).is_none() && !in_mapping(k);
         let mut meta = *self.files.meta();
         for (k, v) in values.iter().filter(|(k, _)| in_meta(k)) {
             meta.set_noise_parameter(k, *v).map_err(RunError::from)?;
         }
         let mut files = self.files.with_meta(meta);
         for (k, v) in values {
-            if let Some(sensor) = clock_of(k) {
+            if let Some(sensor) = file_clock_of(k) {
                 files = files
                     .with_time_offset(sensor, *v)
                     .ok_or_else(|| unknown_parameter(self, k))?;
