@@ -55,6 +55,9 @@ pub struct OwnMapping {
     /// The declared process noise beyond the core's, per scalar: its name
     /// (`current_noise[0]`) and value.
     pub noise: Vec<(String, f64)>,
+    /// Per sensor fed by its declared name: the offset added to its file's
+    /// times, s (`time = { .., offset_s = .. }`).
+    pub clocks: Vec<(String, f64)>,
 }
 
 /// A note of a replay model about no file in particular (kind

@@ -571,3 +571,72 @@ fn gnss_lever_arm_monte_carlo() {
     println!("horizontal RMS, estimated / given arm: median {ratio:.3}");
     assert!(ratio < 1.0, "{ratio}");
 }
+
+/// A voyage whose speed-log file is written with its clock `ahead` s ahead
+/// of the IMU's, with `replay.toml`'s `time` of the sensor set to `time`.
+fn voyage_with_speed_log_ahead(seed: u64, ahead: f64, time: &str) -> TempDir {
+    let log = TempDir::new(&format!("clock-{seed}-{ahead}"));
+    write_voyage(&log.0, seed);
+    let path = log.0.join("water_speed.csv");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut shifted = String::from("time,speed\n");
+    for line in text.lines().skip(1) {
+        let (t, speed) = line.split_once(',').unwrap();
+        let t: f64 = t.parse().unwrap();
+        shifted.push_str(&format!("{:?},{speed}\n", t + ahead));
+    }
+    std::fs::write(&path, shifted).unwrap();
+    let mapping = log.0.join("replay.toml");
+    let text = std::fs::read_to_string(&mapping).unwrap();
+    std::fs::write(&mapping, text.replace("time = \"time\"", time)).unwrap();
+    log
+}
+
+/// The clock of the ship's own sensor, fed from `replay.toml`: declared,
+/// a speed-log file 0.75 s ahead (a shift exact in binary, so the times
+/// come back to the bit) replays exactly as the true clock does; not
+/// declared, `tune --params` with its clock searches it, and on this
+/// voyage (constant speed between four turns, so the readings hardly
+/// change over 0.75 s) says that the log does not identify it, keeping the
+/// given offset, instead of a value that wandered.
+#[test]
+fn the_ship_speed_logs_clock_is_declared_or_searched() {
+    let json = |dir: &Path| -> Value {
+        let (ok, stdout, stderr) = ship(&["replay", dir.to_str().unwrap(), "--json"]);
+        assert!(ok, "{stderr}");
+        serde_json::from_str(&stdout).unwrap()
+    };
+    let right = TempDir::new("clock-right");
+    write_voyage(&right.0, 12);
+    let declared =
+        voyage_with_speed_log_ahead(12, 0.75, "time = { column = \"time\", offset_s = -0.75 }");
+    let (a, b) = (json(&right.0), json(&declared.0));
+    assert_eq!(a["own_states"], b["own_states"]);
+    assert_eq!(a["horizontal_error_rms_m"], b["horizontal_error_rms_m"]);
+    let ahead = voyage_with_speed_log_ahead(12, 0.75, "time = \"time\"");
+    assert_ne!(json(&ahead.0)["own_states"], a["own_states"]);
+
+    let written = ahead.0.join("tuned.toml");
+    let (ok, stdout, stderr) = ship(&[
+        "tune",
+        ahead.0.to_str().unwrap(),
+        "--json",
+        "--params",
+        "sensors.WaterSpeed.sigma,sensors.WaterSpeed.time.offset_s",
+        "--write-mapping",
+        written.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}\n{stdout}");
+    let v: Value = serde_json::from_str(&stdout).unwrap();
+    let p = &v["parameters"]["sensors.WaterSpeed.time.offset_s"];
+    assert_eq!(p["method"], "clock search", "{p}");
+    assert_eq!(p["identifiable"], false, "{p}");
+    assert_eq!(p["value"], 0.0, "{p}");
+    assert!(p["reason"].as_str().unwrap().contains("WaterSpeed"), "{p}");
+    assert_eq!(
+        v["parameters"]["sensors.WaterSpeed.sigma"]["identifiable"], true,
+        "{v}"
+    );
+    let text = std::fs::read_to_string(&written).unwrap();
+    assert!(text.contains("time = \"time\""), "{text}");
+}

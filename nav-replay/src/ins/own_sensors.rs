@@ -157,6 +157,12 @@ impl<V: InsVehicle<N>, const N: usize> OwnSensors<V, N> {
                 .zip(&mapping.noise)
                 .map(|(n, q)| (n.to_string(), *q))
                 .collect(),
+            clocks: self
+                .sensors
+                .iter()
+                .zip(&mapping.sensors)
+                .filter_map(|(s, m)| Some((s.name.to_string(), m.as_ref()?.source.time_offset_s)))
+                .collect(),
         }
     }
 
@@ -209,7 +215,12 @@ impl<V: InsVehicle<N>, const N: usize> OwnSensors<V, N> {
                     .with_key(&format!("sensors.{}.gate", sensor.name)),
                 );
             }
-            let Some(rows) = MappedRows::open(files.dir(), &m.source, MAPPING_FILE, lenient)
+            // A clock offset a tuning replays with.
+            let mut source = m.source.clone();
+            if let Some(offset) = files.mapping_value(&crate::tune::mapped_clock_key(sensor.name)) {
+                source.time_offset_s = offset;
+            }
+            let Some(rows) = MappedRows::open(files.dir(), &source, MAPPING_FILE, lenient)
                 .map_err(mapping_error)?
             else {
                 continue;

@@ -236,6 +236,14 @@ impl Tunable for LogTuning<'_> {
         let names: Vec<&str> = self.own.noise.iter().map(|(n, _)| n.as_str()).collect();
         let values: Vec<f64> = self.own.noise.iter().map(|(_, q)| *q).collect();
         out.extend(noise_parameters(&names, &values));
+        // The clock of each sensor fed by name: its file has a time column
+        // of its own, so it is searched only when `--params` names it.
+        out.extend(
+            self.own
+                .clocks
+                .iter()
+                .map(|(name, offset)| (mapped_clock_key(name), *offset)),
+        );
         out
     }
     /// The IMU's two noise sigmas, every aiding sensor's noise sigma, and
@@ -273,6 +281,10 @@ impl Tunable for LogTuning<'_> {
         if let Some(name) = own_sensor(key) {
             let (_, sigma) = self.own.sigmas.iter().find(|(n, _)| n == name)?;
             return Some(sigma.clone());
+        }
+        if let Some(name) = mapped_clock_of(key) {
+            let (_, offset) = self.own.clocks.iter().find(|(n, _)| n == name)?;
+            return Some(vec![*offset]);
         }
         let names: Vec<&str> = self.own.noise.iter().map(|(n, _)| n.as_str()).collect();
         let values: Vec<f64> = self.own.noise.iter().map(|(_, q)| *q).collect();
