@@ -1329,3 +1329,63 @@ fn a_mapped_files_clock_is_declared_or_found() {
     assert!((offset + 0.8).abs() < 0.05, "{offset}");
     assert_eq!(tuned.sensors[0].as_ref().unwrap().source.time_offset_s, 0.0);
 }
+
+/// The checks of the rows as they stream past: an input column that never
+/// changes and a sensor silent for 50 s are warnings naming the key, the
+/// file and (for the silence) the line after it; the replay still runs.
+#[test]
+fn a_constant_column_and_a_silent_sensor_are_warned() {
+    let dir = TempDir::new("row-checks");
+    let log = dir.0.join("log");
+    write_log(&log, 5, SI, DRIVE_STEPS);
+    // wheels.csv: t, speed, yaw_rate; the speed column held at 1.5 m/s.
+    edit_rows(&log.join("wheels.csv"), |_, row| row[1] = 1.5);
+    // gnss.csv: one fix a second; none from t = 50 s to t = 100 s.
+    let text = std::fs::read_to_string(log.join("gnss.csv")).unwrap();
+    let kept: Vec<&str> = text
+        .lines()
+        .filter(|l| {
+            l.split(',')
+                .next()
+                .and_then(|t| t.parse::<f64>().ok())
+                .is_none_or(|t| !(50.0..100.0).contains(&t))
+        })
+        .collect();
+    std::fs::write(log.join("gnss.csv"), kept.join("\n") + "\n").unwrap();
+    let run = rover()
+        .replay(&log, None, &RunOptions::default(), None)
+        .unwrap();
+    let constant: Vec<_> = run
+        .warnings
+        .iter()
+        .filter(|w| w.message.contains("never"))
+        .collect();
+    assert_eq!(constant.len(), 1, "{:?}", run.warnings);
+    assert_eq!(constant[0].key.as_deref(), Some("inputs.columns.speed"));
+    assert_eq!(constant[0].file.as_deref(), Some("wheels.csv"));
+    let silent: Vec<_> = run
+        .warnings
+        .iter()
+        .filter(|w| w.message.contains("silent"))
+        .collect();
+    assert_eq!(silent.len(), 1, "{:?}", run.warnings);
+    assert_eq!(silent[0].file.as_deref(), Some("gnss.csv"));
+    assert!(
+        silent[0].message.contains("before t = 100.5 s"),
+        "{}",
+        silent[0].message
+    );
+    let line = kept.iter().position(|l| l.starts_with("100.5,")).unwrap() as u64 + 1;
+    assert_eq!(silent[0].line, Some(line));
+    let json = nav_replay::model_replay::run_json("rover", "Rover", &run, false);
+    let kinds: Vec<&str> = json["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|w| w["kind"].as_str())
+        .collect();
+    assert!(
+        kinds.iter().filter(|k| **k == "suspicious").count() >= 2,
+        "{json}"
+    );
+}

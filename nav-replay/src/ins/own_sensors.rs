@@ -220,11 +220,12 @@ impl<V: InsVehicle<N>, const N: usize> OwnSensors<V, N> {
             if let Some(offset) = files.mapping_value(&crate::tune::mapped_clock_key(sensor.name)) {
                 source.time_offset_s = offset;
             }
-            let Some(rows) = MappedRows::open(files.dir(), &source, MAPPING_FILE, lenient)
+            let Some(mut rows) = MappedRows::open(files.dir(), &source, MAPPING_FILE, lenient)
                 .map_err(mapping_error)?
             else {
                 continue;
             };
+            rows.check(sensor.outputs, true);
             let mut feed = Feed {
                 name: sensor.name,
                 sigma: (sigma.len() == 1).then(|| sigma[0]),
@@ -263,7 +264,12 @@ impl<V: InsVehicle<N>, const N: usize> OwnSensors<V, N> {
     /// # Errors
     /// As [`OwnSensors::push_due`].
     pub(super) fn push_rest(&mut self, nav: &mut Navigator<V, N>) -> Result<(), RunError> {
-        self.push_due(f64::INFINITY, nav)
+        self.push_due(f64::INFINITY, nav)?;
+        // What the rows showed about their files (`row_checks`).
+        for f in &self.feeds {
+            self.warnings.extend(f.rows.row_warnings());
+        }
+        Ok(())
     }
 
     /// The innovations of each sensor fed by name (the noise sigma given

@@ -44,6 +44,7 @@ mod feed;
 mod mapping;
 mod plots;
 mod program;
+mod row_checks;
 mod run;
 mod smoothing;
 mod table;

@@ -368,18 +368,21 @@ where
 {
     let mut files = Map::new();
     let declared = replay.declared();
-    let mut feeds = vec![("inputs".to_string(), &mapping.inputs)];
+    // (what the file feeds, its source, the checks of its rows as the
+    // replay makes them: cells checked for a constant, and the spacing)
+    let mut feeds = vec![("inputs".to_string(), &mapping.inputs, usize::MAX, false)];
     for (s, m) in declared.sensors.iter().zip(&mapping.sensors) {
         if let Some(m) = m {
-            feeds.push((format!("sensor {}", s.name), &m.source));
+            feeds.push((format!("sensor {}", s.name), &m.source, m.sigma.len(), true));
         }
     }
-    feeds.push(("truth".to_string(), &mapping.truth));
+    feeds.push(("truth".to_string(), &mapping.truth, 0, false));
     let mut warnings = mapping.warnings.clone();
-    for (what, source) in feeds {
+    for (what, source, cells, intervals) in feeds {
         let Some(mut rows) = MappedRows::open(dir, source, name, lenient)? else {
             continue;
         };
+        rows.check(cells, intervals);
         let mut span: Option<(f64, f64)> = None;
         while let Some((_, t)) = rows.next_row()? {
             span = Some(span.map_or((t, t), |(a, _)| (a, t)));
@@ -391,6 +394,7 @@ where
                 format!("skipped {s}"),
             ));
         }
+        warnings.extend(rows.row_warnings());
         files.insert(
             source.file.clone(),
             json!({

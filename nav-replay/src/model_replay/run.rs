@@ -198,11 +198,18 @@ where
     };
     let mut inputs = MappedRows::open(dir, &mapping.inputs, mapping_file, options.lenient)?
         .ok_or_else(|| ModelReplayError::Setup("no input file".into()))?;
+    // Every input column, and each sensor's reading (not its auxiliary
+    // inputs) and spacing, are checked as they are read.
+    inputs.check(usize::MAX, false);
     let mut sensors: Vec<Option<Pending>> = Vec::with_capacity(feeds.len());
     for m in &mapping.sensors {
         sensors.push(match m {
-            Some(m) => MappedRows::open(dir, &m.source, mapping_file, options.lenient)?
-                .map(|rows| Pending { rows, next: None }),
+            Some(m) => {
+                MappedRows::open(dir, &m.source, mapping_file, options.lenient)?.map(|mut rows| {
+                    rows.check(m.sigma.len(), true);
+                    Pending { rows, next: None }
+                })
+            }
             None => None,
         });
     }
@@ -686,6 +693,7 @@ where
         if let Some(r) = &rows.rejected {
             run.warnings.push(r.warning());
         }
+        run.warnings.extend(rows.row_warnings());
     }
     warn_about_result(&mut run, truth.as_ref().map(|t| t.rows.file()));
     run.runtime_s = start.elapsed().as_secs_f64();

@@ -11,6 +11,7 @@ use nav_runtime::log::{
 };
 
 use super::mapping::{Cell, Column, Source};
+use super::row_checks::RowChecks;
 use super::ModelReplayError;
 
 /// Where a declared scalar is read from once the header is known.
@@ -51,6 +52,10 @@ pub struct MappedRows {
     pub rejected: Option<Rejected>,
     /// Data rows met (read, skipped or rejected).
     data_rows: u64,
+    /// Per cell read from a column: its mapping key and header.
+    column_names: Vec<Option<(String, String)>>,
+    /// The checks of the rows ([`MappedRows::check`]).
+    checks: RowChecks,
 }
 
 /// The skipped rows a reader keeps the reason of.
@@ -178,12 +183,40 @@ impl MappedRows {
             rejects_readings: source.section.starts_with("sensors."),
             rejected: None,
             data_rows: 0,
+            column_names: source
+                .cells
+                .iter()
+                .map(|c| match c {
+                    Cell::Column(col) => Some((col.key.clone(), col.header.clone())),
+                    Cell::Constant(_) => None,
+                })
+                .collect(),
+            checks: RowChecks::default(),
         }))
     }
 
     /// The file's name.
     pub fn file(&self) -> &str {
         &self.file
+    }
+
+    /// Checks the rows as they are read (`row_checks`): the columns of the
+    /// first `cells` cells for a value that never changes, and with
+    /// `intervals` the rows' spacing for a silence.
+    pub fn check(&mut self, cells: usize, intervals: bool) {
+        let columns = (0..cells.min(self.cells.len()))
+            .filter(|&i| matches!(self.cells[i], Read::Column(..)))
+            .filter_map(|i| {
+                let (key, header) = self.column_names.get(i)?.clone()?;
+                Some((i, key, header))
+            })
+            .collect();
+        self.checks = RowChecks::new(columns, intervals);
+    }
+
+    /// The warnings of the checks of the rows read so far.
+    pub fn row_warnings(&self) -> Vec<nav_runtime::log::Warning> {
+        self.checks.warnings(&self.file)
     }
 
     /// Whether cell `i` is read (not [`Read::Absent`]).
@@ -219,6 +252,7 @@ impl MappedRows {
                 Ok(t) => {
                     self.previous_t = Some(t);
                     self.rows += 1;
+                    self.checks.row(line, t, &self.values);
                     return Ok(Some((line, t)));
                 }
                 Err((e, true)) if self.rejects_readings => self.reject_reading(e)?,
