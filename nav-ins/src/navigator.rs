@@ -280,14 +280,7 @@ impl<V: InsVehicle<N>, const N: usize> Navigator<V, N> {
                     slot.1 = Some(e);
                 }
             }
-            Ok(MeasurementOutcome {
-                accepted: true,
-                nis: 0.0,
-                threshold: None,
-                dof: 0,
-                statistics: Default::default(),
-                recovered: None,
-            })
+            Ok(MeasurementOutcome::marker())
         });
         // A request is refused only for a non-finite time: it stays empty.
         let _ = self.scheduler.push_measurement(self.record, t, Box::new(m));

@@ -1013,13 +1013,6 @@ fn epoch_mark<M: Model<N>, const N: usize>(
 > {
     FnMeasurement::new(&[], move |f: &mut ModelFilter<M, N>| {
         f.mark_epoch(t);
-        Ok(MeasurementOutcome {
-            accepted: true,
-            nis: 0.0,
-            threshold: None,
-            dof: 0,
-            statistics: Default::default(),
-            recovered: None,
-        })
+        Ok(MeasurementOutcome::marker())
     })
 }

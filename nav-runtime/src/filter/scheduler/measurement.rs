@@ -51,6 +51,21 @@ pub struct MeasurementOutcome {
     pub recovered: Option<f64>,
 }
 
+impl MeasurementOutcome {
+    /// The outcome of a measurement that only marks a time (an estimate
+    /// asked for, an epoch of a recording): applied, no innovation.
+    pub fn marker() -> Self {
+        Self {
+            accepted: true,
+            nis: 0.0,
+            threshold: None,
+            dof: 0,
+            statistics: InnovationStatistics::default(),
+            recovered: None,
+        }
+    }
+}
+
 impl<const M: usize> From<&UpdateReport<M>> for MeasurementOutcome {
     fn from(r: &UpdateReport<M>) -> Self {
         Self {
