@@ -100,6 +100,7 @@ pub fn tuning_warnings(tuning: &Tuning) -> Vec<Warning> {
             .filter(|w| w.kind != WarningKind::NoiseSigma)
             .cloned(),
     );
+    warnings.extend(tuned_through_recovery(tuning));
     for w in &warnings {
         eprintln!("warning: {}", w.message);
     }
@@ -116,6 +117,62 @@ pub fn tuning_warnings(tuning: &Tuning) -> Vec<Warning> {
     }
     warnings
 }
+
+/// A tuned noise sigma far (more than [`RECOVERY_SIGMA_FACTOR`] times either
+/// way) from its given value, of a sensor from whose lock-out the replay
+/// with the tuned values recovered: while the filter was wrong, that
+/// sensor's innovations measured the filter's error rather than the
+/// sensor's noise, and the sigma may describe the former (a wrong initial
+/// state, most often). A warning keyed by the parameter, about the
+/// sensor's file.
+fn tuned_through_recovery(tuning: &Tuning) -> Vec<Warning> {
+    let recovered: Vec<&Warning> = tuning
+        .after
+        .warnings
+        .iter()
+        .filter(|w| w.kind == WarningKind::LockoutRecovery)
+        .collect();
+    let mut out = Vec::new();
+    for p in &tuning.parameters {
+        let Some(sensor) = p
+            .key
+            .strip_prefix("sensors.")
+            .and_then(|k| k.strip_suffix(".noise_sigma"))
+        else {
+            continue;
+        };
+        let file = format!("{sensor}.csv");
+        let factor = p.value / p.initial;
+        let far = factor > RECOVERY_SIGMA_FACTOR || factor < 1.0 / RECOVERY_SIGMA_FACTOR;
+        if !far
+            || !recovered
+                .iter()
+                .any(|w| w.file.as_deref() == Some(file.as_str()))
+        {
+            continue;
+        }
+        out.push(
+            Warning::about(
+                WarningKind::Suspicious,
+                &file,
+                format!(
+                    "{}: tuned to {:.4} ({factor:.1} times the given {}) with a replay that \
+                     recovered from a lock-out of the {sensor}: while the filter was wrong its \
+                     {sensor} innovations measured the filter's error, not the {sensor}'s noise, \
+                     and the value may describe that; check the initial state (meta.toml \
+                     [initial]) before using it",
+                    p.key, p.value, p.initial
+                ),
+            )
+            .with_key(&p.key),
+        );
+    }
+    out
+}
+
+/// How far (a factor either way) a tuned sigma must move from its given
+/// value for [`tuned_through_recovery`] to doubt it.
+pub const RECOVERY_SIGMA_FACTOR: f64 = 3.0;
 
 /// `navsim tune` with `model` (`args.model` is not looked up).
 ///
@@ -179,4 +236,60 @@ pub fn tune_with(model: &dyn ReplayModel, args: &TuneArgs) -> Result<(), RunErro
     }
     emit(&value, args.json);
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::{ParameterKind, Replayed, TunedParameter};
+    use super::*;
+
+    /// (the DVL sigma's given and tuned values, which files recovered,
+    /// whether the tuned sigma is doubted)
+    #[test]
+    fn a_sigma_tuned_through_a_recovery_is_doubted() {
+        let cases: [(f64, f64, &[&str], bool); 6] = [
+            (0.02, 0.148, &["dvl.csv"], true),
+            (0.02, 0.005, &["dvl.csv"], true),
+            (0.02, 0.03, &["dvl.csv"], false),
+            (0.02, 0.148, &[], false),
+            (0.02, 0.148, &["usbl.csv"], false),
+            (0.02, 0.148, &["dvl.csv", "usbl.csv"], true),
+        ];
+        for (given, tuned, recovered, doubted) in cases {
+            let tuning = Tuning {
+                model: "m".into(),
+                parameters: vec![TunedParameter {
+                    key: "sensors.dvl.noise_sigma".into(),
+                    kind: ParameterKind::SensorNoise,
+                    initial: given,
+                    value: tuned,
+                    log_standard_error: 0.02,
+                    not_identifiable: None,
+                }],
+                replays: 10,
+                converged: true,
+                log_likelihood: (None, 0.0),
+                notes: Vec::new(),
+                nis: Default::default(),
+                after: Replayed {
+                    innovations: Vec::new(),
+                    warnings: recovered
+                        .iter()
+                        .map(|f| Warning::about(WarningKind::LockoutRecovery, f, "recovered"))
+                        .collect(),
+                },
+            };
+            let w = tuned_through_recovery(&tuning);
+            assert_eq!(
+                w.len(),
+                usize::from(doubted),
+                "{given} {tuned} {recovered:?}: {w:?}"
+            );
+            if let Some(w) = w.first() {
+                assert_eq!(w.key.as_deref(), Some("sensors.dvl.noise_sigma"));
+                assert_eq!(w.file.as_deref(), Some("dvl.csv"));
+                assert_eq!(w.kind, WarningKind::Suspicious);
+            }
+        }
+    }
 }
