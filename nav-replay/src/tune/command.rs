@@ -143,7 +143,7 @@ fn tuned_through_recovery(tuning: &Tuning) -> Vec<Warning> {
         };
         let file = format!("{sensor}.csv");
         let factor = p.value / p.initial;
-        let far = factor > RECOVERY_SIGMA_FACTOR || factor < 1.0 / RECOVERY_SIGMA_FACTOR;
+        let far = !(1.0 / RECOVERY_SIGMA_FACTOR..=RECOVERY_SIGMA_FACTOR).contains(&factor);
         if !far
             || !recovered
                 .iter()
