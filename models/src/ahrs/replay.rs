@@ -30,6 +30,7 @@ use crate::ulog::reference::EstimatePoint;
 use crate::ulog::replay::{declination, rpy_json, DECLINATION_WINDOW_S};
 use crate::ulog::running_score::{ReferenceScore, TruthScore, REFERENCE_COLUMNS, TRUTH_COLUMNS};
 use nav_ins::ImuSample;
+use nav_replay::innovations::SensorInnovations;
 use nav_replay::output::series::SeriesSink;
 
 /// `navsim replay --model ahrs`.
@@ -283,8 +284,30 @@ pub fn replay_source(
         samples: counts.samples,
         runtime_s: filter_time.as_secs_f64(),
         warnings,
+        // The magnetometer's, whose sigma is `[sensors.mag] noise_sigma`;
+        // a gravity window's variance is the accelerometer's over the
+        // window with a floor, not one setting a factor could correct.
+        innovations: vec![SensorInnovations {
+            sensor: "mag".into(),
+            noise_sigma: Some(stream.settings().mag_sigma),
+            gated: counts.mag.gated,
+            setting: ("meta.toml".into(), "sensors.mag.noise_sigma".into()),
+            totals: stream.innovations().mag,
+        }],
         ..Default::default()
     };
+    // Per sensor with updates, as every replay with innovations reports
+    // them, with a warning for a sigma they say is off (docs/tuning.md).
+    output.metrics.insert(
+        "innovations".into(),
+        nav_replay::innovations::innovations_json(&output.innovations),
+    );
+    let off: Vec<Warning> = output
+        .innovations
+        .iter()
+        .filter_map(|s| s.warning())
+        .collect();
+    output.warnings.extend(off);
     if let Some(o) = &observed {
         // The attitude is the solution; the gyro bias is estimated, and a
         // bias the log did not teach is said.

@@ -13,8 +13,11 @@
 //! sample. Until the IMU has covered a magnetometer row's time the row
 //! waits here, not in the scheduler, so that a gap can still take it.
 
+use nav_runtime::innovations::InnovationTotals;
 use nav_runtime::log::MagRow;
-use nav_runtime::scheduler::{Measurement, MeasurementOutcome, Scheduler, SensorId, SensorStats};
+use nav_runtime::scheduler::{
+    Measurement, MeasurementOutcome, Report, Scheduler, SensorId, SensorStats,
+};
 use nav_runtime::smoother::{EpochFile, Observability, SmootherError};
 
 use super::gravity_window::{GravityWindow, GRAVITY_PERIOD_S};
@@ -65,6 +68,17 @@ pub struct AhrsCounts {
     pub samples: usize,
 }
 
+/// The innovations of a run's updates, applied or gated (each counted
+/// once, when first applied: a re-propagation's repeat is not), for the
+/// per-sensor NIS and noise tuning (`docs/tuning.md`).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct AhrsInnovations {
+    /// The magnetometer's heading updates.
+    pub mag: InnovationTotals,
+    /// The gravity windows' updates.
+    pub gravity: InnovationTotals,
+}
+
 /// The `ahrs` filter fed row by row (see the module docs).
 pub struct AhrsStream {
     settings: AhrsSettings,
@@ -81,6 +95,8 @@ pub struct AhrsStream {
     settled: AhrsCounts,
     /// Rows and skips, counted here.
     counts: AhrsCounts,
+    /// The updates' innovations.
+    innovations: AhrsInnovations,
 }
 
 impl AhrsStream {
@@ -139,6 +155,7 @@ impl AhrsStream {
             waiting: Vec::new(),
             settled: AhrsCounts::default(),
             counts: AhrsCounts::default(),
+            innovations: AhrsInnovations::default(),
         })
     }
 
@@ -186,13 +203,17 @@ impl AhrsStream {
                 );
                 // After the last sample: queued, applied at `t` by `push_imu`.
                 // A refusal is counted in the scheduler's statistics.
-                let _ = self.scheduler.push_measurement(self.gravity_id, t, m);
+                if let Ok(reports) = self.scheduler.push_measurement(self.gravity_id, t, m) {
+                    self.note(&reports);
+                }
             }
         }
         self.hand_over_waiting(t);
-        self.scheduler
+        let reports = self
+            .scheduler
             .push_imu(t, imu)
             .map_err(|e| RunError::Invalid(format!("ahrs: imu.csv t = {t}: {e}")))?;
+        self.note(&reports);
         self.counts.samples += 1;
         Ok(ImuStep::Propagated {
             window_closed: closed.is_some(),
@@ -218,11 +239,13 @@ impl AhrsStream {
         if row.t <= now {
             // Late: applied at its time by re-propagation (or refused as
             // too old, counted by the scheduler).
-            let _ = self.scheduler.push_measurement(
+            if let Ok(reports) = self.scheduler.push_measurement(
                 self.mag_id,
                 row.t,
                 heading_of(&self.settings, &row),
-            );
+            ) {
+                self.note(&reports);
+            }
             return Ok(());
         }
         self.waiting.push(row);
@@ -256,6 +279,24 @@ impl AhrsStream {
         c
     }
 
+    /// The innovations of the updates so far.
+    pub fn innovations(&self) -> AhrsInnovations {
+        self.innovations
+    }
+
+    /// Adds the innovations of the updates the scheduler reports (each
+    /// once: a re-propagation's repeat is not counted again).
+    fn note(&mut self, reports: &[Report]) {
+        for r in reports.iter().filter(|r| !r.replay) {
+            let Ok(o) = &r.outcome else { continue };
+            if r.sensor == self.mag_id {
+                self.innovations.mag.add(&o.statistics);
+            } else if r.sensor == self.gravity_id {
+                self.innovations.gravity.add(&o.statistics);
+            }
+        }
+    }
+
     /// Pushes the waiting rows up to `t` to the scheduler (queued, applied
     /// inside the coming interval at their own times).
     fn hand_over_waiting(&mut self, t: f64) {
@@ -263,15 +304,19 @@ impl AhrsStream {
             return;
         }
         let mut waiting = std::mem::take(&mut self.waiting);
+        let mut reports = Vec::new();
         waiting.retain(|row| {
             if row.t > t {
                 return true;
             }
             let m = heading_of(&self.settings, row);
             // A refusal is counted in the scheduler's statistics.
-            let _ = self.scheduler.push_measurement(self.mag_id, row.t, m);
+            if let Ok(r) = self.scheduler.push_measurement(self.mag_id, row.t, m) {
+                reports.extend(r);
+            }
             false
         });
+        self.note(&reports);
         self.waiting = waiting;
     }
 
@@ -299,6 +344,9 @@ impl AhrsStream {
         for row in &waiting {
             let m = heading_of(&self.settings, row);
             let outcome = m.check().and_then(|()| m.apply(&mut filter));
+            if let Ok(o) = &outcome {
+                self.innovations.mag.add(&o.statistics);
+            }
             count_outcome(&mut self.settled.mag, outcome);
         }
         self.waiting = waiting;
