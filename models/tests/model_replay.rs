@@ -635,6 +635,14 @@ fn what_the_log_does_not_feed_is_said() {
             .any(|m| m.contains("sensor Fix: 10 row(s) more than one input period before")),
         "{messages:?}"
     );
+    // The files of the two sensors cut from the mapping feed nothing.
+    let unused: Vec<&str> = run
+        .warnings
+        .iter()
+        .filter(|w| w.kind == nav_runtime::log::WarningKind::UnusedFile)
+        .filter_map(|w| w.file.as_deref())
+        .collect();
+    assert_eq!(unused, ["beacon.csv", "landmarks.csv"], "{messages:?}");
     assert_eq!(run.samples, 1900);
 }
 

@@ -10,6 +10,8 @@
 //! outside the log directory is a [`ModelReplayError::Mapping`] naming the
 //! key (and what it may be).
 
+use std::path::Path;
+
 use nav_runtime::log::{closest_name, relative_log_path, Warning, WarningKind};
 use toml::{Table, Value};
 
@@ -110,6 +112,42 @@ pub struct Mapping {
     pub truth: Source,
     /// What the mapping leaves out.
     pub warnings: Vec<Warning>,
+}
+
+impl Mapping {
+    /// A warning for each CSV file (`.csv`, `.csv.gz`) at the top of the log
+    /// directory `dir` that no section maps (a sensor left out of the
+    /// mapping, or a file under another name): its rows feed nothing.
+    /// Sorted by name; nothing when the directory cannot be listed (the
+    /// files the mapping names are checked when they are opened).
+    pub fn unmapped_files(&self, dir: &Path) -> Vec<Warning> {
+        let mapped: Vec<&str> = std::iter::once(&self.inputs)
+            .chain(self.sensors.iter().flatten().map(|s| &s.source))
+            .chain(std::iter::once(&self.truth))
+            .map(|s| s.file.trim_start_matches("./"))
+            .collect();
+        let Ok(entries) = std::fs::read_dir(dir) else {
+            return Vec::new();
+        };
+        let mut names: Vec<String> = entries
+            .flatten()
+            .filter(|e| e.file_type().is_ok_and(|t| t.is_file()))
+            .filter_map(|e| e.file_name().into_string().ok())
+            .filter(|n| n.ends_with(".csv") || n.ends_with(".csv.gz"))
+            .filter(|n| !mapped.contains(&n.as_str()))
+            .collect();
+        names.sort();
+        names
+            .into_iter()
+            .map(|n| {
+                Warning::about(
+                    WarningKind::UnusedFile,
+                    &n,
+                    format!("{n} is in the log directory but no section of the mapping names it: its rows feed nothing"),
+                )
+            })
+            .collect()
+    }
 }
 
 /// The gate probability when a sensor's section gives none.

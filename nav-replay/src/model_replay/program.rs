@@ -378,6 +378,7 @@ where
     }
     feeds.push(("truth".to_string(), &mapping.truth, 0, false));
     let mut warnings = mapping.warnings.clone();
+    warnings.extend(mapping.unmapped_files(dir));
     for (what, source, cells, intervals) in feeds {
         let Some(mut rows) = MappedRows::open(dir, source, name, lenient)? else {
             continue;

@@ -196,6 +196,7 @@ where
         warnings: mapping.warnings.clone(),
         ..ModelRun::default()
     };
+    run.warnings.extend(mapping.unmapped_files(dir));
     let mut inputs = MappedRows::open(dir, &mapping.inputs, mapping_file, options.lenient)?
         .ok_or_else(|| ModelReplayError::Setup("no input file".into()))?;
     // Every input column, and each sensor's reading (not its auxiliary
