@@ -1098,7 +1098,7 @@ fn the_observability_report_of_a_declared_model() {
 
 /// The same rover log with `--smooth` (seed 3): the forward run is
 /// unchanged (its estimates and final state to the bit), every forward
-/// estimate has a smoothed counterpart at its time, the smoothed errors
+/// estimate written or scored has a smoothed counterpart at its time, the smoothed errors
 /// are smaller than the forward ones for every state and still covered by
 /// their sigmas, and `--out` holds `smoothed.csv` (the rows of
 /// `estimates.csv`, `--every` included) and a plot per state.
@@ -1187,6 +1187,44 @@ fn a_declared_model_is_smoothed() {
         let plain_plot = read(&plain_out.join(nav_replay::model_replay::plot_file_name(name)));
         assert!(!plain_plot.contains("smoothed"), "{name}");
     }
+
+    // Only the estimates written or scored are epochs: truth once a second
+    // and an output every 2 s give the 201 whole seconds, of which the 101
+    // even ones are written.
+    edit_rows_keeping(&log.join("truth.csv"), |row| {
+        (row[0] * 10.0).round() % 10.0 == 0.0
+    });
+    let sparse_out = out("sparse");
+    let options = RunOptions {
+        output_period: 2.0,
+        smooth: true,
+        ..RunOptions::default()
+    };
+    let run = rover()
+        .replay(&log, None, &options, Some(&sparse_out))
+        .unwrap();
+    let smoothed = run.smoothed.as_ref().unwrap();
+    assert_eq!(smoothed.estimates, 201);
+    assert_eq!(smoothed.truth.as_ref().unwrap().scored, 201);
+    assert_eq!(run.truth.as_ref().unwrap().scored, 201);
+    let s = rows(&read(&sparse_out.join("smoothed.csv")));
+    assert_eq!(s.len(), 101);
+    assert!(s.iter().all(|r| r[0] % 2.0 == 0.0), "{:?}", &s[..3]);
+}
+
+/// Keeps the data rows of `path` for which `keep` holds (the header always).
+fn edit_rows_keeping(path: &Path, keep: impl Fn(&[f64]) -> bool) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let mut out = format!("{}\n", lines.next().unwrap());
+    for line in lines {
+        let values: Vec<f64> = line.split(',').map(|c| c.parse().unwrap()).collect();
+        if keep(&values) {
+            out.push_str(line);
+            out.push('\n');
+        }
+    }
+    std::fs::write(path, out).unwrap();
 }
 
 /// Monte Carlo of the smoothed rover (seeds 7100-7199, not used while

@@ -426,11 +426,24 @@ where
         .map_err(|e| smoother(&e))?;
     let tolerance = 0.5 * period.max(1e-9);
     let mut last_written = f64::NEG_INFINITY;
+    // Whether the estimate at `t` is written (`--every`), advancing the
+    // output clock when it is.
+    let mut due = |t: f64| {
+        let due = t - last_written >= options.output_period * (1.0 - 1e-9);
+        if due {
+            last_written = t;
+        }
+        due
+    };
     let mut t_last = epoch;
     let mut row = Vec::with_capacity(1 + 2 * N);
+    // The estimate at `t`: scored, written when `due`, and handed to the
+    // smoother when `marked` (an epoch of the recording).
     let mut write = |t: f64,
                      f: &ModelFilter<M, N>,
-                     truth: Option<&mut Truth>|
+                     truth: Option<&mut Truth>,
+                     due: bool,
+                     marked: bool|
      -> Result<(), ModelReplayError> {
         let (x, p) = (f.ekf().state(), f.covariance());
         let values = truth.map(|tr| tr.at(t, tolerance)).transpose()?.flatten();
@@ -443,22 +456,18 @@ where
                 plot.push(&row);
             }
         }
-        let due = t - last_written >= options.output_period * (1.0 - 1e-9);
-        if due {
-            last_written = t;
-            if estimates.wanted() {
-                estimate_row(&mut row, t, x, p);
-                estimates.push(&row).map_err(output)?;
-            }
+        if due && estimates.wanted() {
+            estimate_row(&mut row, t, x, p);
+            estimates.push(&row).map_err(output)?;
         }
-        if let Some(forward) = forward.as_mut() {
+        if let (Some(forward), true) = (forward.as_mut(), marked) {
             forward
                 .push(t, due, x, values, has.as_ref())
                 .map_err(|e| smoother(&e))?;
         }
         Ok(())
     };
-    write(epoch, scheduler.filter(), truth.as_mut())?;
+    write(epoch, scheduler.filter(), truth.as_mut(), due(epoch), true)?;
     let mut shortest = if period > 0.0 { period } else { f64::INFINITY };
     // Gaps propagated in steps: how many, and the first.
     let (mut gaps, mut first_gap) = (0u64, None::<String>);
@@ -534,16 +543,27 @@ where
         } else if dt > 0.0 {
             shortest = shortest.min(dt);
         }
+        // The smoother corrects the estimates written or scored: only
+        // those are epochs of the recording.
+        let written = due(t);
+        let mut marked = false;
         if let Some(id) = epochs {
-            // Refused only for a non-finite time, which the input row
-            // cannot have.
-            let _ = scheduler.push_measurement(id, t, Box::new(epoch_mark(t)));
+            let scored = match truth.as_mut() {
+                Some(tr) => tr.at(t, tolerance)?.is_some(),
+                None => false,
+            };
+            marked = written || scored;
+            if marked {
+                // Refused only for a non-finite time, which the input row
+                // cannot have.
+                let _ = scheduler.push_measurement(id, t, Box::new(epoch_mark(t)));
+            }
         }
         let reports = scheduler.push_imu(t, input).map_err(refused)?;
         add_nis(&reports, &mut nis_sum, &mut run.sensors);
         run.samples += 1;
         t_last = t;
-        write(t, scheduler.filter(), truth.as_mut())?;
+        write(t, scheduler.filter(), truth.as_mut(), written, marked)?;
     }
     if let Some(first) = first_gap {
         run.warnings.push(Warning::about(
