@@ -813,6 +813,8 @@ fn a_discrete_model_without_inputs_replays_from_a_clock() {
     let dir = TempDir::new("tracker");
     let (step_sigma, range_sigma) = (0.05, 2.0);
     let (mut nis, mut nees) = (Vec::new(), Vec::new());
+    // The same runs smoothed: NEES and the position RMS over the forward's.
+    let (mut smoothed_nees, mut ratio) = (Vec::new(), Vec::new());
     for seed in 0..10u64 {
         let log = dir.0.join(format!("seed{seed}"));
         std::fs::create_dir_all(&log).unwrap();
@@ -850,18 +852,37 @@ fn a_discrete_model_without_inputs_replays_from_a_clock() {
             ),
         )
         .unwrap();
-        let run = ModelReplay::<Tracker, 2>::new("tracker")
-            .sensor::<TrackerRange, 1>()
+        let replay = ModelReplay::<Tracker, 2>::new("tracker").sensor::<TrackerRange, 1>();
+        let run = replay
             .replay(&log, None, &RunOptions::default(), None)
             .unwrap_or_else(|e| panic!("seed {seed}: {e}"));
         assert_eq!((run.samples, run.sensors[0].rows), (1000, 250));
         assert!(run.warnings.is_empty(), "{:?}", run.warnings);
         nis.push(run.sensors[0].nis_mean.unwrap());
-        nees.push(run.truth.unwrap().nees_mean);
+        let forward = run.truth.unwrap();
+        nees.push(forward.nees_mean);
+        let smoothing = RunOptions {
+            smooth: true,
+            ..RunOptions::default()
+        };
+        let smoothed = replay.replay(&log, None, &smoothing, None).unwrap();
+        let s = smoothed.smoothed.unwrap().truth.unwrap();
+        smoothed_nees.push(s.nees_mean);
+        ratio.push(s.rms[0].1 / forward.rms[0].1);
     }
     let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
     assert!((0.8..1.2).contains(&mean(&nis)), "NIS {nis:?}");
     assert!((1.5..2.6).contains(&mean(&nees)), "NEES {nees:?}");
+    // A discrete model smooths as a continuous one does: consistent, and
+    // closer to the truth than the filter between the ranges.
+    assert!(
+        (1.5..2.6).contains(&mean(&smoothed_nees)),
+        "NEES {smoothed_nees:?}"
+    );
+    assert!(
+        mean(&ratio) < 0.9,
+        "position RMS smoothed / forward {ratio:?}"
+    );
 }
 
 nav_runtime::model! {
