@@ -308,3 +308,38 @@ fn list_names_scenarios_and_models() {
         .iter()
         .any(|m| m["name"] == DEMO_MODEL));
 }
+
+/// `replay --model leveling6 --out` writes its table and the roll and pitch
+/// errors with their sigma bounds as plots, as the other replays do.
+#[test]
+fn the_leveling_replay_writes_its_plots() {
+    let tmp = TempDir::new("leveling-plots");
+    let log = tmp.path().join("log");
+    let out = tmp.path().join("out");
+    let o = navsim(&[
+        "simulate",
+        "leveling-moving",
+        "--seed",
+        "3",
+        "--out",
+        log.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v = json(&navsim(&[
+        "replay",
+        log.to_str().unwrap(),
+        "--model",
+        "leveling6",
+        "--json",
+        "--out",
+        out.to_str().unwrap(),
+    ]));
+    assert!(v["roll_error_final_deg"].is_number(), "{v}");
+    for file in ["attitude.csv", "replay-roll.svg", "replay-pitch.svg"] {
+        let text =
+            std::fs::read_to_string(out.join(file)).unwrap_or_else(|e| panic!("{file}: {e}"));
+        assert!(text.len() > 100, "{file}");
+    }
+    let svg = std::fs::read_to_string(out.join("replay-roll.svg")).unwrap();
+    assert!(svg.contains("sigma"), "the bounds are drawn");
+}

@@ -483,6 +483,28 @@ impl ReplayModel for Leveling6Replay {
     fn log_files(&self) -> Option<&'static [&'static str]> {
         Some(&["imu.csv", "speed.csv", "truth.csv"])
     }
+    /// The tables as CSV and, with truth, the roll and pitch errors with
+    /// their `±3 sigma` bounds (`replay-roll.svg`, `replay-pitch.svg`).
+    fn write_outputs(&self, output: &ReplayOutput, dir: &Path) -> Result<(), RunError> {
+        for table in &output.tables {
+            table.write_csv(&dir.join(format!("{}.csv", table.name)))?;
+        }
+        let Some(t) = output.tables.iter().find(|t| t.name == TABLE) else {
+            return Ok(());
+        };
+        let time = t.column("t");
+        for angle in ["roll", "pitch"] {
+            nav_replay::output::plot::error_with_sigma(
+                &dir.join(format!("replay-{angle}.svg")),
+                &format!("{}: {angle} error with ±3 sigma", self.name()),
+                &format!("{angle} error [deg]"),
+                &time,
+                &t.column(&format!("{angle}_error_deg")),
+                &t.column(&format!("{angle}_sigma_deg")),
+            )?;
+        }
+        Ok(())
+    }
     fn replay(&self, log: &LogDir, options: &ReplayOptions) -> Result<ReplayOutput, RunError> {
         // Gravity and the earth rate at the initial latitude and height.
         log.meta.initial.position_for(self.name())?;
