@@ -183,15 +183,7 @@ fn out_dir_gets_csv_plots_and_summary() {
 fn simulate_then_replay_reproduces_the_scenario() {
     let dir = TempDir::new("sim");
     let log = dir.path().join("log");
-    let o = navsim(&[
-        "simulate",
-        DEMO,
-        "--seed",
-        "21",
-        "--out",
-        log.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    common::simulate(DEMO, 21, &log);
     for f in ["imu.csv", "depth.csv", "truth.csv", "meta.toml"] {
         assert!(log.join(f).is_file(), "{f}");
     }
@@ -223,15 +215,7 @@ fn simulate_then_replay_reproduces_the_scenario() {
 fn replay_of_a_malformed_log_names_file_line_column_and_writes_nothing() {
     let dir = TempDir::new("bad");
     let log = dir.path().join("log");
-    let o = navsim(&[
-        "simulate",
-        DEMO,
-        "--seed",
-        "2",
-        "--out",
-        log.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    common::simulate(DEMO, 2, &log);
     let depth = log.join("depth.csv");
     let mut lines: Vec<String> = std::fs::read_to_string(&depth)
         .unwrap()
@@ -316,15 +300,7 @@ fn the_leveling_replay_writes_its_plots() {
     let tmp = TempDir::new("leveling-plots");
     let log = tmp.path().join("log");
     let out = tmp.path().join("out");
-    let o = navsim(&[
-        "simulate",
-        "leveling-moving",
-        "--seed",
-        "3",
-        "--out",
-        log.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    common::simulate("leveling-moving", 3, &log);
     let v = json(&navsim(&[
         "replay",
         log.to_str().unwrap(),

@@ -242,15 +242,7 @@ fn survey_bag(log: &LogDir, origin: [f64; 3]) -> Vec<u8> {
 fn a_survey_as_a_bag_and_as_csv_replays_the_same() {
     let dir = TempDir::new("bag-csv");
     let sim = dir.path().join("sim");
-    let o = navsim(&[
-        "simulate",
-        SURVEY,
-        "--seed",
-        "5",
-        "--out",
-        sim.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    common::simulate(SURVEY, 5, &sim);
     let full = LogDir::read(&sim, Strictness::Strict).expect("simulated log");
     // The CSV directory: what a bag carries, times from the first row.
     let t0 = full.imu[0].t;

@@ -88,15 +88,7 @@ fn write_at_rest(dir: &Path, seconds: f64) {
 fn a_survey_without_position_fixes_does_not_learn_the_position() {
     let tmp = TempDir::new("obs-dvl");
     let dir = tmp.path().join("log");
-    let o = navsim(&[
-        "simulate",
-        "lawnmower-dvl",
-        "--seed",
-        "4",
-        "--out",
-        dir.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    common::simulate("lawnmower-dvl", 4, &dir);
     let v = replay(&dir, "sdins20");
     for state in ["position_error[0]", "position_error[1]"] {
         assert!(learned(&v, state) < 0.01, "{state}: {}", v["observability"]);
@@ -195,15 +187,7 @@ fn at_rest_without_a_compass_heading_and_vertical_gyro_bias_are_not_learned() {
 fn a_model_without_the_report_refuses_the_flag() {
     let tmp = TempDir::new("obs-refuse");
     let dir = tmp.path().join("log");
-    let o = navsim(&[
-        "simulate",
-        "lawnmower-dvl",
-        "--seed",
-        "2",
-        "--out",
-        dir.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    common::simulate("lawnmower-dvl", 2, &dir);
     let o = navsim(&[
         "replay",
         dir.to_str().unwrap(),
@@ -223,15 +207,7 @@ fn a_model_without_the_report_refuses_the_flag() {
 fn the_leveling_filter_reports_what_the_weave_taught() {
     let tmp = TempDir::new("obs-leveling");
     let dir = tmp.path().join("log");
-    let o = navsim(&[
-        "simulate",
-        "leveling-moving",
-        "--seed",
-        "3",
-        "--out",
-        dir.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    common::simulate("leveling-moving", 3, &dir);
     let v = replay(&dir, "leveling6");
     assert!(learned(&v, "velocity[2]") < 1e-6, "{}", v["observability"]);
     for state in [

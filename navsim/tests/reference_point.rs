@@ -64,15 +64,7 @@ fn at_reference(truth: &[TruthRow]) -> Vec<TruthRow> {
 fn simulated(tag: &str) -> (TempDir, std::path::PathBuf) {
     let dir = TempDir::new(tag);
     let log = dir.path().join("log");
-    let o = navsim(&[
-        "simulate",
-        "lawnmower-dvl",
-        "--seed",
-        "5",
-        "--out",
-        log.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    common::simulate("lawnmower-dvl", 5, &log);
     (dir, log)
 }
 

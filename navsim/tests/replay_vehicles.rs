@@ -186,15 +186,7 @@ fn keys(v: &Value) -> Vec<String> {
 fn navsim_replays_composed_vehicles() {
     let tmp = TempDir::new("replay-vehicles");
     let dvl = tmp.path().join("dvl");
-    let o = navsim(&[
-        "simulate",
-        "lawnmower-dvl",
-        "--seed",
-        "2",
-        "--out",
-        dvl.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    common::simulate("lawnmower-dvl", 2, &dvl);
 
     // (b) A log without USBL: the same keys, the same final error; sdins25
     // says that its declared USBL is fed by no file, sdins20 has none.
@@ -238,15 +230,7 @@ fn navsim_replays_composed_vehicles() {
     // (c) A log with USBL rows: sdins20 counts them as skipped and warns; its
     // result is that of the same log without usbl.csv.
     let usbl = tmp.path().join("usbl");
-    let o = navsim(&[
-        "simulate",
-        "lawnmower-usbl",
-        "--seed",
-        "2",
-        "--out",
-        usbl.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    common::simulate("lawnmower-usbl", 2, &usbl);
     let rows = std::fs::read_to_string(usbl.join("usbl.csv"))
         .unwrap()
         .lines()

@@ -61,15 +61,7 @@ fn replay_smooth_reports_and_writes_the_smoothed_run() {
     let dir = TempDir::new("smooth");
     let log = dir.path().join("log");
     let out = dir.path().join("out");
-    let o = navsim(&[
-        "simulate",
-        "lawnmower-usbl-10s",
-        "--seed",
-        "4",
-        "--out",
-        log.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    common::simulate("lawnmower-usbl-10s", 4, &log);
     let log = log.to_str().unwrap();
     let forward = json(&navsim(&["replay", log, "--model", "sdins25", "--json"]));
     let both = json(&navsim(&[

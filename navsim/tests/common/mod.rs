@@ -44,6 +44,19 @@ pub fn navsim_env(args: &[&str], env: &[(&str, &str)]) -> Output {
     cmd.output().expect("navsim runs")
 }
 
+/// `navsim simulate SCENARIO --seed SEED --out DIR`, which must succeed.
+pub fn simulate(scenario: &str, seed: u64, dir: &Path) {
+    let o = navsim(&[
+        "simulate",
+        scenario,
+        "--seed",
+        &seed.to_string(),
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
 pub fn stdout(o: &Output) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned()
 }
