@@ -7,42 +7,34 @@
 //! second and over the seeds; figures in docs/runtime.md. Printed with
 //! `--nocapture`.
 
+mod turning_flight;
+
 use models::ahrs::settings::AhrsSettings;
 use models::ahrs::stream::AhrsStream;
-use nav_ins::ImuSample;
-use nav_runtime::attitude::Euler;
 use nav_runtime::log::MagRow;
 use nav_runtime::nalgebra::{Matrix3, Vector3};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
+use turning_flight::{
+    c_bn, imu, mag, ACCEL_SIGMA, BIAS_SIGMA, DURATION, GRAVITY, GYRO_SIGMA, MAG_SIGMA, PERIOD,
+    PITCH, ROLL, YAW,
+};
 
 const SEEDS: std::ops::Range<u64> = 9700..9800;
-const PERIOD: f64 = 0.01;
-const DURATION: f64 = 60.0;
-const GRAVITY: f64 = 9.80665;
-const GYRO_SIGMA: f64 = 2e-3;
-const ACCEL_SIGMA: f64 = 0.05;
-const MAG_SIGMA: f64 = 0.004;
-const BIAS_SIGMA: f64 = 2e-3;
 const LEVEL_SIGMA: f64 = 0.05;
 const HEADING_SIGMA: f64 = 0.2;
-const TURN_RATE: f64 = 0.1;
-const ROLL: f64 = 0.3;
-const PITCH: f64 = -0.2;
 
 /// The mean attitude NEES of one seed's run after its first second.
 fn run(seed: u64) -> f64 {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut n = || -> f64 { StandardNormal.sample(&mut rng) };
-    let yaw0 = 1.0;
-    let truth = |t: f64| Euler::new(ROLL, PITCH, yaw0 + TURN_RATE * t).c_bn();
     let bias = Vector3::new(n(), n(), n()) * BIAS_SIGMA;
     let settings = AhrsSettings {
         attitude: [
             ROLL + LEVEL_SIGMA * n(),
             PITCH + LEVEL_SIGMA * n(),
-            yaw0 + HEADING_SIGMA * n(),
+            YAW + HEADING_SIGMA * n(),
         ],
         level_sigma: LEVEL_SIGMA,
         heading_sigma: HEADING_SIGMA,
@@ -55,23 +47,15 @@ fn run(seed: u64) -> f64 {
         declination: 0.0,
     };
     let mut stream = AhrsStream::new(settings).expect("a filter");
-    let field_n = Vector3::new(0.2, 0.0, 0.45);
-    let gravity_n = Vector3::new(0.0, 0.0, -GRAVITY);
     let mut sum = 0.0;
     let mut count = 0usize;
     let steps = (DURATION / PERIOD).round() as usize;
     for k in 0..=steps {
         let t = k as f64 * PERIOD;
-        let c = truth(t);
-        // The body rate of a turn about the navigation z axis.
-        let rate = c.transpose() * Vector3::new(0.0, 0.0, TURN_RATE);
-        let gyro = rate + bias + Vector3::new(n(), n(), n()) * GYRO_SIGMA;
-        let accel = c.transpose() * gravity_n + Vector3::new(n(), n(), n()) * ACCEL_SIGMA;
-        stream
-            .push_imu(t, ImuSample { gyro, accel })
-            .expect("a step");
+        let c = c_bn(t);
+        stream.push_imu(t, imu(t, &bias, &mut n)).expect("a step");
         if k % 10 == 0 && k > 0 {
-            let m = c.transpose() * field_n + Vector3::new(n(), n(), n()) * MAG_SIGMA;
+            let m = mag(t, &mut n);
             stream
                 .push_mag(MagRow::new(t, m.x, m.y, m.z))
                 .expect("a row");

@@ -4,30 +4,21 @@
 //! 10 Hz with a known noise), `meta.toml` giving the magnetometer's sigma
 //! 10 times too large or too small.
 
+mod turning_flight;
+
 use models::ahrs::replay::AhrsReplay;
 use nav_replay::temp_dir::TempDir;
 use nav_replay::tune::{tune, LogTuning, TuneOptions, Tuning};
 use nav_replay::ReplayOptions;
-use nav_runtime::attitude::Euler;
 use nav_runtime::log::{ImuRow, LogDir, LogFiles, MagRow, Meta, Strictness};
 use nav_runtime::nalgebra::Vector3;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
 use std::path::Path;
-
-const PERIOD: f64 = 0.01;
-const DURATION: f64 = 60.0;
-const GRAVITY: f64 = 9.80665;
-const GYRO_SIGMA: f64 = 2e-3;
-const ACCEL_SIGMA: f64 = 0.05;
-/// The magnetometer's true noise per axis, gauss.
-const MAG_SIGMA: f64 = 0.004;
-const BIAS_SIGMA: f64 = 2e-3;
-const TURN_RATE: f64 = 0.1;
-const ROLL: f64 = 0.3;
-const PITCH: f64 = -0.2;
-const YAW: f64 = 1.0;
+use turning_flight::{
+    imu, mag, ACCEL_SIGMA, BIAS_SIGMA, DURATION, GYRO_SIGMA, MAG_SIGMA, PERIOD, PITCH, ROLL, YAW,
+};
 
 /// Writes the flight of `seed` into `dir`, `meta.toml` giving the
 /// magnetometer sigma `given`.
@@ -42,25 +33,20 @@ fn write_flight(dir: &Path, seed: u64, given: f64) {
          [sensors.mag]\nbias_sigma = 0.0\nnoise_sigma = {given:?}\n"
     );
     let mut log = LogDir::new(Meta::parse(&meta).unwrap());
-    let truth = |t: f64| Euler::new(ROLL, PITCH, YAW + TURN_RATE * t).c_bn();
     let bias = Vector3::new(n(), n(), n()) * BIAS_SIGMA;
-    let field_n = Vector3::new(0.2, 0.0, 0.45);
-    let gravity_n = Vector3::new(0.0, 0.0, -GRAVITY);
-    let mut mag = Vec::new();
+    let mut rows = Vec::new();
     let steps = (DURATION / PERIOD).round() as usize;
     for k in 0..=steps {
         let t = k as f64 * PERIOD;
-        let c = truth(t);
-        let rate = c.transpose() * Vector3::new(0.0, 0.0, TURN_RATE);
-        let w = rate + bias + Vector3::new(n(), n(), n()) * GYRO_SIGMA;
-        let f = c.transpose() * gravity_n + Vector3::new(n(), n(), n()) * ACCEL_SIGMA;
+        let s = imu(t, &bias, &mut n);
+        let (w, f) = (s.gyro, s.accel);
         log.imu.push(ImuRow::new(t, w.x, w.y, w.z, f.x, f.y, f.z));
         if k % 10 == 5 {
-            let m = c.transpose() * field_n + Vector3::new(n(), n(), n()) * MAG_SIGMA;
-            mag.push(MagRow::new(t, m.x, m.y, m.z));
+            let m = mag(t, &mut n);
+            rows.push(MagRow::new(t, m.x, m.y, m.z));
         }
     }
-    log.mag = Some(mag);
+    log.mag = Some(rows);
     log.write(dir).unwrap();
 }
 
