@@ -38,8 +38,12 @@ const DURATION: f64 = 900.0;
 struct TempDir(PathBuf);
 
 impl TempDir {
+    /// A fresh directory, unique per process, tag and call (tests run in
+    /// parallel, and two may use one tag).
     fn new(tag: &str) -> Self {
-        let p = std::env::temp_dir().join(format!("ship-{tag}-{}", std::process::id()));
+        static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+        let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let p = std::env::temp_dir().join(format!("ship-{tag}-{}-{call}", std::process::id()));
         let _ = std::fs::remove_dir_all(&p);
         std::fs::create_dir_all(&p).unwrap();
         TempDir(p)
@@ -70,11 +74,26 @@ fn write_voyage_with(dir: &Path, seed: u64, current_q: f64) {
 /// [`write_voyage_with`] with the GNSS antenna truly at `antenna` (body
 /// axes from the IMU, m), while `meta.toml` gives [`ANTENNA`].
 fn write_voyage_at(dir: &Path, seed: u64, current_q: f64, antenna: [f64; 3]) {
+    write_voyage_speeds(dir, seed, current_q, antenna, &[]);
+}
+
+/// [`write_voyage_at`] with the speed changed by each `(start s, duration s,
+/// change m/s)` of `speed_steps` (smoothly, over the duration).
+fn write_voyage_speeds(
+    dir: &Path,
+    seed: u64,
+    current_q: f64,
+    antenna: [f64; 3],
+    speed_steps: &[(f64, f64, f64)],
+) {
     let start = Geodetic::new(0.6, 2.2, 0.0);
     let mut spec = TrajectorySpec::new(start, 0.5, 4.0);
     let mut t = 120.0;
     for delta in [1.6, -2.1, 1.2, -1.0] {
         t = spec.turn(t, delta) + 100.0;
+    }
+    for &(t0, duration, delta) in speed_steps {
+        spec.speed.add_step(t0, duration, delta);
     }
     let traj = Trajectory::new(spec, DURATION, 0.1);
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
@@ -573,10 +592,16 @@ fn gnss_lever_arm_monte_carlo() {
 }
 
 /// A voyage whose speed-log file is written with its clock `ahead` s ahead
-/// of the IMU's, with `replay.toml`'s `time` of the sensor set to `time`.
-fn voyage_with_speed_log_ahead(seed: u64, ahead: f64, time: &str) -> TempDir {
+/// of the IMU's, with `replay.toml`'s `time` of the sensor set to `time`;
+/// the ship's speed changed by `speed_steps` (see [`write_voyage_speeds`]).
+fn voyage_with_speed_log_ahead(
+    seed: u64,
+    ahead: f64,
+    time: &str,
+    speed_steps: &[(f64, f64, f64)],
+) -> TempDir {
     let log = TempDir::new(&format!("clock-{seed}-{ahead}"));
-    write_voyage(&log.0, seed);
+    write_voyage_speeds(&log.0, seed, 0.0, ANTENNA, speed_steps);
     let path = log.0.join("water_speed.csv");
     let text = std::fs::read_to_string(&path).unwrap();
     let mut shifted = String::from("time,speed\n");
@@ -608,12 +633,16 @@ fn the_ship_speed_logs_clock_is_declared_or_searched() {
     };
     let right = TempDir::new("clock-right");
     write_voyage(&right.0, 12);
-    let declared =
-        voyage_with_speed_log_ahead(12, 0.75, "time = { column = \"time\", offset_s = -0.75 }");
+    let declared = voyage_with_speed_log_ahead(
+        12,
+        0.75,
+        "time = { column = \"time\", offset_s = -0.75 }",
+        &[],
+    );
     let (a, b) = (json(&right.0), json(&declared.0));
     assert_eq!(a["own_states"], b["own_states"]);
     assert_eq!(a["horizontal_error_rms_m"], b["horizontal_error_rms_m"]);
-    let ahead = voyage_with_speed_log_ahead(12, 0.75, "time = \"time\"");
+    let ahead = voyage_with_speed_log_ahead(12, 0.75, "time = \"time\"", &[]);
     assert_ne!(json(&ahead.0)["own_states"], a["own_states"]);
 
     let written = ahead.0.join("tuned.toml");
@@ -639,4 +668,46 @@ fn the_ship_speed_logs_clock_is_declared_or_searched() {
     );
     let text = std::fs::read_to_string(&written).unwrap();
     assert!(text.contains("time = \"time\""), "{text}");
+}
+
+/// The speed log's clock where the speed changes: the same voyage with the
+/// ship slowing from 4 to 1.5 m/s and speeding up again, four times (10 s
+/// ramps), and its speed-log file 0.75 s ahead; `tune` finds the offset
+/// from the readings around the ramps and `--write-mapping` writes it.
+#[test]
+fn the_ship_finds_its_speed_logs_clock_where_the_speed_changes() {
+    let steps = [
+        (60.0, 10.0, -2.5),
+        (90.0, 10.0, 2.5),
+        (300.0, 10.0, -2.5),
+        (330.0, 10.0, 2.5),
+        (520.0, 10.0, -2.5),
+        (550.0, 10.0, 2.5),
+        (700.0, 10.0, -2.5),
+        (730.0, 10.0, 2.5),
+    ];
+    let ahead = voyage_with_speed_log_ahead(12, 0.75, "time = \"time\"", &steps);
+    let written = ahead.0.join("tuned.toml");
+    let (ok, stdout, stderr) = ship(&[
+        "tune",
+        ahead.0.to_str().unwrap(),
+        "--json",
+        "--params",
+        "sensors.WaterSpeed.sigma,sensors.WaterSpeed.time.offset_s",
+        "--write-mapping",
+        written.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}\n{stdout}");
+    let v: Value = serde_json::from_str(&stdout).unwrap();
+    let p = &v["parameters"]["sensors.WaterSpeed.time.offset_s"];
+    assert_eq!(p["identifiable"], true, "{v}");
+    let found = p["value"].as_f64().unwrap();
+    assert!((found + 0.75).abs() < 0.1, "{p}");
+    let text = std::fs::read_to_string(&written).unwrap();
+    assert!(
+        text.contains(&format!(
+            "time = {{ column = \"time\", offset_s = {found:?} }}"
+        )),
+        "{text}"
+    );
 }
