@@ -12,7 +12,7 @@ use nav_replay::ins::setup::{run_vehicle, FilterOptions};
 use nav_runtime::earth::{Geodetic, LocalNed};
 use nav_runtime::log::{LogDir, Meta, UsblRow};
 use nav_runtime::nalgebra::Vector3;
-use nav_runtime::stats;
+use nav_runtime::stats::{self, NormalizedErrors};
 use nav_runtime::trajectory::TruthSource;
 
 /// True transponder position from the IMU, body axes (FRD), m: aft,
@@ -135,33 +135,27 @@ const MONTE_CARLO_SEEDS: std::ops::Range<u64> = 6100..6200;
 #[test]
 #[ignore = "Monte Carlo over 100 seeds; prints the figures of docs/calibration.md"]
 fn usbl_lever_arm_monte_carlo() {
-    let (mut squared, mut absolute) = ([0.0; 2], [Vec::new(), Vec::new()]);
+    let mut errors = [NormalizedErrors::default(), NormalizedErrors::default()];
     let mut ratios = Vec::new();
     for seed in MONTE_CARLO_SEEDS {
         let log = mounted_log(seed);
         let (_, fixed) = score::<28, Sdins25UsblCal>(&with_estimate(&log, ""));
         let (arms, estimated) = score::<28, Sdins25UsblCal>(&with_estimate(&log, "\"lever_arm\""));
         let arm = arms[0].lever_arm;
-        for k in 0..2 {
-            let error = arm.value[k] - LEVER_ARM[k];
-            squared[k] += (error / arm.sigma[k]).powi(2);
-            absolute[k].push(error.abs());
+        for (k, e) in errors.iter_mut().enumerate() {
+            e.add(arm.value[k] - LEVER_ARM[k], arm.sigma[k]);
         }
         ratios.push(estimated / fixed);
     }
-    let runs = MONTE_CARLO_SEEDS.count() as f64;
-    for (k, name) in ["forward", "right"].iter().enumerate() {
-        let mean_squared = squared[k] / runs;
+    for (e, name) in errors.iter().zip(["forward", "right"]) {
         println!(
-            "{name}: mean squared error in sigmas {mean_squared:.2}, median |error| {:.3} m",
-            stats::median(&absolute[k])
+            "{name}: mean squared error in sigmas {:.2}, median |error| {:.3} m",
+            e.mean_squared(),
+            e.median_absolute()
         );
-        // The 95 % band of a mean of 100 chi-square(1) values: the arm's
-        // sigmas are honest (docs/calibration.md).
-        assert!(
-            (0.74..=1.30).contains(&mean_squared),
-            "{name}: {mean_squared}"
-        );
+        // In the 95 % band of a mean of 100 chi-square(1) values: the
+        // arm's sigmas are honest (docs/calibration.md).
+        assert!(e.consistent(), "{name}: {}", e.mean_squared());
     }
     let ratio = stats::median(&ratios);
     println!("horizontal RMS, estimated / arm taken as zero: median {ratio:.3}");

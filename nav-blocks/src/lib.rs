@@ -127,12 +127,8 @@ nav_runtime::model! {
                 /// Vector from the USBL transducer to the vehicle, NED, m.
                 relative_position: 3,
             }
-            let a = 6378137.0;
-            let e2 = 0.0066943799901413165;
-            let s0 = sin(latitude);
-            let k0 = 1.0 - e2 * s0 * s0;
-            let rm0 = a * (1.0 - e2) / (k0 * sqrt(k0));
-            let rn0 = a / sqrt(k0);
+            let rm0 = meridian_radius(latitude);
+            let rn0 = transverse_radius(latitude);
             let tilt = cross(usbl_misalignment, relative_position);
             h = [
                 (rm0 + height) * position_error[0] - usbl_bias[0] - tilt[0],
@@ -167,12 +163,8 @@ nav_runtime::model! {
                 /// Vector from the USBL transducer to the vehicle, NED, m.
                 relative_position: 3,
             }
-            let a = 6378137.0;
-            let e2 = 0.0066943799901413165;
-            let s0 = sin(latitude);
-            let k0 = 1.0 - e2 * s0 * s0;
-            let rm0 = a * (1.0 - e2) / (k0 * sqrt(k0));
-            let rn0 = a / sqrt(k0);
+            let rm0 = meridian_radius(latitude);
+            let rn0 = transverse_radius(latitude);
             let tilt = cross(usbl_misalignment, relative_position);
             let arm = c_bn * usbl_lever_arm;
             h = [
@@ -281,12 +273,8 @@ nav_runtime::model! {
                 /// Antenna position in body axes relative to the IMU, m.
                 antenna_lever_arm: 3,
             }
-            let a = 6378137.0;
-            let e2 = 0.0066943799901413165;
-            let s0 = sin(latitude);
-            let k0 = 1.0 - e2 * s0 * s0;
-            let rm0 = a * (1.0 - e2) / (k0 * sqrt(k0));
-            let rn0 = a / sqrt(k0);
+            let rm0 = meridian_radius(latitude);
+            let rn0 = transverse_radius(latitude);
             let c_true = c_bn + skew(attitude_error) * c_bn;
             let arm_error = (c_bn - c_true) * antenna_lever_arm;
             h = [
@@ -318,12 +306,8 @@ nav_runtime::model! {
                 /// Antenna position in body axes relative to the IMU, m.
                 antenna_lever_arm: 3,
             }
-            let a = 6378137.0;
-            let e2 = 0.0066943799901413165;
-            let s0 = sin(latitude);
-            let k0 = 1.0 - e2 * s0 * s0;
-            let rm0 = a * (1.0 - e2) / (k0 * sqrt(k0));
-            let rn0 = a / sqrt(k0);
+            let rm0 = meridian_radius(latitude);
+            let rn0 = transverse_radius(latitude);
             let c_true = c_bn + skew(attitude_error) * c_bn;
             let arm_error = (c_bn - c_true) * antenna_lever_arm;
             let shift = c_bn * gnss_lever_arm;

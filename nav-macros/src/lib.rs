@@ -320,6 +320,7 @@
 //! | `min(a, b)`, `max(a, b)` | scalars -> scalar |
 //! | `clamp(x, low, high)` | scalars -> scalar, `min(max(x, low), high)` |
 //! | `sign(x)` | scalar -> 1, -1, or `x` itself for 0 (and NaN) |
+//! | `meridian_radius(lat)`, `transverse_radius(lat)` | latitude (rad) -> the WGS-84 radii of curvature `R_M = a (1 - e²) / (1 - e² sin² lat)^1.5` and `R_N = a / sqrt(1 - e² sin² lat)`, m, as `nav_runtime::earth` computes them |
 //!
 //! **Rotations.** Quaternions are Hamilton, stored `[w, x, y, z]` (scalar
 //! first), and rotate body to navigation axes like `C_b^n`:

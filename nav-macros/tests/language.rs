@@ -403,3 +403,48 @@ fn parameters_change_at_run_time_with_validation() {
     ekf.predict(0.5, &SharedInput::default()).unwrap();
     assert!((ekf.state()[4] - 0.5).abs() < 1e-15);
 }
+
+nav_runtime::model! {
+    /// A position error observed in metres: the WGS-84 radii builtins.
+    pub model Radii {
+        states { position_error: 2 }
+        inputs { latitude, height }
+        noise { walk: 2 }
+        continuous {
+            d/dt position_error = walk;
+        }
+        sensor Metres: 2 {
+            h = [
+                (meridian_radius(latitude) + height) * position_error[0],
+                (transverse_radius(latitude) + height) * cos(latitude) * position_error[1]
+            ];
+        }
+    }
+}
+
+/// `meridian_radius` and `transverse_radius` are the runtime's WGS-84 radii
+/// (the blocks and `nav_runtime::earth` agree) at latitudes from pole to
+/// pole; their derivatives are checked by the model's generated tests.
+#[test]
+fn earth_radii_are_the_runtimes() {
+    use nav_runtime::earth::{meridian_radius, transverse_radius};
+    for lat_deg in [-90.0, -60.0, -33.3, 0.0, 12.5, 45.0, 80.0, 90.0] {
+        let lat = f64::to_radians(lat_deg);
+        let x = SVector::<f64, 2>::new(1e-6, 2e-6);
+        let u = RadiiInput {
+            latitude: lat,
+            height: 100.0,
+        };
+        let z = RadiiMetres::predict(&x, &u, &RadiiParams::default(), &());
+        let north = (meridian_radius(lat) + 100.0) * 1e-6;
+        let east = (transverse_radius(lat) + 100.0) * lat.cos() * 2e-6;
+        assert!(
+            (z[0] - north).abs() <= 1e-12 * north.abs().max(1.0),
+            "{lat_deg}: {z} {north}"
+        );
+        assert!(
+            (z[1] - east).abs() <= 1e-12 * east.abs().max(1.0),
+            "{lat_deg}: {z} {east}"
+        );
+    }
+}

@@ -11,7 +11,7 @@ use nav_runtime::earth::{meridian_radius, transverse_radius, Geodetic};
 use nav_runtime::log::{GnssRow, HeadingRow, ImuRow, LogDir, Meta, TruthRow};
 use nav_runtime::nalgebra::Vector3;
 use nav_runtime::simulation::imu::{rates, ImuModel, ImuSpec};
-use nav_runtime::simulation::stats;
+use nav_runtime::simulation::stats::{self, NormalizedErrors};
 use nav_runtime::simulation::trajectory::{Trajectory, TrajectorySpec, TruthSource};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -559,32 +559,25 @@ fn the_gnss_antenna_lever_arm_converges() {
 #[test]
 #[ignore = "Monte Carlo over 100 voyages; prints the figures of docs/calibration.md"]
 fn gnss_lever_arm_monte_carlo() {
-    let (mut squared, mut absolute) = ([0.0; 2], [Vec::new(), Vec::new()]);
+    let mut errors = [NormalizedErrors::default(), NormalizedErrors::default()];
     let mut ratios = Vec::new();
-    let seeds = 6200..6300u64;
-    let runs = seeds.clone().count() as f64;
-    for seed in seeds {
+    for seed in 6200..6300u64 {
         let (found, rms, fixed_rms) = antenna_runs(seed);
         let arm = found.lever_arm;
-        for k in 0..2 {
-            let error = arm.value[k] - TRUE_ANTENNA[k];
-            squared[k] += (error / arm.sigma[k]).powi(2);
-            absolute[k].push(error.abs());
+        for (k, e) in errors.iter_mut().enumerate() {
+            e.add(arm.value[k] - TRUE_ANTENNA[k], arm.sigma[k]);
         }
         ratios.push(rms / fixed_rms);
     }
-    for (k, name) in ["forward", "right"].iter().enumerate() {
-        let mean_squared = squared[k] / runs;
+    for (e, name) in errors.iter().zip(["forward", "right"]) {
         println!(
-            "{name}: mean squared error in sigmas {mean_squared:.2}, median |error| {:.3} m",
-            stats::median(&absolute[k])
+            "{name}: mean squared error in sigmas {:.2}, median |error| {:.3} m",
+            e.mean_squared(),
+            e.median_absolute()
         );
-        // The 95 % band of a mean of 100 chi-square(1) values: the arm's
-        // sigmas are honest (docs/calibration.md).
-        assert!(
-            (0.74..=1.30).contains(&mean_squared),
-            "{name}: {mean_squared}"
-        );
+        // In the 95 % band of a mean of 100 chi-square(1) values: the
+        // arm's sigmas are honest (docs/calibration.md).
+        assert!(e.consistent(), "{name}: {}", e.mean_squared());
     }
     let ratio = stats::median(&ratios);
     println!("horizontal RMS, estimated / given arm: median {ratio:.3}");

@@ -130,12 +130,8 @@ nav_runtime::model! {
                 /// Vector from the USBL transducer to the vehicle, NED, m.
                 relative_position: 3,
             }
-            let a = 6378137.0;
-            let e2 = 0.0066943799901413165;
-            let s0 = sin(latitude);
-            let k0 = 1.0 - e2 * s0 * s0;
-            let rm0 = a * (1.0 - e2) / (k0 * sqrt(k0));
-            let rn0 = a / sqrt(k0);
+            let rm0 = meridian_radius(latitude);
+            let rn0 = transverse_radius(latitude);
             let tilt = cross(usbl_misalignment, relative_position);
             h = [
                 (rm0 + height) * position_error[0] - usbl_bias[0] - tilt[0],

@@ -289,7 +289,16 @@ enum Builtin {
     DcmToEuler,
     RotvecToQuat,
     Normalize,
+    /// WGS-84 meridian radius of curvature at a latitude.
+    MeridianRadius,
+    /// WGS-84 transverse (prime vertical) radius of curvature.
+    TransverseRadius,
 }
+
+/// WGS-84 semi-major axis, m.
+const WGS84_A: f64 = 6378137.0;
+/// WGS-84 first eccentricity squared.
+const WGS84_E2: f64 = 0.0066943799901413165;
 
 const BUILTINS: &[(&str, Builtin, usize)] = &[
     ("sin", Builtin::Scalar(Func::Sin), 1),
@@ -320,6 +329,8 @@ const BUILTINS: &[(&str, Builtin, usize)] = &[
     ("norm", Builtin::Norm, 1),
     ("transpose", Builtin::Transpose, 1),
     ("euler_dcm", Builtin::EulerDcm, 3),
+    ("meridian_radius", Builtin::MeridianRadius, 1),
+    ("transverse_radius", Builtin::TransverseRadius, 1),
 ];
 
 /// Whether `name` is a builtin function.
@@ -766,6 +777,26 @@ impl Lowerer<'_> {
                 }
                 a => self.fail(args[0], format!("`normalize` needs a vector, found {a}")),
             },
+            Builtin::MeridianRadius | Builtin::TransverseRadius => {
+                let lat = self.scalar_arg(&fname, args[0], vals[0].clone())?;
+                let g = &mut *self.g;
+                // k = 1 - e2 sin^2(lat); R_M = a (1 - e2) / k^1.5, R_N = a / sqrt(k),
+                // built as the blocks wrote them, so the graph is the same.
+                let (a, e2, one) = (g.constant(WGS84_A), g.constant(WGS84_E2), g.constant(1.0));
+                let s = g.call(Func::Sin, lat);
+                let es = g.mul(e2, s);
+                let ess = g.mul(es, s);
+                let k = g.sub(one, ess);
+                let root = g.call(Func::Sqrt, k);
+                Some(Val::scalar(if builtin == Builtin::MeridianRadius {
+                    let one_minus_e2 = g.sub(one, e2);
+                    let numerator = g.mul(a, one_minus_e2);
+                    let k_root = g.mul(k, root);
+                    g.div(numerator, k_root)
+                } else {
+                    g.div(a, root)
+                }))
+            }
             Builtin::EulerDcm => {
                 let r = self.scalar_arg(&fname, args[0], vals[0].clone());
                 let p = self.scalar_arg(&fname, args[1], vals[1].clone());

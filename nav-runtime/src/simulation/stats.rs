@@ -12,7 +12,8 @@
 //! - NaN inputs sort after every number (IEEE total order), so they show up in
 //!   [`max`] and high percentiles instead of being silently dropped.
 //!
-//! Chi-square consistency bands for NEES live with the filter's gating code.
+//! Chi-square quantiles live with the filter's gating code; the band of a
+//! Monte Carlo's mean squared normalized error is [`NormalizedErrors`].
 
 use serde::{Deserialize, Serialize};
 
@@ -117,9 +118,70 @@ impl Summary {
     }
 }
 
+/// The errors of one estimated scalar against its truth over Monte Carlo
+/// runs, each in the estimate's own sigma: the mean squared normalized
+/// error (1 for a consistent estimate; [`NormalizedErrors::consistent`])
+/// and the absolute errors.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct NormalizedErrors {
+    squared: f64,
+    absolute: Vec<f64>,
+}
+
+impl NormalizedErrors {
+    /// One run's `error` (estimate minus truth) and the estimate's `sigma`.
+    pub fn add(&mut self, error: f64, sigma: f64) {
+        self.squared += (error / sigma).powi(2);
+        self.absolute.push(error.abs());
+    }
+
+    /// The mean of the squared errors in sigmas (NaN without runs).
+    pub fn mean_squared(&self) -> f64 {
+        self.squared / self.absolute.len() as f64
+    }
+
+    /// The median absolute error (NaN without runs).
+    pub fn median_absolute(&self) -> f64 {
+        median(&self.absolute)
+    }
+
+    /// Whether [`NormalizedErrors::mean_squared`] lies in the two-sided
+    /// 95 % band of the mean of as many chi-square(1) values as runs.
+    pub fn consistent(&self) -> bool {
+        let n = self.absolute.len();
+        let band = |p| crate::gate::chi_square_quantile(p, n).map(|q| q / n as f64);
+        match (band(0.025), band(0.975)) {
+            (Some(low), Some(high)) => (low..=high).contains(&self.mean_squared()),
+            _ => false,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// (errors in sigmas of 100 runs, mean squared, consistent)
+    #[test]
+    fn normalized_errors_and_their_band() {
+        type ErrorOfRun = fn(usize) -> f64;
+        let cases: [(ErrorOfRun, f64, bool); 4] = [
+            (|_| 1.0, 1.0, true),
+            (|k| if k % 2 == 0 { 1.1 } else { -1.1 }, 1.21, true),
+            (|_| 2.0, 4.0, false),
+            (|_| 0.5, 0.25, false),
+        ];
+        for (error, mean_squared, consistent) in cases {
+            let mut e = NormalizedErrors::default();
+            for k in 0..100 {
+                e.add(0.1 * error(k), 0.1);
+            }
+            assert!((e.mean_squared() - mean_squared).abs() < 1e-12);
+            assert_eq!(e.consistent(), consistent, "{mean_squared}");
+        }
+        assert!(!NormalizedErrors::default().consistent());
+        assert!(NormalizedErrors::default().median_absolute().is_nan());
+    }
 
     #[test]
     fn percentiles_interpolate_linearly() {
