@@ -1,6 +1,27 @@
 // A DVL reading pushed under the depth meter's handle does not compile.
+use nav_blocks::{Compass, Depth, Dvl, InsCore};
 use nav_ins::prelude::*;
-use models::sdins25::Sdins25;
+use nav_ins::Absent;
+
+nav_runtime::model! {
+    /// The core with a depth meter, a DVL and a compass: 20 states.
+    pub model Auv = InsCore + Depth + Dvl + Compass {
+        allow_unused { position_error[1] }
+    }
+}
+
+impl InsVehicle<20> for Auv {
+    const REPLAY_NAME: &'static str = "auv";
+    const DESCRIPTION: &'static str = "";
+    type Depth = AuvDepth;
+    type Dvl = AuvDvl;
+    type Compass = AuvCompass;
+    type CompassSmallAngle = AuvCompassSmallAngle;
+    type Usbl = Absent;
+    type Gnss = Absent;
+    type Baro = Absent;
+    type Mag = Absent;
+}
 
 fn main() {
     let initial = InitialState {
@@ -17,7 +38,7 @@ fn main() {
         accel_bias_sigma: 1e-3,
         accel_noise_sigma: 1e-3,
     };
-    let mut b = Navigator::<Sdins25, 25>::builder(initial, imu);
+    let mut b = Navigator::<Auv, 20>::builder(initial, imu);
     let depth = b.sensor::<DepthReading>(SensorSettings::new(0.05)).unwrap();
     let mut nav = b.build(ImuSample::default()).unwrap();
     nav.push(depth, 1.0, DvlReading(Vector3::zeros()));
