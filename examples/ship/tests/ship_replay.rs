@@ -400,6 +400,7 @@ fn ship_tuning_monte_carlo() {
         let (first, count): (u64, u64) = (first.parse().unwrap(), count.parse().unwrap());
         let (mut errors, mut replays, mut identified, mut converged) =
             (Vec::new(), Vec::new(), 0, 0);
+        let mut z = Vec::new();
         for seed in first..first + count {
             let log = TempDir::new(&format!("mc-{seed}"));
             write_voyage_with(&log.0, seed, case.current_q);
@@ -421,6 +422,10 @@ fn ship_tuning_monte_carlo() {
                 );
             }
             errors.push((ratio - 1.0).abs());
+            // The tuned error in units of the reported standard error
+            // (both of the log of the value itself).
+            let log_error = (p["value"].as_f64().unwrap() / case.truth).ln();
+            z.push(log_error / p["log_standard_error"].as_f64().unwrap_or(f64::INFINITY));
             replays.push(v["replays"].as_u64().unwrap());
             identified += usize::from(p["identifiable"] == true);
             converged += usize::from(v["converged"] == true);
@@ -439,6 +444,13 @@ fn ship_tuning_monte_carlo() {
             at(1.0),
             replays[replays.len() / 2],
             replays[replays.len() - 1]
+        );
+        let rms_z = (z.iter().map(|z| z * z).sum::<f64>() / z.len() as f64).sqrt();
+        println!(
+            "{}: tuned error within 1.96 reported standard errors: {}/{}; RMS of error / standard error {rms_z:.2}",
+            case.name,
+            z.iter().filter(|z| z.abs() <= 1.96).count(),
+            z.len()
         );
     }
 }

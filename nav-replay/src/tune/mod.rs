@@ -10,7 +10,8 @@
 //!   cores;
 //! - the standard error of each result is the inverse square root of the
 //!   likelihood's curvature (eq. T4 for a sensor; the finite difference for
-//!   the others); one above [`MAX_LOG_SIGMA_ERROR`] means the log does not
+//!   the others), taken together with the cross information of the
+//!   probes (eq. T5, `joint.rs`); one above [`MAX_LOG_SIGMA_ERROR`] means the log does not
 //!   identify the parameter: the given value is kept and said so, never a
 //!   value that wandered.
 //!
@@ -24,6 +25,7 @@
 //! ([`MappingTuning`](crate::model_replay::MappingTuning)).
 
 mod command;
+mod joint;
 mod meta_text;
 mod report;
 #[cfg(test)]
@@ -37,6 +39,7 @@ use rayon::prelude::*;
 
 use crate::RunError;
 pub use command::{tune_with, tune_with_progress, tuning_warnings, TuneArgs, TuneFlags};
+use joint::{sensor_gradient, JointInformation};
 pub use meta_text::{tuned_mapping_text, tuned_meta_text, with_values};
 pub use tunable::{
     clock_key, clock_of, file_clock_of, in_mapping, mapped_clock_key, mapped_clock_of, noise_block,
@@ -368,6 +371,9 @@ pub fn tune(
     // Curvature (per unit ln sigma squared) of each likelihood parameter at
     // the last step.
     let mut curvature = vec![f64::NAN; params.len()];
+    // The cross information of each likelihood parameter with each
+    // sensor's sigma at the last step (eq. T5).
+    let mut cross = Vec::new();
     let before_nis = if before_log_likelihood.is_some() {
         nis_of(&before.output)
     } else {
@@ -432,6 +438,7 @@ pub fn tune(
                 .collect();
             replays += runs.len();
             progress(replays.min(options.max_replays), options.max_replays);
+            cross = cross_information(t, &params, &likelihood_params, &runs);
             for (k, &i) in likelihood_params.iter().enumerate() {
                 // A probe that fails (a sigma so small that the run diverges)
                 // is a likelihood of minus infinity.
@@ -522,12 +529,13 @@ pub fn tune(
     let mut why_not: Vec<Option<String>> = vec![None; params.len()];
     let mut errors = vec![f64::INFINITY; params.len()];
     let mut reset = false;
+    let marginal = joint_errors(t, &params, &curvature, &cross, &center);
     for &i in &likelihood_params {
         let c = curvature[i];
-        let e = if c < 0.0 {
-            (-c).sqrt().recip()
-        } else {
-            f64::INFINITY
+        let e = match marginal.as_ref().and_then(|m| m[i]) {
+            Some(e) => e,
+            None if c < 0.0 => (-c).sqrt().recip(),
+            None => f64::INFINITY,
         };
         errors[i] = e;
         if e > MAX_LOG_SIGMA_ERROR {
@@ -543,12 +551,16 @@ pub fn tune(
             values[i].1 = params[i].1;
         }
     }
-    // So does a sensor whose sigma the log does not tell.
+    // So does a sensor whose sigma the log does not tell, on its own or
+    // beside the parameters that act on the same innovations.
     for (i, (key, initial)) in params.iter().enumerate() {
         if let Some(sensor) = t.sensor_of(key) {
             let t = totals_of(&center, sensor);
             errors[i] = t.map_or(f64::INFINITY, InnovationTotals::log_sigma_standard_error);
-            why_not[i] = sensor_verdict(sensor, t);
+            why_not[i] = sensor_verdict(sensor, t).or_else(|| {
+                let e = marginal.as_ref().and_then(|m| m[i])?;
+                (e > MAX_LOG_SIGMA_ERROR).then(|| confounded(sensor, e))
+            });
             if why_not[i].is_some() {
                 reset |= values[i].1 != *initial;
                 values[i].1 = *initial;
@@ -593,17 +605,26 @@ pub fn tune(
             }
         }
     }
+    let marginal = joint_errors(t, &params, &curvature, &cross, &center);
+    if marginal.is_none() && !cross.is_empty() {
+        notes.push(
+            "the parameters' joint information (eq. T5) is not positive definite (its finite differences are too noisy to combine): each standard error is the parameter's own, with the others held".to_string(),
+        );
+    }
     let parameters: Vec<TunedParameter> = params
         .iter()
         .enumerate()
         .map(|(i, (key, initial))| {
             let (log_standard_error, not_identifiable) = match t.sensor_of(key) {
                 // A sensor's verdict at the final replay, unless the log
-                // already failed to tell it.
+                // already failed to tell it; its error taken with the
+                // others'.
                 Some(sensor) if why_not[i].is_none() => {
-                    let t = totals_of(&center, sensor);
-                    let e = t.map_or(f64::INFINITY, InnovationTotals::log_sigma_standard_error);
-                    (e, sensor_verdict(sensor, t))
+                    let totals = totals_of(&center, sensor);
+                    let own =
+                        totals.map_or(f64::INFINITY, InnovationTotals::log_sigma_standard_error);
+                    let e = marginal.as_ref().and_then(|m| m[i]).unwrap_or(own);
+                    (e, sensor_verdict(sensor, totals))
                 }
                 _ if kinds[i] == ParameterKind::ClockOffset => {
                     (clocks.errors[i], clocks.why_not[i].clone())
@@ -638,6 +659,72 @@ pub fn tune(
         notes,
         after: center.output,
     })
+}
+
+/// The cross information of each likelihood parameter `i` with each
+/// sensor sigma `s` (eq. T5): minus the change of the sensor's gradient
+/// (`sensor_gradient`) between the replays with `i` doubled and halved
+/// (`runs`, in the order of the probes), per unit `ln sigma`.
+fn cross_information(
+    t: &dyn Tunable,
+    params: &[(String, f64)],
+    likelihood_params: &[usize],
+    runs: &[Result<Run, RunError>],
+) -> Vec<(usize, usize, f64)> {
+    let mut cross = Vec::new();
+    for (k, &i) in likelihood_params.iter().enumerate() {
+        let (Ok(up), Ok(down)) = (&runs[2 * k], &runs[2 * k + 1]) else {
+            continue;
+        };
+        for (s, (key, _)) in params.iter().enumerate() {
+            let Some(sensor) = t.sensor_of(key) else {
+                continue;
+            };
+            if let (Some(a), Some(b)) = (totals_of(up, sensor), totals_of(down, sensor)) {
+                let change = (sensor_gradient(a) - sensor_gradient(b)) / (2.0 * STEP);
+                cross.push((i, s, -change));
+            }
+        }
+    }
+    cross
+}
+
+/// The marginal standard errors of `ln sigma` of the parameters the log
+/// identifies on their own (sensors from `center`'s innovations, eq. T4;
+/// likelihood parameters from their curvature), taken together with the
+/// cross information; `None` when they cannot be combined.
+fn joint_errors(
+    t: &dyn Tunable,
+    params: &[(String, f64)],
+    curvature: &[f64],
+    cross: &[(usize, usize, f64)],
+    center: &Run,
+) -> Option<Vec<Option<f64>>> {
+    let diagonal = params
+        .iter()
+        .enumerate()
+        .map(|(i, (key, _))| match t.sensor_of(key) {
+            Some(sensor) => totals_of(center, sensor)
+                .filter(|totals| sensor_verdict(sensor, Some(totals)).is_none())
+                .map(|totals| 2.0 * totals.noise_information),
+            // One the log does not identify on its own is reset, not
+            // combined.
+            None => (curvature[i] < 0.0 && -curvature[i] >= MAX_LOG_SIGMA_ERROR.powi(-2))
+                .then(|| -curvature[i]),
+        })
+        .collect();
+    JointInformation {
+        diagonal,
+        cross: cross.to_vec(),
+    }
+    .marginal_errors()
+}
+
+/// Why a sensor's sigma is not identified beside the other parameters.
+fn confounded(sensor: &str, error: f64) -> String {
+    format!(
+        "its noise and a tuned process noise act on the same innovations of {sensor}: taken together, the standard error of ln sigma is {error:.2}"
+    )
 }
 
 /// What a clock search leaves: the replay to go on from, and per

@@ -43,18 +43,8 @@ impl ReplayModel for Known {
             return Err(RunError::Diverged(format!("sigma {sigma} too small")));
         }
         let mut totals = InnovationTotals::default();
-        let n = 2000;
-        // Evenly spaced quantiles of the logistic approximation of N(0, 1),
-        // scaled to a sample variance of exactly 1: deterministic.
-        let z: Vec<f64> = (0..n)
-            .map(|k| {
-                let p = (k as f64 + 0.5) / n as f64;
-                (p / (1.0 - p)).ln()
-            })
-            .collect();
-        let scale = (z.iter().map(|v| v * v).sum::<f64>() / n as f64).sqrt();
-        for z in z {
-            let nu = z / scale * (HPH + TRUE_SIGMA * TRUE_SIGMA).sqrt();
+        for z in standard_normals(2000) {
+            let nu = z * (HPH + TRUE_SIGMA * TRUE_SIGMA).sqrt();
             totals.add(&InnovationStatistics::of(
                 &SVector::<f64, 1>::new(nu),
                 &SMatrix::<f64, 1, 1>::new(HPH + sigma * sigma),
@@ -71,6 +61,134 @@ impl ReplayModel for Known {
             }],
             ..ReplayOutput::default()
         })
+    }
+}
+
+/// `n` evenly spaced quantiles of the logistic approximation of N(0, 1),
+/// scaled to a sample variance of exactly 1: deterministic draws.
+fn standard_normals(n: usize) -> Vec<f64> {
+    let z: Vec<f64> = (0..n)
+        .map(|k| {
+            let p = (k as f64 + 0.5) / n as f64;
+            (p / (1.0 - p)).ln()
+        })
+        .collect();
+    let scale = (z.iter().map(|v| v * v).sum::<f64>() / n as f64).sqrt();
+    z.into_iter().map(|z| z / scale).collect()
+}
+
+/// The sensor of [`Known`] where, on every other update, the filter's own
+/// share of `S` is the gyro noise's, `K q` (`q` the gyro noise variance):
+/// the sensor's sigma and the gyro noise act on the same innovations there
+/// and trade against each other. The truth: `TRUE_SIGMA` and a gyro sigma
+/// of `GYRO_SIGMA`, whose share equals the noise's.
+struct Confounded;
+
+const GYRO_SIGMA: f64 = 1e-6;
+const K: f64 = TRUE_SIGMA * TRUE_SIGMA / (GYRO_SIGMA * GYRO_SIGMA);
+
+impl ReplayModel for Confounded {
+    fn name(&self) -> &'static str {
+        "confounded"
+    }
+    fn replay(&self, _: &LogDir, _: &ReplayOptions) -> Result<ReplayOutput, RunError> {
+        unreachable!("tuning replays through replay_files")
+    }
+    fn replay_files(
+        &self,
+        files: &LogFiles,
+        _: &ReplayOptions,
+        _: Option<&std::path::Path>,
+    ) -> Result<ReplayOutput, RunError> {
+        let sigma = files.meta().sensors.dvl.map_or(f64::NAN, |s| s.noise_sigma);
+        let gyro = files
+            .meta()
+            .sensors
+            .imu
+            .map_or(f64::NAN, |s| s.gyro_noise_sigma);
+        let mut totals = InnovationTotals::default();
+        let r = |s: f64| s * s;
+        for (k, z) in standard_normals(2000).into_iter().enumerate() {
+            let (filter_share, true_share) = if k % 2 == 0 {
+                (HPH, HPH)
+            } else {
+                (K * gyro * gyro, K * GYRO_SIGMA * GYRO_SIGMA)
+            };
+            let nu = z * (true_share + r(TRUE_SIGMA)).sqrt();
+            totals.add(&InnovationStatistics::of(
+                &SVector::<f64, 1>::new(nu),
+                &SMatrix::<f64, 1, 1>::new(filter_share + r(sigma)),
+                &SMatrix::<f64, 1, 1>::new(r(sigma)),
+            ));
+        }
+        Ok(ReplayOutput {
+            innovations: vec![SensorInnovations {
+                sensor: "dvl".into(),
+                noise_sigma: Some(sigma),
+                gated: 0,
+                setting: ("meta.toml".into(), "sensors.dvl.noise_sigma".into()),
+                totals,
+            }],
+            ..ReplayOutput::default()
+        })
+    }
+}
+
+/// Eq. T5: the standard errors of the sensor's sigma and the gyro noise
+/// are those of their joint information, larger than each one's own. The
+/// expected values are worked out from the model (the tuning's secant
+/// curvature and cross term over a factor of 2, eq. T4 for the sensor).
+#[test]
+fn parameters_on_the_same_innovations_report_their_joint_standard_errors() {
+    let (_d, files) = log_with(TRUE_SIGMA);
+    let t = tune(
+        &LogTuning::new(&Confounded, &files, ReplayOptions::default()).unwrap(),
+        &TuneOptions {
+            params: vec![
+                "sensors.dvl.noise_sigma".into(),
+                "sensors.imu.gyro_noise_sigma".into(),
+            ],
+            ..TuneOptions::default()
+        },
+        &|_, _| {},
+    )
+    .unwrap();
+    let n = 1000.0;
+    let r = TRUE_SIGMA * TRUE_SIGMA;
+    let s_plain = HPH + r;
+    let s_mixed = 2.0 * r;
+    // A half's log-likelihood per update at `S` with innovation variance `v`.
+    let l = |s: f64, v: f64| -0.5 * (s.ln() + v / s);
+    let (up, down) = (4.0 * r + r, 0.25 * r + r);
+    let step = core::f64::consts::LN_2;
+    let j_gyro =
+        -n * (l(up, s_mixed) - 2.0 * l(s_mixed, s_mixed) + l(down, s_mixed)) / (step * step);
+    let gradient = |s: f64| r * (s_mixed / (s * s) - 1.0 / s);
+    let j_cross = -n * (gradient(up) - gradient(down)) / (2.0 * step);
+    let j_dvl = 2.0 * n * ((r / s_plain).powi(2) + (r / s_mixed).powi(2));
+    let det = j_dvl * j_gyro - j_cross * j_cross;
+    let expected = [
+        (
+            "sensors.dvl.noise_sigma",
+            (j_gyro / det).sqrt(),
+            j_dvl.sqrt().recip(),
+        ),
+        (
+            "sensors.imu.gyro_noise_sigma",
+            (j_dvl / det).sqrt(),
+            j_gyro.sqrt().recip(),
+        ),
+    ];
+    for (key, joint, own) in expected {
+        let p = t.parameters.iter().find(|p| p.key == key).unwrap();
+        assert!(p.not_identifiable.is_none(), "{p:?}");
+        assert!((p.value / p.initial - 1.0).abs() < 0.05, "{p:?}");
+        assert!(
+            (p.log_standard_error / joint - 1.0).abs() < 0.05,
+            "{key}: {} against {joint} (own {own})",
+            p.log_standard_error
+        );
+        assert!(joint > 1.1 * own, "{key}: {joint} {own}");
     }
 }
 

@@ -1,0 +1,102 @@
+//! The standard errors of the tuned parameters taken together (eq. T5 of
+//! docs/tuning.md): the inverse of their joint information.
+//!
+//! The curvature of the likelihood in one parameter with the others held
+//! gives its conditional standard error. Two parameters that act on the
+//! same innovations (a speed log's sigma and the water current's random
+//! walk behind it) trade against each other, and each is then known less
+//! well than its own curvature says: the marginal error
+//! `sqrt((J^-1)_pp)` of the joint information `J` is the one to report.
+
+use nalgebra::DMatrix;
+
+use nav_runtime::innovations::InnovationTotals;
+
+/// The gradient of the innovation log-likelihood in `ln sigma` of the
+/// sensor whose totals these are, `P` held (eq. T2 as a gradient):
+/// `sum_k nu^T S^-1 R S^-1 nu - tr(S^-1 R)`.
+pub(super) fn sensor_gradient(totals: &InnovationTotals) -> f64 {
+    totals.noise_nis - totals.noise_share
+}
+
+/// The information of each parameter (`None`: not part of the joint
+/// estimate: a clock, or one the log does not identify) and the measured
+/// cross terms `(p, q, J_pq)`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(super) struct JointInformation {
+    pub diagonal: Vec<Option<f64>>,
+    pub cross: Vec<(usize, usize, f64)>,
+}
+
+impl JointInformation {
+    /// The marginal standard error of each parameter with a diagonal term:
+    /// `sqrt((J^-1)_pp)` over the parameters with positive information.
+    /// `None` for the others, and for all when `J` is not positive definite
+    /// (finite differences too noisy to combine): the caller keeps the
+    /// conditional errors then.
+    pub fn marginal_errors(&self) -> Option<Vec<Option<f64>>> {
+        let joint: Vec<usize> = (0..self.diagonal.len())
+            .filter(|&p| self.diagonal[p].is_some_and(|d| d > 0.0 && d.is_finite()))
+            .collect();
+        let mut j = DMatrix::<f64>::zeros(joint.len(), joint.len());
+        for (a, &p) in joint.iter().enumerate() {
+            j[(a, a)] = self.diagonal[p].unwrap_or_default();
+        }
+        for &(p, q, v) in &self.cross {
+            let (Some(a), Some(b)) = (
+                joint.iter().position(|&i| i == p),
+                joint.iter().position(|&i| i == q),
+            ) else {
+                continue;
+            };
+            if v.is_finite() && a != b {
+                j[(a, b)] = v;
+                j[(b, a)] = v;
+            }
+        }
+        let inverse = j.cholesky()?.inverse();
+        let mut errors = vec![None; self.diagonal.len()];
+        for (a, &p) in joint.iter().enumerate() {
+            errors[p] = Some(inverse[(a, a)].sqrt());
+        }
+        Some(errors)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Two parameters with unit information and correlation `rho`: each
+    /// marginal error is `1 / sqrt(1 - rho^2)`; uncorrelated ones keep
+    /// their own; a third without information is left out; a cross term
+    /// beyond the diagonal's (no positive definite `J`) gives `None`.
+    #[test]
+    fn marginal_errors_grow_with_the_cross_information() {
+        // (cross term, expected marginal error of the first two)
+        let cases = [
+            (0.0, Some(1.0)),
+            (0.6, Some(1.25)),
+            (-0.8, Some(1.0 / 0.6)),
+            (1.2, None),
+        ];
+        for (cross, expected) in cases {
+            let j = JointInformation {
+                diagonal: vec![Some(1.0), Some(1.0), None, Some(4.0)],
+                cross: vec![(0, 1, cross), (2, 0, 5.0)],
+            };
+            let errors = j.marginal_errors();
+            match expected {
+                None => assert!(errors.is_none(), "{cross}: {errors:?}"),
+                Some(e) => {
+                    let errors = errors.unwrap();
+                    for p in [0, 1] {
+                        approx::assert_relative_eq!(errors[p].unwrap(), e, max_relative = 1e-12);
+                    }
+                    assert_eq!(errors[2], None);
+                    approx::assert_relative_eq!(errors[3].unwrap(), 0.5, max_relative = 1e-12);
+                }
+            }
+        }
+    }
+}
