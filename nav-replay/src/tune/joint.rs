@@ -98,5 +98,11 @@ mod tests {
                 }
             }
         }
+        // Nothing to combine is no failure (and no note).
+        let none = JointInformation {
+            diagonal: vec![None, Some(0.0)],
+            cross: vec![(0, 1, 1.0)],
+        };
+        assert_eq!(none.marginal_errors(), Some(vec![None, None]));
     }
 }
