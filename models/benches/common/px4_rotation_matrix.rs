@@ -2,7 +2,7 @@
 //! rotation as an explicit matrix of the quaternion's components instead of
 //! the builtin `quat_to_dcm`, declared in this crate rather than in
 //! `models` (docs/performance.md, "PX4's 24-state model"). Shared by the
-//! propagation bench and `models/tests/px4_rotation_matrix.rs`.
+//! propagation bench and `models/tests/scenarios/px4_rotation_matrix.rs`.
 
 use models::px4_ekf24::{Px4Ekf24Input, Px4Ekf24Noise, Px4Ekf24Params};
 

@@ -7,7 +7,7 @@
 //! second and over the seeds; figures in docs/runtime.md. Printed with
 //! `--nocapture`.
 
-mod turning_flight;
+use crate::turning_flight;
 
 use models::ahrs::settings::AhrsSettings;
 use models::ahrs::stream::AhrsStream;

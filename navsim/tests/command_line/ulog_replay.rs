@@ -5,7 +5,7 @@
 //! the bounds measured on this log (docs/ulog.md, "Replay figures"), and
 //! `--out` writes the time series and plots.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 

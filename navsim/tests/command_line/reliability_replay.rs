@@ -4,7 +4,7 @@
 //! directory; with `--lenient` the bad rows are skipped and counted in the JSON.
 //! Also the `--faults` option of the lawn-mower scenarios end to end.
 
-mod common;
+use crate::common;
 
 use common::{navsim, stderr, TempDir};
 use std::path::Path;

@@ -2,8 +2,7 @@
 //! any order, units, frames, IMU increments, other files; and their errors.
 //! Every conversion is checked against a value computed by hand.
 
-#[path = "log_common.rs"]
-mod common;
+use crate::common;
 
 use common::TempDir;
 use nav_runtime::log::*;

@@ -1,6 +1,6 @@
 //! End-to-end tests of the `navsim` binary (the plumbing, with the demo scenario).
 
-mod common;
+use crate::common;
 
 use common::{navsim, navsim_env, stderr, stdout, TempDir};
 use std::process::Output;

@@ -2,7 +2,7 @@
 //! DVL + depth + compass at 2 Hz), streamed sample by sample.
 //!
 //! `soak_24_hours` is ignored by default (8.64 million IMU steps); run it with
-//! `cargo test --release -p tests --test reliability_soak -- --ignored --nocapture`
+//! `cargo test --release -p tests --test scenarios reliability_soak:: -- --ignored --nocapture`
 //! (`SOAK_HOURS` overrides the duration). `soak_short` runs 20 simulated
 //! minutes with the same checks on every test run.
 //!

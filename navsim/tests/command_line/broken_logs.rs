@@ -13,7 +13,7 @@
 //! pipeline (bounded time steps, physical bounds on the estimate); they are
 //! run by `pipeline_cases`, ignored until that work is merged.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::sync::OnceLock;

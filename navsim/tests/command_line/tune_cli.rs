@@ -5,7 +5,7 @@
 //! tell is said to be not identifiable and kept, a DVL file stamped late is
 //! timed again, and logs that cannot be tuned say why.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;

@@ -2,7 +2,7 @@
 //! binary, on static recordings the test writes with known white noise,
 //! and the recordings it must refuse.
 
-mod common;
+use crate::common;
 
 use common::{navsim, stderr, stdout, TempDir};
 use rand::SeedableRng;

@@ -91,7 +91,7 @@ fn the_command_line_imports_a_ros_bag() {
     assert!(!out.exists());
 }
 
-mod common;
+use crate::common;
 
 use common::{navsim, stderr, stdout, TempDir};
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion};

@@ -130,7 +130,7 @@ const MONTE_CARLO_SEEDS: std::ops::Range<u64> = 6100..6200;
 /// component the mean squared error in the filter's own sigmas (1 for a
 /// consistent estimate) and the median absolute error, and the horizontal
 /// RMS error with the arm estimated against taken as zero (median ratio).
-/// `cargo test --release -p models --test usbl_calibration -- --ignored
+/// `cargo test --release -p models --test scenarios usbl_calibration:: -- --ignored
 /// --nocapture`; the figures are in docs/calibration.md.
 #[test]
 #[ignore = "Monte Carlo over 100 seeds; prints the figures of docs/calibration.md"]

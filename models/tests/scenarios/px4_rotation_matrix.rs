@@ -5,14 +5,14 @@
 //! operation count from either declaration (docs/performance.md, "PX4's
 //! 24-state model").
 
-#[path = "../benches/common/px4_rotation_matrix.rs"]
-mod px4_rotation_matrix;
+#[path = "../../benches/common/px4_rotation_matrix.rs"]
+mod declaration;
 
 use models::px4_ekf24::{Px4Ekf24, Px4Ekf24Input, Px4Ekf24Noise, Px4Ekf24Params};
 use nav_runtime::model::Model;
 use nav_runtime::nalgebra::{SMatrix, SVector, Vector3, Vector4};
 use nav_runtime::propagation::Structure;
-use px4_rotation_matrix::{
+use declaration::{
     homogeneous_matrix_point, rotation_matrix_point, Px4HomogeneousMatrix, Px4RotationMatrix,
 };
 use rand::{Rng, SeedableRng};

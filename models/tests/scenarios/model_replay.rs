@@ -1255,7 +1255,7 @@ fn edit_rows_keeping(path: &Path, keep: impl Fn(&[f64]) -> bool) {
 /// forward one is (`docs/model-replay.md`, "Smoothing"). Ignored: run by
 /// hand, in release.
 #[test]
-#[ignore = "Monte Carlo, 100 runs: cargo test --release -p models --test model_replay -- --ignored smoothing_monte_carlo"]
+#[ignore = "Monte Carlo, 100 runs: cargo test --release -p models --test scenarios model_replay:: -- --ignored smoothing_monte_carlo"]
 fn smoothing_monte_carlo() {
     use nav_runtime::simulation::stats::{median, percentile};
     let dir = TempDir::new("smooth-mc");

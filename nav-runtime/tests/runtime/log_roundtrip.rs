@@ -1,8 +1,7 @@
 //! Writing a log and reading it back gives the same values; the writer never leaves
 //! partial output; the merged event stream is time-ordered.
 
-#[path = "log_common.rs"]
-mod common;
+use crate::common;
 
 use common::*;
 use nav_runtime::log::*;

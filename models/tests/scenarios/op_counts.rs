@@ -5,7 +5,7 @@
 //! - A count more than 10 % above its baseline fails the test.
 //! - A count below its baseline is printed as an improvement (update the file).
 //! - A function listed here but missing from the file, or the reverse, fails.
-//! - `UPDATE_OP_COUNTS=1 cargo test -p models --test op_counts` rewrites the file
+//! - `UPDATE_OP_COUNTS=1 cargo test -p models --test scenarios op_counts::` rewrites the file
 //!   from the current counts (review the diff before keeping it).
 //!
 //! A second test prints the covariance propagation counts next to a dense
@@ -112,9 +112,9 @@ fn baseline_path() -> PathBuf {
 fn render(counts: &Counts) -> String {
     let mut s = String::from(
         "# Arithmetic operations (+ - * /, negation, calls) of the code generated for\n\
-         # each model and sensor: the OPS_* constants. Checked by models/tests/op_counts.rs:\n\
+         # each model and sensor: the OPS_* constants. Checked by models/tests/scenarios/op_counts.rs:\n\
          # a count more than 10 % above the value here fails `cargo test`.\n\
-         # Regenerate with `UPDATE_OP_COUNTS=1 cargo test -p models --test op_counts`.\n",
+         # Regenerate with `UPDATE_OP_COUNTS=1 cargo test -p models --test scenarios op_counts::`.\n",
     );
     for (item, fns) in counts {
         let _ = write!(s, "\n[{item}]\n");
@@ -196,7 +196,7 @@ fn op_counts_do_not_regress() {
     }
     assert!(
         failures.is_empty(),
-        "op-count check failed ({}):\n  {}\n(see the module docs of models/tests/op_counts.rs)",
+        "op-count check failed ({}):\n  {}\n(see the module docs of models/tests/scenarios/op_counts.rs)",
         baseline_path().display(),
         failures.join("\n  ")
     );

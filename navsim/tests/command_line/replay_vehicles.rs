@@ -8,7 +8,7 @@
 //!   gives the result of the same log without `usbl.csv`;
 //! - bad input is still a one-line error through the binary.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

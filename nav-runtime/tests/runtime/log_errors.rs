@@ -1,7 +1,6 @@
 //! Bad log directories: every error names file, line and column (or meta key).
 
-#[path = "log_common.rs"]
-mod common;
+use crate::common;
 
 use common::*;
 use nav_runtime::log::*;

@@ -1,4 +1,4 @@
-//! Helpers shared by the log tests (included with `#[path]`, not a test target of its own).
+//! Helpers shared by the log tests.
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};

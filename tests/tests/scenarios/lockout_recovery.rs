@@ -170,7 +170,7 @@ const MONTE_CARLO_SEEDS: std::ops::Range<u64> = 4200..4300;
 /// The final horizontal error after each transient of the table over
 /// [`MONTE_CARLO_SEEDS`]: median, 95th percentile and maximum (m), and the
 /// runs that ended out of the physical bounds (docs/lockout.md, "Recovery").
-/// `cargo test --release -p tests --test lockout_recovery -- --ignored
+/// `cargo test --release -p tests --test scenarios lockout_recovery:: -- --ignored
 /// --nocapture`.
 #[test]
 #[ignore = "Monte Carlo over 100 seeds; prints the figures of docs/lockout.md"]

@@ -615,7 +615,7 @@ fn gross_outliers_are_never_released() {
 /// for each gross fault, the final horizontal error with the faulty rows
 /// and without them, and the largest difference; then the three lock-out
 /// seeds of `spike_accepted_at_start_no_longer_locks_the_gate_out`. Run with
-/// `cargo test -p tests --test reliability_faults -- --ignored --nocapture
+/// `cargo test -p tests --test scenarios reliability_faults:: -- --ignored --nocapture
 /// gross_outliers_monte_carlo`.
 #[test]
 #[ignore = "Monte Carlo over 50 seeds; prints the figures of docs/lockout.md"]

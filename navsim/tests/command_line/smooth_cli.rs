@@ -2,7 +2,7 @@
 //! unchanged forward keys, the smoothed outputs under `--out`, and a clear
 //! refusal where a model cannot be smoothed.
 
-mod common;
+use crate::common;
 
 use common::{navsim, stderr, stdout, TempDir};
 use serde_json::Value;

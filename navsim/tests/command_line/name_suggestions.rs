@@ -4,7 +4,7 @@
 //! gets. One row per misspelling: the command, the edit of a valid log, and
 //! the text the single `error:` line must contain.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

@@ -4,7 +4,7 @@
 //! vertical gyro bias are not), the leveling filter on its weave, and the
 //! refusal for a model without the report.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

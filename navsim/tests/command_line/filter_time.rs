@@ -6,7 +6,7 @@
 //! which says the figure is the filter's work and not noise. No absolute
 //! time is asserted.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

@@ -3,7 +3,7 @@
 //! post-processed reference often is, scores the filter as the IMU's truth
 //! does once the arm is declared, and worse without it.
 
-mod common;
+use crate::common;
 
 use common::{navsim, stderr, stdout, TempDir};
 use nav_runtime::attitude::Euler;

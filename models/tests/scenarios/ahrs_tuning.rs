@@ -4,7 +4,7 @@
 //! 10 Hz with a known noise), `meta.toml` giving the magnetometer's sigma
 //! 10 times too large or too small.
 
-mod turning_flight;
+use crate::turning_flight;
 
 use models::ahrs::replay::AhrsReplay;
 use nav_replay::temp_dir::TempDir;
@@ -92,7 +92,7 @@ fn the_ahrs_magnetometer_sigma_is_tuned_from_its_log() {
 /// sigmas are within 25 % of the truth, and the median and largest
 /// relative error (`docs/tuning.md`). Ignored: run by hand, in release.
 #[test]
-#[ignore = "Monte Carlo, 100 tunings: cargo test --release -p models --test ahrs_tuning -- --ignored"]
+#[ignore = "Monte Carlo, 100 tunings: cargo test --release -p models --test scenarios ahrs_tuning:: -- --ignored"]
 fn ahrs_tuning_monte_carlo() {
     use nav_runtime::simulation::stats::{median, percentile};
     let mut errors = Vec::new();
