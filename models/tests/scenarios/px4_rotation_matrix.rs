@@ -8,13 +8,13 @@
 #[path = "../../benches/common/px4_rotation_matrix.rs"]
 mod declaration;
 
+use declaration::{
+    homogeneous_matrix_point, rotation_matrix_point, Px4HomogeneousMatrix, Px4RotationMatrix,
+};
 use models::px4_ekf24::{Px4Ekf24, Px4Ekf24Input, Px4Ekf24Noise, Px4Ekf24Params};
 use nav_runtime::model::Model;
 use nav_runtime::nalgebra::{SMatrix, SVector, Vector3, Vector4};
 use nav_runtime::propagation::Structure;
-use declaration::{
-    homogeneous_matrix_point, rotation_matrix_point, Px4HomogeneousMatrix, Px4RotationMatrix,
-};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 

@@ -51,16 +51,22 @@ impl ReplayModel for Known {
                 &SMatrix::<f64, 1, 1>::new(sigma * sigma),
             ));
         }
-        Ok(ReplayOutput {
-            innovations: vec![SensorInnovations {
-                sensor: "dvl".into(),
-                noise_sigma: Some(sigma),
-                gated: 0,
-                setting: ("meta.toml".into(), "sensors.dvl.noise_sigma".into()),
-                totals,
-            }],
-            ..ReplayOutput::default()
-        })
+        Ok(dvl_output(sigma, totals))
+    }
+}
+
+/// A replay whose one sensor, the DVL with noise sigma `sigma`, had
+/// innovations `totals`.
+fn dvl_output(sigma: f64, totals: InnovationTotals) -> ReplayOutput {
+    ReplayOutput {
+        innovations: vec![SensorInnovations {
+            sensor: "dvl".into(),
+            noise_sigma: Some(sigma),
+            gated: 0,
+            setting: ("meta.toml".into(), "sensors.dvl.noise_sigma".into()),
+            totals,
+        }],
+        ..ReplayOutput::default()
     }
 }
 
@@ -121,16 +127,7 @@ impl ReplayModel for Confounded {
                 &SMatrix::<f64, 1, 1>::new(r(sigma)),
             ));
         }
-        Ok(ReplayOutput {
-            innovations: vec![SensorInnovations {
-                sensor: "dvl".into(),
-                noise_sigma: Some(sigma),
-                gated: 0,
-                setting: ("meta.toml".into(), "sensors.dvl.noise_sigma".into()),
-                totals,
-            }],
-            ..ReplayOutput::default()
-        })
+        Ok(dvl_output(sigma, totals))
     }
 }
 
