@@ -63,6 +63,13 @@ pub struct RunHealth {
     pub replays: Option<u64>,
     /// IMU intervals longer than the model's gap limit.
     pub imu_gaps: Option<u64>,
+    /// Lock-outs of a sensor released by inflating the covariance (eq. L4
+    /// of docs/lockout.md), as the final filter counts them (a late
+    /// reading's re-propagation does not count one twice). Each release
+    /// moves the states through the correlations the filter holds; many of
+    /// them say that its model does not fit the log.
+    #[serde(default)]
+    pub lockout_releases: Option<u64>,
 }
 
 impl RunHealth {
@@ -90,6 +97,7 @@ impl RunHealth {
         };
         self.replays = add(self.replays, other.replays);
         self.imu_gaps = add(self.imu_gaps, other.imu_gaps);
+        self.lockout_releases = add(self.lockout_releases, other.lockout_releases);
     }
 
     /// The totals over `runs`.
@@ -119,6 +127,9 @@ impl RunHealth {
         if let Some(n) = self.imu_gaps {
             m.insert("imu_gaps".into(), Value::from(n));
         }
+        if let Some(n) = self.lockout_releases {
+            m.insert("lockout_releases".into(), Value::from(n));
+        }
         Value::Object(m)
     }
 }
@@ -147,12 +158,14 @@ mod tests {
             covariance_repairs: 1,
             replays: Some(3),
             imu_gaps: None,
+            lockout_releases: Some(2),
         };
         let b = RunHealth {
             sensors: vec![("dvl".into(), counts(1)), ("usbl".into(), counts(5))],
             covariance_repairs: 0,
             replays: Some(1),
             imu_gaps: None,
+            lockout_releases: None,
         };
         let t = RunHealth::total([&a, &b]);
         let names: Vec<&str> = t.sensors.iter().map(|(n, _)| n.as_str()).collect();
@@ -164,6 +177,7 @@ mod tests {
         assert_eq!(v["dvl"]["accepted"], json!(24));
         assert!(v["dvl"]["accepted"].is_u64());
         assert_eq!(v["replays"], json!(4));
+        assert_eq!(v["lockout_releases"], json!(2));
         assert!(v.get("imu_gaps").is_none());
         assert_eq!(
             RunHealth::total([]).json(),

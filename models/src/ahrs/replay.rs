@@ -367,6 +367,8 @@ pub fn replay_source(
         covariance_repairs: stream.filter().ekf().counters().covariance_repairs,
         replays: None,
         imu_gaps: Some(counts.imu_gaps),
+        // No release rule: a refused reading stays refused.
+        lockout_releases: None,
     };
     m.insert("health".into(), health.json());
     let f = stream.filter().nominal();

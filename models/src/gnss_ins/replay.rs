@@ -281,6 +281,7 @@ pub fn replay_source(
         covariance_repairs: run.repairs,
         replays: None,
         imu_gaps: Some(tally.imu_gaps),
+        lockout_releases: Some(run.final_filter.ekf().counters().updates_released),
     };
     m.insert("health".into(), health.json());
     if let Some(e) = &tally.last {

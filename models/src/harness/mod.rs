@@ -58,6 +58,7 @@ mod tests {
             covariance_repairs: 2,
             replays: Some(9),
             imu_gaps: None,
+            lockout_releases: Some(1),
         };
         let text = serde_json::to_string(&r).unwrap();
         let back: RunResult = serde_json::from_str(&text).unwrap();

@@ -260,6 +260,7 @@ impl<V: InsVehicle<N>, const N: usize> InsRun<V, N> {
             covariance_repairs: self.repairs,
             replays: Some(self.replays),
             imu_gaps: None,
+            lockout_releases: Some(self.final_filter.ekf().counters().updates_released),
         }
     }
 }

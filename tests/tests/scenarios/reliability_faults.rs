@@ -436,16 +436,26 @@ fn spike_accepted_at_start_no_longer_locks_the_gate_out() {
         let bias = Some(sim.errors.compass_bias);
         let outcome = |options: &FilterOptions| {
             let (run, scored) = run_and_score(&sim.log, options, bias).unwrap();
-            (run.health[sensor].1.gated, scored.unwrap().nees_mean)
+            (
+                run.health[sensor].1.gated,
+                scored.unwrap().nees_mean,
+                run.health_counts().lockout_releases,
+            )
         };
         let locked = outcome(&FilterOptions {
             lockout_release: None,
             ..FilterOptions::default()
         });
-        let (gated, nees) = outcome(&FilterOptions::default());
+        let (gated, nees, releases) = outcome(&FilterOptions::default());
         assert!(locked.0 > 900, "seed {seed}: {locked:?}");
         assert!(gated < 80, "seed {seed}: {gated} gated");
         assert!(nees < 20.0, "seed {seed}: NEES {nees}");
+        // The JSON's health says how often the lock-out was released.
+        assert_eq!(locked.2, Some(0), "seed {seed}");
+        assert!(
+            releases.is_some_and(|n| n >= 1),
+            "seed {seed}: {releases:?}"
+        );
     }
 }
 
