@@ -539,8 +539,18 @@ pub fn tune(
         };
         errors[i] = e;
         if e > MAX_LOG_SIGMA_ERROR {
+            let own = if c < 0.0 {
+                (-c).sqrt().recip()
+            } else {
+                f64::INFINITY
+            };
             why_not[i] = Some(if c.is_nan() {
                 "the budget of replays allowed no step".to_string()
+            } else if own <= MAX_LOG_SIGMA_ERROR {
+                // Known on its own, not beside the others.
+                format!(
+                    "it and a tuned sensor sigma act on the same innovations: alone its standard error of ln sigma would be {own:.2}, taken together it is {e:.2}"
+                )
             } else {
                 format!(
                     "the likelihood is flat in it (standard error of ln sigma {}): the log has too little excitation or too few updates to tell it",
@@ -556,9 +566,12 @@ pub fn tune(
     for (i, (key, initial)) in params.iter().enumerate() {
         if let Some(sensor) = t.sensor_of(key) {
             let t = totals_of(&center, sensor);
-            errors[i] = t.map_or(f64::INFINITY, InnovationTotals::log_sigma_standard_error);
+            let joint = marginal.as_ref().and_then(|m| m[i]);
+            errors[i] = joint.unwrap_or_else(|| {
+                t.map_or(f64::INFINITY, InnovationTotals::log_sigma_standard_error)
+            });
             why_not[i] = sensor_verdict(sensor, t).or_else(|| {
-                let e = marginal.as_ref().and_then(|m| m[i])?;
+                let e = joint?;
                 (e > MAX_LOG_SIGMA_ERROR).then(|| confounded(sensor, e))
             });
             if why_not[i].is_some() {

@@ -88,7 +88,12 @@ fn standard_normals(n: usize) -> Vec<f64> {
 /// the sensor's sigma and the gyro noise act on the same innovations there
 /// and trade against each other. The truth: `TRUE_SIGMA` and a gyro sigma
 /// of `GYRO_SIGMA`, whose share equals the noise's.
-struct Confounded;
+struct Confounded {
+    updates: usize,
+    /// Every other update has the filter's share `HPH` (the sensor alone);
+    /// otherwise every update is the gyro noise's.
+    plain_half: bool,
+}
 
 const GYRO_SIGMA: f64 = 1e-6;
 const K: f64 = TRUE_SIGMA * TRUE_SIGMA / (GYRO_SIGMA * GYRO_SIGMA);
@@ -114,8 +119,8 @@ impl ReplayModel for Confounded {
             .map_or(f64::NAN, |s| s.gyro_noise_sigma);
         let mut totals = InnovationTotals::default();
         let r = |s: f64| s * s;
-        for (k, z) in standard_normals(2000).into_iter().enumerate() {
-            let (filter_share, true_share) = if k % 2 == 0 {
+        for (k, z) in standard_normals(self.updates).into_iter().enumerate() {
+            let (filter_share, true_share) = if self.plain_half && k % 2 == 0 {
                 (HPH, HPH)
             } else {
                 (K * gyro * gyro, K * GYRO_SIGMA * GYRO_SIGMA)
@@ -139,7 +144,15 @@ impl ReplayModel for Confounded {
 fn parameters_on_the_same_innovations_report_their_joint_standard_errors() {
     let (_d, files) = log_with(TRUE_SIGMA);
     let t = tune(
-        &LogTuning::new(&Confounded, &files, ReplayOptions::default()).unwrap(),
+        &LogTuning::new(
+            &Confounded {
+                updates: 2000,
+                plain_half: true,
+            },
+            &files,
+            ReplayOptions::default(),
+        )
+        .unwrap(),
         &TuneOptions {
             params: vec![
                 "sensors.dvl.noise_sigma".into(),
@@ -186,6 +199,40 @@ fn parameters_on_the_same_innovations_report_their_joint_standard_errors() {
             p.log_standard_error
         );
         assert!(joint > 1.1 * own, "{key}: {joint} {own}");
+    }
+}
+
+/// Two parameters that each 100 updates tell on its own (standard errors
+/// of about 0.1) but that act on the same innovations at every update are
+/// not identified taken together: both keep their given values and say why.
+#[test]
+fn parameters_that_trade_against_each_other_are_not_identified() {
+    let (_d, files) = log_with(TRUE_SIGMA);
+    let t = tune(
+        &LogTuning::new(
+            &Confounded {
+                updates: 100,
+                plain_half: false,
+            },
+            &files,
+            ReplayOptions::default(),
+        )
+        .unwrap(),
+        &TuneOptions {
+            params: vec![
+                "sensors.dvl.noise_sigma".into(),
+                "sensors.imu.gyro_noise_sigma".into(),
+            ],
+            ..TuneOptions::default()
+        },
+        &|_, _| {},
+    )
+    .unwrap();
+    for p in &t.parameters {
+        let why = p.not_identifiable.as_deref().unwrap_or_default();
+        assert!(why.contains("act on the same innovations"), "{p:?}");
+        assert_eq!(p.value, p.initial, "{p:?}");
+        assert!(p.log_standard_error > MAX_LOG_SIGMA_ERROR, "{p:?}");
     }
 }
 
