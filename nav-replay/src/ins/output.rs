@@ -30,6 +30,10 @@ pub const OUTPUT_PERIOD_S: f64 = 0.1;
 /// Name of the trajectory table (`estimates.csv` under `--out`).
 pub const TRAJECTORY_TABLE: &str = "estimates";
 
+/// Name of the smoothed trajectory table (`smoothed.csv` under `--out` with
+/// `--smooth`): the rows of [`TRAJECTORY_TABLE`], smoothed.
+pub const SMOOTHED_TRAJECTORY_TABLE: &str = "smoothed";
+
 /// Columns of the trajectory table: time, position, velocity, attitude and
 /// their standard deviations (m, m/s, deg).
 pub const TRAJECTORY_COLUMNS: [&str; 19] = [
@@ -103,9 +107,10 @@ fn score_error(e: super::score::ScoreError) -> RunError {
 }
 
 /// Replays vehicle `V` over `source`; with `out`, the time series
-/// (`errors.csv`, `estimates.csv`, with `--smooth` `smoothed_errors.csv`) and
-/// plots are written there as the run goes; without, the error tables are
-/// kept in the output when `options.keep_series`.
+/// (`errors.csv`, `estimates.csv`, with `--smooth` `smoothed.csv` and, with
+/// truth, `smoothed_errors.csv`) and plots are written there as the run
+/// goes; without, the error tables are kept in the output when
+/// `options.keep_series`.
 pub(super) fn replay_source<V: InsVehicle<N>, const N: usize>(
     source: &LogSource<'_>,
     options: &ReplayOptions,
@@ -162,7 +167,23 @@ pub(super) fn replay_source<V: InsVehicle<N>, const N: usize>(
             Ok((Scorer::new(None, keep(SMOOTHED_TABLE)?), rows))
         })
         .transpose()?;
+    // The smoothed trajectory: the rows of `estimates.csv`, smoothed, with
+    // or without truth (a log without truth is what a user smooths most).
+    let mut smoothed_trajectory = match (out, options.smooth) {
+        (Some(dir), true) => Some(TableWriter::create(
+            &dir.join(format!("{SMOOTHED_TRAJECTORY_TABLE}.csv")),
+            &TRAJECTORY_COLUMNS,
+        )?),
+        _ => None,
+    };
+    let mut smoothed_estimates = 0u64;
     let smoothed_sink = |e: Option<&Estimate>| -> Result<(), RunError> {
+        if let Some(e) = e {
+            smoothed_estimates += 1;
+            if let Some(w) = &mut smoothed_trajectory {
+                w.push(&trajectory_row(e))?;
+            }
+        }
         if let Some((s, Some(rows))) = &mut smoothed_scorer {
             if let Some((line, row)) = rows.next_row().map_err(RunError::from)? {
                 s.push(line, &row, e).map_err(score_error)?;
@@ -186,7 +207,7 @@ pub(super) fn replay_source<V: InsVehicle<N>, const N: usize>(
             smoothed_sink,
         )?,
     };
-    if let Some(w) = trajectory {
+    for w in [trajectory, smoothed_trajectory].into_iter().flatten() {
         w.finish()?;
     }
     let span = Some(run.imu_span);
@@ -217,7 +238,14 @@ pub(super) fn replay_source<V: InsVehicle<N>, const N: usize>(
             }
         }
     }
-    output_of::<V, N>(&run, scored, smoothed, options, out.is_none())
+    let smoothed_estimates = options.smooth.then_some(smoothed_estimates);
+    output_of::<V, N>(
+        &run,
+        scored,
+        (smoothed, smoothed_estimates),
+        options,
+        out.is_none(),
+    )
 }
 
 /// Degrees of freedom of the navigation NEES (position, velocity, attitude).
@@ -278,11 +306,12 @@ pub fn unapplied_sensors(
 }
 
 /// The replay output of a run: metrics, warnings and (with `tables`) the
-/// error tables.
+/// error tables; `smoothed` is the smoothed run's scores (with truth) and,
+/// with `--smooth`, how many estimates got a smoothed counterpart.
 pub(super) fn output_of<V: InsVehicle<N>, const N: usize>(
     run: &InsRun<V, N>,
     scored: Option<Scored>,
-    smoothed: Option<Scored>,
+    (smoothed, smoothed_estimates): (Option<Scored>, Option<u64>),
     options: &ReplayOptions,
     tables: bool,
 ) -> Result<ReplayOutput, RunError> {
@@ -378,17 +407,23 @@ pub(super) fn output_of<V: InsVehicle<N>, const N: usize>(
             });
         }
     }
-    if let Some(s) = &smoothed {
-        let errors: Map<String, Value> = ERROR_KEYS
-            .iter()
-            .zip(error_values(s))
-            .map(|(k, v)| ((*k).to_string(), Value::from(v)))
-            .collect();
-        out.metrics.insert("smoothed".into(), Value::Object(errors));
-    } else if options.smooth {
-        out.warnings.push(crate::model_note(
-            "the log has no truth.csv: the smoothed run is not scored",
-        ));
+    if let Some(count) = smoothed_estimates {
+        let mut object: Map<String, Value> = match &smoothed {
+            Some(s) => ERROR_KEYS
+                .iter()
+                .zip(error_values(s))
+                .map(|(k, v)| ((*k).to_string(), Value::from(v)))
+                .collect(),
+            None => {
+                out.warnings.push(crate::model_note(
+                    "the log has no truth.csv: the smoothed run is not scored \
+                     (with --out, smoothed.csv holds it)",
+                ));
+                Map::new()
+            }
+        };
+        object.insert("estimates".into(), Value::from(count));
+        out.metrics.insert("smoothed".into(), Value::Object(object));
     }
     out.metrics
         .insert("health".into(), run.health_counts().json());
