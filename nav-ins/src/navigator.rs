@@ -256,7 +256,21 @@ impl<V: InsVehicle<N>, const N: usize> Navigator<V, N> {
     /// late ones that arrive while `t` is in the history). At or before the
     /// current time, the current estimate is taken. Collect it with
     /// [`Navigator::final_estimates`] or [`Navigator::flush_estimates`].
+    /// When the run is recorded, `t` is an epoch of the recording, so the
+    /// smoother gives the estimate a smoothed counterpart.
     pub fn request_estimate(&mut self, t: f64) -> Ticket {
+        self.request(t, true)
+    }
+
+    /// As [`Navigator::request_estimate`], without making `t` an epoch of
+    /// the recording: for estimates wanted at a high rate (every IMU
+    /// sample, say) of which the smoother is to smooth none, since each
+    /// epoch costs the recording a few covariance matrices.
+    pub fn request_estimate_unrecorded(&mut self, t: f64) -> Ticket {
+        self.request(t, false)
+    }
+
+    fn request(&mut self, t: f64, epoch: bool) -> Ticket {
         let ticket = {
             let mut r = self.requests.borrow_mut();
             let ticket = r.base + r.entries.len() as u64;
@@ -273,7 +287,9 @@ impl<V: InsVehicle<N>, const N: usize> Navigator<V, N> {
         let requests = Rc::clone(&self.requests);
         let m = FnMeasurement::new(&[], move |f: &mut InsFilter<V, N>| {
             let e = Estimate::of(t, f);
-            f.mark_epoch(t);
+            if epoch {
+                f.mark_epoch(t);
+            }
             let mut r = requests.borrow_mut();
             if let Some(i) = ticket.checked_sub(r.base) {
                 if let Some(slot) = r.entries.get_mut(i as usize) {

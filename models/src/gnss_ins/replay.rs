@@ -32,10 +32,11 @@ pub use super::scores::TRUTH_DATUM_GAP_M;
 use crate::ahrs::outputs::{write_outputs, write_plots};
 use crate::harness::{ReplayModel, ReplayOptions, ReplayOutput, RunError, RunHealth};
 use crate::sdins25::filter::{replay_vehicle, FilterOptions, LENIENT_IMU_STEP_PERIODS};
-use crate::sdins25::replay_loop::{EachSample, Listed};
+use crate::sdins25::replay_loop::{EachSample, Listed, Smoothed};
+use crate::sdins25::score::{Keep, Scorer, COLUMNS as ERRORS_COLUMNS};
 use crate::ulog::reference::EstimatePoint;
 use nav_ins::Estimate;
-use nav_replay::output::series::SeriesSink;
+use nav_replay::output::series::{SeriesSink, TableWriter};
 
 /// `navsim replay --model gnss-ins`.
 pub const NAME: &str = "gnss-ins";
@@ -56,6 +57,11 @@ pub const FILES: &[&str] = &[
 
 /// Name of the table of estimates.
 pub const ESTIMATES_TABLE: &str = "estimates";
+/// Name of the table of smoothed estimates (`--smooth`): the rows of
+/// [`ESTIMATES_TABLE`], smoothed.
+pub const SMOOTHED_TABLE: &str = "smoothed";
+/// Name of the table of the smoothed estimates' errors against truth.
+pub const SMOOTHED_ERRORS_TABLE: &str = nav_replay::ins::SMOOTHED_TABLE;
 /// The estimates table has a row at every this many IMU samples.
 pub const ESTIMATES_EVERY: usize = 10;
 
@@ -148,6 +154,7 @@ pub fn replay_source(
         max_imu_step: Some(LENIENT_IMU_STEP_PERIODS),
         gap_warnings: options.lenient,
         observability: options.observability,
+        smooth: options.smooth,
         ..FilterOptions::default()
     };
     // Its only position and velocity aiding: without it the INS drifts
@@ -167,9 +174,16 @@ pub fn replay_source(
         options.keep_series,
     )?;
     let mut tally = SampleTally::default();
+    // With smoothing, the truth rows and the rows of the estimates table
+    // are smoothed (epochs of the recording), not every sample.
     let requests = EachSample::new(truth_requests(source.rows::<TruthRow>()?), |_| {
         Wanted::Sample
-    });
+    })
+    .smoothing_every(ESTIMATES_EVERY);
+    let mut smoothed = options
+        .smooth
+        .then(|| SmoothedRun::new(source, out, options.keep_series))
+        .transpose()?;
     let run = replay_vehicle::<GnssIns, N, _, _>(
         source,
         &filter_options,
@@ -196,8 +210,10 @@ pub fn replay_source(
             }
             (Wanted::Sample, None) => Ok(()),
         },
-        // Not smoothed (`FilterOptions::smooth` is off).
-        |_| Ok(()),
+        |kind, e| match smoothed.as_mut() {
+            Some(s) => s.push(kind, e),
+            None => Ok(()),
+        },
     )?;
 
     let mut output = ReplayOutput {
@@ -262,6 +278,9 @@ pub fn replay_source(
     }
     let m = &mut output.metrics;
     let scored = scores.finish(Some(run.imu_span), m, warnings)?;
+    let smoothed = smoothed
+        .map(|s| s.finish(run.imu_span, m, warnings))
+        .transpose()?;
     m.insert(
         "magnetic_declination_deg".into(),
         Value::from(run.magnetic_declination.0.to_degrees()),
@@ -302,11 +321,108 @@ pub fn replay_source(
     let mut tables = scored.truth;
     tables.extend(estimates.finish()?);
     tables.extend(scored.reference);
+    tables.extend(smoothed.into_iter().flatten());
     match out {
-        Some(dir) => write_plots(NAME, &tables, dir)?,
+        Some(dir) => {
+            write_plots(NAME, &tables, dir)?;
+            nav_replay::ins::write_smoothed_plot(NAME, "replay", &tables, dir)?;
+        }
         None => output.tables = tables,
     }
     Ok(output)
+}
+
+/// The smoothed run (`--smooth`), taken after the forward one: the rows of
+/// the estimates table smoothed (`smoothed.csv`), and with truth the
+/// smoothed estimates at the truth rows scored (`smoothed_errors.csv`, the
+/// `smoothed` keys), the truth rows read again beside them.
+struct SmoothedRun<'a> {
+    table: SeriesSink,
+    truth: Option<(Scorer, Box<dyn RowSource<TruthRow> + 'a>)>,
+    estimates: u64,
+}
+
+impl<'a> SmoothedRun<'a> {
+    fn new(
+        source: &LogSource<'a>,
+        out: Option<&Path>,
+        keep_series: bool,
+    ) -> Result<Self, RunError> {
+        let keep = || -> Result<Keep, RunError> {
+            Ok(match out {
+                Some(dir) => Keep::Bounded(Some(TableWriter::create(
+                    &dir.join(format!("{SMOOTHED_ERRORS_TABLE}.csv")),
+                    &ERRORS_COLUMNS,
+                )?)),
+                None if keep_series => Keep::All,
+                None => Keep::Nothing,
+            })
+        };
+        let truth = match source.rows::<TruthRow>()? {
+            Some(rows) => Some((Scorer::new(None, keep()?), rows)),
+            None => None,
+        };
+        Ok(SmoothedRun {
+            table: SeriesSink::new(SMOOTHED_TABLE, &ESTIMATES_COLUMNS, out, keep_series)?,
+            truth,
+            estimates: 0,
+        })
+    }
+
+    /// The smoothed counterpart of the next smoothed request.
+    fn push(&mut self, kind: Smoothed, e: Option<&Estimate>) -> Result<(), RunError> {
+        self.estimates += u64::from(e.is_some());
+        match kind {
+            Smoothed::Sample => match e {
+                Some(e) if self.table.wanted() => self.table.push(&table_row(e)),
+                _ => Ok(()),
+            },
+            Smoothed::Requested => {
+                let Some((scorer, rows)) = self.truth.as_mut() else {
+                    return Ok(());
+                };
+                match rows.next_row().map_err(RunError::from)? {
+                    Some((line, row)) => scorer
+                        .push(line, &row, e)
+                        .map_err(|e| RunError::Invalid(format!("smoothed run: {e}"))),
+                    None => Ok(()),
+                }
+            }
+        }
+    }
+
+    /// Adds `smoothed` to `metrics` (`estimates`, and with truth the
+    /// error keys) and returns the tables.
+    fn finish(
+        self,
+        imu_span: (f64, f64),
+        metrics: &mut serde_json::Map<String, Value>,
+        warnings: &mut Vec<Warning>,
+    ) -> Result<Vec<nav_replay::RunTable>, RunError> {
+        let mut object = serde_json::Map::new();
+        object.insert("estimates".into(), Value::from(self.estimates));
+        let mut tables: Vec<_> = self.table.finish()?.into_iter().collect();
+        match self.truth.map(|(s, _)| s.finish(Some(imu_span))) {
+            Some(Ok(mut s)) => {
+                for (k, v) in nav_replay::ins::ERROR_KEYS
+                    .iter()
+                    .zip(nav_replay::ins::error_values(&s))
+                {
+                    object.insert((*k).into(), Value::from(v));
+                }
+                s.table.name = SMOOTHED_ERRORS_TABLE.into();
+                tables.push(s.table);
+            }
+            Some(Err(e)) => warnings.push(Warning::about(
+                WarningKind::Suspicious,
+                "truth.csv",
+                format!("smoothed run not scored against truth: {e}"),
+            )),
+            None => {}
+        }
+        metrics.insert("smoothed".into(), Value::Object(object));
+        Ok(tables)
+    }
 }
 
 /// The replay model `gnss-ins`.
@@ -324,6 +440,9 @@ impl ReplayModel for GnssInsReplay {
         Some(FILES)
     }
     fn can_observe(&self) -> bool {
+        true
+    }
+    fn can_smooth(&self) -> bool {
         true
     }
     fn replay(&self, log: &LogDir, options: &ReplayOptions) -> Result<ReplayOutput, RunError> {

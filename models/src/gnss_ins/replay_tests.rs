@@ -121,7 +121,7 @@ fn whole_series(log: &LogDir) -> (Map<String, Value>, Vec<Warning>, Vec<RunTable
             }
             Ok(())
         },
-        |_| Ok(()),
+        |_, _| Ok(()),
     )
     .expect("replays");
     let (mut metrics, mut warnings, mut tables) = (Map::new(), Vec::new(), Vec::new());
@@ -256,6 +256,104 @@ fn written_series_are_every_row_and_the_plots() {
     ] {
         assert!(out.join(f).is_file(), "{f}");
     }
+}
+
+/// `--smooth`: the forward run is the same, the rows of the estimates
+/// table come back smoothed (same times, no larger sigma, the last one the
+/// forward one), the truth rows are scored smoothed, and written under
+/// `--out` as they are kept in memory.
+#[test]
+fn smoothing_adds_the_smoothed_estimates_and_their_scores() {
+    let tmp = TempDir::new("smooth");
+    let dir = flight(&tmp);
+    let forward_options = ReplayOptions {
+        keep_series: true,
+        ..ReplayOptions::default()
+    };
+    let options = ReplayOptions {
+        smooth: true,
+        ..forward_options
+    };
+    let forward = streamed_with(&dir, Strictness::Strict, &forward_options).expect("replays");
+    let both = streamed_with(&dir, Strictness::Strict, &options).expect("replays");
+    let mut without = both.metrics.clone();
+    let smoothed = without.remove("smoothed").expect("smoothed");
+    assert_eq!(without, forward.metrics, "the forward keys are unchanged");
+    let table = |out: &ReplayOutput, name: &str| -> RunTable {
+        let t = out.tables.iter().find(|t| t.name == name);
+        t.unwrap_or_else(|| panic!("{name}")).clone()
+    };
+    for name in ["errors", "estimates"] {
+        same_rows(&table(&both, name), &table(&forward, name));
+    }
+    let (estimates, smooth) = (table(&forward, "estimates"), table(&both, SMOOTHED_TABLE));
+    assert_eq!(smooth.rows.len(), estimates.rows.len());
+    let column = |name: &str| ESTIMATES_COLUMNS.iter().position(|c| *c == name).unwrap();
+    let mut tighter = 0;
+    for (f, s) in estimates.rows.iter().zip(&smooth.rows) {
+        assert_eq!(f[0], s[0], "same time");
+        for name in ["sig_n", "sig_e", "sig_d"] {
+            let k = column(name);
+            assert!(s[k] <= f[k] * (1.0 + 1e-9), "{name} at t = {}", f[0]);
+        }
+        tighter += usize::from(s[column("sig_n")] < 0.9 * f[column("sig_n")]);
+    }
+    assert!(tighter > estimates.rows.len() / 2, "{tighter} rows tighter");
+    let (f, s) = (estimates.rows.last().unwrap(), smooth.rows.last().unwrap());
+    for k in 1..f.len() {
+        assert!(
+            (f[k] - s[k]).abs() <= 1e-9 * f[k].abs().max(1.0),
+            "{}",
+            ESTIMATES_COLUMNS[k]
+        );
+    }
+    // Scored at as many truth rows as the forward run.
+    let errors = table(&both, SMOOTHED_ERRORS_TABLE);
+    assert_eq!(errors.rows.len(), table(&forward, "errors").rows.len());
+    assert_eq!(
+        smoothed["estimates"].as_u64(),
+        Some((errors.rows.len() + smooth.rows.len()) as u64)
+    );
+    for key in nav_replay::ins::ERROR_KEYS {
+        assert!(
+            smoothed[key].as_f64().is_some_and(f64::is_finite),
+            "{key}: {smoothed}"
+        );
+    }
+
+    let out = tmp.0.join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    let files = LogFiles::open(&dir, Strictness::Strict).unwrap();
+    let written = GnssInsReplay
+        .replay_files(&files, &options, Some(&out))
+        .expect("replays");
+    assert_eq!(written.metrics, both.metrics);
+    for t in [&smooth, &errors] {
+        let text = std::fs::read_to_string(out.join(format!("{}.csv", t.name))).unwrap();
+        let whole = tmp.0.join("whole.csv");
+        t.write_csv(&whole).expect("writes");
+        assert!(
+            text == std::fs::read_to_string(&whole).unwrap(),
+            "{}",
+            t.name
+        );
+    }
+    assert!(out.join("replay-smoothed-horizontal.svg").is_file());
+
+    // Without truth: the smoothed rows, no smoothed scores and no file of them.
+    let no_truth = copy(&dir, "no-truth");
+    std::fs::remove_file(no_truth.join("truth.csv")).unwrap();
+    let out = tmp.0.join("out-no-truth");
+    std::fs::create_dir_all(&out).unwrap();
+    let files = LogFiles::open(&no_truth, Strictness::Strict).unwrap();
+    let written = GnssInsReplay
+        .replay_files(&files, &options, Some(&out))
+        .expect("replays");
+    let object = written.metrics["smoothed"].as_object().unwrap();
+    assert_eq!(object.keys().collect::<Vec<_>>(), ["estimates"]);
+    assert_eq!(object["estimates"].as_u64(), Some(smooth.rows.len() as u64));
+    assert!(out.join("smoothed.csv").is_file());
+    assert!(!out.join("smoothed_errors.csv").exists());
 }
 
 fn has_warning(out: &ReplayOutput, text: &str) -> bool {

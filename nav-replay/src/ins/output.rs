@@ -177,7 +177,7 @@ pub(super) fn replay_source<V: InsVehicle<N>, const N: usize>(
         _ => None,
     };
     let mut smoothed_estimates = 0u64;
-    let smoothed_sink = |e: Option<&Estimate>| -> Result<(), RunError> {
+    let smoothed_sink = |_, e: Option<&Estimate>| -> Result<(), RunError> {
         if let Some(e) = e {
             smoothed_estimates += 1;
             if let Some(w) = &mut smoothed_trajectory {

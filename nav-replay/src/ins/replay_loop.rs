@@ -28,8 +28,8 @@ use crate::preflight::{PreflightOptions, Report};
 use crate::RunError;
 use nav_ins::vehicle::{Layout, Slot};
 use nav_ins::{
-    CompassForm, Estimate, ImuSample, InsVehicle, NavigatorError, ESTIMATE_SCALARS, SENSORS,
-    SENSOR_NAMES,
+    CompassForm, Estimate, ImuSample, InsVehicle, Navigator, NavigatorError, ESTIMATE_SCALARS,
+    SENSORS, SENSOR_NAMES,
 };
 
 /// Runs the filter of vehicle `V` over `log`, recording estimates at
@@ -65,7 +65,7 @@ pub fn run_vehicle<V: InsVehicle<N>, const N: usize>(
             }
             Ok(())
         },
-        |e| {
+        |_, e| {
             in_order.push(e.copied());
             Ok(())
         },
@@ -87,7 +87,10 @@ pub fn run_vehicle<V: InsVehicle<N>, const N: usize>(
 /// ([`Listed`] output times, [`Every`] period). [`InsRun::estimates`] and
 /// [`InsRun::smoothed`] stay empty: with [`FilterOptions::smooth`],
 /// `smoothed_sink` gets the smoothed counterpart of every estimate `sink`
-/// got, in the same order, after the run. Neither the forward estimates the
+/// got for a smoothed request (every request, but for the samples of
+/// [`EachSample`] not chosen by [`EachSample::smoothing_every`]), with the
+/// [`Smoothed`] kind of the request, in the same order, after the run.
+/// Neither the forward estimates the
 /// smoother needs nor the smoothed ones are kept in memory (they wait in
 /// temporary files), so memory does not grow with the log.
 ///
@@ -99,7 +102,7 @@ pub fn replay_vehicle<V, const N: usize, P, Q>(
     options: &FilterOptions,
     requests: Q,
     mut sink: impl FnMut(P, Option<&Estimate>) -> Result<(), RunError>,
-    mut smoothed_sink: impl FnMut(Option<&Estimate>) -> Result<(), RunError>,
+    mut smoothed_sink: impl FnMut(Smoothed, Option<&Estimate>) -> Result<(), RunError>,
 ) -> Result<InsRun<V, N>, RunError>
 where
     V: InsVehicle<N>,
@@ -158,13 +161,13 @@ where
     // are applied to after the run.
     let mut smoothing = options
         .smooth
-        .then(|| SpillFile::create(None, ESTIMATE_SCALARS))
+        .then(|| SpillFile::create(None, SMOOTHING_RECORD))
         .transpose()
         .map_err(smoother_error)?;
     let clock = FilterTime::start();
-    let mut out = |p: P, e: Option<&Estimate>| -> Result<(), RunError> {
-        if let Some(file) = smoothing.as_mut() {
-            file.push(&Estimate::to_scalars(e))
+    let mut out = |p: P, e: Option<&Estimate>, kind: Option<Smoothed>| -> Result<(), RunError> {
+        if let (Some(file), Some(kind)) = (smoothing.as_mut(), kind) {
+            file.push(&smoothing_record(e, kind))
                 .map_err(smoother_error)?;
         }
         clock.output(|| sink(p, e))
@@ -203,7 +206,7 @@ where
     if first_to_push.is_none() {
         let next_t = stream.next_imu_t()?;
         if requests.take(first.t, next_t, tolerance, &mut waiting)? {
-            nav.request_estimate(first.t);
+            waiting.request(&mut nav, first.t);
         }
         waiting.hand_unmatched(&mut out)?;
     }
@@ -284,7 +287,7 @@ where
         let next_t = stream.next_imu_t()?;
         let ticket = requests.take(row.t, next_t, tolerance, &mut waiting)?;
         if ticket {
-            nav.request_estimate(row.t);
+            waiting.request(&mut nav, row.t);
         }
         waiting.hand_unmatched(&mut out)?;
         // The step and the estimates it makes final.
@@ -376,9 +379,10 @@ where
     if let (Some(store), Some(forward)) = (recording, smoothing.as_mut()) {
         let mut smoothed = smoothed_estimates(&mut store.borrow_mut(), forward, &layout)?;
         // Written latest first: popped, they come in the order handed on.
-        let mut record = [0.0; ESTIMATE_SCALARS];
+        let mut record = [0.0; SMOOTHING_RECORD];
         while smoothed.pop(&mut record).map_err(smoother_error)? {
-            smoothed_sink(Estimate::from_scalars(&record).as_ref())?;
+            let (e, kind) = from_smoothing_record(&record);
+            smoothed_sink(kind, e.as_ref())?;
         }
     }
     let repairs = final_filter.ekf().counters().covariance_repairs;
@@ -621,12 +625,26 @@ fn sample(r: &ImuRow) -> ImuSample {
     }
 }
 
+/// What a request's estimate is to the smoother, for the smoothed sink of
+/// [`replay_vehicle`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Smoothed {
+    /// A requested output time ([`Listed`], [`Every`], the requests inside
+    /// an [`EachSample`]).
+    Requested,
+    /// One of the samples [`EachSample::smoothing_every`] chose.
+    Sample,
+}
+
+/// One request waiting: its payload and, when it is smoothed, its kind.
+type Entry<P> = (P, Option<Smoothed>);
+
 /// Requests taken from the request stream and not yet handed on, in request
 /// order: groups of requests snapped to one IMU sample (`true`: one
 /// navigator ticket) and requests no sample is near (`false`: handed on with
 /// `None` in turn).
 pub struct Waiting<P> {
-    groups: VecDeque<(bool, Vec<P>)>,
+    groups: VecDeque<(bool, Vec<Entry<P>>)>,
 }
 
 impl<P> Default for Waiting<P> {
@@ -700,6 +718,7 @@ where
             let Some(Ok((rt, p))) = requests.next() else {
                 break;
             };
+            let p = (p, Some(Smoothed::Requested));
             if (rt - t).abs() <= tolerance {
                 snapped.push(p);
             } else {
@@ -759,7 +778,9 @@ impl<T> Requests<(f64, Option<T>)> for Every {
         }
         let k = ((t - origin) / self.period_s + 1e-9).floor() + 1.0;
         self.due = origin + k * self.period_s;
-        waiting.groups.push_back((true, vec![(t, None)]));
+        waiting
+            .groups
+            .push_back((true, vec![((t, None), Some(Smoothed::Requested))]));
         Ok(true)
     }
 }
@@ -770,12 +791,32 @@ impl<T> Requests<(f64, Option<T>)> for Every {
 pub struct EachSample<R, F> {
     inner: R,
     every: F,
+    /// Samples taken so far.
+    samples: usize,
+    /// Every how many samples one is smoothed (`None`: none).
+    smoothed_every: Option<usize>,
 }
 
 impl<R, F> EachSample<R, F> {
-    /// The requests of `inner` plus `every(t)` at each sample.
+    /// The requests of `inner` plus `every(t)` at each sample. With
+    /// smoothing, the requests of `inner` are smoothed and the samples are
+    /// not: an epoch of the recording at every sample would cost the
+    /// recording a few covariance matrices per sample.
     pub fn new(inner: R, every: F) -> Self {
-        EachSample { inner, every }
+        EachSample {
+            inner,
+            every,
+            samples: 0,
+            smoothed_every: None,
+        }
+    }
+
+    /// Also smooths every `k`-th sample (the `k`-th, `2k`-th, ... counted
+    /// from 1), as [`Smoothed::Sample`]; `k` of 0 smooths none.
+    #[must_use]
+    pub fn smoothing_every(mut self, k: usize) -> Self {
+        self.smoothed_every = (k > 0).then_some(k);
+        self
     }
 }
 
@@ -787,7 +828,12 @@ impl<P, R: Requests<P>, F: FnMut(f64) -> P> Requests<P> for EachSample<R, F> {
         tolerance: f64,
         waiting: &mut Waiting<P>,
     ) -> Result<bool, RunError> {
-        let p = (self.every)(t);
+        self.samples += 1;
+        let smoothed = self
+            .smoothed_every
+            .is_some_and(|k| self.samples.is_multiple_of(k))
+            .then_some(Smoothed::Sample);
+        let p = ((self.every)(t), smoothed);
         if self.inner.take(t, next, tolerance, waiting)? {
             // The newest ticket group is this sample's: one estimate for both.
             if let Some((_, ps)) = waiting.groups.iter_mut().rev().find(|(ticket, _)| *ticket) {
@@ -800,16 +846,33 @@ impl<P, R: Requests<P>, F: FnMut(f64) -> P> Requests<P> for EachSample<R, F> {
     }
 }
 
+/// Where the waiting requests' estimates go: the payload, the estimate and
+/// its kind for the smoother.
+type Out<'a, P> = dyn FnMut(P, Option<&Estimate>, Option<Smoothed>) -> Result<(), RunError> + 'a;
+
 impl<P> Waiting<P> {
+    /// Asks `nav` for the estimate of the newest ticket group at `t`, an
+    /// epoch of the recording when a request of the group is smoothed.
+    fn request<V: InsVehicle<N>, const N: usize>(&self, nav: &mut Navigator<V, N>, t: f64) {
+        let smoothed = self
+            .groups
+            .iter()
+            .rev()
+            .find(|(ticket, _)| *ticket)
+            .is_some_and(|(_, ps)| ps.iter().any(|(_, kind)| kind.is_some()));
+        if smoothed {
+            nav.request_estimate(t);
+        } else {
+            nav.request_estimate_unrecorded(t);
+        }
+    }
+
     /// Hands on the groups at the front that wait for no estimate.
-    fn hand_unmatched(
-        &mut self,
-        out: &mut impl FnMut(P, Option<&Estimate>) -> Result<(), RunError>,
-    ) -> Result<(), RunError> {
+    fn hand_unmatched(&mut self, out: &mut Out<'_, P>) -> Result<(), RunError> {
         while self.groups.front().is_some_and(|(ticket, _)| !ticket) {
             if let Some((_, ps)) = self.groups.pop_front() {
-                for p in ps {
-                    out(p, None)?;
+                for (p, kind) in ps {
+                    out(p, None, kind)?;
                 }
             }
         }
@@ -818,15 +881,11 @@ impl<P> Waiting<P> {
 
     /// Hands on the estimate of the oldest ticket (and the unmatched groups
     /// before and after it).
-    fn hand(
-        &mut self,
-        e: Option<Estimate>,
-        out: &mut impl FnMut(P, Option<&Estimate>) -> Result<(), RunError>,
-    ) -> Result<(), RunError> {
+    fn hand(&mut self, e: Option<Estimate>, out: &mut Out<'_, P>) -> Result<(), RunError> {
         self.hand_unmatched(out)?;
         if let Some((_, ps)) = self.groups.pop_front() {
-            for p in ps {
-                out(p, e.as_ref())?;
+            for (p, kind) in ps {
+                out(p, e.as_ref(), kind)?;
             }
         }
         self.hand_unmatched(out)
@@ -847,15 +906,14 @@ fn smoothed_estimates<const N: usize>(
     forward: &mut SpillFile,
     layout: &Layout,
 ) -> Result<SpillFile, RunError> {
-    let mut out = SpillFile::create(None, ESTIMATE_SCALARS).map_err(smoother_error)?;
-    let none = Estimate::to_scalars(None);
-    let mut record = [0.0; ESTIMATE_SCALARS];
+    let mut out = SpillFile::create(None, SMOOTHING_RECORD).map_err(smoother_error)?;
+    let mut record = [0.0; SMOOTHING_RECORD];
     // The latest estimate not yet matched (`None` inside: an estimate that
-    // was not available).
-    let mut pop = |forward: &mut SpillFile| -> Result<Option<Option<Estimate>>, SmootherError> {
+    // was not available) and its kind.
+    let mut pop = |forward: &mut SpillFile| -> Result<Option<_>, SmootherError> {
         Ok(forward
             .pop(&mut record)?
-            .then(|| Estimate::from_scalars(&record)))
+            .then(|| from_smoothing_record(&record)))
     };
     let mut pending = pop(forward).map_err(smoother_error)?;
     // Only the covariance entries an estimate reports are smoothed at the
@@ -864,23 +922,49 @@ fn smoothed_estimates<const N: usize>(
     smooth_states(file, &states, |epoch| {
         // Later estimates than this epoch have no epoch; several requested
         // times may snap to one epoch.
-        while let Some(e) = &pending {
+        while let Some((e, kind)) = &pending {
             match e {
                 Some(e) if e.t < epoch.time - 1e-9 => break,
                 Some(e) if (e.t - epoch.time).abs() <= 1e-9 => {
                     let s = e.smoothed(&epoch.error, &epoch.covariance, layout);
-                    out.push(&Estimate::to_scalars(Some(&s)))?;
+                    out.push(&smoothing_record(Some(&s), *kind))?;
                 }
-                _ => out.push(&none)?,
+                _ => out.push(&smoothing_record(None, *kind))?,
             }
             pending = pop(forward)?;
         }
         Ok(())
     })
     .map_err(smoother_error)?;
-    while pending.is_some() {
-        out.push(&none).map_err(smoother_error)?;
+    while let Some((_, kind)) = pending {
+        out.push(&smoothing_record(None, kind))
+            .map_err(smoother_error)?;
         pending = pop(forward).map_err(smoother_error)?;
     }
     Ok(out)
+}
+
+/// Scalars of a record of the smoothing's spill files: an estimate
+/// ([`Estimate::to_scalars`]) and its [`Smoothed`] kind.
+const SMOOTHING_RECORD: usize = ESTIMATE_SCALARS + 1;
+
+fn smoothing_record(e: Option<&Estimate>, kind: Smoothed) -> [f64; SMOOTHING_RECORD] {
+    let mut record = [0.0; SMOOTHING_RECORD];
+    record[..ESTIMATE_SCALARS].copy_from_slice(&Estimate::to_scalars(e));
+    record[ESTIMATE_SCALARS] = match kind {
+        Smoothed::Requested => 0.0,
+        Smoothed::Sample => 1.0,
+    };
+    record
+}
+
+fn from_smoothing_record(record: &[f64; SMOOTHING_RECORD]) -> (Option<Estimate>, Smoothed) {
+    let mut scalars = [0.0; ESTIMATE_SCALARS];
+    scalars.copy_from_slice(&record[..ESTIMATE_SCALARS]);
+    let kind = if record[ESTIMATE_SCALARS] == 0.0 {
+        Smoothed::Requested
+    } else {
+        Smoothed::Sample
+    };
+    (Estimate::from_scalars(&scalars), kind)
 }
