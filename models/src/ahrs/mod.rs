@@ -9,6 +9,7 @@ pub mod nominal;
 pub mod outputs;
 pub mod replay;
 pub mod settings;
+pub mod smoothing;
 pub mod stream;
 
 pub use heading::{declination_from, horizontal_field, magnetic_heading};

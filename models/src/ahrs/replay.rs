@@ -23,6 +23,7 @@ use serde_json::{json, Value};
 use super::nominal::AhrsNominal;
 use super::outputs::{write_outputs, write_plots};
 use super::settings::AhrsSettings;
+use super::smoothing::{AhrsRow, ForwardRows};
 use super::stream::{AhrsStream, ImuStep};
 use crate::harness::{ReplayModel, ReplayOptions, ReplayOutput, RunError, RunHealth};
 use crate::sdins25::filter::{median_period, PERIOD_INTERVALS};
@@ -74,6 +75,9 @@ impl ReplayModel for AhrsReplay {
         Some(FILES)
     }
     fn can_observe(&self) -> bool {
+        true
+    }
+    fn can_smooth(&self) -> bool {
         true
     }
     fn replay(&self, log: &LogDir, options: &ReplayOptions) -> Result<ReplayOutput, RunError> {
@@ -170,24 +174,12 @@ fn point(t: f64, n: &AhrsNominal) -> EstimatePoint {
 }
 
 /// The row of the estimates table at `t`.
-fn estimate_row(t: f64, stream: &AhrsStream) -> [f64; 10] {
-    let f = stream.filter();
-    let n = f.nominal();
-    let p = f.covariance();
+fn estimate_row(row: &AhrsRow) -> [f64; 10] {
+    let n = &row.nominal;
     let e = n.euler().map(f64::to_degrees);
     let b = n.gyro_bias.map(f64::to_degrees);
-    [
-        t,
-        e[0],
-        e[1],
-        e[2],
-        b.x,
-        b.y,
-        b.z,
-        p[(0, 0)].sqrt().to_degrees(),
-        p[(1, 1)].sqrt().to_degrees(),
-        p[(2, 2)].sqrt().to_degrees(),
-    ]
+    let s = row.attitude_sigma().map(f64::to_degrees);
+    [row.t, e[0], e[1], e[2], b.x, b.y, b.z, s[0], s[1], s[2]]
 }
 
 /// Replays `source`; with `out`, the tables are written there as the run
@@ -226,11 +218,12 @@ pub fn replay_source(
             )?)
         })
         .transpose()?;
-    let mut stream = if options.observability {
-        AhrsStream::observed(settings)?
+    let mut stream = if options.observability || options.smooth {
+        AhrsStream::recorded(settings, options.observability, options.smooth)?
     } else {
         AhrsStream::new(settings)?
     };
+    let mut forward = options.smooth.then(ForwardRows::new).transpose()?;
     let mut events = source.events()?.with_rows(imu);
     let (mut baro_rows, mut gnss_rows) = (0usize, 0usize);
     let (mut first_t, mut last_t) = (None::<f64>, 0.0);
@@ -254,8 +247,14 @@ pub fn replay_source(
                         window_closed: true
                     }
                 );
-                if window_closed && estimates.wanted() {
-                    estimates.push(&estimate_row(row.t, &stream))?;
+                if window_closed && (estimates.wanted() || forward.is_some()) {
+                    let r = AhrsRow::of(row.t, stream.filter());
+                    if estimates.wanted() {
+                        estimates.push(&estimate_row(&r))?;
+                    }
+                    if let Some(f) = forward.as_mut() {
+                        f.push(&r)?;
+                    }
                 }
                 let p = point(row.t, stream.filter().nominal());
                 first_t.get_or_insert(row.t);
@@ -278,7 +277,18 @@ pub fn replay_source(
         }
     }
     let counts = stream.finish()?;
-    let observed = stream.observability(OBSERVABILITY_DIRECTIONS)?;
+    let observed = match options.observability {
+        true => stream.observability(OBSERVABILITY_DIRECTIONS)?,
+        false => None,
+    };
+    let smoothed = match (forward, stream.recording()?) {
+        (Some(rows), Some(recording)) => {
+            let mut run = SmoothedRun::new(source, &sink)?;
+            rows.smooth(&recording, |_, s| run.push(s))?;
+            Some(run)
+        }
+        _ => None,
+    };
 
     let mut output = ReplayOutput {
         samples: counts.samples,
@@ -381,11 +391,103 @@ pub fn replay_source(
     );
     tables.extend(estimates.finish()?);
     tables.extend(difference);
+    if let Some(run) = smoothed {
+        tables.extend(run.finish(m)?);
+    }
     match out {
         Some(dir) => write_plots(NAME, &tables, dir)?,
         None => output.tables = tables,
     }
     Ok(output)
+}
+
+/// The smoothed rows of the estimates table (`smoothed.csv`) and their
+/// differences to the reference and errors against truth, each file read
+/// again beside them (`smoothed_reference_difference.csv`,
+/// `smoothed_attitude_errors.csv`).
+struct SmoothedRun<'a> {
+    table: SeriesSink,
+    reference: Option<ReferenceScore<'a>>,
+    truth: Option<TruthScore<'a>>,
+    estimates: u64,
+}
+
+/// Name of the table of smoothed estimates: the rows of
+/// [`ESTIMATES_TABLE`], smoothed.
+pub const SMOOTHED_TABLE: &str = "smoothed";
+
+impl<'a> SmoothedRun<'a> {
+    fn new(
+        source: &LogSource<'a>,
+        sink: &impl Fn(&str, &[&str]) -> Result<SeriesSink, RunError>,
+    ) -> Result<Self, RunError> {
+        let reference = match source.rows::<ReferenceRow>()? {
+            Some(rows) => Some(ReferenceScore::new(
+                rows,
+                sink("smoothed_reference_difference", &REFERENCE_COLUMNS)?,
+            )?),
+            None => None,
+        };
+        let truth = match source.rows::<TruthRow>()? {
+            Some(rows) => Some(TruthScore::new(
+                rows,
+                sink("smoothed_attitude_errors", &TRUTH_COLUMNS)?,
+            )?),
+            None => None,
+        };
+        Ok(SmoothedRun {
+            table: sink(SMOOTHED_TABLE, &ESTIMATES_COLUMNS)?,
+            reference,
+            truth,
+            estimates: 0,
+        })
+    }
+
+    fn push(&mut self, row: Option<&AhrsRow>) -> Result<(), RunError> {
+        let Some(row) = row else { return Ok(()) };
+        self.estimates += 1;
+        if self.table.wanted() {
+            self.table.push(&estimate_row(row))?;
+        }
+        let p = point(row.t, &row.nominal);
+        if let Some(r) = self.reference.as_mut() {
+            r.push(p)?;
+        }
+        if let Some(t) = self.truth.as_mut() {
+            t.push(p)?;
+        }
+        Ok(())
+    }
+
+    /// Adds `smoothed` to `metrics` (`estimates`, and
+    /// `attitude_difference_rms_deg` and `attitude_error_rms_deg` where the
+    /// log has the files) and returns the tables kept.
+    fn finish(
+        self,
+        metrics: &mut serde_json::Map<String, Value>,
+    ) -> Result<Vec<crate::harness::RunTable>, RunError> {
+        let mut object = serde_json::Map::new();
+        object.insert("estimates".into(), Value::from(self.estimates));
+        let mut tables: Vec<_> = self.table.finish()?.into_iter().collect();
+        if let Some(r) = self.reference {
+            // The forward run's warnings about the reference hold for
+            // this one too: not said twice.
+            let mut keys = serde_json::Map::new();
+            tables.extend(r.finish(&mut keys, &mut Vec::new())?);
+            object.extend(
+                keys.into_iter()
+                    .filter(|(k, _)| k == "attitude_difference_rms_deg"),
+            );
+        }
+        if let Some(t) = self.truth {
+            if let Some(score) = t.finish()? {
+                object.insert("attitude_error_rms_deg".into(), rpy_json(score.rms_deg));
+                tables.extend(score.table);
+            }
+        }
+        metrics.insert("smoothed".into(), Value::Object(object));
+        Ok(tables)
+    }
 }
 
 #[cfg(test)]

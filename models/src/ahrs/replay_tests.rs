@@ -129,6 +129,82 @@ fn written_series_are_every_row_and_the_plots() {
     assert!(out.join("attitude_difference.svg").is_file());
 }
 
+/// `--smooth`: the forward keys and rows are unchanged, the rows of the
+/// estimates table come back smoothed (same times, no larger sigma, most
+/// of them tighter) with their difference to PX4's estimate, and are
+/// written under `--out` as they are kept in memory. (The last row is not
+/// the forward one here: samples and magnetometer rows follow the last
+/// gravity window.)
+#[test]
+fn smoothing_adds_the_smoothed_rows_and_their_differences() {
+    let tmp = TempDir::new("smooth");
+    let dir = flight(&tmp);
+    let files = LogFiles::open(&dir, Strictness::Strict).unwrap();
+    let keep = ReplayOptions {
+        keep_series: true,
+        ..ReplayOptions::default()
+    };
+    let smooth = ReplayOptions {
+        smooth: true,
+        ..keep
+    };
+    let forward = AhrsReplay
+        .replay_files(&files, &keep, None)
+        .expect("replays");
+    let both = AhrsReplay
+        .replay_files(&files, &smooth, None)
+        .expect("replays");
+    let mut without = both.metrics.clone();
+    let smoothed = without.remove("smoothed").expect("smoothed");
+    assert_eq!(without, forward.metrics);
+    let table = |out: &ReplayOutput, name: &str| {
+        let t = out.tables.iter().find(|t| t.name == name);
+        t.unwrap_or_else(|| panic!("{name}")).clone()
+    };
+    let estimates = table(&forward, ESTIMATES_TABLE);
+    assert_eq!(table(&both, ESTIMATES_TABLE).rows, estimates.rows);
+    let rows = table(&both, SMOOTHED_TABLE);
+    assert_eq!(rows.rows.len(), estimates.rows.len());
+    assert_eq!(smoothed["estimates"].as_u64(), Some(rows.rows.len() as u64));
+    let mut tighter = 0;
+    for (f, s) in estimates.rows.iter().zip(&rows.rows) {
+        assert_eq!(f[0], s[0]);
+        for k in 7..10 {
+            assert!(
+                s[k] <= f[k] * (1.0 + 1e-9),
+                "{} at t = {}",
+                ESTIMATES_COLUMNS[k],
+                f[0]
+            );
+        }
+        tighter += usize::from(s[9] < 0.99 * f[9]);
+    }
+    assert!(
+        tighter > rows.rows.len() / 2,
+        "{tighter} rows tighter in yaw"
+    );
+    for axis in ["roll", "pitch", "yaw"] {
+        let v = smoothed["attitude_difference_rms_deg"][axis].as_f64();
+        assert!(
+            v.is_some_and(|v| v.is_finite() && v < 1.0),
+            "{axis}: {smoothed}"
+        );
+    }
+
+    let out = tmp.0.join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    let written = AhrsReplay
+        .replay_files(&files, &smooth, Some(&out))
+        .expect("replays");
+    assert_eq!(written.metrics, both.metrics);
+    for name in [SMOOTHED_TABLE, "smoothed_reference_difference"] {
+        let text = std::fs::read_to_string(out.join(format!("{name}.csv"))).unwrap();
+        let whole = tmp.0.join("whole.csv");
+        table(&both, name).write_csv(&whole).expect("writes");
+        assert!(text == std::fs::read_to_string(&whole).unwrap(), "{name}");
+    }
+}
+
 #[test]
 fn broken_logs_are_refused_or_warned_about() {
     let tmp = TempDir::new("broken");

@@ -15,8 +15,11 @@
 
 use nav_runtime::innovations::InnovationTotals;
 use nav_runtime::log::MagRow;
+use std::cell::RefCell;
+use std::rc::Rc;
+
 use nav_runtime::scheduler::{
-    Measurement, MeasurementOutcome, Report, Scheduler, SensorId, SensorStats,
+    FnMeasurement, Measurement, MeasurementOutcome, Report, Scheduler, SensorId, SensorStats,
 };
 use nav_runtime::smoother::{EpochFile, Observability, SmootherError};
 
@@ -85,6 +88,9 @@ pub struct AhrsStream {
     scheduler: Scheduler<AhrsFilter>,
     mag_id: SensorId,
     gravity_id: SensorId,
+    /// With smoothing: the sensor whose markers make each gravity window's
+    /// end an epoch of the recording.
+    epoch_id: Option<SensorId>,
     window: GravityWindow,
     /// Time of the last IMU sample (the scheduler's time), once there is one.
     last_imu: Option<f64>,
@@ -115,14 +121,58 @@ impl AhrsStream {
     /// # Errors
     /// A filter set-up error, or an epoch file that cannot be made.
     pub fn observed(settings: AhrsSettings) -> Result<Self, RunError> {
+        Self::recorded(settings, true, false)
+    }
+
+    /// As [`AhrsStream::new`], with the run recorded: with `observability`
+    /// each sensor's information is kept too ([`AhrsStream::observability`]);
+    /// with `smoothing` the end of every gravity window (each row of the
+    /// estimates table) is an epoch of the recording, whether or not its
+    /// measurement is applied, for [`AhrsStream::recording`].
+    ///
+    /// # Errors
+    /// A filter set-up error, or an epoch file that cannot be made.
+    pub fn recorded(
+        settings: AhrsSettings,
+        observability: bool,
+        smoothing: bool,
+    ) -> Result<Self, RunError> {
         let setup = |e: String| RunError::Invalid(format!("ahrs: {e}"));
         let mut filter = settings.filter()?;
         let file = EpochFile::create(None).map_err(|e| setup(e.to_string()))?;
         filter
             .start_recording(file, 0.0)
             .map_err(|e| setup(e.to_string()))?;
-        filter.track_sensor_information();
-        Self::with_filter(settings, filter)
+        if observability {
+            filter.track_sensor_information();
+        }
+        let mut stream = Self::with_filter(settings, filter)?;
+        if smoothing {
+            stream.epoch_id = Some(stream.add_epoch_sensor()?);
+        }
+        Ok(stream)
+    }
+
+    /// The recording of the run, ended (every epoch written), for the
+    /// smoother; `None` unless the stream was made by
+    /// [`AhrsStream::recorded`]. Call after [`AhrsStream::finish`].
+    ///
+    /// # Errors
+    /// A recording that failed.
+    #[allow(clippy::type_complexity)]
+    pub fn recording(&self) -> Result<Option<Rc<RefCell<EpochFile<6, 0>>>>, RunError> {
+        let mut filter = self.filter().clone();
+        filter
+            .finish_recording()
+            .map_err(|e| RunError::Invalid(format!("ahrs: recording: {e}")))
+    }
+
+    fn add_epoch_sensor(&mut self) -> Result<SensorId, RunError> {
+        // Registered last: at the end of a window it follows the gravity
+        // measurement of the same time.
+        self.scheduler
+            .add_sensor("epoch", 1.0 / GRAVITY_PERIOD_S, 0.0)
+            .map_err(|e| RunError::Invalid(format!("ahrs: {e}")))
     }
 
     /// What the recorded run taught each state and the `directions`
@@ -150,6 +200,7 @@ impl AhrsStream {
             scheduler,
             mag_id,
             gravity_id,
+            epoch_id: None,
             window: GravityWindow::starting_at(0.0),
             last_imu: None,
             waiting: Vec::new(),
@@ -206,6 +257,14 @@ impl AhrsStream {
                 if let Ok(reports) = self.scheduler.push_measurement(self.gravity_id, t, m) {
                     self.note(&reports);
                 }
+            }
+            if let Some(id) = self.epoch_id {
+                let marker = FnMeasurement::new(&[], move |f: &mut AhrsFilter| {
+                    f.mark_epoch(t);
+                    Ok(MeasurementOutcome::marker())
+                });
+                // Refused only for a time the IMU sample itself would refuse.
+                let _ = self.scheduler.push_measurement(id, t, Box::new(marker));
             }
         }
         self.hand_over_waiting(t);
@@ -362,6 +421,9 @@ impl AhrsStream {
         add_outcomes(&mut self.settled.gravity, old.sensor_stats(self.gravity_id));
         self.mag_id = mag_id;
         self.gravity_id = gravity_id;
+        if self.epoch_id.is_some() {
+            self.epoch_id = Some(self.add_epoch_sensor()?);
+        }
         Ok(())
     }
 }

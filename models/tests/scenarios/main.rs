@@ -8,6 +8,7 @@
 mod turning_flight;
 
 mod ahrs_same_epoch_nees;
+mod ahrs_smoothing;
 mod ahrs_tuning;
 mod dvl_calibration;
 mod log_replay;
