@@ -1,17 +1,24 @@
-//! Runs LEVELING-6 over a log: IMU rows drive `predict`, speed-log rows (or, at
-//! rest, a 10 Hz zero-velocity pseudo-measurement) drive `update`.
+//! Runs LEVELING-6 over a log through the multi-rate scheduler every replay
+//! uses: IMU rows drive `predict` (each sample held over the interval that
+//! follows it, as the paper's filter integrates), speed-log rows (or, at
+//! rest, a 10 Hz zero-velocity pseudo-measurement) drive `update` at their
+//! own times, a late row by re-propagation ([`scheduled_filter`](super::scheduled_filter)).
 
 use super::model::{
     Leveling6, Leveling6Input, Leveling6Moving, Leveling6Noise, Leveling6Params,
     Leveling6Stationary, Leveling8, Leveling8Input, Leveling8Moving, Leveling8Noise,
     Leveling8Params, Leveling8Stationary,
 };
+use super::scheduled_filter::{keep_upright, LevelingFilter};
+use nav_ins::ImuSample;
 use nav_runtime::earth;
 use nav_runtime::ekf::{Ekf, FilterError};
 use nav_runtime::log::{Event, LogDir};
 use nav_runtime::math::wrap_angle;
 use nav_runtime::model::{Model, Sensor};
 use nav_runtime::nalgebra::{Matrix2, Matrix4, SMatrix, SVector, Vector2, Vector3, Vector4};
+use nav_runtime::scheduler::{FnMeasurement, Measurement, Scheduler, SchedulerError, SensorId};
+use nav_runtime::setup_error::SetupError;
 use nav_runtime::smoother::{observability, EpochFile, Recorder, SmootherError};
 
 /// How the filter is set up.
@@ -234,13 +241,31 @@ impl LevelingModel<8> for Leveling8 {
     }
 }
 
+/// Why a run stopped: the filter refused its set-up, or the scheduler its
+/// start (a first IMU time that is not finite).
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
+pub enum LevelingError {
+    /// The filter refused its initial state or covariance.
+    #[error(transparent)]
+    Setup(#[from] SetupError),
+    /// The filter refused a state or covariance it was set to.
+    #[error(transparent)]
+    Filter(#[from] FilterError),
+    /// The scheduler refused its start or a sensor.
+    #[error(transparent)]
+    Scheduler(#[from] SchedulerError),
+}
+
 /// Runs the filter over `log`: [`Leveling6`], or [`Leveling8`] with
 /// `options.tuning.bias_states`.
-pub fn run(log: &LogDir, options: &LevelingOptions) -> Result<LevelingRun, FilterError> {
+///
+/// # Errors
+/// The filter or the scheduler refuses its set-up.
+pub fn run(log: &LogDir, options: &LevelingOptions) -> Result<LevelingRun, LevelingError> {
     if options.tuning.bias_states {
-        run_model::<Leveling8, 8>(log, options, None)
+        run_model::<Leveling8, 8>(log, options, None).map(|(run, _)| run)
     } else {
-        run_model::<Leveling6, 6>(log, options, None)
+        run_model::<Leveling6, 6>(log, options, None).map(|(run, _)| run)
     }
 }
 
@@ -278,7 +303,11 @@ pub fn run_observed<M: LevelingModel<N>, const N: usize>(
     let start = log.imu.first().map_or(0.0, |row| row.t);
     let mut recorder = Recorder::new(file, start, &p0, SVector::zeros());
     recorder.track_sensor_information();
-    let run = run_model::<M, N>(log, options, Some(&mut recorder)).map_err(|e| e.to_string())?;
+    let (run, recorder) =
+        run_model::<M, N>(log, options, Some(recorder)).map_err(|e| e.to_string())?;
+    let Some(mut recorder) = recorder else {
+        return Err("the run was not recorded".into());
+    };
     recorder.finish().map_err(smoother)?;
     let information = recorder.sensor_information().cloned();
     let store = recorder.store();
@@ -294,39 +323,26 @@ pub fn run_observed<M: LevelingModel<N>, const N: usize>(
     Ok((run, o))
 }
 
-/// Sensor `S`'s update, recorded (the covariance before and after, the
-/// correction, and its information) when `recorder` is given.
-fn recorded_update<S, M, const N: usize, const K: usize>(
-    ekf: &mut Ekf<M, N>,
-    recorder: &mut Option<&mut Recorder<N, 0>>,
-    z: &SVector<f64, K>,
-    r: &SMatrix<f64, K, K>,
-) -> Result<nav_runtime::ekf::UpdateReport<K>, FilterError>
-where
-    M: Model<N>,
-    S: Sensor<N, K, Model = M, Aux = ()>,
-{
-    let Some(rec) = recorder.as_deref_mut() else {
-        return ekf.update::<S, K>(z, r, &());
-    };
-    let (x, p) = (*ekf.state(), *ekf.covariance());
-    let h = S::jacobian(&x, ekf.input(), ekf.params(), &());
-    let report = ekf.update::<S, K>(z, r, &())?;
-    if report.accepted {
-        rec.updating(&p, SVector::zeros());
-        rec.updated(&(x - ekf.state()), ekf.covariance(), SVector::zeros());
-        if let Some(c) = r.cholesky() {
-            rec.sensor_update(S::NAME, &h, &c.inverse());
-        }
-    }
-    Ok(report)
-}
+/// How late a speed-log row may come and still be applied at its own time
+/// (the scheduler keeps this much history), s.
+pub const SPEED_LATENCY_S: f64 = 1.0;
+/// Period of the zero-velocity pseudo-measurement at rest without a speed
+/// log, s.
+pub const ZERO_VELOCITY_PERIOD_S: f64 = 0.1;
 
+/// A boxed measurement of the leveling filter.
+type LevelingMeasurement<M, const N: usize> = Box<dyn Measurement<LevelingFilter<M, N>>>;
+
+/// The run of `M` over `log` through the multi-rate scheduler: each IMU
+/// sample is held over the interval that follows it, a speed-log row is
+/// applied at its own time (a late one by re-propagation), the
+/// zero-velocity pseudo-measurement at the first sample at or after each
+/// tenth of a second. Returns the run and the final filter's recorder.
 fn run_model<M: LevelingModel<N>, const N: usize>(
     log: &LogDir,
     options: &LevelingOptions,
-    mut recorder: Option<&mut Recorder<N, 0>>,
-) -> Result<LevelingRun, FilterError> {
+    recorder: Option<Recorder<N, 0>>,
+) -> Result<(LevelingRun, Option<Recorder<N, 0>>), LevelingError> {
     let init = &log.meta.initial;
     let lat = init.lat;
     let height = -init.depth;
@@ -348,104 +364,106 @@ fn run_model<M: LevelingModel<N>, const N: usize>(
     if t.upright {
         keep_upright(&mut ekf)?;
     }
-    let w_ie_n = earth::earth_rate_n(lat);
     // Yaw is not estimated; it is carried by integrating the Euler yaw rate from
     // [initial].yaw so that the Earth-rate input W^b (eq. 16) follows the turns.
-    let mut yaw = init.yaw.unwrap_or(0.0);
+    let mut filter = Some(LevelingFilter::new(
+        ekf,
+        init.yaw.unwrap_or(0.0),
+        earth::earth_rate_n(lat),
+        t.upright,
+        recorder,
+    ));
 
     let mut out = LevelingRun::default();
-    let mut last_imu: Option<(f64, M::Input)> = None;
-    let mut next_zero_velocity = 0.1;
     let r_moving =
         Matrix2::from_diagonal(&Vector2::new(t.speed_sigma.powi(2), t.norm_sigma.powi(2)));
     let zv = t.zero_velocity_sigma.powi(2);
     let r_stationary = Matrix4::from_diagonal(&Vector4::new(zv, zv, zv, t.norm_sigma.powi(2)));
-
+    let zero_velocity = |values: &[f64], reflect: bool| -> LevelingMeasurement<M, N> {
+        Box::new(FnMeasurement::new(
+            values,
+            move |f: &mut LevelingFilter<M, N>| {
+                let z = Vector4::new(0.0, 0.0, 0.0, 1.0);
+                f.update::<M::Stationary, 4>(&z, &r_stationary, reflect)
+            },
+        ))
+    };
+    // The scheduler starts at the first IMU sample, with the filter.
+    let mut run: Option<Running<M, N>> = None;
+    let mut next_zero_velocity = ZERO_VELOCITY_PERIOD_S;
     for event in log.events() {
         match event {
             Event::Imu(row) => {
-                let gyro = Vector3::new(row.gx, row.gy, row.gz);
-                let x = *ekf.state();
-                let (roll, pitch) = roll_pitch(&Vector3::new(x[3], x[4], x[5]));
-                let c_nb = nav_runtime::attitude::Euler::new(roll, pitch, yaw).c_nb();
-                let earth_rate_body = c_nb * w_ie_n;
-                let input = M::input(gyro, Vector3::new(row.ax, row.ay, row.az), earth_rate_body);
-                if let Some((t_prev, prev)) = last_imu {
-                    let dt = row.t - t_prev;
-                    let before = *ekf.state();
-                    match ekf.predict(dt, &prev) {
-                        Ok(()) => {
-                            if let Some(rec) = recorder.as_deref_mut() {
-                                rec.propagated::<M>(
-                                    &M::jacobian(&before, &prev, ekf.params(), dt),
-                                    dt,
-                                );
-                            }
-                        }
-                        Err(_) => {
-                            out.rejected += 1;
-                            continue;
-                        }
+                let sample = ImuSample {
+                    gyro: Vector3::new(row.gx, row.gy, row.gz),
+                    accel: Vector3::new(row.ax, row.ay, row.az),
+                };
+                let r = match (run.as_mut(), filter.take()) {
+                    (Some(r), _) => r,
+                    (None, Some(f)) => run.insert(Running::start(f, row.t, sample)?),
+                    (None, None) => continue,
+                };
+                if r.started_at != row.t {
+                    if options.stationary
+                        && log.speed.is_none()
+                        && row.t + 1e-9 >= next_zero_velocity
+                    {
+                        next_zero_velocity += ZERO_VELOCITY_PERIOD_S;
+                        // Queued at the sample's time, applied after the step
+                        // to it; a refusal is counted by the scheduler.
+                        let m = zero_velocity(&[], false);
+                        let _ = r.scheduler.push_measurement(r.zero_velocity, row.t, m);
                     }
-                    let w = gyro - earth_rate_body;
-                    yaw =
-                        wrap_angle(yaw + dt * (w.y * roll.sin() + w.z * roll.cos()) / pitch.cos());
+                    // The previous sample holds over the interval it starts.
+                    if r.scheduler.push_imu(row.t, r.held).is_err() {
+                        out.rejected += 1;
+                        continue;
+                    }
+                    r.held = sample;
                 }
-                last_imu = Some((row.t, input));
                 out.samples += 1;
-                if options.stationary && log.speed.is_none() && row.t + 1e-9 >= next_zero_velocity {
-                    next_zero_velocity += 0.1;
-                    let z = Vector4::new(0.0, 0.0, 0.0, 1.0);
-                    count(
-                        &mut out,
-                        recorded_update::<M::Stationary, M, N, 4>(
-                            &mut ekf,
-                            &mut recorder,
-                            &z,
-                            &r_stationary,
-                        ),
-                    );
-                }
+                let f = r.scheduler.filter();
                 out.estimates
-                    .push(estimate(row.t, ekf.state(), ekf.covariance()));
+                    .push(estimate(row.t, f.ekf.state(), f.ekf.covariance()));
             }
-            Event::Speed(row) if last_imu.is_some() => {
-                if options.stationary {
-                    let z = Vector4::new(0.0, 0.0, 0.0, 1.0);
-                    count(
-                        &mut out,
-                        recorded_update::<M::Stationary, M, N, 4>(
-                            &mut ekf,
-                            &mut recorder,
-                            &z,
-                            &r_stationary,
-                        ),
-                    );
+            Event::Speed(row) => {
+                let Some(r) = run.as_mut() else { continue };
+                let m = if options.stationary {
+                    zero_velocity(&[row.speed], true)
                 } else {
                     let z = Vector2::new(row.speed, 1.0);
-                    count(
-                        &mut out,
-                        recorded_update::<M::Moving, M, N, 2>(
-                            &mut ekf,
-                            &mut recorder,
-                            &z,
-                            &r_moving,
-                        ),
-                    );
-                }
-                if t.upright {
-                    keep_upright(&mut ekf)?;
-                }
+                    Box::new(FnMeasurement::new(
+                        &[row.speed],
+                        move |f: &mut LevelingFilter<M, N>| {
+                            f.update::<M::Moving, 2>(&z, &r_moving, true)
+                        },
+                    ))
+                };
+                // A refusal is counted by the scheduler; a row at or before
+                // the last sample is applied at its own time by
+                // re-propagation, and the estimate there is the new one.
+                let _ = r.scheduler.push_measurement(r.speed, row.t, m);
                 if let Some(last) = out.estimates.last_mut() {
-                    *last = estimate(last.t, ekf.state(), ekf.covariance());
+                    let f = r.scheduler.filter();
+                    *last = estimate(last.t, f.ekf.state(), f.ekf.covariance());
                 }
             }
             _ => {}
         }
     }
-    out.repairs = ekf.counters().covariance_repairs;
+    let Some(r) = run else {
+        return Ok((out, filter.and_then(|f| f.recorder)));
+    };
+    for id in [r.speed, r.zero_velocity] {
+        let s = r.scheduler.sensor_stats(id).unwrap_or_default();
+        out.accepted += s.accepted;
+        out.gated += s.gated;
+        out.rejected += s.failed + s.pending + s.too_old + s.duplicate + s.invalid + s.queue_full;
+    }
+    let f = r.scheduler.filter();
+    out.repairs = f.ekf.counters().covariance_repairs;
     out.accel_bias_final = if N >= 8 {
-        let (x, p) = (ekf.state(), ekf.covariance());
+        let (x, p) = (f.ekf.state(), f.ekf.covariance());
         [
             x[6],
             x[7],
@@ -455,35 +473,36 @@ fn run_model<M: LevelingModel<N>, const N: usize>(
     } else {
         [f64::NAN; 4]
     };
-    Ok(out)
+    Ok((out, f.recorder.clone()))
 }
 
-/// Reflects `a3 -> -a3` (and its covariance row and column) when `a3 < 0`.
-fn keep_upright<M: Model<N>, const N: usize>(ekf: &mut Ekf<M, N>) -> Result<(), FilterError> {
-    let mut x = *ekf.state();
-    if x[5] >= 0.0 {
-        return Ok(());
-    }
-    x[5] = -x[5];
-    let mut p = *ekf.covariance();
-    for i in 0..N {
-        if i != 5 {
-            p[(i, 5)] = -p[(i, 5)];
-            p[(5, i)] = -p[(5, i)];
-        }
-    }
-    ekf.set_state(x)?;
-    Ok(ekf.set_covariance(p)?)
+/// A run under way: the scheduler, its two sensors and the IMU sample that
+/// holds over the coming interval.
+struct Running<M: LevelingModel<N>, const N: usize> {
+    scheduler: Scheduler<LevelingFilter<M, N>>,
+    speed: SensorId,
+    zero_velocity: SensorId,
+    held: ImuSample,
+    started_at: f64,
 }
 
-fn count<const M: usize>(
-    out: &mut LevelingRun,
-    r: Result<nav_runtime::ekf::UpdateReport<M>, FilterError>,
-) {
-    match r {
-        Ok(rep) if rep.accepted => out.accepted += 1,
-        Ok(_) => out.gated += 1,
-        Err(_) => out.rejected += 1,
+impl<M: LevelingModel<N>, const N: usize> Running<M, N> {
+    fn start(
+        filter: LevelingFilter<M, N>,
+        t: f64,
+        first: ImuSample,
+    ) -> Result<Self, LevelingError> {
+        let mut scheduler = Scheduler::new(filter, t)?;
+        let speed = scheduler.add_sensor("speed", 1.0, SPEED_LATENCY_S)?;
+        let zero_velocity =
+            scheduler.add_sensor("zero_velocity", 1.0 / ZERO_VELOCITY_PERIOD_S, 0.0)?;
+        Ok(Running {
+            scheduler,
+            speed,
+            zero_velocity,
+            held: first,
+            started_at: t,
+        })
     }
 }
 

@@ -4,6 +4,7 @@
 pub mod filter;
 pub mod model;
 pub mod observability;
+pub mod scheduled_filter;
 pub mod simulation;
 
 use crate::harness::plot::{self, Line};
