@@ -9,43 +9,22 @@
 
 use crate::turning_flight;
 
-use models::ahrs::settings::AhrsSettings;
 use models::ahrs::stream::AhrsStream;
 use nav_runtime::log::MagRow;
 use nav_runtime::nalgebra::{Matrix3, Vector3};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
-use turning_flight::{
-    c_bn, imu, mag, ACCEL_SIGMA, BIAS_SIGMA, DURATION, GRAVITY, GYRO_SIGMA, MAG_SIGMA, PERIOD,
-    PITCH, ROLL, YAW,
-};
+use turning_flight::{c_bn, imu, mag, BIAS_SIGMA, DURATION, PERIOD};
 
 const SEEDS: std::ops::Range<u64> = 9700..9800;
-const LEVEL_SIGMA: f64 = 0.05;
-const HEADING_SIGMA: f64 = 0.2;
 
 /// The mean attitude NEES of one seed's run after its first second.
 fn run(seed: u64) -> f64 {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut n = || -> f64 { StandardNormal.sample(&mut rng) };
     let bias = Vector3::new(n(), n(), n()) * BIAS_SIGMA;
-    let settings = AhrsSettings {
-        attitude: [
-            ROLL + LEVEL_SIGMA * n(),
-            PITCH + LEVEL_SIGMA * n(),
-            YAW + HEADING_SIGMA * n(),
-        ],
-        level_sigma: LEVEL_SIGMA,
-        heading_sigma: HEADING_SIGMA,
-        gyro_bias_sigma: BIAS_SIGMA,
-        gyro_sigma: GYRO_SIGMA,
-        accel_sigma: ACCEL_SIGMA,
-        imu_period: PERIOD,
-        gravity: GRAVITY,
-        mag_sigma: MAG_SIGMA,
-        declination: 0.0,
-    };
+    let settings = turning_flight::settings(&mut n);
     let mut stream = AhrsStream::new(settings).expect("a filter");
     let mut sum = 0.0;
     let mut count = 0usize;

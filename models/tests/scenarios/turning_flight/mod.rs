@@ -6,6 +6,7 @@
 //! then magnetometer, each x, y, z).
 #![allow(dead_code)]
 
+use models::ahrs::settings::AhrsSettings;
 use nav_ins::ImuSample;
 use nav_runtime::attitude::Euler;
 use nav_runtime::nalgebra::{Matrix3, Vector3};
@@ -50,4 +51,30 @@ pub fn imu(t: f64, bias: &Vector3<f64>, n: &mut impl FnMut() -> f64) -> ImuSampl
 /// The magnetometer reading at `t` (body, gauss), noise from `n`.
 pub fn mag(t: f64, n: &mut impl FnMut() -> f64) -> Vector3<f64> {
     c_bn(t).transpose() * Vector3::new(0.2, 0.0, 0.45) + Vector3::new(n(), n(), n()) * MAG_SIGMA
+}
+
+/// Initial roll and pitch sigma of the filter, rad.
+pub const LEVEL_SIGMA: f64 = 0.05;
+/// Initial heading sigma of the filter, rad.
+pub const HEADING_SIGMA: f64 = 0.2;
+
+/// The `ahrs` settings of the flight, the initial attitude drawn from the
+/// filter's prior with `n` (roll, pitch, yaw).
+pub fn settings(n: &mut impl FnMut() -> f64) -> AhrsSettings {
+    AhrsSettings {
+        attitude: [
+            ROLL + LEVEL_SIGMA * n(),
+            PITCH + LEVEL_SIGMA * n(),
+            YAW + HEADING_SIGMA * n(),
+        ],
+        level_sigma: LEVEL_SIGMA,
+        heading_sigma: HEADING_SIGMA,
+        gyro_bias_sigma: BIAS_SIGMA,
+        gyro_sigma: GYRO_SIGMA,
+        accel_sigma: ACCEL_SIGMA,
+        imu_period: PERIOD,
+        gravity: GRAVITY,
+        mag_sigma: MAG_SIGMA,
+        declination: 0.0,
+    }
 }
