@@ -1,5 +1,5 @@
 //! The replay loop: a log's events, read as a stream ([`LogSource`]), pushed
-//! into the vehicle's [`Navigator`](nav_ins::Navigator) in delivery order, and the estimates at
+//! into the vehicle's [`Navigator`] in delivery order, and the estimates at
 //! the requested output times handed on as they become final. Nothing in it
 //! grows with the log: the aiding rows still travelling, the navigator's
 //! history and the requests not yet final are bounded by the latency window.
