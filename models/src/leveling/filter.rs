@@ -17,9 +17,13 @@ use nav_runtime::log::{Event, LogDir};
 use nav_runtime::math::wrap_angle;
 use nav_runtime::model::{Model, Sensor};
 use nav_runtime::nalgebra::{Matrix2, Matrix4, SMatrix, SVector, Vector2, Vector3, Vector4};
-use nav_runtime::scheduler::{FnMeasurement, Measurement, Scheduler, SchedulerError, SensorId};
+use nav_runtime::scheduler::{
+    FnMeasurement, Measurement, MeasurementOutcome, Scheduler, SchedulerError, SensorId,
+};
 use nav_runtime::setup_error::SetupError;
-use nav_runtime::smoother::{observability, EpochFile, Recorder, SmootherError};
+use nav_runtime::smoother::{
+    observability, smooth_states, EpochFile, Recorder, SmootherError, States,
+};
 
 /// How the filter is set up.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -118,6 +122,9 @@ pub struct LevelingRun {
     /// Final estimate and 1-sigma of the x and y accelerometer bias, m/s^2
     /// (with bias states; NaN without).
     pub accel_bias_final: [f64; 4],
+    /// The smoothed estimate at each IMU sample after the first, in time
+    /// order ([`Recording::smooth`]; empty otherwise).
+    pub smoothed: Vec<AttitudeEstimate>,
 }
 
 /// Roll and pitch from `a` (eq. 28).
@@ -295,32 +302,81 @@ pub fn run_observed<M: LevelingModel<N>, const N: usize>(
     options: &LevelingOptions,
     directions: usize,
 ) -> Result<(LevelingRun, nav_runtime::smoother::Observability<N>), String> {
+    let recording = Recording {
+        observability: Some(directions),
+        smooth: false,
+    };
+    let (run, o) = run_recorded::<M, N>(log, options, recording)?;
+    let o = o.ok_or("the run taught nothing: no IMU sample")?;
+    Ok((run, o))
+}
+
+/// What a recorded run is for.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Recording {
+    /// What the run taught each state and this many weakest directions
+    /// (docs/observability.md).
+    pub observability: Option<usize>,
+    /// The smoothed estimate at every IMU sample after the first
+    /// ([`LevelingRun::smoothed`]): each sample is an epoch of the
+    /// recording, corrected by the fixed-interval smoother every replay
+    /// uses (docs/smoother.md).
+    pub smooth: bool,
+}
+
+/// The run of `M` over `log`, recorded for `recording`; the observability
+/// report when asked for (`None` for a log without IMU samples).
+///
+/// # Errors
+/// A filter error of the run, or a recording error (as text).
+pub fn run_recorded<M: LevelingModel<N>, const N: usize>(
+    log: &LogDir,
+    options: &LevelingOptions,
+    recording: Recording,
+) -> Result<(LevelingRun, Option<nav_runtime::smoother::Observability<N>>), String> {
     let smoother = |e: SmootherError| e.to_string();
-    let file = EpochFile::<N, 0>::create(None).map_err(smoother)?;
-    let (_, p0) = M::initial(0.0, &Vector3::z(), &options.tuning);
-    let prior_sigma: [f64; N] = std::array::from_fn(|i| p0[(i, i)].sqrt());
-    // The run starts at the first IMU row (the first step follows the second).
-    let start = log.imu.first().map_or(0.0, |row| row.t);
-    let mut recorder = Recorder::new(file, start, &p0, SVector::zeros());
-    recorder.track_sensor_information();
-    let (run, recorder) =
-        run_model::<M, N>(log, options, Some(recorder)).map_err(|e| e.to_string())?;
+    let file = EpochFile::<N, N>::create(None).map_err(smoother)?;
+    let (mut run, recorder) =
+        run_model::<M, N>(log, options, Some((file, recording))).map_err(|e| e.to_string())?;
     let Some(mut recorder) = recorder else {
-        return Err("the run was not recorded".into());
+        return Ok((run, None));
     };
     recorder.finish().map_err(smoother)?;
     let information = recorder.sensor_information().cloned();
     let store = recorder.store();
     let mut file = store.borrow_mut();
-    let o = observability(
-        &mut file,
-        &prior_sigma,
-        0.0,
-        directions,
-        information.as_ref(),
-    )
-    .map_err(smoother)?;
-    Ok((run, o))
+    let observed = match recording.observability {
+        Some(directions) => {
+            let (_, p0) = M::initial(0.0, &Vector3::z(), &options.tuning);
+            let prior_sigma: [f64; N] = std::array::from_fn(|i| p0[(i, i)].sqrt());
+            let o = observability(
+                &mut file,
+                &prior_sigma,
+                0.0,
+                directions,
+                information.as_ref(),
+            )
+            .map_err(smoother)?;
+            Some(o)
+        }
+        None => None,
+    };
+    if recording.smooth {
+        // The backward pass meets the epochs latest first; the smoothed
+        // state is the recorded one with its smoothed error removed.
+        let first = run.estimates.first().map_or(f64::NEG_INFINITY, |e| e.t);
+        smooth_states(&mut file, &States::all(), |epoch| {
+            if epoch.time > first + 1e-9 {
+                let x = epoch.snapshot - epoch.error;
+                run.smoothed
+                    .push(estimate(epoch.time, &x, &epoch.covariance));
+            }
+            Ok(())
+        })
+        .map_err(smoother)?;
+        run.smoothed.reverse();
+    }
+    Ok((run, observed))
 }
 
 /// How late a speed-log row may come and still be applied at its own time
@@ -341,8 +397,8 @@ type LevelingMeasurement<M, const N: usize> = Box<dyn Measurement<LevelingFilter
 fn run_model<M: LevelingModel<N>, const N: usize>(
     log: &LogDir,
     options: &LevelingOptions,
-    recorder: Option<Recorder<N, 0>>,
-) -> Result<(LevelingRun, Option<Recorder<N, 0>>), LevelingError> {
+    recording: Option<(EpochFile<N, N>, Recording)>,
+) -> Result<(LevelingRun, Option<Recorder<N, N>>), LevelingError> {
     let init = &log.meta.initial;
     let lat = init.lat;
     let height = -init.depth;
@@ -364,6 +420,16 @@ fn run_model<M: LevelingModel<N>, const N: usize>(
     if t.upright {
         keep_upright(&mut ekf)?;
     }
+    // The run starts at the first IMU row (the first step follows the second).
+    let start = log.imu.first().map_or(0.0, |row| row.t);
+    let smooth = recording.as_ref().is_some_and(|(_, r)| r.smooth);
+    let recorder = recording.map(|(file, r)| {
+        let mut recorder = Recorder::new(file, start, ekf.covariance(), *ekf.state());
+        if r.observability.is_some() {
+            recorder.track_sensor_information();
+        }
+        recorder
+    });
     // Yaw is not estimated; it is carried by integrating the Euler yaw rate from
     // [initial].yaw so that the Earth-rate input W^b (eq. 16) follows the turns.
     let mut filter = Some(LevelingFilter::new(
@@ -400,7 +466,7 @@ fn run_model<M: LevelingModel<N>, const N: usize>(
                 };
                 let r = match (run.as_mut(), filter.take()) {
                     (Some(r), _) => r,
-                    (None, Some(f)) => run.insert(Running::start(f, row.t, sample)?),
+                    (None, Some(f)) => run.insert(Running::start(f, row.t, sample, smooth)?),
                     (None, None) => continue,
                 };
                 if r.started_at != row.t {
@@ -413,6 +479,15 @@ fn run_model<M: LevelingModel<N>, const N: usize>(
                         // to it; a refusal is counted by the scheduler.
                         let m = zero_velocity(&[], false);
                         let _ = r.scheduler.push_measurement(r.zero_velocity, row.t, m);
+                    }
+                    if let Some(id) = r.epoch {
+                        // Registered last: after the updates of the time.
+                        let t = row.t;
+                        let m = FnMeasurement::new(&[], move |f: &mut LevelingFilter<M, N>| {
+                            f.mark_epoch(t);
+                            Ok(MeasurementOutcome::marker())
+                        });
+                        let _ = r.scheduler.push_measurement(id, row.t, Box::new(m));
                     }
                     // The previous sample holds over the interval it starts.
                     if r.scheduler.push_imu(row.t, r.held).is_err() {
@@ -482,6 +557,8 @@ struct Running<M: LevelingModel<N>, const N: usize> {
     scheduler: Scheduler<LevelingFilter<M, N>>,
     speed: SensorId,
     zero_velocity: SensorId,
+    /// With smoothing: the markers that make each sample an epoch.
+    epoch: Option<SensorId>,
     held: ImuSample,
     started_at: f64,
 }
@@ -491,15 +568,21 @@ impl<M: LevelingModel<N>, const N: usize> Running<M, N> {
         filter: LevelingFilter<M, N>,
         t: f64,
         first: ImuSample,
+        smooth: bool,
     ) -> Result<Self, LevelingError> {
         let mut scheduler = Scheduler::new(filter, t)?;
         let speed = scheduler.add_sensor("speed", 1.0, SPEED_LATENCY_S)?;
         let zero_velocity =
             scheduler.add_sensor("zero_velocity", 1.0 / ZERO_VELOCITY_PERIOD_S, 0.0)?;
+        let epoch = match smooth {
+            true => Some(scheduler.add_sensor("epoch", 1.0, 0.0)?),
+            false => None,
+        };
         Ok(Running {
             scheduler,
             speed,
             zero_velocity,
+            epoch,
             held: first,
             started_at: t,
         })
@@ -508,23 +591,29 @@ impl<M: LevelingModel<N>, const N: usize> Running<M, N> {
 
 /// Roll and pitch errors (rad) of the estimate in force at each truth time.
 pub fn errors_at_truth(run: &LevelingRun, log: &LogDir) -> Vec<(f64, f64, f64)> {
+    errors_of(&run.estimates, log)
+}
+
+/// Roll and pitch errors (rad) of the estimate of `estimates` (in time
+/// order) in force at each truth time.
+pub fn errors_of(estimates: &[AttitudeEstimate], log: &LogDir) -> Vec<(f64, f64, f64)> {
     let Some(truth) = &log.truth else {
         return Vec::new();
     };
     // A truth row more than one and a half mean IMU periods after the
     // estimate before it (past the last IMU sample) has no estimate: the
     // last one compared with a truth minutes later is not an error.
-    let stale = match (run.estimates.first(), run.estimates.last()) {
-        (Some(a), Some(b)) if run.estimates.len() > 1 => {
-            1.5 * (b.t - a.t) / (run.estimates.len() - 1) as f64
+    let stale = match (estimates.first(), estimates.last()) {
+        (Some(a), Some(b)) if estimates.len() > 1 => {
+            1.5 * (b.t - a.t) / (estimates.len() - 1) as f64
         }
         _ => 0.0,
     };
     truth
         .iter()
         .filter_map(|row| {
-            let i = run.estimates.partition_point(|e| e.t <= row.t + 1e-9);
-            let e = run.estimates.get(i.checked_sub(1)?)?;
+            let i = estimates.partition_point(|e| e.t <= row.t + 1e-9);
+            let e = estimates.get(i.checked_sub(1)?)?;
             if row.t - e.t > stale + 1e-9 {
                 return None;
             }

@@ -70,9 +70,12 @@ const COLUMNS: [&str; 5] = [
     "pitch_sigma_deg",
 ];
 
-/// Simulates, runs the filter from a guess `N(truth, 45 deg)` and scores one run.
-fn run_one(motion: Motion, seed: u64, options: &RunOptions) -> Result<RunResult, RunError> {
-    let log = simulation::simulate(motion, biases(options), seed);
+/// The initial roll and pitch guess (rad) of run `seed` of a simulated
+/// `log`: drawn from `N(truth, 45 deg)` about its first truth row.
+///
+/// # Errors
+/// The log has no truth.
+pub fn initial_guess(log: &LogDir, seed: u64) -> Result<(f64, f64), RunError> {
     let truth0 = log
         .truth
         .as_ref()
@@ -80,10 +83,16 @@ fn run_one(motion: Motion, seed: u64, options: &RunOptions) -> Result<RunResult,
         .ok_or_else(|| RunError::Invalid("no truth".into()))?;
     let mut rng = ChaCha8Rng::seed_from_u64(derive_seed(seed, "leveling-initial-attitude"));
     let sigma = INITIAL_ERROR_SIGMA_DEG.to_radians();
-    let guess = (
+    Ok((
         truth0.roll + normal(&mut rng, sigma),
         truth0.pitch + normal(&mut rng, sigma),
-    );
+    ))
+}
+
+/// Simulates, runs the filter from a guess `N(truth, 45 deg)` and scores one run.
+fn run_one(motion: Motion, seed: u64, options: &RunOptions) -> Result<RunResult, RunError> {
+    let log = simulation::simulate(motion, biases(options), seed);
+    let guess = initial_guess(&log, seed)?;
     let mut opts = LevelingOptions {
         stationary: motion.is_stationary(),
         initial_attitude: Some(guess),
@@ -181,25 +190,49 @@ fn score(
             .with_metric("pitch_sigma_final_deg", last.pitch_sigma.to_degrees());
     }
     if keep_series {
-        let mut table = RunTable::new(TABLE, &COLUMNS);
-        for &(t, re, pe) in &errors {
-            let i = run
-                .estimates
-                .partition_point(|e| e.t <= t + 1e-9)
-                .saturating_sub(1);
-            let e = run.estimates.get(i).copied().unwrap_or(run.estimates[0]);
-            table.push(&[
-                t,
-                re.to_degrees(),
-                pe.to_degrees(),
-                e.roll_sigma.to_degrees(),
-                e.pitch_sigma.to_degrees(),
-            ]);
-        }
-        r.tables.push(table);
+        r.tables.push(error_table(TABLE, &run.estimates, &errors));
     }
     Ok(r)
 }
+
+/// The table `name` of the roll and pitch errors (deg) at the truth times
+/// of `errors`, with the sigmas of the estimate in force there.
+fn error_table(
+    name: &str,
+    estimates: &[filter::AttitudeEstimate],
+    errors: &[(f64, f64, f64)],
+) -> RunTable {
+    let mut table = RunTable::new(name, &COLUMNS);
+    for &(t, re, pe) in errors {
+        let i = estimates
+            .partition_point(|e| e.t <= t + 1e-9)
+            .saturating_sub(1);
+        let Some(e) = estimates.get(i) else { continue };
+        table.push(&[
+            t,
+            re.to_degrees(),
+            pe.to_degrees(),
+            e.roll_sigma.to_degrees(),
+            e.pitch_sigma.to_degrees(),
+        ]);
+    }
+    table
+}
+
+/// RMS roll and pitch errors (deg) of the truth rows of `errors` after
+/// `after` (s): the start is the initial guess, not an estimate.
+fn rms_after(errors: &[(f64, f64, f64)], after: f64) -> (f64, f64) {
+    let later: Vec<_> = errors.iter().filter(|e| e.0 > after + 1e-9).collect();
+    let rms = |f: &dyn Fn(&(f64, f64, f64)) -> f64| {
+        (later.iter().map(|e| f(e).powi(2)).sum::<f64>() / later.len() as f64)
+            .sqrt()
+            .to_degrees()
+    };
+    (rms(&|e| e.1), rms(&|e| e.2))
+}
+
+/// Name of the table of the smoothed estimates' errors (`--smooth`).
+const SMOOTHED_TABLE: &str = "smoothed_attitude";
 
 impl Scenario for LevelingScenario {
     fn name(&self) -> &'static str {
@@ -481,6 +514,9 @@ impl ReplayModel for Leveling6Replay {
     fn can_observe(&self) -> bool {
         true
     }
+    fn can_smooth(&self) -> bool {
+        true
+    }
     fn log_files(&self) -> Option<&'static [&'static str]> {
         Some(&["imu.csv", "speed.csv", "truth.csv"])
     }
@@ -516,11 +552,13 @@ impl ReplayModel for Leveling6Replay {
             tuning: Tuning::default(),
         };
         let start = std::time::Instant::now();
-        let (run, observed) = if options.observability {
-            let (run, o) =
-                filter::run_observed::<model::Leveling6, 6>(log, &opts, OBSERVABILITY_DIRECTIONS)
-                    .map_err(RunError::Invalid)?;
-            (run, Some(o))
+        let (run, observed) = if options.observability || options.smooth {
+            let recording = filter::Recording {
+                observability: options.observability.then_some(OBSERVABILITY_DIRECTIONS),
+                smooth: options.smooth,
+            };
+            filter::run_recorded::<model::Leveling6, 6>(log, &opts, recording)
+                .map_err(RunError::Invalid)?
         } else {
             let run = filter::run(log, &opts).map_err(|e| RunError::Invalid(e.to_string()))?;
             (run, None)
@@ -590,6 +628,29 @@ impl ReplayModel for Leveling6Replay {
                     .insert(key.into(), Value::from(scored.metric(key)));
             }
             out.tables = scored.tables;
+            let start = run.estimates.first().map_or(f64::NEG_INFINITY, |e| e.t);
+            let (roll, pitch) = rms_after(&errors, start);
+            out.metrics
+                .insert("roll_error_rms_deg".into(), Value::from(roll));
+            out.metrics
+                .insert("pitch_error_rms_deg".into(), Value::from(pitch));
+        }
+        if options.smooth {
+            let mut smoothed = Map::new();
+            smoothed.insert("estimates".into(), Value::from(run.smoothed.len()));
+            if log.truth.is_some() {
+                let errors = filter::errors_of(&run.smoothed, log);
+                let start = run.estimates.first().map_or(f64::NEG_INFINITY, |e| e.t);
+                let (roll, pitch) = rms_after(&errors, start);
+                smoothed.insert("roll_error_rms_deg".into(), Value::from(roll));
+                smoothed.insert("pitch_error_rms_deg".into(), Value::from(pitch));
+                if options.keep_series {
+                    out.tables
+                        .push(error_table(SMOOTHED_TABLE, &run.smoothed, &errors));
+                }
+            }
+            out.metrics
+                .insert("smoothed".into(), Value::Object(smoothed));
         }
         Ok(out)
     }

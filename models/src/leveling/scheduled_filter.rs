@@ -30,8 +30,9 @@ pub struct LevelingFilter<M: LevelingModel<N>, const N: usize> {
     earth_rate_n: Vector3<f64>,
     /// Reflect `a3 < 0` after each speed-log update (the vehicle is upright).
     upright: bool,
-    /// The recorder of the run, when recorded.
-    pub recorder: Option<Recorder<N, 0>>,
+    /// The recorder of the run, when recorded; each epoch's snapshot is
+    /// the state, so that the smoother can correct it.
+    pub recorder: Option<Recorder<N, N>>,
 }
 
 impl<M: LevelingModel<N>, const N: usize> Clone for LevelingFilter<M, N> {
@@ -64,7 +65,7 @@ impl<M: LevelingModel<N>, const N: usize> LevelingFilter<M, N> {
         yaw: f64,
         earth_rate_n: Vector3<f64>,
         upright: bool,
-        recorder: Option<Recorder<N, 0>>,
+        recorder: Option<Recorder<N, N>>,
     ) -> Self {
         LevelingFilter {
             ekf,
@@ -97,6 +98,14 @@ impl<M: LevelingModel<N>, const N: usize> LevelingFilter<M, N> {
         Ok(MeasurementOutcome::from(&report))
     }
 
+    /// An epoch of the recording at `t` (s, the filter's time), when
+    /// recording: the smoother gives the state here a smoothed counterpart.
+    pub fn mark_epoch(&mut self, t: f64) {
+        if let Some(rec) = self.recorder.as_mut() {
+            rec.mark(t, self.ekf.covariance(), *self.ekf.state());
+        }
+    }
+
     fn recorded_update<S, const K: usize>(
         &mut self,
         z: &SVector<f64, K>,
@@ -113,8 +122,8 @@ impl<M: LevelingModel<N>, const N: usize> LevelingFilter<M, N> {
         let h = S::jacobian(&x, ekf.input(), ekf.params(), &());
         let report = ekf.update::<S, K>(z, r, &())?;
         if report.accepted {
-            rec.updating(&p, SVector::zeros());
-            rec.updated(&(x - ekf.state()), ekf.covariance(), SVector::zeros());
+            rec.updating(&p, x);
+            rec.updated(&(x - ekf.state()), ekf.covariance(), *ekf.state());
             if let Some(c) = r.cholesky() {
                 rec.sensor_update(S::NAME, &h, &c.inverse());
             }

@@ -287,3 +287,128 @@ fn stationary_bias_states_make_the_sigma_honest() {
     assert!((nees - 2.0).abs() < 0.1, "{nees}");
     assert!(number(&m, "roll_sigma_filter_deg") < 0.1 * per_axis);
 }
+
+/// `leveling6 --smooth` (docs/results/leveling6.md, "Smoothing"): the
+/// S-type track from a guess drawn from N(truth, 45^2 deg) as the scenario
+/// draws it, 100 runs (seeds 5700-5799, not used while the smoothing was
+/// built); forward and smoothed tilt errors from the same run at every
+/// truth row after the first second, and after 10 s. Printed with
+/// `--nocapture`.
+#[test]
+fn smoothed_leveling_is_closer_from_the_start() {
+    let seeds = 5700..5800u64;
+    let (mut whole, mut settled, mut nees) = (Vec::new(), Vec::new(), [0.0; 2]);
+    let mut rows_settled = 0usize;
+    for seed in seeds.clone() {
+        let log = simulation::simulate(Motion::SType, Biases::OneSigma, seed);
+        let opts = LevelingOptions {
+            stationary: false,
+            initial_attitude: Some(models::leveling::initial_guess(&log, seed).expect("truth")),
+            tuning: Tuning::default(),
+        };
+        let recording = filter::Recording {
+            observability: None,
+            smooth: true,
+        };
+        let (run, _) =
+            filter::run_recorded::<models::leveling::Leveling6, 6>(&log, &opts, recording)
+                .expect("run");
+        assert_eq!(run.smoothed.len() + 1, run.estimates.len(), "seed {seed}");
+        // The last estimate has nothing after it: the smoothed one is it.
+        let (f, s) = (run.estimates.last().unwrap(), run.smoothed.last().unwrap());
+        assert!((f.roll - s.roll).abs() < 1e-12 && (f.pitch - s.pitch).abs() < 1e-12);
+        let tilt = |estimates: &[filter::AttitudeEstimate], after: f64| {
+            let errors = filter::errors_of(estimates, &log);
+            let later: Vec<_> = errors.iter().filter(|e| e.0 > after).collect();
+            let sum: f64 = later.iter().map(|e| e.1 * e.1 + e.2 * e.2).sum();
+            (sum / later.len() as f64).sqrt().to_degrees()
+        };
+        whole.push((tilt(&run.estimates, 1.0), tilt(&run.smoothed, 1.0)));
+        settled.push((tilt(&run.estimates, 10.0), tilt(&run.smoothed, 10.0)));
+        for (i, estimates) in [&run.estimates, &run.smoothed].into_iter().enumerate() {
+            for &(t, roll, pitch) in &filter::errors_of(estimates, &log) {
+                if t > 10.0 {
+                    let k = estimates.partition_point(|e| e.t <= t + 1e-9) - 1;
+                    nees[i] += models::leveling::tilt_nees(roll, pitch, &estimates[k]);
+                    rows_settled += usize::from(i == 0);
+                }
+            }
+        }
+    }
+    let median = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        0.5 * (v[49] + v[50])
+    };
+    let mean = |v: &[(f64, f64)], f: fn(&(f64, f64)) -> f64| v.iter().map(f).sum::<f64>() / 100.0;
+    let mut ratio_whole: Vec<f64> = whole.iter().map(|(f, s)| s / f).collect();
+    let mut ratio_settled: Vec<f64> = settled.iter().map(|(f, s)| s / f).collect();
+    let (mw, ms) = (median(&mut ratio_whole), median(&mut ratio_settled));
+    println!(
+        "leveling6 smoothing, seeds {seeds:?}: tilt error RMS after 1 s, mean {:.3} deg forward, \
+         {:.4} deg smoothed (smoothed/forward median {mw:.4}); after 10 s, mean {:.4} deg forward, \
+         {:.4} deg smoothed (median ratio {ms:.3}, max {:.3}); tilt NEES after 10 s {:.1} forward, \
+         {:.1} smoothed",
+        mean(&whole, |r| r.0),
+        mean(&whole, |r| r.1),
+        mean(&settled, |r| r.0),
+        mean(&settled, |r| r.1),
+        ratio_settled[99],
+        nees[0] / rows_settled as f64,
+        nees[1] / rows_settled as f64,
+    );
+    // From the start, the smoothed run does not carry the convergence from
+    // a 45-degree guess.
+    assert!(mw < 0.5, "median smoothed / forward after 1 s {mw}");
+    assert!(ms < 1.0, "median smoothed / forward after 10 s {ms}");
+}
+
+/// `navsim replay --model leveling6 --smooth`: the forward keys are those
+/// of the run without it, the smoothed estimates are one per IMU sample
+/// after the first, scored at the same truth rows, and closer than the
+/// forward ones that start from a level guess.
+#[test]
+fn the_leveling6_replay_reports_the_smoothed_run() {
+    let log = simulation::simulate(Motion::SType, Biases::OneSigma, 6);
+    let keep = ReplayOptions {
+        keep_series: true,
+        ..ReplayOptions::default()
+    };
+    let forward = Leveling6Replay.replay(&log, &keep).expect("replays");
+    let smooth = ReplayOptions {
+        smooth: true,
+        ..keep
+    };
+    let both = Leveling6Replay.replay(&log, &smooth).expect("replays");
+    let mut without = both.metrics.clone();
+    let smoothed = without.remove("smoothed").expect("smoothed");
+    let plain = |m: &serde_json::Map<String, serde_json::Value>| {
+        let mut m = m.clone();
+        m.remove("runtime_s");
+        m
+    };
+    assert_eq!(plain(&without), plain(&forward.metrics));
+    assert_eq!(
+        smoothed["estimates"].as_u64(),
+        Some(log.imu.len() as u64 - 1)
+    );
+    let rows = |out: &models::harness::ReplayOutput, name: &str| {
+        out.tables
+            .iter()
+            .find(|t| t.name == name)
+            .unwrap_or_else(|| panic!("{name}"))
+            .rows
+            .len()
+    };
+    // The truth row at the first sample has no smoothed estimate.
+    assert_eq!(
+        rows(&both, "smoothed_attitude") + 1,
+        rows(&both, "attitude")
+    );
+    for key in ["roll_error_rms_deg", "pitch_error_rms_deg"] {
+        let (f, s) = (
+            forward.metrics[key].as_f64().unwrap(),
+            smoothed[key].as_f64().unwrap(),
+        );
+        assert!(s < 0.5 * f, "{key}: smoothed {s} forward {f}");
+    }
+}
