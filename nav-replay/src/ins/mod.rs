@@ -28,7 +28,7 @@ use nav_runtime::log::{LogDir, LogFiles, LogSource};
 
 use crate::{ReplayModel, ReplayOptions, ReplayOutput, RunError};
 pub use aiding::{DVL_MAX_ALTITUDE, SOUND_SPEED};
-pub use plots::{write_plots, write_smoothed_plot};
+pub use plots::{write_plots, write_smoothed_plot, write_trajectory_plots};
 use score::Scored;
 use setup::{FilterOptions, InsRun};
 

@@ -17,9 +17,12 @@ use serde_json::{json, Map, Value};
 use super::replay_loop::{Every, Listed};
 use super::score::{Keep, Scored, Scorer, COLUMNS, TABLE};
 use super::setup::{replay_vehicle, FilterOptions, InsRun, LENIENT_IMU_STEP_PERIODS};
-use super::{error_values, write_plots, write_smoothed_plot, ERROR_KEYS, SMOOTHED_TABLE};
+use super::{
+    error_values, write_plots, write_smoothed_plot, write_trajectory_plots, ERROR_KEYS,
+    SMOOTHED_TABLE,
+};
 use crate::innovations::innovations_json;
-use crate::output::series::TableWriter;
+use crate::output::series::{SeriesSink, TableWriter};
 use crate::{ReplayOptions, ReplayOutput, RunError, SensorHealth};
 use nav_ins::vehicle::{InsVehicle, Layout};
 use nav_ins::Estimate;
@@ -141,17 +144,11 @@ pub(super) fn replay_source<V: InsVehicle<N>, const N: usize>(
         .then(|| keep(TABLE))
         .transpose()?
         .map(|k| Scorer::new(None, k));
-    let mut trajectory = out
-        .map(|dir| {
-            TableWriter::create(
-                &dir.join(format!("{TRAJECTORY_TABLE}.csv")),
-                &TRAJECTORY_COLUMNS,
-            )
-        })
-        .transpose()?;
+    // Written under `--out`, with a bounded copy for the plots.
+    let mut trajectory = SeriesSink::new(TRAJECTORY_TABLE, &TRAJECTORY_COLUMNS, out, false)?;
     let sink = |(_, truth): OutputTime, e: Option<&Estimate>| {
-        if let (Some(w), Some(e)) = (&mut trajectory, e) {
-            w.push(&trajectory_row(e))?;
+        if let (true, Some(e)) = (trajectory.wanted(), e) {
+            trajectory.push(&trajectory_row(e))?;
         }
         if let (Some(s), Some((line, row))) = (&mut scorer, &truth) {
             s.push(*line, row, e).map_err(score_error)?;
@@ -169,19 +166,18 @@ pub(super) fn replay_source<V: InsVehicle<N>, const N: usize>(
         .transpose()?;
     // The smoothed trajectory: the rows of `estimates.csv`, smoothed, with
     // or without truth (a log without truth is what a user smooths most).
-    let mut smoothed_trajectory = match (out, options.smooth) {
-        (Some(dir), true) => Some(TableWriter::create(
-            &dir.join(format!("{SMOOTHED_TRAJECTORY_TABLE}.csv")),
-            &TRAJECTORY_COLUMNS,
-        )?),
-        _ => None,
-    };
+    let mut smoothed_trajectory = SeriesSink::new(
+        SMOOTHED_TRAJECTORY_TABLE,
+        &TRAJECTORY_COLUMNS,
+        out.filter(|_| options.smooth),
+        false,
+    )?;
     let mut smoothed_estimates = 0u64;
     let smoothed_sink = |_, e: Option<&Estimate>| -> Result<(), RunError> {
         if let Some(e) = e {
             smoothed_estimates += 1;
-            if let Some(w) = &mut smoothed_trajectory {
-                w.push(&trajectory_row(e))?;
+            if smoothed_trajectory.wanted() {
+                smoothed_trajectory.push(&trajectory_row(e))?;
             }
         }
         if let Some((s, Some(rows))) = &mut smoothed_scorer {
@@ -207,9 +203,8 @@ pub(super) fn replay_source<V: InsVehicle<N>, const N: usize>(
             smoothed_sink,
         )?,
     };
-    for w in [trajectory, smoothed_trajectory].into_iter().flatten() {
-        w.finish()?;
-    }
+    let forward_track = trajectory.finish()?;
+    let smoothed_track = smoothed_trajectory.finish()?;
     let span = Some(run.imu_span);
     let scored: Option<Scored> = scorer
         .map(|s| s.finish(span))
@@ -225,6 +220,15 @@ pub(super) fn replay_source<V: InsVehicle<N>, const N: usize>(
         }
         None => None,
     };
+    if let (Some(dir), Some(forward)) = (out, &forward_track) {
+        write_trajectory_plots(
+            V::REPLAY_NAME,
+            "replay",
+            forward,
+            smoothed_track.as_ref(),
+            dir,
+        )?;
+    }
     if let Some(dir) = out {
         if let Some(s) = &scored {
             write_plots(V::REPLAY_NAME, "replay", &s.table, dir)?;

@@ -1,5 +1,6 @@
-//! The plots of a scored INS run: track, errors with their sigma bounds,
-//! NEES, and forward against smoothed.
+//! The plots of an INS run: the estimated track and its horizontal sigma
+//! (with or without truth), and of a scored run the track against truth,
+//! errors with their sigma bounds, NEES, and forward against smoothed.
 
 use std::path::Path;
 
@@ -128,5 +129,78 @@ pub fn write_plots(name: &str, prefix: &str, t: &RunTable, dir: &Path) -> Result
         &time,
         &t.column("nees"),
         Some(band),
+    )
+}
+
+/// North and east (m) of the rows of a trajectory table from its first
+/// row (a local flat approximation, for a plot).
+fn north_east(t: &RunTable) -> (Vec<f64>, Vec<f64>) {
+    let (lat, lon) = (t.column("lat"), t.column("lon"));
+    let (Some(&lat0), Some(&lon0)) = (lat.first(), lon.first()) else {
+        return (Vec::new(), Vec::new());
+    };
+    let (m, n) = (
+        nav_runtime::earth::meridian_radius(lat0),
+        nav_runtime::earth::transverse_radius(lat0),
+    );
+    let north = lat.iter().map(|l| (l - lat0) * m).collect();
+    let east = lon.iter().map(|l| (l - lon0) * n * lat0.cos()).collect();
+    (north, east)
+}
+
+/// The estimated track (`<prefix>-estimated-track.svg`, north and east
+/// from the first estimate) and the horizontal 1-sigma over time
+/// (`<prefix>-horizontal-sigma.svg`) of the trajectory table `forward`,
+/// with the smoothed one beside it when given: what a log without truth
+/// can show.
+///
+/// # Errors
+/// A file cannot be written.
+pub fn write_trajectory_plots(
+    name: &str,
+    prefix: &str,
+    forward: &RunTable,
+    smoothed: Option<&RunTable>,
+    dir: &Path,
+) -> Result<(), RunError> {
+    let runs: Vec<(&str, &RunTable)> = std::iter::once(("forward", forward))
+        .chain(smoothed.map(|s| ("smoothed", s)))
+        .collect();
+    let tracks: Vec<(Vec<f64>, Vec<f64>)> = runs.iter().map(|(_, t)| north_east(t)).collect();
+    let sigma: Vec<(Vec<f64>, Vec<f64>)> = runs
+        .iter()
+        .map(|(_, t)| {
+            let s = t
+                .column("sig_n")
+                .iter()
+                .zip(t.column("sig_e"))
+                .map(|(n, e)| n.hypot(e))
+                .collect();
+            (t.column("t"), s)
+        })
+        .collect();
+    let track_lines: Vec<Line<'_>> = runs
+        .iter()
+        .zip(&tracks)
+        .map(|((label, _), (n, e))| Line { label, x: e, y: n })
+        .collect();
+    plot::tracks(
+        &dir.join(format!("{prefix}-estimated-track.svg")),
+        &format!("{name} {prefix}: estimated track from the first estimate"),
+        "east [m]",
+        "north [m]",
+        &track_lines,
+    )?;
+    let sigma_lines: Vec<Line<'_>> = runs
+        .iter()
+        .zip(&sigma)
+        .map(|((label, _), (t, s))| Line { label, x: t, y: s })
+        .collect();
+    plot::lines(
+        &dir.join(format!("{prefix}-horizontal-sigma.svg")),
+        &format!("{name} {prefix}: horizontal 1-sigma"),
+        "t [s]",
+        "horizontal 1-sigma [m]",
+        &sigma_lines,
     )
 }

@@ -165,4 +165,13 @@ fn replay_smooth_writes_the_smoothed_trajectory_of_a_log_without_truth() {
     }
     let notes = both["warnings"].to_string();
     assert!(notes.contains("smoothed run is not scored"), "{notes}");
+    // Without truth, the plots of what the run estimated, forward and smoothed.
+    for plot in ["replay-estimated-track.svg", "replay-horizontal-sigma.svg"] {
+        let svg = std::fs::read_to_string(smoothed.join(plot)).expect(plot);
+        assert!(
+            svg.contains("forward") && svg.contains("smoothed"),
+            "{plot}"
+        );
+        assert!(plain.join(plot).is_file(), "{plot} without --smooth");
+    }
 }
