@@ -22,7 +22,10 @@ const MIXES: &[(&str, &[&str])] = &[
     ("IMU and USBL", &["dvl.csv", "heading.csv", "depth.csv"]),
 ];
 
-/// Runs per log; the median is compared.
+/// Runs per log; the fastest is compared: another process on the machine
+/// only ever adds time, so the fastest of five is the run closest to the
+/// filter's own work (with the median, four runs of the short log slowed by
+/// a parallel build once read as long as the long log's).
 const RUNS: usize = 5;
 
 /// A USBL survey log of `seconds`, written under `dir`.
@@ -63,7 +66,7 @@ fn runtime_is_measured_and_grows_with_the_log_for_every_sensor_mix() {
     let long = survey(dir.path(), 60.0);
     let mut failures = Vec::new();
     for (mix, removed) in MIXES {
-        let mut medians = [0.0; 2];
+        let mut fastest = [0.0; 2];
         for (k, base) in [&short, &long].into_iter().enumerate() {
             let log = dir.path().join(format!("{mix}-{k}"));
             std::fs::create_dir_all(&log).unwrap();
@@ -79,15 +82,15 @@ fn runtime_is_measured_and_grows_with_the_log_for_every_sensor_mix() {
                 failures.push(format!("{mix}, log {k}: runtime_s {times:?} has a zero"));
             }
             eprintln!("{mix}, log {k}: runtime_s {times:?}");
-            medians[k] = times[RUNS / 2];
+            fastest[k] = times[0];
         }
         // Three times the samples: more than 1.5 and less than 8 times the
         // time (fixed costs and a busy machine widen it both ways).
-        let ratio = medians[1] / medians[0];
+        let ratio = fastest[1] / fastest[0];
         if !(1.5..8.0).contains(&ratio) {
             failures.push(format!(
                 "{mix}: runtime_s {:.4} s (20 s log) against {:.4} s (60 s log), ratio {ratio:.2}",
-                medians[0], medians[1]
+                fastest[0], fastest[1]
             ));
         }
     }
