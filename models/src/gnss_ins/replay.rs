@@ -21,8 +21,8 @@
 use std::path::Path;
 
 use nav_runtime::log::{
-    BaroRow, GnssRow, LogDir, LogFiles, LogSource, MagRow, RowSource, TruthRow, Warning,
-    WarningKind,
+    BaroRow, GnssRow, LogDir, LogFiles, LogSource, MagRow, ReferenceRow, RowSource, TruthRow,
+    Warning, WarningKind,
 };
 use serde_json::{json, Value};
 
@@ -35,6 +35,7 @@ use crate::sdins25::filter::{replay_vehicle, FilterOptions, LENIENT_IMU_STEP_PER
 use crate::sdins25::replay_loop::{EachSample, Listed, Smoothed};
 use crate::sdins25::score::{Keep, Scorer, COLUMNS as ERRORS_COLUMNS};
 use crate::ulog::reference::EstimatePoint;
+use crate::ulog::running_score::{ReferenceScore, REFERENCE_COLUMNS};
 use nav_ins::Estimate;
 use nav_replay::output::series::{SeriesSink, TableWriter};
 
@@ -60,6 +61,9 @@ pub const ESTIMATES_TABLE: &str = "estimates";
 /// Name of the table of smoothed estimates (`--smooth`): the rows of
 /// [`ESTIMATES_TABLE`], smoothed.
 pub const SMOOTHED_TABLE: &str = "smoothed";
+/// Name of the table of the smoothed estimates' differences to PX4's
+/// estimate.
+pub const SMOOTHED_REFERENCE_TABLE: &str = "smoothed_reference_difference";
 /// Name of the table of the smoothed estimates' errors against truth.
 pub const SMOOTHED_ERRORS_TABLE: &str = nav_replay::ins::SMOOTHED_TABLE;
 /// The estimates table has a row at every this many IMU samples.
@@ -111,6 +115,16 @@ fn table_row(e: &Estimate) -> [f64; 14] {
         e.cov[(2, 2)].sqrt(),
         e.baro_bias.0,
     ]
+}
+
+/// Estimate `e` as the comparison with another solution reads it.
+fn point(e: &Estimate) -> EstimatePoint {
+    let a = e.nav.euler();
+    EstimatePoint {
+        t: e.t,
+        attitude: [a.roll, a.pitch, a.yaw],
+        position: Some([e.nav.lat, e.nav.lon, e.nav.h]),
+    }
 }
 
 /// The truth rows of `rows` (none without `truth.csv`) as output times.
@@ -201,12 +215,7 @@ pub fn replay_source(
                 if tally.samples.is_multiple_of(ESTIMATES_EVERY) && estimates.wanted() {
                     estimates.push(&table_row(e))?;
                 }
-                let a = e.nav.euler();
-                scores.push_sample(EstimatePoint {
-                    t: e.t,
-                    attitude: [a.roll, a.pitch, a.yaw],
-                    position: Some([e.nav.lat, e.nav.lon, e.nav.h]),
-                })
+                scores.push_sample(point(e))
             }
             (Wanted::Sample, None) => Ok(()),
         },
@@ -339,6 +348,9 @@ pub fn replay_source(
 struct SmoothedRun<'a> {
     table: SeriesSink,
     truth: Option<(Scorer, Box<dyn RowSource<TruthRow> + 'a>)>,
+    /// The smoothed rows against PX4's estimate, `reference.csv` read
+    /// again beside them.
+    reference: Option<ReferenceScore<'a>>,
     estimates: u64,
 }
 
@@ -362,9 +374,22 @@ impl<'a> SmoothedRun<'a> {
             Some(rows) => Some((Scorer::new(None, keep()?), rows)),
             None => None,
         };
+        let reference = match source.rows::<ReferenceRow>()? {
+            Some(rows) => Some(ReferenceScore::new(
+                rows,
+                SeriesSink::new(
+                    SMOOTHED_REFERENCE_TABLE,
+                    &REFERENCE_COLUMNS,
+                    out,
+                    keep_series,
+                )?,
+            )?),
+            None => None,
+        };
         Ok(SmoothedRun {
             table: SeriesSink::new(SMOOTHED_TABLE, &ESTIMATES_COLUMNS, out, keep_series)?,
             truth,
+            reference,
             estimates: 0,
         })
     }
@@ -373,10 +398,16 @@ impl<'a> SmoothedRun<'a> {
     fn push(&mut self, kind: Smoothed, e: Option<&Estimate>) -> Result<(), RunError> {
         self.estimates += u64::from(e.is_some());
         match kind {
-            Smoothed::Sample => match e {
-                Some(e) if self.table.wanted() => self.table.push(&table_row(e)),
-                _ => Ok(()),
-            },
+            Smoothed::Sample => {
+                let Some(e) = e else { return Ok(()) };
+                if self.table.wanted() {
+                    self.table.push(&table_row(e))?;
+                }
+                match self.reference.as_mut() {
+                    Some(r) => r.push(point(e)),
+                    None => Ok(()),
+                }
+            }
             Smoothed::Requested => {
                 let Some((scorer, rows)) = self.truth.as_mut() else {
                     return Ok(());
@@ -402,6 +433,15 @@ impl<'a> SmoothedRun<'a> {
         let mut object = serde_json::Map::new();
         object.insert("estimates".into(), Value::from(self.estimates));
         let mut tables: Vec<_> = self.table.finish()?.into_iter().collect();
+        if let Some(r) = self.reference {
+            // The forward run's warnings about the reference hold for this
+            // one too: not said twice.
+            let mut keys = serde_json::Map::new();
+            tables.extend(r.finish(&mut keys, &mut Vec::new())?);
+            object.extend(keys.into_iter().filter(|(k, _)| {
+                k.ends_with("_difference_rms_m") || k.ends_with("_difference_rms_deg")
+            }));
+        }
         match self.truth.map(|(s, _)| s.finish(Some(imu_span))) {
             Some(Ok(mut s)) => {
                 for (k, v) in nav_replay::ins::ERROR_KEYS

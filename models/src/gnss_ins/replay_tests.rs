@@ -320,6 +320,17 @@ fn smoothing_adds_the_smoothed_estimates_and_their_scores() {
             "{key}: {smoothed}"
         );
     }
+    // Against PX4's estimate, at the smoothed rows: every reference row
+    // inside them is compared.
+    let difference = table(&both, SMOOTHED_REFERENCE_TABLE);
+    assert!(difference.rows.len() + 2 >= table(&forward, "reference_difference").rows.len());
+    assert!(smoothed["horizontal_difference_rms_m"]
+        .as_f64()
+        .is_some_and(f64::is_finite));
+    for axis in ["roll", "pitch", "yaw"] {
+        let v = smoothed["attitude_difference_rms_deg"][axis].as_f64();
+        assert!(v.is_some_and(f64::is_finite), "{axis}: {smoothed}");
+    }
 
     let out = tmp.0.join("out");
     std::fs::create_dir_all(&out).unwrap();
@@ -328,7 +339,7 @@ fn smoothing_adds_the_smoothed_estimates_and_their_scores() {
         .replay_files(&files, &options, Some(&out))
         .expect("replays");
     assert_eq!(written.metrics, both.metrics);
-    for t in [&smooth, &errors] {
+    for t in [&smooth, &errors, &difference] {
         let text = std::fs::read_to_string(out.join(format!("{}.csv", t.name))).unwrap();
         let whole = tmp.0.join("whole.csv");
         t.write_csv(&whole).expect("writes");
@@ -340,7 +351,8 @@ fn smoothing_adds_the_smoothed_estimates_and_their_scores() {
     }
     assert!(out.join("replay-smoothed-horizontal.svg").is_file());
 
-    // Without truth: the smoothed rows, no smoothed scores and no file of them.
+    // Without truth: the smoothed rows and their differences to PX4's
+    // estimate, no smoothed scores and no file of them.
     let no_truth = copy(&dir, "no-truth");
     std::fs::remove_file(no_truth.join("truth.csv")).unwrap();
     let out = tmp.0.join("out-no-truth");
@@ -350,7 +362,14 @@ fn smoothing_adds_the_smoothed_estimates_and_their_scores() {
         .replay_files(&files, &options, Some(&out))
         .expect("replays");
     let object = written.metrics["smoothed"].as_object().unwrap();
-    assert_eq!(object.keys().collect::<Vec<_>>(), ["estimates"]);
+    assert_eq!(
+        object.keys().collect::<Vec<_>>(),
+        [
+            "attitude_difference_rms_deg",
+            "estimates",
+            "horizontal_difference_rms_m"
+        ]
+    );
     assert_eq!(object["estimates"].as_u64(), Some(smooth.rows.len() as u64));
     assert!(out.join("smoothed.csv").is_file());
     assert!(!out.join("smoothed_errors.csv").exists());
