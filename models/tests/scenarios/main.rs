@@ -11,6 +11,7 @@ mod ahrs_same_epoch_nees;
 mod ahrs_smoothing;
 mod ahrs_tuning;
 mod dvl_calibration;
+mod gnss_ins_smoothing;
 mod log_replay;
 mod model_replay;
 mod navigator;
