@@ -7,7 +7,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use nav_runtime::earth::{meridian_radius, transverse_radius, Geodetic};
+use nav_runtime::earth::Geodetic;
 use nav_runtime::log::{GnssRow, HeadingRow, ImuRow, LogDir, Meta, TruthRow};
 use nav_runtime::nalgebra::Vector3;
 use nav_runtime::simulation::imu::{rates, ImuModel, ImuSpec};
@@ -133,22 +133,12 @@ fn write_voyage_speeds(
     let mut current = CURRENT;
     for k in 1..=(DURATION as usize) {
         let s = traj.truth(k as f64);
-        let arm = s.c_bn * Vector3::from(antenna);
-        let (rm, rn) = (meridian_radius(s.lat) + s.h, transverse_radius(s.lat) + s.h);
-        let north = arm.x + normal(&mut rng, 1.5);
-        let east = arm.y + normal(&mut rng, 1.5);
-        gnss.push(GnssRow::new(
-            s.t,
-            s.lat + north / rm,
-            s.lon + east / (rn * s.lat.cos()),
-            s.h - arm.z + normal(&mut rng, 1.5),
-            None,
-            None,
-            None,
-            None,
-            None,
-            None,
-        ));
+        let noise = [
+            normal(&mut rng, 1.5),
+            normal(&mut rng, 1.5),
+            normal(&mut rng, 1.5),
+        ];
+        gnss.push(GnssRow::of_antenna(&s, &Vector3::from(antenna), noise));
         let yaw = s.euler.yaw + compass_bias + normal(&mut rng, 0.1_f64.to_radians());
         heading.push(HeadingRow::new(s.t, yaw));
         if current_q > 0.0 {

@@ -27,20 +27,7 @@ fn flight(tmp: &TempDir) -> PathBuf {
     let ulg = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/ulog/sample_px4_events.ulg");
     let dir = tmp.0.join("flight");
     crate::ulog::import(&ulg, &dir).expect("the fixture imports");
-    let reference = std::fs::read_to_string(dir.join("reference.csv")).unwrap();
-    let mut truth = String::from("t,lat,lon,depth,vn,ve,vd,roll,pitch,yaw\n");
-    for line in reference.lines().skip(1) {
-        let c: Vec<&str> = line.split(',').collect();
-        let depth = -c[3].parse::<f64>().unwrap();
-        truth.push_str(&format!(
-            "{},{},{},{depth},{}\n",
-            c[0],
-            c[1],
-            c[2],
-            c[4..].join(",")
-        ));
-    }
-    std::fs::write(dir.join("truth.csv"), truth).unwrap();
+    crate::ulog::reference::write_reference_as_truth(&dir).expect("truth.csv written");
     dir
 }
 

@@ -230,9 +230,84 @@ fn wrap(a: f64) -> f64 {
     }
 }
 
+/// Writes `dir/truth.csv` from `dir/reference.csv` (PX4's estimate, height
+/// turned into depth), so that an imported log is scored with the truth keys
+/// against PX4's estimate: how the tests exercise every truth score of a
+/// real flight that has no truth.
+///
+/// # Errors
+/// A file cannot be read or written, or a reference row has no number for
+/// its height (naming the line).
+pub fn write_reference_as_truth(dir: &Path) -> std::io::Result<()> {
+    let reference = std::fs::read_to_string(dir.join("reference.csv"))?;
+    let mut truth = String::from("t,lat,lon,depth,vn,ve,vd,roll,pitch,yaw\n");
+    for (i, line) in reference.lines().enumerate().skip(1) {
+        let c: Vec<&str> = line.split(',').collect();
+        let height = c.get(3).and_then(|h| h.parse::<f64>().ok());
+        let (Some(height), true) = (height, c.len() == 10) else {
+            return Err(std::io::Error::new(
+                std::io::ErrorKind::InvalidData,
+                format!(
+                    "reference.csv line {}: expected 10 columns with a height",
+                    i + 1
+                ),
+            ));
+        };
+        let depth = -height;
+        truth.push_str(&format!(
+            "{},{},{},{depth},{}\n",
+            c[0],
+            c[1],
+            c[2],
+            c[4..].join(",")
+        ));
+    }
+    std::fs::write(dir.join("truth.csv"), truth)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// PX4's estimate as truth: the height becomes a depth; a reference
+    /// without velocities, or with a height that is not a number, is an
+    /// error naming its line, not a truth file with columns shifted.
+    #[test]
+    fn the_reference_is_written_as_truth_or_refused() {
+        let header = "t,lat,lon,height,vn,ve,vd,roll,pitch,yaw\n";
+        // (reference rows, expected truth rows or the error's words)
+        let cases: [(&str, Result<&str, &str>); 3] = [
+            (
+                "1.5,0.8,0.1,487.5,0.1,0.2,0.3,0.01,0.02,0.03\n",
+                Ok("1.5,0.8,0.1,-487.5,0.1,0.2,0.3,0.01,0.02,0.03\n"),
+            ),
+            ("1.5,0.8,0.1,487.5,0.01,0.02,0.03\n", Err("line 2")),
+            (
+                "1.5,0.8,0.1,high,0.1,0.2,0.3,0.01,0.02,0.03\n",
+                Err("line 2"),
+            ),
+        ];
+        for (k, (rows, expected)) in cases.into_iter().enumerate() {
+            let dir = crate::harness::TempDir::new(&format!("reference-as-truth-{k}"));
+            std::fs::write(dir.0.join("reference.csv"), format!("{header}{rows}")).unwrap();
+            let written = write_reference_as_truth(&dir.0);
+            match expected {
+                Ok(truth) => {
+                    written.expect("written");
+                    let text = std::fs::read_to_string(dir.0.join("truth.csv")).unwrap();
+                    assert_eq!(
+                        text,
+                        format!("t,lat,lon,depth,vn,ve,vd,roll,pitch,yaw\n{truth}")
+                    );
+                }
+                Err(words) => {
+                    let e = written.expect_err(rows).to_string();
+                    assert!(e.contains(words), "{e}");
+                    assert!(!dir.0.join("truth.csv").exists());
+                }
+            }
+        }
+    }
 
     const CSV: &str = "t,lat,lon,height,roll,pitch,yaw\n\
         1.0,0.0,0.0,0.0,0.0,0.0,3.1241393610698497\n\

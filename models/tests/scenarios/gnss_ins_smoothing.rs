@@ -7,8 +7,9 @@
 
 use models::gnss_ins::replay::GnssInsReplay;
 use models::harness::{ReplayModel, ReplayOptions};
-use nav_runtime::earth::{meridian_radius, transverse_radius, Geodetic};
+use nav_runtime::earth::Geodetic;
 use nav_runtime::log::{GnssRow, ImuRow, LogDir, Meta, TruthRow};
+use nav_runtime::nalgebra::Vector3;
 use nav_runtime::sensors::normal;
 use nav_runtime::simulation::imu::{rates, ImuModel, ImuSpec};
 use nav_runtime::simulation::trajectory::{Trajectory, TrajectorySpec, TruthSource};
@@ -63,21 +64,8 @@ fn drive(seed: u64) -> LogDir {
         .collect();
     let fixes = (1..=(DURATION as usize))
         .map(|k| {
-            let s = traj.truth(k as f64);
-            let (rm, rn) = (meridian_radius(s.lat) + s.h, transverse_radius(s.lat) + s.h);
-            let (n, e) = (normal(&mut rng, GNSS_SIGMA), normal(&mut rng, GNSS_SIGMA));
-            GnssRow::new(
-                s.t,
-                s.lat + n / rm,
-                s.lon + e / (rn * s.lat.cos()),
-                s.h + normal(&mut rng, GNSS_SIGMA),
-                None,
-                None,
-                None,
-                None,
-                None,
-                None,
-            )
+            let noise = [(); 3].map(|()| normal(&mut rng, GNSS_SIGMA));
+            GnssRow::of_antenna(&traj.truth(k as f64), &Vector3::zeros(), noise)
         })
         .collect();
     log.gnss = Some(fixes);

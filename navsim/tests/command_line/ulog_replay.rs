@@ -145,20 +145,7 @@ fn gnss_ins_replays_the_fixture_close_to_px4() {
 fn truth_gives_the_usual_error_keys() {
     let tmp = TempDir::new("ulog-truth");
     let dir = import(&tmp);
-    let reference = std::fs::read_to_string(dir.join("reference.csv")).unwrap();
-    let mut truth = String::from("t,lat,lon,depth,vn,ve,vd,roll,pitch,yaw\n");
-    for line in reference.lines().skip(1) {
-        let c: Vec<&str> = line.split(',').collect();
-        let depth = -c[3].parse::<f64>().unwrap();
-        truth.push_str(&format!(
-            "{},{},{},{depth},{}\n",
-            c[0],
-            c[1],
-            c[2],
-            c[4..].join(",")
-        ));
-    }
-    std::fs::write(dir.join("truth.csv"), truth).unwrap();
+    models::ulog::reference::write_reference_as_truth(&dir).expect("truth.csv written");
     let v = replay(&dir, "gnss-ins", &[]);
     let error = num(&v, &["horizontal_error_rms_m"]);
     let difference = num(&v, &["horizontal_difference_rms_m"]);
