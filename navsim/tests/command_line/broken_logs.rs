@@ -18,7 +18,7 @@ use crate::common;
 use std::path::Path;
 use std::sync::OnceLock;
 
-use common::{navsim, stderr, stdout, TempDir};
+use common::{navsim, stderr, stdout, SharedDir, TempDir};
 use models::sdins25::simulation::{simulate, SimConfig};
 use serde_json::Value;
 
@@ -52,9 +52,9 @@ type Case = (
 /// The base log: 60 s of the USBL survey (IMU 100 Hz, DVL, depth, compass,
 /// USBL fixes, truth), written once and copied per case.
 fn base() -> &'static Path {
-    static DIR: OnceLock<TempDir> = OnceLock::new();
+    static DIR: OnceLock<SharedDir> = OnceLock::new();
     DIR.get_or_init(|| {
-        let d = TempDir::new("broken-base");
+        let d = SharedDir::new("broken-base");
         let config = SimConfig {
             duration: 60.0,
             ..SimConfig::usbl()
@@ -1556,9 +1556,9 @@ enum Base {
 
 /// The imported PX4 fixture, once.
 fn flight() -> &'static Path {
-    static DIR: OnceLock<TempDir> = OnceLock::new();
+    static DIR: OnceLock<SharedDir> = OnceLock::new();
     DIR.get_or_init(|| {
-        let d = TempDir::new("broken-flight");
+        let d = SharedDir::new("broken-flight");
         let fixture = Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("../models/tests/data/ulog/sample_px4_events.ulg");
         let o = navsim(&[

@@ -10,16 +10,16 @@ use crate::common;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
-use common::{navsim, stderr, stdout, TempDir};
+use common::{navsim, stderr, stdout, SharedDir, TempDir};
 use nav_runtime::log::Meta;
 use serde_json::Value;
 
 /// The 500-s USBL survey of seed 31 (IMU, DVL, depth, compass, USBL,
 /// truth), written once.
 fn survey() -> &'static Path {
-    static DIR: OnceLock<TempDir> = OnceLock::new();
+    static DIR: OnceLock<SharedDir> = OnceLock::new();
     DIR.get_or_init(|| {
-        let d = TempDir::new("tune-survey");
+        let d = SharedDir::new("tune-survey");
         let log = d.path().join("log");
         let o = navsim(&[
             "simulate",

@@ -31,6 +31,38 @@ impl Drop for TempDir {
     }
 }
 
+/// A directory shared by the tests of one process (a log written once and
+/// read by many tests), held in a `static`. A `static` is never dropped, so
+/// it lives under the target directory, not the system's temporary one, and
+/// its creation removes those that processes no longer running left behind
+/// (found by `/proc`; where there is no `/proc`, `cargo clean` removes them).
+pub struct SharedDir(PathBuf);
+
+impl SharedDir {
+    pub fn new(tag: &str) -> SharedDir {
+        let root = Path::new(env!("CARGO_TARGET_TMPDIR"));
+        let prefix = format!("navsim-shared-{tag}-");
+        if Path::new("/proc/self").exists() {
+            for e in std::fs::read_dir(root).into_iter().flatten().flatten() {
+                let name = e.file_name().to_string_lossy().into_owned();
+                let Some(pid) = name.strip_prefix(&prefix) else {
+                    continue;
+                };
+                if !Path::new("/proc").join(pid).exists() {
+                    let _ = std::fs::remove_dir_all(e.path());
+                }
+            }
+        }
+        let p = root.join(format!("{prefix}{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&p);
+        std::fs::create_dir_all(&p).unwrap();
+        SharedDir(p)
+    }
+    pub fn path(&self) -> &Path {
+        &self.0
+    }
+}
+
 pub fn navsim(args: &[&str]) -> Output {
     navsim_env(args, &[])
 }
@@ -63,4 +95,22 @@ pub fn stdout(o: &Output) -> String {
 
 pub fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// A shared directory left by a process that is no longer running is removed
+/// when the next one is made; the one of this process stays.
+#[test]
+fn a_shared_directory_removes_those_of_finished_processes() {
+    if !Path::new("/proc/self").exists() {
+        return;
+    }
+    let root = Path::new(env!("CARGO_TARGET_TMPDIR"));
+    // Above the largest process id Linux hands out (2^22).
+    let left = root.join("navsim-shared-leftover-4294967294");
+    std::fs::create_dir_all(left.join("log")).unwrap();
+    let first = SharedDir::new("leftover");
+    assert!(!left.exists(), "the leftover of a finished process stays");
+    let again = SharedDir::new("leftover");
+    assert!(again.path().exists() && first.path() == again.path());
+    std::fs::remove_dir_all(again.path()).unwrap();
 }
