@@ -7,7 +7,9 @@
 //! - any other parameter (the IMU noise, a bias sigma) takes a Newton step
 //!   in `ln sigma` on the likelihood, from two more replays with the
 //!   parameter `x2` and `/2`, all replays of a step run at once on the
-//!   cores;
+//!   cores; near the optimum, one the log identifies takes the Newton step
+//!   even where no probe gains, with closer probes, taken together with
+//!   the parameters it trades against (eq. T6, `joint.rs`);
 //! - the standard error of each result is the inverse square root of the
 //!   likelihood's curvature (eq. T4 for a sensor; the finite difference for
 //!   the others), taken together with the cross information of the
@@ -419,59 +421,127 @@ pub fn tune(
     );
     let mut center = clocks.center;
     let mut converged = false;
+    // The probes' step in `ln sigma`: a factor of 2, a quarter of that
+    // near the optimum.
+    let mut probe = STEP;
+    // Whether the last probes were the refining ones.
+    let mut refined_since_wide = false;
+    // The replays with each likelihood parameter multiplied by `e^h`
+    // and by `e^-h` (in the order of `likelihood_params`), in parallel.
+    let probe_runs = |values: &[(String, f64)], h: f64| -> Vec<Result<Run, RunError>> {
+        likelihood_params
+            .iter()
+            .flat_map(|&i| [(i, h), (i, -h)])
+            .collect::<Vec<_>>()
+            .par_iter()
+            .map(|&(i, d)| {
+                let mut v = values.to_vec();
+                v[i].1 *= d.exp();
+                replay(t, &v)
+            })
+            .collect()
+    };
     // A step needs its replays, and one is kept for the replay with the
     // given values of parameters the log does not identify.
     while replays + per_step < options.max_replays {
         let mut moves = sensor_moves(t, &params, &center);
+        // Whether a parameter moves by a Newton step that no probe showed
+        // to gain: such a step must not lower the likelihood at all, or
+        // the steps would drift downhill by up to `SIGNIFICANT` each.
+        let mut refining = false;
         if !likelihood_params.is_empty() {
-            let probes: Vec<(usize, f64)> = likelihood_params
-                .iter()
-                .flat_map(|&i| [(i, STEP), (i, -STEP)])
-                .collect();
-            let runs: Vec<Result<Run, RunError>> = probes
-                .par_iter()
-                .map(|&(i, d)| {
-                    let mut v = values.clone();
-                    v[i].1 *= d.exp();
-                    replay(t, &v)
-                })
-                .collect();
+            let runs = probe_runs(&values, probe);
+            refined_since_wide = probe != STEP;
             replays += runs.len();
             progress(replays.min(options.max_replays), options.max_replays);
-            cross = cross_information(t, &params, &likelihood_params, &runs);
+            // The curvatures and cross terms of these probes; those over a
+            // factor of 2 are also the ones kept for the standard errors.
+            let here_cross = cross_information(t, &params, &likelihood_params, &runs, probe);
+            let mut here_curvature = curvature.clone();
+            // Whether every parameter the curvature identifies is near
+            // enough its optimum for a Newton step (no probe-sized move).
+            let mut local = true;
+            // Refining steps wait for the sensors' sigmas to be near their
+            // own optimum: a curvature measured with them ten times off can
+            // be thousands of times what it is there.
+            let sensors_near = moves.iter().all(|m| m.abs() <= STEP / 2.0);
             for (k, &i) in likelihood_params.iter().enumerate() {
-                // A probe that fails (a sigma so small that the run diverges)
-                // is a likelihood of minus infinity.
-                let l = |r: &Result<Run, RunError>| {
-                    r.as_ref().map_or(f64::NEG_INFINITY, |r| r.log_likelihood)
-                };
-                let (up, down, mid) = (l(&runs[2 * k]), l(&runs[2 * k + 1]), center.log_likelihood);
-                let c = (up - 2.0 * mid + down) / (STEP * STEP);
-                let g = (up - down) / (2.0 * STEP);
-                curvature[i] = c;
+                let (up, down, mid) = (
+                    probe_likelihood(&runs[2 * k]),
+                    probe_likelihood(&runs[2 * k + 1]),
+                    center.log_likelihood,
+                );
+                let c = (up - 2.0 * mid + down) / (probe * probe);
+                let g = (up - down) / (2.0 * probe);
+                here_curvature[i] = c;
+                if probe == STEP {
+                    curvature[i] = c;
+                }
+                // Identified by the probes over a factor of 2, and still by
+                // the refining ones.
+                let known = identifies(curvature[i]) && (probe == STEP || identifies(c));
                 // Only a clearly better likelihood moves a parameter (one
-                // where it is flat stays where the user put it).
+                // where it is flat stays where the user put it), unless the
+                // curvature over a factor of 2 identifies it: then the
+                // Newton step finds the top of the bowl, where neither
+                // probe is better by `SIGNIFICANT`. Without it a parameter
+                // known to a standard error `s` stopped anywhere within
+                // about `(2 s^2 + STEP^2 / 2) / STEP` of its optimum (2.3
+                // `s` for `s` = 0.2), which the standard error does not
+                // report.
+                let newton = (-g / c).clamp(-MAX_MOVE, MAX_MOVE);
                 moves[i] = if up.max(down) - mid < SIGNIFICANT {
-                    0.0
+                    if sensors_near && known && c < 0.0 && c.is_finite() && newton.abs() <= STEP {
+                        refining = true;
+                        newton
+                    } else {
+                        0.0
+                    }
                 } else if c < 0.0 && c.is_finite() {
                     // Far from the optimum the quadratic under-steps (a
                     // process noise started ten times too large took twelve
-                    // steps to halve): the better probe, a factor of 2
-                    // away, is known to raise the likelihood, so the step
-                    // goes at least that far.
-                    let newton = (-g / c).clamp(-MAX_MOVE, MAX_MOVE);
-                    let probe = if up > down { STEP } else { -STEP };
-                    if newton.abs() < STEP && newton * probe > 0.0 {
-                        probe
+                    // steps to halve): the better probe is known to raise
+                    // the likelihood, so the step goes at least that far.
+                    let better = if up > down { probe } else { -probe };
+                    if newton.abs() < probe && newton * better > 0.0 {
+                        better
                     } else {
                         newton
                     }
                 } else if up > down {
-                    STEP
+                    probe
                 } else {
-                    -STEP
+                    -probe
                 };
+                local &= !known || (c.is_finite() && moves[i] == newton);
             }
+            if probe == STEP {
+                cross.clone_from(&here_cross);
+            }
+            // Near the optimum the steps of parameters that trade against
+            // each other are taken together (eq. T6).
+            let coupled = here_cross
+                .iter()
+                .any(|&(i, _, v)| v != 0.0 && identifies(curvature[i]));
+            if local && coupled {
+                let info = joint_information(t, &params, &here_curvature, &here_cross, &center);
+                if let Some(joint) = info.joint_step(&moves) {
+                    moves = joint;
+                }
+            }
+            // Near the optimum the probes close in. The secant over a
+            // factor of 2 either way aims the Newton step at the point
+            // whose two probes are equally likely, which the skew of a
+            // variance's likelihood sets off its top (3.9 standard errors
+            // in the unit test); over a quarter of it, a sixteenth as far.
+            // Only when every parameter, the sensors' sigmas too, is near
+            // its optimum.
+            let near = moves.iter().all(|m| m.abs() <= STEP / 2.0);
+            probe = if local && refining && near {
+                STEP / 4.0
+            } else {
+                STEP
+            };
         }
         // The step, halved while it lowers the likelihood (a sensor's
         // sigma matched to its innovations and a process noise that feeds
@@ -491,7 +561,8 @@ pub fn tune(
             match replay(t, &values) {
                 Ok(run)
                     if !center.log_likelihood.is_finite()
-                        || run.log_likelihood >= center.log_likelihood - SIGNIFICANT =>
+                        || run.log_likelihood
+                            >= center.log_likelihood - if refining { 0.0 } else { SIGNIFICANT } =>
                 {
                     moved = Some(run);
                     break;
@@ -518,9 +589,39 @@ pub fn tune(
             break;
         };
         center = run;
-        if step.iter().all(|m| m.abs() < CONVERGED) {
+        // A parameter the curvature identifies has converged when its step
+        // is a quarter of its standard error: the Newton steps of two
+        // parameters that trade against each other close in on the
+        // optimum slowly, and the last percent is below what the log tells.
+        let converged_at = |i: usize| match curvature[i] {
+            c if kinds[i] == ParameterKind::Likelihood && identifies(c) => {
+                CONVERGED.max(0.25 / (-c).sqrt())
+            }
+            _ => CONVERGED,
+        };
+        if step
+            .iter()
+            .enumerate()
+            .all(|(i, m)| m.abs() < converged_at(i))
+        {
             converged = true;
             break;
+        }
+    }
+    // The standard errors are those of probes over a factor of 2 (the
+    // scale of a 95 % interval); after steps with the refining probes
+    // they are measured again where the steps ended.
+    if refined_since_wide && replays + 2 * likelihood_params.len() < options.max_replays {
+        let runs = probe_runs(&values, STEP);
+        replays += runs.len();
+        progress(replays.min(options.max_replays), options.max_replays);
+        cross = cross_information(t, &params, &likelihood_params, &runs, STEP);
+        for (k, &i) in likelihood_params.iter().enumerate() {
+            let (up, down) = (
+                probe_likelihood(&runs[2 * k]),
+                probe_likelihood(&runs[2 * k + 1]),
+            );
+            curvature[i] = (up - 2.0 * center.log_likelihood + down) / (STEP * STEP);
         }
     }
     // The likelihood parameters the log does not identify go back to their
@@ -677,12 +778,14 @@ pub fn tune(
 /// The cross information of each likelihood parameter `i` with each
 /// sensor sigma `s` (eq. T5): minus the change of the sensor's gradient
 /// (`sensor_gradient`) between the replays with `i` doubled and halved
-/// (`runs`, in the order of the probes), per unit `ln sigma`.
+/// (`runs`, in the order of the probes, each `step` in `ln sigma` from the
+/// center), per unit `ln sigma`.
 fn cross_information(
     t: &dyn Tunable,
     params: &[(String, f64)],
     likelihood_params: &[usize],
     runs: &[Result<Run, RunError>],
+    step: f64,
 ) -> Vec<(usize, usize, f64)> {
     let mut cross = Vec::new();
     for (k, &i) in likelihood_params.iter().enumerate() {
@@ -694,7 +797,7 @@ fn cross_information(
                 continue;
             };
             if let (Some(a), Some(b)) = (totals_of(up, sensor), totals_of(down, sensor)) {
-                let change = (sensor_gradient(a) - sensor_gradient(b)) / (2.0 * STEP);
+                let change = (sensor_gradient(a) - sensor_gradient(b)) / (2.0 * step);
                 cross.push((i, s, -change));
             }
         }
@@ -713,6 +816,18 @@ fn joint_errors(
     cross: &[(usize, usize, f64)],
     center: &Run,
 ) -> Option<Vec<Option<f64>>> {
+    joint_information(t, params, curvature, cross, center).marginal_errors()
+}
+
+/// The joint information of the parameters the log identifies on their
+/// own (see [`joint_errors`]).
+fn joint_information(
+    t: &dyn Tunable,
+    params: &[(String, f64)],
+    curvature: &[f64],
+    cross: &[(usize, usize, f64)],
+    center: &Run,
+) -> JointInformation {
     let diagonal = params
         .iter()
         .enumerate()
@@ -722,15 +837,26 @@ fn joint_errors(
                 .map(|totals| 2.0 * totals.noise_information),
             // One the log does not identify on its own is reset, not
             // combined.
-            None => (curvature[i] < 0.0 && -curvature[i] >= MAX_LOG_SIGMA_ERROR.powi(-2))
-                .then(|| -curvature[i]),
+            None => identifies(curvature[i]).then(|| -curvature[i]),
         })
         .collect();
     JointInformation {
         diagonal,
         cross: cross.to_vec(),
     }
-    .marginal_errors()
+}
+
+/// The log-likelihood of a probe's replay; one that fails (a sigma so
+/// small that the run diverges) is minus infinity.
+fn probe_likelihood(r: &Result<Run, RunError>) -> f64 {
+    r.as_ref().map_or(f64::NEG_INFINITY, |r| r.log_likelihood)
+}
+
+/// Whether a likelihood parameter's curvature `c` (per unit `ln sigma`
+/// squared) identifies it on its own: a standard error of `ln sigma` of at
+/// most [`MAX_LOG_SIGMA_ERROR`].
+fn identifies(c: f64) -> bool {
+    c < 0.0 && -c >= MAX_LOG_SIGMA_ERROR.powi(-2)
 }
 
 /// Why a sensor's sigma is not identified beside the other parameters.
