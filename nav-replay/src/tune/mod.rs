@@ -630,7 +630,7 @@ pub fn tune(
     let mut why_not: Vec<Option<String>> = vec![None; params.len()];
     let mut errors = vec![f64::INFINITY; params.len()];
     let mut reset = false;
-    let marginal = joint_errors(t, &params, &curvature, &cross, &center);
+    let marginal = joint_information(t, &params, &curvature, &cross, &center).marginal_errors();
     for &i in &likelihood_params {
         let c = curvature[i];
         let e = match marginal.as_ref().and_then(|m| m[i]) {
@@ -719,7 +719,7 @@ pub fn tune(
             }
         }
     }
-    let marginal = joint_errors(t, &params, &curvature, &cross, &center);
+    let marginal = joint_information(t, &params, &curvature, &cross, &center).marginal_errors();
     if marginal.is_none() && !cross.is_empty() {
         notes.push(
             "the parameters' joint information (eq. T5) is not positive definite (its finite differences are too noisy to combine): each standard error is the parameter's own, with the others held".to_string(),
@@ -805,22 +805,10 @@ fn cross_information(
     cross
 }
 
-/// The marginal standard errors of `ln sigma` of the parameters the log
-/// identifies on their own (sensors from `center`'s innovations, eq. T4;
-/// likelihood parameters from their curvature), taken together with the
-/// cross information; `None` when they cannot be combined.
-fn joint_errors(
-    t: &dyn Tunable,
-    params: &[(String, f64)],
-    curvature: &[f64],
-    cross: &[(usize, usize, f64)],
-    center: &Run,
-) -> Option<Vec<Option<f64>>> {
-    joint_information(t, params, curvature, cross, center).marginal_errors()
-}
-
 /// The joint information of the parameters the log identifies on their
-/// own (see [`joint_errors`]).
+/// own (sensors from `center`'s innovations, eq. T4; likelihood parameters
+/// from their curvature) with the cross information (eq. T5), whose
+/// inverse gives their marginal standard errors.
 fn joint_information(
     t: &dyn Tunable,
     params: &[(String, f64)],

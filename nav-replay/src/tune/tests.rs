@@ -143,26 +143,14 @@ impl ReplayModel for Confounded {
 #[test]
 fn parameters_on_the_same_innovations_report_their_joint_standard_errors() {
     let (_d, files) = log_with(TRUE_SIGMA);
-    let t = tune(
-        &LogTuning::new(
-            &Confounded {
-                updates: 2000,
-                plain_half: true,
-            },
-            &files,
-            ReplayOptions::default(),
-        )
-        .unwrap(),
-        &TuneOptions {
-            params: vec![
-                "sensors.dvl.noise_sigma".into(),
-                "sensors.imu.gyro_noise_sigma".into(),
-            ],
-            ..TuneOptions::default()
+    let t = tune_confounded(
+        &files,
+        Confounded {
+            updates: 2000,
+            plain_half: true,
         },
-        &|_, _| {},
-    )
-    .unwrap();
+        &["sensors.dvl.noise_sigma", "sensors.imu.gyro_noise_sigma"],
+    );
     let n = 1000.0;
     let r = TRUE_SIGMA * TRUE_SIGMA;
     let s_plain = HPH + r;
@@ -208,26 +196,14 @@ fn parameters_on_the_same_innovations_report_their_joint_standard_errors() {
 #[test]
 fn parameters_that_trade_against_each_other_are_not_identified() {
     let (_d, files) = log_with(TRUE_SIGMA);
-    let t = tune(
-        &LogTuning::new(
-            &Confounded {
-                updates: 100,
-                plain_half: false,
-            },
-            &files,
-            ReplayOptions::default(),
-        )
-        .unwrap(),
-        &TuneOptions {
-            params: vec![
-                "sensors.dvl.noise_sigma".into(),
-                "sensors.imu.gyro_noise_sigma".into(),
-            ],
-            ..TuneOptions::default()
+    let t = tune_confounded(
+        &files,
+        Confounded {
+            updates: 100,
+            plain_half: false,
         },
-        &|_, _| {},
-    )
-    .unwrap();
+        &["sensors.dvl.noise_sigma", "sensors.imu.gyro_noise_sigma"],
+    );
     for p in &t.parameters {
         let why = p.not_identifiable.as_deref().unwrap_or_default();
         assert!(why.contains("act on the same innovations"), "{p:?}");
@@ -281,23 +257,14 @@ fn an_identified_parameter_near_its_optimum_reaches_it() {
         );
         std::fs::write(d.0.join("meta.toml"), meta).unwrap();
         let files = LogFiles::open(&d.0, Strictness::Strict).unwrap();
-        let t = tune(
-            &LogTuning::new(
-                &Confounded {
-                    updates: 2000,
-                    plain_half: true,
-                },
-                &files,
-                ReplayOptions::default(),
-            )
-            .unwrap(),
-            &TuneOptions {
-                params: vec!["sensors.imu.gyro_noise_sigma".into()],
-                ..TuneOptions::default()
+        let t = tune_confounded(
+            &files,
+            Confounded {
+                updates: 2000,
+                plain_half: true,
             },
-            &|_, _| {},
-        )
-        .unwrap();
+            &["sensors.imu.gyro_noise_sigma"],
+        );
         let p = &t.parameters[0];
         assert!(p.not_identifiable.is_none(), "{p:?}");
         assert_eq!(p.initial, start);
@@ -312,6 +279,19 @@ fn an_identified_parameter_near_its_optimum_reaches_it() {
             p.value
         );
     }
+}
+
+/// The tuning of `params` of the [`Confounded`] model over `files`.
+fn tune_confounded(files: &LogFiles, model: Confounded, params: &[&str]) -> Tuning {
+    tune(
+        &LogTuning::new(&model, files, ReplayOptions::default()).unwrap(),
+        &TuneOptions {
+            params: params.iter().map(|p| p.to_string()).collect(),
+            ..TuneOptions::default()
+        },
+        &|_, _| {},
+    )
+    .unwrap()
 }
 
 fn log_with(dvl_sigma: f64) -> (TempDir, LogFiles) {
