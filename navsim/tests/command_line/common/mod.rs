@@ -45,7 +45,12 @@ impl SharedDir {
         if Path::new("/proc/self").exists() {
             for e in std::fs::read_dir(root).into_iter().flatten().flatten() {
                 let name = e.file_name().to_string_lossy().into_owned();
-                let Some(pid) = name.strip_prefix(&prefix) else {
+                // Only `<prefix><pid>`: the prefix of tag `a` also starts
+                // the directories of tag `a-b`.
+                let Some(pid) = name
+                    .strip_prefix(&prefix)
+                    .filter(|pid| pid.bytes().all(|b| b.is_ascii_digit()))
+                else {
                     continue;
                 };
                 if !Path::new("/proc").join(pid).exists() {
@@ -108,8 +113,13 @@ fn a_shared_directory_removes_those_of_finished_processes() {
     // Above the largest process id Linux hands out (2^22).
     let left = root.join("navsim-shared-leftover-4294967294");
     std::fs::create_dir_all(left.join("log")).unwrap();
+    // Another tag's directory that begins with this tag's prefix.
+    let other = root.join("navsim-shared-leftover-x-4294967293");
+    std::fs::create_dir_all(&other).unwrap();
     let first = SharedDir::new("leftover");
     assert!(!left.exists(), "the leftover of a finished process stays");
+    assert!(other.exists(), "another tag's directory is removed");
+    std::fs::remove_dir_all(&other).unwrap();
     let again = SharedDir::new("leftover");
     assert!(again.path().exists() && first.path() == again.path());
     std::fs::remove_dir_all(again.path()).unwrap();
