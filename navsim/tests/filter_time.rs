@@ -16,9 +16,8 @@ mod common;
 
 use std::path::Path;
 
-use common::{navsim, stderr, stdout, TempDir};
+use common::{replay_json, TempDir};
 use models::sdins25::simulation::{simulate, SimConfig};
-use serde_json::Value;
 
 /// (name, files removed from the survey log)
 const MIXES: &[(&str, &[&str])] = &[
@@ -49,16 +48,10 @@ fn survey(dir: &Path, seconds: f64) -> std::path::PathBuf {
 fn runtimes(log: &Path, mix: &str) -> Vec<f64> {
     let mut times: Vec<f64> = (0..RUNS)
         .map(|_| {
-            let o = navsim(&[
-                "replay",
-                log.to_str().unwrap(),
-                "--model",
-                "sdins25",
-                "--json",
-            ]);
-            assert!(o.status.success(), "{mix}: {}", stderr(&o));
-            let v: Value = serde_json::from_str(stdout(&o).trim()).unwrap();
-            v["runtime_s"].as_f64().expect("runtime_s is a number")
+            let v = replay_json(log, "sdins25", &[]);
+            v["runtime_s"]
+                .as_f64()
+                .unwrap_or_else(|| panic!("{mix}: runtime_s is not a number"))
         })
         .collect();
     times.sort_by(f64::total_cmp);

@@ -121,11 +121,7 @@ fn write_voyage_speeds(
     let mut log = LogDir::new(Meta::parse(&meta).unwrap());
     let mut imu = ImuModel::new(imu_spec, seed);
     log.imu = rates(&traj, 100.0, DURATION)
-        .map(|r| {
-            let r = imu.corrupt_rate(&r);
-            let (w, f) = (r.w_ib_b, r.f_b);
-            ImuRow::new(r.t, w.x, w.y, w.z, f.x, f.y, f.z)
-        })
+        .map(|r| ImuRow::from(&imu.corrupt_rate(&r)))
         .collect();
     let (mut gnss, mut heading) = (Vec::new(), Vec::new());
     let mut speed = String::from("time,speed\n");

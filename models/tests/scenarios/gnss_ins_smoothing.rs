@@ -56,11 +56,7 @@ fn drive(seed: u64) -> LogDir {
     let mut log = LogDir::new(Meta::parse(&meta).unwrap());
     let mut imu = ImuModel::new(imu_spec, seed);
     log.imu = rates(&traj, 100.0, DURATION)
-        .map(|r| {
-            let r = imu.corrupt_rate(&r);
-            let (w, f) = (r.w_ib_b, r.f_b);
-            ImuRow::new(r.t, w.x, w.y, w.z, f.x, f.y, f.z)
-        })
+        .map(|r| ImuRow::from(&imu.corrupt_rate(&r)))
         .collect();
     let fixes = (1..=(DURATION as usize))
         .map(|k| {

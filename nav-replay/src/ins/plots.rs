@@ -166,7 +166,14 @@ pub fn write_trajectory_plots(
     let runs: Vec<(&str, &RunTable)> = std::iter::once(("forward", forward))
         .chain(smoothed.map(|s| ("smoothed", s)))
         .collect();
-    let tracks: Vec<(Vec<f64>, Vec<f64>)> = runs.iter().map(|(_, t)| north_east(t)).collect();
+    // Each run's (x, y) series: east and north; time and sigma.
+    let tracks: Vec<(Vec<f64>, Vec<f64>)> = runs
+        .iter()
+        .map(|(_, t)| {
+            let (n, e) = north_east(t);
+            (e, n)
+        })
+        .collect();
     let sigma: Vec<(Vec<f64>, Vec<f64>)> = runs
         .iter()
         .map(|(_, t)| {
@@ -179,28 +186,29 @@ pub fn write_trajectory_plots(
             (t.column("t"), s)
         })
         .collect();
-    let track_lines: Vec<Line<'_>> = runs
-        .iter()
-        .zip(&tracks)
-        .map(|((label, _), (n, e))| Line { label, x: e, y: n })
-        .collect();
     plot::tracks(
         &dir.join(format!("{prefix}-estimated-track.svg")),
         &format!("{name} {prefix}: estimated track from the first estimate"),
         "east [m]",
         "north [m]",
-        &track_lines,
+        &labelled(&runs, &tracks),
     )?;
-    let sigma_lines: Vec<Line<'_>> = runs
-        .iter()
-        .zip(&sigma)
-        .map(|((label, _), (t, s))| Line { label, x: t, y: s })
-        .collect();
     plot::lines(
         &dir.join(format!("{prefix}-horizontal-sigma.svg")),
         &format!("{name} {prefix}: horizontal 1-sigma"),
         "t [s]",
         "horizontal 1-sigma [m]",
-        &sigma_lines,
+        &labelled(&runs, &sigma),
     )
+}
+
+/// One line per run: its label and its `(x, y)` series.
+fn labelled<'a>(
+    runs: &[(&'a str, &RunTable)],
+    series: &'a [(Vec<f64>, Vec<f64>)],
+) -> Vec<Line<'a>> {
+    runs.iter()
+        .zip(series)
+        .map(|((label, _), (x, y))| Line { label, x, y })
+        .collect()
 }

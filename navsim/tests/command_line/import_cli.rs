@@ -93,7 +93,7 @@ fn the_command_line_imports_a_ros_bag() {
 
 use crate::common;
 
-use common::{navsim, stderr, stdout, TempDir};
+use common::{navsim, replay_json, stderr, stdout, TempDir};
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion};
 use nav_import::mcap::writer;
 use nav_runtime::log::{LogDir, Meta, SensorNoise, Sensors, Strictness};
@@ -333,17 +333,7 @@ fn a_survey_as_a_bag_and_as_csv_replays_the_same() {
             "depth {x:?} {y:?}"
         );
     }
-    let replay = |d: &std::path::Path| {
-        let o = navsim(&[
-            "replay",
-            d.to_str().unwrap(),
-            "--model",
-            SURVEY_MODEL,
-            "--json",
-        ]);
-        assert!(o.status.success(), "{}: {}", d.display(), stderr(&o));
-        serde_json::from_str::<serde_json::Value>(stdout(&o).trim()).expect("JSON")
-    };
+    let replay = |d: &std::path::Path| replay_json(d, SURVEY_MODEL, &[]);
     let (mut a, mut b) = (replay(&csv), replay(&imported));
     for v in [&mut a, &mut b] {
         v.as_object_mut().expect("object").remove("runtime_s");

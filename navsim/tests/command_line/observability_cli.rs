@@ -8,7 +8,7 @@ use crate::common;
 
 use std::path::Path;
 
-use common::{navsim, stderr, stdout, TempDir};
+use common::{navsim, replay_json, stderr, TempDir};
 use nav_runtime::earth::Geodetic;
 use nav_runtime::log::{DepthRow, DvlRow, ImuRow, LogDir, Meta};
 use nav_runtime::simulation::imu::{rates, ImuModel, ImuSpec};
@@ -26,16 +26,7 @@ fn learned(v: &Value, state: &str) -> f64 {
 }
 
 fn replay(dir: &Path, model: &str) -> Value {
-    let o = navsim(&[
-        "replay",
-        dir.to_str().unwrap(),
-        "--model",
-        model,
-        "--json",
-        "--observability",
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    serde_json::from_str(&stdout(&o)).unwrap()
+    replay_json(dir, model, &["--observability"])
 }
 
 /// A vehicle at rest for `seconds`: IMU (SDINS-25 class), DVL reading zero
@@ -55,11 +46,7 @@ fn write_at_rest(dir: &Path, seconds: f64) {
     let mut log = LogDir::new(Meta::parse(&meta).unwrap());
     let mut imu = ImuModel::new(spec, 5);
     log.imu = rates(&traj, 100.0, seconds)
-        .map(|r| {
-            let r = imu.corrupt_rate(&r);
-            let (w, f) = (r.w_ib_b, r.f_b);
-            ImuRow::new(r.t, w.x, w.y, w.z, f.x, f.y, f.z)
-        })
+        .map(|r| ImuRow::from(&imu.corrupt_rate(&r)))
         .collect();
     // Noisy readings, as a sensor gives: exact repeats would be refused as
     // a frozen sensor after a few rows.

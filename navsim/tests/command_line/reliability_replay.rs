@@ -6,7 +6,7 @@
 
 use crate::common;
 
-use common::{navsim, stderr, TempDir};
+use common::{navsim, replay_json, stderr, TempDir};
 use std::path::Path;
 
 use models::sdins25::simulation::{simulate, SimConfig};
@@ -206,14 +206,7 @@ fn every_bad_input_kind_fails_cleanly_and_lenient_counts_skips() {
     write_log(&good);
 
     // The unmodified log replays.
-    let o = navsim(&[
-        "replay",
-        good.to_str().unwrap(),
-        "--model",
-        "sdins25",
-        "--json",
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    replay_json(&good, "sdins25", &[]);
 
     for (i, (name, file, e, expect, lenient)) in cases().into_iter().enumerate() {
         let dir = tmp.path().join(format!("case-{i}"));
@@ -275,15 +268,7 @@ fn every_bad_input_kind_fails_cleanly_and_lenient_counts_skips() {
 fn replay_json_reports_health_per_sensor() {
     let tmp = TempDir::new("health");
     write_log(tmp.path());
-    let o = navsim(&[
-        "replay",
-        tmp.path().to_str().unwrap(),
-        "--model",
-        "sdins25",
-        "--json",
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+    let v = replay_json(tmp.path(), "sdins25", &[]);
     for s in ["depth", "dvl", "heading", "usbl"] {
         for k in ["rows", "accepted", "gated", "rejected", "skipped", "stuck"] {
             assert!(v["health"][s][k].is_number(), "{s}.{k}: {v}");
@@ -437,15 +422,7 @@ fn one_glitch_in_an_aiding_file_is_a_rejected_row() {
         let dir = tmp.path().join(format!("glitch-{i}"));
         copy_dir(&good, &dir);
         edit(&dir, file, &e);
-        let o = navsim(&[
-            "replay",
-            dir.to_str().unwrap(),
-            "--model",
-            "sdins25",
-            "--json",
-        ]);
-        assert!(o.status.success(), "{name}: {}", stderr(&o));
-        let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+        let v = replay_json(&dir, "sdins25", &[]);
         let hit = v["warnings"]
             .as_array()
             .unwrap()

@@ -68,6 +68,16 @@ impl SharedDir {
     }
 }
 
+/// `navsim replay DIR --model MODEL --json EXTRA..`, which must succeed:
+/// its JSON.
+pub fn replay_json(dir: &Path, model: &str, extra: &[&str]) -> serde_json::Value {
+    let mut args = vec!["replay", dir.to_str().unwrap(), "--model", model, "--json"];
+    args.extend_from_slice(extra);
+    let o = navsim(&args);
+    assert!(o.status.success(), "{}: {}", dir.display(), stderr(&o));
+    serde_json::from_str(stdout(&o).trim()).expect("replay JSON")
+}
+
 pub fn navsim(args: &[&str]) -> Output {
     navsim_env(args, &[])
 }
