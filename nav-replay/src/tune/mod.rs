@@ -519,11 +519,14 @@ pub fn tune(
                 cross.clone_from(&here_cross);
             }
             // Near the optimum the steps of parameters that trade against
-            // each other are taken together (eq. T6).
+            // each other are taken together (eq. T6); not with the sensors'
+            // sigmas far from theirs, where a curvature measured there
+            // steers the sensors' large steps astray (survey seed 5137,
+            // every sigma ten times off: no step raised the likelihood).
             let coupled = here_cross
                 .iter()
                 .any(|&(i, _, v)| v != 0.0 && identifies(curvature[i]));
-            if local && coupled {
+            if local && coupled && sensors_near {
                 let info = joint_information(t, &params, &here_curvature, &here_cross, &center);
                 if let Some(joint) = info.joint_step(&moves) {
                     moves = joint;

@@ -341,3 +341,56 @@ fn what_cannot_be_tuned_is_said_with_the_reason() {
         assert!(stdout(&o).is_empty(), "{args:?}");
     }
 }
+
+/// Survey seed 5137 with the DVL and IMU sigmas ten times too large and
+/// the others ten times too small: the curvature of the accelerometer
+/// noise measured there once coupled the sensors' first steps (eq. T6)
+/// so that none raised the likelihood, and the tuning stopped where it
+/// began after 9 replays. It converges, every sensor within 25 %.
+#[test]
+fn a_start_ten_times_off_everywhere_is_not_steered_by_a_far_curvature() {
+    let d = TempDir::new("tune-5137");
+    let dir = d.path().join("log");
+    let o = navsim(&[
+        "simulate",
+        "lawnmower-usbl",
+        "--seed",
+        "5137",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(dir.join("meta.toml")).unwrap();
+    let truth = Meta::parse(&text).unwrap();
+    let mut meta = truth.clone();
+    for (s, f) in SENSORS.iter().zip([10.0, 0.1, 0.1, 0.1]) {
+        let key = format!("sensors.{s}.noise_sigma");
+        let v = meta.noise_parameter(&key).unwrap();
+        meta.set_noise_parameter(&key, v * f).unwrap();
+    }
+    for k in [
+        "sensors.imu.gyro_noise_sigma",
+        "sensors.imu.accel_noise_sigma",
+    ] {
+        let v = meta.noise_parameter(k).unwrap();
+        meta.set_noise_parameter(k, v * 10.0).unwrap();
+    }
+    std::fs::write(dir.join("meta.toml"), meta.to_toml()).unwrap();
+    let t = json(&[
+        "tune",
+        dir.to_str().unwrap(),
+        "--model",
+        "sdins25",
+        "--json",
+    ]);
+    assert_eq!(t["converged"], true, "{t}");
+    for s in SENSORS {
+        let key = format!("sensors.{s}.noise_sigma");
+        let tuned = t["parameters"][&key]["value"].as_f64().unwrap();
+        let want = truth.noise_parameter(&key).unwrap();
+        assert!(
+            (tuned / want - 1.0).abs() < 0.25,
+            "{key}: {tuned} against {want}"
+        );
+    }
+}
