@@ -362,7 +362,7 @@ fn a_start_ten_times_off_everywhere_is_not_steered_by_a_far_curvature() {
     assert!(o.status.success(), "{}", stderr(&o));
     let text = std::fs::read_to_string(dir.join("meta.toml")).unwrap();
     let truth = Meta::parse(&text).unwrap();
-    let mut meta = truth.clone();
+    let mut meta = truth;
     for (s, f) in SENSORS.iter().zip([10.0, 0.1, 0.1, 0.1]) {
         let key = format!("sensors.{s}.noise_sigma");
         let v = meta.noise_parameter(&key).unwrap();
