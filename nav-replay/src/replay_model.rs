@@ -113,7 +113,9 @@ pub trait ReplayModel: Send + Sync {
     fn replay(&self, log: &LogDir, options: &ReplayOptions) -> Result<ReplayOutput, RunError>;
     /// Runs the model over the log directory of `files`; with `out`, writes
     /// its time series and plots there. Default: the whole log read into
-    /// memory, [`ReplayModel::replay`], then [`ReplayModel::write_outputs`];
+    /// memory as `files` reads it (with its meta and time offsets, which
+    /// noise tuning sets), [`ReplayModel::replay`], then
+    /// [`ReplayModel::write_outputs`];
     /// a model that streams the log (memory independent of its length)
     /// overrides it.
     fn replay_files(
@@ -122,7 +124,7 @@ pub trait ReplayModel: Send + Sync {
         options: &ReplayOptions,
         out: Option<&Path>,
     ) -> Result<ReplayOutput, RunError> {
-        let log = LogDir::read(files.dir(), files.strictness())?;
+        let log = LogDir::from_files(files)?;
         let output = self.replay(&log, options)?;
         if let Some(dir) = out {
             self.write_outputs(&output, dir)?;
@@ -135,6 +137,14 @@ pub trait ReplayModel: Send + Sync {
     /// parsing the file again. Default: no.
     fn shares_imu(&self) -> bool {
         false
+    }
+    /// Whether the model's filter uses noise parameter `key` of
+    /// `meta.toml` (`sensors.speed.noise_sigma`): noise tuning varies only
+    /// those, and `--params` naming another is an error. Default: every
+    /// key.
+    fn uses_noise_parameter(&self, key: &str) -> bool {
+        let _ = key;
+        true
     }
     /// What the log's `replay.toml` gives the model's own sensors and
     /// process noise (a vehicle's own block): what noise tuning can tune

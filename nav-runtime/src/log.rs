@@ -316,27 +316,34 @@ impl LogDir {
         non_physical: NonPhysical,
     ) -> Result<LogDir, LogError> {
         let files = LogFiles::open(path, strictness)?.with_non_physical(non_physical);
+        Self::from_files(&files)
+    }
+
+    /// Reads every file of the log directory of `files` whole, as `files`
+    /// reads them: with its meta, mapping and time offsets, which may
+    /// differ from those on disk ([`LogFiles::with_meta`], as noise tuning
+    /// sets them).
+    pub fn from_files(files: &LogFiles) -> Result<LogDir, LogError> {
         let mut sk = BTreeMap::new();
         let mut rs = Vec::new();
         let mut rj = Vec::new();
         let imu_form = files.imu_form()?;
-        let imu =
-            read_table::<ImuRow>(&files, true, &mut sk, &mut rs, &mut rj)?.unwrap_or_default();
+        let imu = read_table::<ImuRow>(files, true, &mut sk, &mut rs, &mut rj)?.unwrap_or_default();
         let mut log = LogDir {
             meta: *files.meta(),
             imu,
-            dvl: read_table(&files, false, &mut sk, &mut rs, &mut rj)?,
-            depth: read_table(&files, false, &mut sk, &mut rs, &mut rj)?,
-            heading: read_table(&files, false, &mut sk, &mut rs, &mut rj)?,
-            usbl: read_table(&files, false, &mut sk, &mut rs, &mut rj)?,
-            speed: read_table(&files, false, &mut sk, &mut rs, &mut rj)?,
-            rpm: read_table(&files, false, &mut sk, &mut rs, &mut rj)?,
-            altitude: read_table(&files, false, &mut sk, &mut rs, &mut rj)?,
-            truth: read_table(&files, false, &mut sk, &mut rs, &mut rj)?,
-            mag: read_table(&files, false, &mut sk, &mut rs, &mut rj)?,
-            baro: read_table(&files, false, &mut sk, &mut rs, &mut rj)?,
-            gnss: read_table(&files, false, &mut sk, &mut rs, &mut rj)?,
-            reference: read_table(&files, false, &mut sk, &mut rs, &mut rj)?,
+            dvl: read_table(files, false, &mut sk, &mut rs, &mut rj)?,
+            depth: read_table(files, false, &mut sk, &mut rs, &mut rj)?,
+            heading: read_table(files, false, &mut sk, &mut rs, &mut rj)?,
+            usbl: read_table(files, false, &mut sk, &mut rs, &mut rj)?,
+            speed: read_table(files, false, &mut sk, &mut rs, &mut rj)?,
+            rpm: read_table(files, false, &mut sk, &mut rs, &mut rj)?,
+            altitude: read_table(files, false, &mut sk, &mut rs, &mut rj)?,
+            truth: read_table(files, false, &mut sk, &mut rs, &mut rj)?,
+            mag: read_table(files, false, &mut sk, &mut rs, &mut rj)?,
+            baro: read_table(files, false, &mut sk, &mut rs, &mut rj)?,
+            gnss: read_table(files, false, &mut sk, &mut rs, &mut rj)?,
+            reference: read_table(files, false, &mut sk, &mut rs, &mut rj)?,
             skipped_rows: sk,
             skip_reasons: rs,
             unknown_files: files.unknown_files().to_vec(),

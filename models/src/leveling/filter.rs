@@ -13,12 +13,13 @@ use super::scheduled_filter::{keep_upright, LevelingFilter};
 use nav_ins::ImuSample;
 use nav_runtime::earth;
 use nav_runtime::ekf::{Ekf, FilterError};
+use nav_runtime::innovations::InnovationTotals;
 use nav_runtime::log::{Event, LogDir};
 use nav_runtime::math::wrap_angle;
 use nav_runtime::model::{Model, Sensor};
 use nav_runtime::nalgebra::{Matrix2, Matrix4, SMatrix, SVector, Vector2, Vector3, Vector4};
 use nav_runtime::scheduler::{
-    FnMeasurement, Measurement, MeasurementOutcome, Scheduler, SchedulerError, SensorId,
+    FnMeasurement, Measurement, MeasurementOutcome, Report, Scheduler, SchedulerError, SensorId,
 };
 use nav_runtime::setup_error::SetupError;
 use nav_runtime::smoother::{
@@ -44,7 +45,9 @@ pub struct Tuning {
     pub accel_density: f64,
     /// Gyro noise density, rad/s/sqrt(Hz).
     pub gyro_density: f64,
-    /// Speed-log 1-sigma per sample (noise and bias), m/s.
+    /// Speed-log 1-sigma per sample, m/s (the paper's 0.15 covers its noise
+    /// and bias together; the replay takes `[sensors.speed] noise_sigma`,
+    /// docs/models/leveling6.md, "Replay").
     pub speed_sigma: f64,
     /// Zero-velocity pseudo-measurement 1-sigma, m/s.
     pub zero_velocity_sigma: f64,
@@ -125,6 +128,10 @@ pub struct LevelingRun {
     /// The smoothed estimate at each IMU sample after the first, in time
     /// order ([`Recording::smooth`]; empty otherwise).
     pub smoothed: Vec<AttitudeEstimate>,
+    /// The speed log's innovations, each update counted once (none in the
+    /// stationary model, where its rows are zero-velocity
+    /// pseudo-measurements): its NIS and what noise tuning weighs.
+    pub speed_innovations: InnovationTotals,
 }
 
 /// Roll and pitch from `a` (eq. 28).
@@ -466,7 +473,13 @@ fn run_model<M: LevelingModel<N>, const N: usize>(
                 };
                 let r = match (run.as_mut(), filter.take()) {
                     (Some(r), _) => r,
-                    (None, Some(f)) => run.insert(Running::start(f, row.t, sample, smooth)?),
+                    (None, Some(f)) => run.insert(Running::start(
+                        f,
+                        row.t,
+                        sample,
+                        smooth,
+                        !options.stationary,
+                    )?),
                     (None, None) => continue,
                 };
                 if r.started_at != row.t {
@@ -490,10 +503,11 @@ fn run_model<M: LevelingModel<N>, const N: usize>(
                         let _ = r.scheduler.push_measurement(id, row.t, Box::new(m));
                     }
                     // The previous sample holds over the interval it starts.
-                    if r.scheduler.push_imu(row.t, r.held).is_err() {
+                    let Ok(reports) = r.scheduler.push_imu(row.t, r.held) else {
                         out.rejected += 1;
                         continue;
-                    }
+                    };
+                    r.note(&reports, &mut out.speed_innovations);
                     r.held = sample;
                 }
                 out.samples += 1;
@@ -509,15 +523,15 @@ fn run_model<M: LevelingModel<N>, const N: usize>(
                     let z = Vector2::new(row.speed, 1.0);
                     Box::new(FnMeasurement::new(
                         &[row.speed],
-                        move |f: &mut LevelingFilter<M, N>| {
-                            f.update::<M::Moving, 2>(&z, &r_moving, true)
-                        },
+                        move |f: &mut LevelingFilter<M, N>| f.update_speed(&z, &r_moving),
                     ))
                 };
                 // A refusal is counted by the scheduler; a row at or before
                 // the last sample is applied at its own time by
                 // re-propagation, and the estimate there is the new one.
-                let _ = r.scheduler.push_measurement(r.speed, row.t, m);
+                if let Ok(reports) = r.scheduler.push_measurement(r.speed, row.t, m) {
+                    r.note(&reports, &mut out.speed_innovations);
+                }
                 if let Some(last) = out.estimates.last_mut() {
                     let f = r.scheduler.filter();
                     *last = estimate(last.t, f.ekf.state(), f.ekf.covariance());
@@ -561,6 +575,8 @@ struct Running<M: LevelingModel<N>, const N: usize> {
     epoch: Option<SensorId>,
     held: ImuSample,
     started_at: f64,
+    /// The speed log's rows are its updates (not zero-velocity ones).
+    moving: bool,
 }
 
 impl<M: LevelingModel<N>, const N: usize> Running<M, N> {
@@ -569,6 +585,7 @@ impl<M: LevelingModel<N>, const N: usize> Running<M, N> {
         t: f64,
         first: ImuSample,
         smooth: bool,
+        moving: bool,
     ) -> Result<Self, LevelingError> {
         let mut scheduler = Scheduler::new(filter, t)?;
         let speed = scheduler.add_sensor("speed", 1.0, SPEED_LATENCY_S)?;
@@ -585,7 +602,24 @@ impl<M: LevelingModel<N>, const N: usize> Running<M, N> {
             epoch,
             held: first,
             started_at: t,
+            moving,
         })
+    }
+
+    /// Adds the speed log's innovations of the updates the scheduler
+    /// reports (each once: a re-propagation's repeat is not counted again).
+    fn note(&self, reports: &[Report], speed: &mut InnovationTotals) {
+        if !self.moving {
+            return;
+        }
+        for r in reports
+            .iter()
+            .filter(|r| r.sensor == self.speed && !r.replay)
+        {
+            if let Ok(o) = &r.outcome {
+                speed.add(&o.statistics);
+            }
+        }
     }
 }
 

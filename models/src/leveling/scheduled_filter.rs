@@ -11,6 +11,7 @@
 use nav_ins::ImuSample;
 use nav_runtime::attitude::Euler;
 use nav_runtime::ekf::{Ekf, FilterError, Propagate, UpdateReport};
+use nav_runtime::innovations::InnovationStatistics;
 use nav_runtime::math::wrap_angle;
 use nav_runtime::model::{Model, Record, Sensor};
 use nav_runtime::nalgebra::{SMatrix, SVector, Vector3};
@@ -96,6 +97,33 @@ impl<M: LevelingModel<N>, const N: usize> LevelingFilter<M, N> {
             keep_upright(&mut self.ekf)?;
         }
         Ok(MeasurementOutcome::from(&report))
+    }
+
+    /// The update of the speed log and unit norm ([`LevelingModel::Moving`],
+    /// noise `r`) as [`LevelingFilter::update`] does it, with the
+    /// statistics of the speed's own innovation (its row of `nu`, `S` and
+    /// `R`): what its NIS and noise tuning read (docs/tuning.md, eq. T3).
+    /// The unit norm is a constraint, not a sensor: its innovation says
+    /// nothing about the speed log.
+    ///
+    /// # Errors
+    /// As [`Ekf::update`]; the filter is unchanged on error.
+    pub fn update_speed(
+        &mut self,
+        z: &SVector<f64, 2>,
+        r: &SMatrix<f64, 2, 2>,
+    ) -> Result<MeasurementOutcome, FilterError> {
+        let report = self.recorded_update::<M::Moving, 2>(z, r)?;
+        if self.upright {
+            keep_upright(&mut self.ekf)?;
+        }
+        let mut outcome = MeasurementOutcome::from(&report);
+        outcome.statistics = InnovationStatistics::of(
+            &SVector::<f64, 1>::new(report.innovation[0]),
+            &SMatrix::<f64, 1, 1>::new(report.innovation_covariance[(0, 0)]),
+            &SMatrix::<f64, 1, 1>::new(r[(0, 0)]),
+        );
+        Ok(outcome)
     }
 
     /// An epoch of the recording at `t` (s, the filter's time), when

@@ -25,20 +25,14 @@ struct Known {
     diverges_below: f64,
 }
 
+/// Replayed through the default [`ReplayModel::replay_files`]: the log read
+/// whole with the sigmas the tuning sets, not those on disk.
 impl ReplayModel for Known {
     fn name(&self) -> &'static str {
         "known"
     }
-    fn replay(&self, _: &LogDir, _: &ReplayOptions) -> Result<ReplayOutput, RunError> {
-        unreachable!("tuning replays through replay_files")
-    }
-    fn replay_files(
-        &self,
-        files: &LogFiles,
-        _: &ReplayOptions,
-        _: Option<&std::path::Path>,
-    ) -> Result<ReplayOutput, RunError> {
-        let sigma = files.meta().sensors.dvl.map_or(f64::NAN, |s| s.noise_sigma);
+    fn replay(&self, log: &LogDir, _: &ReplayOptions) -> Result<ReplayOutput, RunError> {
+        let sigma = log.meta.sensors.dvl.map_or(f64::NAN, |s| s.noise_sigma);
         if sigma < self.diverges_below {
             return Err(RunError::Diverged(format!("sigma {sigma} too small")));
         }
@@ -300,6 +294,8 @@ fn log_with(dvl_sigma: f64) -> (TempDir, LogFiles) {
         "[initial]\nlat = 0.6\nlon = 2.2\ndepth = 10.0\n\n[sensors.imu]\ngyro_noise_sigma = 1e-6\naccel_noise_sigma = 1e-3\n\n[sensors.dvl]\nnoise_sigma = {dvl_sigma:?}\n"
     );
     std::fs::write(d.0.join("meta.toml"), meta).unwrap();
+    let imu = "t,gx,gy,gz,ax,ay,az\n0.0,0,0,0,0,0,-9.8\n0.01,0,0,0,0,0,-9.8\n";
+    std::fs::write(d.0.join("imu.csv"), imu).unwrap();
     let files = LogFiles::open(&d.0, Strictness::Strict).unwrap();
     (d, files)
 }

@@ -215,13 +215,15 @@ impl Tunable for LogTuning<'_> {
     fn model(&self) -> &str {
         self.model.name()
     }
-    /// The sigmas of `meta.toml`, then the clock offset of each aiding
+    /// The sigmas of `meta.toml` the model uses
+    /// ([`ReplayModel::uses_noise_parameter`]), then the clock offset of each aiding
     /// sensor that has a noise sigma (its file's `time.offset_s`), then the
     /// sigma of each sensor `replay.toml` feeds by name whose sigmas are
     /// all positive (the first output's; all are scaled together) and each
     /// block of its `[noise]` ([`noise_parameters`]).
     fn parameters(&self) -> Vec<(String, f64)> {
         let mut out = self.files.meta().noise_parameters();
+        out.retain(|(k, _)| self.model.uses_noise_parameter(k));
         let clocks: Vec<(String, f64)> = out
             .iter()
             .filter_map(|(k, _)| self.sensor_of(k))
@@ -297,7 +299,15 @@ impl Tunable for LogTuning<'_> {
         // The meta's own error names the key and the closest one.
         let mut meta = *self.files.meta();
         meta.set_noise_parameter(key, 1.0).err().map_or_else(
-            || RunError::Invalid(format!("--params {key}")),
+            || {
+                // A key of the file that the model's filter does not use.
+                let used: Vec<String> = self.parameters().into_iter().map(|(k, _)| k).collect();
+                RunError::Invalid(format!(
+                    "--params {key}: model {} does not use it (its parameters: {})",
+                    self.model(),
+                    used.join(", ")
+                ))
+            },
             RunError::from,
         )
     }
