@@ -251,6 +251,20 @@ pub fn scalars_of(names: &[&str], key: &str) -> Vec<usize> {
         .collect()
 }
 
+/// Whether state `index` of model `M` is declared `angle`: its
+/// [`Model::normalize_state`] wraps it to (-pi, pi]. A difference of two
+/// such states (an update's correction, an error against a truth) is an
+/// angle too, wrapped the same way, or a step across +-pi counts 2 pi.
+pub fn is_angle_state<M: Model<N>, const N: usize>(index: usize) -> bool {
+    if index >= N {
+        return false;
+    }
+    let mut x = SVector::<f64, N>::zeros();
+    x[index] = 2.0 * core::f64::consts::PI + 0.5;
+    M::normalize_state(&mut x);
+    (x[index] - 0.5).abs() < 1e-9
+}
+
 /// The block a scalar name belongs to: `gyro` of `gyro[1]`, `c_bn` of
 /// `c_bn[0][2]`, the name itself for a scalar.
 pub fn block_of(name: &str) -> &str {

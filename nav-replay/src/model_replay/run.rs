@@ -137,12 +137,7 @@ pub struct ModelRun {
 /// States the model's [`Model::normalize_state`] wraps to (-pi, pi]: the
 /// states declared `angle`, whose errors are wrapped too.
 pub fn angle_states<M: Model<N>, const N: usize>() -> [bool; N] {
-    std::array::from_fn(|i| {
-        let mut x = SVector::<f64, N>::zeros();
-        x[i] = 2.0 * std::f64::consts::PI + 0.5;
-        M::normalize_state(&mut x);
-        (x[i] - 0.5).abs() < 1e-9
-    })
+    std::array::from_fn(nav_runtime::model::is_angle_state::<M, N>)
 }
 
 /// The blocks the model's [`Model::normalize_state`] renormalizes to unit
@@ -819,22 +814,27 @@ fn warn_about_result(run: &mut ModelRun, truth_file: Option<&str>) {
         });
     }
     if let Some(file) = truth_file {
+        // The same rule as the NIS: a filter whose sigmas do not cover its
+        // errors (or far exceed them) gives RMS errors that its own sigmas
+        // do not describe; forward and smoothed alike.
+        let nees_warning = |t: &TruthScore, which: &str| {
+            let dof = t.nees_dof as f64;
+            (t.scored >= 20 && (t.nees_mean > 3.0 * dof || t.nees_mean < dof / 3.0)).then(|| {
+                Warning::about(
+                    WarningKind::Suspicious,
+                    file,
+                    format!(
+                        "{which}mean NEES {:.3} for {} scored states over {} samples: the filter's sigmas do not describe its errors against {file}",
+                        t.nees_mean, t.nees_dof, t.scored
+                    ),
+                )
+            })
+        };
         match &run.truth {
             Some(t) if t.scored > 0 => {
-                // The same rule as the NIS: a filter whose sigmas do not
-                // cover its errors (or far exceed them) gives RMS errors
-                // that its own sigmas do not describe.
-                let dof = t.nees_dof as f64;
-                if t.scored >= 20 && (t.nees_mean > 3.0 * dof || t.nees_mean < dof / 3.0) {
-                    warnings.push(Warning::about(
-                        WarningKind::Suspicious,
-                        file,
-                        format!(
-                            "mean NEES {:.3} for {} scored states over {} samples: the filter's sigmas do not describe its errors against {file}",
-                            t.nees_mean, t.nees_dof, t.scored
-                        ),
-                    ));
-                }
+                warnings.extend(nees_warning(t, ""));
+                let smoothed = run.smoothed.as_ref().and_then(|s| s.truth.as_ref());
+                warnings.extend(smoothed.and_then(|s| nees_warning(s, "smoothed: ")));
             }
             _ => warnings.push(Warning::about(
                 WarningKind::PartialScoring,
@@ -1036,4 +1036,49 @@ fn epoch_mark<M: Model<N>, const N: usize>(
         f.mark_epoch(t);
         Ok(MeasurementOutcome::marker())
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A mean NEES outside a factor of three of its degrees of freedom is a
+    /// warning, forward and smoothed alike, each saying which it is.
+    #[test]
+    fn a_nees_off_by_three_is_said_forward_and_smoothed() {
+        let score = |nees_mean: f64| TruthScore {
+            scored: 100,
+            rms: Vec::new(),
+            nees_mean,
+            nees_dof: 2,
+        };
+        // (forward NEES, smoothed NEES, the warnings' messages begin with)
+        let cases: [(f64, Option<f64>, &[&str]); 5] = [
+            (2.0, None, &[]),
+            (2.0, Some(2.5), &[]),
+            (7.0, Some(2.0), &["mean NEES 7.000"]),
+            (2.0, Some(9000.0), &["smoothed: mean NEES 9000.000"]),
+            (
+                0.5,
+                Some(0.1),
+                &["mean NEES 0.500", "smoothed: mean NEES 0.100"],
+            ),
+        ];
+        for (forward, smoothed, expected) in cases {
+            let mut run = ModelRun {
+                truth: Some(score(forward)),
+                smoothed: smoothed.map(|s| SmoothedRun {
+                    estimates: 100,
+                    truth: Some(score(s)),
+                }),
+                ..ModelRun::default()
+            };
+            warn_about_result(&mut run, Some("truth.csv"));
+            let got: Vec<&str> = run.warnings.iter().map(|w| w.message.as_str()).collect();
+            assert_eq!(got.len(), expected.len(), "{forward} {smoothed:?}: {got:?}");
+            for (w, e) in got.iter().zip(expected) {
+                assert!(w.starts_with(e), "{w} against {e}");
+            }
+        }
+    }
 }

@@ -49,6 +49,7 @@ use nalgebra::{SMatrix, SVector};
 
 use crate::ekf::{Ekf, Estimator, FilterError, Propagate, UpdateReport};
 use crate::model::{first_non_finite, name_of, Model, Record, Sensor};
+use crate::real::Real;
 #[cfg(feature = "std")]
 use crate::smoother::Recorder;
 
@@ -387,7 +388,15 @@ impl<Mo: Model<N>, Nom: NominalState<N>, const N: usize> ErrorStateFilter<Mo, No
         let _ = self.ekf.set_state(estimate - absorbed);
         self.resets += 1;
         self.fed_back += absorbed;
-        estimate - before
+        // An angle state the update carried across +-pi was wrapped: its
+        // correction is the step, not 2 pi less.
+        let mut correction = estimate - before;
+        for (i, c) in correction.iter_mut().enumerate() {
+            if c.abs() > core::f64::consts::PI && crate::model::is_angle_state::<Mo, N>(i) {
+                *c = c.wrap_angle();
+            }
+        }
+        correction
     }
 }
 
