@@ -15,7 +15,9 @@
 //!   the others), taken together with the cross information of the
 //!   probes (eq. T5, `joint.rs`); one above [`MAX_LOG_SIGMA_ERROR`] means the log does not
 //!   identify the parameter: the given value is kept and said so, never a
-//!   value that wandered.
+//!   value that wandered, unless the log rejects the given value
+//!   ([`REJECTED_AT`] standard errors from the tuned one): then the tuned
+//!   value stays, said to be known only roughly.
 //!
 //! What can be tuned is a [`Tunable`]: a replay model that reads its
 //! sigmas from `meta.toml` and reports its sensors' innovations
@@ -52,6 +54,22 @@ pub use tunable::{
 /// A parameter whose `ln sigma` is known to worse than this standard error
 /// (a factor of about 1.28 either way) is not identified by the log.
 pub const MAX_LOG_SIGMA_ERROR: f64 = 0.25;
+
+/// A given value this many standard errors of `ln sigma` from the tuned
+/// one is one the log rejects (under the quadratic, `ln L` lower by 4.5):
+/// a parameter whose standard error is above [`MAX_LOG_SIGMA_ERROR`]
+/// keeps its tuned value then, said as known only roughly, rather than
+/// going back to a value the log rules out (a heading model's gyro noise
+/// started 100 times too large went back to it, `ln L` 68 below the
+/// tuned one, called flat).
+pub const REJECTED_AT: f64 = 3.0;
+
+/// Whether the log rejects the `given` value of a parameter tuned to
+/// `value` with standard error `error` of its logarithm ([`REJECTED_AT`]).
+fn rejects_given(value: f64, given: f64, error: f64) -> bool {
+    let d = (value / given).ln().abs();
+    error.is_finite() && d.is_finite() && d > REJECTED_AT * error
+}
 
 /// Step of the finite differences in `ln sigma` (a factor of 2).
 const STEP: f64 = core::f64::consts::LN_2;
@@ -642,7 +660,9 @@ pub fn tune(
             None => f64::INFINITY,
         };
         errors[i] = e;
-        if e > MAX_LOG_SIGMA_ERROR {
+        if e > MAX_LOG_SIGMA_ERROR && rejects_given(values[i].1, params[i].1, e) {
+            notes.push(roughly_known(&params[i].0, values[i].1, params[i].1, e));
+        } else if e > MAX_LOG_SIGMA_ERROR {
             let own = if c < 0.0 {
                 (-c).sqrt().recip()
             } else {
@@ -676,6 +696,10 @@ pub fn tune(
             });
             why_not[i] = sensor_verdict(sensor, t).or_else(|| {
                 let e = joint?;
+                if e > MAX_LOG_SIGMA_ERROR && rejects_given(values[i].1, *initial, e) {
+                    notes.push(roughly_known(key, values[i].1, *initial, e));
+                    return None;
+                }
                 (e > MAX_LOG_SIGMA_ERROR).then(|| confounded(sensor, e))
             });
             if why_not[i].is_some() {
@@ -851,6 +875,16 @@ fn identifies(c: f64) -> bool {
 }
 
 /// Why a sensor's sigma is not identified beside the other parameters.
+/// The note of a parameter known only roughly whose given value the log
+/// rejects ([`REJECTED_AT`]).
+fn roughly_known(key: &str, value: f64, given: f64, error: f64) -> String {
+    format!(
+        "{key}: known only to a factor of {:.1} (standard error of ln sigma {error:.2}), but the log rejects the given {given}, {:.0} standard errors from the tuned {value:.4e}: the tuned value is kept",
+        error.exp(),
+        (value / given).ln().abs() / error
+    )
+}
+
 fn confounded(sensor: &str, error: f64) -> String {
     format!(
         "its noise and a tuned process noise act on the same innovations of {sensor}: taken together, the standard error of ln sigma is {error:.2}"
