@@ -646,9 +646,84 @@ fn what_the_log_does_not_feed_is_said() {
     assert_eq!(run.samples, 1900);
 }
 
+/// A program that registers a sensor twice, or that does not register a
+/// sensor the declaration has and the mapping feeds, is told so: the
+/// first was fed once and reported twice, the second as "not fed"; the
+/// second was called a sensor the model does not have, with a rename
+/// suggested.
+#[test]
+fn a_sensor_registered_twice_or_not_at_all_is_said() {
+    use models::vehicles::rover::{RoverFix, RoverLandmarkRange, RoverRangeBearing};
+    let dir = TempDir::new("registered");
+    let log = dir.0.join("log");
+    write_log(&log, 5, SI, DRIVE_STEPS);
+    let twice = ModelReplay::<Rover, 3>::new("rover")
+        .sensor::<RoverFix, 2>()
+        .sensor::<RoverRangeBearing, 2>()
+        .sensor::<RoverFix, 2>()
+        .sensor::<RoverLandmarkRange, 1>();
+    let missing = ModelReplay::<Rover, 3>::new("rover")
+        .sensor::<RoverFix, 2>()
+        .sensor::<RoverLandmarkRange, 1>();
+    // (program, what the error says)
+    let cases = [
+        (twice, "sensor Fix of model Rover is registered twice"),
+        (
+            missing,
+            "sensor `RangeBearing` of model Rover is declared but this program does not register it",
+        ),
+    ];
+    for (program, says) in cases {
+        let e = program
+            .replay(&log, None, &RunOptions::default(), None)
+            .unwrap_err();
+        assert!(e.to_string().contains(says), "{e}");
+    }
+}
+
+/// A truth column whose name misses its state's by a letter leaves that
+/// state unscored: said, naming the column and the state, not silent.
+#[test]
+fn a_misspelt_truth_column_is_said() {
+    let dir = TempDir::new("truth-typo");
+    let log = dir.0.join("log");
+    write_log(&log, 5, SI, DRIVE_STEPS);
+    let truth = std::fs::read_to_string(log.join("truth.csv")).unwrap();
+    std::fs::write(
+        log.join("truth.csv"),
+        truth.replacen("heading", "headng", 1),
+    )
+    .unwrap();
+    let run = rover()
+        .replay(&log, None, &RunOptions::default(), None)
+        .unwrap();
+    let scored: Vec<&str> = run.truth.unwrap().rms.iter().map(|(k, _)| *k).collect();
+    assert!(!scored.contains(&"heading"), "{scored:?}");
+    let w: Vec<_> = run
+        .warnings
+        .iter()
+        .filter(|w| w.kind == nav_runtime::log::WarningKind::PartialScoring)
+        .collect();
+    assert_eq!(w.len(), 1, "{:?}", run.warnings);
+    assert_eq!(w[0].key.as_deref(), Some("headng"));
+    assert!(
+        w[0].message.contains("did you mean `heading`?"),
+        "{}",
+        w[0].message
+    );
+}
+
 #[test]
 fn a_missing_mapping_says_what_it_is_for() {
     let dir = TempDir::new("nomapping");
+    // A log directory that is not there is said as such.
+    let e = rover()
+        .replay(&dir.0.join("absent"), None, &RunOptions::default(), None)
+        .unwrap_err();
+    assert!(
+        matches!(e, ModelReplayError::Log(_)) && e.to_string().contains("absent"),
+        "{e}"
+    );
     let e = rover()
         .replay(&dir.0, None, &RunOptions::default(), None)
         .unwrap_err();

@@ -127,6 +127,8 @@ impl<V: InsVehicle<N>, const N: usize> OwnSensors<V, N> {
                     aux: s.aux,
                 })
                 .collect(),
+            // A vehicle's own sensors are its blocks': all registered.
+            declared_sensors: &[],
         };
         let mapping = parse_aiding(&text, MAPPING_FILE, &declared).map_err(mapping_error)?;
         for w in &mapping.warnings {

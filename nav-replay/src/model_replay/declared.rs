@@ -19,6 +19,8 @@ pub struct Declared {
     pub noise: Vec<&'static str>,
     /// The registered sensors, in registration order.
     pub sensors: Vec<DeclaredSensor>,
+    /// Every sensor the declaration has, registered or not.
+    pub declared_sensors: &'static [&'static str],
 }
 
 /// A registered sensor's names.
@@ -42,6 +44,7 @@ impl Declared {
             params: <M::Params as Record>::NAMES,
             noise: <M::Noise as Record>::NAMES.to_vec(),
             sensors: Vec::new(),
+            declared_sensors: M::DECLARED_SENSORS,
         }
     }
 }

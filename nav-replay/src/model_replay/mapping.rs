@@ -420,6 +420,17 @@ impl Cx<'_> {
             for (name, value) in section {
                 let key = format!("sensors.{name}");
                 let Some(k) = names.iter().position(|n| n == name) else {
+                    if declared.declared_sensors.contains(&name.as_str()) {
+                        return Err(err(
+                            &key,
+                            format!(
+                                "sensor `{name}` of model {} is declared but this program does not register it (registered: {}): add `.sensor::<{}{name}, M>()` (M its outputs) to the program",
+                                declared.model,
+                                names.join(", "),
+                                declared.model
+                            ),
+                        ));
+                    }
                     let mut problem = format!(
                         "model {} has no registered sensor `{name}` (sensors: {})",
                         declared.model,
@@ -678,7 +689,11 @@ impl Cx<'_> {
                 if a.len() != count {
                     return Err((self.err)(
                         key,
-                        format!("expected {count} columns, found {}", a.len()),
+                        format!(
+                            "expected {count} {}, found {}",
+                            if count == 1 { "column" } else { "columns" },
+                            a.len()
+                        ),
                     ));
                 }
                 a.iter()

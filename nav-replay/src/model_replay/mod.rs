@@ -122,12 +122,33 @@ where
     /// in `dir`. Returns its file name (for messages) and the mapping.
     ///
     /// # Errors
-    /// An unreadable file, or a mapping that does not fit the declaration.
+    /// A sensor registered twice, an unreadable file, or a mapping that
+    /// does not fit the declaration.
     pub fn mapping(
         &self,
         dir: &Path,
         mapping: Option<&Path>,
     ) -> Result<(String, Mapping), ModelReplayError> {
+        // A sensor registered twice would be fed once and reported twice,
+        // the second time as not fed.
+        let declared = self.declared();
+        for (k, s) in declared.sensors.iter().enumerate() {
+            if declared.sensors[..k].iter().any(|d| d.name == s.name) {
+                return Err(ModelReplayError::Setup(format!(
+                    "program {}: sensor {} of model {} is registered twice (`.sensor::<{}{}, {}>()`): register each sensor once",
+                    self.name, s.name, M::NAME, M::NAME, s.name, s.outputs
+                )));
+            }
+        }
+        // A log directory that is not there is said as such, not as a
+        // missing mapping in it.
+        if let Err(e) = std::fs::read_dir(dir) {
+            return Err(nav_runtime::log::LogError::Io {
+                path: dir.to_path_buf(),
+                source: e,
+            }
+            .into());
+        }
         let path = mapping.map_or_else(|| dir.join(MAPPING_FILE), Path::to_path_buf);
         let name = path.file_name().map_or_else(
             || MAPPING_FILE.to_string(),

@@ -396,6 +396,7 @@ where
             ));
         }
         warnings.extend(rows.row_warnings());
+        warnings.extend(rows.near_miss_warnings());
         files.insert(
             source.file.clone(),
             json!({

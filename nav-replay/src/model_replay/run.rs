@@ -408,6 +408,10 @@ where
     let has: Option<[bool; N]> = truth
         .as_ref()
         .map(|t| std::array::from_fn(|i| t.rows.has(i)));
+    // A state whose truth column is misspelt is not scored: said.
+    if let Some(t) = truth.as_ref() {
+        run.warnings.extend(t.rows.near_miss_warnings());
+    }
     let mut score = Score::<N>::new(has);
     // The truth rows met, thinned, for the plots.
     let truth_columns: Vec<&str> = std::iter::once("t").chain(M::STATE_NAMES).collect();

@@ -224,6 +224,55 @@ impl MappedRows {
         !matches!(self.cells.get(i), Some(Read::Absent) | None)
     }
 
+    /// A warning for each column of the header no cell reads (nor the
+    /// time) within two edits of a column the mapping looks for by name
+    /// and the header lacks: a misspelt truth column, which would leave its
+    /// state unscored without a word.
+    pub fn near_miss_warnings(&self) -> Vec<nav_runtime::log::Warning> {
+        let file = &self.file;
+        self.near_misses()
+            .into_iter()
+            .map(|(column, state)| {
+                nav_runtime::log::Warning::about(
+                    nav_runtime::log::WarningKind::PartialScoring,
+                    file,
+                    format!(
+                        "{file}: column `{column}` matches no state, and state {state} has no column: it is not scored (did you mean `{state}`?)"
+                    ),
+                )
+                .with_key(&column)
+            })
+            .collect()
+    }
+
+    /// The columns of the header no cell reads (nor the time) within two
+    /// edits of a column looked for by name and absent: `(column, the name
+    /// looked for)`.
+    fn near_misses(&self) -> Vec<(String, String)> {
+        let read: Vec<usize> = self
+            .cells
+            .iter()
+            .filter_map(|c| match c {
+                Read::Column(i, _) => Some(*i),
+                _ => None,
+            })
+            .chain(std::iter::once(self.time.0))
+            .collect();
+        let absent: Vec<&str> = self
+            .cells
+            .iter()
+            .zip(&self.column_names)
+            .filter(|(c, _)| matches!(c, Read::Absent))
+            .filter_map(|(_, name)| name.as_ref().map(|(_, header)| header.as_str()))
+            .collect();
+        self.headers
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| !read.contains(i))
+            .filter_map(|(_, h)| Some((h.clone(), closest_name(h, &absent)?.to_string())))
+            .collect()
+    }
+
     /// The next row: `(line, t)`, its values in [`MappedRows::values`].
     ///
     /// # Errors

@@ -105,17 +105,14 @@ impl fmt::Display for CsvProblem {
                 )
             }
             CsvProblem::ColumnCount { expected, found } => {
-                write!(f, "expected {expected} columns, found {found}")
+                let columns = if *expected == 1 { "column" } else { "columns" };
+                write!(f, "expected {expected} {columns}, found {found}")
             }
             CsvProblem::EmptyCell => write!(f, "empty cell"),
             CsvProblem::NotANumber { text } => write!(f, "`{text}` is not a number"),
             CsvProblem::NonFinite { text } => write!(f, "non-finite value `{text}`"),
-            // An absurd magnitude in scientific notation, not 300 digits.
-            CsvProblem::OutOfRange { value, allowed } if value.abs() >= 1e15 => {
-                write!(f, "value {value:e} out of range ({allowed})")
-            }
             CsvProblem::OutOfRange { value, allowed } => {
-                write!(f, "value {value} out of range ({allowed})")
+                write!(f, "value {} out of range ({allowed})", Magnitude(*value))
             }
             CsvProblem::TimeBackwards { previous, t } => {
                 write!(f, "time goes backwards (t = {t} after t = {previous})")
@@ -326,6 +323,20 @@ impl LogError {
             key: key.into(),
             line: None,
             problem: problem.into(),
+        }
+    }
+}
+
+/// A number in a message: an absurd magnitude in scientific notation
+/// (`1e200`), not as 201 digits; others as they are.
+pub(crate) struct Magnitude(pub f64);
+
+impl std::fmt::Display for Magnitude {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.0.abs() >= 1e15 {
+            write!(f, "{:e}", self.0)
+        } else {
+            write!(f, "{}", self.0)
         }
     }
 }

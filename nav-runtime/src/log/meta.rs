@@ -2,7 +2,7 @@
 
 use std::fmt::Write as _;
 
-use super::error::LogError;
+use super::error::{LogError, Magnitude};
 use super::mapping::LogMapping;
 use super::reference_point::ReferencePoint;
 use super::warning::{Warning, WarningKind};
@@ -1044,9 +1044,12 @@ impl Cx<'_> {
         if !v.is_finite() {
             return Err(self.err(&dotted, format!("non-finite value {v}")));
         }
-        range
-            .check(v)
-            .map_err(|allowed| self.err(&dotted, format!("value {v} out of range ({allowed})")))?;
+        range.check(v).map_err(|allowed| {
+            self.err(
+                &dotted,
+                format!("value {} out of range ({allowed})", Magnitude(v)),
+            )
+        })?;
         Ok(Some(v))
     }
 
@@ -1194,7 +1197,10 @@ impl Cx<'_> {
                 return Err(self.err(&dotted, format!("non-finite value {x}")));
             }
             range.check(x).map_err(|allowed| {
-                self.err(&dotted, format!("value {x} out of range ({allowed})"))
+                self.err(
+                    &dotted,
+                    format!("value {} out of range ({allowed})", Magnitude(x)),
+                )
             })?;
             out[i] = x;
         }

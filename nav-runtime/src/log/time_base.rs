@@ -7,6 +7,7 @@
 //! convention: seconds on the log's one clock, a rate sample stamped at the
 //! end of its interval.
 
+use super::error::Magnitude;
 use super::meta::Cx;
 use super::LogError;
 
@@ -112,7 +113,8 @@ impl TimeBase {
                 return Err(cx.err(
                     &key(k),
                     format!(
-                        "value {v} out of range (expected {}seconds, at most {MAX_TIME_S:e} in magnitude; milliseconds?)",
+                        "value {} out of range (expected {}seconds, at most {MAX_TIME_S:e} in magnitude; milliseconds?)",
+                        Magnitude(v),
                         if positive { "positive " } else { "finite " }
                     ),
                 ));
