@@ -20,7 +20,7 @@ pub use models::registry::{
     default_scenario, find_replay_model, find_scenario, replay_models, scenarios, DEFAULT_SCENARIO,
     DEFAULT_SEED, FALLBACK_SCENARIO,
 };
-use nav_replay::output::report::{self, StagedDir};
+use nav_replay::output::report;
 use nav_replay::preflight;
 pub use nav_replay::program::{
     emit, note, one_line, open_log, parse_failure, preflight_options, replay_with, warnings_json,
@@ -301,7 +301,6 @@ pub fn cmd_scenario(args: &ScenarioArgs) -> Result<(), RunError> {
 
     if let Some(shard) = args.shard {
         let out = args.out.as_ref().expect("checked above");
-        let staged = StagedDir::new(out)?;
         let file = ShardFile {
             format: SHARD_FORMAT,
             scenario: scenario.name().to_string(),
@@ -311,9 +310,11 @@ pub fn cmd_scenario(args: &ScenarioArgs) -> Result<(), RunError> {
             options: options.clone(),
             results,
         };
-        file.write(&staged.path().join(shard.file_name()))?;
-        scenario.write_outputs(&file.results, staged.path())?;
-        let dir = staged.commit()?;
+        // Staged, and removed on an interruption, as every --out is.
+        let dir = write_out(out, |dir| {
+            file.write(&dir.join(shard.file_name()))?;
+            scenario.write_outputs(&file.results, dir)
+        })?;
         let path = dir.join(shard.file_name());
         let mut m = serde_json::Map::new();
         m.insert("scenario".into(), Value::from(scenario.name()));
@@ -328,12 +329,12 @@ pub fn cmd_scenario(args: &ScenarioArgs) -> Result<(), RunError> {
 
     let summary = summary_json(scenario.as_ref(), args.seed, &results, &options)?;
     if let Some(out) = &args.out {
-        let staged = StagedDir::new(out)?;
-        scenario.write_outputs(&results, staged.path())?;
-        let path = staged.path().join("summary.json");
-        std::fs::write(&path, report::json_line(&summary) + "\n")
-            .map_err(|e| RunError::io(&path, e))?;
-        let dir = staged.commit()?;
+        let dir = write_out(out, |dir| {
+            scenario.write_outputs(&results, dir)?;
+            let path = dir.join("summary.json");
+            std::fs::write(&path, report::json_line(&summary) + "\n")
+                .map_err(|e| RunError::io(&path, e))
+        })?;
         emit_scenario(&summary, args.json, Plots::WrittenTo(&dir));
     } else {
         emit_scenario(&summary, args.json, Plots::NotWritten);

@@ -1486,24 +1486,31 @@ fn case_counts() {
     assert!(cases().len() >= 60);
 }
 
-/// SIGINT while `--out` is being written removes the staging directory:
-/// the signal is sent as soon as the `.partial-*` directory appears. An
-/// attempt whose run finished before the signal is repeated (at least one
-/// must be interrupted for the test to pass).
+/// SIGINT while `--out` is being written removes the staging directory,
+/// of a replay and of a scenario (whose outputs were once written without
+/// it, leaving `.out.partial-*` behind): the signal is sent as soon as the
+/// `.partial-*` directory appears. An attempt whose run finished before
+/// the signal is repeated (at least one must be interrupted for the test
+/// to pass).
 #[cfg(unix)]
 #[test]
 fn sigint_while_writing_leaves_no_staging_dir() {
+    let log = base().join("log");
+    let replay = ["replay", log.to_str().unwrap(), "--model", "sdins25"];
+    let scenario = ["scenario", "lawnmower-dvl", "--runs", "2"];
+    for command in [replay, scenario] {
+        sigint_while_writing(&command);
+    }
+}
+
+#[cfg(unix)]
+fn sigint_while_writing(command: &[&str]) {
     let mut interrupted = 0;
     for attempt in 0..10 {
         let tmp = TempDir::new("sigint");
         let out = tmp.path().join("out");
         let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_navsim"))
-            .args([
-                "replay",
-                base().join("log").to_str().unwrap(),
-                "--model",
-                "sdins25",
-            ])
+            .args(command)
             .arg("--out")
             .arg(&out)
             .stdout(std::process::Stdio::null())
@@ -1529,18 +1536,24 @@ fn sigint_while_writing_leaves_no_staging_dir() {
         let status = child.wait().unwrap();
         assert!(
             !partial(tmp.path()),
-            "attempt {attempt}: a staging directory is left"
+            "{command:?} attempt {attempt}: a staging directory is left"
         );
         if sent && !status.success() {
-            assert_eq!(status.code(), Some(130), "attempt {attempt}");
-            assert!(!out.exists(), "attempt {attempt}: a partial output");
+            assert_eq!(status.code(), Some(130), "{command:?} attempt {attempt}");
+            assert!(
+                !out.exists(),
+                "{command:?} attempt {attempt}: a partial output"
+            );
             interrupted += 1;
             if interrupted >= 2 {
                 break;
             }
         }
     }
-    assert!(interrupted > 0, "no run was interrupted while writing");
+    assert!(
+        interrupted > 0,
+        "{command:?}: no run was interrupted while writing"
+    );
 }
 
 // ---- check against replay ------------------------------------------------
