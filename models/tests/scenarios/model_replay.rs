@@ -713,6 +713,64 @@ fn a_misspelt_truth_column_is_said() {
     );
 }
 
+/// `check` says what the replay would not use: a sensor file with only
+/// its header, one whose rows all lie outside the inputs' span (times in
+/// milliseconds), one with a glitch (a NaN reading). It printed their
+/// spans and no warning.
+#[test]
+fn check_says_what_the_replay_would_not_use() {
+    let dir = TempDir::new("check-warns");
+    // (the edit of beacon.csv, the warning's kind, what its message says)
+    let cases: [(fn(&str) -> String, &str, &str); 3] = [
+        (
+            |text| text.lines().next().unwrap().to_string() + "\n",
+            "suspicious",
+            "has no rows",
+        ),
+        (
+            |text| {
+                let mut lines = text.lines();
+                let mut out = lines.next().unwrap().to_string() + "\n";
+                for line in lines {
+                    let (t, rest) = line.split_once(',').unwrap();
+                    let ms = t.parse::<f64>().unwrap() * 1000.0;
+                    out.push_str(&format!("{ms},{rest}\n"));
+                }
+                out
+            },
+            "outside_imu_span",
+            "no row of beacon.csv lies within the inputs' span",
+        ),
+        (
+            |text| {
+                let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+                let (t, rest) = lines[5].split_once(',').unwrap();
+                let rest = rest
+                    .split_once(',')
+                    .map_or(String::new(), |(_, r)| format!(",{r}"));
+                lines[5] = format!("{t},NaN{rest}");
+                lines.join("\n") + "\n"
+            },
+            "rejected_reading",
+            "non-finite value `NaN`",
+        ),
+    ];
+    for (k, (edit, kind, says)) in cases.into_iter().enumerate() {
+        let log = dir.0.join(format!("log{k}"));
+        write_log(&log, 5, SI, DRIVE_STEPS);
+        let text = std::fs::read_to_string(log.join("beacon.csv")).unwrap();
+        std::fs::write(log.join("beacon.csv"), edit(&text)).unwrap();
+        let v = rover().check(&log, None, false).unwrap();
+        let warnings = v["warnings"].as_array().unwrap();
+        assert!(
+            warnings
+                .iter()
+                .any(|w| w["kind"] == kind && w["message"].as_str().unwrap().contains(says)),
+            "case {k}: {warnings:?}"
+        );
+    }
+}
+
 #[test]
 fn a_missing_mapping_says_what_it_is_for() {
     let dir = TempDir::new("nomapping");

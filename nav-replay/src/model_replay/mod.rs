@@ -203,6 +203,25 @@ where
         run::run::<M, N>(dir, &name, &m, &self.feeds, options, out)
     }
 
+    /// What `check DIR` reports (mapping as [`ModelReplay::mapping`]):
+    /// every mapped file read through, with its rows and time span, and the
+    /// warnings of what the replay would not use (the JSON of `check
+    /// --json` but for the replay's own refusals, which `check` adds by
+    /// running it).
+    ///
+    /// # Errors
+    /// As [`ModelReplay::mapping`], and a file or row the mapping cannot
+    /// read.
+    pub fn check(
+        &self,
+        dir: &Path,
+        mapping: Option<&Path>,
+        lenient: bool,
+    ) -> Result<serde_json::Value, ModelReplayError> {
+        let (name, m) = self.mapping(dir, mapping)?;
+        program::check_json(self, dir, &name, &m, lenient)
+    }
+
     /// The replay program on the process's arguments: `replay` and `check`
     /// (see the module docs).
     pub fn main(self) -> std::process::ExitCode {

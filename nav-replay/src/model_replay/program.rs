@@ -356,7 +356,7 @@ where
 }
 
 /// What `check` finds: every mapped file read through (rows, time span).
-fn check_json<M: Model<N>, const N: usize>(
+pub(super) fn check_json<M: Model<N>, const N: usize>(
     replay: &ModelReplay<M, N>,
     dir: &Path,
     name: &str,
@@ -379,6 +379,8 @@ where
     feeds.push(("truth".to_string(), &mapping.truth, 0, false));
     let mut warnings = mapping.warnings.clone();
     warnings.extend(mapping.unmapped_files(dir));
+    // The inputs' span (read first): a sensor's rows outside it are never used.
+    let mut inputs_span: Option<(f64, f64)> = None;
     for (what, source, cells, intervals) in feeds {
         let Some(mut rows) = MappedRows::open(dir, source, name, lenient)? else {
             continue;
@@ -387,6 +389,37 @@ where
         let mut span: Option<(f64, f64)> = None;
         while let Some((_, t)) = rows.next_row()? {
             span = Some(span.map_or((t, t), |(a, _)| (a, t)));
+        }
+        if what == "inputs" {
+            inputs_span = span;
+        }
+        // What the replay would say of a sensor's file: glitches, no rows,
+        // no row within the inputs' span.
+        if let Some(r) = &rows.rejected {
+            warnings.push(r.warning());
+        }
+        if intervals {
+            let file = &source.file;
+            let outside = match (span, inputs_span) {
+                (Some((a, b)), Some((start, end))) => b < start || a > end,
+                _ => false,
+            };
+            if span.is_none() {
+                warnings.push(nav_runtime::log::Warning::about(
+                    nav_runtime::log::WarningKind::Suspicious,
+                    file,
+                    format!(
+                        "{what}: {file} has no rows: the sensor would never correct the estimate"
+                    ),
+                ));
+            } else if outside {
+                let (start, end) = inputs_span.unwrap_or_default();
+                warnings.push(nav_runtime::log::Warning::about(
+                    nav_runtime::log::WarningKind::OutsideImuSpan,
+                    file,
+                    format!("{what}: no row of {file} lies within the inputs' span, {start} to {end} s: none would be used (times in another unit or clock?)"),
+                ));
+            }
         }
         for s in &rows.skipped {
             warnings.push(nav_runtime::log::Warning::about(
