@@ -218,22 +218,7 @@ fn a_roughly_known_parameter_keeps_its_value_when_the_log_rejects_the_given_one(
     let cases = [(100.0, true), (1.3, false)];
     for (factor, kept) in cases {
         let start = factor * GYRO_SIGMA;
-        let (d, _) = log_with(TRUE_SIGMA);
-        let meta = std::fs::read_to_string(d.0.join("meta.toml")).unwrap();
-        let meta = meta.replace(
-            "gyro_noise_sigma = 1e-6",
-            &format!("gyro_noise_sigma = {start:?}"),
-        );
-        std::fs::write(d.0.join("meta.toml"), meta).unwrap();
-        let files = LogFiles::open(&d.0, Strictness::Strict).unwrap();
-        let t = tune_confounded(
-            &files,
-            Confounded {
-                updates: 30,
-                plain_half: true,
-            },
-            &["sensors.imu.gyro_noise_sigma"],
-        );
+        let t = tune_gyro_from(start, 30);
         let p = &t.parameters[0];
         let se = p.log_standard_error;
         assert!((MAX_LOG_SIGMA_ERROR..0.6).contains(&se), "{factor}: {p:?}");
@@ -288,22 +273,7 @@ fn an_identified_parameter_near_its_optimum_reaches_it() {
     let secant_top = (0.5 * (lo + hi) - optimum) / fisher;
     assert!((-4.0..-3.9).contains(&secant_top), "{secant_top}");
     for start in [1.3 * GYRO_SIGMA, GYRO_SIGMA / 1.3] {
-        let (d, _) = log_with(TRUE_SIGMA);
-        let meta = std::fs::read_to_string(d.0.join("meta.toml")).unwrap();
-        let meta = meta.replace(
-            "gyro_noise_sigma = 1e-6",
-            &format!("gyro_noise_sigma = {start:?}"),
-        );
-        std::fs::write(d.0.join("meta.toml"), meta).unwrap();
-        let files = LogFiles::open(&d.0, Strictness::Strict).unwrap();
-        let t = tune_confounded(
-            &files,
-            Confounded {
-                updates: 2000,
-                plain_half: true,
-            },
-            &["sensors.imu.gyro_noise_sigma"],
-        );
+        let t = tune_gyro_from(start, 2000);
         let p = &t.parameters[0];
         assert!(p.not_identifiable.is_none(), "{p:?}");
         assert_eq!(p.initial, start);
@@ -318,6 +288,27 @@ fn an_identified_parameter_near_its_optimum_reaches_it() {
             p.value
         );
     }
+}
+
+/// The tuning of the gyro noise alone of the [`Confounded`] model with
+/// every other update on it, over `updates` updates, started at `start`.
+fn tune_gyro_from(start: f64, updates: usize) -> Tuning {
+    let (d, _) = log_with(TRUE_SIGMA);
+    let meta = std::fs::read_to_string(d.0.join("meta.toml")).unwrap();
+    let meta = meta.replace(
+        "gyro_noise_sigma = 1e-6",
+        &format!("gyro_noise_sigma = {start:?}"),
+    );
+    std::fs::write(d.0.join("meta.toml"), meta).unwrap();
+    let files = LogFiles::open(&d.0, Strictness::Strict).unwrap();
+    tune_confounded(
+        &files,
+        Confounded {
+            updates,
+            plain_half: true,
+        },
+        &["sensors.imu.gyro_noise_sigma"],
+    )
 }
 
 /// The tuning of `params` of the [`Confounded`] model over `files`.
