@@ -129,7 +129,67 @@ fn render(out: &mut String, key: &str, v: &Value, width: usize, indent: usize) {
                 render(out, k, v, w, indent + 2);
             }
         }
+        Value::Array(items) if !items.is_empty() && items.iter().all(is_warning) => {
+            out.push_str(&format!("{pad}{key}:\n"));
+            render_warnings(out, items, indent + 2);
+        }
         other => out.push_str(&format!("{pad}{key:width$}  {}\n", format_value(other))),
+    }
+}
+
+/// Whether `v` is a warning of the JSON (an object with a `kind` and a
+/// `message`).
+fn is_warning(v: &Value) -> bool {
+    v.get("kind").is_some_and(Value::is_string) && v.get("message").is_some_and(Value::is_string)
+}
+
+/// A run of more than this many warnings of one kind and file is shown by
+/// its first and a count (the JSON keeps each).
+const REPEATS_SHOWN: usize = 3;
+
+/// Warnings one per line, `kind (file:line, key): message`; a run of more
+/// than [`REPEATS_SHOWN`] of the same kind and file as its first and a
+/// count.
+fn render_warnings(out: &mut String, items: &[Value], indent: usize) {
+    let pad = " ".repeat(indent);
+    let same =
+        |a: &Value, b: &Value| a.get("kind") == b.get("kind") && a.get("file") == b.get("file");
+    let mut k = 0;
+    while k < items.len() {
+        let run = items[k..].iter().take_while(|w| same(w, &items[k])).count();
+        let shown = if run > REPEATS_SHOWN { 1 } else { run };
+        for w in &items[k..k + shown] {
+            let text = |f: &str| w.get(f).and_then(Value::as_str);
+            let mut place: Vec<String> = Vec::new();
+            if let Some(file) = text("file") {
+                let line = w.get("line").and_then(Value::as_u64);
+                place.push(line.map_or_else(|| file.to_string(), |l| format!("{file}:{l}")));
+            }
+            if let Some(key) = text("key") {
+                place.push(key.to_string());
+            }
+            let place = if place.is_empty() {
+                String::new()
+            } else {
+                format!(" ({})", place.join(", "))
+            };
+            out.push_str(&format!(
+                "{pad}{}{place}: {}\n",
+                text("kind").unwrap_or_default(),
+                text("message").unwrap_or_default()
+            ));
+        }
+        if run > shown {
+            out.push_str(&format!(
+                "{pad}  ... and {} more {} warnings of the same file (all in the JSON)\n",
+                run - shown,
+                items[k]
+                    .get("kind")
+                    .and_then(Value::as_str)
+                    .unwrap_or_default()
+            ));
+        }
+        k += run;
     }
 }
 
@@ -238,6 +298,27 @@ mod tests {
         assert!(h.contains("name      x\n"), "{h}");
         assert!(h.contains("missing   n/a\n"), "{h}");
         assert!(h.contains("flag      true\n"), "{h}");
+    }
+
+    /// Warnings read one per line with their place, and a run of one kind
+    /// in one file as its first and a count, not as a line of JSON.
+    #[test]
+    fn warnings_are_lines_and_repeats_are_counted() {
+        let w = |kind: &str, file: &str, message: &str| serde_json::json!({"kind": kind, "file": file, "line": 7, "key": null, "message": message});
+        let mut warnings = vec![w("imu_gap", "imu.csv", "a gap")];
+        for k in 0..5 {
+            warnings.push(w("lockout_recovery", "dvl.csv", &format!("recovery {k}")));
+        }
+        warnings.push(w("noise_sigma", "meta.toml", "too small"));
+        let h = human(&serde_json::json!({"model": "m", "warnings": warnings}));
+        let expected = "model     m\nwarnings:\n  imu_gap (imu.csv:7): a gap\n  \
+                        lockout_recovery (dvl.csv:7): recovery 0\n    ... and 4 more \
+                        lockout_recovery warnings of the same file (all in the JSON)\n  \
+                        noise_sigma (meta.toml:7): too small\n";
+        assert_eq!(h, expected);
+        // No warnings: an empty list.
+        let h = human(&serde_json::json!({"warnings": []}));
+        assert_eq!(h, "warnings  []\n");
     }
 
     #[test]
