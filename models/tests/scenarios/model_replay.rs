@@ -721,7 +721,8 @@ fn a_misspelt_truth_column_is_said() {
 fn check_says_what_the_replay_would_not_use() {
     let dir = TempDir::new("check-warns");
     // (the edit of beacon.csv, the warning's kind, what its message says)
-    let cases: [(fn(&str) -> String, &str, &str); 3] = [
+    type Edit = fn(&str) -> String;
+    let cases: [(Edit, &str, &str); 3] = [
         (
             |text| text.lines().next().unwrap().to_string() + "\n",
             "suspicious",
