@@ -874,7 +874,6 @@ fn identifies(c: f64) -> bool {
     c < 0.0 && -c >= MAX_LOG_SIGMA_ERROR.powi(-2)
 }
 
-/// Why a sensor's sigma is not identified beside the other parameters.
 /// The note of a parameter known only roughly whose given value the log
 /// rejects ([`REJECTED_AT`]).
 fn roughly_known(key: &str, value: f64, given: f64, error: f64) -> String {
@@ -885,6 +884,7 @@ fn roughly_known(key: &str, value: f64, given: f64, error: f64) -> String {
     )
 }
 
+/// Why a sensor's sigma is not identified beside the other parameters.
 fn confounded(sensor: &str, error: f64) -> String {
     format!(
         "its noise and a tuned process noise act on the same innovations of {sensor}: taken together, the standard error of ln sigma is {error:.2}"
