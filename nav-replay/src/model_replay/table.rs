@@ -265,6 +265,9 @@ impl MappedRows {
             .filter(|(c, _)| matches!(c, Read::Absent))
             .filter_map(|(_, name)| name.as_ref().map(|(_, header)| header.as_str()))
             .collect();
+        if absent.is_empty() {
+            return Vec::new();
+        }
         self.headers
             .iter()
             .enumerate()

@@ -20,16 +20,7 @@ fn survey() -> &'static Path {
     static DIR: OnceLock<SharedDir> = OnceLock::new();
     DIR.get_or_init(|| {
         let d = SharedDir::new("tune-survey");
-        let log = d.path().join("log");
-        let o = navsim(&[
-            "simulate",
-            "lawnmower-usbl",
-            "--seed",
-            "31",
-            "--out",
-            log.to_str().unwrap(),
-        ]);
-        assert!(o.status.success(), "{}", stderr(&o));
+        common::simulate("lawnmower-usbl", 31, &d.path().join("log"));
         d
     })
     .path()
@@ -351,15 +342,7 @@ fn what_cannot_be_tuned_is_said_with_the_reason() {
 fn a_start_ten_times_off_everywhere_is_not_steered_by_a_far_curvature() {
     let d = TempDir::new("tune-5137");
     let dir = d.path().join("log");
-    let o = navsim(&[
-        "simulate",
-        "lawnmower-usbl",
-        "--seed",
-        "5137",
-        "--out",
-        dir.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    common::simulate("lawnmower-usbl", 5137, &dir);
     let text = std::fs::read_to_string(dir.join("meta.toml")).unwrap();
     let truth = Meta::parse(&text).unwrap();
     let mut meta = truth;
