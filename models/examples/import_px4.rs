@@ -18,7 +18,7 @@ fn main() -> ExitCode {
         .next()
         .map(PathBuf::from)
         .unwrap_or_else(|| std::env::temp_dir().join("import_px4"));
-    match models::ulog::import(&file, &out) {
+    match nav_import::ulog::import(&file, &out) {
         Ok(log) => {
             println!("{} -> {}", file.display(), out.display());
             for f in &log.files {

@@ -404,7 +404,7 @@ pub fn replay_with(model: &dyn ReplayModel, args: &ReplayArgs) -> Result<(), Run
     };
     if let Some(out) = &args.out {
         let mut value = Value::Null;
-        let dir = write_out(out, |dir| {
+        let dir = write_log_out(out, &args.dir, |dir| {
             let (output, report, summary) = replay(Some(dir))?;
             value = result(&output, &report, &summary);
             let path = dir.join("summary.json");
@@ -461,6 +461,8 @@ pub fn write_out(
         RunError::Io { source, .. } => {
             RunError::Invalid(format!("--out {}: {source}", out.display()))
         }
+        // The staging's own refusals name `out` first.
+        RunError::Invalid(text) => RunError::Invalid(format!("--out {text}")),
         other => other,
     };
     // Created and registered under the interrupt registry's lock, so an
@@ -490,6 +492,49 @@ pub fn write_out(
         }
     })?;
     pending.finish(|| staged.commit()).map_err(at_out)
+}
+
+/// [`write_out`] for the output of a run over the log directory `log`:
+/// refused when `out` is that directory or lies inside it, where the
+/// written files (`estimates.csv`, ...) would be unknown log files that
+/// make every later read of the log an error.
+pub fn write_log_out(
+    out: &std::path::Path,
+    log: &std::path::Path,
+    fill: impl FnOnce(&std::path::Path) -> Result<(), RunError>,
+) -> Result<PathBuf, RunError> {
+    let (at, within) = (resolved(out), resolved(log));
+    if at.starts_with(&within) {
+        let place = if at == within { "is" } else { "lies inside" };
+        return Err(RunError::Invalid(format!(
+            "--out {}: {place} the log directory {}: the files written there would \
+             make the log unreadable (unknown log files); choose a directory outside it",
+            out.display(),
+            log.display()
+        )));
+    }
+    write_out(out, fill)
+}
+
+/// `path` made absolute, its longest existing ancestor resolved (symbolic
+/// links, `..`), so that two spellings of one directory compare equal
+/// whether or not it exists yet.
+fn resolved(path: &std::path::Path) -> PathBuf {
+    let absolute = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
+    let mut existing = absolute.as_path();
+    let mut rest = Vec::new();
+    loop {
+        if let Ok(found) = existing.canonicalize() {
+            return rest.iter().rev().fold(found, |p, c| p.join(c));
+        }
+        match (existing.parent(), existing.file_name()) {
+            (Some(parent), Some(name)) => {
+                rest.push(name.to_os_string());
+                existing = parent;
+            }
+            _ => return absolute,
+        }
+    }
 }
 
 /// The preflight options of a run (after checking `--max-gap-periods`) and

@@ -24,7 +24,7 @@ use nav_replay::output::report;
 use nav_replay::preflight;
 pub use nav_replay::program::{
     emit, note, one_line, open_log, parse_failure, preflight_options, replay_with, warnings_json,
-    write_out, ReplayArgs,
+    write_log_out, write_out, ReplayArgs,
 };
 
 use crate::scenario_text::{scenario_text, Plots};
@@ -124,7 +124,7 @@ pub fn cmd_import(args: &ImportArgs) -> Result<(), RunError> {
                     "--mapping: only `import mcap` takes a mapping".into(),
                 ));
             }
-            let log = models::ulog::import(&args.file, &args.out)
+            let log = nav_import::ulog::import(&args.file, &args.out)
                 .map_err(|e| RunError::Invalid(e.to_string()))?;
             for w in &log.warnings {
                 eprintln!("warning: {w}");
@@ -560,7 +560,7 @@ pub fn cmd_allan(args: &AllanArgs) -> Result<(), RunError> {
         value["written"] = serde_json::Value::from(path.display().to_string());
     }
     if let Some(out) = &args.out {
-        let dir = write_out(out, |dir| {
+        let dir = write_log_out(out, &args.dir, |dir| {
             for a in &report.axes {
                 let mut t = nav_replay::RunTable::new(
                     &format!("allan-{}", a.name),

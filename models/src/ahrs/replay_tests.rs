@@ -16,7 +16,7 @@ use crate::harness::TempDir;
 fn flight(tmp: &TempDir) -> PathBuf {
     let ulg = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/ulog/sample_px4_events.ulg");
     let dir = tmp.0.join("flight");
-    crate::ulog::import(&ulg, &dir).expect("the fixture imports");
+    nav_import::ulog::import(&ulg, &dir).expect("the fixture imports");
     dir
 }
 

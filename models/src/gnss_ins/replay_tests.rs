@@ -26,7 +26,7 @@ const SAME_SUMS_TOLERANCE: f64 = 1e-12;
 fn flight(tmp: &TempDir) -> PathBuf {
     let ulg = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/ulog/sample_px4_events.ulg");
     let dir = tmp.0.join("flight");
-    crate::ulog::import(&ulg, &dir).expect("the fixture imports");
+    nav_import::ulog::import(&ulg, &dir).expect("the fixture imports");
     crate::ulog::reference::write_reference_as_truth(&dir).expect("truth.csv written");
     dir
 }

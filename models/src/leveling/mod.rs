@@ -655,6 +655,27 @@ impl ReplayModel for Leveling6Replay {
             // The final errors are those at the last truth row with an
             // estimate: said when that is not the end of the run.
             let errors = errors_at_truth(&run, log);
+            // The first estimate is the initial guess: fewer than two truth
+            // rows after it score nothing (no final error of 0, no RMS of
+            // nothing), as for every other model.
+            let start = run.estimates.first().map_or(f64::NEG_INFINITY, |e| e.t);
+            let rows = errors.iter().filter(|e| e.0 > start + 1e-9).count();
+            if rows < 2 {
+                let span = |t: &mut dyn Iterator<Item = f64>| {
+                    let first = t.next().unwrap_or(f64::NAN);
+                    (first, t.last().unwrap_or(first))
+                };
+                let (truth_start, truth_end) = span(&mut truth.iter().map(|r| r.t));
+                let (imu_start, imu_end) = span(&mut log.imu.iter().map(|r| r.t));
+                let why = nav_replay::ins::score::ScoreError::NoOverlap {
+                    truth_start,
+                    truth_end,
+                    imu_start,
+                    imu_end,
+                    rows,
+                };
+                return Err(RunError::Invalid(why.to_string()));
+            }
             if let (Some(&(t, roll, pitch)), Some(first), Some(last)) =
                 (errors.last(), run.estimates.first(), run.estimates.last())
             {
@@ -698,7 +719,6 @@ impl ReplayModel for Leveling6Replay {
                     .insert(key.into(), Value::from(scored.metric(key)));
             }
             out.tables = scored.tables;
-            let start = run.estimates.first().map_or(f64::NEG_INFINITY, |e| e.t);
             let (roll, pitch) = rms_after(&errors, start);
             out.metrics
                 .insert("roll_error_rms_deg".into(), Value::from(roll));

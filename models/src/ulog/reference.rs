@@ -8,7 +8,11 @@ use std::path::Path;
 
 use nav_runtime::earth::{meridian_radius, transverse_radius};
 
-use super::ImportError;
+use nav_runtime::log::{CsvProblem, LogError};
+
+/// The header of `reference.csv` as the import writes it: `t` and, when
+/// present, the position and attitude groups are read.
+const HEADER: &str = "t,lat,lon,height,vn,ve,vd,roll,pitch,yaw";
 
 /// `reference.csv` as read back: times and the columns the file has.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -67,13 +71,13 @@ impl Reference {
     /// Reads `reference.csv`; `Ok(None)` when the file does not exist.
     ///
     /// # Errors
-    /// [`ImportError::Io`], or [`ImportError::Csv`] naming the line and column.
-    pub fn read(path: &Path) -> Result<Option<Reference>, ImportError> {
+    /// [`LogError::Io`], or [`LogError::Csv`] naming the line and column.
+    pub fn read(path: &Path) -> Result<Option<Reference>, LogError> {
         let text = match std::fs::read_to_string(path) {
             Ok(t) => t,
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
             Err(source) => {
-                return Err(ImportError::Io {
+                return Err(LogError::Io {
                     path: path.to_path_buf(),
                     source,
                 })
@@ -85,20 +89,31 @@ impl Reference {
     /// Parses the text of a `reference.csv` named `file`.
     ///
     /// # Errors
-    /// [`ImportError::Csv`] naming the line and column.
-    pub fn parse(file: &str, text: &str) -> Result<Reference, ImportError> {
-        let bad = |line: usize, reason: String| ImportError::Csv {
+    /// [`LogError::EmptyFile`], or [`LogError::Csv`] naming the line and
+    /// column.
+    pub fn parse(file: &str, text: &str) -> Result<Reference, LogError> {
+        let bad = |line: usize, column: &str, problem: CsvProblem| LogError::Csv {
             file: file.to_string(),
-            line,
-            reason,
+            line: line as u64,
+            column: column.to_string(),
+            problem,
         };
         let mut lines = text.lines().enumerate();
         let Some((_, header)) = lines.next() else {
-            return Err(bad(1, "no header".into()));
+            return Err(LogError::EmptyFile {
+                file: file.to_string(),
+                expected: HEADER.into(),
+            });
         };
         let names: Vec<&str> = header.split(',').map(str::trim).collect();
         let col = |n: &str| names.iter().position(|c| *c == n);
-        let t_col = col("t").ok_or_else(|| bad(1, "column `t` missing".into()))?;
+        let t_col = col("t").ok_or_else(|| {
+            let problem = CsvProblem::WrongHeader {
+                expected: HEADER.into(),
+                found: names.first().unwrap_or(&"").to_string(),
+            };
+            bad(1, "t", problem)
+        })?;
         let pos_cols = [col("lat"), col("lon"), col("height")];
         let att_cols = [col("roll"), col("pitch"), col("yaw")];
         let all = |c: &[Option<usize>; 3]| match c {
@@ -117,21 +132,26 @@ impl Reference {
                 continue;
             }
             let cells: Vec<&str> = line.split(',').collect();
-            let value = |c: usize| -> Result<f64, ImportError> {
+            let value = |c: usize| -> Result<f64, LogError> {
                 let cell = cells.get(c).map(|s| s.trim()).unwrap_or("");
-                cell.parse::<f64>()
-                    .ok()
-                    .filter(|v| v.is_finite())
-                    .ok_or_else(|| {
-                        bad(
-                            line_no,
-                            format!("column `{}`: `{cell}` is not a finite number", names[c]),
-                        )
-                    })
+                let text = cell.to_string();
+                match cell.parse::<f64>() {
+                    Ok(v) if v.is_finite() => Ok(v),
+                    Ok(_) => Err(bad(line_no, names[c], CsvProblem::NonFinite { text })),
+                    Err(_) if cell.is_empty() => Err(bad(line_no, names[c], CsvProblem::EmptyCell)),
+                    Err(_) => Err(bad(line_no, names[c], CsvProblem::NotANumber { text })),
+                }
             };
             let t = value(t_col)?;
-            if r.t.last().is_some_and(|&last| t <= last) {
-                return Err(bad(line_no, "column `t`: time not increasing".into()));
+            match r.t.last() {
+                Some(&previous) if t < previous => {
+                    let problem = CsvProblem::TimeBackwards { previous, t };
+                    return Err(bad(line_no, "t", problem));
+                }
+                Some(&previous) if t == previous => {
+                    return Err(bad(line_no, "t", CsvProblem::DuplicateTime { t }));
+                }
+                _ => {}
             }
             r.t.push(t);
             // A group whose cells are all empty is one the file does not have
@@ -364,7 +384,10 @@ mod tests {
         )
         .expect_err("half a position")
         .to_string();
-        assert!(e.contains("line 2: column `lon`"), "{e}");
+        assert!(
+            e.contains("reference.csv:2: column `lon`: empty cell"),
+            "{e}"
+        );
     }
 
     #[test]
@@ -372,16 +395,23 @@ mod tests {
         let cases = [
             (
                 "t,roll,pitch,yaw\n1.0,x,0,0\n",
-                "reference.csv: line 2: column `roll`: `x` is not a finite number",
+                "reference.csv:2: column `roll`: `x` is not a number",
             ),
             (
                 "t,roll,pitch,yaw\n1.0,0,0,0\n1.0,0,0,0\n",
-                "reference.csv: line 3: column `t`: time not increasing",
+                "reference.csv:3: column `t`: duplicate timestamp t = 1",
             ),
-            ("roll\n0\n", "reference.csv: line 1: column `t` missing"),
+            (
+                "t,roll,pitch,yaw\n2.0,0,0,0\n1.0,0,0,0\n",
+                "reference.csv:3: column `t`: time goes backwards",
+            ),
+            (
+                "roll\n0\n",
+                "reference.csv:1: column `t`: wrong header: found `roll`, expected header `t,lat,lon,height",
+            ),
             (
                 "t,roll,pitch,yaw\n1.0\n",
-                "reference.csv: line 2: column `roll`: `` is not",
+                "reference.csv:2: column `roll`: empty cell",
             ),
         ];
         for (text, expected) in cases {

@@ -14,7 +14,7 @@ use super::run::{ModelRun, RunOptions, TruthScore};
 use super::table::MappedRows;
 use super::tuning::MappingTuning;
 use super::{ModelReplay, ModelReplayError};
-use crate::program::{emit, note, one_line, parse_failure, warnings_json, write_out};
+use crate::program::{emit, note, one_line, parse_failure, warnings_json, write_log_out};
 use crate::RunError;
 
 #[derive(Debug, Parser)]
@@ -150,7 +150,7 @@ where
     match &c.out {
         Some(out) => {
             let mut v = Value::Null;
-            let dir = write_out(out, |dir| {
+            let dir = write_log_out(out, &c.common.dir, |dir| {
                 v = value(&run(Some(dir))?);
                 let path = dir.join("summary.json");
                 std::fs::write(&path, crate::output::report::json_line(&v) + "\n")

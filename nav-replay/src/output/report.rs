@@ -221,6 +221,17 @@ impl StagedDir {
             Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
             _ => PathBuf::from("."),
         };
+        // A file on the way is said as such (creating under it fails with
+        // "File exists", which names neither the file nor the cause).
+        if let Some(file) = parent.ancestors().find(|a| a.exists()) {
+            if !file.is_dir() {
+                return Err(RunError::Invalid(format!(
+                    "{}: {} exists and is not a directory",
+                    target.display(),
+                    file.display()
+                )));
+            }
+        }
         std::fs::create_dir_all(&parent).map_err(|e| RunError::io(&parent, e))?;
         let nanos = std::time::SystemTime::now()
             .duration_since(std::time::UNIX_EPOCH)

@@ -105,3 +105,33 @@ fn recordings_that_cannot_be_analysed_are_refused_with_the_reason() {
         assert!(stdout(&o).is_empty(), "{name}: {}", stdout(&o));
     }
 }
+
+/// `--out` the log directory (or inside it) is refused before anything is
+/// written: its `allan-*.csv` would be unknown log files there, and every
+/// later read of the log an error.
+#[test]
+fn an_output_inside_the_log_is_refused_and_the_log_left_as_it_was() {
+    let dir = TempDir::new("allan-out-in-log");
+    write_log(dir.path(), 2_000, 4, 0.0);
+    let log = dir.path().to_str().unwrap();
+    let listing = || {
+        let mut names: Vec<_> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        names.sort();
+        names
+    };
+    let before = listing();
+    for (out, said) in [
+        (log.to_string(), "is the log directory"),
+        (format!("{log}/allan"), "lies inside the log directory"),
+    ] {
+        let o = navsim(&["allan", log, "--out", &out]);
+        assert_eq!(o.status.code(), Some(1), "{out}: {}", stderr(&o));
+        assert!(stderr(&o).contains(said), "{out}: {}", stderr(&o));
+        assert_eq!(listing(), before, "{out}");
+    }
+    let o = navsim(&["allan", log, "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}

@@ -1156,17 +1156,38 @@ fn cases() -> Vec<Case> {
         (
             "--out under a file",
             "output",
-            |d| std::fs::write(d.join("blocker"), "x").unwrap(),
-            &["--out", "@/blocker/out"],
-            Error(&["--out", "blocker/out"]),
+            |d| std::fs::write(d.join("../blocker"), "x").unwrap(),
+            &["--out", "@/../blocker/out"],
+            Error(&[
+                "--out",
+                "blocker/out",
+                "blocker exists and is not a directory",
+            ]),
             Here,
         ),
         (
             "--out is a file",
             "output",
-            |d| std::fs::write(d.join("taken"), "x").unwrap(),
-            &["--out", "@/taken"],
+            |d| std::fs::write(d.join("../taken"), "x").unwrap(),
+            &["--out", "@/../taken"],
             Error(&["taken", "not a directory"]),
+            Here,
+        ),
+        // The replay's files would be unknown log files there.
+        (
+            "--out is the log directory",
+            "output",
+            |_| {},
+            &["--out", "@"],
+            Error(&["--out", "is the log directory"]),
+            Here,
+        ),
+        (
+            "--out inside the log directory, by a path through `..`",
+            "output",
+            |d| std::fs::create_dir(d.join("sub")).unwrap(),
+            &["--out", "@/sub/../results"],
+            Error(&["--out", "lies inside the log directory"]),
             Here,
         ),
         (

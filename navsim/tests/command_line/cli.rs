@@ -319,3 +319,46 @@ fn the_leveling_replay_writes_its_plots() {
     let svg = std::fs::read_to_string(out.join("replay-roll.svg")).unwrap();
     assert!(svg.contains("sigma"), "the bounds are drawn");
 }
+
+/// A leveling log whose truth and estimate share fewer than two rows after
+/// the initial guess is an error, as for every other model: its final
+/// errors read exactly 0 and its RMS errors null before.
+#[test]
+fn a_leveling_log_with_nothing_to_score_is_an_error() {
+    let tmp = TempDir::new("leveling-nothing-to-score");
+    let base = tmp.path().join("base");
+    common::simulate("leveling-stationary", 1, &base);
+    let keep_lines = |file: &str, lines: usize, dir: &std::path::Path| {
+        let text = std::fs::read_to_string(base.join(file)).unwrap();
+        let kept: Vec<&str> = text.lines().take(lines).collect();
+        std::fs::write(dir.join(file), kept.join("\n") + "\n").unwrap();
+    };
+    // (case, file cut, lines kept with the header)
+    let cases = [
+        ("three IMU samples", "imu.csv", 4),
+        ("one truth row", "truth.csv", 2),
+    ];
+    for (name, file, lines) in cases {
+        let log = tmp.path().join(name.replace(' ', "-"));
+        std::fs::create_dir(&log).unwrap();
+        for entry in std::fs::read_dir(&base).unwrap() {
+            let from = entry.unwrap().path();
+            std::fs::copy(&from, log.join(from.file_name().unwrap())).unwrap();
+        }
+        keep_lines(file, lines, &log);
+        let o = navsim(&[
+            "replay",
+            log.to_str().unwrap(),
+            "--model",
+            "leveling6",
+            "--json",
+        ]);
+        assert_eq!(o.status.code(), Some(1), "{name}: {}", stdout(&o));
+        assert!(stdout(&o).is_empty(), "{name}: {}", stdout(&o));
+        let e = one_line_error(&o);
+        assert!(
+            e.contains("truth.csv") && e.contains("nothing to score"),
+            "{name}: {e}"
+        );
+    }
+}

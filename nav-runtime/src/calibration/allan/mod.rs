@@ -198,7 +198,47 @@ pub enum AllanError {
         /// What moved, by how much.
         reason: String,
     },
+    /// A period longer than any IMU's: the time stamps are in another unit.
+    #[error("sampling period {period_s} s, slower than {MAX_PERIOD_S} s: times in milliseconds or microseconds?")]
+    SlowSampling {
+        /// The period read, s.
+        period_s: f64,
+    },
+    /// A column that reads one value throughout: nothing to analyse, and a
+    /// noise of zero would be written.
+    #[error("column {axis}: {value} in every sample: a frozen or disconnected sensor")]
+    Frozen {
+        /// Column name.
+        axis: &'static str,
+        /// The value it reads.
+        value: f64,
+    },
+    /// A mean no sensor of the kind measures: a unit or scale mistake.
+    #[error("column {axis}: mean {mean:.3e} beyond {limit} {unit}: not a physical {what} (wrong unit or scale?)")]
+    Unphysical {
+        /// Column name.
+        axis: &'static str,
+        /// Its mean.
+        mean: f64,
+        /// The largest magnitude accepted.
+        limit: f64,
+        /// The unit of both.
+        unit: &'static str,
+        /// `rate` or `specific force`.
+        what: &'static str,
+    },
 }
+
+/// The longest sampling period of an IMU record, s: an IMU samples faster
+/// than 1 Hz, so a longer period is a time unit mistake (the replay's
+/// preflight applies the same bound).
+pub const MAX_PERIOD_S: f64 = 1.0;
+/// The largest mean rate accepted, rad/s (2000 deg/s, the range of common
+/// gyros; the replay's preflight uses the same).
+pub const MAX_MEAN_RATE: f64 = 35.0;
+/// The largest mean specific force accepted, m/s^2 (100 g: beyond any
+/// static recording).
+pub const MAX_MEAN_SPECIFIC_FORCE: f64 = 1000.0;
 
 /// The analysis of a static recording.
 #[derive(Debug, Clone, PartialEq)]
@@ -239,9 +279,32 @@ pub fn analyse(samples: &[[f64; 6]], period_s: f64) -> Result<AllanReport, Allan
             });
         }
     }
+    if period_s > MAX_PERIOD_S {
+        return Err(AllanError::SlowSampling { period_s });
+    }
+    let mean = |j: usize| samples.iter().map(|r| r[j]).sum::<f64>() / samples.len() as f64;
+    for (j, &(axis, kind)) in AXES.iter().enumerate() {
+        let value = samples[0][j];
+        if samples.iter().all(|r| r[j] == value) {
+            return Err(AllanError::Frozen { axis, value });
+        }
+        let (limit, unit, what) = match kind {
+            SensorKind::Gyro => (MAX_MEAN_RATE, "rad/s", "rate"),
+            SensorKind::Accelerometer => (MAX_MEAN_SPECIFIC_FORCE, "m/s^2", "specific force"),
+        };
+        let m = mean(j);
+        if m.abs() > limit {
+            return Err(AllanError::Unphysical {
+                axis,
+                mean: m,
+                limit,
+                unit,
+                what,
+            });
+        }
+    }
     stillness::check(samples)?;
     let mut warnings = Vec::new();
-    let mean = |j: usize| samples.iter().map(|r| r[j]).sum::<f64>() / samples.len() as f64;
     let norm = (mean(3).powi(2) + mean(4).powi(2) + mean(5).powi(2)).sqrt();
     if !(8.8..=10.8).contains(&norm) {
         warnings.push(AllanWarning::GravityMagnitude { norm });

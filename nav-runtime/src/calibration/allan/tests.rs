@@ -249,7 +249,11 @@ fn bad_records_are_refused_with_the_cause() {
     let accelerating = edit(&|k, r| r[5] -= if k > 15_000 { 2.0 } else { 0.0 });
     let nan = edit(&|k, r| r[4] = if k == 119 { f64::NAN } else { r[4] });
     let infinite = edit(&|k, r| r[0] = if k == 5 { f64::INFINITY } else { r[0] });
-    let cases: [(&str, &[[f64; 6]], f64, &str); 8] = [
+    let frozen_gyro = edit(&|_, r| r[1] = 1e-4);
+    let zeros = edit(&|_, r| *r = [0.0; 6]);
+    let gyro_in_millirad = edit(&|_, r| r[2] += 1e5);
+    let huge_force = edit(&|_, r| r[3] = 1e150 * (1.0 + r[3]));
+    let cases: [(&str, &[[f64; 6]], f64, &str); 14] = [
         (
             "zero period",
             &base,
@@ -293,6 +297,32 @@ fn bad_records_are_refused_with_the_cause() {
             0.01,
             "the specific force magnitude changes by 2.0",
         ),
+        (
+            "times in milliseconds",
+            &base,
+            10.0,
+            "sampling period 10 s, slower than 1 s: times in milliseconds",
+        ),
+        (
+            "one gyro frozen",
+            &frozen_gyro,
+            0.01,
+            "column gy: 0.0001 in every sample: a frozen or disconnected sensor",
+        ),
+        ("all zeros", &zeros, 0.01, "column gx: 0 in every sample"),
+        (
+            "gyro beyond any rate",
+            &gyro_in_millirad,
+            0.01,
+            "column gz: mean 1.000e5 beyond 35 rad/s: not a physical rate",
+        ),
+        (
+            "specific force beyond any",
+            &huge_force,
+            0.01,
+            "column ax: mean 1.000e150 beyond 1000 m/s^2: not a physical specific force",
+        ),
+        ("just above 1 s", &base, 1.5, "slower than 1 s"),
     ];
     for (name, record, period, want) in cases {
         let err = analyse(record, period).expect_err(name).to_string();
