@@ -291,6 +291,12 @@ fn broken_mappings_and_logs_are_errors_naming_the_key() {
         (
             "replay.toml",
             "sigma = 0.5",
+            "sigma = 1e-300",
+            &["sensors.Fix.sigma", "its square finite and above 0"],
+        ),
+        (
+            "replay.toml",
+            "sigma = 0.5",
             "sigma = \"half\"",
             &["sensors.Fix.sigma", "expected a number, found string"],
         ),

@@ -493,11 +493,14 @@ impl Cx<'_> {
                 let sigma = cx.numbers(&format!("{key}.sigma"), sigma_value, outputs.len())?;
                 if let Some(bad) = sigma
                     .iter()
-                    .find(|s| **s <= 0.0 || !(**s * **s).is_finite())
+                    .find(|s| !(**s > 0.0 && **s * **s > 0.0 && (**s * **s).is_finite()))
                 {
+                    // 1e-300 squares to a zero noise: the same as 0.
                     return Err(err(
                         &format!("{key}.sigma"),
-                        format!("{bad} is not a sigma (finite, > 0, its square finite)"),
+                        format!(
+                            "{bad} is not a sigma (finite, > 0, its square finite and above 0)"
+                        ),
                     ));
                 }
                 let gate = match s.get("gate") {

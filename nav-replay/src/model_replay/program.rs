@@ -191,7 +191,7 @@ where
     );
     let tuning = crate::tune::tune_with_progress(&tunable, &c.flags)?;
     let mut value = tuning.json();
-    let warnings = crate::tune::tuning_warnings(&tuning);
+    let warnings = crate::tune::tuning_warnings(&tuning, c.flags.max_replays);
     if let Some(path) = &c.flags.write {
         let source = c
             .common

@@ -34,8 +34,8 @@ impl Fold {
         }
     }
 
-    /// `[initial] depth` beyond [`MAX_DEPTH`] is an error naming the key; so
-    /// is the first depth (then USBL depth) row beyond it. The first depth
+    /// `[initial] depth` or `[usbl] depth` beyond [`MAX_DEPTH`] is an error
+    /// naming the key; so is the first depth (then USBL depth) row beyond it. The first depth
     /// sample is compared with `[initial] depth` (USBL depths are only
     /// bounded: a USBL's depth is often that of another reference): equal
     /// within a tolerance is fine; the negative of it is a sign error, 3.28
@@ -51,6 +51,21 @@ impl Fold {
                     format!("{d0} m is beyond any physical depth (|depth| <= {MAX_DEPTH} m)"),
                 )
                 .with_key("initial.depth"),
+            );
+            return;
+        }
+        // The USBL transducer's depth enters every fix's geometry.
+        if let Some(u) = meta.usbl.as_ref().filter(|u| u.depth.abs() > MAX_DEPTH) {
+            report.error(
+                Warning::about(
+                    WarningKind::Suspicious,
+                    "meta.toml",
+                    format!(
+                        "{} m is beyond any physical depth (|depth| <= {MAX_DEPTH} m)",
+                        u.depth
+                    ),
+                )
+                .with_key("usbl.depth"),
             );
             return;
         }

@@ -82,16 +82,27 @@ pub fn tune_with_progress(t: &dyn Tunable, flags: &TuneFlags) -> Result<Tuning, 
     tuning
 }
 
-/// The warnings of a tuning for its JSON: its notes and the tuned run's
-/// own, but not the run's noise-sigma verdicts (the tuning's report says
-/// what the log identifies). Prints them, the parameters the log does not
-/// identify and a budget that ran out, on stderr.
-pub fn tuning_warnings(tuning: &Tuning) -> Vec<Warning> {
+/// The warnings of a tuning for its JSON: its notes, the parameters the
+/// log does not identify, a budget of `max_replays` that ran out, and the
+/// tuned run's own warnings but not its noise-sigma verdicts (the tuning's
+/// report says what the log identifies). Printed on stderr as well.
+pub fn tuning_warnings(tuning: &Tuning, max_replays: usize) -> Vec<Warning> {
     let mut warnings: Vec<Warning> = tuning
         .notes
         .iter()
         .map(|n| crate::model_note(n.clone()))
         .collect();
+    warnings.extend(tuning.parameters.iter().filter_map(|p| {
+        let why = p.not_identifiable.as_ref()?;
+        Some(crate::model_note(format!("{}: not identifiable: {why}", p.key)).with_key(&p.key))
+    }));
+    if !tuning.converged {
+        warnings.push(crate::model_note(format!(
+            "the parameters still moved when the budget ran out (--max-replays {max_replays}: \
+             {} replays made, the next step needing more): the values are the last step's",
+            tuning.replays
+        )));
+    }
     warnings.extend(
         tuning
             .after
@@ -103,17 +114,6 @@ pub fn tuning_warnings(tuning: &Tuning) -> Vec<Warning> {
     warnings.extend(tuned_through_recovery(tuning));
     for w in &warnings {
         eprintln!("warning: {}", w.message);
-    }
-    for p in &tuning.parameters {
-        if let Some(why) = &p.not_identifiable {
-            eprintln!("warning: {}: not identifiable: {why}", p.key);
-        }
-    }
-    if !tuning.converged {
-        eprintln!(
-            "warning: the parameters still moved after {} replays (--max-replays): the values are the last step's",
-            tuning.replays
-        );
     }
     warnings
 }
@@ -198,7 +198,7 @@ pub fn tune_with(model: &dyn ReplayModel, args: &TuneArgs) -> Result<(), RunErro
     let mut warnings = summary.warnings.clone();
     warnings.extend(files.rejected_warnings());
     warnings.extend(report.warnings().cloned());
-    warnings.extend(tuning_warnings(&tuning));
+    warnings.extend(tuning_warnings(&tuning, args.flags.max_replays));
     let identified = tuning.identified_values();
     if let Some(path) = &args.flags.write {
         let source = files.dir().join("meta.toml");

@@ -601,9 +601,15 @@ impl Meta {
             lat: position("lat", Range::Lat)?,
             lon: position("lon", Range::Lon)?,
             depth: position("depth", Range::Any)?,
-            vn: cx.opt(initial, "initial", "vn", Range::Any)?.unwrap_or(0.0),
-            ve: cx.opt(initial, "initial", "ve", Range::Any)?.unwrap_or(0.0),
-            vd: cx.opt(initial, "initial", "vd", Range::Any)?.unwrap_or(0.0),
+            vn: cx
+                .opt(initial, "initial", "vn", Range::Speed)?
+                .unwrap_or(0.0),
+            ve: cx
+                .opt(initial, "initial", "ve", Range::Speed)?
+                .unwrap_or(0.0),
+            vd: cx
+                .opt(initial, "initial", "vd", Range::Speed)?
+                .unwrap_or(0.0),
             roll: cx.opt(initial, "initial", "roll", Range::Roll)?,
             pitch: cx.opt(initial, "initial", "pitch", Range::Lat)?,
             yaw: cx.opt(initial, "initial", "yaw", Range::Yaw)?,
@@ -876,6 +882,8 @@ enum Range {
     /// The noise sigma of an angle, rad: above 0, at most pi.
     AngleNoise,
     LeverArm,
+    /// A velocity component, m/s.
+    Speed,
 }
 
 impl Range {
@@ -889,10 +897,13 @@ impl Range {
             Range::Yaw => v.abs() <= 2.0 * PI,
             // A sigma is squared into a variance: the square must be finite.
             Range::Sigma => v >= 0.0 && (v * v).is_finite(),
-            Range::Noise => v > 0.0 && (v * v).is_finite(),
+            // A noise sigma whose square underflows to 0 (1e-300) is a zero
+            // noise as well.
+            Range::Noise => v > 0.0 && v * v > 0.0 && (v * v).is_finite(),
             Range::AngleSigma => (0.0..=PI).contains(&v),
-            Range::AngleNoise => v > 0.0 && v <= PI,
+            Range::AngleNoise => v * v > 0.0 && v <= PI,
             Range::LeverArm => v.abs() <= MAX_LEVER_ARM,
+            Range::Speed => v.abs() <= MAX_SPEED,
         };
         if ok {
             Ok(())
@@ -905,7 +916,7 @@ impl Range {
                 Range::Yaw => "allowed: |value| <= 2 pi; degrees? the format is radians",
                 Range::Sigma => "a sigma must be >= 0, its square finite",
                 Range::Noise => {
-                    "a noise sigma must be > 0 (zero noise makes the filter trust the sensor exactly), its square finite"
+                    "a noise sigma must be > 0 (zero noise makes the filter trust the sensor exactly), its square finite and above 0"
                 }
                 Range::AngleSigma => {
                     "an angle's sigma must be in 0..=pi rad; degrees? the format is radians"
@@ -914,6 +925,7 @@ impl Range {
                     "an angle's noise sigma must be > 0 and <= pi rad; degrees? the format is radians"
                 }
                 Range::LeverArm => "allowed: |value| <= 1000 m; millimetres? the format is metres",
+                Range::Speed => "allowed: |value| <= 10000 m/s (faster than any vehicle)",
             })
         }
     }
@@ -921,6 +933,9 @@ impl Range {
 
 /// Largest lever-arm component accepted (m).
 const MAX_LEVER_ARM: f64 = 1000.0;
+/// Largest initial velocity component accepted, m/s (above any vehicle's
+/// speed; the DVL's physical bound of the preflight is the same).
+const MAX_SPEED: f64 = 1e4;
 
 /// Validation context: the source text, to find line numbers of keys.
 pub(super) struct Cx<'a> {

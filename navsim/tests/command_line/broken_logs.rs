@@ -447,6 +447,22 @@ fn cases() -> Vec<Case> {
             Here,
         ),
         (
+            "[usbl] transducer depth 1e9",
+            "values",
+            |d| meta_key(d, "usbl", "depth", "depth = 1e9"),
+            SDINS,
+            Error(&["meta.toml", "usbl.depth", "physical depth"]),
+            Here,
+        ),
+        (
+            "[initial] vn 1e6",
+            "values",
+            |d| meta_key(d, "initial", "vn", "vn = 1e6"),
+            SDINS,
+            Error(&["meta.toml", "initial.vn", "10000 m/s"]),
+            Here,
+        ),
+        (
             "USBL depth cell 1e300",
             "values",
             |d| cell(d, "usbl.csv", 2, 3, "1e300"),
@@ -610,6 +626,19 @@ fn cases() -> Vec<Case> {
             |d| meta_key(d, "sensors.dvl", "noise_sigma", "noise_sigma = 0"),
             SDINS,
             Error(&["meta.toml", "sensors.dvl.noise_sigma", "> 0"]),
+            Here,
+        ),
+        (
+            // Its square underflows to 0: the same zero noise.
+            "DVL noise sigma 1e-300",
+            "sigmas",
+            |d| meta_key(d, "sensors.dvl", "noise_sigma", "noise_sigma = 1e-300"),
+            SDINS,
+            Error(&[
+                "meta.toml",
+                "sensors.dvl.noise_sigma",
+                "square finite and above 0",
+            ]),
             Here,
         ),
         (

@@ -148,6 +148,27 @@ fn merged_shards_equal_the_single_run() {
         outs[0].to_str().unwrap(),
     ]));
     assert!(line.contains("also in"), "{line}");
+    // A result without a metric the others have (an edited shard) is
+    // refused, naming the file and the seed: its summary read null.
+    let shard = std::fs::read_dir(&outs[1])
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.extension().is_some_and(|x| x == "json"))
+        .unwrap();
+    let mut v: Value = serde_json::from_str(&std::fs::read_to_string(&shard).unwrap()).unwrap();
+    let seed = v["results"][0]["seed"].clone();
+    let metrics = v["results"][0]["metrics"].as_object_mut().unwrap();
+    assert!(metrics.remove("nees_mean").is_some(), "{metrics:?}");
+    std::fs::write(&shard, v.to_string()).unwrap();
+    let mut args = vec!["merge".to_string()];
+    args.extend(outs.iter().map(|p| p.display().to_string()));
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let line = one_line_error(&navsim(&args));
+    let file = shard.file_name().unwrap().to_str().unwrap();
+    assert!(
+        line.contains(file) && line.contains(&format!("seed {seed} has no metric `nees_mean`")),
+        "{line}"
+    );
 }
 
 #[test]

@@ -298,6 +298,43 @@ fn what_cannot_be_tuned_is_said_with_the_reason() {
         t["parameters"]["sensors.dvl.noise_sigma"]["identifiable"],
         true
     );
+    // What stderr says is in the JSON's warnings too: the parameter the log
+    // does not identify, and a budget that ran out (both were on stderr
+    // only).
+    let o = navsim(&[
+        "tune",
+        silent.to_str().unwrap(),
+        "--model",
+        "sdins25",
+        "--max-replays",
+        "6",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+    let in_json: Vec<&str> = v["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|w| w["message"].as_str().unwrap())
+        .collect();
+    let err = stderr(&o);
+    let on_stderr: Vec<&str> = err
+        .lines()
+        .filter_map(|l| l.strip_prefix("warning: "))
+        .collect();
+    for said in [
+        "sensors.depth.noise_sigma: not identifiable",
+        "--max-replays 6",
+    ] {
+        assert!(on_stderr.iter().any(|w| w.contains(said)), "{said}: {err}");
+    }
+    for w in &on_stderr {
+        assert!(
+            in_json.iter().any(|j| j.contains(w)),
+            "not in the JSON: {w}"
+        );
+    }
 
     // (arguments after the log directory, what the error must say)
     let errors: [(&[&str], &str); 4] = [
