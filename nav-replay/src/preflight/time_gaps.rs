@@ -49,6 +49,7 @@ struct Outside {
     last: (Option<u64>, f64),
     before: usize,
     after: usize,
+    rows: usize,
 }
 
 /// The IMU time stamps as they go by: the first [`PERIOD_INTERVALS`]
@@ -184,8 +185,10 @@ impl Fold {
             last: (line, t),
             before: 0,
             after: 0,
+            rows: 0,
         });
         o.last = (line, t);
+        o.rows += 1;
         if t < t0 - MARGIN {
             o.before += 1;
         }
@@ -286,8 +289,46 @@ impl Fold {
         let Some((t0, t1)) = span else { return };
         for o in self.outside.iter().flatten() {
             outside(o, t0, t1, options, report);
+            if let Some(period) = self.period {
+                packed(o, t1 - t0, period, report);
+            }
         }
     }
+}
+
+/// Rows this many or more in a file whose span is a small part of the
+/// IMU's are weighed by [`packed`].
+const PACKED_ROWS: usize = 20;
+/// The part of the IMU span below which a file's rows are packed.
+const PACKED_SPAN: f64 = 0.05;
+
+/// A file of at least [`PACKED_ROWS`] rows, coming faster than the IMU and
+/// spanning less than [`PACKED_SPAN`] of its span: a time base that squeezes
+/// the file into its start (`period_s` too small, times in another unit).
+/// A warning: every row is then applied, at the wrong time.
+fn packed(o: &Outside, imu_span: f64, imu_period: f64, report: &mut Report) {
+    let span = o.last.1 - o.first.1;
+    if o.rows < PACKED_ROWS || span >= PACKED_SPAN * imu_span {
+        return;
+    }
+    let every = span / (o.rows - 1) as f64;
+    if every >= imu_period {
+        return;
+    }
+    report.warn(
+        Warning::about(
+            WarningKind::Suspicious,
+            o.file,
+            format!(
+                "its {} rows span {span:.3} s of the IMU's {imu_span:.1} s, one every {every:.2e} s \
+                 where the IMU samples every {imu_period:.2e} s: a time base that packs them into \
+                 the start (`period_s` of `[files.<sensor>] time` too small, or times in another \
+                 unit?)",
+                o.rows
+            ),
+        )
+        .with_key("t"),
+    );
 }
 
 /// Rows of a file before the first or after the last IMU sample: a warning

@@ -1181,6 +1181,20 @@ fn cases() -> Vec<Case> {
             Warn("partial_scoring", "truth.csv"),
             Here,
         ),
+        (
+            // A `period_s` 100 times too small: every row is applied within
+            // the first second (exit 0, no warning before).
+            "DVL rows packed into the start",
+            "clocks",
+            |d| {
+                rows(d, "dvl.csv", |i, c| {
+                    c[0] = format!("{}", 0.005 * (i + 1) as f64)
+                })
+            },
+            SDINS,
+            Warn("suspicious", "packs them into the start"),
+            Here,
+        ),
         // -- output handling
         (
             "--out under a file",
