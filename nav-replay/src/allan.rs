@@ -32,6 +32,13 @@ pub struct Stretch {
 /// refusals ([`nav_runtime::calibration::allan::AllanError`]: too short,
 /// not evenly sampled, not static), each naming the row.
 pub fn analyse_log(files: &LogFiles, stretch: Stretch) -> Result<AllanReport, RunError> {
+    for (flag, bound) in [("--from", stretch.from_s), ("--to", stretch.to_s)] {
+        if let Some(v) = bound.filter(|v| !v.is_finite()) {
+            return Err(RunError::Invalid(format!(
+                "{flag} {v}: expected a finite time, s"
+            )));
+        }
+    }
     if let (Some(a), Some(b)) = (stretch.from_s, stretch.to_s) {
         if a.partial_cmp(&b) != Some(std::cmp::Ordering::Less) {
             return Err(RunError::Invalid(format!(

@@ -70,10 +70,10 @@ pub struct AllanArgs {
     /// Log directory of the static recording.
     pub dir: PathBuf,
     /// First time of imu.csv analysed, s (default: its first row).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub from: Option<f64>,
     /// Last time of imu.csv analysed, s (default: its last row).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub to: Option<f64>,
     /// Write the `[sensors.imu]` section found to this file.
     #[arg(long)]

@@ -249,6 +249,15 @@ fn broken_mappings_and_logs_are_errors_naming_the_key() {
         (
             "replay.toml",
             "file = \"gnss.csv\"",
+            "file = \"gps.csv\"",
+            &[
+                "gps.csv: required file is missing",
+                "named by `replay.toml: sensors.Fix.file`",
+            ],
+        ),
+        (
+            "replay.toml",
+            "file = \"gnss.csv\"",
             "file = \"../gnss.csv\"",
             &["sensors.Fix.file", "would leave the log directory"],
         ),

@@ -84,6 +84,7 @@ impl MappedRows {
             return Err(LogError::MissingFile {
                 file: source.file.clone(),
                 dir: dir.to_path_buf(),
+                key: Some(format!("{mapping_file}: {}.file", source.section)),
             }
             .into());
         };

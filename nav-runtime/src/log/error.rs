@@ -195,13 +195,17 @@ pub enum LogError {
         #[source]
         source: std::io::Error,
     },
-    /// A file the log cannot do without (`imu.csv`, `meta.toml`) is absent.
-    #[error("{file}: required file is missing from {}", dir.display())]
+    /// A file the log cannot do without (`imu.csv`, `meta.toml`, a file a
+    /// mapping declares) is absent.
+    #[error("{file}: required file is missing from {}{}", dir.display(), key.as_ref().map(|k| format!(" (named by `{k}`)")).unwrap_or_default())]
     MissingFile {
         /// The missing file's name.
         file: String,
         /// The log directory.
         dir: PathBuf,
+        /// The key that names it, for a declared file (`files.imu.file`
+        /// of `meta.toml`).
+        key: Option<String>,
     },
     /// A `.csv` file that is not one of the log files (strict reading only).
     #[error("{file}: unknown log file in {} (log files: {}; the file of a sensor fed by its declared name is named in replay.toml, [sensors.<name>] file)", dir.display(), super::LOG_FILES.join(", "))]
@@ -294,11 +298,13 @@ impl LogError {
         }
     }
 
-    /// The column name of a CSV error, or the dotted key of a meta error.
+    /// The column name of a CSV error, or the dotted key of a meta error
+    /// (or of the mapping key that names a missing file).
     pub fn column(&self) -> Option<&str> {
         match self {
             LogError::Csv { column, .. } => Some(column),
             LogError::Meta { key, .. } | LogError::Outside { key, .. } => Some(key),
+            LogError::MissingFile { key, .. } => key.as_deref(),
             _ => None,
         }
     }

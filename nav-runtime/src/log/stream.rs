@@ -75,6 +75,7 @@ impl LogFiles {
             return Err(LogError::MissingFile {
                 file: META_FILE.to_string(),
                 dir: dir.to_path_buf(),
+                key: None,
             });
         };
         let mut bytes = Vec::new();
@@ -280,6 +281,7 @@ impl LogFiles {
             None if mapping.declared_file => Err(LogError::MissingFile {
                 file: mapping.file,
                 dir: self.dir.clone(),
+                key: Some(key),
             }),
             None => Ok(None),
         }
@@ -298,6 +300,7 @@ impl LogFiles {
         self.rows::<R>()?.ok_or_else(|| LogError::MissingFile {
             file: self.mapping.of::<R>().file,
             dir: self.dir.clone(),
+            key: None,
         })
     }
 }

@@ -505,6 +505,12 @@ fn bad_mappings_name_file_and_key() {
                     "{name}: {err:?}"
                 );
                 assert_eq!(err.file(), Some(file), "{name}: {msg}");
+                // The key that declares it is named (it was not).
+                assert_eq!(err.column(), Some("files.depth.file"), "{name}: {msg}");
+                assert!(
+                    msg.contains("(named by `files.depth.file`)"),
+                    "{name}: {msg}"
+                );
             }
             Expect::Io(file) => {
                 assert!(matches!(err, LogError::Io { .. }), "{name}: {err:?}");

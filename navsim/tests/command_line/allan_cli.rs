@@ -135,3 +135,25 @@ fn an_output_inside_the_log_is_refused_and_the_log_left_as_it_was() {
     let o = navsim(&["allan", log, "--json"]);
     assert!(o.status.success(), "{}", stderr(&o));
 }
+
+/// The stretch's bounds: not a number is refused (it meant "no bound"), a
+/// negative time parses as a time (it was an unexpected argument).
+#[test]
+fn stretch_bounds_are_times() {
+    let dir = TempDir::new("allan-stretch");
+    write_log(dir.path(), 2_000, 5, 0.0);
+    let log = dir.path().to_str().unwrap();
+    // (arguments, what the error says)
+    let cases: [(&[&str], &str); 3] = [
+        (&["--from", "nan"], "--from NaN: expected a finite time"),
+        (&["--to", "inf"], "--to inf: expected a finite time"),
+        (&["--to", "-5"], "no row in the stretch"),
+    ];
+    for (args, said) in cases {
+        let mut all = vec!["allan", log];
+        all.extend_from_slice(args);
+        let o = navsim(&all);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(said), "{args:?}: {}", stderr(&o));
+    }
+}
