@@ -547,6 +547,19 @@ impl<'m> Converter<'m> {
             })
             .collect();
         topics.sort();
+        // A mapped topic the bag lacks is most often a misspelt one: the
+        // automatic mapping took its place without a word.
+        for topic in self.mapping.topics.keys() {
+            if !self.channels.values().any(|c| &c.topic == topic) {
+                let names: Vec<&str> = self.channels.values().map(|c| c.topic.as_str()).collect();
+                let hint = nav_runtime::log::closest_name(topic, &names)
+                    .map(|n| format!(" (did you mean `{n}`?)"))
+                    .unwrap_or_default();
+                w.push(format!(
+                    "mapping: topic `{topic}` is not in the bag{hint}: its entry is not used"
+                ));
+            }
+        }
         self.warnings.extend(w);
         Ok(ImportedBag {
             files,

@@ -222,7 +222,7 @@ fn a_survey_bag_gives_the_log_directory() {
 #[test]
 fn mapping_cases() {
     type Check = fn(&ImportedBag);
-    let cases: [(&str, &str, Check); 4] = [
+    let cases: [(&str, &str, Check); 5] = [
         (
             "a DVL already in FRD",
             "[topics.\"/dvl/twist\"]\nsensor = \"dvl\"\nbody_frame = \"FRD\"\n",
@@ -253,6 +253,18 @@ fn mapping_cases() {
             "a topic ignored",
             "[topics.\"/altimeter\"]\nsensor = \"ignore\"\n",
             |log| assert!(log.file("altitude.csv").is_none()),
+        ),
+        (
+            // Misspelt: the bag's topic is `/imu/data`. Said, with the
+            // topic meant (it was silently not used).
+            "a mapped topic the bag lacks",
+            "[topics.\"/imu/dada\"]\nsensor = \"imu\"\n",
+            |log| {
+                let said =
+                    "mapping: topic `/imu/dada` is not in the bag (did you mean `/imu/data`?)";
+                let w = &log.summary.warnings;
+                assert!(w.iter().any(|w| w.starts_with(said)), "{w:?}");
+            },
         ),
     ];
     let bytes = bag(&survey());
