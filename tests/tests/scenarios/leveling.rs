@@ -107,21 +107,38 @@ fn replay_of_a_written_log_detects_rest_and_levels() {
 }
 
 /// The final errors of a replay are those at the last truth row with an
-/// estimate: a truth that ends long before the run, or whose rows lie past
-/// the last IMU sample (compared with a stale estimate before), is said.
+/// estimate: a truth that ends long before the run is said; one with fewer
+/// than two rows after the initial guess (only its first row, or its other
+/// rows past the last IMU sample: compared with a stale estimate before,
+/// then reported as final errors of exactly 0) scores nothing, an error.
 #[test]
 fn final_errors_not_at_the_end_of_the_run_are_warned() {
     let log = simulation::simulate(Motion::Stationary, Biases::OneSigma, 7);
     let end = log.imu.last().expect("imu").t;
     let truth = log.truth.clone().expect("truth");
     let scored_early = "only its rows up to t =";
-    let cases: [(&str, Vec<TruthRow>, &str); 3] = [
-        ("first row only", truth[..1].to_vec(), scored_early),
+    let nothing: [(&str, Vec<TruthRow>); 2] = [
+        ("first row only", truth[..1].to_vec()),
         (
             "rows after the run",
             std::iter::once(truth[0])
                 .chain(truth[1..].iter().map(|r| TruthRow { t: r.t + end, ..*r }))
                 .collect(),
+        ),
+    ];
+    for (name, rows) in nothing {
+        let mut log = log.clone();
+        log.truth = Some(rows);
+        let e = Leveling6Replay
+            .replay(&log, &ReplayOptions::default())
+            .expect_err(name)
+            .to_string();
+        assert!(e.contains("nothing to score"), "{name}: {e}");
+    }
+    let cases: [(&str, Vec<TruthRow>, &str); 2] = [
+        (
+            "the first half only",
+            truth[..truth.len() / 2].to_vec(),
             scored_early,
         ),
         // Another roll convention: the final error is the truth's.
