@@ -9,6 +9,10 @@ use super::Report;
 /// Columns named by these findings.
 const KEY: &str = "ax,ay,az";
 
+/// The largest specific force accepted in any row, m/s^2 (1000 g: beyond
+/// any accelerometer's range; the gyro's bound is `gyro_rate::MAX_RATE`).
+const MAX_SPECIFIC_FORCE: f64 = 1e4;
+
 /// The sums of `ax, ay, az` over the IMU rows of the first `settle_seconds`
 /// (the first row alone when no row is that early).
 #[derive(Debug, Default)]
@@ -19,6 +23,9 @@ pub(super) struct Fold {
     last_t: f64,
     /// The line of the first row, when known.
     line: Option<u64>,
+    /// The largest `|f|` beyond [`MAX_SPECIFIC_FORCE`] (or not finite) and
+    /// its line.
+    beyond: Option<(Option<u64>, f64)>,
 }
 
 impl Fold {
@@ -26,6 +33,10 @@ impl Fold {
         if self.first.is_none() {
             self.first = Some(*r);
             self.line = line;
+        }
+        let norm = (r.ax * r.ax + r.ay * r.ay + r.az * r.az).sqrt();
+        if norm > MAX_SPECIFIC_FORCE && self.beyond.is_none_or(|(_, m)| norm > m) {
+            self.beyond = Some((line, norm));
         }
         let Some(first) = self.first else { return };
         // Times increase, so the window is a prefix of the rows.
@@ -43,7 +54,27 @@ impl Fold {
     /// g-unit file, outside 0.5..1.5 g an error, outside 0.9..1.1 g a
     /// warning; a mean `az` of the sign opposite to the one FRD axes give at
     /// the initial roll and pitch is an error (z up).
+    /// A row beyond [`MAX_SPECIFIC_FORCE`] anywhere is an error at its line
+    /// (a 1e300 cell made the mean infinite and was blamed on the first
+    /// row, or, after the first seconds, went unsaid until the filter's
+    /// arithmetic failed).
     pub(super) fn finish(&self, meta: &Meta, report: &mut Report) {
+        if let Some((line, norm)) = self.beyond {
+            let mut w = Warning::about(
+                WarningKind::Suspicious,
+                <ImuRow as Row>::FILE,
+                format!(
+                    "|f| = {norm:.3e} m/s^2: not a physical specific force (beyond \
+                     {MAX_SPECIFIC_FORCE:e} m/s^2, 1000 g)"
+                ),
+            )
+            .with_key(KEY);
+            if let Some(line) = line {
+                w = w.at_line(line);
+            }
+            report.error(w);
+            return;
+        }
         let Some(first) = self.first else { return };
         let (sum, rows, last_t) = if self.n == 0 {
             ([first.ax, first.ay, first.az], 1, first.t)

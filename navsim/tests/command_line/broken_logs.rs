@@ -292,6 +292,24 @@ fn cases() -> Vec<Case> {
             Error(&["imu.csv:302", "deg/s?"]),
             Here,
         ),
+        // Named at its line (the mean of the first seconds blamed line 2;
+        // later in the file only the filter's arithmetic failed).
+        (
+            "accelerometer cell 1e300 in the first seconds",
+            "values",
+            |d| cell(d, "imu.csv", 99, 4, "1e300"),
+            SDINS,
+            Error(&["imu.csv:101", "not a physical specific force"]),
+            Here,
+        ),
+        (
+            "accelerometer cell 1e300 at 40 s",
+            "values",
+            |d| cell(d, "imu.csv", 3999, 4, "1e300"),
+            SDINS,
+            Error(&["imu.csv:4001", "not a physical specific force"]),
+            Here,
+        ),
         (
             "gyro cell 1e300",
             "values",
