@@ -258,6 +258,8 @@ impl Scenario for ConstantVelocity {
             "nees_mean".into(),
             Value::from(stats::mean(&metric_values(runs, "nees_mean"))),
         );
+        // Depth and its rate.
+        m.insert("nees_dof".into(), Value::from(2));
         Ok(m)
     }
     fn write_outputs(&self, runs: &[RunResult], dir: &Path) -> Result<(), RunError> {

@@ -211,7 +211,7 @@ fn headlines(scenario: &str) -> &'static [Headline] {
 /// Keys consumed by the header, so they are not repeated under "details".
 const HEADER_KEYS: &[&str] = &["scenario", "runs", "seed", "faults", "draw_biases"];
 /// Keys of the NEES line.
-const NEES_KEYS: &[&str] = &["nees_mean", "nees_band_95", "nees_consistent"];
+const NEES_KEYS: &[&str] = &["nees_mean", "nees_dof", "nees_band_95", "nees_consistent"];
 
 fn lookup<'a>(map: &'a Map<String, Value>, key: &str) -> Option<&'a Value> {
     let mut parts = key.split('.');
@@ -369,10 +369,12 @@ pub fn scenario_text(value: &Value, where_plots_go: Plots<'_>) -> String {
             }
         }
         if let Some(nees) = map.get("nees_mean") {
-            let mut text = format!(
-                "  NEES of the 9 navigation states, mean  {}",
-                report::format_value(nees)
-            );
+            let states = map
+                .get("nees_dof")
+                .and_then(Value::as_u64)
+                .map(|n| format!(" of the {n} states"))
+                .unwrap_or_default();
+            let mut text = format!("  NEES{states}, mean  {}", report::format_value(nees));
             if let Some([lo, hi]) = map
                 .get("nees_band_95")
                 .and_then(Value::as_array)
@@ -469,6 +471,7 @@ mod tests {
             "horizontal_error_rms_m": {"max": 3.6387, "median": 3.0515, "p95": 3.5800},
             "nees_band_95": [4.115373097378335, 15.763189220193315],
             "nees_consistent": true,
+            "nees_dof": 9,
             "nees_mean": 15.6663,
             "runs": 2,
             "runtime_s": {"max": 0.1790, "median": 0.1299, "p95": 0.1741},
@@ -497,7 +500,7 @@ mod tests {
             "{line}"
         );
         assert!(line.contains("paper: about 3.5 m"), "{line}");
-        let nees = position(&text, "NEES of the 9 navigation states, mean  15.6663");
+        let nees = position(&text, "NEES of the 9 states, mean  15.6663");
         assert!(text.contains("[4.1154, 15.7632], consistent)"), "{text}");
         let health = position(&text, "filter health (totals over 2 runs)");
         assert!(headline < nees && nees < health, "{text}");

@@ -247,6 +247,7 @@ impl Scenario for LawnMower {
         let nees_mean = stats::mean(&nees);
         let (lo, hi) = nees_band_95(NEES_DOF, runs.len());
         m.insert("nees_mean".into(), Value::from(nees_mean));
+        m.insert("nees_dof".into(), Value::from(NEES_DOF));
         m.insert("nees_band_95".into(), json!([lo, hi]));
         m.insert(
             "nees_consistent".into(),

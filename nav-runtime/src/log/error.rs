@@ -142,6 +142,11 @@ impl fmt::Display for CsvProblem {
                 f,
                 "the header has {found} columns, more than the {limit} a log file may have"
             ),
+            // Every row: the rule that fired is that nothing is left.
+            CsvProblem::TooManyRejected { count, rows, first } if count == rows => write!(
+                f,
+                "all {rows} rows rejected as non-physical readings (first: {first}): a unit, column or sign mistake rather than sensor glitches?"
+            ),
             CsvProblem::TooManyRejected { count, rows, first } => write!(
                 f,
                 "{count} of {rows} rows rejected as non-physical readings (first: {first}): more than {} and one in {}, a unit, column or sign mistake rather than sensor glitches?",

@@ -577,6 +577,15 @@ fn non_physical_readings_of_aiding_files_are_rejected_rows() {
                         matches!(err.csv_problem(), Some(CsvProblem::TooManyRejected { .. })),
                         "{name}: {err}"
                     );
+                    // The rule that fired is said: every row, or more than
+                    // the floor and the share (the latter was said of both).
+                    let every = name == "every row rejected";
+                    let said = if every {
+                        "all 2 rows rejected"
+                    } else {
+                        "more than 10 and one in"
+                    };
+                    assert!(err.to_string().contains(said), "{name}: {err}");
                     continue;
                 }
                 (Rejection::TooMany(line, column), Strictness::Lenient) => {

@@ -383,3 +383,15 @@ fn a_leveling_log_with_nothing_to_score_is_an_error() {
         );
     }
 }
+
+/// The NEES line names the states its scenario counts (`nees_dof`): the
+/// demo's two, not the nine of the INS scenarios it once said.
+#[test]
+fn the_nees_line_counts_the_scenarios_own_states() {
+    let o = navsim(&["scenario", DEMO, "--runs", "2"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    assert!(text.contains("NEES of the 2 states, mean"), "{text}");
+    let v = json(&navsim(&["scenario", DEMO, "--runs", "2", "--json"]));
+    assert_eq!(v["nees_dof"], 2, "{v}");
+}
