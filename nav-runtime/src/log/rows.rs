@@ -752,6 +752,23 @@ impl<R: Row, I: Read> RowReader<R, I> {
                 });
             }
         }
+        // A column both read and listed to be read past: which is meant?
+        let read: HashSet<&str> = (0..header.len())
+            .filter(|&j| slot[j].is_some())
+            .map(|j| header[j].as_str())
+            .collect();
+        work += header.len();
+        if let Some(name) = mapping.ignore.iter().find(|n| read.contains(n.as_str())) {
+            return Err(LogError::Meta {
+                key: mapping.key("ignore"),
+                line: None,
+                problem: format!(
+                    "`{}` is a column the file's mapping reads: a column is read or ignored, \
+                     not both",
+                    short(name)
+                ),
+            });
+        }
         let ignore: HashSet<&str> = mapping.ignore.iter().map(String::as_str).collect();
         work += mapping.ignore.len();
         let mut unknown = (0..header.len())

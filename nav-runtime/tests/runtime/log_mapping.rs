@@ -227,6 +227,20 @@ fn errors() -> Vec<ErrorCase> {
             vec![],
             Meta("files.depth.units.gx", "unknown key"),
         ),
+        // A column read and ignored at once: `ignore` was not looked at,
+        // and the column read all the same.
+        (
+            "a read column ignored",
+            "[files.depth]\nignore = [\"depth\"]\n",
+            vec![("depth.csv", "t,depth\n0.5,1\n")],
+            Meta("files.depth.ignore", "`depth` is a column the file's mapping reads"),
+        ),
+        (
+            "the time column ignored while times come from it",
+            "[files.depth]\nignore = [\"t\"]\n",
+            vec![("depth.csv", "t,depth\n0.5,1\n")],
+            Meta("files.depth.ignore", "`t` is a column the file's mapping reads"),
+        ),
         (
             "unknown body frame",
             "[files.imu]\nbody_frame = \"NWU\"\n",
