@@ -388,7 +388,10 @@ pub fn cmd_check(args: &CheckArgs) -> Result<(), RunError> {
         if errors.is_empty() {
             match check_with_model(model.as_ref(), args, strictness) {
                 Ok(notes) => warnings.extend(notes),
-                Err(e) => errors.push(nav_replay::model_note(one_line(&e.to_string()))),
+                Err(e) => {
+                    let e = preflight::explained(e, &report);
+                    errors.push(nav_replay::model_note(one_line(&e.to_string())));
+                }
             }
         }
     }

@@ -48,12 +48,19 @@ pub fn check_alongside<T>(
         if let Some(refusal) = refusal(&report) {
             return Err(refusal);
         }
-        let worked = worked.map_err(|e| match e {
-            RunError::Diverged(message) => RunError::Diverged(with_evidence(message, &report)),
-            e => e,
-        });
+        let worked = worked.map_err(|e| explained(e, &report));
         Ok((worked?, report, summary))
     })
+}
+
+/// A replay's error as the replay gives it beside the preflight's `report`:
+/// a divergence with what the preflight doubted in the inputs (`check
+/// --model` words it as `replay` does), any other error as it is.
+pub fn explained(e: RunError, report: &Report) -> RunError {
+    match e {
+        RunError::Diverged(message) => RunError::Diverged(with_evidence(message, report)),
+        e => e,
+    }
 }
 
 /// Findings listed after a divergence before the rest are only counted.

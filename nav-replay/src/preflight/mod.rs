@@ -43,7 +43,7 @@ mod summary;
 mod time_gaps;
 mod truth_values;
 
-pub use alongside::{check_alongside, refusal, weigh_nees};
+pub use alongside::{check_alongside, explained, refusal, weigh_nees};
 pub use finding::{Finding, Report, Severity};
 pub use frozen_imu::FROZEN_FLOOR_SECONDS;
 pub use summary::{FileSummary, ImuSummary, LogSummary};

@@ -2019,3 +2019,38 @@ fn errors_name_the_cause() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// A divergence is worded by `check --model` as by `replay`: with what the
+/// preflight made of the inputs (`check` dropped that part).
+#[test]
+fn check_words_a_divergence_as_replay_does() {
+    let tmp = TempDir::new("divergence-words");
+    let dir = tmp.path().join("log");
+    copy_dir(&base().join("log"), &dir);
+    meta_key(
+        &dir,
+        "sensors.imu",
+        "gyro_noise_sigma",
+        "gyro_noise_sigma = 1e5",
+    );
+    let d = dir.to_str().unwrap();
+    let error_line = |args: &[&str]| {
+        let o = navsim(args);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", stdout(&o));
+        let err = stderr(&o);
+        let line = err
+            .lines()
+            .find(|l| l.starts_with("error: "))
+            .map(str::to_string);
+        line.unwrap_or_else(|| panic!("{args:?}: {err}"))
+    };
+    let replay = error_line(&["replay", d, "--model", "sdins25"]);
+    let check = error_line(&["check", d, "--model", "sdins25"]);
+    assert!(
+        replay.contains("check the model's noise settings"),
+        "{replay}"
+    );
+    // `check` counts its problems first ("1 problem(s) found; first: ").
+    let message = replay.trim_start_matches("error: ");
+    assert!(check.ends_with(message), "check: {check}\nreplay: {replay}");
+}
