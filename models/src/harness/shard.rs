@@ -233,15 +233,15 @@ pub fn merge_shards(files: &[(PathBuf, ShardFile)]) -> Result<Merged, RunError> 
     }
     // Every run of a scenario reports the same metrics: one without a
     // metric the others have would make that metric's summary null.
+    let lacks = |a: &RunResult, b: &RunResult| {
+        a.metrics
+            .keys()
+            .find(|k| !b.metrics.contains_key(*k))
+            .cloned()
+    };
     let results: Vec<(&Path, &RunResult)> = by_index.values().copied().collect();
     if let Some(&(model_path, model)) = results.first() {
         for &(path, r) in &results {
-            let lacks = |a: &RunResult, b: &RunResult| {
-                a.metrics
-                    .keys()
-                    .find(|k| !b.metrics.contains_key(*k))
-                    .cloned()
-            };
             if let Some(metric) = lacks(model, r).or_else(|| lacks(r, model)) {
                 let (with, without, path) = if r.metrics.contains_key(&metric) {
                     (r.seed, model.seed, model_path)

@@ -549,9 +549,9 @@ impl<'m> Converter<'m> {
         topics.sort();
         // A mapped topic the bag lacks is most often a misspelt one: the
         // automatic mapping took its place without a word.
+        let names: Vec<&str> = self.channels.values().map(|c| c.topic.as_str()).collect();
         for topic in self.mapping.topics.keys() {
-            if !self.channels.values().any(|c| &c.topic == topic) {
-                let names: Vec<&str> = self.channels.values().map(|c| c.topic.as_str()).collect();
+            if !names.contains(&topic.as_str()) {
                 let hint = nav_runtime::log::closest_name(topic, &names)
                     .map(|n| format!(" (did you mean `{n}`?)"))
                     .unwrap_or_default();

@@ -43,29 +43,22 @@ impl Fold {
     /// warning.
     pub(super) fn finish(&self, meta: &Meta, report: &mut Report) {
         let d0 = meta.initial.depth;
-        if d0.abs() > MAX_DEPTH {
-            report.error(
-                Warning::about(
-                    WarningKind::Suspicious,
-                    "meta.toml",
-                    format!("{d0} m is beyond any physical depth (|depth| <= {MAX_DEPTH} m)"),
-                )
-                .with_key("initial.depth"),
-            );
-            return;
-        }
         // The USBL transducer's depth enters every fix's geometry.
-        if let Some(u) = meta.usbl.as_ref().filter(|u| u.depth.abs() > MAX_DEPTH) {
+        let given = [
+            ("initial.depth", Some(d0)),
+            ("usbl.depth", meta.usbl.map(|u| u.depth)),
+        ];
+        if let Some((key, d)) = given
+            .into_iter()
+            .find_map(|(key, d)| Some((key, d?)).filter(|(_, d)| d.abs() > MAX_DEPTH))
+        {
             report.error(
                 Warning::about(
                     WarningKind::Suspicious,
                     "meta.toml",
-                    format!(
-                        "{} m is beyond any physical depth (|depth| <= {MAX_DEPTH} m)",
-                        u.depth
-                    ),
+                    format!("{d} m is beyond any physical depth (|depth| <= {MAX_DEPTH} m)"),
                 )
-                .with_key("usbl.depth"),
+                .with_key(key),
             );
             return;
         }
