@@ -403,11 +403,9 @@ where
         .iter()
         .map(|&i| SensorInnovations {
             sensor: SENSOR_NAMES[i].to_string(),
-            noise_sigma: source
-                .meta()
-                .sensors
-                .aiding(SENSOR_NAMES[i])
-                .map(|s| s.noise_sigma),
+            // The sigma the filter used: the section's, or the built-in
+            // one a `missing_sensor_section` warning names.
+            noise_sigma: Some(plan.sensors[i].noise_sigma),
             gated: health[i].gated,
             setting: (
                 "meta.toml".into(),

@@ -184,6 +184,7 @@ pub fn check_files_with(
     summary_file::<GnssRow>(files, &mut scan, &mut summary)?;
     summary_file::<ReferenceRow>(files, &mut scan, &mut summary)?;
     summary.finish(scan.imu_summary());
+    summary.count_unused(DvlRow::FILE, scan.partial_rows.found());
     Ok((scan.finish(), summary))
 }
 

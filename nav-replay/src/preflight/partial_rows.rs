@@ -18,18 +18,30 @@ pub(super) struct Fold {
     found: usize,
 }
 
+/// A DVL row neither complete nor wholly empty (no bottom lock).
+pub(super) fn is_partial(r: &DvlRow) -> bool {
+    let empty = [r.vx, r.vy, r.vz].iter().filter(|c| c.is_none()).count();
+    empty != 0 && empty != 3
+}
+
 impl Fold {
     pub(super) fn dvl(&mut self, line: Option<u64>, r: &DvlRow) {
-        let cells = [r.vx, r.vy, r.vz];
-        let empty = cells.iter().filter(|c| c.is_none()).count();
-        if empty == 0 || empty == 3 {
+        if !is_partial(r) {
             return;
         }
+        let cells = [r.vx, r.vy, r.vz];
         self.found += 1;
         if self.found <= LISTED {
             let column = DvlRow::COLUMNS[1 + cells.iter().position(Option::is_none).unwrap_or(0)];
             self.listed.push((line, column));
         }
+    }
+
+    /// Partly empty rows found: rows the replay does not use, counted with
+    /// the reader's skipped rows (`skipped_rows` of the JSON) when they are
+    /// warnings rather than errors.
+    pub(super) fn found(&self) -> usize {
+        self.found
     }
 
     pub(super) fn finish(&self, options: &PreflightOptions, report: &mut Report) {

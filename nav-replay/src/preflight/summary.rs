@@ -5,8 +5,8 @@
 use std::collections::BTreeMap;
 
 use nav_runtime::log::{
-    skipped_row_warnings, FileRows, ImuRow, LogDir, LogFiles, ReadStats, Row, SkippedRow, Warning,
-    MAX_SKIP_REASONS,
+    skipped_row_warnings, DvlRow, FileRows, ImuRow, LogDir, LogFiles, ReadStats, Row, SkippedRow,
+    Warning, MAX_SKIP_REASONS,
 };
 
 /// One CSV file of a log as read by [`super::check_files`].
@@ -151,14 +151,21 @@ impl LogSummary {
                         .collect(),
                 ),
             });
-        LogSummary {
+        let mut summary = LogSummary {
             files,
             imu,
             skipped_rows: l.skipped_rows.clone(),
             skip_reasons: l.skip_reasons.clone(),
             unknown_files: l.unknown_files.clone(),
             warnings: l.warnings.clone(),
-        }
+        };
+        let partial = l.dvl.as_deref().map_or(0, |rows| {
+            rows.iter()
+                .filter(|r| super::partial_rows::is_partial(r))
+                .count()
+        });
+        summary.count_unused(DvlRow::FILE, partial);
+        summary
     }
 
     pub(super) fn new(files: &LogFiles) -> Self {
@@ -228,6 +235,19 @@ impl LogSummary {
         self.imu = imu;
         self.warnings
             .extend(skipped_row_warnings(&self.skipped_rows, &self.skip_reasons));
+    }
+
+    /// Counts `rows` rows of `file` that the reader took but the replay
+    /// does not use (a partly empty DVL row) as skipped, after the
+    /// reader's own warnings (the preflight lists these rows itself).
+    pub(super) fn count_unused(&mut self, file: &str, rows: usize) {
+        if rows == 0 {
+            return;
+        }
+        *self.skipped_rows.entry(file.to_string()).or_insert(0) += rows;
+        if let Some(f) = self.files.iter_mut().find(|f| f.file == file) {
+            f.skipped += rows;
+        }
     }
 
     /// The summary of file `name`, if present.

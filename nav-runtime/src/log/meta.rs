@@ -632,10 +632,10 @@ impl Meta {
                 let sec = "initial_sigma";
                 cx.check_keys(s, sec, &["position", "velocity", "level", "heading"])?;
                 Some(InitialSigma {
-                    position: cx.opt(s, sec, "position", Range::Sigma)?,
-                    velocity: cx.opt(s, sec, "velocity", Range::Sigma)?,
-                    level: cx.opt(s, sec, "level", Range::AngleSigma)?,
-                    heading: cx.opt(s, sec, "heading", Range::AngleSigma)?,
+                    position: cx.opt(s, sec, "position", Range::Prior)?,
+                    velocity: cx.opt(s, sec, "velocity", Range::Prior)?,
+                    level: cx.opt(s, sec, "level", Range::AnglePrior)?,
+                    heading: cx.opt(s, sec, "heading", Range::AnglePrior)?,
                 })
             }
         };
@@ -884,6 +884,12 @@ enum Range {
     LeverArm,
     /// A velocity component, m/s.
     Speed,
+    /// The 1-sigma of an initial estimate: above 0 (a zero claims the
+    /// state exactly known: the filter's covariance starts singular and
+    /// the NEES against a truth divides by it), its square finite.
+    Prior,
+    /// The 1-sigma of an initial angle, rad: above 0, at most pi.
+    AnglePrior,
 }
 
 impl Range {
@@ -904,6 +910,8 @@ impl Range {
             Range::AngleNoise => v * v > 0.0 && v <= PI,
             Range::LeverArm => v.abs() <= MAX_LEVER_ARM,
             Range::Speed => v.abs() <= MAX_SPEED,
+            Range::Prior => v * v > 0.0 && (v * v).is_finite(),
+            Range::AnglePrior => v * v > 0.0 && v <= PI,
         };
         if ok {
             Ok(())
@@ -926,6 +934,12 @@ impl Range {
                 }
                 Range::LeverArm => "allowed: |value| <= 1000 m; millimetres? the format is metres",
                 Range::Speed => "allowed: |value| <= 10000 m/s (faster than any vehicle)",
+                Range::Prior => {
+                    "an initial sigma must be > 0 (zero claims the state exactly known; give the uncertainty of the initial value), its square finite and above 0"
+                }
+                Range::AnglePrior => {
+                    "an initial angle's sigma must be > 0 (zero claims the angle exactly known) and <= pi rad; degrees? the format is radians"
+                }
             })
         }
     }

@@ -481,6 +481,24 @@ fn cases() -> Vec<Case> {
             Here,
         ),
         (
+            // A zero prior made the covariance singular: the NEES of 5.8e14
+            // that followed was blamed on truth.csv.
+            "[initial_sigma] position 0",
+            "values",
+            |d| meta_key(d, "initial_sigma", "position", "position = 0.0"),
+            SDINS,
+            Error(&["meta.toml", "initial_sigma.position", "must be > 0"]),
+            Here,
+        ),
+        (
+            "[initial_sigma] heading 0",
+            "values",
+            |d| meta_key(d, "initial_sigma", "heading", "heading = 0"),
+            SDINS,
+            Error(&["meta.toml", "initial_sigma.heading", "must be > 0"]),
+            Here,
+        ),
+        (
             "USBL depth cell 1e300",
             "values",
             |d| cell(d, "usbl.csv", 2, 3, "1e300"),

@@ -515,3 +515,41 @@ fn the_pressure_sensor_auv_replays_with_its_lever_arm() {
         depth_rms(&plain)
     );
 }
+
+/// Without a `[sensors.dvl]` section the filter weighs the DVL with the
+/// model's built-in sigma; the innovations report that sigma (and the
+/// supported one), as they do with a section. They said `null` and gave
+/// only a factor.
+#[test]
+fn innovations_give_the_built_in_sigma_of_a_sensor_without_a_section() {
+    let tmp = TempDir::new("built-in-sigma");
+    let log = tmp.path().join("log");
+    common::simulate("lawnmower-dvl", 3, &log);
+    let meta = log.join("meta.toml");
+    let text = std::fs::read_to_string(&meta).unwrap();
+    let mut skip = false;
+    let kept: Vec<&str> = text
+        .lines()
+        .filter(|l| {
+            if l.starts_with('[') {
+                skip = l.trim() == "[sensors.dvl]";
+            }
+            !skip
+        })
+        .collect();
+    std::fs::write(&meta, kept.join("\n") + "\n").unwrap();
+    let (v, _) = replay(&log, "sdins25");
+    let dvl = &v["innovations"]["dvl"];
+    let built_in = nav_runtime::simulation::sensors::ErrorSpec::sdins25_dvl().noise;
+    assert_eq!(dvl["noise_sigma"].as_f64(), Some(built_in), "{dvl}");
+    assert!(dvl["supported_sigma"].is_number(), "{dvl}");
+    assert!(
+        v["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|w| w["kind"] == "missing_sensor_section" && w["key"] == "sensors.dvl"),
+        "{}",
+        v["warnings"]
+    );
+}
