@@ -236,52 +236,61 @@ fn the_ship_replays_through_its_own_program() {
 /// with the tuned values (both scalars of the noise vector).
 #[test]
 fn the_ship_tunes_its_own_values() {
-    for case in &TUNING_CASES {
-        let log = TempDir::new(&format!("tune-{}", case.dev_seed));
-        write_voyage_with(&log.0, case.dev_seed, case.current_q);
-        let given = std::fs::read_to_string(log.0.join("replay.toml")).unwrap();
-        for start in case.starts {
-            std::fs::write(log.0.join("replay.toml"), given.replace(case.given, start)).unwrap();
-            let written = log.0.join("tuned.toml");
-            let mut args = vec![
-                "tune",
-                log.0.to_str().unwrap(),
-                "--json",
-                "--write-mapping",
-                written.to_str().unwrap(),
-            ];
-            args.extend(case.args);
-            let (ok, stdout, stderr) = ship(&args);
-            assert!(ok, "{stderr}\n{stdout}");
-            let v: Value = serde_json::from_str(&stdout).unwrap();
-            let p = &v["parameters"][case.key];
-            assert_eq!(p["identifiable"], true, "{}, from {start}: {v}", case.name);
-            let tuned = p["value"].as_f64().unwrap();
-            let ratio = tuned / case.truth;
-            let ratio = if case.variance { ratio.sqrt() } else { ratio };
-            assert!(
-                (0.75..1.25).contains(&ratio),
-                "{}, from {start}: {tuned} for {} ({p})",
-                case.name,
-                case.truth
-            );
-            // The written line: the key's value, one per scalar.
-            let text = std::fs::read_to_string(&written).unwrap();
-            assert!(text.starts_with("# The ship's own sensor"), "{text}");
-            let name = case.key.rsplit('.').next().unwrap();
-            let line = text
-                .lines()
-                .find_map(|l| l.strip_prefix(&format!("{name} = ")))
-                .unwrap_or_else(|| panic!("no {name} in {text}"));
-            let values: Vec<f64> = line
-                .trim_matches(|c| c == '[' || c == ']')
-                .split(',')
-                .map(|x| x.trim().parse().unwrap())
-                .collect();
-            assert_eq!(values.len(), case.scalars, "{line}");
-            for w in values {
-                assert!((w / tuned - 1.0).abs() < 1e-12, "{text}");
-            }
+    // The cases side by side (each in its own directory): this is the
+    // longest test of the file.
+    std::thread::scope(|scope| {
+        for case in &TUNING_CASES {
+            scope.spawn(move || tunes_its_own_value(case));
+        }
+    });
+}
+
+/// One case of [`TUNING_CASES`], from each of its starts.
+fn tunes_its_own_value(case: &TuningCase) {
+    let log = TempDir::new(&format!("tune-{}", case.dev_seed));
+    write_voyage_with(&log.0, case.dev_seed, case.current_q);
+    let given = std::fs::read_to_string(log.0.join("replay.toml")).unwrap();
+    for start in case.starts {
+        std::fs::write(log.0.join("replay.toml"), given.replace(case.given, start)).unwrap();
+        let written = log.0.join("tuned.toml");
+        let mut args = vec![
+            "tune",
+            log.0.to_str().unwrap(),
+            "--json",
+            "--write-mapping",
+            written.to_str().unwrap(),
+        ];
+        args.extend(case.args);
+        let (ok, stdout, stderr) = ship(&args);
+        assert!(ok, "{stderr}\n{stdout}");
+        let v: Value = serde_json::from_str(&stdout).unwrap();
+        let p = &v["parameters"][case.key];
+        assert_eq!(p["identifiable"], true, "{}, from {start}: {v}", case.name);
+        let tuned = p["value"].as_f64().unwrap();
+        let ratio = tuned / case.truth;
+        let ratio = if case.variance { ratio.sqrt() } else { ratio };
+        assert!(
+            (0.75..1.25).contains(&ratio),
+            "{}, from {start}: {tuned} for {} ({p})",
+            case.name,
+            case.truth
+        );
+        // The written line: the key's value, one per scalar.
+        let text = std::fs::read_to_string(&written).unwrap();
+        assert!(text.starts_with("# The ship's own sensor"), "{text}");
+        let name = case.key.rsplit('.').next().unwrap();
+        let line = text
+            .lines()
+            .find_map(|l| l.strip_prefix(&format!("{name} = ")))
+            .unwrap_or_else(|| panic!("no {name} in {text}"));
+        let values: Vec<f64> = line
+            .trim_matches(|c| c == '[' || c == ']')
+            .split(',')
+            .map(|x| x.trim().parse().unwrap())
+            .collect();
+        assert_eq!(values.len(), case.scalars, "{line}");
+        for w in values {
+            assert!((w / tuned - 1.0).abs() < 1e-12, "{text}");
         }
     }
 }

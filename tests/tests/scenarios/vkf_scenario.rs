@@ -12,6 +12,7 @@
 //!   error (about 1 cm/s, i.e. about 2 m over 190 s).
 
 use models::vkf::{run_log, simulation, SOLUTIONS};
+use rayon::prelude::*;
 
 const SEEDS: [u64; 3] = [1, 2, 3];
 
@@ -104,12 +105,17 @@ fn median(mut v: Vec<f64>) -> f64 {
 /// error states, is now within a small factor of the calibrated INS-DVL's.
 #[test]
 fn the_map_state_vkf_meets_its_goals_over_20_seeds() {
-    let (mut real, mut paper) = (Vec::new(), Vec::new());
-    for seed in 1..=20 {
-        let logs = simulation::simulate(seed);
-        real.push(run_log(&logs.realistic).unwrap().1);
-        paper.push(run_log(&logs.paper).unwrap().1);
-    }
+    // The seeds on both cores: this test is the longest of the suite.
+    let (real, paper): (Vec<_>, Vec<_>) = (1..=20u64)
+        .into_par_iter()
+        .map(|seed| {
+            let logs = simulation::simulate(seed);
+            (
+                run_log(&logs.realistic).unwrap().1,
+                run_log(&logs.paper).unwrap().1,
+            )
+        })
+        .unzip();
     let med = |runs: &[models::vkf::RunScores], f: &dyn Fn(&models::vkf::RunScores) -> f64| {
         median(runs.iter().map(f).collect())
     };
