@@ -390,6 +390,32 @@ impl Meta {
         slots.into_iter().find(|(k, _)| *k == field).map(|(_, v)| v)
     }
 
+    /// The sensor of `key` when it names a field its section would have
+    /// (`sensors.dvl.noise_sigma`) but the file has no such section.
+    fn missing_section_of<'k>(&mut self, key: &'k str) -> Option<&'k str> {
+        let mut parts = key.split('.');
+        let (Some("sensors"), Some(sensor), Some(field), None) =
+            (parts.next(), parts.next(), parts.next(), parts.next())
+        else {
+            return None;
+        };
+        let known_field = if sensor == "imu" {
+            self.sensors.imu.is_none()
+                && imu_sigmas(&mut ImuNoise {
+                    gyro_bias_sigma: 0.0,
+                    gyro_noise_sigma: 0.0,
+                    accel_bias_sigma: 0.0,
+                    accel_noise_sigma: 0.0,
+                })
+                .iter()
+                .any(|(k, _)| *k == field)
+        } else {
+            matches!(self.sensors.aiding_mut(sensor), Some(None))
+                && ["noise_sigma", "bias_sigma"].contains(&field)
+        };
+        known_field.then_some(sensor)
+    }
+
     /// Sets noise parameter `key` (which the file must give) to `value`.
     ///
     /// # Errors
@@ -408,7 +434,18 @@ impl Meta {
             .into_iter()
             .map(|(k, _)| k)
             .collect();
+        let missing = self.missing_section_of(key);
         let Some(slot) = self.noise_parameter_mut(key) else {
+            if let Some(sensor) = missing {
+                return Err(LogError::meta(
+                    key,
+                    format!(
+                        "this meta.toml has no [sensors.{sensor}] section: the model's built-in \
+                         sigmas are used; add the section (with the data sheet's values) to set \
+                         or tune them"
+                    ),
+                ));
+            }
             let known: Vec<&str> = known.iter().map(String::as_str).collect();
             return Err(LogError::meta(
                 key,
@@ -1291,7 +1328,18 @@ mod noise_parameter_tests {
                 1.0,
                 "did you mean `sensors.dvl.noise_sigma`",
             ),
-            ("sensors.depth.noise_sigma", 1.0, "not a noise parameter"),
+            // A sensor whose section the file lacks: the section is named.
+            (
+                "sensors.depth.noise_sigma",
+                1.0,
+                "no [sensors.depth] section",
+            ),
+            (
+                "sensors.depth.bias_sigma",
+                1.0,
+                "no [sensors.depth] section",
+            ),
+            ("sensors.depth.noise", 1.0, "not a noise parameter"),
             ("sensors.dvl", 1.0, "not a noise parameter"),
             ("initial.lat", 1.0, "not a noise parameter"),
             ("sensors.dvl.noise_sigma", -1.0, "not a sigma"),

@@ -368,6 +368,20 @@ fn what_cannot_be_tuned_is_said_with_the_reason() {
         assert!(e.contains(says), "{args:?}: {e}");
         assert!(stdout(&o).is_empty(), "{args:?}");
     }
+    // A sensor whose section meta.toml lacks: the section is named (the
+    // message said only "not a noise parameter").
+    let (_d, no_depth) = variant("tune-no-depth", |m| m.sensors.depth = None);
+    let o = navsim(&[
+        "tune",
+        no_depth.to_str().unwrap(),
+        "--model",
+        "sdins25",
+        "--params",
+        "sensors.depth.noise_sigma",
+    ]);
+    assert!(!o.status.success());
+    let e = stderr(&o);
+    assert!(e.contains("no [sensors.depth] section"), "{e}");
 }
 
 /// Survey seed 5137 with the DVL and IMU sigmas ten times too large and
