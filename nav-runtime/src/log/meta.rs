@@ -399,21 +399,25 @@ impl Meta {
         else {
             return None;
         };
-        let known_field = if sensor == "imu" {
-            self.sensors.imu.is_none()
-                && imu_sigmas(&mut ImuNoise {
-                    gyro_bias_sigma: 0.0,
-                    gyro_noise_sigma: 0.0,
-                    accel_bias_sigma: 0.0,
-                    accel_noise_sigma: 0.0,
-                })
-                .iter()
-                .any(|(k, _)| *k == field)
+        // The keys a section would have, from the one list of each.
+        let (missing, keys): (bool, Vec<&str>) = if sensor == "imu" {
+            let mut blank = ImuNoise {
+                gyro_bias_sigma: 0.0,
+                gyro_noise_sigma: 0.0,
+                accel_bias_sigma: 0.0,
+                accel_noise_sigma: 0.0,
+            };
+            let keys = imu_sigmas(&mut blank).map(|(k, _)| k).to_vec();
+            (self.sensors.imu.is_none(), keys)
         } else {
-            matches!(self.sensors.aiding_mut(sensor), Some(None))
-                && ["noise_sigma", "bias_sigma"].contains(&field)
+            let mut blank = SensorNoise {
+                noise_sigma: 0.0,
+                bias_sigma: 0.0,
+            };
+            let keys = aiding_sigmas(&mut blank).map(|(k, _)| k).to_vec();
+            (matches!(self.sensors.aiding_mut(sensor), Some(None)), keys)
         };
-        known_field.then_some(sensor)
+        (missing && keys.contains(&field)).then_some(sensor)
     }
 
     /// Sets noise parameter `key` (which the file must give) to `value`.
