@@ -948,11 +948,11 @@ impl Range {
             // noise as well.
             Range::Noise => v > 0.0 && v * v > 0.0 && (v * v).is_finite(),
             Range::AngleSigma => (0.0..=PI).contains(&v),
-            Range::AngleNoise => v * v > 0.0 && v <= PI,
+            Range::AngleNoise => v > 0.0 && v * v > 0.0 && v <= PI,
             Range::LeverArm => v.abs() <= MAX_LEVER_ARM,
             Range::Speed => v.abs() <= MAX_SPEED,
-            Range::Prior => v * v > 0.0 && (v * v).is_finite(),
-            Range::AnglePrior => v * v > 0.0 && v <= PI,
+            Range::Prior => v > 0.0 && v * v > 0.0 && (v * v).is_finite(),
+            Range::AnglePrior => v > 0.0 && v * v > 0.0 && v <= PI,
         };
         if ok {
             Ok(())

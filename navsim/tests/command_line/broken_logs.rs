@@ -491,6 +491,24 @@ fn cases() -> Vec<Case> {
             Here,
         ),
         (
+            // A negative sigma squared is a variance all the same: it was
+            // taken silently (so was a negative heading noise sigma).
+            "[initial_sigma] velocity negative",
+            "values",
+            |d| meta_key(d, "initial_sigma", "velocity", "velocity = -0.1"),
+            SDINS,
+            Error(&["meta.toml", "initial_sigma.velocity", "must be > 0"]),
+            Here,
+        ),
+        (
+            "heading noise sigma negative",
+            "sigmas",
+            |d| meta_key(d, "sensors.heading", "noise_sigma", "noise_sigma = -0.01"),
+            SDINS,
+            Error(&["meta.toml", "sensors.heading.noise_sigma", "must be > 0"]),
+            Here,
+        ),
+        (
             "[initial_sigma] heading 0",
             "values",
             |d| meta_key(d, "initial_sigma", "heading", "heading = 0"),
