@@ -283,6 +283,15 @@ pub fn cmd_scenario(args: &ScenarioArgs) -> Result<(), RunError> {
     if runs == 0 {
         return Err(RunError::Invalid("--runs must be at least 1".into()));
     }
+    // The seeds are `seed .. seed + runs - 1`: past u64's end they wrapped
+    // to 0 with no word (and the summary named a meaningless range).
+    if args.seed.checked_add(runs as u64 - 1).is_none() {
+        return Err(RunError::Invalid(format!(
+            "--seed {} with --runs {runs}: the last seed would pass {}; give a smaller --seed",
+            args.seed,
+            u64::MAX
+        )));
+    }
     let mut options = run_options(
         scenario.as_ref(),
         &args.faults,

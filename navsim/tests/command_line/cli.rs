@@ -48,6 +48,17 @@ fn bad_values_are_one_line_errors() {
     assert!(line.contains("--seed"), "{line}");
     let line = one_line_error(&navsim(&["scenario", DEMO, "--runs", "0"]));
     assert!(line.contains("--runs"), "{line}");
+    // Seeds past u64's end wrapped to 0 with no word.
+    let last = u64::MAX.to_string();
+    let line = one_line_error(&navsim(&["scenario", DEMO, "--seed", &last, "--runs", "2"]));
+    assert!(
+        line.contains("--seed") && line.contains("--runs 2"),
+        "{line}"
+    );
+    let v = json(&navsim(&[
+        "scenario", DEMO, "--seed", &last, "--runs", "1", "--json",
+    ]));
+    assert_eq!(v["runs"], 1, "{v}");
     let line = one_line_error(&navsim(&["scenario", DEMO, "--shard", "5/4", "--out", "x"]));
     assert!(line.contains("5/4"), "{line}");
     let line = one_line_error(&navsim(&["scenario", DEMO, "--faults", "gremlins"]));
