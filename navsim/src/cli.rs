@@ -9,7 +9,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
-use nav_runtime::log::Warning;
+use nav_runtime::log::{Warning, WarningKind};
 use serde_json::Value;
 
 use models::harness::{
@@ -399,7 +399,7 @@ pub fn cmd_check(args: &CheckArgs) -> Result<(), RunError> {
                 Ok(notes) => warnings.extend(notes),
                 Err(e) => {
                     let e = preflight::explained(e, &report);
-                    errors.push(nav_replay::model_note(one_line(&e.to_string())));
+                    errors.push(e.finding(WarningKind::Model));
                 }
             }
         }

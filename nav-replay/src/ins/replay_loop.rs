@@ -315,7 +315,11 @@ where
                     ))
                 );
                 if matches!(e, NavigatorError::OutOfBounds { .. }) {
-                    RunError::Diverged(message)
+                    RunError::Diverged {
+                        message,
+                        file: Some("imu.csv".into()),
+                        line,
+                    }
                 } else {
                     RunError::Invalid(message)
                 }
@@ -555,6 +559,7 @@ fn plan_run<V: InsVehicle<N>, const N: usize>(
     facts: &LogFacts,
 ) -> Result<(LogPlan, Aiding), RunError> {
     let plan0 = LogPlan::new(source.meta(), facts, [0.0; SENSORS], V::INITIAL_SIGMA)?;
+    plan0.within(&options.bounds)?;
     let aiding = Aiding::new::<V, N>(options, plan0.transducer);
     let (usbl_latency, has_usbl) = aiding.usbl_latency(source)?;
     let latencies: [f64; SENSORS] = std::array::from_fn(|i| {

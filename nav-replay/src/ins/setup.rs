@@ -285,6 +285,7 @@ pub fn initial_vehicle_filter<V: InsVehicle<N>, const N: usize>(
     log.meta.initial.position_for(V::REPLAY_NAME)?;
     let (facts, _, _) = LogFacts::of(&LogSource::Memory(log), options)?;
     let plan = LogPlan::new(&log.meta, &facts, [0.0; SENSORS], V::INITIAL_SIGMA)?;
+    plan.within(&options.bounds)?;
     let (mut builder, _) = plan.builder::<V, N>(options);
     super::calibration::register(&mut builder, &log.meta)?;
     builder.initial_filter(&plan.first).map_err(setup_error)
@@ -724,6 +725,27 @@ impl LogPlan {
             transducer,
             declination: facts.declination.map_or(0.0, |d| d.0),
         })
+    }
+
+    /// An error naming the `[initial]` key when the initial state is
+    /// already outside `bounds`: the run would stop at its first sample
+    /// with a divergence blamed on the noise settings.
+    pub(super) fn within(&self, bounds: &Bounds) -> Result<(), RunError> {
+        let v = self.initial.velocity;
+        let speed = v.norm();
+        if speed > bounds.max_speed_mps {
+            let key = ["vn", "ve", "vd"][v.iamax()];
+            return Err(nav_runtime::log::LogError::Meta {
+                key: format!("initial.{key}"),
+                line: None,
+                problem: format!(
+                    "the initial speed |(vn, ve, vd)| = {speed} m/s exceeds the {} m/s of a physical estimate (FilterOptions::bounds): the run would stop at its first sample",
+                    bounds.max_speed_mps
+                ),
+            }
+            .into());
+        }
+        Ok(())
     }
 
     /// The builder with every sensor `V` has, and their handles.

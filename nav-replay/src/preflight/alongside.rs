@@ -58,7 +58,15 @@ pub fn check_alongside<T>(
 /// --model` words it as `replay` does), any other error as it is.
 pub fn explained(e: RunError, report: &Report) -> RunError {
     match e {
-        RunError::Diverged(message) => RunError::Diverged(with_evidence(message, report)),
+        RunError::Diverged {
+            message,
+            file,
+            line,
+        } => RunError::Diverged {
+            message: with_evidence(message, report),
+            file,
+            line,
+        },
         e => e,
     }
 }

@@ -325,7 +325,7 @@ pub fn tune(
         // The given sigmas make the filter diverge (too small a noise
         // lets it trust a reading or its own solution too much): start
         // from larger ones, which the likelihood then brings down.
-        Err(RunError::Diverged(why)) => {
+        Err(RunError::Diverged { message: why, .. }) => {
             let mut started = None;
             for power in 1..=DIVERGED_RETRIES {
                 let scale = 10f64.powi(power);
@@ -349,14 +349,14 @@ pub fn tune(
                         started = Some(run);
                         break;
                     }
-                    Err(RunError::Diverged(_)) => continue,
+                    Err(RunError::Diverged { .. }) => continue,
                     Err(e) => return Err(e),
                 }
             }
             match started {
                 Some(run) => (run, None),
                 None => {
-                    return Err(RunError::Diverged(format!(
+                    return Err(RunError::diverged(format!(
                     "{why}; with every tuned sigma up to {} times larger too: nothing to tune from",
                     10f64.powi(DIVERGED_RETRIES)
                 )))
@@ -719,7 +719,7 @@ pub fn tune(
                 }
                 // The given value of such a parameter makes the filter
                 // diverge: the last step's value stays, said so.
-                Err(RunError::Diverged(_)) => {
+                Err(RunError::Diverged { .. }) => {
                     for i in 0..params.len() {
                         if let Some(why) = why_not[i].as_mut() {
                             if center_values[i].1 != params[i].1 {

@@ -34,7 +34,7 @@ impl ReplayModel for Known {
     fn replay(&self, log: &LogDir, _: &ReplayOptions) -> Result<ReplayOutput, RunError> {
         let sigma = log.meta.sensors.dvl.map_or(f64::NAN, |s| s.noise_sigma);
         if sigma < self.diverges_below {
-            return Err(RunError::Diverged(format!("sigma {sigma} too small")));
+            return Err(RunError::diverged(format!("sigma {sigma} too small")));
         }
         let mut totals = InnovationTotals::default();
         for z in standard_normals(2000) {
@@ -412,7 +412,7 @@ fn a_filter_that_diverges_from_every_start_is_an_error_saying_so() {
         &|_, _| {},
     )
     .unwrap_err();
-    assert!(matches!(e, RunError::Diverged(_)), "{e}");
+    assert!(matches!(e, RunError::Diverged { .. }), "{e}");
     assert!(e.to_string().contains("nothing to tune from"), "{e}");
 }
 

@@ -481,6 +481,16 @@ fn cases() -> Vec<Case> {
             Here,
         ),
         (
+            // Within the key's range but beyond the estimate's bound: the
+            // run stopped at its first sample blaming the noise settings.
+            "[initial] ve 400 beyond the estimate's bound",
+            "values",
+            |d| meta_key(d, "initial", "ve", "ve = -400"),
+            SDINS,
+            Error(&["meta.toml", "initial.ve", "exceeds the 300 m/s"]),
+            Here,
+        ),
+        (
             // A zero prior made the covariance singular: the NEES of 5.8e14
             // that followed was blamed on truth.csv.
             "[initial_sigma] position 0",
@@ -2089,4 +2099,16 @@ fn check_words_a_divergence_as_replay_does() {
     // `check` counts its problems first ("1 problem(s) found; first: ").
     let message = replay.trim_start_matches("error: ");
     assert!(check.ends_with(message), "check: {check}\nreplay: {replay}");
+    // The JSON says where, as every other error of `check` does: the IMU
+    // line named in the message (file and line were null).
+    let o = navsim(&["check", d, "--model", "sdins25", "--json"]);
+    assert_eq!(o.status.code(), Some(1), "{}", stdout(&o));
+    let v: Value = serde_json::from_str(stdout(&o).trim()).expect("one JSON line");
+    let error = &v["errors"][0];
+    assert_eq!(error["file"], "imu.csv", "{v}");
+    let line = error["line"]
+        .as_u64()
+        .unwrap_or_else(|| panic!("no line: {v}"));
+    let text = error["message"].as_str().unwrap_or_default();
+    assert!(text.contains(&format!("imu.csv line {line} ")), "{v}");
 }
