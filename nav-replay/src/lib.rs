@@ -34,6 +34,7 @@ pub mod tune;
 pub use error::RunError;
 pub use nav_ins::{RunHealth, SensorHealth};
 pub use replay_model::{
-    meta_note, missing_section, model_note, OwnMapping, ReplayModel, ReplayOptions, ReplayOutput,
+    covariance_repairs, meta_note, missing_section, model_note, nees_not_a_number, OwnMapping,
+    ReplayModel, ReplayOptions, ReplayOutput,
 };
 pub use run::{metric_values, progress_bar, write_run_tables, ProgressBar, RunResult, RunTable};

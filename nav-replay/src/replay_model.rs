@@ -72,6 +72,32 @@ pub fn model_note(message: impl Into<String>) -> Warning {
     }
 }
 
+/// The warning that the filter repaired its covariance `repairs` times
+/// (a variance not positive and finite reset: docs/runtime.md), `None`
+/// for none: after a repair the sigmas, the NEES and the NIS describe a
+/// covariance the filter did not compute, and its estimate may be no
+/// better (absurd noise settings are the usual cause).
+pub fn covariance_repairs(repairs: u64) -> Option<Warning> {
+    (repairs > 0).then(|| {
+        model_note(format!(
+            "the filter repaired its covariance {repairs} time(s): its sigmas are not reliable \
+             (a variance that was not positive and finite was reset; noise settings far from \
+             the sensors'?)"
+        ))
+    })
+}
+
+/// The warning that the mean NEES against `file` is not a number: the
+/// covariance at a scored time could not be inverted, and the scores are
+/// not described by the filter's sigmas at all.
+/// The filter's fault, not the file's: the warning names no file.
+pub fn nees_not_a_number(file: &str) -> Warning {
+    model_note(format!(
+        "the mean NEES against {file} is not a number: the filter's covariance at a \
+         scored time was not positive definite and finite; its sigmas mean nothing here"
+    ))
+}
+
 /// A note of a replay model about key `key` of `meta.toml` (kind
 /// [`WarningKind::Model`]).
 pub fn meta_note(key: &str, message: impl Into<String>) -> Warning {

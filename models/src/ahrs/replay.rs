@@ -369,12 +369,16 @@ pub fn replay_source(
     );
     let span = first_t.map_or(0.0, |first| last_t - first);
     m.insert("replayed_seconds".into(), Value::from(span));
+    let repairs = stream.filter().ekf().counters().covariance_repairs;
+    output
+        .warnings
+        .extend(nav_replay::covariance_repairs(repairs));
     let health = RunHealth {
         sensors: vec![
             ("gravity".into(), counts.gravity),
             ("mag".into(), counts.mag),
         ],
-        covariance_repairs: stream.filter().ekf().counters().covariance_repairs,
+        covariance_repairs: repairs,
         replays: None,
         imu_gaps: Some(counts.imu_gaps),
         // No release rule: a refused reading stays refused.

@@ -615,6 +615,7 @@ impl ReplayModel for Leveling6Replay {
             (run, None)
         };
         let runtime_s = start.elapsed().as_secs_f64();
+        warnings.extend(nav_replay::covariance_repairs(run.repairs));
         let mut out = ReplayOutput {
             samples: run.samples,
             runtime_s,

@@ -343,6 +343,7 @@ pub(super) fn output_of<V: InsVehicle<N>, const N: usize>(
     out.warnings.extend(run.warnings.iter().cloned());
     out.warnings
         .extend(unapplied_sensors(&run.health, &run.ignored));
+    out.warnings.extend(crate::covariance_repairs(run.repairs));
     if let Some(s) = &scored {
         for (k, v) in [
             ("horizontal_error_final_m", s.horizontal_error_final_m),
@@ -365,7 +366,9 @@ pub(super) fn output_of<V: InsVehicle<N>, const N: usize>(
         // the innovations tell: a filter whose aiding innovations were
         // bad too (many rows gated) is wrong itself (or its inputs are);
         // with innovations in line, the truth does not describe this run.
-        if s.nees_mean > NEES_WARN_FACTOR * NAV_NEES_DOF {
+        if !s.nees_mean.is_finite() {
+            out.warnings.push(crate::nees_not_a_number("truth.csv"));
+        } else if s.nees_mean > NEES_WARN_FACTOR * NAV_NEES_DOF {
             let (gated, applied) = run.health.iter().fold((0u64, 0u64), |(g, a), (_, h)| {
                 (g + h.gated, a + h.accepted + h.gated)
             });

@@ -805,24 +805,18 @@ fn warn_about_result(run: &mut ModelRun, truth_file: Option<&str>) {
             format!("skipped {r}"),
         ));
     }
-    if run.covariance_repairs > 0 {
-        warnings.push(Warning {
-            kind: WarningKind::Model,
-            file: None,
-            line: None,
-            key: None,
-            message: format!(
-                "the filter repaired its covariance {} time(s): its sigmas are not reliable",
-                run.covariance_repairs
-            ),
-        });
-    }
+    warnings.extend(crate::covariance_repairs(run.covariance_repairs));
     if let Some(file) = truth_file {
         // The same rule as the NIS: a filter whose sigmas do not cover its
         // errors (or far exceed them) gives RMS errors that its own sigmas
         // do not describe; forward and smoothed alike.
         let nees_warning = |t: &TruthScore, which: &str| {
             let dof = t.nees_dof as f64;
+            if !t.nees_mean.is_finite() {
+                let mut w = crate::nees_not_a_number(file);
+                w.message.insert_str(0, which);
+                return Some(w);
+            }
             (t.scored >= 20 && (t.nees_mean > 3.0 * dof || t.nees_mean < dof / 3.0)).then(|| {
                 Warning::about(
                     WarningKind::Suspicious,

@@ -794,6 +794,39 @@ fn cases() -> Vec<Case> {
             Here,
         ),
         (
+            // A finite square but no sensor's: the covariance was repaired
+            // 1586 times and the NEES was NaN (null in the JSON) beside a
+            // 1300 km error, with no warning.
+            "accelerometer noise sigma 1e50",
+            "sigmas",
+            |d| {
+                meta_key(
+                    d,
+                    "sensors.imu",
+                    "accel_noise_sigma",
+                    "accel_noise_sigma = 1e50",
+                )
+            },
+            SDINS,
+            Warn("model", "repaired its covariance"),
+            Here,
+        ),
+        (
+            "accelerometer noise sigma 1e50: the NEES",
+            "sigmas",
+            |d| {
+                meta_key(
+                    d,
+                    "sensors.imu",
+                    "accel_noise_sigma",
+                    "accel_noise_sigma = 1e50",
+                )
+            },
+            SDINS,
+            Warn("model", "NEES against truth.csv is not a number"),
+            Here,
+        ),
+        (
             "negative misalignment sigma",
             "sigmas",
             |d| {
