@@ -3,7 +3,7 @@
 //! (docs/tuning.md), in the JSON (`innovations`) and as a warning when the
 //! given sigma is off by more than a factor of two.
 
-use nav_runtime::innovations::InnovationTotals;
+use nav_runtime::innovations::{InnovationTotals, MAX_VARIANCE_STEP};
 use nav_runtime::log::{Warning, WarningKind};
 use serde_json::{json, Map, Value};
 
@@ -80,13 +80,23 @@ impl SensorInnovations {
             return None;
         }
         let nis = self.totals.nis_per_dof().unwrap_or(f64::NAN);
+        // The factor is held to one step of eq. T3 either way: at that
+        // bound the log supports at least (or at most) that much.
+        let step = MAX_VARIANCE_STEP.sqrt();
+        let bound = if f >= step * (1.0 - 1e-12) {
+            "at least "
+        } else if f <= (1.0 + 1e-12) / step {
+            "at most "
+        } else {
+            ""
+        };
         let given = match self.noise_sigma {
             Some(s) => format!(
-                "noise_sigma {s:.4} supports {:.4} (+-{:.0} %)",
+                "noise_sigma {s:.4} supports {bound}{:.4} (+-{:.0} %)",
                 s * f,
                 100.0 * e
             ),
-            None => format!("its sigmas support {f:.3} times the given ones"),
+            None => format!("its sigmas support {bound}{f:.3} times the given ones"),
         };
         let direction = if f > 1.0 {
             "too small (or the filter's process noise is, or the file's clock is off)"
@@ -184,6 +194,23 @@ mod tests {
                 0.1 * ratio,
                 max_relative = 1e-9
             );
+        }
+    }
+
+    #[test]
+    fn a_factor_held_at_one_step_is_said_to_be_a_bound() {
+        // (innovation / sigma, the message's words): one step of eq. T3 is
+        // a factor of 10 on the sigma; "supports 1.0000" for a sigma 30
+        // times too small claimed a value the log did not give.
+        let cases = [
+            (30.0, "supports at least 1.0000"),
+            (1.0 / 30.0, "supports at most 0.0100"),
+            (5.0, "supports 0.5000"),
+            (0.2, "supports 0.0200"),
+        ];
+        for (ratio, words) in cases {
+            let w = sensor(100, ratio).warning().expect("off by more than 2");
+            assert!(w.message.contains(words), "{ratio}: {}", w.message);
         }
     }
 }

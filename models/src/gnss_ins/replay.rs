@@ -285,7 +285,26 @@ pub fn replay_source(
             ));
         }
     }
+    warnings.extend(nav_replay::covariance_repairs(run.repairs));
+    // Per sensor with updates, as every replay with innovations reports
+    // them (the NIS and gated share, a warning for a sigma they say is
+    // off; what `navsim tune` fits: docs/tuning.md).
+    output.innovations = run
+        .innovations
+        .iter()
+        .filter(|s| ["gnss", "baro", "mag"].contains(&s.sensor.as_str()))
+        .cloned()
+        .collect();
+    warnings.extend(output.innovations.iter().filter_map(|s| s.warning()));
     let m = &mut output.metrics;
+    m.insert(
+        "innovations".into(),
+        nav_replay::innovations::innovations_json(&output.innovations),
+    );
+    m.insert(
+        "recoveries".into(),
+        nav_replay::ins::output::recoveries_json(&run.recoveries),
+    );
     let scored = scores.finish(Some(run.imu_span), m, warnings)?;
     let smoothed = smoothed
         .map(|s| s.finish(run.imu_span, m, warnings))

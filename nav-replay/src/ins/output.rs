@@ -309,6 +309,15 @@ pub fn unapplied_sensors(
     warnings
 }
 
+/// The JSON `recoveries`: each lock-out recovery's sensor, time and how
+/// long the sensor had been refused (docs/lockout.md, "Recovery").
+pub fn recoveries_json(recoveries: &[nav_ins::Recovery]) -> Value {
+    recoveries
+        .iter()
+        .map(|r| json!({"sensor": r.sensor, "t_s": r.t_s, "refused_for_s": r.refused_for_s}))
+        .collect()
+}
+
 /// The replay output of a run: metrics, warnings and (with `tables`) the
 /// error tables; `smoothed` is the smoothed run's scores (with truth) and,
 /// with `--smooth`, how many estimates got a smoothed counterpart.
@@ -439,17 +448,8 @@ pub(super) fn output_of<V: InsVehicle<N>, const N: usize>(
     out.warnings
         .extend(run.innovations.iter().filter_map(|s| s.warning()));
     out.innovations = run.innovations.clone();
-    out.metrics.insert(
-        "recoveries".into(),
-        Value::Array(
-            run.recoveries
-                .iter()
-                .map(
-                    |r| json!({"sensor": r.sensor, "t_s": r.t_s, "refused_for_s": r.refused_for_s}),
-                )
-                .collect(),
-        ),
-    );
+    out.metrics
+        .insert("recoveries".into(), recoveries_json(&run.recoveries));
     let last = run.final_filter.nominal().ins.state;
     let e = last.euler();
     out.metrics.insert(

@@ -52,6 +52,13 @@ pub trait Tunable: Sync {
     fn replay(&self, values: &[(String, f64)]) -> Result<Replayed, RunError>;
 }
 
+/// The aiding sensor whose noise sigma `key` of a `meta.toml` is
+/// (`sensors.<sensor>.noise_sigma`, not the IMU's).
+fn aiding_sensor(key: &str) -> Option<&str> {
+    let sensor = key.strip_prefix("sensors.")?.strip_suffix(".noise_sigma")?;
+    (sensor != "imu" && !sensor.contains('.')).then_some(sensor)
+}
+
 /// The sensor whose clock offset `key` is (the offset in seconds added to
 /// the times of its file, found by searching the sensor's innovation
 /// likelihood): `files.<sensor>.time.offset_s` of a `meta.toml`
@@ -226,7 +233,7 @@ impl Tunable for LogTuning<'_> {
         out.retain(|(k, _)| self.model.uses_noise_parameter(k));
         let clocks: Vec<(String, f64)> = out
             .iter()
-            .filter_map(|(k, _)| self.sensor_of(k))
+            .filter_map(|(k, _)| aiding_sensor(k))
             .filter_map(|s| Some((clock_key(s), self.files.mapping().time_offset(s)?)))
             .collect();
         out.extend(clocks);
@@ -267,7 +274,7 @@ impl Tunable for LogTuning<'_> {
             .filter(|k| {
                 k == "sensors.imu.gyro_noise_sigma"
                     || k == "sensors.imu.accel_noise_sigma"
-                    || self.sensor_of(k).is_some()
+                    || aiding_sensor(k).is_some()
                     || file_clock_of(k).is_some_and(mapped_time)
             })
             .collect()
@@ -276,8 +283,11 @@ impl Tunable for LogTuning<'_> {
         if let Some(name) = own_sensor(key) {
             return self.mapping_values(key).is_some().then_some(name);
         }
-        let sensor = key.strip_prefix("sensors.")?.strip_suffix(".noise_sigma")?;
-        (sensor != "imu" && !sensor.contains('.')).then_some(sensor)
+        // A GNSS fix's variance is its receiver's `eph`/`epv` squared with
+        // the section's sigma as a floor: it does not scale with the
+        // setting (eq. T3 would drive the floor to zero where `eph`
+        // dominates), so that key is tuned by its likelihood.
+        aiding_sensor(key).filter(|s| *s != "gnss")
     }
     fn mapping_values(&self, key: &str) -> Option<Vec<f64>> {
         if let Some(name) = own_sensor(key) {

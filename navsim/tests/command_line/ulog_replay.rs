@@ -449,3 +449,44 @@ fn gnss_ins_reports_the_accelerometer_bias_against_the_tilt() {
         "{weakest}"
     );
 }
+
+/// `gnss-ins` reports its sensors' innovations as every replay does (it
+/// reported none, so `tune --model gnss-ins` had nothing to tune from); a
+/// GNSS fix's sigma is the receiver's `eph`/`epv` with the section's as a
+/// floor, so its innovations give a factor, not a sigma, and tuning weighs
+/// that key by its likelihood (by eq. T3 it went from 0.5 to 5e-8 m,
+/// "identifiable", a floor below every `eph` that changed nothing).
+#[test]
+fn gnss_ins_reports_innovations_and_tunes_the_gnss_floor_by_likelihood() {
+    let tmp = TempDir::new("ulog-gnss-ins-tune");
+    let dir = import(&tmp);
+    let v = replay(&dir, "gnss-ins", &[]);
+    let innovations = &v["innovations"];
+    for sensor in ["gnss", "baro", "mag"] {
+        let updates = num(innovations, &[sensor, "updates"]);
+        assert!(updates > 100.0, "{sensor}: {innovations}");
+    }
+    assert!(
+        innovations["gnss"]["supported_sigma"].is_null(),
+        "{innovations}"
+    );
+    assert!(num(innovations, &["gnss", "supported_factor"]) > 0.0);
+    assert!(num(innovations, &["mag", "supported_sigma"]) > 0.0);
+    let o = navsim(&[
+        "tune",
+        dir.to_str().unwrap(),
+        "--model",
+        "gnss-ins",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let t: Value = serde_json::from_str(&stdout(&o)).expect("one JSON object");
+    let gnss = &t["parameters"]["sensors.gnss.noise_sigma"];
+    assert_eq!(gnss["method"], "likelihood", "{t}");
+    let value = gnss["value"].as_f64().unwrap_or(f64::NAN);
+    assert!(value >= 0.05, "{gnss}");
+    assert_eq!(
+        t["parameters"]["sensors.mag.noise_sigma"]["method"],
+        "sensor innovations"
+    );
+}
