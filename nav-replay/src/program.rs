@@ -381,7 +381,7 @@ pub fn replay_with(model: &dyn ReplayModel, args: &ReplayArgs) -> Result<(), Run
             }
             let mut warnings: Vec<Warning> = read.warnings.clone();
             warnings.extend(rejected);
-            warnings.extend(report.warnings().cloned());
+            warnings.extend(preflight_beside(report, &notes));
             warnings.extend(notes);
             let mut value = report::replay_json(
                 model.name(),
@@ -561,6 +561,23 @@ pub fn preflight_options(
         ..PreflightOptions::default()
     };
     Ok((options, strictness))
+}
+
+/// The preflight's warnings beside a replay's `notes`: a file the model
+/// says it does not use (with its row count) is not listed again from the
+/// preflight's file list.
+pub fn preflight_beside(report: &preflight::Report, notes: &[Warning]) -> Vec<Warning> {
+    let unused_by_model = |w: &Warning| {
+        w.kind == WarningKind::UnusedFile
+            && notes
+                .iter()
+                .any(|n| n.kind == WarningKind::UnusedFile && n.file == w.file)
+    };
+    report
+        .warnings()
+        .filter(|w| !unused_by_model(w))
+        .cloned()
+        .collect()
 }
 
 /// Collapses a message to one line.

@@ -391,12 +391,12 @@ pub fn cmd_check(args: &CheckArgs) -> Result<(), RunError> {
     let mut errors: Vec<Warning> = report.errors().cloned().collect();
     let mut warnings = summary.warnings.clone();
     warnings.extend(files.rejected_warnings());
-    warnings.extend(report.warnings().cloned());
+    let mut notes = Vec::new();
     if let Some(model) = &model {
         // The preflight refuses first, as in `replay`.
         if errors.is_empty() {
             match check_with_model(model.as_ref(), args, strictness) {
-                Ok(notes) => warnings.extend(notes),
+                Ok(n) => notes = n,
                 Err(e) => {
                     let e = preflight::explained(e, &report);
                     errors.push(e.finding(WarningKind::Model));
@@ -404,6 +404,8 @@ pub fn cmd_check(args: &CheckArgs) -> Result<(), RunError> {
             }
         }
     }
+    warnings.extend(nav_replay::program::preflight_beside(&report, &notes));
+    warnings.extend(notes);
     let span = summary.imu_time_span();
     let imu_rows = summary.imu_rows();
     let mut value = serde_json::json!({

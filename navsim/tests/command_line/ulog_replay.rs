@@ -490,3 +490,36 @@ fn gnss_ins_reports_innovations_and_tunes_the_gnss_floor_by_likelihood() {
         "sensor innovations"
     );
 }
+
+/// A file the model does not read is one warning, the model's (with its
+/// row count): the preflight's file list said it a second time.
+#[test]
+fn a_file_the_model_does_not_read_is_said_once() {
+    let tmp = TempDir::new("ulog-unused-once");
+    let dir = import(&tmp);
+    std::fs::write(
+        dir.join("dvl.csv"),
+        "t,vx,vy,vz\n10.0,1.0,0.0,0.0\n11.0,1.0,0.0,0.0\n",
+    )
+    .expect("dvl.csv");
+    let o = navsim(&[
+        "check",
+        dir.to_str().unwrap(),
+        "--model",
+        "gnss-ins",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let check: Value = serde_json::from_str(&stdout(&o)).expect("one JSON object");
+    for v in [replay(&dir, "gnss-ins", &[]), check] {
+        let unused: Vec<&Value> = v["warnings"]
+            .as_array()
+            .expect("warnings")
+            .iter()
+            .filter(|w| w["kind"] == "unused_file" && w["file"] == "dvl.csv")
+            .collect();
+        assert_eq!(unused.len(), 1, "{unused:?}");
+        let message = unused[0]["message"].as_str().unwrap_or("");
+        assert!(message.contains("2 rows"), "{unused:?}");
+    }
+}
