@@ -236,7 +236,9 @@ pub fn replay_source(
                     accel: Vector3::new(row.ax, row.ay, row.az),
                 };
                 let started = Instant::now();
-                let step = stream.push_imu(row.t, sample)?;
+                let step = stream
+                    .push_imu(row.t, sample)
+                    .map_err(|e| at_line(e, located.line))?;
                 filter_time += started.elapsed();
                 if step == ImuStep::Gap {
                     continue;
@@ -403,6 +405,19 @@ pub fn replay_source(
         None => output.tables = tables,
     }
     Ok(output)
+}
+
+/// A divergence at an IMU row, with the row's line in the message and
+/// the error's place (`navsim check --model` gives it in the JSON).
+fn at_line(e: RunError, line: Option<u64>) -> RunError {
+    match (e, line) {
+        (RunError::Diverged { message, file, .. }, Some(l)) => RunError::Diverged {
+            message: format!("imu.csv line {l}: {message}"),
+            file,
+            line: Some(l),
+        },
+        (e, _) => e,
+    }
 }
 
 /// The smoothed rows of the estimates table (`smoothed.csv`) and their

@@ -19,7 +19,8 @@ use std::cell::RefCell;
 use std::rc::Rc;
 
 use nav_runtime::scheduler::{
-    FnMeasurement, Measurement, MeasurementOutcome, Report, Scheduler, SensorId, SensorStats,
+    FnMeasurement, Measurement, MeasurementOutcome, Report, Scheduler, SchedulerError, SensorId,
+    SensorStats,
 };
 use nav_runtime::smoother::{EpochFile, Observability, SmootherError};
 
@@ -268,10 +269,16 @@ impl AhrsStream {
             }
         }
         self.hand_over_waiting(t);
-        let reports = self
-            .scheduler
-            .push_imu(t, imu)
-            .map_err(|e| RunError::Invalid(format!("ahrs: imu.csv t = {t}: {e}")))?;
+        let reports = self.scheduler.push_imu(t, imu).map_err(|e| match e {
+            // The filter's own state stopped being finite: a divergence
+            // (the replay adds the line and weighs the inputs).
+            SchedulerError::Propagation(_) => RunError::Diverged {
+                message: format!("ahrs: the estimate stopped being finite at t = {t} s: {e}"),
+                file: Some("imu.csv".into()),
+                line: None,
+            },
+            e => RunError::Invalid(format!("ahrs: imu.csv t = {t}: {e}")),
+        })?;
         self.note(&reports);
         self.counts.samples += 1;
         Ok(ImuStep::Propagated {

@@ -16,6 +16,7 @@ use nav_runtime::log::{
     ImuRow, LogDir, LogSource, MagRow, UsblRow, Warning, WarningKind,
 };
 use nav_runtime::nalgebra::Vector3;
+use nav_runtime::scheduler::SchedulerError;
 use nav_runtime::smoother::{observability, smooth_states, EpochFile, SmootherError, SpillFile};
 use nav_runtime::strapdown::RateSamples;
 
@@ -301,7 +302,9 @@ where
             });
         }
         pushed.map_err(|e| match e {
-            NavigatorError::Imu(e) => {
+            // A refused sample; a propagation the filter could not take
+            // (its own state no longer finite) is a divergence, below.
+            NavigatorError::Imu(e) if !matches!(e, SchedulerError::Propagation(_)) => {
                 RunError::Invalid(format!("imu.csv at t = {} s ({}): {e}", row.t, here()))
             }
             e => {
@@ -314,7 +317,11 @@ where
                         ev.place()
                     ))
                 );
-                if matches!(e, NavigatorError::OutOfBounds { .. }) {
+                if matches!(
+                    e,
+                    NavigatorError::OutOfBounds { .. }
+                        | NavigatorError::Imu(SchedulerError::Propagation(_))
+                ) {
                     RunError::Diverged {
                         message,
                         file: Some("imu.csv".into()),

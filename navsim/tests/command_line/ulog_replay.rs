@@ -523,3 +523,41 @@ fn a_file_the_model_does_not_read_is_said_once() {
         assert!(message.contains("2 rows"), "{unused:?}");
     }
 }
+
+/// An estimate that stops being finite in a propagation is a divergence
+/// at its IMU line, weighed against the preflight as an estimate out of
+/// bounds is (`ahrs` gave a time, no line and no word on the likely cause;
+/// `gnss-ins` a plain error).
+#[test]
+fn a_propagation_that_is_not_finite_is_a_divergence_at_its_line() {
+    let tmp = TempDir::new("ulog-propagation-diverges");
+    let dir = import(&tmp);
+    let meta = dir.join("meta.toml");
+    let text = std::fs::read_to_string(&meta).expect("meta.toml");
+    let edited = text.replace("gyro_noise_sigma = 1.5e-2", "gyro_noise_sigma = 1e50");
+    assert_ne!(edited, text, "the fixture's gyro noise line moved");
+    std::fs::write(&meta, edited).expect("meta.toml");
+    let d = dir.to_str().unwrap();
+    for model in ["ahrs", "gnss-ins"] {
+        let o = navsim(&["replay", d, "--model", model]);
+        assert_eq!(o.status.code(), Some(1), "{model}: {}", stdout(&o));
+        let err = stderr(&o);
+        assert!(
+            err.contains("check the model's noise settings"),
+            "{model}: {err}"
+        );
+        let o = navsim(&["check", d, "--model", model, "--json"]);
+        assert_eq!(o.status.code(), Some(1), "{model}: {}", stdout(&o));
+        let v: Value = serde_json::from_str(&stdout(&o)).expect("one JSON object");
+        let error = &v["errors"][0];
+        assert_eq!(error["file"], "imu.csv", "{model}: {v}");
+        let line = error["line"]
+            .as_u64()
+            .unwrap_or_else(|| panic!("{model}: no line: {v}"));
+        let message = error["message"].as_str().unwrap_or("");
+        assert!(
+            message.starts_with(&format!("imu.csv line {line}")),
+            "{model}: {v}"
+        );
+    }
+}
