@@ -241,7 +241,7 @@ pub enum LogError {
         problem: CsvProblem,
     },
     /// `meta.toml` is malformed, misses a key, has an unknown key or an out-of-range value.
-    #[error("meta.toml{}: `{key}`: {problem}", line.map(|l| format!(":{l}")).unwrap_or_default())]
+    #[error("meta.toml{}: {}{problem}", line.map(|l| format!(":{l}")).unwrap_or_default(), if key.is_empty() { String::new() } else { format!("`{key}`: ") })]
     Meta {
         /// The dotted key (e.g. `sensors.dvl.noise_sigma`); empty for syntax errors.
         key: String,
@@ -308,7 +308,9 @@ impl LogError {
     pub fn column(&self) -> Option<&str> {
         match self {
             LogError::Csv { column, .. } => Some(column),
-            LogError::Meta { key, .. } | LogError::Outside { key, .. } => Some(key),
+            LogError::Meta { key, .. } | LogError::Outside { key, .. } => {
+                (!key.is_empty()).then_some(key.as_str())
+            }
             LogError::MissingFile { key, .. } => key.as_deref(),
             _ => None,
         }

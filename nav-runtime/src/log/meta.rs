@@ -568,16 +568,22 @@ impl Meta {
         })?;
         let cx = Cx { text };
         let mut warnings = Vec::new();
-        for name in table.keys() {
+        for (name, value) in &table {
             if !TOP_LEVEL.contains(&name.as_str()) {
-                let line = cx.locate(name, "").or_else(|| {
-                    let prefix = format!("[{name}.");
-                    text.lines()
-                        .position(|l| l.trim_start().starts_with(&prefix))
-                        .map(|n| n as u64 + 1)
-                });
+                // A value outside any section (`foo = 3` above the first
+                // header) is a key, not a section.
+                let what = if value.is_table() { "section" } else { "key" };
+                let line = cx
+                    .locate(name, "")
+                    .or_else(|| cx.locate("", name))
+                    .or_else(|| {
+                        let prefix = format!("[{name}.");
+                        text.lines()
+                            .position(|l| l.trim_start().starts_with(&prefix))
+                            .map(|n| n as u64 + 1)
+                    });
                 let mut message = format!(
-                    "unknown section `{name}` ignored (sections read: {})",
+                    "unknown {what} `{name}` ignored (sections read: {})",
                     TOP_LEVEL.join(", ")
                 );
                 if let Some(close) = closest_name(name, TOP_LEVEL) {

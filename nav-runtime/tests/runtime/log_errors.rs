@@ -155,7 +155,8 @@ fn check(name: &str, err: &LogError, expect: &Expect) {
         }
         Expect::Meta(key, line) => {
             assert!(matches!(err, LogError::Meta { .. }), "{name}: {err:?}");
-            assert_eq!(err.column(), Some(*key), "{name}: {msg}");
+            // A syntax error names no key (`""` in the table).
+            assert_eq!(err.column().unwrap_or(""), *key, "{name}: {msg}");
             assert_eq!(err.line(), *line, "{name}: {msg}");
             assert!(msg.starts_with("meta.toml"), "{name}: {msg}");
         }
@@ -390,6 +391,30 @@ fn meta_unknown_sections_are_warnings_and_new_keys_are_read() {
     let log = LogDir::read(dir.path(), Strictness::Strict).unwrap();
     assert_eq!(log.warnings.len(), 1, "{:?}", log.warnings);
     assert!(log.warnings[0].to_string().starts_with("meta.toml:"));
+}
+
+/// A value above the first header is an unknown key at its line, not a
+/// section of no line; a syntax error names no empty key (it printed
+/// "meta.toml:1: ``: ...").
+#[test]
+fn meta_top_level_keys_and_syntax_errors_are_worded_for_what_they_are() {
+    let (_, warnings) =
+        Meta::parse_with_warnings("source = \"x\"\n[initial]\nlat = 0.1\nlon = 0.2\ndepth = 3\n")
+            .unwrap();
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert_eq!(warnings[0].line, Some(1), "{warnings:?}");
+    assert!(
+        warnings[0].message.starts_with("unknown key `source`"),
+        "{}",
+        warnings[0]
+    );
+    let e = Meta::parse("[initial\nlat = 1\n").unwrap_err();
+    assert_eq!(e.column(), None, "{e:?}");
+    let text = e.to_string();
+    assert!(
+        text.starts_with("meta.toml:1: ") && !text.contains("``"),
+        "{text}"
+    );
 }
 
 /// A symbolic link whose target is gone is an error naming the link, not
