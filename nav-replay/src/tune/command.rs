@@ -32,7 +32,7 @@ pub struct TuneFlags {
     #[arg(long)]
     pub write: Option<PathBuf>,
     /// Most forward replays of the log.
-    #[arg(long, default_value_t = 40, value_name = "N")]
+    #[arg(long, default_value_t = super::DEFAULT_MAX_REPLAYS, value_name = "N")]
     pub max_replays: usize,
 }
 

@@ -136,11 +136,17 @@ pub struct TuneOptions {
     pub max_replays: usize,
 }
 
+/// The default budget of forward replays: the sigma steps of the
+/// simulated Monte Carlo (docs/tuning.md) take up to 28, a clock search up
+/// to 18 more, and a clock that moves by a second makes the
+/// sigmas move again after it; a tuning that converges stops earlier.
+pub const DEFAULT_MAX_REPLAYS: usize = 100;
+
 impl Default for TuneOptions {
     fn default() -> Self {
         Self {
             params: Vec::new(),
-            max_replays: 40,
+            max_replays: DEFAULT_MAX_REPLAYS,
         }
     }
 }
