@@ -149,7 +149,7 @@ impl<'a> RunningScores<'a> {
             if (-row.depth - h0).abs() > TRUTH_DATUM_GAP_M {
                 self.datum = Some(format!(
                     "truth.csv: height {:.1} m at t = {} s, the initial height {h0:.1} m: the truth's \
-                     vertical datum differs (depth_error_rms_m and nees_mean are not meaningful)",
+                     vertical datum differs (depth_error_rms_m, nees_mean and nees_position_mean are not meaningful)",
                     -row.depth, row.t
                 ));
             }
@@ -206,6 +206,7 @@ impl<'a> RunningScores<'a> {
                     ("horizontal_error_rms_m", s.horizontal_error_rms_m),
                     ("depth_error_rms_m", s.depth_error_rms_m),
                     ("nees_mean", s.nees_mean),
+                    ("nees_position_mean", s.nees_position_mean),
                     ("scored_seconds", s.scored_seconds),
                 ] {
                     metrics.insert(k.into(), Value::from(v));

@@ -77,20 +77,22 @@ pub const SMOOTHED_TABLE: &str = "smoothed_errors";
 
 /// The error keys of a scored run, reported forward and (under `smoothed`)
 /// smoothed.
-pub const ERROR_KEYS: [&str; 4] = [
+pub const ERROR_KEYS: [&str; 5] = [
     "horizontal_error_final_m",
     "horizontal_error_rms_m",
     "depth_error_rms_m",
     "nees_mean",
+    "nees_position_mean",
 ];
 
 /// The values of [`ERROR_KEYS`] of a scored run.
-pub fn error_values(s: &Scored) -> [f64; 4] {
+pub fn error_values(s: &Scored) -> [f64; 5] {
     [
         s.horizontal_error_final_m,
         s.horizontal_error_rms_m,
         s.depth_error_rms_m,
         s.nees_mean,
+        s.nees_position_mean,
     ]
 }
 
@@ -112,6 +114,7 @@ pub fn metrics<V: InsVehicle<N>, const N: usize>(
             ("horizontal_error_rms_m".into(), s.horizontal_error_rms_m),
             ("depth_error_rms_m".into(), s.depth_error_rms_m),
             ("nees_mean".into(), s.nees_mean),
+            ("nees_position_mean".into(), s.nees_position_mean),
             ("scored_seconds".into(), s.scored_seconds),
             (
                 "compass_bias_error_final_deg".into(),

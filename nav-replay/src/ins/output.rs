@@ -359,6 +359,7 @@ pub(super) fn output_of<V: InsVehicle<N>, const N: usize>(
             ("horizontal_error_rms_m", s.horizontal_error_rms_m),
             ("depth_error_rms_m", s.depth_error_rms_m),
             ("nees_mean", s.nees_mean),
+            ("nees_position_mean", s.nees_position_mean),
             ("scored_seconds", s.scored_seconds),
         ] {
             out.metrics.insert(k.into(), Value::from(v));

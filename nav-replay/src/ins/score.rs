@@ -64,6 +64,10 @@ pub struct Scored {
     pub depth_error_rms_m: f64,
     /// Time average of the 9-state NEES.
     pub nees_mean: f64,
+    /// Time average of the position error's NEES (3 states: north, east,
+    /// down, with their block of the covariance): the filter's claim about
+    /// where it is, apart from its velocity and attitude.
+    pub nees_position_mean: f64,
     /// Compass-bias estimate error at the end (deg; NaN without a known bias).
     pub compass_bias_error_final_deg: f64,
     /// Filter sigma of the compass bias at the end (deg).
@@ -187,6 +191,7 @@ pub struct Scorer {
     h2: f64,
     d2: f64,
     nees_sum: f64,
+    nees_position_sum: f64,
     n: usize,
     reference_point: ReferencePointFit,
     out: Scored,
@@ -211,6 +216,7 @@ impl Scorer {
             h2: 0.0,
             d2: 0.0,
             nees_sum: 0.0,
+            nees_position_sum: 0.0,
             n: 0,
             reference_point: ReferencePointFit::default(),
             out: Scored::default(),
@@ -246,6 +252,9 @@ impl Scorer {
             p.x, p.y, p.z, err.dv_n.x, err.dv_n.y, err.dv_n.z, err.phi.x, err.phi.y, err.phi.z,
         ]);
         let nees = Cholesky::new(e.cov).map_or(f64::NAN, |c| x.dot(&c.solve(&x)));
+        let position = x.fixed_rows::<3>(0).into_owned();
+        let nees_position = Cholesky::new(e.cov.fixed_view::<3, 3>(0, 0).into_owned())
+            .map_or(f64::NAN, |c| position.dot(&c.solve(&position)));
         let horizontal = p.x.hypot(p.y);
         if !(horizontal.is_finite() && p.z.is_finite()) {
             return Err(ScoreError::NotFinite {
@@ -259,6 +268,7 @@ impl Scorer {
         self.h2 += horizontal * horizontal;
         self.d2 += p.z * p.z;
         self.nees_sum += nees;
+        self.nees_position_sum += nees_position;
         self.n += 1;
         self.out.horizontal_error_final_m = horizontal;
         let sig: [f64; 9] = std::array::from_fn(|i| e.cov[(i, i)].sqrt());
@@ -347,6 +357,7 @@ impl Scorer {
         out.horizontal_error_rms_m = (self.h2 / k).sqrt();
         out.depth_error_rms_m = (self.d2 / k).sqrt();
         out.nees_mean = self.nees_sum / k;
+        out.nees_position_mean = self.nees_position_sum / k;
         out.scored_seconds = self.t_last - self.t_first;
         out.scored_rows = n;
         out.reference_point = self.reference_point.finish();
@@ -373,4 +384,50 @@ pub fn nees_band_95(dof: usize, runs: usize) -> (f64, f64) {
     let r = runs.max(1) as f64;
     let q = |p: f64| chi_square_quantile(p, k).unwrap_or(f64::NAN) / r;
     (q(0.025), q(0.975))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nav_runtime::earth::meridian_radius;
+    use nav_runtime::nalgebra::SMatrix;
+
+    /// The position NEES weighs the position error by the position block
+    /// of the covariance alone: a velocity error the 9-state NEES counts
+    /// does not enter it.
+    #[test]
+    fn the_position_nees_is_that_of_the_position_block() {
+        let (lat, lon, depth) = (0.6, 2.2, 10.0);
+        let truth: Vec<TruthRow> = (0..3)
+            .map(|k| TruthRow::new(k as f64, lat, lon, depth, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0))
+            .collect();
+        // 2 m north of the truth with a sigma of 2 m (position NEES 1),
+        // 0.5 m/s too fast north with a sigma of 0.1 m/s (25 more).
+        let mut cov = SMatrix::<f64, 9, 9>::zeros();
+        for (i, sigma) in [2.0, 2.0, 2.0, 0.1, 0.1, 0.1, 1e-2, 1e-2, 1e-2]
+            .into_iter()
+            .enumerate()
+        {
+            cov[(i, i)] = sigma * sigma;
+        }
+        let estimates: Vec<Option<Estimate>> = truth
+            .iter()
+            .map(|r| {
+                let mut nav = truth_state(r);
+                nav.lat += 2.0 / (meridian_radius(lat) - depth);
+                nav.v_n.x += 0.5;
+                Some(Estimate {
+                    t: r.t,
+                    nav,
+                    cov,
+                    compass_bias: (0.0, f64::NAN),
+                    usbl_bias_n: (0.0, f64::NAN),
+                    baro_bias: (0.0, f64::NAN),
+                })
+            })
+            .collect();
+        let s = score(&estimates, &truth, None, None).expect("scored");
+        approx::assert_relative_eq!(s.nees_position_mean, 1.0, max_relative = 1e-6);
+        approx::assert_relative_eq!(s.nees_mean, 26.0, max_relative = 1e-6);
+    }
 }
