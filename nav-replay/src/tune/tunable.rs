@@ -275,6 +275,7 @@ impl Tunable for LogTuning<'_> {
                 k == "sensors.imu.gyro_noise_sigma"
                     || k == "sensors.imu.accel_noise_sigma"
                     || aiding_sensor(k).is_some()
+                    || self.sensor_of(k).is_some()
                     || file_clock_of(k).is_some_and(mapped_time)
             })
             .collect()
