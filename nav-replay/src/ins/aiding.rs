@@ -173,6 +173,9 @@ pub(super) struct Aiding {
     frame: LocalNed,
     options: FilterOptions,
     pub(super) warnings: Vec<Warning>,
+    /// A GNSS fix carried the receiver's `eph` or `epv` (its sigma is then
+    /// theirs, the section's only a floor).
+    pub(super) receiver_sigmas: bool,
 }
 
 impl Aiding {
@@ -211,6 +214,7 @@ impl Aiding {
             frame: LocalNed::new(transducer),
             options: *options,
             warnings: Vec::new(),
+            receiver_sigmas: false,
         }
     }
 
@@ -303,17 +307,16 @@ impl Aiding {
                     }),
                 )
             }
-            LogEvent::Gnss(r) => (
-                4,
-                r.t,
+            LogEvent::Gnss(r) => (4, r.t, {
+                self.receiver_sigmas |= r.eph.is_some() || r.epv.is_some();
                 Some(Reading::Gnss(GnssFix {
                     lat: r.lat,
                     lon: r.lon,
                     height: r.height,
                     eph: r.eph,
                     epv: r.epv,
-                })),
-            ),
+                }))
+            }),
             LogEvent::Baro(r) => (5, r.t, Some(Reading::Baro(r.altitude))),
             LogEvent::Mag(r) => (6, r.t, Some(Reading::Mag(Vector3::new(r.mx, r.my, r.mz)))),
             _ => return,

@@ -415,11 +415,12 @@ where
         .map(|&i| SensorInnovations {
             sensor: SENSOR_NAMES[i].to_string(),
             // The sigma the filter used: the section's, or the built-in
-            // one a `missing_sensor_section` warning names. A GNSS fix's
-            // sigma is its receiver's `eph`/`epv` with the section's as a
-            // floor: no one sigma, so the innovations give a factor on
+            // one a `missing_sensor_section` warning names. A GNSS fix
+            // with the receiver's `eph`/`epv` has theirs, the section's as
+            // a floor: no one sigma, so the innovations give a factor on
             // the sigmas used (docs/tuning.md).
-            noise_sigma: (SENSOR_NAMES[i] != "gnss").then_some(plan.sensors[i].noise_sigma),
+            noise_sigma: (SENSOR_NAMES[i] != "gnss" || !aiding.receiver_sigmas)
+                .then_some(plan.sensors[i].noise_sigma),
             gated: health[i].gated,
             setting: (
                 "meta.toml".into(),

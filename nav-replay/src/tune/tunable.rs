@@ -112,6 +112,9 @@ pub struct LogTuning<'a> {
     options: ReplayOptions,
     /// What `replay.toml` gives the sensors fed by name and the own noise.
     own: OwnMapping,
+    /// The GNSS fixes carry the receiver's `eph`/`epv`: the section's
+    /// sigma is then only a floor under them.
+    receiver_sigmas: bool,
 }
 
 impl<'a> LogTuning<'a> {
@@ -129,8 +132,28 @@ impl<'a> LogTuning<'a> {
             files,
             options,
             own: model.own_mapping(files)?,
+            receiver_sigmas: receiver_sigmas(files),
         })
     }
+}
+
+/// Whether a GNSS fix of the log carries the receiver's `eph` or `epv`
+/// (read on a reader of its own; a file that cannot be read says no, and
+/// the replays then say why).
+fn receiver_sigmas(files: &LogFiles) -> bool {
+    use nav_runtime::log::GnssRow;
+    let Ok(own) = LogFiles::open(files.dir(), files.strictness()) else {
+        return false;
+    };
+    let Ok(Some(mut rows)) = own.rows::<GnssRow>() else {
+        return false;
+    };
+    while let Ok(Some((_, r))) = rows.next_row() {
+        if r.eph.is_some() || r.epv.is_some() {
+            return true;
+        }
+    }
+    false
 }
 
 /// The sensor of key `sensors.<name>.sigma` (a sensor fed by name from
@@ -284,11 +307,11 @@ impl Tunable for LogTuning<'_> {
         if let Some(name) = own_sensor(key) {
             return self.mapping_values(key).is_some().then_some(name);
         }
-        // A GNSS fix's variance is its receiver's `eph`/`epv` squared with
-        // the section's sigma as a floor: it does not scale with the
-        // setting (eq. T3 would drive the floor to zero where `eph`
-        // dominates), so that key is tuned by its likelihood.
-        aiding_sensor(key).filter(|s| *s != "gnss")
+        // A GNSS fix with the receiver's `eph`/`epv` has their square as
+        // its variance, the section's sigma as a floor: it does not scale
+        // with the setting (eq. T3 would drive the floor to zero where
+        // `eph` dominates), so that key is tuned by its likelihood.
+        aiding_sensor(key).filter(|s| *s != "gnss" || !self.receiver_sigmas)
     }
     fn mapping_values(&self, key: &str) -> Option<Vec<f64>> {
         if let Some(name) = own_sensor(key) {
