@@ -89,8 +89,8 @@ pub fn covariance_repairs(repairs: u64) -> Option<Warning> {
 
 /// The warning that the mean NEES against `file` is not a number: the
 /// covariance at a scored time could not be inverted, and the scores are
-/// not described by the filter's sigmas at all.
-/// The filter's fault, not the file's: the warning names no file.
+/// not described by the filter's sigmas at all. It is the filter's fault,
+/// not the file's, so the warning names no file.
 pub fn nees_not_a_number(file: &str) -> Warning {
     model_note(format!(
         "the mean NEES against {file} is not a number: the filter's covariance at a \

@@ -307,16 +307,17 @@ impl Aiding {
                     }),
                 )
             }
-            LogEvent::Gnss(r) => (4, r.t, {
+            LogEvent::Gnss(r) => {
                 self.receiver_sigmas |= r.eph.is_some() || r.epv.is_some();
-                Some(Reading::Gnss(GnssFix {
+                let fix = GnssFix {
                     lat: r.lat,
                     lon: r.lon,
                     height: r.height,
                     eph: r.eph,
                     epv: r.epv,
-                }))
-            }),
+                };
+                (4, r.t, Some(Reading::Gnss(fix)))
+            }
             LogEvent::Baro(r) => (5, r.t, Some(Reading::Baro(r.altitude))),
             LogEvent::Mag(r) => (6, r.t, Some(Reading::Mag(Vector3::new(r.mx, r.my, r.mz)))),
             _ => return,
