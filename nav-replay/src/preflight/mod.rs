@@ -36,6 +36,7 @@ pub(crate) mod frozen_imu;
 mod gyro_rate;
 mod heading_units;
 mod initial_point;
+mod initial_velocity;
 mod partial_rows;
 mod sensor_sections;
 mod specific_force;
@@ -201,6 +202,11 @@ fn summary_file<R: Scanned>(
     Ok(())
 }
 
+/// Whether the model reads `file` (any file when the model's are not known).
+fn reads(model_files: Option<&[&str]>, file: &str) -> bool {
+    model_files.is_none_or(|m| m.contains(&file))
+}
+
 /// Rows of `rows` with `t` before `t_end`.
 fn rows_until<R: Row>(rows: &[R], t_end: f64) -> &[R] {
     let n = rows.partition_point(|r| r.t() < t_end);
@@ -243,6 +249,7 @@ struct Scan<'m> {
     aiding: aiding_plausibility::Fold,
     truth: truth_values::Fold,
     initial_point: initial_point::Fold,
+    initial_velocity: initial_velocity::Fold,
 }
 
 /// A row type the preflight reads: its place in the read order, its head in
@@ -297,6 +304,8 @@ macro_rules! scanned {
 scanned!(DvlRow, 1, dvl, |scan, line, r| {
     scan.partial_rows.dvl(line, r);
     scan.aiding.dvl(line, r);
+    let epoch = scan.epoch();
+    scan.initial_velocity.dvl(epoch, line, r);
 });
 scanned!(DepthRow, 2, depth, |scan, line, r| {
     scan.depth.depth(line, r);
@@ -363,6 +372,7 @@ impl<'m> Scan<'m> {
             aiding: aiding_plausibility::Fold::default(),
             truth: truth_values::Fold::default(),
             initial_point: initial_point::Fold::default(),
+            initial_velocity: initial_velocity::Fold::default(),
         }
     }
 
@@ -443,6 +453,10 @@ impl<'m> Scan<'m> {
                 &o,
                 &mut report,
             );
+            if !report.has_errors() && reads(o.model_files, DvlRow::FILE) {
+                self.initial_velocity
+                    .finish(&self.head, self.meta, epoch, &mut report);
+            }
         }
         self.truth.finish(
             self.present[TruthRow::INDEX] && self.rows[TruthRow::INDEX] == 0,

@@ -493,11 +493,44 @@ fn cases() -> Vec<Case> {
         (
             // Within the key's range but beyond the estimate's bound: the
             // run stopped at its first sample blaming the noise settings.
+            // Without a DVL (which the preflight compares first, below).
             "[initial] ve 400 beyond the estimate's bound",
             "values",
-            |d| meta_key(d, "initial", "ve", "ve = -400"),
+            |d| {
+                meta_key(d, "initial", "ve", "ve = -400");
+                std::fs::remove_file(d.join("dvl.csv")).unwrap();
+            },
             SDINS,
             Error(&["meta.toml", "initial.ve", "exceeds the 300 m/s"]),
+            Here,
+        ),
+        (
+            // Within every bound but 250 m/s off the DVL: the run went on
+            // to a horizontal RMS error of 1.1 km, blaming the DVL's sigma.
+            "[initial] vn 250 against a DVL at 1.5 m/s",
+            "values",
+            |d| meta_key(d, "initial", "vn", "vn = 250.0"),
+            SDINS,
+            Error(&["meta.toml", "initial.vn", "no vehicle carrying a DVL"]),
+            Here,
+        ),
+        (
+            // The sign of a velocity component flipped: an RMS error six
+            // times a correct run's, and no word without truth.
+            "[initial] vn of the wrong sign",
+            "values",
+            |d| {
+                let text = std::fs::read_to_string(d.join("meta.toml")).unwrap();
+                let vn = text
+                    .lines()
+                    .find_map(|l| l.strip_prefix("vn = "))
+                    .and_then(|v| v.trim().parse::<f64>().ok())
+                    .expect("an [initial] vn");
+                assert!(vn.abs() > 1.0, "the base log moves north: vn = {vn}");
+                meta_key(d, "initial", "vn", &format!("vn = {}", -vn));
+            },
+            SDINS,
+            Warn("suspicious", "initial.vn"),
             Here,
         ),
         (
