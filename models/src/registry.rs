@@ -46,6 +46,7 @@ pub fn replay_models() -> Vec<Box<dyn ReplayModel>> {
         Box::new(InsReplay::<crate::vehicles::pressure_auv::PressureAuv, 20>::new()),
         Box::new(crate::ahrs::AhrsReplay),
         Box::new(crate::gnss_ins::GnssInsReplay),
+        Box::new(nav_replay::dead_reckoning::DeadReckoning),
     ]
 }
 

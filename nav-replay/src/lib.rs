@@ -17,6 +17,7 @@
 #![warn(missing_docs)]
 
 pub mod allan;
+pub mod dead_reckoning;
 mod error;
 pub mod innovations;
 pub mod ins;

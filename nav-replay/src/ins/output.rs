@@ -519,7 +519,7 @@ pub(super) fn output_of<V: InsVehicle<N>, const N: usize>(
 
 /// The warning for a truth that seems to describe another point of the
 /// vehicle than the IMU (docs/log-format.md, "truth.csv").
-fn reference_point_warning(point: &super::reference_point_fit::FittedPoint) -> Warning {
+pub(crate) fn reference_point_warning(point: &super::reference_point_fit::FittedPoint) -> Warning {
     let component = |k: usize| {
         let (v, s) = (point.arm[k], point.sigma[k]);
         if s.is_finite() {

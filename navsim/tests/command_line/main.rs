@@ -10,6 +10,7 @@ mod common;
 mod allan_cli;
 mod broken_logs;
 mod cli;
+mod dead_reckoning_cli;
 mod import_cli;
 mod name_suggestions;
 mod observability_cli;

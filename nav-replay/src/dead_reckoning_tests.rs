@@ -1,0 +1,172 @@
+//! Dead reckoning on synthetic logs whose every reading is exact: a straight
+//! run and a circle (with and without a declared DVL lever arm), against
+//! the truth they were made from; and the logs it refuses.
+
+use nav_runtime::earth::{earth_rate_n, meridian_radius, transport_rate_n, transverse_radius};
+use nav_runtime::log::{DvlRow, ImuRow, LogDir, Meta, Mounting, TruthRow};
+use nav_runtime::nalgebra::{Rotation3, Vector3};
+
+use super::{dead_reckon, DeadReckoning};
+use crate::{ReplayModel, ReplayOptions, RunError};
+
+const LAT: f64 = 0.6;
+const IMU_PERIOD: f64 = 0.01;
+
+/// A vehicle at `speed` (m/s, forward) turning at `rate` (rad/s, about
+/// down) for `seconds`, from heading 0.3 rad at (LAT, 0.2, 10 m): the IMU
+/// at 100 Hz (gyro with the Earth's and the transport rate, so that the
+/// attitude stays level), a DVL at 1 Hz at `arm` from the IMU (its reading
+/// carries `omega x arm`), truth every second. The truth's position is the
+/// IMU's, integrated finely from the exact velocity.
+fn log(speed: f64, rate: f64, seconds: f64, arm: [f64; 3]) -> LogDir {
+    let mut meta = Meta::at(LAT, 0.2, 10.0);
+    let yaw0 = 0.3_f64;
+    meta.initial.t = Some(0.0);
+    meta.initial.roll = Some(0.0);
+    meta.initial.pitch = Some(0.0);
+    meta.initial.yaw = Some(yaw0);
+    meta.initial.vn = speed * yaw0.cos();
+    meta.initial.ve = speed * yaw0.sin();
+    let mut log = LogDir::new(meta);
+    let (mut lat, mut lon, h) = (LAT, 0.2, -10.0);
+    let mut dvl = Vec::new();
+    let mut truth = Vec::new();
+    let steps = (seconds / IMU_PERIOD).round() as usize;
+    for k in 0..=steps {
+        let t = k as f64 * IMU_PERIOD;
+        let yaw = yaw0 + rate * t;
+        let v = Vector3::new(speed * yaw.cos(), speed * yaw.sin(), 0.0);
+        // The yaw of the middle of the interval the sample is held over.
+        let mid = yaw0 + rate * (t + IMU_PERIOD / 2.0);
+        let c_bn = Rotation3::from_axis_angle(&Vector3::z_axis(), mid);
+        let w_in = earth_rate_n(lat) + transport_rate_n(lat, h, &v);
+        let gyro = Vector3::new(0.0, 0.0, rate) + c_bn.inverse() * w_in;
+        log.imu.push(ImuRow {
+            t,
+            gx: gyro.x,
+            gy: gyro.y,
+            gz: gyro.z,
+            ax: 0.0,
+            ay: 0.0,
+            az: -9.8,
+        });
+        if k % 100 == 0 {
+            let body = Vector3::new(speed, 0.0, 0.0)
+                + Vector3::new(0.0, 0.0, rate).cross(&Vector3::from(arm));
+            dvl.push(DvlRow {
+                t,
+                vx: Some(body.x),
+                vy: Some(body.y),
+                vz: Some(body.z),
+            });
+            truth.push(TruthRow {
+                t,
+                lat,
+                lon,
+                depth: -h,
+                vn: v.x,
+                ve: v.y,
+                vd: 0.0,
+                roll: 0.0,
+                pitch: 0.0,
+                yaw,
+            });
+        }
+        // The exact position, integrated in ten substeps.
+        for j in 0..10 {
+            let ts = t + (j as f64 + 0.5) * IMU_PERIOD / 10.0;
+            let y = yaw0 + rate * ts;
+            lat += speed * y.cos() * IMU_PERIOD / 10.0 / (meridian_radius(lat) + h);
+            lon += speed * y.sin() * IMU_PERIOD / 10.0 / ((transverse_radius(lat) + h) * lat.cos());
+        }
+    }
+    log.dvl = Some(dvl);
+    log.truth = Some(truth);
+    log
+}
+
+fn with_arm(mut log: LogDir, arm: [f64; 3]) -> LogDir {
+    log.meta.sensors.mountings[0] = Some(Mounting {
+        lever_arm: arm,
+        misalignment: [0.0; 3],
+    });
+    log
+}
+
+fn rms(log: &LogDir) -> f64 {
+    let options = ReplayOptions::default();
+    let out = DeadReckoning.replay(log, &options).expect("dead reckoning");
+    out.metrics["horizontal_error_rms_m"]
+        .as_f64()
+        .expect("scored")
+}
+
+/// (case, log, largest RMS horizontal error, smallest): exact readings
+/// reproduce the truth to the error of holding the DVL velocity linear
+/// between readings (on the circle the chord's `(omega T)^2 / 8` of the
+/// speed); an arm the run is not told of is that many times worse.
+#[test]
+fn exact_readings_give_the_truth_back() {
+    let turn = 0.05;
+    let cases: [(&str, LogDir, f64, f64); 4] = [
+        ("straight, 300 s", log(2.0, 0.0, 300.0, [0.0; 3]), 1e-3, 0.0),
+        ("circle, 120 s", log(2.0, turn, 120.0, [0.0; 3]), 0.03, 0.0),
+        (
+            "circle, DVL 3 m ahead, arm declared",
+            with_arm(log(2.0, turn, 120.0, [3.0, 0.0, 0.0]), [3.0, 0.0, 0.0]),
+            0.03,
+            0.0,
+        ),
+        (
+            "circle, DVL 3 m ahead, arm not declared",
+            log(2.0, turn, 120.0, [3.0, 0.0, 0.0]),
+            10.0,
+            1.0,
+        ),
+    ];
+    for (name, log, most, least) in cases {
+        let e = rms(&log);
+        assert!(
+            e <= most && e >= least,
+            "{name}: RMS {e} m, expected {least}..{most}"
+        );
+    }
+}
+
+/// Metrics of a filter that a dead reckoning has not: no NEES keys.
+#[test]
+fn no_nees_is_claimed() {
+    let out = DeadReckoning
+        .replay(&log(1.5, 0.02, 30.0, [0.0; 3]), &ReplayOptions::default())
+        .unwrap();
+    for key in ["nees_mean", "nees_position_mean"] {
+        assert!(!out.metrics.contains_key(key), "{key}");
+    }
+    assert!(out.metrics["scored_seconds"].as_f64().unwrap() >= 29.0);
+}
+
+/// (case, edit, text the error must contain).
+#[test]
+fn logs_it_cannot_dead_reckon_are_refused() {
+    type Edit = fn(&mut LogDir);
+    let cases: [(&str, Edit, &str); 4] = [
+        ("no DVL file", |l| l.dvl = None, "dvl.csv: missing"),
+        (
+            "no bottom lock",
+            |l| {
+                for r in l.dvl.iter_mut().flatten() {
+                    (r.vx, r.vy, r.vz) = (None, None, None);
+                }
+            },
+            "no reading with bottom lock",
+        ),
+        ("no yaw", |l| l.meta.initial.yaw = None, "initial.yaw"),
+        ("no IMU rows", |l| l.imu.clear(), "imu.csv: no rows"),
+    ];
+    for (name, edit, text) in cases {
+        let mut l = log(1.5, 0.0, 20.0, [0.0; 3]);
+        edit(&mut l);
+        let e: RunError = dead_reckon(&l, &[1.0]).expect_err(name);
+        assert!(e.to_string().contains(text), "{name}: {e}");
+    }
+}
