@@ -21,7 +21,6 @@ use nav_runtime::earth::{earth_rate_n, meridian_radius, transport_rate_n, transv
 use nav_runtime::log::{DvlRow, ImuRow, LogDir, Row, Warning, WarningKind};
 use nav_runtime::nalgebra::{Matrix3, Rotation3, SMatrix, Vector3};
 use nav_runtime::strapdown::NavState;
-use serde_json::Value;
 
 use crate::ins::score::{self, Scored};
 use crate::{ReplayModel, ReplayOptions, ReplayOutput, RunError};
@@ -263,24 +262,7 @@ impl ReplayModel for DeadReckoning {
             .map(|(a, b)| (a.t(), b.t()));
         let scored: Scored = score::score(&estimates, truth, None, span)
             .map_err(|e| RunError::Invalid(e.to_string()))?;
-        for (k, v) in [
-            ("horizontal_error_final_m", scored.horizontal_error_final_m),
-            ("horizontal_error_rms_m", scored.horizontal_error_rms_m),
-            ("depth_error_rms_m", scored.depth_error_rms_m),
-            ("scored_seconds", scored.scored_seconds),
-        ] {
-            out.metrics.insert(k.into(), Value::from(v));
-        }
-        out.warnings.extend(
-            scored
-                .partial
-                .iter()
-                .map(|p| Warning::about(WarningKind::PartialScoring, "truth.csv", p.clone())),
-        );
-        if let Some(point) = &scored.reference_point {
-            out.warnings
-                .push(crate::ins::output::reference_point_warning(point));
-        }
+        crate::ins::output::insert_scores(&mut out, &scored, false);
         if options.keep_series {
             out.tables.push(scored.table);
         }

@@ -354,24 +354,7 @@ pub(super) fn output_of<V: InsVehicle<N>, const N: usize>(
         .extend(unapplied_sensors(&run.health, &run.ignored));
     out.warnings.extend(crate::covariance_repairs(run.repairs));
     if let Some(s) = &scored {
-        for (k, v) in [
-            ("horizontal_error_final_m", s.horizontal_error_final_m),
-            ("horizontal_error_rms_m", s.horizontal_error_rms_m),
-            ("depth_error_rms_m", s.depth_error_rms_m),
-            ("nees_mean", s.nees_mean),
-            ("nees_position_mean", s.nees_position_mean),
-            ("scored_seconds", s.scored_seconds),
-        ] {
-            out.metrics.insert(k.into(), Value::from(v));
-        }
-        out.warnings.extend(
-            s.partial
-                .iter()
-                .map(|p| Warning::about(WarningKind::PartialScoring, "truth.csv", p.clone())),
-        );
-        if let Some(point) = &s.reference_point {
-            out.warnings.push(reference_point_warning(point));
-        }
+        insert_scores(&mut out, s, true);
         // Errors far beyond the filter's own sigmas. Whose fault it is
         // the innovations tell: a filter whose aiding innovations were
         // bad too (many rows gated) is wrong itself (or its inputs are);
@@ -519,7 +502,37 @@ pub(super) fn output_of<V: InsVehicle<N>, const N: usize>(
 
 /// The warning for a truth that seems to describe another point of the
 /// vehicle than the IMU (docs/log-format.md, "truth.csv").
-pub(crate) fn reference_point_warning(point: &super::reference_point_fit::FittedPoint) -> Warning {
+/// The scores of `s` into `out`: the error keys (and the NEES keys when
+/// `with_nees`: a run with a covariance), and a partial scoring and a
+/// reference point other than the IMU as warnings.
+pub(crate) fn insert_scores(out: &mut ReplayOutput, s: &Scored, with_nees: bool) {
+    let nees = [
+        ("nees_mean", s.nees_mean),
+        ("nees_position_mean", s.nees_position_mean),
+    ];
+    let errors = [
+        ("horizontal_error_final_m", s.horizontal_error_final_m),
+        ("horizontal_error_rms_m", s.horizontal_error_rms_m),
+        ("depth_error_rms_m", s.depth_error_rms_m),
+        ("scored_seconds", s.scored_seconds),
+    ];
+    let keys = errors
+        .into_iter()
+        .chain(nees.into_iter().filter(|_| with_nees));
+    for (k, v) in keys {
+        out.metrics.insert(k.into(), Value::from(v));
+    }
+    out.warnings.extend(
+        s.partial
+            .iter()
+            .map(|p| Warning::about(WarningKind::PartialScoring, "truth.csv", p.clone())),
+    );
+    if let Some(point) = &s.reference_point {
+        out.warnings.push(reference_point_warning(point));
+    }
+}
+
+fn reference_point_warning(point: &super::reference_point_fit::FittedPoint) -> Warning {
     let component = |k: usize| {
         let (v, s) = (point.arm[k], point.sigma[k]);
         if s.is_finite() {
