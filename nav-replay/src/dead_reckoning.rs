@@ -22,8 +22,9 @@ use nav_runtime::log::{DvlRow, ImuRow, LogDir, Row, Warning, WarningKind};
 use nav_runtime::nalgebra::{Matrix3, Rotation3, SMatrix, Vector3};
 use nav_runtime::strapdown::NavState;
 
+use crate::ins::output::{TRAJECTORY_COLUMNS, TRAJECTORY_TABLE};
 use crate::ins::score::{self, Scored};
-use crate::{ReplayModel, ReplayOptions, ReplayOutput, RunError};
+use crate::{ReplayModel, ReplayOptions, ReplayOutput, RunError, RunTable};
 
 /// The model's name on the command line.
 pub const NAME: &str = "dvl-dr";
@@ -214,6 +215,29 @@ fn dead_reckon(log: &LogDir, times: &[f64]) -> Result<(Vec<Option<Fix>>, Vec<War
     Ok((fixes, warnings))
 }
 
+/// The table of `fixes` (those there are): the first ten of the filters'
+/// [`TRAJECTORY_COLUMNS`] (time, position, velocity, attitude in degrees).
+fn trajectory(fixes: &[Option<Fix>]) -> RunTable {
+    let mut table = RunTable::new(TRAJECTORY_TABLE, &TRAJECTORY_COLUMNS[..10]);
+    for f in fixes.iter().flatten() {
+        let n = &f.nav;
+        let e = n.euler();
+        table.push(&[
+            f.t,
+            n.lat,
+            n.lon,
+            n.depth(),
+            n.v_n.x,
+            n.v_n.y,
+            n.v_n.z,
+            e.roll.to_degrees(),
+            e.pitch.to_degrees(),
+            e.yaw.to_degrees(),
+        ]);
+    }
+    table
+}
+
 impl ReplayModel for DeadReckoning {
     fn name(&self) -> &'static str {
         NAME
@@ -239,6 +263,19 @@ impl ReplayModel for DeadReckoning {
             warnings,
             ..Default::default()
         };
+        if options.keep_series {
+            // The track at each DVL reading, as the filters' `estimates.csv`
+            // without the sigmas.
+            let readings: Vec<f64> = log
+                .dvl
+                .iter()
+                .flatten()
+                .filter(|r| r.velocity().is_some())
+                .map(|r| r.t)
+                .collect();
+            let (track, _) = dead_reckon(log, &readings)?;
+            out.tables.push(trajectory(&track));
+        }
         if log.truth.is_none() {
             return Ok(out);
         }

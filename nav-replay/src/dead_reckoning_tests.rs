@@ -133,16 +133,44 @@ fn exact_readings_give_the_truth_back() {
     }
 }
 
-/// Metrics of a filter that a dead reckoning has not: no NEES keys.
+/// Metrics of a filter that a dead reckoning has not: no NEES keys. With
+/// the series kept, the track at each DVL reading, the filters' columns
+/// without the sigmas.
 #[test]
-fn no_nees_is_claimed() {
+fn no_nees_is_claimed_and_the_track_is_kept() {
+    let options = ReplayOptions {
+        keep_series: true,
+        ..ReplayOptions::default()
+    };
     let out = DeadReckoning
-        .replay(&log(1.5, 0.02, 30.0, [0.0; 3]), &ReplayOptions::default())
+        .replay(&log(1.5, 0.02, 30.0, [0.0; 3]), &options)
         .unwrap();
     for key in ["nees_mean", "nees_position_mean"] {
         assert!(!out.metrics.contains_key(key), "{key}");
     }
     assert!(out.metrics["scored_seconds"].as_f64().unwrap() >= 29.0);
+    let track = out
+        .tables
+        .iter()
+        .find(|t| t.name == "estimates")
+        .expect("estimates table");
+    let (t, yaw, depth) = (
+        track.column("t"),
+        track.column("yaw_deg"),
+        track.column("depth"),
+    );
+    assert_eq!(t.len(), 31, "one row per DVL reading");
+    assert!(track.column("sig_n").is_empty(), "no sigma columns");
+    for k in [0, 10, 30] {
+        let expected = (0.3 + 0.02 * t[k]).to_degrees();
+        assert!(
+            (yaw[k] - expected).abs() < 1e-4,
+            "t = {}: yaw {} deg",
+            t[k],
+            yaw[k]
+        );
+        assert!((depth[k] - 10.0).abs() < 1e-6, "depth {}", depth[k]);
+    }
 }
 
 /// (case, edit, text the error must contain).
