@@ -112,6 +112,7 @@ pub fn tuning_warnings(tuning: &Tuning, max_replays: usize) -> Vec<Warning> {
             .cloned(),
     );
     warnings.extend(tuned_through_recovery(tuning));
+    warnings.extend(imu_noise_far_above_given(tuning));
     for w in &warnings {
         eprintln!("warning: {}", w.message);
     }
@@ -169,6 +170,51 @@ fn tuned_through_recovery(tuning: &Tuning) -> Vec<Warning> {
     }
     out
 }
+
+/// An IMU noise sigma (`sensors.imu.gyro_noise_sigma`,
+/// `accel_noise_sigma`) identified at more than [`IMU_NOISE_FACTOR`] times
+/// its given value. An IMU's noise is known to a factor of two from its
+/// data sheet or an Allan deviation ([`crate::allan`]); the likelihood
+/// raises it further when the aiding disagrees with the INS in a way the
+/// model does not describe (a DVL lever arm, misalignment or clock), and a
+/// gyro that noisy lets the aiding pull the attitude, the heading first.
+/// A warning keyed by the parameter, in `meta.toml`.
+fn imu_noise_far_above_given(tuning: &Tuning) -> Vec<Warning> {
+    tuning
+        .parameters
+        .iter()
+        .filter(|p| {
+            matches!(
+                p.key.as_str(),
+                "sensors.imu.gyro_noise_sigma" | "sensors.imu.accel_noise_sigma"
+            ) && p.not_identifiable.is_none()
+                && p.value > IMU_NOISE_FACTOR * p.initial
+        })
+        .map(|p| {
+            Warning::about(
+                WarningKind::Suspicious,
+                "meta.toml",
+                format!(
+                    "{}: tuned to {:.3e}, {:.0} times the given {:.3e}: far above an IMU's \
+                     data sheet, the likelihood is making up for aiding that disagrees with the \
+                     INS in a way the model does not describe (a lever arm, a misalignment or a \
+                     clock of the DVL, say), and so noisy an IMU lets the aiding pull the \
+                     attitude; estimate the mounting (a vehicle with calibration states, \
+                     docs/calibration.md) or declare it, and tune again",
+                    p.key,
+                    p.value,
+                    p.value / p.initial,
+                    p.initial
+                ),
+            )
+            .with_key(&p.key)
+        })
+        .collect()
+}
+
+/// How far above its given value a tuned IMU noise sigma must be for
+/// [`imu_noise_far_above_given`] to doubt it.
+pub const IMU_NOISE_FACTOR: f64 = 10.0;
 
 /// How far (a factor either way) a tuned sigma must move from its given
 /// value for [`tuned_through_recovery`] to doubt it.
@@ -242,6 +288,58 @@ pub fn tune_with(model: &dyn ReplayModel, args: &TuneArgs) -> Result<(), RunErro
 mod tests {
     use super::super::{ParameterKind, Replayed, TunedParameter};
     use super::*;
+
+    /// A tuning of one parameter, `key`, from `given` to `tuned`.
+    fn tuning_of(key: &str, given: f64, tuned: f64, identified: bool) -> Tuning {
+        Tuning {
+            model: "m".into(),
+            parameters: vec![TunedParameter {
+                key: key.into(),
+                kind: ParameterKind::Likelihood,
+                initial: given,
+                value: tuned,
+                log_standard_error: 0.05,
+                not_identifiable: (!identified).then(|| "flat".to_string()),
+            }],
+            replays: 10,
+            converged: true,
+            log_likelihood: (None, 0.0),
+            notes: Vec::new(),
+            nis: Default::default(),
+            after: Replayed {
+                innovations: Vec::new(),
+                warnings: Vec::new(),
+            },
+        }
+    }
+
+    /// (key, given, tuned, identified, doubted): a gyro noise tuned from a
+    /// FOG's 1e-5 to 1e-3 rad/s per sample is doubted; ten times or less, a
+    /// sigma not identified (kept as given) or a sensor's sigma are not.
+    #[test]
+    fn an_imu_noise_tuned_far_above_its_data_sheet_is_doubted() {
+        let cases: [(&str, f64, f64, bool, bool); 6] = [
+            ("sensors.imu.gyro_noise_sigma", 1e-5, 1e-3, true, true),
+            ("sensors.imu.accel_noise_sigma", 2e-3, 0.05, true, true),
+            ("sensors.imu.gyro_noise_sigma", 1e-5, 9e-5, true, false),
+            ("sensors.imu.gyro_noise_sigma", 1e-5, 1e-3, false, false),
+            ("sensors.imu.gyro_noise_sigma", 1e-3, 1e-5, true, false),
+            ("sensors.dvl.noise_sigma", 0.002, 0.2, true, false),
+        ];
+        for (key, given, tuned, identified, doubted) in cases {
+            let w = imu_noise_far_above_given(&tuning_of(key, given, tuned, identified));
+            assert_eq!(
+                w.len(),
+                usize::from(doubted),
+                "{key} {given} {tuned}: {w:?}"
+            );
+            if let Some(w) = w.first() {
+                assert_eq!(w.key.as_deref(), Some(key));
+                assert_eq!(w.file.as_deref(), Some("meta.toml"));
+                assert_eq!(w.kind, WarningKind::Suspicious);
+            }
+        }
+    }
 
     /// (the DVL sigma's given and tuned values, which files recovered,
     /// whether the tuned sigma is doubted)
