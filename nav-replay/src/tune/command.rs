@@ -354,29 +354,12 @@ mod tests {
             (0.02, 0.148, &["dvl.csv", "usbl.csv"], true),
         ];
         for (given, tuned, recovered, doubted) in cases {
-            let tuning = Tuning {
-                model: "m".into(),
-                parameters: vec![TunedParameter {
-                    key: "sensors.dvl.noise_sigma".into(),
-                    kind: ParameterKind::SensorNoise,
-                    initial: given,
-                    value: tuned,
-                    log_standard_error: 0.02,
-                    not_identifiable: None,
-                }],
-                replays: 10,
-                converged: true,
-                log_likelihood: (None, 0.0),
-                notes: Vec::new(),
-                nis: Default::default(),
-                after: Replayed {
-                    innovations: Vec::new(),
-                    warnings: recovered
-                        .iter()
-                        .map(|f| Warning::about(WarningKind::LockoutRecovery, f, "recovered"))
-                        .collect(),
-                },
-            };
+            let mut tuning = tuning_of("sensors.dvl.noise_sigma", given, tuned, true);
+            tuning.parameters[0].kind = ParameterKind::SensorNoise;
+            tuning.after.warnings = recovered
+                .iter()
+                .map(|f| Warning::about(WarningKind::LockoutRecovery, f, "recovered"))
+                .collect();
             let w = tuned_through_recovery(&tuning);
             assert_eq!(
                 w.len(),
