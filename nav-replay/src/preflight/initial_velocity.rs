@@ -9,7 +9,7 @@
 use nav_ins::InitialSigma;
 use nav_runtime::attitude::Euler;
 use nav_runtime::log::{DvlRow, LogDir, Meta, Row, Warning, WarningKind, META_FILE};
-use nav_runtime::nalgebra::Vector3;
+use nav_runtime::nalgebra::{Matrix3, Vector3};
 
 use super::aiding_plausibility::MAX_DVL_SPEED;
 use super::Report;
@@ -52,8 +52,9 @@ impl Fold {
     }
 
     /// Compares `[initial]` `vn`, `ve`, `vd` with the nearest reading,
-    /// rotated by the initial roll, pitch and yaw (the check is skipped
-    /// without them). The band is [`SIGMAS`] times the combined sigma of the
+    /// taken into body axes at the IMU as the filters take it (the declared
+    /// `[sensors.dvl]` misalignment and lever arm) and rotated by the
+    /// initial roll, pitch and yaw (the check is skipped without them). The band is [`SIGMAS`] times the combined sigma of the
     /// initial velocity (`[initial_sigma] velocity`, else the filters'
     /// default) and the DVL (noise and bias), plus the speed times [`SIGMAS`]
     /// attitude sigmas, the change at [`MAX_ACCELERATION`] over the time
@@ -81,9 +82,19 @@ fn check(
     let (Some(roll), Some(pitch), Some(yaw)) = (initial.roll, initial.pitch, initial.yaw) else {
         return;
     };
-    let Some(v_body) = row.velocity().map(Vector3::from) else {
+    let Some(reading) = row.velocity().map(Vector3::from) else {
         return;
     };
+    // In body axes at the IMU, as the filters take it: the declared
+    // mounting's rotation, less `omega x r` of the declared arm.
+    let rate = body_rate(head, row.t);
+    let mounting = meta.sensors.mounting("dvl");
+    let rotation = mounting.map_or(Matrix3::identity(), |m| {
+        let [roll, pitch, yaw] = m.misalignment;
+        Euler::new(roll, pitch, yaw).c_bn()
+    });
+    let arm = Vector3::from(mounting.map_or([0.0; 3], |m| m.lever_arm));
+    let v_body = rotation * reading - rate.cross(&arm);
     let c_bn = Euler::new(roll, pitch, yaw).c_bn();
     let measured = c_bn * v_body;
     let given = Vector3::new(initial.vn, initial.ve, initial.vd);
@@ -104,11 +115,10 @@ fn check(
         .dvl
         .map_or(0.0, |n| n.noise_sigma.hypot(n.bias_sigma));
     let dt = (row.t - epoch).abs();
-    let rate = body_rate(head, row.t);
     let band = SIGMAS * velocity_sigma.hypot(reading_sigma)
         + SIGMAS * attitude_sigma * v_body.norm()
         + MAX_ACCELERATION * dt
-        + rate * MAX_ARM_M;
+        + rate.norm() * MAX_ARM_M;
     if d <= band {
         return;
     }
@@ -143,9 +153,8 @@ fn check(
     }
 }
 
-/// Norm of the gyro reading of the IMU row nearest `t` (0 without one),
-/// rad/s.
-fn body_rate(head: &LogDir, t: f64) -> f64 {
+/// The gyro reading of the IMU row nearest `t` (zero without one), rad/s.
+fn body_rate(head: &LogDir, t: f64) -> Vector3<f64> {
     let imu = &head.imu;
     let i = imu.partition_point(|r| r.t() < t);
     [i.checked_sub(1), Some(i)]
@@ -153,5 +162,5 @@ fn body_rate(head: &LogDir, t: f64) -> f64 {
         .flatten()
         .filter_map(|k| imu.get(k))
         .min_by(|a, b| (a.t - t).abs().total_cmp(&(b.t - t).abs()))
-        .map_or(0.0, |r| Vector3::new(r.gx, r.gy, r.gz).norm())
+        .map_or(Vector3::zeros(), |r| Vector3::new(r.gx, r.gy, r.gz))
 }

@@ -515,6 +515,25 @@ fn cases() -> Vec<Case> {
             Here,
         ),
         (
+            // A DVL mounted backwards, declared: its readings are the
+            // vehicle's velocity once the mounting turns them, which the
+            // comparison with `[initial]` must do as the filter does.
+            "DVL mounted backwards, declared",
+            "values",
+            |d| {
+                scale(d, "dvl.csv", &[1, 2], -1.0);
+                meta_key(
+                    d,
+                    "sensors.dvl",
+                    "misalignment",
+                    "misalignment = [0.0, 0.0, 3.141592653589793]",
+                );
+            },
+            SDINS,
+            Correct,
+            Here,
+        ),
+        (
             // The sign of a velocity component flipped: an RMS error six
             // times a correct run's, and no word without truth.
             "[initial] vn of the wrong sign",
