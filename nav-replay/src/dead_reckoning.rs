@@ -131,7 +131,8 @@ fn dead_reckon(log: &LogDir, times: &[f64]) -> Result<(Vec<Option<Fix>>, Vec<War
     let arm = Vector3::from(mounting.map_or([0.0; 3], |m| m.lever_arm));
 
     // The velocity knots: the epoch's, then each reading's, in NED.
-    let mut attitude = Attitude::new(&log.imu, t0, Euler { roll, pitch, yaw }.c_bn());
+    let c_bn0 = Euler { roll, pitch, yaw }.c_bn();
+    let mut attitude = Attitude::new(&log.imu, t0, c_bn0);
     let h0 = -depth0;
     let v0 = Vector3::new(init.vn, init.ve, init.vd);
     let mut knots = vec![(t0, v0)];
@@ -165,7 +166,7 @@ fn dead_reckon(log: &LogDir, times: &[f64]) -> Result<(Vec<Option<Fix>>, Vec<War
     }
 
     // The position, integrated knot to knot; the solutions at `times`.
-    let mut attitude = Attitude::new(&log.imu, t0, Euler { roll, pitch, yaw }.c_bn());
+    let mut attitude = Attitude::new(&log.imu, t0, c_bn0);
     let (mut lat, mut lon, mut h) = (lat0, lon0, h0);
     let mut at = 0usize;
     let mut t = t0;
