@@ -41,7 +41,7 @@ pub fn replay_models() -> Vec<Box<dyn ReplayModel>> {
         Box::new(crate::sdins25::Sdins25Replay::new()),
         Box::new(InsReplay::<Sdins25Composed, 25>::new()),
         Box::new(InsReplay::<Sdins20, 20>::new()),
-        Box::new(InsReplay::<crate::vehicles::sdins::Sdins20DvlCal, 27>::new()),
+        Box::new(InsReplay::<crate::vehicles::sdins::Sdins20DvlCal, 28>::new()),
         Box::new(InsReplay::<crate::vehicles::sdins::Sdins25UsblCal, 28>::new()),
         Box::new(InsReplay::<crate::vehicles::pressure_auv::PressureAuv, 20>::new()),
         Box::new(crate::ahrs::AhrsReplay),

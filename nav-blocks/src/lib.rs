@@ -222,19 +222,26 @@ nav_runtime::model! {
             dvl_misalignment: 3,
             /// Error of the given DVL lever arm: true minus given, body axes, m.
             dvl_lever_arm: 3,
+            /// Lag of the DVL's clock behind the time the log gives its rows,
+            /// s: a row stamped `t` measured the velocity of `t - dt`.
+            dvl_time_offset,
         }
         needs { velocity: 3, c_bn: 3x3, velocity_error: 3, attitude_error: 3 }
         /// `z = V^ - C^_b^n v_meas` with
-        /// `v_meas = (1 + s)(I - [m x])(C^T V + w x (r + dr)) + b`.
+        /// `v_meas = (1 + s)(I - [m x])(C^T V + w x (r + dr) - dt a_b) + b`,
+        /// the velocity `dt` earlier to first order in the lag.
         sensor DvlCalibrated: 3 {
             inputs {
                 /// Given DVL position in body axes relative to the IMU, m.
                 lever_arm: 3,
                 /// Body angular rate (bias-corrected gyro), rad/s.
                 body_rate: 3,
+                /// Rate of change of the body-axes velocity `C^T V`, m/s^2:
+                /// `f + C^T g - w x C^T V`.
+                body_acceleration: 3,
             }
             let c_true = c_bn + skew(attitude_error) * c_bn;
-            let v_body = transpose(c_true) * (velocity - velocity_error) + cross(body_rate, lever_arm + dvl_lever_arm);
+            let v_body = transpose(c_true) * (velocity - velocity_error) + cross(body_rate, lever_arm + dvl_lever_arm) - dvl_time_offset * body_acceleration;
             h = velocity - c_bn * ((1.0 + dvl_scale) * (v_body - cross(dvl_misalignment, v_body)) + dvl_bias);
         }
     }

@@ -5,7 +5,9 @@
 //! replayed at its own time sees the nominal of that time).
 
 use nav_runtime::attitude::euler_from_c_bn;
-use nav_runtime::earth::{meridian_radius, transverse_radius, Geodetic, LocalNed};
+use nav_runtime::earth::{
+    meridian_radius, normal_gravity_ned, transverse_radius, Geodetic, LocalNed,
+};
 use nav_runtime::ekf::FilterError;
 use nav_runtime::math::wrap_angle;
 use nav_runtime::nalgebra::{SVector, Vector2, Vector3};
@@ -213,10 +215,26 @@ pub fn dvl_measurement_at<V: InsVehicle<N>, const N: usize>(
                 );
             }
             // A calibrated DVL block (`DvlCalibrated`): its `h` carries the
-            // lever arm (given value plus its error state), the scale and
-            // the misalignment, so the residual is the reading's alone.
+            // lever arm (given value plus its error state), the scale, the
+            // misalignment and the clock lag, so the residual is the
+            // reading's alone. The lag's input is the rate of change of
+            // the body-axes velocity, `f + C^T g - w x C^T V` (Coriolis and
+            // transport rate left out: 1e-4 of it at survey speeds).
             let w = nom.body_rate;
-            let aux = [lever_arm.x, lever_arm.y, lever_arm.z, w.x, w.y, w.z];
+            let c_nb = s.c_bn.transpose();
+            let gravity = normal_gravity_ned(s.lat, s.h);
+            let a = nom.specific_force + c_nb * gravity - w.cross(&(c_nb * s.v_n));
+            let aux = [
+                lever_arm.x,
+                lever_arm.y,
+                lever_arm.z,
+                w.x,
+                w.y,
+                w.z,
+                a.x,
+                a.y,
+                a.z,
+            ];
             let z = s.v_n - s.c_bn * (v - nom.dvl_bias);
             update_and_recover::<V, V::Dvl, N, 3>(f, &z, &r, &aux, v.as_slice(), &[sigma; 3], true)
         },

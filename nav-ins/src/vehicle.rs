@@ -242,14 +242,18 @@ pub const ANTENNA_AUX_NAMES: [&str; 3] = [
 pub const LEVER_ARM_AUX_NAMES: [&str; 3] = ["lever_arm[0]", "lever_arm[1]", "lever_arm[2]"];
 
 /// The auxiliary input of the calibrated DVL block's sensor: the given
-/// lever arm (body axes, m) and the bias-corrected body rate (rad/s).
-pub const DVL_CALIBRATED_AUX_NAMES: [&str; 6] = [
+/// lever arm (body axes, m), the bias-corrected body rate (rad/s) and the
+/// rate of change of the body-axes velocity (m/s^2).
+pub const DVL_CALIBRATED_AUX_NAMES: [&str; 9] = [
     "lever_arm[0]",
     "lever_arm[1]",
     "lever_arm[2]",
     "body_rate[0]",
     "body_rate[1]",
     "body_rate[2]",
+    "body_acceleration[0]",
+    "body_acceleration[1]",
+    "body_acceleration[2]",
 ];
 
 /// The auxiliary input of the USBL block's sensor.

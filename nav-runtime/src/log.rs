@@ -83,7 +83,7 @@ pub use mapping::{
 pub use meta::{
     DvlCalibration, ImuNoise, Initial, InitialSigma, Meta, Mounting, SensorNoise, Sensors,
     UsblTransducer, AIDING_SENSORS, ESTIMATE_NAMES, LEVER_ARM_SIGMA_DEFAULT,
-    MISALIGNMENT_SIGMA_DEFAULT, SCALE_SIGMA_DEFAULT,
+    MISALIGNMENT_SIGMA_DEFAULT, SCALE_SIGMA_DEFAULT, TIME_OFFSET_SIGMA_DEFAULT,
 };
 pub use read_ahead::{reading_time, ReadAhead, READ_AHEAD_ROWS};
 pub use reference_point::{AtImu, ReferencePoint};

@@ -209,7 +209,12 @@ const REFERENCES_KEPT: usize = 8;
 impl Reference {
     /// Computes the reference of `config` (what the first run of a process pays).
     pub fn new(config: &SimConfig) -> Self {
-        let trajectory = trajectory(config.start_depth, config.duration);
+        Self::along(config, trajectory(config.start_depth, config.duration))
+    }
+
+    /// The reference of `config` along another truth `trajectory` (a
+    /// test's own manoeuvres; the sensors and their errors are `config`'s).
+    pub fn along(config: &SimConfig, trajectory: Trajectory) -> Self {
         let imu = imu::rates(&trajectory, config.imu_rate, config.duration).collect();
         let n_truth = (config.duration * TRUTH_RATE + 1e-9).floor() as usize;
         let truth_rows = (0..=n_truth)

@@ -39,9 +39,10 @@ nav_runtime::model! {
         allow_unused { position_error[1] }
     }
 
-    /// [`Sdins20`] with the calibrated DVL: the DVL's scale, misalignment
-    /// and lever-arm error as filter states (27 states), estimated when the
-    /// log's `[sensors.dvl] estimate` lists them (docs/calibration.md).
+    /// [`Sdins20`] with the calibrated DVL: the DVL's scale, misalignment,
+    /// lever-arm error and clock lag as filter states (28 states),
+    /// estimated when the log's `[sensors.dvl] estimate` lists them
+    /// (docs/calibration.md).
     pub model Sdins20DvlCal = InsCore + Depth + DvlCalibrated + Compass {
         allow_unused { position_error[1] }
     }
@@ -84,10 +85,10 @@ impl InsVehicle<20> for Sdins20 {
     type Mag = Absent;
 }
 
-impl InsVehicle<27> for Sdins20DvlCal {
+impl InsVehicle<28> for Sdins20DvlCal {
     const REPLAY_NAME: &'static str = "sdins20-dvl-cal";
     const DESCRIPTION: &'static str =
-        "sdins20 with the DVL's lever arm, misalignment and scale as states (27), estimated per meta.toml [sensors.dvl] estimate";
+        "sdins20 with the DVL's lever arm, misalignment, scale and clock lag as states (28), estimated per meta.toml [sensors.dvl] estimate";
     const DVL_SENSOR: &'static str = "DvlCalibrated";
     type Depth = Sdins20DvlCalDepth;
     type Dvl = Sdins20DvlCalDvlCalibrated;
@@ -290,10 +291,10 @@ mod tests {
     #[test]
     fn the_calibrated_dvl_vehicle_keeps_its_mounting_states_in_the_filter() {
         let layout =
-            crate::sdins25::vehicle::Layout::of::<Sdins20DvlCal, 27>().expect("fits the navigator");
-        let absorbed = layout.absorbed::<27>();
-        let names = <Sdins20DvlCal as Model<27>>::STATE_NAMES;
-        let kept: Vec<&str> = (0..27)
+            crate::sdins25::vehicle::Layout::of::<Sdins20DvlCal, 28>().expect("fits the navigator");
+        let absorbed = layout.absorbed::<28>();
+        let names = <Sdins20DvlCal as Model<28>>::STATE_NAMES;
+        let kept: Vec<&str> = (0..28)
             .filter(|&i| !absorbed[i])
             .map(|i| names[i])
             .collect();
@@ -307,9 +308,10 @@ mod tests {
                 "dvl_lever_arm[0]",
                 "dvl_lever_arm[1]",
                 "dvl_lever_arm[2]",
+                "dvl_time_offset",
             ]
         );
-        let others: Vec<&str> = (0..27).filter(|&i| absorbed[i]).map(|i| names[i]).collect();
+        let others: Vec<&str> = (0..28).filter(|&i| absorbed[i]).map(|i| names[i]).collect();
         assert_eq!(others, <Sdins20 as Model<20>>::STATE_NAMES);
     }
 

@@ -32,6 +32,7 @@ const CALIBRATABLE: [Calibratable; 3] = [
             ("dvl_lever_arm", 3),
             ("dvl_misalignment", 3),
             ("dvl_scale", 1),
+            ("dvl_time_offset", 1),
         ],
         block: "DvlCalibrated",
         vehicle: "sdins20-dvl-cal",
@@ -105,8 +106,8 @@ pub(super) fn register<V: InsVehicle<N>, const N: usize>(
 
 /// Prior sigma of each value, in the order of `ESTIMATE_NAMES`: the log's,
 /// zero when not listed.
-fn sigmas(cal: &DvlCalibration) -> [f64; 3] {
-    [cal.lever_arm, cal.misalignment, cal.scale].map(|s| s.unwrap_or(0.0))
+fn sigmas(cal: &DvlCalibration) -> [f64; 4] {
+    cal.sigmas().map(|s| s.unwrap_or(0.0))
 }
 
 /// The calibrated value of `filter`'s state `state` (`K` scalars, named
@@ -178,6 +179,10 @@ pub struct DvlMounting {
     pub misalignment: Calibrated<3>,
     /// Scale factor (the DVL reads this many times the speed).
     pub scale: Calibrated<1>,
+    /// Lag of the DVL's clock behind the log's times, s: a row the log
+    /// puts at `t` was measured at `t - lag` (the file's `offset_s` less
+    /// this aligns it).
+    pub time_offset: Calibrated<1>,
 }
 
 impl DvlMounting {
@@ -200,6 +205,7 @@ impl DvlMounting {
             ),
             misalignment: read(filter, "dvl_misalignment", [0.0; 3], cal.misalignment),
             scale: read(filter, "dvl_scale", [1.0], cal.scale),
+            time_offset: read(filter, "dvl_time_offset", [0.0], cal.time_offset),
         })
     }
 
@@ -211,6 +217,7 @@ impl DvlMounting {
             "lever_arm_m": entry(&self.lever_arm, 1.0),
             "misalignment_deg": entry(&self.misalignment, 180.0 / core::f64::consts::PI),
             "scale": entry(&self.scale, 1.0),
+            "time_offset_s": entry(&self.time_offset, 1.0),
         })
     }
 }

@@ -206,17 +206,30 @@ pub struct DvlCalibration {
     /// Of the scale factor, dimensionless (`scale_sigma`, default
     /// [`SCALE_SIGMA_DEFAULT`]).
     pub scale: Option<f64>,
+    /// Of the lag of the sensor's clock behind the log's times, s
+    /// (`time_offset_sigma`, default [`TIME_OFFSET_SIGMA_DEFAULT`]).
+    pub time_offset: Option<f64>,
 }
 
 impl DvlCalibration {
     /// Whether anything is estimated.
     pub fn any(&self) -> bool {
-        self.lever_arm.is_some() || self.misalignment.is_some() || self.scale.is_some()
+        self.sigmas().iter().any(Option::is_some)
+    }
+
+    /// The prior sigma of each name, in [`ESTIMATE_NAMES`] order.
+    pub fn sigmas(&self) -> [Option<f64>; 4] {
+        [
+            self.lever_arm,
+            self.misalignment,
+            self.scale,
+            self.time_offset,
+        ]
     }
 
     /// The names listed, in [`ESTIMATE_NAMES`] order.
     pub fn names(&self) -> Vec<&'static str> {
-        [self.lever_arm, self.misalignment, self.scale]
+        self.sigmas()
             .iter()
             .zip(ESTIMATE_NAMES)
             .filter(|(s, _)| s.is_some())
@@ -226,10 +239,10 @@ impl DvlCalibration {
 }
 
 /// The names `[sensors.dvl] estimate` accepts.
-pub const ESTIMATE_NAMES: [&str; 3] = ["lever_arm", "misalignment", "scale"];
+pub const ESTIMATE_NAMES: [&str; 4] = ["lever_arm", "misalignment", "scale", "time_offset"];
 
 /// How many of [`ESTIMATE_NAMES`] (from the first) the `estimate` of
-/// `[sensors.<name>]` accepts: all three for the DVL, the lever arm for the
+/// `[sensors.<name>]` accepts: all four for the DVL, the lever arm for the
 /// USBL transponder and the GNSS antenna (the USBL's array misalignment is
 /// already a state of its block, with its own `misalignment_sigma`), none
 /// for the other sensors.
@@ -263,6 +276,9 @@ pub const MISALIGNMENT_SIGMA_DEFAULT: f64 = 0.034_906_585_039_886_59;
 /// Prior sigma of the DVL scale factor without `scale_sigma`: 2 %, the
 /// sound-speed error of an uncorrected DVL.
 pub const SCALE_SIGMA_DEFAULT: f64 = 0.02;
+/// Prior sigma of the DVL clock's lag without `time_offset_sigma`, s: a
+/// file whose clock was aligned to the IMU's by hand, to the second.
+pub const TIME_OFFSET_SIGMA_DEFAULT: f64 = 0.5;
 
 impl Sensors {
     /// The mounting of aiding sensor `name` (`dvl`, `usbl`, ...), if
@@ -881,11 +897,7 @@ impl Meta {
                     let names: Vec<String> =
                         cal.names().iter().map(|n| format!("\"{n}\"")).collect();
                     let _ = writeln!(s, "estimate = [{}]", names.join(", "));
-                    for (key, sigma) in CALIBRATION_KEYS[1..].iter().zip([
-                        cal.lever_arm,
-                        cal.misalignment,
-                        cal.scale,
-                    ]) {
+                    for (key, sigma) in CALIBRATION_KEYS[1..].iter().zip(cal.sigmas()) {
                         if let Some(sigma) = sigma {
                             let _ = writeln!(s, "{key} = {}", f(sigma));
                         }
@@ -905,11 +917,12 @@ impl Meta {
 
 /// The keys of `[sensors.dvl]` for its mounting calibration: the list,
 /// then the prior sigma of each name of [`ESTIMATE_NAMES`] in its order.
-const CALIBRATION_KEYS: [&str; 4] = [
+const CALIBRATION_KEYS: [&str; 5] = [
     "estimate",
     "lever_arm_sigma",
     "misalignment_sigma",
     "scale_sigma",
+    "time_offset_sigma",
 ];
 
 /// The top-level sections `meta.toml` is read from.
@@ -937,6 +950,9 @@ enum Range {
     Prior,
     /// The 1-sigma of an initial angle, rad: above 0, at most pi.
     AnglePrior,
+    /// The prior sigma of a clock lag, s: above 0, at most
+    /// [`MAX_LAG_SIGMA`] (the lag enters to first order).
+    LagSigma,
 }
 
 impl Range {
@@ -959,6 +975,7 @@ impl Range {
             Range::Speed => v.abs() <= MAX_SPEED,
             Range::Prior => v > 0.0 && v * v > 0.0 && (v * v).is_finite(),
             Range::AnglePrior => v > 0.0 && v * v > 0.0 && v <= PI,
+            Range::LagSigma => v > 0.0 && v * v > 0.0 && v <= MAX_LAG_SIGMA,
         };
         if ok {
             Ok(())
@@ -987,11 +1004,16 @@ impl Range {
                 Range::AnglePrior => {
                     "an initial angle's sigma must be > 0 (zero claims the angle exactly known) and <= pi rad; degrees? the format is radians"
                 }
+                Range::LagSigma => {
+                    "a clock lag's sigma must be > 0 and <= 10 s (the filter models the lag to first order; a larger misalignment of clocks is set with `files.<file>.time.offset_s`); milliseconds? the format is seconds"
+                }
             })
         }
     }
 }
 
+/// Largest prior sigma of a clock lag accepted, s.
+const MAX_LAG_SIGMA: f64 = 10.0;
 /// Largest lever-arm component accepted (m).
 const MAX_LEVER_ARM: f64 = 1000.0;
 /// Largest initial velocity component accepted, m/s (above any vehicle's
@@ -1140,7 +1162,7 @@ impl Cx<'_> {
     ) -> Result<DvlCalibration, LogError> {
         let key = join(sec, "estimate");
         let accepted = names.join(", ");
-        let mut listed = [false; 3];
+        let mut listed = [false; ESTIMATE_NAMES.len()];
         match t.get("estimate") {
             None => {}
             Some(toml::Value::Array(items)) => {
@@ -1156,9 +1178,7 @@ impl Cx<'_> {
                     };
                     let Some(i) = names.iter().position(|n| n == name) else {
                         let file = sec.trim_start_matches("sensors.");
-                        let problem = if name == "time_offset" {
-                            format!("`time_offset` is not a state: `navsim tune` finds the {file} file's clock offset from its innovations and writes it to `files.{file}.time.offset_s`; accepted: {accepted}")
-                        } else if ESTIMATE_NAMES.contains(&name.as_str()) {
+                        let problem = if ESTIMATE_NAMES.contains(&name.as_str()) {
                             format!(
                                 "`{name}` is not estimated for the {file}; accepted: {accepted}{}",
                                 if file == "usbl" && name == "misalignment" {
@@ -1191,13 +1211,19 @@ impl Cx<'_> {
                 ))
             }
         }
-        let ranges = [Range::Noise, Range::AngleNoise, Range::Noise];
+        let ranges = [
+            Range::Noise,
+            Range::AngleNoise,
+            Range::Noise,
+            Range::LagSigma,
+        ];
         let defaults = [
             LEVER_ARM_SIGMA_DEFAULT,
             MISALIGNMENT_SIGMA_DEFAULT,
             SCALE_SIGMA_DEFAULT,
+            TIME_OFFSET_SIGMA_DEFAULT,
         ];
-        let mut sigma = [None; 3];
+        let mut sigma = [None; ESTIMATE_NAMES.len()];
         for i in 0..names.len() {
             let sigma_key = CALIBRATION_KEYS[i + 1];
             let given = self.opt(t, sec, sigma_key, ranges[i])?;
@@ -1216,6 +1242,7 @@ impl Cx<'_> {
             lever_arm: sigma[0],
             misalignment: sigma[1],
             scale: sigma[2],
+            time_offset: sigma[3],
         })
     }
 

@@ -3,7 +3,7 @@
 
 use nav_runtime::log::{
     DvlCalibration, LogError, Meta, LEVER_ARM_SIGMA_DEFAULT, MISALIGNMENT_SIGMA_DEFAULT,
-    SCALE_SIGMA_DEFAULT,
+    SCALE_SIGMA_DEFAULT, TIME_OFFSET_SIGMA_DEFAULT,
 };
 
 const HEAD: &str =
@@ -25,6 +25,7 @@ fn estimate_lists_any_subset_with_prior_sigmas() {
                 lever_arm: Some(LEVER_ARM_SIGMA_DEFAULT),
                 misalignment: None,
                 scale: Some(SCALE_SIGMA_DEFAULT),
+                time_offset: None,
             },
         ),
         (
@@ -33,6 +34,7 @@ fn estimate_lists_any_subset_with_prior_sigmas() {
                 lever_arm: Some(1.5),
                 misalignment: Some(0.01),
                 scale: Some(0.005),
+                time_offset: None,
             },
         ),
         (
@@ -41,6 +43,22 @@ fn estimate_lists_any_subset_with_prior_sigmas() {
                 lever_arm: None,
                 misalignment: Some(MISALIGNMENT_SIGMA_DEFAULT),
                 scale: None,
+                time_offset: None,
+            },
+        ),
+        (
+            "estimate = [\"time_offset\"]\n",
+            DvlCalibration {
+                time_offset: Some(TIME_OFFSET_SIGMA_DEFAULT),
+                ..DvlCalibration::default()
+            },
+        ),
+        (
+            "estimate = [\"time_offset\", \"scale\"]\ntime_offset_sigma = 2.5\n",
+            DvlCalibration {
+                scale: Some(SCALE_SIGMA_DEFAULT),
+                time_offset: Some(2.5),
+                ..DvlCalibration::default()
             },
         ),
     ];
@@ -59,7 +77,7 @@ fn estimate_lists_any_subset_with_prior_sigmas() {
 #[test]
 fn estimate_mistakes_are_errors_naming_the_key() {
     // (what, keys, key named, line, words of the message)
-    let cases: [(&str, &str, &str, u64, &[&str]); 12] = [
+    let cases: [(&str, &str, &str, u64, &[&str]); 14] = [
         (
             "unknown name",
             "estimate = [\"lever_arms\"]\n",
@@ -93,11 +111,28 @@ fn estimate_mistakes_are_errors_naming_the_key() {
             &["names (strings)", "integer"],
         ),
         (
-            "time offset not yet",
-            "estimate = [\"time_offset\"]\n",
-            "sensors.dvl.estimate",
-            7,
-            &["`time_offset` is not a state", "navsim tune"],
+            "a lag sigma in milliseconds",
+            "estimate = [\"time_offset\"]\ntime_offset_sigma = 500\n",
+            "sensors.dvl.time_offset_sigma",
+            8,
+            &["out of range", "<= 10 s", "milliseconds?"],
+        ),
+        (
+            "a negative lag sigma",
+            "estimate = [\"time_offset\"]\ntime_offset_sigma = -1\n",
+            "sensors.dvl.time_offset_sigma",
+            8,
+            &["out of range"],
+        ),
+        (
+            "no USBL clock lag",
+            "[sensors.usbl]\nnoise_sigma = 1\nestimate = [\"time_offset\"]\n",
+            "sensors.usbl.estimate",
+            9,
+            &[
+                "`time_offset` is not estimated for the usbl",
+                "accepted: lever_arm",
+            ],
         ),
         (
             "sigma without the name",
