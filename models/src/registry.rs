@@ -42,7 +42,7 @@ pub fn replay_models() -> Vec<Box<dyn ReplayModel>> {
         Box::new(InsReplay::<Sdins25Composed, 25>::new()),
         Box::new(InsReplay::<Sdins20, 20>::new()),
         Box::new(InsReplay::<crate::vehicles::sdins::Sdins20DvlCal, 28>::new()),
-        Box::new(InsReplay::<crate::vehicles::sdins::Sdins25UsblCal, 28>::new()),
+        Box::new(InsReplay::<crate::vehicles::sdins::Sdins25UsblCal, 29>::new()),
         Box::new(InsReplay::<crate::vehicles::pressure_auv::PressureAuv, 20>::new()),
         Box::new(crate::ahrs::AhrsReplay),
         Box::new(crate::gnss_ins::GnssInsReplay),

@@ -153,11 +153,15 @@ nav_runtime::model! {
             /// Error of the given transponder lever arm: true minus given,
             /// body axes, m.
             usbl_lever_arm: 3,
+            /// Lag of the fixes' clock behind the times the log gives them,
+            /// s: a fix stamped `t` is where the transponder was at `t - dt`.
+            usbl_time_offset,
         }
-        needs { position_error: 3, latitude, height, c_bn: 3x3 }
+        needs { position_error: 3, latitude, height, c_bn: 3x3, velocity: 3 }
         /// `Usbl`'s residual (eq. 17) less the share of the lever-arm error,
         /// `(C_b^n dr)_NE`: the transponder is `dr` further than the given
-        /// arm says, so the fix is too.
+        /// arm says, so the fix is too; plus `dt V_NE`, the way the vehicle
+        /// went since the fix was taken (first order in the lag).
         sensor UsblCalibrated: 2 {
             inputs {
                 /// Vector from the USBL transducer to the vehicle, NED, m.
@@ -168,8 +172,8 @@ nav_runtime::model! {
             let tilt = cross(usbl_misalignment, relative_position);
             let arm = c_bn * usbl_lever_arm;
             h = [
-                (rm0 + height) * position_error[0] - usbl_bias[0] - tilt[0] - arm[0],
-                (rn0 + height) * cos(latitude) * position_error[1] - usbl_bias[1] - tilt[1] - arm[1]
+                (rm0 + height) * position_error[0] - usbl_bias[0] - tilt[0] - arm[0] + usbl_time_offset * velocity[0],
+                (rn0 + height) * cos(latitude) * position_error[1] - usbl_bias[1] - tilt[1] - arm[1] + usbl_time_offset * velocity[1]
             ];
         }
     }
@@ -303,11 +307,16 @@ nav_runtime::model! {
             /// Error of the given antenna lever arm: true minus given, body
             /// axes, m.
             gnss_lever_arm: 3,
+            /// Lag of the fixes' clock behind the times the log gives them,
+            /// s: a fix stamped `t` is where the antenna was at `t - dt`.
+            gnss_time_offset,
         }
-        needs { position_error: 3, attitude_error: 3, latitude, height, c_bn: 3x3 }
+        needs { position_error: 3, attitude_error: 3, latitude, height, c_bn: 3x3, velocity: 3 }
         /// `GnssFix`'s residual less the share of the lever-arm error: the
         /// antenna is `C_b^n dr` further than the given arm says (north,
-        /// east; its down component with the sign of height).
+        /// east; its down component with the sign of height); plus
+        /// `dt V`, the way the vehicle went since the fix was taken (first
+        /// order in the lag).
         sensor GnssFixCalibrated: 3 {
             inputs {
                 /// Antenna position in body axes relative to the IMU, m.
@@ -317,7 +326,7 @@ nav_runtime::model! {
             let rn0 = transverse_radius(latitude);
             let c_true = c_bn + skew(attitude_error) * c_bn;
             let arm_error = (c_bn - c_true) * antenna_lever_arm;
-            let shift = c_bn * gnss_lever_arm;
+            let shift = c_bn * gnss_lever_arm - gnss_time_offset * velocity;
             h = [
                 (rm0 + height) * position_error[0] + arm_error[0] - shift[0],
                 (rn0 + height) * cos(latitude) * position_error[1] + arm_error[1] - shift[1],

@@ -508,7 +508,7 @@ const TRUE_ANTENNA: [f64; 3] = [ANTENNA[0] + 2.0, ANTENNA[1] - 1.5, ANTENNA[2]];
 /// `ShipGnssCal` with the given arm taken as exact and with
 /// `[sensors.gnss] estimate = ["lever_arm"]` (prior 3 m): the arm found, and
 /// the horizontal RMS error (m) of each run.
-fn antenna_runs(seed: u64) -> (nav_replay::ins::calibration::LeverArm, f64, f64) {
+fn antenna_runs(seed: u64) -> (nav_replay::ins::calibration::FixMounting, f64, f64) {
     use nav_replay::ins::run_and_score_vehicle;
     use nav_replay::ins::setup::FilterOptions;
     use ship::ShipGnssCal;
@@ -527,7 +527,7 @@ fn antenna_runs(seed: u64) -> (nav_replay::ins::calibration::LeverArm, f64, f64)
         log.meta = Meta::parse(&text).unwrap();
         let (run, scored) =
             run_and_score_vehicle::<ShipGnssCal, M>(&log, &FilterOptions::default(), None).unwrap();
-        (run.lever_arms[0], scored.unwrap().horizontal_error_rms_m)
+        (run.fix_mountings[0], scored.unwrap().horizontal_error_rms_m)
     };
     let (fixed, fixed_rms) = run(false);
     assert!(!fixed.lever_arm.estimated);
@@ -560,6 +560,111 @@ fn the_gnss_antenna_lever_arm_converges() {
         assert!(arm.sigma[k] < 0.25 * arm.prior_sigma, "component {k} sigma");
     }
     assert!(rms < fixed_rms, "RMS {rms} estimated, {fixed_rms} given");
+}
+
+/// The lag of the GNSS fixes in the clock tests, s: stamped at their
+/// output, not at their measurement.
+const GNSS_LAG: f64 = 1.0;
+
+/// The voyage of `seed` with its GNSS fixes stamped [`GNSS_LAG`] late,
+/// replayed by `ShipGnssCal` with the fixes taken at their stamps and with
+/// `[sensors.gnss] estimate = ["time_offset"]` (prior 2 s; the arm is the
+/// given one): the mounting found (the lag), and the horizontal RMS error
+/// (m) of each run.
+fn gnss_lag_runs(seed: u64) -> (nav_replay::ins::calibration::FixMounting, f64, f64) {
+    use nav_replay::ins::run_and_score_vehicle;
+    use nav_replay::ins::setup::FilterOptions;
+    use ship::ShipGnssCal;
+    const M: usize = ShipGnssCal::N;
+    let dir = TempDir::new(&format!("gnss-lag-{seed}"));
+    write_voyage(&dir.0, seed);
+    let mut log = LogDir::read(&dir.0, nav_runtime::log::Strictness::Strict).unwrap();
+    for row in log.gnss.as_mut().unwrap() {
+        row.t += GNSS_LAG;
+    }
+    let run = |estimate: bool| {
+        let mut log = log.clone();
+        let mut text = log.meta.to_toml();
+        if estimate {
+            let section = "[sensors.gnss]\n";
+            let at = text.find(section).unwrap() + section.len();
+            text.insert_str(
+                at,
+                "estimate = [\"time_offset\"]\ntime_offset_sigma = 2.0\n",
+            );
+        }
+        log.meta = Meta::parse(&text).unwrap();
+        let (run, scored) =
+            run_and_score_vehicle::<ShipGnssCal, M>(&log, &FilterOptions::default(), None).unwrap();
+        (run.fix_mountings[0], scored.unwrap().horizontal_error_rms_m)
+    };
+    let (ignored, ignored_rms) = run(false);
+    assert!(!ignored.time_offset.estimated);
+    assert!(ignored.time_offset.value[0].abs() < 1e-12);
+    let (found, rms) = run(true);
+    (found, rms, ignored_rms)
+}
+
+/// At 4 m/s each fix stamped 1 s late is 4 m behind the ship. Listed, the
+/// lag ends within 4 sigma of the truth with a sigma under a tenth of its
+/// prior, and the horizontal error is smaller than with the fixes taken
+/// at their stamps.
+#[test]
+fn the_gnss_clock_lag_converges() {
+    let (found, rms, ignored_rms) = gnss_lag_runs(41);
+    let lag = found.time_offset;
+    eprintln!(
+        "lag {:.4} +- {:.4} s (truth {GNSS_LAG}, prior {}); horizontal RMS {rms:.2} m, {ignored_rms:.2} m with the fixes at their stamps",
+        lag.value[0], lag.sigma[0], lag.prior_sigma
+    );
+    assert!(lag.estimated);
+    assert!(
+        (lag.value[0] - GNSS_LAG).abs() < 4.0 * lag.sigma[0],
+        "lag {} +- {}",
+        lag.value[0],
+        lag.sigma[0]
+    );
+    assert!(
+        lag.sigma[0] < 0.1 * lag.prior_sigma,
+        "sigma {}",
+        lag.sigma[0]
+    );
+    assert!(
+        rms < ignored_rms,
+        "RMS {rms} with the lag, {ignored_rms} without"
+    );
+}
+
+/// The lag over voyages 6300-6399: the mean squared error in the filter's
+/// own sigmas (1 for a consistent estimate), the median absolute error
+/// and sigma, and the median ratio of the horizontal RMS error to that
+/// with the fixes at their stamps (asserted below 1). `cargo test --release -p ship --test
+/// ship_replay -- --ignored gnss --nocapture`; the figures are in
+/// docs/calibration.md.
+#[test]
+#[ignore = "Monte Carlo over 100 voyages; prints the figures of docs/calibration.md"]
+fn gnss_clock_lag_monte_carlo() {
+    let mut errors = NormalizedErrors::default();
+    let (mut sigmas, mut ratios) = (Vec::new(), Vec::new());
+    for seed in 6300..6400u64 {
+        let (found, rms, ignored_rms) = gnss_lag_runs(seed);
+        let lag = found.time_offset;
+        errors.add(lag.value[0] - GNSS_LAG, lag.sigma[0]);
+        sigmas.push(lag.sigma[0]);
+        ratios.push(rms / ignored_rms);
+    }
+    println!(
+        "lag: mean squared error in sigmas {:.2}, median |error| {:.4} s, median sigma {:.4} s; \
+         horizontal RMS, estimated / at the stamps: median {:.3}",
+        errors.mean_squared(),
+        errors.median_absolute(),
+        stats::median(&sigmas),
+        stats::median(&ratios)
+    );
+    // Not asserted: the mean squared error is 1.37, above the 95 % band of
+    // a consistent estimate (1.30); the lag's sigma is about 15 % small,
+    // the same with no lag at all (docs/calibration.md).
+    assert!(stats::median(&ratios) < 1.0);
 }
 
 /// The antenna's arm over voyages 6200-6299 (not used while building the

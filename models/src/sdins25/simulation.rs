@@ -193,6 +193,21 @@ pub fn trajectory(start_depth: f64, duration: f64) -> Trajectory {
     spec.build(duration)
 }
 
+/// [`trajectory`] flown with four speed changes, each over 10 s: from
+/// 1.5 m/s to 2.3 at 60 s, 1.0 at 105 s (in the first turn), 2.0 at 180 s
+/// and 1.5 at 230 s (in the second pair of turns). A sensor's clock lag
+/// shows where the velocity changes; in a steady turn the body-axes
+/// velocity does not, and a lag along the track looks like a lever arm
+/// along the body (docs/calibration.md).
+pub fn trajectory_with_speed_changes(start_depth: f64, duration: f64) -> Trajectory {
+    let mut spec = scenarios::sdins25_lawn_mower();
+    spec.start = scenarios::sdins25_start(start_depth);
+    for (t0, delta) in [(60.0, 0.8), (105.0, -1.3), (180.0, 1.0), (230.0, -0.5)] {
+        spec.change_speed(t0, 10.0, delta);
+    }
+    spec.build(duration)
+}
+
 /// What every seed of a configuration shares: the truth trajectory, its
 /// error-free IMU samples and the `truth.csv` rows, about a quarter of a run's
 /// cost. A pure function of `(start_depth, duration, imu_rate)`, so it is

@@ -48,9 +48,9 @@ nav_runtime::model! {
     }
 
     /// SDINS-25 with the calibrated USBL: the error of the transponder's
-    /// given lever arm as filter states (28 states), estimated when the
-    /// log's `[sensors.usbl] estimate` lists `lever_arm`
-    /// (docs/calibration.md).
+    /// given lever arm and the lag of the fixes' clock as filter states
+    /// (29 states), estimated when the log's `[sensors.usbl] estimate`
+    /// lists them (docs/calibration.md).
     pub model Sdins25UsblCal = InsCore + UsblCalibrated + Depth + Dvl + Compass;
 }
 
@@ -100,10 +100,10 @@ impl InsVehicle<28> for Sdins20DvlCal {
     type Mag = Absent;
 }
 
-impl InsVehicle<28> for Sdins25UsblCal {
+impl InsVehicle<29> for Sdins25UsblCal {
     const REPLAY_NAME: &'static str = "sdins25-usbl-cal";
     const DESCRIPTION: &'static str =
-        "sdins25 with the USBL transponder's lever arm as states (28), estimated per meta.toml [sensors.usbl] estimate";
+        "sdins25 with the USBL transponder's lever arm and clock lag as states (29), estimated per meta.toml [sensors.usbl] estimate";
     const USBL_SENSOR: &'static str = "UsblCalibrated";
     type Depth = Sdins25UsblCalDepth;
     type Dvl = Sdins25UsblCalDvl;

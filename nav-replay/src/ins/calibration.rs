@@ -10,17 +10,17 @@
 //! it stays at its prior (the given value) exactly.
 
 use nav_ins::{Builder, InsFilter, InsVehicle};
-use nav_runtime::log::{DvlCalibration, Meta};
+use nav_runtime::log::{DvlCalibration, Meta, ESTIMATE_NAMES};
 
 use crate::RunError;
 
 /// A sensor whose mounting a vehicle may carry as states: its
-/// `[sensors.<name>]`, the states of its calibrated block in the order of
-/// [`nav_runtime::log::ESTIMATE_NAMES`] (state, scalars), the block, and a
-/// vehicle that has it.
+/// `[sensors.<name>]`, the states of its calibrated block (the name in
+/// [`nav_runtime::log::ESTIMATE_NAMES`] it answers to, the state, its
+/// scalars), the block, and a vehicle that has it.
 struct Calibratable {
     sensor: &'static str,
-    states: &'static [(&'static str, usize)],
+    states: &'static [(&'static str, &'static str, usize)],
     block: &'static str,
     vehicle: &'static str,
 }
@@ -29,23 +29,29 @@ const CALIBRATABLE: [Calibratable; 3] = [
     Calibratable {
         sensor: "dvl",
         states: &[
-            ("dvl_lever_arm", 3),
-            ("dvl_misalignment", 3),
-            ("dvl_scale", 1),
-            ("dvl_time_offset", 1),
+            ("lever_arm", "dvl_lever_arm", 3),
+            ("misalignment", "dvl_misalignment", 3),
+            ("scale", "dvl_scale", 1),
+            ("time_offset", "dvl_time_offset", 1),
         ],
         block: "DvlCalibrated",
         vehicle: "sdins20-dvl-cal",
     },
     Calibratable {
         sensor: "usbl",
-        states: &[("usbl_lever_arm", 3)],
+        states: &[
+            ("lever_arm", "usbl_lever_arm", 3),
+            ("time_offset", "usbl_time_offset", 1),
+        ],
         block: "UsblCalibrated",
         vehicle: "sdins25-usbl-cal",
     },
     Calibratable {
         sensor: "gnss",
-        states: &[("gnss_lever_arm", 3)],
+        states: &[
+            ("lever_arm", "gnss_lever_arm", 3),
+            ("time_offset", "gnss_time_offset", 1),
+        ],
         block: "GnssFixCalibrated",
         vehicle: "a vehicle of your own, as `ShipGnssCal` of examples/ship",
     },
@@ -54,7 +60,7 @@ const CALIBRATABLE: [Calibratable; 3] = [
 impl Calibratable {
     /// Whether vehicle `V` carries these states.
     fn carried_by<V: InsVehicle<N>, const N: usize>(&self) -> bool {
-        self.states.iter().all(|(name, len)| {
+        self.states.iter().all(|(_, name, len)| {
             let first = if *len == 1 {
                 (*name).to_string()
             } else {
@@ -97,17 +103,18 @@ pub(super) fn register<V: InsVehicle<N>, const N: usize>(
             }
             continue;
         }
-        for ((name, _), sigma) in c.states.iter().zip(sigmas(&cal)) {
-            builder.state_sigma(name, sigma)?;
+        for (listed, state, _) in c.states {
+            builder.state_sigma(state, prior_sigma(&cal, listed).unwrap_or(0.0))?;
         }
     }
     Ok(())
 }
 
-/// Prior sigma of each value, in the order of `ESTIMATE_NAMES`: the log's,
-/// zero when not listed.
-fn sigmas(cal: &DvlCalibration) -> [f64; 4] {
-    cal.sigmas().map(|s| s.unwrap_or(0.0))
+/// The prior sigma of the value `name` of `ESTIMATE_NAMES` when the log
+/// lists it.
+fn prior_sigma(cal: &DvlCalibration, name: &str) -> Option<f64> {
+    let i = ESTIMATE_NAMES.iter().position(|n| *n == name)?;
+    cal.sigmas()[i]
 }
 
 /// The calibrated value of `filter`'s state `state` (`K` scalars, named
@@ -222,18 +229,21 @@ impl DvlMounting {
     }
 }
 
-/// The lever arm of a USBL transponder or a GNSS antenna at the end of a run
-/// of a vehicle that carries its calibration state.
+/// The mounting of a USBL transponder or a GNSS antenna at the end of a
+/// run of a vehicle that carries its calibration states.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LeverArm {
+pub struct FixMounting {
     /// The log sensor: `usbl` or `gnss`.
     pub sensor: &'static str,
     /// Body axes (FRD) relative to the IMU, m.
     pub lever_arm: Calibrated<3>,
+    /// Lag of the fixes' clock behind the log's times, s: a fix the log
+    /// puts at `t` is where the vehicle was at `t - lag`.
+    pub time_offset: Calibrated<1>,
 }
 
-impl LeverArm {
-    /// The calibrated lever arms in `filter` (of the USBL and the GNSS
+impl FixMounting {
+    /// The calibrated mountings in `filter` (of the USBL and the GNSS
     /// antenna, those whose states vehicle `V` carries), with the given
     /// values of `meta`.
     pub fn all_of<V: InsVehicle<N>, const N: usize>(
@@ -243,21 +253,28 @@ impl LeverArm {
         CALIBRATABLE[1..]
             .iter()
             .filter(|c| c.carried_by::<V, N>())
-            .map(|c| LeverArm {
-                sensor: c.sensor,
-                lever_arm: read(
-                    filter,
-                    c.states[0].0,
-                    given_arm(meta, c.sensor),
-                    meta.sensors.calibration(c.sensor).lever_arm,
-                ),
+            .map(|c| {
+                let cal = meta.sensors.calibration(c.sensor);
+                FixMounting {
+                    sensor: c.sensor,
+                    lever_arm: read(
+                        filter,
+                        c.states[0].1,
+                        given_arm(meta, c.sensor),
+                        cal.lever_arm,
+                    ),
+                    time_offset: read(filter, c.states[1].1, [0.0], cal.time_offset),
+                }
             })
             .collect()
     }
 
     /// The replay JSON's `<sensor>_calibration` (docs/cli-and-json.md):
-    /// `lever_arm_m` as the DVL's.
+    /// `lever_arm_m` and `time_offset_s` as the DVL's.
     pub fn json(&self) -> serde_json::Value {
-        serde_json::json!({ "lever_arm_m": entry(&self.lever_arm, 1.0) })
+        serde_json::json!({
+            "lever_arm_m": entry(&self.lever_arm, 1.0),
+            "time_offset_s": entry(&self.time_offset, 1.0),
+        })
     }
 }

@@ -465,9 +465,9 @@ pub(super) fn output_of<V: InsVehicle<N>, const N: usize>(
     if let Some(m) = &run.dvl_mounting {
         out.metrics.insert("dvl_calibration".into(), m.json());
     }
-    for arm in &run.lever_arms {
+    for m in &run.fix_mountings {
         out.metrics
-            .insert(format!("{}_calibration", arm.sensor), arm.json());
+            .insert(format!("{}_calibration", m.sensor), m.json());
     }
     if let Some(o) = &run.observability {
         let (json, unlearned) = crate::observability::json(o, &V::STATE_NAMES, |i, name| {

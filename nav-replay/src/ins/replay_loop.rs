@@ -450,7 +450,7 @@ where
         observability,
         warnings: all_warnings,
         dvl_mounting: super::calibration::DvlMounting::of(&final_filter, source.meta()),
-        lever_arms: super::calibration::LeverArm::all_of(&final_filter, source.meta()),
+        fix_mountings: super::calibration::FixMounting::all_of(&final_filter, source.meta()),
         final_filter,
         recoveries,
     })

@@ -243,9 +243,10 @@ pub struct InsRun<V: InsVehicle<N>, const N: usize> {
     /// The DVL mounting at the end of the run, for a vehicle with the DVL
     /// calibration states (`None` for the others; docs/calibration.md).
     pub dvl_mounting: Option<super::calibration::DvlMounting>,
-    /// The calibrated lever arms of the USBL transponder and the GNSS
-    /// antenna, for a vehicle that carries their states.
-    pub lever_arms: Vec<super::calibration::LeverArm>,
+    /// The calibrated mountings (lever arm, clock lag) of the USBL
+    /// transponder and the GNSS antenna, for a vehicle that carries their
+    /// states.
+    pub fix_mountings: Vec<super::calibration::FixMounting>,
 }
 
 impl<V: InsVehicle<N>, const N: usize> InsRun<V, N> {

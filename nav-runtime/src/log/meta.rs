@@ -183,10 +183,12 @@ pub struct Sensors {
     /// estimates, with their prior sigmas (docs/calibration.md).
     pub dvl_calibration: DvlCalibration,
     /// `[sensors.usbl] estimate`: whether the filter estimates the USBL
-    /// transponder's lever arm (`lever_arm` only), with its prior sigma.
+    /// transponder's lever arm and the lag of the fixes' clock, with their
+    /// prior sigmas.
     pub usbl_calibration: DvlCalibration,
     /// `[sensors.gnss] estimate`: whether the filter estimates the GNSS
-    /// antenna's lever arm (`lever_arm` only), with its prior sigma.
+    /// antenna's lever arm and the lag of the fixes' clock, with their
+    /// prior sigmas.
     pub gnss_calibration: DvlCalibration,
 }
 
@@ -238,18 +240,22 @@ impl DvlCalibration {
     }
 }
 
+/// The names of a position fix's `estimate` (`[sensors.usbl]`,
+/// `[sensors.gnss]`).
+const POSITION_FIX_ESTIMATE_NAMES: [&str; 2] = ["lever_arm", "time_offset"];
+
 /// The names `[sensors.dvl] estimate` accepts.
 pub const ESTIMATE_NAMES: [&str; 4] = ["lever_arm", "misalignment", "scale", "time_offset"];
 
-/// How many of [`ESTIMATE_NAMES`] (from the first) the `estimate` of
-/// `[sensors.<name>]` accepts: all four for the DVL, the lever arm for the
+/// The names of [`ESTIMATE_NAMES`] the `estimate` of `[sensors.<name>]`
+/// accepts: all four for the DVL, the lever arm and the clock lag for the
 /// USBL transponder and the GNSS antenna (the USBL's array misalignment is
 /// already a state of its block, with its own `misalignment_sigma`), none
 /// for the other sensors.
 pub fn estimate_names_of(sensor: &str) -> &'static [&'static str] {
     match sensor {
         "dvl" => &ESTIMATE_NAMES,
-        "usbl" | "gnss" => &ESTIMATE_NAMES[..1],
+        "usbl" | "gnss" => &POSITION_FIX_ESTIMATE_NAMES,
         _ => &[],
     }
 }
@@ -745,7 +751,14 @@ impl Meta {
                 }
                 let accepted = estimate_names_of(name);
                 if !accepted.is_empty() {
-                    keys.extend(&CALIBRATION_KEYS[..=accepted.len()]);
+                    keys.push(CALIBRATION_KEYS[0]);
+                    keys.extend(
+                        ESTIMATE_NAMES
+                            .iter()
+                            .zip(&CALIBRATION_KEYS[1..])
+                            .filter(|(n, _)| accepted.contains(n))
+                            .map(|(_, k)| *k),
+                    );
                 }
                 cx.check_keys(t, &sec, &keys)?;
                 match *name {
@@ -1176,7 +1189,8 @@ impl Cx<'_> {
                             ),
                         ));
                     };
-                    let Some(i) = names.iter().position(|n| n == name) else {
+                    let i = ESTIMATE_NAMES.iter().position(|n| n == name);
+                    let Some(i) = i.filter(|_| names.contains(&name.as_str())) else {
                         let file = sec.trim_start_matches("sensors.");
                         let problem = if ESTIMATE_NAMES.contains(&name.as_str()) {
                             format!(
@@ -1224,7 +1238,7 @@ impl Cx<'_> {
             TIME_OFFSET_SIGMA_DEFAULT,
         ];
         let mut sigma = [None; ESTIMATE_NAMES.len()];
-        for i in 0..names.len() {
+        for i in (0..ESTIMATE_NAMES.len()).filter(|&i| names.contains(&ESTIMATE_NAMES[i])) {
             let sigma_key = CALIBRATION_KEYS[i + 1];
             let given = self.opt(t, sec, sigma_key, ranges[i])?;
             if given.is_some() && !listed[i] {

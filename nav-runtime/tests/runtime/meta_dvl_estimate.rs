@@ -77,7 +77,7 @@ fn estimate_lists_any_subset_with_prior_sigmas() {
 #[test]
 fn estimate_mistakes_are_errors_naming_the_key() {
     // (what, keys, key named, line, words of the message)
-    let cases: [(&str, &str, &str, u64, &[&str]); 14] = [
+    let cases: [(&str, &str, &str, u64, &[&str]); 15] = [
         (
             "unknown name",
             "estimate = [\"lever_arms\"]\n",
@@ -125,14 +125,21 @@ fn estimate_mistakes_are_errors_naming_the_key() {
             &["out of range"],
         ),
         (
-            "no USBL clock lag",
-            "[sensors.usbl]\nnoise_sigma = 1\nestimate = [\"time_offset\"]\n",
-            "sensors.usbl.estimate",
+            "no GNSS misalignment",
+            "[sensors.gnss]\nnoise_sigma = 1\nestimate = [\"misalignment\"]\n",
+            "sensors.gnss.estimate",
             9,
             &[
-                "`time_offset` is not estimated for the usbl",
-                "accepted: lever_arm",
+                "`misalignment` is not estimated for the gnss",
+                "accepted: lever_arm, time_offset",
             ],
+        ),
+        (
+            "a USBL scale sigma",
+            "[sensors.usbl]\nnoise_sigma = 1\nestimate = [\"time_offset\"]\nscale_sigma = 0.01\n",
+            "sensors.usbl.scale_sigma",
+            10,
+            &["unknown key"],
         ),
         (
             "sigma without the name",
@@ -216,20 +223,41 @@ fn estimate_mistakes_are_errors_naming_the_key() {
     );
 }
 
-/// `[sensors.usbl]` and `[sensors.gnss]` take `estimate = ["lever_arm"]`
-/// (the transponder's and the antenna's), with the DVL's default prior, and
-/// write it back.
+/// `[sensors.usbl]` and `[sensors.gnss]` take `estimate = ["lever_arm",
+/// "time_offset"]` (the transponder's or the antenna's arm, the lag of the
+/// fixes' clock; any subset), with the DVL's default priors, and write it
+/// back.
 #[test]
-fn usbl_and_gnss_estimate_their_lever_arm() {
+fn usbl_and_gnss_estimate_their_lever_arm_and_clock_lag() {
     for sensor in ["usbl", "gnss"] {
-        for (keys, sigma) in [
-            ("estimate = [\"lever_arm\"]\n", LEVER_ARM_SIGMA_DEFAULT),
-            ("estimate = [\"lever_arm\"]\nlever_arm_sigma = 2.0\n", 2.0),
+        // (keys, lever-arm prior, lag prior)
+        for (keys, arm, lag) in [
+            (
+                "estimate = [\"lever_arm\"]\n",
+                Some(LEVER_ARM_SIGMA_DEFAULT),
+                None,
+            ),
+            (
+                "estimate = [\"lever_arm\"]\nlever_arm_sigma = 2.0\n",
+                Some(2.0),
+                None,
+            ),
+            (
+                "estimate = [\"time_offset\"]\n",
+                None,
+                Some(TIME_OFFSET_SIGMA_DEFAULT),
+            ),
+            (
+                "estimate = [\"time_offset\", \"lever_arm\"]\ntime_offset_sigma = 1.5\n",
+                Some(LEVER_ARM_SIGMA_DEFAULT),
+                Some(1.5),
+            ),
         ] {
             let text = format!("[sensors.{sensor}]\nnoise_sigma = 1\n{keys}");
             let meta = parse(&text).unwrap_or_else(|e| panic!("{sensor} {keys:?}: {e}"));
             let expected = DvlCalibration {
-                lever_arm: Some(sigma),
+                lever_arm: arm,
+                time_offset: lag,
                 ..DvlCalibration::default()
             };
             assert_eq!(meta.sensors.calibration(sensor), expected, "{sensor}");
