@@ -175,6 +175,15 @@ pub struct Calibrated<const K: usize> {
     pub prior_sigma: f64,
 }
 
+impl<const K: usize> Calibrated<K> {
+    /// Per component, how many of its sigmas the estimate is off `truth`
+    /// (a known value, as in a simulation): about 1 for an honest sigma,
+    /// beyond 4 rarely.
+    pub fn errors_in_sigmas(&self, truth: [f64; K]) -> [f64; K] {
+        core::array::from_fn(|k| (self.value[k] - truth[k]).abs() / self.sigma[k])
+    }
+}
+
 /// The DVL mounting at the end of a run of a vehicle with calibration
 /// states.
 #[derive(Clone, Copy, Debug, PartialEq)]
