@@ -14,17 +14,26 @@
 //!
 //! The log is read as every replay reads it, so the DVL's clock, axes and
 //! offsets are those the filter gets; scored against `truth.csv` with the
-//! filters' scoring, without the NEES (there is no covariance).
+//! filters' scoring, without the NEES (there is no covariance). It is
+//! streamed in time order: memory does not grow with the log
+//! (docs/trust.md).
+
+use std::collections::VecDeque;
+use std::path::Path;
 
 use nav_runtime::attitude::Euler;
 use nav_runtime::earth::{earth_rate_n, meridian_radius, transport_rate_n, transverse_radius};
-use nav_runtime::log::{DvlRow, ImuRow, LogDir, Row, Warning, WarningKind};
+use nav_runtime::log::{
+    DvlRow, Event, LogDir, LogFiles, LogSource, Row, RowSource, TruthRow, Warning, WarningKind,
+};
 use nav_runtime::nalgebra::{Matrix3, Rotation3, SMatrix, Vector3};
 use nav_runtime::strapdown::NavState;
 
 use crate::ins::output::{TRAJECTORY_COLUMNS, TRAJECTORY_TABLE};
-use crate::ins::score::{self, Scored};
-use crate::{ReplayModel, ReplayOptions, ReplayOutput, RunError, RunTable};
+use crate::ins::score::{Keep, Scorer, COLUMNS, TABLE};
+use crate::ins::setup::Estimate;
+use crate::output::series::{SeriesSink, TableWriter};
+use crate::{ReplayModel, ReplayOptions, ReplayOutput, RunError};
 
 /// The model's name on the command line.
 pub const NAME: &str = "dvl-dr";
@@ -37,206 +46,454 @@ const GAP_WARNING_S: f64 = 10.0;
 #[derive(Clone, Copy, Debug, Default)]
 pub struct DeadReckoning;
 
-/// One dead-reckoned solution at a time.
-#[derive(Clone, Copy, Debug)]
-struct Fix {
-    t: f64,
-    nav: NavState,
-}
-
-/// The attitude carried through the IMU rows, forward in time only.
-struct Attitude<'a> {
-    imu: &'a [ImuRow],
-    /// Index of the IMU row whose interval holds `t`.
-    k: usize,
-    t: f64,
+/// A truth row waiting for the DVL reading after it (the velocity is
+/// linear between readings), with the attitude at its time.
+struct Waiting {
+    line: Option<u64>,
+    row: TruthRow,
     c_bn: Matrix3<f64>,
 }
 
-impl<'a> Attitude<'a> {
-    fn new(imu: &'a [ImuRow], t0: f64, c_bn: Matrix3<f64>) -> Self {
-        let k = imu.partition_point(|r| r.t <= t0).saturating_sub(1);
-        Attitude {
-            imu,
-            k,
-            t: t0,
-            c_bn,
-        }
-    }
+/// The dead reckoning as the log streams by, in time order: the attitude
+/// carried through the IMU rows, the position integrated from one DVL
+/// reading (a knot of the velocity) to the next. What it holds does not
+/// grow with the log: the truth rows between two readings wait for the
+/// second.
+struct Reckoning {
+    t0: f64,
+    lat0: f64,
+    h0: f64,
+    misalignment: Matrix3<f64>,
+    arm: Vector3<f64>,
+    /// The attitude at `t_att`, and the body rate of the IMU sample held
+    /// there (rad/s).
+    c_bn: Matrix3<f64>,
+    t_att: f64,
+    rate: Vector3<f64>,
+    /// The latest knot: its time and NED velocity (the epoch's before the
+    /// first reading), the position at `t_pos` and the velocity there.
+    knot: (f64, Vector3<f64>),
+    readings: usize,
+    t_pos: f64,
+    position: (f64, f64, f64),
+    waiting: VecDeque<Waiting>,
+    /// Readings since the latest IMU row: each becomes a knot at the next
+    /// IMU row (which, at the reading's own time, is the sample held from
+    /// it on), or at the end when within the IMU's span.
+    deferred: Vec<Deferred>,
+    imu: ImuSpan,
+    longest_gap: (f64, f64),
+}
 
-    /// The body rate of the IMU sample held at the current time, rad/s.
-    fn rate(&self) -> Vector3<f64> {
-        self.imu
-            .get(self.k)
-            .map_or(Vector3::zeros(), |r| Vector3::new(r.gx, r.gy, r.gz))
-    }
+/// A DVL reading waiting for the IMU row after it: its time, body-axes
+/// velocity (m/s), the attitude at its time and the body rate held there.
+struct Deferred {
+    t: f64,
+    v: Vector3<f64>,
+    c_bn: Matrix3<f64>,
+    rate: Vector3<f64>,
+}
 
-    /// Carries the attitude to `t` (not before the current time) with the
-    /// navigation frame's rate at `lat`, `h` and `v_n`.
-    fn advance(&mut self, t: f64, lat: f64, h: f64, v_n: &Vector3<f64>) {
-        let w_in = earth_rate_n(lat) + transport_rate_n(lat, h, v_n);
-        while self.t < t {
-            // The end of the interval the current sample is held over.
-            let boundary = self.imu.get(self.k + 1).map_or(f64::INFINITY, |r| r.t);
-            let end = boundary.min(t);
-            let dt = end - self.t;
-            if dt > 0.0 {
-                let body = Rotation3::from_scaled_axis(self.rate() * dt);
-                let frame = Rotation3::from_scaled_axis(-w_in * dt);
-                self.c_bn = frame.matrix() * self.c_bn * body.matrix();
-                self.t = end;
-            }
-            if end >= boundary {
-                self.k += 1;
-            }
-        }
+/// The IMU rows seen: the first and last time and how many.
+#[derive(Clone, Copy, Default)]
+struct ImuSpan {
+    first: Option<f64>,
+    last: f64,
+    rows: usize,
+}
+
+impl ImuSpan {
+    /// The end of the last row's interval: one mean interval after it.
+    fn end(&self) -> f64 {
+        let Some(first) = self.first else {
+            return f64::NEG_INFINITY;
+        };
+        let period = if self.rows > 1 {
+            (self.last - first) / (self.rows - 1) as f64
+        } else {
+            0.0
+        };
+        self.last + period
     }
 }
 
-/// The dead-reckoned solution at each time of `times` (ascending), `None`
-/// where it has none (before the epoch, after the last IMU row), and the
-/// warnings of the run.
-///
-/// # Errors
-/// `[initial]` lacks the position or the attitude; the log has no IMU
-/// rows, no DVL file or no DVL reading with bottom lock.
-fn dead_reckon(log: &LogDir, times: &[f64]) -> Result<(Vec<Option<Fix>>, Vec<Warning>), RunError> {
-    let init = &log.meta.initial;
-    let [lat0, lon0, depth0] = init.position_for(NAME)?;
-    let [roll, pitch, yaw] = init.attitude()?;
-    let (Some(first), Some(last)) = (log.imu.first(), log.imu.last()) else {
-        return Err(RunError::Invalid(format!(
-            "imu.csv: no rows: model {NAME} carries the attitude with the gyro"
-        )));
-    };
-    let dvl = log.dvl.as_deref().ok_or_else(|| {
-        RunError::Invalid(format!(
-            "dvl.csv: missing: model {NAME} integrates the DVL's velocity (map a file to it with [files.dvl])"
-        ))
-    })?;
-    let t0 = init.t.unwrap_or(first.t);
-    // The IMU's last sample is held over one mean interval.
-    let rows = log.imu.len();
-    let period = if rows > 1 {
-        (last.t - first.t) / (rows - 1) as f64
-    } else {
-        0.0
-    };
-    let t_end = last.t + period;
-    let mounting = log.meta.sensors.mounting("dvl");
-    let misalignment = mounting.map_or(Matrix3::identity(), |m| {
-        let [roll, pitch, yaw] = m.misalignment;
-        Euler { roll, pitch, yaw }.c_bn()
-    });
-    let arm = Vector3::from(mounting.map_or([0.0; 3], |m| m.lever_arm));
+/// Where the dead reckoning's solutions go: the scorer (truth rows) and
+/// the track (one row per DVL reading).
+struct Sinks {
+    scorer: Option<Scorer>,
+    track: SeriesSink,
+}
 
-    // The velocity knots: the epoch's, then each reading's, in NED.
-    let c_bn0 = Euler { roll, pitch, yaw }.c_bn();
-    let mut attitude = Attitude::new(&log.imu, t0, c_bn0);
-    let h0 = -depth0;
-    let v0 = Vector3::new(init.vn, init.ve, init.vd);
-    let mut knots = vec![(t0, v0)];
-    let mut longest_gap = (0.0, t0);
-    for r in dvl.iter().filter(|r| r.t >= t0 && r.t <= t_end) {
-        let Some(v) = r.velocity() else { continue };
-        let (t_prev, v_prev) = knots[knots.len() - 1];
-        attitude.advance(r.t, lat0, h0, &v_prev);
-        let body = misalignment * Vector3::from(v) - attitude.rate().cross(&arm);
-        let v_n = attitude.c_bn * body;
-        if r.t - t_prev > longest_gap.0 && knots.len() > 1 {
-            longest_gap = (r.t - t_prev, t_prev);
-        }
-        knots.push((r.t, v_n));
-    }
-    if knots.len() < 2 {
-        return Err(RunError::Invalid(format!(
-            "dvl.csv: no reading with bottom lock between t = {t0} s and the last IMU row: nothing to dead-reckon"
-        )));
-    }
-    let mut warnings = Vec::new();
-    if longest_gap.0 > GAP_WARNING_S {
-        warnings.push(Warning::about(
-            WarningKind::Suspicious,
-            DvlRow::FILE,
-            format!(
-                "no DVL reading with bottom lock for {:.1} s after t = {} s: the velocity is interpolated across the gap",
-                longest_gap.0, longest_gap.1
-            ),
-        ));
+impl Reckoning {
+    /// # Errors
+    /// `[initial]` lacks the position or the attitude.
+    fn new(source: &LogSource<'_>) -> Result<Self, RunError> {
+        let meta = source.meta();
+        let init = &meta.initial;
+        let [lat0, lon0, depth0] = init.position_for(NAME)?;
+        let [roll, pitch, yaw] = init.attitude()?;
+        let mounting = meta.sensors.mounting("dvl");
+        let misalignment = mounting.map_or(Matrix3::identity(), |m| {
+            let [roll, pitch, yaw] = m.misalignment;
+            Euler { roll, pitch, yaw }.c_bn()
+        });
+        let t0 = init.t.unwrap_or(f64::NAN);
+        Ok(Reckoning {
+            t0,
+            lat0,
+            h0: -depth0,
+            misalignment,
+            arm: Vector3::from(mounting.map_or([0.0; 3], |m| m.lever_arm)),
+            c_bn: Euler { roll, pitch, yaw }.c_bn(),
+            t_att: t0,
+            rate: Vector3::zeros(),
+            knot: (t0, Vector3::new(init.vn, init.ve, init.vd)),
+            readings: 0,
+            t_pos: t0,
+            position: (lat0, lon0, -depth0),
+            waiting: VecDeque::new(),
+            deferred: Vec::new(),
+            imu: ImuSpan::default(),
+            longest_gap: (0.0, t0),
+        })
     }
 
-    // The position, integrated knot to knot; the solutions at `times`.
-    let mut attitude = Attitude::new(&log.imu, t0, c_bn0);
-    let (mut lat, mut lon, mut h) = (lat0, lon0, h0);
-    let mut at = 0usize;
-    let mut t = t0;
-    let mut fixes = Vec::with_capacity(times.len());
-    let velocity = |t: f64| -> Vector3<f64> {
-        let i = knots.partition_point(|(tk, _)| *tk <= t);
-        match (knots.get(i.wrapping_sub(1)), knots.get(i)) {
-            (Some(&(ta, va)), Some(&(tb, vb))) if tb > ta => {
-                va + (vb - va) * ((t - ta) / (tb - ta))
-            }
-            (Some(&(_, va)), _) => va,
-            (None, _) => v0,
+    /// Carries the attitude to `t` (not before its current time) with the
+    /// held sample and the navigation frame's rate at the epoch's position
+    /// and the latest knot's velocity.
+    fn turn_to(&mut self, t: f64) {
+        let dt = t - self.t_att;
+        if dt > 0.0 {
+            let w_in = earth_rate_n(self.lat0) + transport_rate_n(self.lat0, self.h0, &self.knot.1);
+            let body = Rotation3::from_scaled_axis(self.rate * dt);
+            let frame = Rotation3::from_scaled_axis(-w_in * dt);
+            self.c_bn = frame.matrix() * self.c_bn * body.matrix();
+            self.t_att = t;
         }
-    };
-    for &tq in times {
-        if tq < t0 - 1e-9 || tq > t_end + 1e-9 {
-            fixes.push(None);
-            continue;
+    }
+
+    /// An IMU row: the sample held from its time on.
+    fn imu(&mut self, t: f64, rate: Vector3<f64>, sinks: &mut Sinks) -> Result<(), RunError> {
+        if self.imu.first.is_none() && self.t0.is_nan() {
+            // No `[initial] t`: the epoch is the first IMU row.
+            self.t0 = t;
+            self.t_att = t;
+            self.t_pos = t;
+            self.knot.0 = t;
+            self.longest_gap.1 = t;
         }
-        // Integrate to `tq` through every knot on the way (the velocity is
-        // linear between them, so the trapezoid is exact).
-        while t < tq {
-            while knots.get(at).is_some_and(|(tk, _)| *tk <= t) {
-                at += 1;
-            }
-            let next = knots.get(at).map_or(tq, |(tk, _)| tk.min(tq));
-            let v = (velocity(t) + velocity(next)) * 0.5;
-            let dt = next - t;
-            lat += v.x * dt / (meridian_radius(lat) + h);
-            lon += v.y * dt / ((transverse_radius(lat) + h) * lat.cos());
-            h -= v.z * dt;
-            t = next;
+        let first = self.imu.first.is_none();
+        if first {
+            // Before its first row the log's first sample is held.
+            self.rate = rate;
         }
-        let v_n = velocity(tq);
-        attitude.advance(tq, lat0, h0, &v_n);
-        fixes.push(Some(Fix {
-            t: tq,
+        self.imu.first.get_or_insert(t);
+        self.imu.last = t;
+        self.imu.rows += 1;
+        for d in std::mem::take(&mut self.deferred) {
+            let held = if d.t == t || first { rate } else { d.rate };
+            self.knot_of(&d, held, sinks)?;
+        }
+        self.turn_to(t);
+        self.rate = rate;
+        Ok(())
+    }
+
+    /// The knot of reading `d` with the body rate `rate` held at its time:
+    /// the reading less `omega x r`, turned to north-east-down.
+    fn knot_of(
+        &mut self,
+        d: &Deferred,
+        rate: Vector3<f64>,
+        sinks: &mut Sinks,
+    ) -> Result<(), RunError> {
+        let body = self.misalignment * d.v - rate.cross(&self.arm);
+        self.knot_at(d.t, d.c_bn * body, d.c_bn, sinks)
+    }
+
+    /// A DVL reading with bottom lock at `t`, body axes (m/s).
+    fn reading(&mut self, t: f64, v: [f64; 3]) {
+        // Before the epoch (or, without `[initial] t`, before the first
+        // IMU row: the epoch is still NaN) there is nothing to carry.
+        if self.t0.is_nan() || t < self.t0 {
+            return;
+        }
+        self.turn_to(t);
+        self.deferred.push(Deferred {
+            t,
+            v: Vector3::from(v),
+            c_bn: self.c_bn,
+            rate: self.rate,
+        });
+    }
+
+    /// A knot of the velocity at `t`: the truth rows waiting before it
+    /// get their solutions, the track its row.
+    fn knot_at(
+        &mut self,
+        t: f64,
+        v_n: Vector3<f64>,
+        c_bn: Matrix3<f64>,
+        sinks: &mut Sinks,
+    ) -> Result<(), RunError> {
+        let (t_a, _) = self.knot;
+        if self.readings > 0 && t - t_a > self.longest_gap.0 {
+            self.longest_gap = (t - t_a, t_a);
+        }
+        let next = (t, v_n);
+        while self.waiting.front().is_some_and(|w| w.row.t <= t) {
+            let w = self.waiting.pop_front().unwrap_or_else(|| unreachable!());
+            self.integrate_to(w.row.t, Some(next));
+            let fix = self.fix(w.row.t, Some(next), w.c_bn);
+            score(sinks, w.line, &w.row, Some(&fix))?;
+        }
+        self.integrate_to(t, Some(next));
+        self.knot = next;
+        self.readings += 1;
+        if sinks.track.wanted() {
+            let fix = self.fix(t, None, c_bn);
+            sinks.track.push(&track_row(&fix.nav, t))?;
+        }
+        Ok(())
+    }
+
+    /// The velocity at `t`: linear from the latest knot to `next`, held
+    /// after the latest knot without one.
+    fn velocity(&self, t: f64, next: Option<(f64, Vector3<f64>)>) -> Vector3<f64> {
+        let (ta, va) = self.knot;
+        match next {
+            Some((tb, vb)) if tb > ta => va + (vb - va) * ((t - ta) / (tb - ta)),
+            _ => va,
+        }
+    }
+
+    /// Integrates the position to `t` (the velocity is linear between the
+    /// knots, so the trapezoid is exact).
+    fn integrate_to(&mut self, t: f64, next: Option<(f64, Vector3<f64>)>) {
+        if t <= self.t_pos {
+            return;
+        }
+        let v = (self.velocity(self.t_pos, next) + self.velocity(t, next)) * 0.5;
+        let dt = t - self.t_pos;
+        let (lat, lon, h) = &mut self.position;
+        *lat += v.x * dt / (meridian_radius(*lat) + *h);
+        *lon += v.y * dt / ((transverse_radius(*lat) + *h) * lat.cos());
+        *h -= v.z * dt;
+        self.t_pos = t;
+    }
+
+    /// The solution at `t` (the position integrated to it), with attitude
+    /// `c_bn`.
+    fn fix(&self, t: f64, next: Option<(f64, Vector3<f64>)>, c_bn: Matrix3<f64>) -> Estimate {
+        let (lat, lon, h) = self.position;
+        Estimate {
+            t,
             nav: NavState {
                 lat,
                 lon,
                 h,
-                v_n,
-                c_bn: attitude.c_bn,
+                v_n: self.velocity(t, next),
+                c_bn,
             },
-        }));
+            cov: SMatrix::<f64, 9, 9>::repeat(f64::NAN),
+            compass_bias: (0.0, f64::NAN),
+            usbl_bias_n: (0.0, f64::NAN),
+            baro_bias: (0.0, f64::NAN),
+        }
     }
-    Ok((fixes, warnings))
+
+    /// A truth row: before the epoch it is counted, not scored; else it
+    /// waits, with the attitude at its time, for the next reading.
+    fn truth(
+        &mut self,
+        line: Option<u64>,
+        row: TruthRow,
+        sinks: &mut Sinks,
+    ) -> Result<(), RunError> {
+        // (Without `[initial] t` the epoch is NaN until the first IMU row:
+        // a truth row before it is not scored.)
+        if self.t0.is_nan() || row.t < self.t0 - 1e-9 {
+            return score(sinks, line, &row, None);
+        }
+        self.turn_to(row.t);
+        self.waiting.push_back(Waiting {
+            line,
+            row,
+            c_bn: self.c_bn,
+        });
+        Ok(())
+    }
+
+    /// The end of the log: the truth rows still waiting get the last
+    /// reading's velocity up to the end of the IMU, none after it.
+    ///
+    /// # Errors
+    /// No IMU rows, or no DVL reading with bottom lock in the IMU's span.
+    fn finish(&mut self, sinks: &mut Sinks) -> Result<(), RunError> {
+        if self.imu.first.is_none() {
+            return Err(RunError::Invalid(format!(
+                "imu.csv: no rows: model {NAME} carries the attitude with the gyro"
+            )));
+        }
+        let end = self.imu.end();
+        for d in std::mem::take(&mut self.deferred) {
+            if d.t <= end {
+                self.knot_of(&d, d.rate, sinks)?;
+            }
+        }
+        if self.readings == 0 {
+            return Err(RunError::Invalid(format!(
+                "dvl.csv: no reading with bottom lock between t = {} s and the last IMU row: nothing to dead-reckon",
+                self.t0
+            )));
+        }
+        while let Some(w) = self.waiting.pop_front() {
+            if w.row.t > end + 1e-9 {
+                score(sinks, w.line, &w.row, None)?;
+                continue;
+            }
+            self.integrate_to(w.row.t, None);
+            let fix = self.fix(w.row.t, None, w.c_bn);
+            score(sinks, w.line, &w.row, Some(&fix))?;
+        }
+        Ok(())
+    }
+
+    /// The warning of a long stretch without readings, if there was one.
+    fn gap_warning(&self) -> Option<Warning> {
+        (self.longest_gap.0 > GAP_WARNING_S).then(|| {
+            Warning::about(
+                WarningKind::Suspicious,
+                DvlRow::FILE,
+                format!(
+                    "no DVL reading with bottom lock for {:.1} s after t = {} s: the velocity is interpolated across the gap",
+                    self.longest_gap.0, self.longest_gap.1
+                ),
+            )
+        })
+    }
 }
 
-/// The table of `fixes` (those there are): the first ten of the filters'
-/// [`TRAJECTORY_COLUMNS`] (time, position, velocity, attitude in degrees).
-fn trajectory(fixes: &[Option<Fix>]) -> RunTable {
-    let mut table = RunTable::new(TRAJECTORY_TABLE, &TRAJECTORY_COLUMNS[..10]);
-    for f in fixes.iter().flatten() {
-        let n = &f.nav;
-        let e = n.euler();
-        table.push(&[
-            f.t,
-            n.lat,
-            n.lon,
-            n.depth(),
-            n.v_n.x,
-            n.v_n.y,
-            n.v_n.z,
-            e.roll.to_degrees(),
-            e.pitch.to_degrees(),
-            e.yaw.to_degrees(),
-        ]);
+/// Scores `estimate` at truth row `row` when there is a truth file.
+fn score(
+    sinks: &mut Sinks,
+    line: Option<u64>,
+    row: &TruthRow,
+    estimate: Option<&Estimate>,
+) -> Result<(), RunError> {
+    match sinks.scorer.as_mut() {
+        Some(s) => s
+            .push(line, row, estimate)
+            .map_err(|e| RunError::Invalid(e.to_string())),
+        None => Ok(()),
     }
-    table
+}
+
+/// The track's row of `nav` at `t`: the first ten of the filters'
+/// [`TRAJECTORY_COLUMNS`] (time, position, velocity, attitude in degrees).
+fn track_row(nav: &NavState, t: f64) -> [f64; 10] {
+    let e = nav.euler();
+    [
+        t,
+        nav.lat,
+        nav.lon,
+        nav.depth(),
+        nav.v_n.x,
+        nav.v_n.y,
+        nav.v_n.z,
+        e.roll.to_degrees(),
+        e.pitch.to_degrees(),
+        e.yaw.to_degrees(),
+    ]
+}
+
+/// Dead-reckons `source` as it streams; with `out`, the track and the
+/// errors are written there as the run goes, else kept in the output
+/// when `options.keep_series`.
+///
+/// # Errors
+/// `[initial]` lacks the position or the attitude; the log has no IMU
+/// rows, no DVL file or no DVL reading with bottom lock; a bad row (strict
+/// reading); an output file cannot be written.
+fn dead_reckon(
+    source: &LogSource<'_>,
+    options: &ReplayOptions,
+    out: Option<&Path>,
+) -> Result<ReplayOutput, RunError> {
+    let start = std::time::Instant::now();
+    let mut reckoning = Reckoning::new(source)?;
+    if source.rows::<DvlRow>()?.is_none() {
+        return Err(RunError::Invalid(format!(
+            "dvl.csv: missing: model {NAME} integrates the DVL's velocity (map a file to it with [files.dvl])"
+        )));
+    }
+    let mut truth = source.rows::<TruthRow>()?;
+    let keep = match out {
+        Some(dir) => Keep::Bounded(Some(TableWriter::create(
+            &dir.join(format!("{TABLE}.csv")),
+            &COLUMNS,
+        )?)),
+        None if options.keep_series => Keep::All,
+        None => Keep::Nothing,
+    };
+    let mut sinks = Sinks {
+        scorer: truth.is_some().then(|| Scorer::new(None, keep)),
+        track: SeriesSink::new(
+            TRAJECTORY_TABLE,
+            &TRAJECTORY_COLUMNS[..10],
+            out,
+            options.keep_series,
+        )?,
+    };
+    let mut next_truth = match truth.as_mut() {
+        Some(rows) => rows.next_row()?,
+        None => None,
+    };
+    let mut events = source.events()?;
+    while let Some(located) = events.next_event()? {
+        let t = located.event.t();
+        // The truth rows before this event (at a tie, the truth first: a
+        // reading at a truth row's time is its knot).
+        while let Some((line, row)) = next_truth.take_if(|(_, r)| r.t <= t) {
+            reckoning.truth(line, row, &mut sinks)?;
+            next_truth = truth.as_mut().map_or(Ok(None), |r| r.next_row())?;
+        }
+        match located.event {
+            Event::Imu(r) => reckoning.imu(r.t, Vector3::new(r.gx, r.gy, r.gz), &mut sinks)?,
+            Event::Dvl(r) => {
+                if let Some(v) = r.velocity() {
+                    reckoning.reading(r.t, v);
+                }
+            }
+            _ => {}
+        }
+    }
+    while let Some((line, row)) = next_truth.take() {
+        reckoning.truth(line, row, &mut sinks)?;
+        next_truth = truth.as_mut().map_or(Ok(None), |r| r.next_row())?;
+    }
+    reckoning.finish(&mut sinks)?;
+    let mut output = ReplayOutput {
+        samples: reckoning.imu.rows,
+        runtime_s: start.elapsed().as_secs_f64(),
+        warnings: reckoning.gap_warning().into_iter().collect(),
+        ..Default::default()
+    };
+    let track = sinks.track.finish()?;
+    if let Some(scorer) = sinks.scorer {
+        let span = reckoning.imu.first.map(|first| (first, reckoning.imu.last));
+        let scored = scorer
+            .finish(span)
+            .map_err(|e| RunError::Invalid(e.to_string()))?;
+        crate::ins::output::insert_scores(&mut output, &scored, false);
+        if out.is_none() && options.keep_series {
+            output.tables.extend(track);
+            output.tables.push(scored.table);
+        }
+    } else if out.is_none() {
+        output.tables.extend(track);
+    }
+    Ok(output)
 }
 
 impl ReplayModel for DeadReckoning {
@@ -254,57 +511,17 @@ impl ReplayModel for DeadReckoning {
         false
     }
     fn replay(&self, log: &LogDir, options: &ReplayOptions) -> Result<ReplayOutput, RunError> {
-        let start = std::time::Instant::now();
-        let truth = log.truth.as_deref().unwrap_or_default();
-        let times: Vec<f64> = truth.iter().map(|r| r.t).collect();
-        let (fixes, warnings) = dead_reckon(log, &times)?;
-        let mut out = ReplayOutput {
-            samples: log.imu.len(),
-            runtime_s: start.elapsed().as_secs_f64(),
-            warnings,
-            ..Default::default()
-        };
-        if options.keep_series {
-            // The track at each DVL reading, as the filters' `estimates.csv`
-            // without the sigmas.
-            let readings: Vec<f64> = log
-                .dvl
-                .iter()
-                .flatten()
-                .filter(|r| r.velocity().is_some())
-                .map(|r| r.t)
-                .collect();
-            let (track, _) = dead_reckon(log, &readings)?;
-            out.tables.push(trajectory(&track));
-        }
-        if log.truth.is_none() {
-            return Ok(out);
-        }
-        let estimates: Vec<Option<crate::ins::setup::Estimate>> = fixes
-            .iter()
-            .map(|f| {
-                f.map(|f| crate::ins::setup::Estimate {
-                    t: f.t,
-                    nav: f.nav,
-                    cov: SMatrix::<f64, 9, 9>::repeat(f64::NAN),
-                    compass_bias: (0.0, f64::NAN),
-                    usbl_bias_n: (0.0, f64::NAN),
-                    baro_bias: (0.0, f64::NAN),
-                })
-            })
-            .collect();
-        let span = log
-            .imu
-            .first()
-            .zip(log.imu.last())
-            .map(|(a, b)| (a.t(), b.t()));
-        let scored: Scored = score::score(&estimates, truth, None, span)
-            .map_err(|e| RunError::Invalid(e.to_string()))?;
-        crate::ins::output::insert_scores(&mut out, &scored, false);
-        if options.keep_series {
-            out.tables.push(scored.table);
-        }
-        Ok(out)
+        dead_reckon(&LogSource::Memory(log), options, None)
+    }
+    /// Streamed: the memory does not grow with the log; with `out`, the
+    /// track and the errors are written as the run goes.
+    fn replay_files(
+        &self,
+        files: &LogFiles,
+        options: &ReplayOptions,
+        out: Option<&Path>,
+    ) -> Result<ReplayOutput, RunError> {
+        dead_reckon(&LogSource::Files(files), options, out)
     }
 }
 

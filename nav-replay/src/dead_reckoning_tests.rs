@@ -6,7 +6,7 @@ use nav_runtime::earth::{earth_rate_n, meridian_radius, transport_rate_n, transv
 use nav_runtime::log::{DvlRow, ImuRow, LogDir, Meta, Mounting, TruthRow};
 use nav_runtime::nalgebra::{Rotation3, Vector3};
 
-use super::{dead_reckon, DeadReckoning};
+use super::DeadReckoning;
 use crate::{ReplayModel, ReplayOptions, RunError};
 
 const LAT: f64 = 0.6;
@@ -201,7 +201,65 @@ fn logs_it_cannot_dead_reckon_are_refused() {
     for (name, edit, text) in cases {
         let mut l = log(1.5, 0.0, 20.0, [0.0; 3]);
         edit(&mut l);
-        let e: RunError = dead_reckon(&l, &[1.0]).expect_err(name);
+        let e: RunError = DeadReckoning
+            .replay(&l, &ReplayOptions::default())
+            .expect_err(name);
         assert!(e.to_string().contains(text), "{name}: {e}");
     }
+}
+
+/// Streamed from its files, the log gives the in-memory replay's figures
+/// (the same solution at every truth row), and with an output directory
+/// the track and the errors are written as the run goes: one row per DVL
+/// reading and per truth row.
+#[test]
+fn the_streamed_replay_equals_the_one_in_memory_and_writes_its_tables() {
+    use nav_runtime::log::{LogFiles, Strictness};
+    let mut log = with_arm(log(1.5, 0.03, 60.0, [1.0, 0.2, 0.0]), [1.0, 0.2, 0.0]);
+    // `meta.toml` has the arm in the DVL's section, which needs its noise.
+    log.meta.sensors.dvl = Some(nav_runtime::log::SensorNoise {
+        bias_sigma: 0.0,
+        noise_sigma: 0.02,
+    });
+    let dir = crate::temp_dir::TempDir::new("dead-reckoning-stream");
+    log.write(&dir.0).expect("write the log");
+    let files = LogFiles::open(&dir.0, Strictness::Strict).expect("open the log");
+    let options = ReplayOptions::default();
+    let memory = DeadReckoning.replay(&log, &options).expect("in memory");
+    let streamed = DeadReckoning
+        .replay_files(&files, &options, None)
+        .expect("streamed");
+    for key in [
+        "horizontal_error_rms_m",
+        "horizontal_error_final_m",
+        "scored_seconds",
+    ] {
+        let (a, b) = (memory.metrics[key].as_f64(), streamed.metrics[key].as_f64());
+        // The files hold the values to 17 significant digits.
+        let (a, b) = (a.expect(key), b.expect(key));
+        assert!(
+            (a - b).abs() <= 1e-9 * a.abs().max(1.0),
+            "{key}: {a} vs {b}"
+        );
+    }
+    let out = crate::temp_dir::TempDir::new("dead-reckoning-out");
+    DeadReckoning
+        .replay_files(&files, &options, Some(&out.0))
+        .expect("written");
+    let lines = |name: &str| {
+        std::fs::read_to_string(out.0.join(name))
+            .expect(name)
+            .lines()
+            .count()
+    };
+    assert_eq!(
+        lines("estimates.csv"),
+        1 + 61,
+        "header and one row per reading"
+    );
+    assert_eq!(
+        lines("errors.csv"),
+        1 + 61,
+        "header and one row per truth row"
+    );
 }
