@@ -474,3 +474,31 @@ fn dvl_clock_lag_monte_carlo() {
     assert!(errors.consistent(), "{}", errors.mean_squared());
     assert!(stats::median(&ratios) < 1.0);
 }
+
+/// What the trajectory makes observable (docs/calibration.md): on the
+/// first 55 s of the survey with speed changes (straight, at constant
+/// speed, one 5 m dive; before the first speed change) the DVL's clock lag
+/// is not learned, while the whole survey learns it to hundredths of a
+/// second.
+#[test]
+fn the_dvl_lag_needs_the_velocity_to_change() {
+    let all = "\"lever_arm\", \"misalignment\", \"scale\", \"time_offset\"";
+    let log = with_estimate(&lagged_log(9, 0.5), all);
+    let straight = score::<28, Sdins20DvlCal>(&until(&log, 55.0))
+        .mounting
+        .expect("mounting")
+        .time_offset;
+    let survey = score::<28, Sdins20DvlCal>(&log)
+        .mounting
+        .expect("mounting")
+        .time_offset;
+    eprintln!(
+        "lag sigma: straight leg {:.3} s, survey {:.3} s (prior {} s)",
+        straight.sigma[0], survey.sigma[0], straight.prior_sigma
+    );
+    assert!(
+        straight.sigma[0] > 0.5 * straight.prior_sigma,
+        "{straight:?}"
+    );
+    assert!(survey.sigma[0] < 0.1 * survey.prior_sigma, "{survey:?}");
+}

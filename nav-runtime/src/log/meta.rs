@@ -282,8 +282,9 @@ pub const MISALIGNMENT_SIGMA_DEFAULT: f64 = 0.034_906_585_039_886_59;
 /// Prior sigma of the DVL scale factor without `scale_sigma`: 2 %, the
 /// sound-speed error of an uncorrected DVL.
 pub const SCALE_SIGMA_DEFAULT: f64 = 0.02;
-/// Prior sigma of the DVL clock's lag without `time_offset_sigma`, s: a
-/// file whose clock was aligned to the IMU's by hand, to the second.
+/// Prior sigma of a sensor clock's lag (DVL, USBL, GNSS) without
+/// `time_offset_sigma`, s: a file whose clock was aligned to the IMU's by
+/// hand, to the second.
 pub const TIME_OFFSET_SIGMA_DEFAULT: f64 = 0.5;
 
 impl Sensors {
