@@ -384,6 +384,22 @@ impl LogDir {
                 });
             }
         }
+        // `meta.toml` gives a sensor's mounting and `estimate` in its
+        // section, which needs the sensor's noise: without it they would be
+        // left out of the file without a word.
+        let sensors = &self.meta.sensors;
+        if let Some(name) = AIDING_SENSORS.iter().find(|n| {
+            sensors.aiding(n).is_none()
+                && (sensors.mounting(n).is_some() || sensors.calibration(n).any())
+        }) {
+            return Err(LogError::Write {
+                path: target.join(META_FILE),
+                reason: format!(
+                    "sensor `{name}` has a mounting or an `estimate` but no noise sigmas: \
+                     [sensors.{name}] needs `noise_sigma` to say them (set `meta.sensors.{name}`)"
+                ),
+            });
+        }
         let staging = Staging::new(target)?;
         let mut written: Vec<&'static str> = Vec::new();
         let res = (|| {

@@ -86,6 +86,47 @@ fn writing_over_a_file_fails_without_leftovers() {
     assert_eq!(count, 1);
 }
 
+/// A sensor's mounting or `estimate` lives in its `meta.toml` section, which
+/// needs the sensor's noise: a log that has them without it is refused
+/// (naming the sensor) rather than written without them. With the noise,
+/// they come back as written.
+#[test]
+fn a_mounting_without_its_sensor_section_is_refused_not_dropped() {
+    let dir = TempDir::new("mounting");
+    // (case, edit of a log without a DVL section)
+    type Edit = fn(&mut LogDir);
+    let cases: [(&str, Edit); 2] = [
+        ("a lever arm", |l| {
+            l.meta.sensors.mountings[0] = Some(Mounting {
+                lever_arm: [1.0, 0.2, 0.0],
+                misalignment: [0.0; 3],
+            })
+        }),
+        ("an estimate", |l| {
+            l.meta.sensors.dvl_calibration.time_offset = Some(0.5)
+        }),
+    ];
+    for (i, (what, edit)) in cases.into_iter().enumerate() {
+        let target = dir.path().join(format!("log{i}"));
+        let mut log = sample_log();
+        log.meta.sensors.dvl = None;
+        edit(&mut log);
+        let err = log.write(&target).unwrap_err();
+        assert!(
+            matches!(&err, LogError::Write { reason, .. } if reason.contains("sensor `dvl`")),
+            "{what}: {err:?}"
+        );
+        assert!(!target.exists(), "{what}: nothing written");
+        log.meta.sensors.dvl = Some(SensorNoise {
+            bias_sigma: 0.0,
+            noise_sigma: 0.02,
+        });
+        log.write(&target).unwrap();
+        let back = LogDir::read(&target, Strictness::Strict).unwrap();
+        assert_eq!(back.meta.sensors, log.meta.sensors, "{what}");
+    }
+}
+
 #[test]
 fn events_are_merged_in_time_order_imu_first_on_ties() {
     let log = sample_log();
