@@ -30,9 +30,9 @@ use nav_runtime::nalgebra::{Matrix3, Rotation3, SMatrix, Vector3};
 use nav_runtime::strapdown::NavState;
 
 use crate::ins::output::{TRAJECTORY_COLUMNS, TRAJECTORY_TABLE};
-use crate::ins::score::{Keep, Scorer, COLUMNS, TABLE};
+use crate::ins::score::{Keep, Scorer, TABLE};
 use crate::ins::setup::Estimate;
-use crate::output::series::{SeriesSink, TableWriter};
+use crate::output::series::SeriesSink;
 use crate::{ReplayModel, ReplayOptions, ReplayOutput, RunError};
 
 /// The model's name on the command line.
@@ -71,9 +71,11 @@ struct Reckoning {
     t_att: f64,
     rate: Vector3<f64>,
     /// The latest knot: its time and NED velocity (the epoch's before the
-    /// first reading), the position at `t_pos` and the velocity there.
+    /// first reading).
     knot: (f64, Vector3<f64>),
     readings: usize,
+    /// The position (latitude, longitude rad; height m) integrated to
+    /// `t_pos`.
     t_pos: f64,
     position: (f64, f64, f64),
     waiting: VecDeque<Waiting>,
@@ -428,14 +430,7 @@ fn dead_reckon(
         )));
     }
     let mut truth = source.rows::<TruthRow>()?;
-    let keep = match out {
-        Some(dir) => Keep::Bounded(Some(TableWriter::create(
-            &dir.join(format!("{TABLE}.csv")),
-            &COLUMNS,
-        )?)),
-        None if options.keep_series => Keep::All,
-        None => Keep::Nothing,
-    };
+    let keep = Keep::for_replay(TABLE, out, options.keep_series)?;
     let mut sinks = Sinks {
         scorer: truth.is_some().then(|| Scorer::new(None, keep)),
         track: SeriesSink::new(

@@ -33,11 +33,11 @@ use crate::ahrs::outputs::{write_outputs, write_plots};
 use crate::harness::{ReplayModel, ReplayOptions, ReplayOutput, RunError, RunHealth};
 use crate::sdins25::filter::{replay_vehicle, FilterOptions, LENIENT_IMU_STEP_PERIODS};
 use crate::sdins25::replay_loop::{EachSample, Listed, Smoothed};
-use crate::sdins25::score::{Keep, Scorer, COLUMNS as ERRORS_COLUMNS};
+use crate::sdins25::score::{Keep, Scorer};
 use crate::ulog::reference::EstimatePoint;
 use crate::ulog::running_score::{ReferenceScore, REFERENCE_COLUMNS};
 use nav_ins::Estimate;
-use nav_replay::output::series::{SeriesSink, TableWriter};
+use nav_replay::output::series::SeriesSink;
 
 /// `navsim replay --model gnss-ins`.
 pub const NAME: &str = "gnss-ins";
@@ -379,18 +379,14 @@ impl<'a> SmoothedRun<'a> {
         out: Option<&Path>,
         keep_series: bool,
     ) -> Result<Self, RunError> {
-        let keep = || -> Result<Keep, RunError> {
-            Ok(match out {
-                Some(dir) => Keep::Bounded(Some(TableWriter::create(
-                    &dir.join(format!("{SMOOTHED_ERRORS_TABLE}.csv")),
-                    &ERRORS_COLUMNS,
-                )?)),
-                None if keep_series => Keep::All,
-                None => Keep::Nothing,
-            })
-        };
         let truth = match source.rows::<TruthRow>()? {
-            Some(rows) => Some((Scorer::new(None, keep()?), rows)),
+            Some(rows) => Some((
+                Scorer::new(
+                    None,
+                    Keep::for_replay(SMOOTHED_ERRORS_TABLE, out, keep_series)?,
+                ),
+                rows,
+            )),
             None => None,
         };
         let reference = match source.rows::<ReferenceRow>()? {

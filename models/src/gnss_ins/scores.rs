@@ -16,14 +16,12 @@ use nav_runtime::log::{LogSource, ReferenceRow, TruthRow, Warning, WarningKind};
 use serde_json::{Map, Value};
 
 use crate::harness::{RunError, RunTable};
-use crate::sdins25::score::{
-    Keep, ScoreError, Scorer, COLUMNS as ERRORS_COLUMNS, TABLE as ERRORS_TABLE,
-};
+use crate::sdins25::score::{Keep, ScoreError, Scorer, TABLE as ERRORS_TABLE};
 use crate::ulog::reference::EstimatePoint;
 use crate::ulog::replay::rpy_json;
 use crate::ulog::running_score::{ReferenceScore, TruthScore, REFERENCE_COLUMNS, TRUTH_COLUMNS};
 use nav_ins::Estimate;
-use nav_replay::output::series::{SeriesSink, TableWriter};
+use nav_replay::output::series::SeriesSink;
 
 /// A truth height this far from the initial height is on another datum, m.
 pub const TRUTH_DATUM_GAP_M: f64 = 100.0;
@@ -89,14 +87,7 @@ impl<'a> RunningScores<'a> {
         let (attitude, errors, keep_errors_table) = match source.rows::<TruthRow>()? {
             Some(rows) => {
                 let attitude = TruthScore::new(rows, sink(ATTITUDE_TABLE, &TRUTH_COLUMNS)?)?;
-                let keep = match out {
-                    Some(dir) => Keep::Bounded(Some(TableWriter::create(
-                        &dir.join(format!("{ERRORS_TABLE}.csv")),
-                        &ERRORS_COLUMNS,
-                    )?)),
-                    None if keep_series => Keep::All,
-                    None => Keep::Nothing,
-                };
+                let keep = Keep::for_replay(ERRORS_TABLE, out, keep_series)?;
                 let kept = !matches!(keep, Keep::Nothing);
                 (
                     Some(attitude),

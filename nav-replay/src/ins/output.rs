@@ -15,14 +15,14 @@ use nav_runtime::log::{LogSource, RowSource, TruthRow, Warning, WarningKind};
 use serde_json::{json, Map, Value};
 
 use super::replay_loop::{Every, Listed};
-use super::score::{Keep, Scored, Scorer, COLUMNS, TABLE};
+use super::score::{Keep, Scored, Scorer, TABLE};
 use super::setup::{replay_vehicle, FilterOptions, InsRun, LENIENT_IMU_STEP_PERIODS};
 use super::{
     error_values, write_plots, write_smoothed_plot, write_trajectory_plots, ERROR_KEYS,
     SMOOTHED_TABLE,
 };
 use crate::innovations::innovations_json;
-use crate::output::series::{SeriesSink, TableWriter};
+use crate::output::series::SeriesSink;
 use crate::{ReplayOptions, ReplayOutput, RunError, SensorHealth};
 use nav_ins::vehicle::{InsVehicle, Layout};
 use nav_ins::Estimate;
@@ -130,16 +130,7 @@ pub(super) fn replay_source<V: InsVehicle<N>, const N: usize>(
     let truth = source.rows::<TruthRow>()?;
     let has_truth = truth.is_some();
 
-    let keep = |name: &str| -> Result<Keep, RunError> {
-        Ok(match out {
-            Some(dir) => Keep::Bounded(Some(TableWriter::create(
-                &dir.join(format!("{name}.csv")),
-                &COLUMNS,
-            )?)),
-            None if options.keep_series => Keep::All,
-            None => Keep::Nothing,
-        })
-    };
+    let keep = |name: &str| Keep::for_replay(name, out, options.keep_series);
     let mut scorer = has_truth
         .then(|| keep(TABLE))
         .transpose()?

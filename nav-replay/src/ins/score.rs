@@ -173,6 +173,29 @@ pub enum Keep {
     Nothing,
 }
 
+impl Keep {
+    /// What a replay keeps of error table `name`: with an output directory,
+    /// `<name>.csv` written there and a bounded copy for the plots; else
+    /// every row when `keep_series`, or none.
+    ///
+    /// # Errors
+    /// The file cannot be created.
+    pub fn for_replay(
+        name: &str,
+        out: Option<&std::path::Path>,
+        keep_series: bool,
+    ) -> Result<Self, crate::RunError> {
+        Ok(match out {
+            Some(dir) => Keep::Bounded(Some(TableWriter::create(
+                &dir.join(format!("{name}.csv")),
+                &COLUMNS,
+            )?)),
+            None if keep_series => Keep::All,
+            None => Keep::Nothing,
+        })
+    }
+}
+
 /// Scores a run against truth as the estimates come, one truth row at a
 /// time, in memory that does not grow with the log (with [`Keep::Bounded`]
 /// or [`Keep::Nothing`]).
