@@ -39,7 +39,8 @@ pub use measurement::{
     heading_measurement, mag_measurement, usbl_measurement, usbl_measurement_at, CompassForm,
 };
 pub use navigator::{
-    Builder, DeclaredHandle, Navigator, NavigatorError, SensorReport, Ticket, SENSORS, SENSOR_NAMES,
+    Builder, DeclaredHandle, Navigator, NavigatorError, SensorReport, Ticket, SENSORS,
+    SENSOR_NAMES, SIGMA_FLOOR,
 };
 pub use nominal::{Estimate, ImuSample, InsFilter, InsNominal, ESTIMATE_SCALARS};
 pub use recovery::Recovery;

@@ -33,8 +33,9 @@ use crate::recovery::Recovery;
 use nav_runtime::innovations::InnovationTotals;
 
 /// Smallest prior sigma of any state (in the state's units): a zero variance
-/// would be "repaired" by the filter after every step.
-const SIGMA_FLOOR: f64 = 1e-9;
+/// would be "repaired" by the filter after every step. A state whose prior
+/// is the floor is switched off (a bias of sigma zero).
+pub const SIGMA_FLOOR: f64 = 1e-9;
 
 /// Number of log sensors a navigator can have.
 pub const SENSORS: usize = 7;

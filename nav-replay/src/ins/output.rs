@@ -453,6 +453,7 @@ pub(super) fn output_of<V: InsVehicle<N>, const N: usize>(
     if !own.is_empty() {
         out.metrics.insert("own_states".into(), Value::Object(own));
     }
+    super::bias_states::report(&run.bias_states, &mut out.metrics, &mut out.warnings);
     if let Some(m) = &run.dvl_mounting {
         out.metrics.insert("dvl_calibration".into(), m.json());
     }

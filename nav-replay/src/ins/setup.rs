@@ -247,6 +247,9 @@ pub struct InsRun<V: InsVehicle<N>, const N: usize> {
     /// transponder and the GNSS antenna, for a vehicle that carries their
     /// states.
     pub fix_mountings: Vec<super::calibration::FixMounting>,
+    /// The random-constant biases at the end of the run against their
+    /// priors ([`super::bias_states`]).
+    pub bias_states: Vec<super::bias_states::BiasState>,
 }
 
 impl<V: InsVehicle<N>, const N: usize> InsRun<V, N> {

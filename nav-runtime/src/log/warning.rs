@@ -42,6 +42,10 @@ pub enum WarningKind {
     /// readings were refused for longer than its horizon while plausible and
     /// agreeing with one another (`nav_runtime::recovery`).
     LockoutRecovery,
+    /// A sensor or IMU bias whose final estimate is beyond the spread its
+    /// prior allows a consistent filter: the state took up an error the
+    /// model does not carry.
+    BiasBeyondPrior,
 }
 
 impl WarningKind {
@@ -62,6 +66,7 @@ impl WarningKind {
             WarningKind::RejectedReading => "rejected_reading",
             WarningKind::NoiseSigma => "noise_sigma",
             WarningKind::LockoutRecovery => "lockout_recovery",
+            WarningKind::BiasBeyondPrior => "bias_beyond_prior",
         }
     }
 }
