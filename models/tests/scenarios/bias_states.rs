@@ -119,7 +119,10 @@ fn a_bias_switched_off_is_not_listed() {
     let dvl = log.meta.sensors.dvl.as_mut().expect("a dvl section");
     dvl.bias_sigma = 0.0;
     let names: Vec<_> = biases(&log).iter().map(|s| s.state).collect();
-    assert_eq!(names, ["accel_bias", "gyro_bias", "depth_bias", "compass_bias"]);
+    assert_eq!(
+        names,
+        ["accel_bias", "gyro_bias", "depth_bias", "compass_bias"]
+    );
 }
 
 /// Seeds of the Monte Carlo below (not those of the tests above).

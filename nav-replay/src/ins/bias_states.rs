@@ -72,19 +72,28 @@ impl BiasState {
                 .collect::<Vec<_>>()
                 .join(", ")
         };
+        let spread: Vec<f64> = self
+            .prior_sigma
+            .iter()
+            .zip(&self.sigma)
+            .map(|(p, s)| (p * p - s * s).max(0.0).sqrt())
+            .collect();
         Some(
             Warning::about(
                 WarningKind::BiasBeyondPrior,
                 self.file,
                 format!(
-                    "{} ends at [{}] against a prior sigma of [{}]: {z:.1} times the spread a \
-                     consistent filter's estimate has (|z| above {PRIOR_Z_LIMIT}). The state has \
-                     taken up an error the model does not carry (a mounting, a clock lag, a \
-                     scale, or a `{}` too small), and the run's sigmas and NEES are not to be \
-                     trusted as they stand",
+                    "{} ends at [{}] against a prior sigma of [{}] and a final sigma of [{}]: \
+                     {z:.1} times the spread a consistent filter's estimate has, [{}] \
+                     (sqrt(prior^2 - sigma^2): what the log taught; |z| above {PRIOR_Z_LIMIT}). \
+                     The state has taken up an error the model does not carry (a mounting, a \
+                     clock lag, a scale, or a `{}` too small), and the run's sigmas and NEES are \
+                     not to be trusted as they stand",
                     self.state,
                     list(&self.value),
                     list(&self.prior_sigma),
+                    list(&self.sigma),
+                    list(&spread),
                     self.key,
                 ),
             )
