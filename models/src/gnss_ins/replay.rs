@@ -305,7 +305,7 @@ pub fn replay_source(
         "recoveries".into(),
         nav_replay::ins::output::recoveries_json(&run.recoveries),
     );
-    nav_replay::ins::bias_states::report(&run.bias_states, m, warnings);
+    nav_replay::ins::constant_states::report(&run.bias_states, m, warnings);
     let scored = scores.finish(Some(run.imu_span), m, warnings)?;
     let smoothed = smoothed
         .map(|s| s.finish(run.imu_span, m, warnings))

@@ -10,7 +10,7 @@ mod turning_flight;
 mod ahrs_same_epoch_nees;
 mod ahrs_smoothing;
 mod ahrs_tuning;
-mod bias_states;
+mod constant_states;
 mod dvl_calibration;
 mod gnss_ins_smoothing;
 mod log_replay;

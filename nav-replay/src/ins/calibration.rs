@@ -12,6 +12,7 @@
 use nav_ins::{Builder, InsFilter, InsVehicle};
 use nav_runtime::log::{DvlCalibration, Meta, ESTIMATE_NAMES};
 
+use super::constant_states::{z_of, ConstantState};
 use crate::RunError;
 
 /// A sensor whose mounting a vehicle may carry as states: its
@@ -134,11 +135,14 @@ fn read<V: InsVehicle<N>, const N: usize, const K: usize>(
     };
     let i = V::STATE_NAMES.iter().position(|n| *n == first).unwrap_or(0);
     let (x, p) = (filter.ekf().state(), filter.covariance());
+    let sigma = core::array::from_fn(|k| prior.map_or(0.0, |_| p[(i + k, i + k)].max(0.0).sqrt()));
     Calibrated {
         estimated: prior.is_some(),
+        given: base,
         value: core::array::from_fn(|k| base[k] + x[i + k]),
-        sigma: core::array::from_fn(|k| prior.map_or(0.0, |_| p[(i + k, i + k)].max(0.0).sqrt())),
+        sigma,
         prior_sigma: prior.unwrap_or(0.0),
+        z: core::array::from_fn(|k| prior.and_then(|s0| z_of(x[i + k], sigma[k], s0))),
     }
 }
 
@@ -154,11 +158,20 @@ fn given_arm(meta: &Meta, sensor: &str) -> [f64; 3] {
 fn entry<const K: usize>(c: &Calibrated<K>, unit: f64) -> serde_json::Value {
     let v: Vec<f64> = c.value.iter().map(|v| v * unit).collect();
     let s: Vec<f64> = c.sigma.iter().map(|v| v * unit).collect();
+    let one_or_all = |v: &[Option<f64>]| {
+        if K == 1 {
+            serde_json::json!(v[0])
+        } else {
+            serde_json::json!(v)
+        }
+    };
+    let as_some = |v: Vec<f64>| v.into_iter().map(Some).collect::<Vec<_>>();
     serde_json::json!({
         "estimated": c.estimated,
-        "value": if K == 1 { serde_json::json!(v[0]) } else { serde_json::json!(v) },
-        "sigma": if K == 1 { serde_json::json!(s[0]) } else { serde_json::json!(s) },
+        "value": one_or_all(&as_some(v)),
+        "sigma": one_or_all(&as_some(s)),
         "prior_sigma": c.prior_sigma * unit,
+        "z": one_or_all(&c.z),
     })
 }
 
@@ -167,15 +180,41 @@ fn entry<const K: usize>(c: &Calibrated<K>, unit: f64) -> serde_json::Value {
 pub struct Calibrated<const K: usize> {
     /// Whether `estimate` lists it (else it is the given value, sigma 0).
     pub estimated: bool,
+    /// The log's given value (the prior mean).
+    pub given: [f64; K],
     /// Estimate: the given value plus the state.
     pub value: [f64; K],
     /// Its sigma (the state's).
     pub sigma: [f64; K],
     /// Prior sigma.
     pub prior_sigma: f64,
+    /// The estimate's distance from the given value in sigmas of the
+    /// spread a consistent filter's estimate has (eq. B1 of
+    /// docs/trust.md); `None` when not estimated or not learned.
+    pub z: [Option<f64>; K],
 }
 
 impl<const K: usize> Calibrated<K> {
+    /// The value as a random-constant state against its prior (the
+    /// correction to the given value), for the warning of one beyond it;
+    /// `None` when not estimated.
+    fn check(
+        &self,
+        state: &'static str,
+        key: &'static str,
+        file: &'static str,
+    ) -> Option<ConstantState> {
+        self.estimated.then(|| ConstantState {
+            state,
+            key,
+            file,
+            value: (0..K).map(|k| self.value[k] - self.given[k]).collect(),
+            sigma: self.sigma.to_vec(),
+            prior_sigma: vec![self.prior_sigma; K],
+            z: self.z.to_vec(),
+        })
+    }
+
     /// Per component, how many of its sigmas the estimate is off `truth`
     /// (a known value, as in a simulation): about 1 for an honest sigma,
     /// beyond 4 rarely.
@@ -223,6 +262,30 @@ impl DvlMounting {
             scale: read(filter, "dvl_scale", [1.0], cal.scale),
             time_offset: read(filter, "dvl_time_offset", [0.0], cal.time_offset),
         })
+    }
+
+    /// The estimated values as random-constant states against their
+    /// priors ([`super::constant_states`]).
+    pub fn checks(&self) -> Vec<ConstantState> {
+        [
+            self.lever_arm
+                .check("dvl_lever_arm", "sensors.dvl.lever_arm_sigma", "dvl.csv"),
+            self.misalignment.check(
+                "dvl_misalignment",
+                "sensors.dvl.misalignment_sigma",
+                "dvl.csv",
+            ),
+            self.scale
+                .check("dvl_scale", "sensors.dvl.scale_sigma", "dvl.csv"),
+            self.time_offset.check(
+                "dvl_time_offset",
+                "sensors.dvl.time_offset_sigma",
+                "dvl.csv",
+            ),
+        ]
+        .into_iter()
+        .flatten()
+        .collect()
     }
 
     /// The replay JSON's `dvl_calibration` (docs/cli-and-json.md): per
@@ -276,6 +339,34 @@ impl FixMounting {
                 }
             })
             .collect()
+    }
+
+    /// The estimated values as random-constant states against their
+    /// priors ([`super::constant_states`]).
+    pub fn checks(&self) -> Vec<ConstantState> {
+        let (arm, lag, arm_key, lag_key, file) = match self.sensor {
+            "usbl" => (
+                "usbl_lever_arm",
+                "usbl_time_offset",
+                "sensors.usbl.lever_arm_sigma",
+                "sensors.usbl.time_offset_sigma",
+                "usbl.csv",
+            ),
+            _ => (
+                "gnss_lever_arm",
+                "gnss_time_offset",
+                "sensors.gnss.lever_arm_sigma",
+                "sensors.gnss.time_offset_sigma",
+                "gnss.csv",
+            ),
+        };
+        [
+            self.lever_arm.check(arm, arm_key, file),
+            self.time_offset.check(lag, lag_key, file),
+        ]
+        .into_iter()
+        .flatten()
+        .collect()
     }
 
     /// The replay JSON's `<sensor>_calibration` (docs/cli-and-json.md):

@@ -7,13 +7,13 @@
 //!   their acoustic travel time), the smoother's record;
 //! - `aiding`: the aiding rows in delivery order;
 //! - [`score`]: errors and NEES against the truth;
-//! - [`bias_states`]: the biases at the end against their priors;
+//! - [`constant_states`]: the biases and calibrations at the end against their priors;
 //! - [`output`]: the JSON metrics, tables and warnings of a replay;
 //! - [`plots`]: the SVG plots of a scored run.
 
 mod aiding;
-pub mod bias_states;
 pub mod calibration;
+pub mod constant_states;
 pub mod output;
 mod own_sensors;
 pub mod plots;

@@ -453,7 +453,11 @@ pub(super) fn output_of<V: InsVehicle<N>, const N: usize>(
     if !own.is_empty() {
         out.metrics.insert("own_states".into(), Value::Object(own));
     }
-    super::bias_states::report(&run.bias_states, &mut out.metrics, &mut out.warnings);
+    super::constant_states::report(&run.bias_states, &mut out.metrics, &mut out.warnings);
+    let calibrations = run.dvl_mounting.iter().flat_map(|m| m.checks());
+    let calibrations = calibrations.chain(run.fix_mountings.iter().flat_map(|m| m.checks()));
+    out.warnings
+        .extend(calibrations.filter_map(|c| c.warning()));
     if let Some(m) = &run.dvl_mounting {
         out.metrics.insert("dvl_calibration".into(), m.json());
     }

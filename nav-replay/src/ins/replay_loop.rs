@@ -451,7 +451,7 @@ where
         warnings: all_warnings,
         dvl_mounting: super::calibration::DvlMounting::of(&final_filter, source.meta()),
         fix_mountings: super::calibration::FixMounting::all_of(&final_filter, source.meta()),
-        bias_states: super::bias_states::bias_states(&final_filter, &prior_sigma),
+        bias_states: super::constant_states::constant_states(&final_filter, &prior_sigma),
         final_filter,
         recoveries,
     })

@@ -248,8 +248,8 @@ pub struct InsRun<V: InsVehicle<N>, const N: usize> {
     /// states.
     pub fix_mountings: Vec<super::calibration::FixMounting>,
     /// The random-constant biases at the end of the run against their
-    /// priors ([`super::bias_states`]).
-    pub bias_states: Vec<super::bias_states::BiasState>,
+    /// priors ([`super::constant_states`]).
+    pub bias_states: Vec<super::constant_states::ConstantState>,
 }
 
 impl<V: InsVehicle<N>, const N: usize> InsRun<V, N> {

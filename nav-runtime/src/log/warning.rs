@@ -45,7 +45,7 @@ pub enum WarningKind {
     /// A sensor or IMU bias whose final estimate is beyond the spread its
     /// prior allows a consistent filter: the state took up an error the
     /// model does not carry.
-    BiasBeyondPrior,
+    StateBeyondPrior,
 }
 
 impl WarningKind {
@@ -66,7 +66,7 @@ impl WarningKind {
             WarningKind::RejectedReading => "rejected_reading",
             WarningKind::NoiseSigma => "noise_sigma",
             WarningKind::LockoutRecovery => "lockout_recovery",
-            WarningKind::BiasBeyondPrior => "bias_beyond_prior",
+            WarningKind::StateBeyondPrior => "state_beyond_prior",
         }
     }
 }

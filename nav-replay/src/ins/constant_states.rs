@@ -1,6 +1,8 @@
-//! The sensor and IMU biases at the end of a run, against their priors: a
-//! test of the filter's honesty that needs no truth (docs/trust.md, "A bias
-//! beyond its prior").
+//! The random-constant states at the end of a run, against their priors:
+//! a test of the filter's honesty that needs no truth (docs/trust.md, "A
+//! bias beyond its prior"). The sensor and IMU biases are here; the
+//! mounting calibration states make the same [`ConstantState`] in
+//! [`super::calibration`] (prior mean: the given value).
 //!
 //! A bias the navigator carries as a random constant (no process noise:
 //! the IMU's, the DVL's, the depth sensor's, the compass's, the USBL's) has
@@ -28,7 +30,7 @@ pub const MIN_TAUGHT: f64 = 0.01;
 
 /// One bias group at the end of a run.
 #[derive(Clone, Debug, PartialEq)]
-pub struct BiasState {
+pub struct ConstantState {
     /// The state's declared name (`dvl_bias`).
     pub state: &'static str,
     /// The `meta.toml` key of its prior sigma (`sensors.dvl.bias_sigma`).
@@ -46,7 +48,7 @@ pub struct BiasState {
     pub z: Vec<Option<f64>>,
 }
 
-impl BiasState {
+impl ConstantState {
     /// The largest `|z|` of the group (`None`: nothing learned).
     pub fn largest_z(&self) -> Option<f64> {
         self.z.iter().flatten().map(|z| z.abs()).reduce(f64::max)
@@ -80,7 +82,7 @@ impl BiasState {
             .collect();
         Some(
             Warning::about(
-                WarningKind::BiasBeyondPrior,
+                WarningKind::StateBeyondPrior,
                 self.file,
                 format!(
                     "{} ends at [{}] against a prior sigma of [{}] and a final sigma of [{}]: \
@@ -123,10 +125,10 @@ const USBL: BiasGroup = group("usbl_bias", "sensors.usbl.bias_sigma", "usbl.csv"
 
 /// The random-constant biases of `f` that the vehicle carries, with their
 /// priors `prior_sigma` (the filter's initial sigmas, by state index).
-pub fn bias_states<V: InsVehicle<N>, const N: usize>(
+pub fn constant_states<V: InsVehicle<N>, const N: usize>(
     f: &InsFilter<V, N>,
     prior_sigma: &[f64; N],
-) -> Vec<BiasState> {
+) -> Vec<ConstantState> {
     let nominal = f.nominal();
     let layout = nominal.layout();
     let p = f.covariance();
@@ -162,7 +164,7 @@ pub fn bias_states<V: InsVehicle<N>, const N: usize>(
             let z = (0..value.len())
                 .map(|k| z_of(value[k], sigma[k], prior[k]))
                 .collect();
-            Some(BiasState {
+            Some(ConstantState {
                 state,
                 key,
                 file,
@@ -187,13 +189,17 @@ pub fn z_of(value: f64, sigma: f64, prior: f64) -> Option<f64> {
 /// Puts `states` into `metrics` as `bias_states` (by name) and the
 /// warnings of those beyond their priors into `warnings`: what every INS
 /// replay's output says of them.
-pub fn report(states: &[BiasState], metrics: &mut Map<String, Value>, warnings: &mut Vec<Warning>) {
+pub fn report(
+    states: &[ConstantState],
+    metrics: &mut Map<String, Value>,
+    warnings: &mut Vec<Warning>,
+) {
     let json: Map<String, Value> = states
         .iter()
         .map(|s| (s.state.to_string(), s.json()))
         .collect();
     metrics.insert("bias_states".into(), Value::Object(json));
-    warnings.extend(states.iter().filter_map(BiasState::warning));
+    warnings.extend(states.iter().filter_map(ConstantState::warning));
 }
 
 #[cfg(test)]
@@ -226,8 +232,8 @@ mod tests {
         }
     }
 
-    fn dvl(z: [Option<f64>; 3]) -> BiasState {
-        BiasState {
+    fn dvl(z: [Option<f64>; 3]) -> ConstantState {
+        ConstantState {
             state: "dvl_bias",
             key: "sensors.dvl.bias_sigma",
             file: "dvl.csv",
@@ -245,7 +251,7 @@ mod tests {
         let w = dvl([Some(1.0), Some(-4.2), None])
             .warning()
             .expect("beyond the limit");
-        assert_eq!(w.kind, WarningKind::BiasBeyondPrior);
+        assert_eq!(w.kind, WarningKind::StateBeyondPrior);
         assert_eq!(w.key.as_deref(), Some("sensors.dvl.bias_sigma"));
         assert_eq!(w.file.as_deref(), Some("dvl.csv"));
         assert!(w.message.contains("4.2 times"), "{}", w.message);
@@ -257,7 +263,7 @@ mod tests {
         report(
             &[
                 dvl([Some(0.5); 3]),
-                BiasState {
+                ConstantState {
                     state: "gyro_bias",
                     ..dvl([Some(5.0); 3])
                 },

@@ -6,10 +6,10 @@
 
 use models::sdins25::simulation::{simulate, trajectory, SimConfig};
 use models::sdins25::Sdins25;
-use models::vehicles::sdins::Sdins20;
-use nav_replay::ins::bias_states::{BiasState, PRIOR_Z_LIMIT};
+use models::vehicles::sdins::{Sdins20, Sdins20DvlCal};
+use nav_replay::ins::constant_states::{ConstantState, PRIOR_Z_LIMIT};
 use nav_replay::ins::setup::{run_vehicle, FilterOptions, InsRun};
-use nav_runtime::log::{DvlRow, LogDir};
+use nav_runtime::log::{DvlRow, LogDir, Meta};
 use nav_runtime::nalgebra::{Rotation3, Vector3};
 use nav_runtime::sensors::normal;
 use nav_runtime::trajectory::TruthSource;
@@ -60,14 +60,14 @@ const TURNED: Mounting = Mounting {
     scale: 1.0,
 };
 
-fn biases(log: &LogDir) -> Vec<BiasState> {
+fn biases(log: &LogDir) -> Vec<ConstantState> {
     let run: InsRun<Sdins20, 20> =
         run_vehicle(log, &FilterOptions::default(), &[]).expect("replay");
     run.bias_states
 }
 
 /// `state: [z, ...]` per group, for failure messages.
-fn zs(states: &[BiasState]) -> String {
+fn zs(states: &[ConstantState]) -> String {
     states
         .iter()
         .map(|s| {
@@ -81,7 +81,7 @@ fn zs(states: &[BiasState]) -> String {
         .join("; ")
 }
 
-fn beyond(states: &[BiasState]) -> Vec<&'static str> {
+fn beyond(states: &[ConstantState]) -> Vec<&'static str> {
     states
         .iter()
         .filter(|s| s.largest_z().is_some_and(|z| z > PRIOR_Z_LIMIT))
@@ -127,40 +127,78 @@ fn a_bias_switched_off_is_not_listed() {
     );
 }
 
+/// The calibration states of `sdins20-dvl-cal` for a DVL 3 m ahead of the
+/// IMU with the lever arm listed in `estimate` at prior sigma `prior` (m).
+fn arm_checks(prior: f64) -> Vec<ConstantState> {
+    let m = Mounting {
+        arm: [3.0, 0.0, 0.0],
+        yaw_deg: 0.0,
+        scale: 1.0,
+    };
+    let mut log = undeclared(11, m);
+    let mut text = log.meta.to_toml();
+    let at = text.find("[sensors.dvl]\n").expect("a dvl section") + "[sensors.dvl]\n".len();
+    text.insert_str(
+        at,
+        &format!("estimate = [\"lever_arm\"]\nlever_arm_sigma = {prior}\n"),
+    );
+    log.meta = Meta::parse(&text).expect("meta.toml");
+    let run: InsRun<Sdins20DvlCal, 28> =
+        run_vehicle(&log, &FilterOptions::default(), &[]).expect("replay");
+    run.dvl_mounting.expect("calibration states").checks()
+}
+
+/// A lever arm 3 m from its given value with a prior of 0.2 m is beyond
+/// its prior (a `lever_arm_sigma` too small); with a prior of 2 m it is not.
+#[test]
+fn a_calibration_beyond_its_prior_is_said_keyed_by_its_sigma() {
+    let tight = arm_checks(0.2);
+    let warnings: Vec<_> = tight.iter().filter_map(ConstantState::warning).collect();
+    assert_eq!(warnings.len(), 1, "{}", zs(&tight));
+    assert_eq!(
+        warnings[0].key.as_deref(),
+        Some("sensors.dvl.lever_arm_sigma")
+    );
+    let loose = arm_checks(2.0);
+    assert_eq!(loose.len(), 1);
+    assert!(beyond(&loose).is_empty(), "{}", zs(&loose));
+}
+
 /// Seeds of the Monte Carlo below (not those of the tests above).
 const MONTE_CARLO_SEEDS: std::ops::Range<u64> = 7100..7200;
 
 /// The spread of `z` on consistent surveys (mean `z^2` per state, which is
 /// 1 for a consistent filter), how often a warning is given there, and how
 /// often with each undeclared mounting.
-/// `cargo test --release -p models --test scenarios bias_states:: -- --ignored --nocapture`;
+/// `cargo test --release -p models --test scenarios constant_states:: -- --ignored --nocapture`;
 /// the figures are in docs/trust.md.
 #[test]
 #[ignore = "Monte Carlo over 100 seeds; prints the figures of docs/trust.md"]
 fn bias_z_monte_carlo() {
-    let consistent = |name: &str, config: SimConfig, run: &dyn Fn(&LogDir) -> Vec<BiasState>| {
-        let mut squares: BTreeMap<&str, (f64, usize)> = BTreeMap::new();
-        let mut alarms = 0;
-        for seed in MONTE_CARLO_SEEDS {
-            let states = run(&simulate(&config, seed).log);
-            for s in &states {
-                let e = squares.entry(s.state).or_default();
-                for z in s.z.iter().flatten() {
-                    e.0 += z * z;
-                    e.1 += 1;
+    let consistent =
+        |name: &str, config: SimConfig, run: &dyn Fn(&LogDir) -> Vec<ConstantState>| {
+            let mut squares: BTreeMap<&str, (f64, usize)> = BTreeMap::new();
+            let mut alarms = 0;
+            for seed in MONTE_CARLO_SEEDS {
+                let states = run(&simulate(&config, seed).log);
+                for s in &states {
+                    let e = squares.entry(s.state).or_default();
+                    for z in s.z.iter().flatten() {
+                        e.0 += z * z;
+                        e.1 += 1;
+                    }
                 }
+                alarms += usize::from(!beyond(&states).is_empty());
             }
-            alarms += usize::from(!beyond(&states).is_empty());
-        }
-        for (state, (sum, n)) in &squares {
-            println!(
-                "{name}, {state}: mean z^2 {:.2} over {n} components",
-                sum / *n as f64
-            );
-        }
-        println!("{name}: warned on {alarms}/100 consistent surveys");
-        alarms
-    };
+            for (state, (sum, n)) in &squares {
+                println!(
+                    "{name}, {state}: mean z^2 {:.2} over {n} components",
+                    sum / *n as f64
+                );
+            }
+            println!("{name}: warned on {alarms}/100 consistent surveys");
+            alarms
+        };
     let dvl_alarms = consistent("lawnmower-dvl, sdins20", SimConfig::dvl(), &biases);
     let usbl_alarms = consistent("lawnmower-usbl, sdins25", SimConfig::usbl(), &|log| {
         let run: InsRun<Sdins25, 25> =
