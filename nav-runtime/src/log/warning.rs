@@ -42,9 +42,10 @@ pub enum WarningKind {
     /// readings were refused for longer than its horizon while plausible and
     /// agreeing with one another (`nav_runtime::recovery`).
     LockoutRecovery,
-    /// A sensor or IMU bias whose final estimate is beyond the spread its
-    /// prior allows a consistent filter: the state took up an error the
-    /// model does not carry.
+    /// A random-constant state (a sensor or IMU bias, a mounting
+    /// calibration) whose final estimate is beyond the spread its prior
+    /// allows a consistent filter: the state took up an error the model
+    /// does not carry, or its prior is too tight.
     StateBeyondPrior,
 }
 
