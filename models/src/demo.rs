@@ -234,6 +234,9 @@ impl Scenario for ConstantVelocity {
     fn faults(&self) -> &'static [&'static str] {
         &[FAULT_DEPTH_DROPOUT]
     }
+    fn draws_biases(&self) -> bool {
+        true
+    }
     fn run_one(&self, seed: u64, options: &RunOptions) -> Result<RunResult, RunError> {
         let log = simulate(seed, options);
         let est = filter(&log)?;

@@ -63,6 +63,34 @@ pub fn find_scenario(name: &str) -> Result<Box<dyn Scenario>, RunError> {
     })
 }
 
+/// `--draw-biases` for `scenario` under `command` (`scenario` or
+/// `simulate`): an error naming the scenarios where it changes something
+/// when it would change nothing here (it used to be ignored in silence).
+///
+/// # Errors
+/// [`RunError::Invalid`] as above.
+pub fn check_draw_biases(scenario: &dyn Scenario, command: &str) -> Result<(), RunError> {
+    let takes = |s: &dyn Scenario| match command {
+        "simulate" => s.draws_biases_in_log(),
+        _ => s.draws_biases(),
+    };
+    if takes(scenario) {
+        return Ok(());
+    }
+    let all = scenarios();
+    let names: Vec<&str> = all
+        .iter()
+        .filter(|s| takes(s.as_ref()))
+        .map(|s| s.name())
+        .collect();
+    Err(RunError::Invalid(format!(
+        "--draw-biases: `navsim {command} {}` has no bias to draw on request (the flag would change \
+         nothing); it changes `navsim {command}` of: {}",
+        scenario.name(),
+        names.join(", ")
+    )))
+}
+
 /// The replay model named `name`, or an error listing the valid names.
 pub fn find_replay_model(name: &str) -> Result<Box<dyn ReplayModel>, RunError> {
     let all = replay_models();

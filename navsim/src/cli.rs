@@ -17,8 +17,8 @@ use models::harness::{
     RunOptions, Scenario, Shard, ShardFile, SHARD_FORMAT,
 };
 pub use models::registry::{
-    default_scenario, find_replay_model, find_scenario, replay_models, scenarios, DEFAULT_SCENARIO,
-    DEFAULT_SEED, FALLBACK_SCENARIO,
+    check_draw_biases, default_scenario, find_replay_model, find_scenario, replay_models,
+    scenarios, DEFAULT_SCENARIO, DEFAULT_SEED, FALLBACK_SCENARIO,
 };
 use nav_replay::output::report;
 use nav_replay::preflight;
@@ -292,6 +292,9 @@ pub fn cmd_scenario(args: &ScenarioArgs) -> Result<(), RunError> {
             u64::MAX
         )));
     }
+    if args.draw_biases {
+        check_draw_biases(scenario.as_ref(), "scenario")?;
+    }
     let mut options = run_options(
         scenario.as_ref(),
         &args.faults,
@@ -466,6 +469,9 @@ fn check_with_model(
 /// `navsim simulate`.
 pub fn cmd_simulate(args: &SimulateArgs) -> Result<(), RunError> {
     let scenario = find_scenario(&args.name)?;
+    if args.draw_biases {
+        check_draw_biases(scenario.as_ref(), "simulate")?;
+    }
     let options = run_options(scenario.as_ref(), &args.faults, args.draw_biases, false)?;
     let log = scenario.simulate_log(args.seed, &options).ok_or_else(|| {
         RunError::Invalid(format!(

@@ -21,6 +21,16 @@ pub trait Scenario: Send + Sync {
     fn can_smooth(&self) -> bool {
         false
     }
+    /// Whether `--draw-biases` changes the runs of `navsim scenario`
+    /// (default: no, and the flag is refused: it would change nothing).
+    fn draws_biases(&self) -> bool {
+        false
+    }
+    /// Whether `--draw-biases` changes the log of `navsim simulate`
+    /// (default: as it changes the runs).
+    fn draws_biases_in_log(&self) -> bool {
+        self.draws_biases()
+    }
     /// Fault names accepted by `--faults` (default: none).
     fn faults(&self) -> &'static [&'static str] {
         &[]

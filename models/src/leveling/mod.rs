@@ -249,6 +249,9 @@ impl Scenario for LevelingScenario {
     fn default_runs(&self) -> usize {
         100
     }
+    fn draws_biases(&self) -> bool {
+        true
+    }
     fn run_one(&self, seed: u64, options: &RunOptions) -> Result<RunResult, RunError> {
         run_one(self.motion, seed, options)
     }

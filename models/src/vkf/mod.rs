@@ -463,6 +463,11 @@ impl Scenario for VkfScenario {
     fn default_runs(&self) -> usize {
         20
     }
+    /// Every run scores both DVL-bias variants; the flag picks the
+    /// variant a simulated log has (the paper's biases).
+    fn draws_biases_in_log(&self) -> bool {
+        true
+    }
     fn run_one(&self, seed: u64, options: &RunOptions) -> Result<RunResult, RunError> {
         let logs = simulation::simulate(seed);
         let (run, real) = run_log(&logs.realistic)?;

@@ -74,6 +74,41 @@ fn bad_values_are_one_line_errors() {
     assert!(line.contains("frobnicate"), "{line}");
 }
 
+/// `--draw-biases` where it would change nothing is refused, naming the
+/// scenarios it changes (it was accepted and ignored); where it changes
+/// something it is taken. (command line, accepted)
+#[test]
+fn draw_biases_is_refused_where_it_would_change_nothing() {
+    let dir = TempDir::new("draw-biases");
+    let log = dir.path().join("log");
+    let log = log.to_str().unwrap();
+    let cases: [(&[&str], bool); 6] = [
+        (&["scenario", "lawnmower-dvl", "--runs", "1"], false),
+        (&["scenario", "vkf", "--runs", "1"], false),
+        (&["scenario", "marker-path", "--runs", "1"], false),
+        (
+            &["simulate", "lawnmower-usbl", "--seed", "1", "--out", log],
+            false,
+        ),
+        (&["simulate", "vkf", "--seed", "1", "--out", log], true),
+        (&["scenario", DEMO, "--runs", "2", "--json"], true),
+    ];
+    for (args, accepted) in cases {
+        let mut args = args.to_vec();
+        args.push("--draw-biases");
+        let o = navsim(&args);
+        if accepted {
+            assert!(o.status.success(), "{args:?}: {}", stderr(&o));
+            continue;
+        }
+        let line = one_line_error(&o);
+        assert!(
+            line.contains("--draw-biases") && line.contains(args[1]) && line.contains(DEMO),
+            "{args:?}: {line}"
+        );
+    }
+}
+
 #[test]
 fn json_output_is_one_object_with_the_common_keys() {
     let v = json(&navsim(&[
