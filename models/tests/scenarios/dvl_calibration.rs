@@ -502,3 +502,74 @@ fn the_dvl_lag_needs_the_velocity_to_change() {
     );
     assert!(survey.sigma[0] < 0.1 * survey.prior_sigma, "{survey:?}");
 }
+
+/// The survey of [`mounting_with_a_sigma_too_small_monte_carlo`] (a DVL
+/// 0.45 s late, no compass, no depth meter) with the DVL's `noise_sigma`
+/// set to `sigma` and the mounting listed in `estimate`.
+fn heading_from_the_dvl_alone(seed: u64, sigma: f64, estimate: &str) -> LogDir {
+    let mut log = lagged_log(seed, 0.45);
+    log.heading = None;
+    log.depth = None;
+    if let Some(dvl) = log.meta.sensors.dvl.as_mut() {
+        dvl.noise_sigma = sigma;
+    }
+    with_estimate(&log, estimate)
+}
+
+/// A mounting estimated with a DVL sigma the innovations say is too small
+/// is said, keyed by `estimate`; with the right sigma, or with nothing
+/// estimated, it is not.
+#[test]
+fn a_mounting_estimated_with_a_sigma_too_small_is_said() {
+    use nav_replay::ins::InsReplay;
+    use nav_replay::{ReplayModel, ReplayOptions};
+    let mounting = "\"lever_arm\", \"misalignment\", \"scale\"";
+    let said = |sigma: f64, estimate: &str| {
+        let log = heading_from_the_dvl_alone(11, sigma, estimate);
+        let out = InsReplay::<Sdins20DvlCal, 28>::new()
+            .replay(&log, &ReplayOptions::default())
+            .expect("replay");
+        out.warnings
+            .iter()
+            .any(|w| w.key.as_deref() == Some("sensors.dvl.estimate"))
+    };
+    assert!(said(DVL_NOISE / 2.5, mounting));
+    assert!(!said(DVL_NOISE, mounting));
+    assert!(!said(DVL_NOISE / 2.5, ""));
+}
+
+/// The mounting estimated with a DVL sigma that is right and with one 2.5
+/// times too small (what the innovations of a real log can say of a data
+/// sheet's): the survey with speed changes, a DVL 0.45 s late that no state
+/// models, no compass and no depth meter (heading from the DVL alone, as on
+/// a survey log with IMU and DVL only). Median horizontal RMS and how often
+/// estimating the mounting is worse than not, per sigma.
+/// `cargo test --release -p models --test scenarios dvl_calibration:: -- --ignored --nocapture`;
+/// the figures are in docs/calibration.md.
+#[test]
+#[ignore = "Monte Carlo over 100 seeds; prints the figures of docs/calibration.md"]
+fn mounting_with_a_sigma_too_small_monte_carlo() {
+    use nav_runtime::stats;
+    let mounting = "\"lever_arm\", \"misalignment\", \"scale\"";
+    for (name, sigma) in [
+        ("right", DVL_NOISE),
+        ("2.5 times too small", DVL_NOISE / 2.5),
+    ] {
+        let (mut fixed, mut estimated, mut worse, mut accepted) = (Vec::new(), Vec::new(), 0, 0);
+        for seed in 7200..7300u64 {
+            let none = score::<28, Sdins20DvlCal>(&heading_from_the_dvl_alone(seed, sigma, ""));
+            let all =
+                score::<28, Sdins20DvlCal>(&heading_from_the_dvl_alone(seed, sigma, mounting));
+            worse += usize::from(all.rms > none.rms);
+            accepted += all.dvl.0;
+            fixed.push(none.rms);
+            estimated.push(all.rms);
+        }
+        println!(
+            "sigma {name}: median RMS {:.2} m fixed, {:.2} m with the mounting estimated (worse on {worse}/100; DVL rows accepted {:.0} %)",
+            stats::median(&fixed),
+            stats::median(&estimated),
+            accepted as f64 / 1000.0
+        );
+    }
+}
