@@ -20,7 +20,7 @@ use nav_ins::{InsFilter, InsVehicle};
 use nav_runtime::log::{Warning, WarningKind};
 use serde_json::{json, Map, Value};
 
-/// `|z|` beyond which a bias is said to be beyond its prior.
+/// `|z|` beyond which a state is said to be beyond its prior.
 pub const PRIOR_Z_LIMIT: f64 = 4.0;
 
 /// Share of its prior variance a component must have lost (that the log
@@ -28,7 +28,8 @@ pub const PRIOR_Z_LIMIT: f64 = 4.0;
 /// two nearly equal numbers.
 pub const MIN_TAUGHT: f64 = 0.01;
 
-/// One bias group at the end of a run.
+/// One group of a random-constant state (a bias, a mounting calibration)
+/// at the end of a run.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ConstantState {
     /// The state's declared name (`dvl_bias`).
@@ -37,7 +38,8 @@ pub struct ConstantState {
     pub key: &'static str,
     /// The file of the sensor, for the warning (`dvl.csv`, `imu.csv`).
     pub file: &'static str,
-    /// Final estimate per component (the sensor's units).
+    /// Final estimate per component (the sensor's units; for a calibration
+    /// the correction to the given value).
     pub value: Vec<f64>,
     /// Final sigma per component.
     pub sigma: Vec<f64>,
