@@ -63,16 +63,26 @@ pub fn find_scenario(name: &str) -> Result<Box<dyn Scenario>, RunError> {
     })
 }
 
-/// `--draw-biases` for `scenario` under `command` (`scenario` or
-/// `simulate`): an error naming the scenarios where it changes something
-/// when it would change nothing here (it used to be ignored in silence).
+/// What `--draw-biases` would change: the Monte Carlo runs (`navsim
+/// scenario`) or the written log (`navsim simulate`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BiasesDrawnFor {
+    /// `navsim scenario`.
+    Runs,
+    /// `navsim simulate`.
+    Log,
+}
+
+/// `--draw-biases` for `scenario`: an error naming the scenarios where it
+/// changes something when it would change nothing here (it used to be
+/// ignored in silence).
 ///
 /// # Errors
 /// [`RunError::Invalid`] as above.
-pub fn check_draw_biases(scenario: &dyn Scenario, command: &str) -> Result<(), RunError> {
-    let takes = |s: &dyn Scenario| match command {
-        "simulate" => s.draws_biases_in_log(),
-        _ => s.draws_biases(),
+pub fn check_draw_biases(scenario: &dyn Scenario, drawn: BiasesDrawnFor) -> Result<(), RunError> {
+    let (takes, command): (fn(&dyn Scenario) -> bool, _) = match drawn {
+        BiasesDrawnFor::Runs => (|s| s.draws_biases(), "scenario"),
+        BiasesDrawnFor::Log => (|s| s.draws_biases_in_log(), "simulate"),
     };
     if takes(scenario) {
         return Ok(());

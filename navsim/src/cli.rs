@@ -18,7 +18,7 @@ use models::harness::{
 };
 pub use models::registry::{
     check_draw_biases, default_scenario, find_replay_model, find_scenario, replay_models,
-    scenarios, DEFAULT_SCENARIO, DEFAULT_SEED, FALLBACK_SCENARIO,
+    scenarios, BiasesDrawnFor, DEFAULT_SCENARIO, DEFAULT_SEED, FALLBACK_SCENARIO,
 };
 use nav_replay::output::report;
 use nav_replay::preflight;
@@ -238,12 +238,17 @@ pub struct ListArgs {
     pub json: bool,
 }
 
+/// The run options of the command line, checked against `scenario`:
+/// `draw_biases` is `--draw-biases` with what it would change.
 fn run_options(
     scenario: &dyn Scenario,
     faults: &[String],
-    draw_biases: bool,
+    draw_biases: Option<BiasesDrawnFor>,
     smooth: bool,
 ) -> Result<RunOptions, RunError> {
+    if let Some(drawn) = draw_biases {
+        check_draw_biases(scenario, drawn)?;
+    }
     if smooth && !scenario.can_smooth() {
         return Err(RunError::Invalid(format!(
             "scenario {} cannot be smoothed (--smooth is supported by the lawnmower-* scenarios)",
@@ -270,7 +275,7 @@ fn run_options(
     }
     Ok(RunOptions {
         faults: list,
-        draw_biases,
+        draw_biases: draw_biases.is_some(),
         keep_series: false,
         smooth,
     })
@@ -292,15 +297,8 @@ pub fn cmd_scenario(args: &ScenarioArgs) -> Result<(), RunError> {
             u64::MAX
         )));
     }
-    if args.draw_biases {
-        check_draw_biases(scenario.as_ref(), "scenario")?;
-    }
-    let mut options = run_options(
-        scenario.as_ref(),
-        &args.faults,
-        args.draw_biases,
-        args.smooth,
-    )?;
+    let draw_biases = args.draw_biases.then_some(BiasesDrawnFor::Runs);
+    let mut options = run_options(scenario.as_ref(), &args.faults, draw_biases, args.smooth)?;
     if args.shard.is_some() && args.out.is_none() {
         return Err(RunError::Invalid(
             "--shard needs --out DIR for the shard's results".into(),
@@ -469,10 +467,8 @@ fn check_with_model(
 /// `navsim simulate`.
 pub fn cmd_simulate(args: &SimulateArgs) -> Result<(), RunError> {
     let scenario = find_scenario(&args.name)?;
-    if args.draw_biases {
-        check_draw_biases(scenario.as_ref(), "simulate")?;
-    }
-    let options = run_options(scenario.as_ref(), &args.faults, args.draw_biases, false)?;
+    let draw_biases = args.draw_biases.then_some(BiasesDrawnFor::Log);
+    let options = run_options(scenario.as_ref(), &args.faults, draw_biases, false)?;
     let log = scenario.simulate_log(args.seed, &options).ok_or_else(|| {
         RunError::Invalid(format!(
             "scenario {} cannot write a sensor log",

@@ -10,9 +10,10 @@
 //! it stays at its prior (the given value) exactly.
 
 use nav_ins::{Builder, InsFilter, InsVehicle};
-use nav_runtime::log::{DvlCalibration, Meta, ESTIMATE_NAMES};
+use nav_runtime::log::{DvlCalibration, Meta, Warning, WarningKind, ESTIMATE_NAMES};
 
 use super::constant_states::{z_of, ConstantState};
+use crate::innovations::{SensorInnovations, SIGMA_FACTOR_LIMIT};
 use crate::RunError;
 
 /// A sensor whose mounting a vehicle may carry as states: its
@@ -286,6 +287,40 @@ impl DvlMounting {
         .into_iter()
         .flatten()
         .collect()
+    }
+
+    /// The warning of a mounting estimated with a noise sigma the DVL's
+    /// `innovations` say is more than [`SIGMA_FACTOR_LIMIT`] times too
+    /// small: the gate then refuses the rows the mounting states learn
+    /// from, and on a simulated survey the estimate made the run worse on
+    /// 61 of 100 seeds (docs/calibration.md, "A sigma too small").
+    pub fn sigma_warning(&self, innovations: &[SensorInnovations]) -> Option<Warning> {
+        let estimated = [
+            self.lever_arm.estimated,
+            self.misalignment.estimated,
+            self.scale.estimated,
+            self.time_offset.estimated,
+        ];
+        if !estimated.contains(&true) {
+            return None;
+        }
+        let dvl = innovations.iter().find(|s| s.sensor == "dvl")?;
+        let (factor, _) = dvl.supported_factor()?;
+        (factor > SIGMA_FACTOR_LIMIT).then(|| {
+            Warning::about(
+                WarningKind::Suspicious,
+                "meta.toml",
+                format!(
+                    "the DVL's mounting was estimated with a noise_sigma its innovations say is \
+                     {factor:.1} times too small ({} of {} rows gated): with such a sigma the gate \
+                     refuses the rows the mounting states learn from, and they can make the run \
+                     worse than without them (docs/calibration.md); tune the DVL's sigma first \
+                     (`navsim tune`) and estimate the mounting with it",
+                    dvl.gated, dvl.totals.updates
+                ),
+            )
+            .with_key("sensors.dvl.estimate")
+        })
     }
 
     /// The replay JSON's `dvl_calibration` (docs/cli-and-json.md): per

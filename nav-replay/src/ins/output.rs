@@ -14,6 +14,7 @@ use std::path::Path;
 use nav_runtime::log::{LogSource, RowSource, TruthRow, Warning, WarningKind};
 use serde_json::{json, Map, Value};
 
+use super::constant_states::ConstantState;
 use super::replay_loop::{Every, Listed};
 use super::score::{Keep, Scored, Scorer, TABLE};
 use super::setup::{replay_vehicle, FilterOptions, InsRun, LENIENT_IMU_STEP_PERIODS};
@@ -21,7 +22,7 @@ use super::{
     error_values, write_plots, write_smoothed_plot, write_trajectory_plots, ERROR_KEYS,
     SMOOTHED_TABLE,
 };
-use crate::innovations::{innovations_json, SensorInnovations, SIGMA_FACTOR_LIMIT};
+use crate::innovations::innovations_json;
 use crate::output::series::SeriesSink;
 use crate::{ReplayOptions, ReplayOutput, RunError, SensorHealth};
 use nav_ins::vehicle::{InsVehicle, Layout};
@@ -453,21 +454,20 @@ pub(super) fn output_of<V: InsVehicle<N>, const N: usize>(
     if !own.is_empty() {
         out.metrics.insert("own_states".into(), Value::Object(own));
     }
+    // The biases and the calibrations against their priors
+    // (docs/trust.md, "A bias beyond its prior").
     super::constant_states::report(&run.bias_states, &mut out.metrics, &mut out.warnings);
-    let calibrations = run.dvl_mounting.iter().flat_map(|m| m.checks());
-    let calibrations = calibrations.chain(run.fix_mountings.iter().flat_map(|m| m.checks()));
-    out.warnings
-        .extend(calibrations.filter_map(|c| c.warning()));
-    out.warnings.extend(mounting_with_a_small_sigma(
-        run.dvl_mounting.as_ref(),
-        &run.innovations,
-    ));
     if let Some(m) = &run.dvl_mounting {
         out.metrics.insert("dvl_calibration".into(), m.json());
+        out.warnings
+            .extend(m.checks().iter().filter_map(ConstantState::warning));
+        out.warnings.extend(m.sigma_warning(&run.innovations));
     }
     for m in &run.fix_mountings {
         out.metrics
             .insert(format!("{}_calibration", m.sensor), m.json());
+        out.warnings
+            .extend(m.checks().iter().filter_map(ConstantState::warning));
     }
     if let Some(o) = &run.observability {
         let (json, unlearned) = crate::observability::json(o, &V::STATE_NAMES, |i, name| {
@@ -556,42 +556,4 @@ fn reference_point_warning(point: &super::reference_point_fit::FittedPoint) -> W
         ),
     )
     .with_key("files.truth.lever_arm")
-}
-
-/// The warning of a DVL mounting estimated with a noise sigma its
-/// innovations say is more than [`SIGMA_FACTOR_LIMIT`] times too small:
-/// the gate then refuses rows the mounting states need, and on a simulated
-/// survey the estimate made the run worse on 61 of 100 seeds
-/// (docs/calibration.md, "A sigma too small").
-fn mounting_with_a_small_sigma(
-    mounting: Option<&super::calibration::DvlMounting>,
-    innovations: &[SensorInnovations],
-) -> Option<Warning> {
-    let m = mounting?;
-    let estimated = [
-        m.lever_arm.estimated,
-        m.misalignment.estimated,
-        m.scale.estimated,
-        m.time_offset.estimated,
-    ];
-    if !estimated.contains(&true) {
-        return None;
-    }
-    let dvl = innovations.iter().find(|s| s.sensor == "dvl")?;
-    let (factor, _) = dvl.supported_factor()?;
-    (factor > SIGMA_FACTOR_LIMIT).then(|| {
-        Warning::about(
-            WarningKind::Suspicious,
-            "meta.toml",
-            format!(
-                "the DVL's mounting was estimated with a noise_sigma its innovations say is {factor:.1} \
-                 times too small ({} of {} rows gated): with such a sigma the gate refuses the rows \
-                 the mounting states learn from, and they can make the run worse than without them \
-                 (docs/calibration.md); tune the DVL's sigma first (`navsim tune`) and estimate \
-                 the mounting with it",
-                dvl.gated, dvl.totals.updates
-            ),
-        )
-        .with_key("sensors.dvl.estimate")
-    })
 }
