@@ -311,6 +311,9 @@ for fn in ("update_rates", "update_increments", "mechanization_rates"):
 print("SDINS-25 log replay per IMU sample (60 s of lawnmower-dvl)")
 ratio("replay per sample / one generated propagation", "replay/sdins25/replay_per_sample", "replay/sdins25/propagate_covariance", 1.5)
 ratio("navsim replay: streamed, preflight alongside / loaded, then checked", "replay/pipeline/streamed_alongside", "replay/pipeline/loaded_then_checked", 1.0)
+for motion in ("moving", "stationary"):
+    g = f"replay/leveling6-{motion}"
+    ratio(f"leveling6 ({motion}): streamed / loaded, then checked", f"{g}/streamed_alongside", f"{g}/loaded_then_checked")
 
 print("Scenario runs (lawnmower-dvl, 500 s of data)")
 g = "scenario/lawnmower-dvl"

@@ -12,6 +12,12 @@
 //! Group `replay/pipeline`: `loaded_then_checked` (the baseline) and
 //! `streamed_alongside`. Their ratio is the pipeline's cost in time.
 //!
+//! Groups `replay/leveling6-moving` and `replay/leveling6-stationary`: the
+//! same two ways for `leveling6` on the simulated `leveling-moving` and
+//! `leveling-stationary` logs of seed 3 (30 s, 100 Hz IMU, 10 Hz speed log
+//! and truth). The streamed replay reads the speed log (and at rest the
+//! IMU file) once before the run to tell rest from motion.
+//!
 //! Run: `cargo bench -p models --bench replay_pipeline`.
 
 use std::hint::black_box;
@@ -69,6 +75,35 @@ fn bench(c: &mut Criterion) {
     });
     g.finish();
     let _ = std::fs::remove_dir_all(&dir);
+    let leveling = find_replay_model("leveling6").expect("model");
+    for motion in ["moving", "stationary"] {
+        let dir = std::env::temp_dir().join(format!(
+            "replay-pipeline-bench-{motion}-{}",
+            std::process::id()
+        ));
+        find_scenario(&format!("leveling-{motion}"))
+            .expect("scenario")
+            .simulate_log(3, &RunOptions::default())
+            .expect("simulates")
+            .expect("valid log")
+            .write(&dir)
+            .expect("writes the log");
+        let model = leveling.as_ref();
+        assert_eq!(
+            loaded_then_checked(model, &dir),
+            streamed_alongside(model, &dir)
+        );
+        let mut g = c.benchmark_group(format!("replay/leveling6-{motion}"));
+        g.sample_size(20);
+        g.bench_function("loaded_then_checked", |b| {
+            b.iter(|| black_box(loaded_then_checked(model, black_box(&dir))))
+        });
+        g.bench_function("streamed_alongside", |b| {
+            b.iter(|| black_box(streamed_alongside(model, black_box(&dir))))
+        });
+        g.finish();
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 }
 
 criterion_group!(benches, bench);

@@ -14,7 +14,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use crate::harness::*;
-use nav_runtime::log::{DepthRow, ImuRow, LogDir, Meta, TruthRow};
+use nav_runtime::log::{DepthRow, ImuRow, LogDir, LogSource, Meta, TruthRow};
 use nav_runtime::stats;
 use rand::SeedableRng;
 use rand_distr::{Distribution, StandardNormal};
@@ -324,26 +324,41 @@ impl ReplayModel for DepthKf {
     fn description(&self) -> &'static str {
         "plumbing self-test: 2-state depth Kalman filter over depth.csv"
     }
-    fn replay(&self, log: &LogDir, options: &ReplayOptions) -> Result<ReplayOutput, RunError> {
-        // The initial depth is the filter's first estimate.
-        log.meta.initial.position_for(self.name())?;
-        let start = std::time::Instant::now();
-        let est = filter(log)?;
-        let runtime_s = start.elapsed().as_secs_f64();
-        let mut out = ReplayOutput {
-            samples: log.imu.len(),
-            runtime_s,
-            ..Default::default()
-        };
-        if let Some(truth) = &log.truth {
-            let (metrics, table) = score(&est, truth);
-            for (k, v) in metrics {
-                out.metrics.insert(k, Value::from(v));
-            }
-            if options.keep_series {
-                out.tables.push(table);
-            }
+    /// The log read whole.
+    fn replay_source(
+        &self,
+        source: &LogSource<'_>,
+        options: &ReplayOptions,
+        out: Option<&Path>,
+    ) -> Result<ReplayOutput, RunError> {
+        let output = replay_depth(&*source.whole()?, options)?;
+        if let Some(dir) = out {
+            self.write_outputs(&output, dir)?;
         }
-        Ok(out)
+        Ok(output)
     }
+}
+
+/// The depth filter over `log`, scored against its truth.
+fn replay_depth(log: &LogDir, options: &ReplayOptions) -> Result<ReplayOutput, RunError> {
+    // The initial depth is the filter's first estimate.
+    log.meta.initial.position_for(MODEL)?;
+    let start = std::time::Instant::now();
+    let est = filter(log)?;
+    let runtime_s = start.elapsed().as_secs_f64();
+    let mut out = ReplayOutput {
+        samples: log.imu.len(),
+        runtime_s,
+        ..Default::default()
+    };
+    if let Some(truth) = &log.truth {
+        let (metrics, table) = score(&est, truth);
+        for (k, v) in metrics {
+            out.metrics.insert(k, Value::from(v));
+        }
+        if options.keep_series {
+            out.tables.push(table);
+        }
+    }
+    Ok(out)
 }

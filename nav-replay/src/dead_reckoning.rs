@@ -23,9 +23,7 @@ use std::path::Path;
 
 use nav_runtime::attitude::Euler;
 use nav_runtime::earth::{earth_rate_n, meridian_radius, transport_rate_n, transverse_radius};
-use nav_runtime::log::{
-    DvlRow, Event, LogDir, LogFiles, LogSource, Row, RowSource, TruthRow, Warning, WarningKind,
-};
+use nav_runtime::log::{DvlRow, Event, LogSource, Row, RowSource, TruthRow, Warning, WarningKind};
 use nav_runtime::nalgebra::{Matrix3, Rotation3, SMatrix, Vector3};
 use nav_runtime::strapdown::NavState;
 
@@ -505,18 +503,15 @@ impl ReplayModel for DeadReckoning {
     fn uses_noise_parameter(&self, _key: &str) -> bool {
         false
     }
-    fn replay(&self, log: &LogDir, options: &ReplayOptions) -> Result<ReplayOutput, RunError> {
-        dead_reckon(&LogSource::Memory(log), options, None)
-    }
     /// Streamed: the memory does not grow with the log; with `out`, the
     /// track and the errors are written as the run goes.
-    fn replay_files(
+    fn replay_source(
         &self,
-        files: &LogFiles,
+        source: &LogSource<'_>,
         options: &ReplayOptions,
         out: Option<&Path>,
     ) -> Result<ReplayOutput, RunError> {
-        dead_reckon(&LogSource::Files(files), options, out)
+        dead_reckon(source, options, out)
     }
 }
 

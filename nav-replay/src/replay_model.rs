@@ -2,7 +2,7 @@
 
 use std::path::Path;
 
-use nav_runtime::log::{LogDir, Warning, WarningKind};
+use nav_runtime::log::{LogDir, LogFiles, LogSource, Warning, WarningKind};
 use serde_json::{Map, Value};
 
 use super::{RunError, RunTable};
@@ -135,27 +135,35 @@ pub trait ReplayModel: Send + Sync {
     fn log_files(&self) -> Option<&'static [&'static str]> {
         None
     }
-    /// Runs the model over the log. Time only the filter into `runtime_s`.
-    fn replay(&self, log: &LogDir, options: &ReplayOptions) -> Result<ReplayOutput, RunError>;
-    /// Runs the model over the log directory of `files`; with `out`, writes
-    /// its time series and plots there. Default: the whole log read into
-    /// memory as `files` reads it (with its meta and time offsets, which
-    /// noise tuning sets), [`ReplayModel::replay`], then
-    /// [`ReplayModel::write_outputs`];
-    /// a model that streams the log (memory independent of its length)
-    /// overrides it.
+    /// Runs the model over `source`, a log in memory or a log directory
+    /// read as `files` reads it (with its meta and time offsets, which noise
+    /// tuning sets); with `out`, writes its time series and plots there. A
+    /// model that streams the log keeps its memory independent of the log's
+    /// length and writes the series as they grow; one that holds it reads
+    /// it whole ([`LogSource::whole`]) and writes them at the end
+    /// ([`ReplayModel::write_outputs`]). Time only the filter into
+    /// `runtime_s`.
+    fn replay_source(
+        &self,
+        source: &LogSource<'_>,
+        options: &ReplayOptions,
+        out: Option<&Path>,
+    ) -> Result<ReplayOutput, RunError>;
+    /// Runs the model over a log in memory ([`ReplayModel::replay_source`]),
+    /// its series kept in the output when `options.keep_series`.
+    fn replay(&self, log: &LogDir, options: &ReplayOptions) -> Result<ReplayOutput, RunError> {
+        self.replay_source(&LogSource::Memory(log), options, None)
+    }
+    /// Runs the model over the log directory of `files`
+    /// ([`ReplayModel::replay_source`]); with `out`, writes its time series
+    /// and plots there.
     fn replay_files(
         &self,
-        files: &nav_runtime::log::LogFiles,
+        files: &LogFiles,
         options: &ReplayOptions,
         out: Option<&Path>,
     ) -> Result<ReplayOutput, RunError> {
-        let log = LogDir::from_files(files)?;
-        let output = self.replay(&log, options)?;
-        if let Some(dir) = out {
-            self.write_outputs(&output, dir)?;
-        }
-        Ok(output)
+        self.replay_source(&LogSource::Files(files), options, out)
     }
     /// Whether [`ReplayModel::replay_files`] reads `imu.csv` through
     /// [`LogSource::imu_rows`](nav_runtime::log::LogSource::imu_rows), so

@@ -14,8 +14,7 @@ use std::path::Path;
 use std::time::{Duration, Instant};
 
 use nav_runtime::log::{
-    Event, ImuRow, LogDir, LogFiles, LogSource, MagRow, Prefetched, ReferenceRow, TruthRow,
-    Warning, WarningKind,
+    Event, ImuRow, LogSource, MagRow, Prefetched, ReferenceRow, TruthRow, Warning, WarningKind,
 };
 use nav_runtime::nalgebra::Vector3;
 use serde_json::{json, Value};
@@ -80,16 +79,13 @@ impl ReplayModel for AhrsReplay {
     fn can_smooth(&self) -> bool {
         true
     }
-    fn replay(&self, log: &LogDir, options: &ReplayOptions) -> Result<ReplayOutput, RunError> {
-        replay_source(&LogSource::Memory(log), options, None)
-    }
-    fn replay_files(
+    fn replay_source(
         &self,
-        files: &LogFiles,
+        source: &LogSource<'_>,
         options: &ReplayOptions,
         out: Option<&Path>,
     ) -> Result<ReplayOutput, RunError> {
-        replay_source(&LogSource::Files(files), options, out)
+        replay_source(source, options, out)
     }
     fn shares_imu(&self) -> bool {
         true

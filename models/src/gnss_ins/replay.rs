@@ -21,8 +21,7 @@
 use std::path::Path;
 
 use nav_runtime::log::{
-    BaroRow, GnssRow, LogDir, LogFiles, LogSource, MagRow, ReferenceRow, RowSource, TruthRow,
-    Warning, WarningKind,
+    BaroRow, GnssRow, LogSource, MagRow, ReferenceRow, RowSource, TruthRow, Warning, WarningKind,
 };
 use serde_json::{json, Value};
 
@@ -501,16 +500,13 @@ impl ReplayModel for GnssInsReplay {
     fn can_smooth(&self) -> bool {
         true
     }
-    fn replay(&self, log: &LogDir, options: &ReplayOptions) -> Result<ReplayOutput, RunError> {
-        replay_source(&LogSource::Memory(log), options, None)
-    }
-    fn replay_files(
+    fn replay_source(
         &self,
-        files: &LogFiles,
+        source: &LogSource<'_>,
         options: &ReplayOptions,
         out: Option<&Path>,
     ) -> Result<ReplayOutput, RunError> {
-        replay_source(&LogSource::Files(files), options, out)
+        replay_source(source, options, out)
     }
     /// The replay loop reads `imu.csv` through `LogSource::imu_rows`.
     fn shares_imu(&self) -> bool {

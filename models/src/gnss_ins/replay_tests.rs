@@ -7,7 +7,7 @@
 
 use std::path::{Path, PathBuf};
 
-use nav_runtime::log::{LogFiles, Strictness, Warning, WarningKind};
+use nav_runtime::log::{LogDir, LogFiles, Strictness, Warning, WarningKind};
 use serde_json::{Map, Value};
 
 use super::*;

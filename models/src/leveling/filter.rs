@@ -10,12 +10,13 @@ use super::model::{
     Leveling8Params, Leveling8Stationary,
 };
 use super::scheduled_filter::{keep_upright, LevelingFilter};
+pub use super::smoothed::SmoothedEstimates;
+use crate::harness::RunError;
 use nav_ins::ImuSample;
 use nav_runtime::earth;
 use nav_runtime::ekf::{Ekf, FilterError};
 use nav_runtime::innovations::InnovationTotals;
-use nav_runtime::log::{Event, LogDir};
-use nav_runtime::math::wrap_angle;
+use nav_runtime::log::{Event, LogDir, LogError, LogSource, Prefetched, SpeedRow};
 use nav_runtime::model::{Model, Sensor};
 use nav_runtime::nalgebra::{Matrix2, Matrix4, SMatrix, SVector, Vector2, Vector3, Vector4};
 use nav_runtime::scheduler::{
@@ -25,6 +26,7 @@ use nav_runtime::setup_error::SetupError;
 use nav_runtime::smoother::{
     observability, smooth_states, EpochFile, Recorder, SmootherError, States,
 };
+use std::time::{Duration, Instant};
 
 /// How the filter is set up.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -107,11 +109,14 @@ pub struct AttitudeEstimate {
     pub roll_pitch_covariance: f64,
 }
 
-/// What a run produced.
+/// What a run produced besides its estimates, which went to the caller
+/// one by one as the run gave them ([`run`]).
 #[derive(Clone, Debug, Default)]
 pub struct LevelingRun {
-    /// One estimate per IMU sample.
-    pub estimates: Vec<AttitudeEstimate>,
+    /// The first estimate (the initial guess, at the first IMU sample).
+    pub first: Option<AttitudeEstimate>,
+    /// The last estimate.
+    pub last: Option<AttitudeEstimate>,
     /// Updates applied, gated.
     pub accepted: u64,
     /// Updates rejected by the gate.
@@ -120,19 +125,35 @@ pub struct LevelingRun {
     pub rejected: u64,
     /// Covariance repairs.
     pub repairs: u64,
-    /// IMU samples processed.
+    /// IMU samples processed: one estimate each.
     pub samples: usize,
+    /// Times of the first and the last row of `imu.csv`, s.
+    pub imu_span: Option<(f64, f64)>,
+    /// Time spent in the filter (its scheduler), not reading the log or
+    /// handing estimates on.
+    pub filter_time: Duration,
     /// Final estimate and 1-sigma of the x and y accelerometer bias, m/s^2
     /// (with bias states; NaN without).
     pub accel_bias_final: [f64; 4],
-    /// The smoothed estimate at each IMU sample after the first, in time
-    /// order ([`Recording::smooth`]; empty otherwise).
-    pub smoothed: Vec<AttitudeEstimate>,
     /// The speed log's innovations, each update counted once (none in the
     /// stationary model, where its rows are zero-velocity
     /// pseudo-measurements): its NIS and what noise tuning weighs.
     pub speed_innovations: InnovationTotals,
 }
+
+impl LevelingRun {
+    /// The mean spacing of the estimates in time, s (0 for fewer than two).
+    pub fn mean_period(&self) -> f64 {
+        match (self.first, self.last) {
+            (Some(a), Some(b)) if self.samples > 1 => (b.t - a.t) / (self.samples - 1) as f64,
+            _ => 0.0,
+        }
+    }
+}
+
+/// Where a run hands its estimates: one per IMU sample, in time order,
+/// each final (a late speed-log row has already been applied to it).
+pub type EstimateSink<'s> = dyn FnMut(&AttitudeEstimate) -> Result<(), RunError> + 's;
 
 /// Roll and pitch from `a` (eq. 28).
 pub fn roll_pitch(a: &Vector3<f64>) -> (f64, f64) {
@@ -255,9 +276,10 @@ impl LevelingModel<8> for Leveling8 {
     }
 }
 
-/// Why a run stopped: the filter refused its set-up, or the scheduler its
-/// start (a first IMU time that is not finite).
-#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
+/// Why a run stopped: the filter refused its set-up, the scheduler its
+/// start (a first IMU time that is not finite), a file of the log a row
+/// (strict reading), or the caller an estimate (a file it writes).
+#[derive(Debug, thiserror::Error)]
 pub enum LevelingError {
     /// The filter refused its initial state or covariance.
     #[error(transparent)]
@@ -268,18 +290,44 @@ pub enum LevelingError {
     /// The scheduler refused its start or a sensor.
     #[error(transparent)]
     Scheduler(#[from] SchedulerError),
+    /// The recording for the smoother or the observability report failed.
+    #[error(transparent)]
+    Recording(#[from] SmootherError),
+    /// A row of the log could not be read.
+    #[error(transparent)]
+    Log(#[from] LogError),
+    /// The caller refused an estimate.
+    #[error(transparent)]
+    Output(#[from] RunError),
 }
 
-/// Runs the filter over `log`: [`Leveling6`], or [`Leveling8`] with
-/// `options.tuning.bias_states`.
+impl From<LevelingError> for RunError {
+    /// A bad row keeps its file and line; the caller's own error is given
+    /// back; the rest is the run's refusal, as text.
+    fn from(e: LevelingError) -> RunError {
+        match e {
+            LevelingError::Log(e) => RunError::Log(e),
+            LevelingError::Output(e) => e,
+            e => RunError::Invalid(e.to_string()),
+        }
+    }
+}
+
+/// Runs the filter over `source`, [`Leveling6`], or [`Leveling8`] with
+/// `options.tuning.bias_states`, handing each estimate to `each`.
 ///
 /// # Errors
-/// The filter or the scheduler refuses its set-up.
-pub fn run(log: &LogDir, options: &LevelingOptions) -> Result<LevelingRun, LevelingError> {
+/// The filter or the scheduler refuses its set-up, a row of the log (strict
+/// reading) or `each` an estimate.
+pub fn run(
+    source: &LogSource<'_>,
+    options: &LevelingOptions,
+    each: &mut EstimateSink<'_>,
+) -> Result<LevelingRun, LevelingError> {
     if options.tuning.bias_states {
-        run_model::<Leveling8, 8>(log, options, None).map(|(run, _)| run)
+        run_model::<Leveling8, 8>(source, options, None, each).map(|(run, _)| run)
     } else {
-        run_model::<Leveling6, 6>(log, options, None).map(|(run, _)| run)
+        run_model::<Leveling6, 6>(source, options, None, each).map(|(run, _)| run)
     }
 }
 
@@ -296,26 +344,16 @@ pub fn observability_of_run(
     options: &LevelingOptions,
     directions: usize,
 ) -> Result<nav_runtime::smoother::Observability<8>, String> {
-    run_observed::<Leveling8, 8>(log, options, directions).map(|(_, o)| o)
-}
-
-/// The run of `M` over `log`, recorded, and what it taught each state
-/// (`leveling6 --observability`, [`observability_of_run`]).
-///
-/// # Errors
-/// A filter error of the run, or a recording error (as text).
-pub fn run_observed<M: LevelingModel<N>, const N: usize>(
-    log: &LogDir,
-    options: &LevelingOptions,
-    directions: usize,
-) -> Result<(LevelingRun, nav_runtime::smoother::Observability<N>), String> {
     let recording = Recording {
         observability: Some(directions),
         smooth: false,
     };
-    let (run, o) = run_recorded::<M, N>(log, options, recording)?;
-    let o = o.ok_or("the run taught nothing: no IMU sample")?;
-    Ok((run, o))
+    let recorded =
+        run_recorded::<Leveling8, 8>(&LogSource::Memory(log), options, recording, &mut |_| Ok(()))
+            .map_err(|e| e.to_string())?;
+    recorded
+        .observed
+        .ok_or_else(|| "the run taught nothing: no IMU sample".to_string())
 }
 
 /// What a recorded run is for.
@@ -325,30 +363,46 @@ pub struct Recording {
     /// (docs/observability.md).
     pub observability: Option<usize>,
     /// The smoothed estimate at every IMU sample after the first
-    /// ([`LevelingRun::smoothed`]): each sample is an epoch of the
-    /// recording, corrected by the fixed-interval smoother every replay
-    /// uses (docs/smoother.md).
+    /// ([`Recorded::smoothed`]): each sample is an epoch of the recording,
+    /// corrected by the fixed-interval smoother every replay uses
+    /// (docs/smoother.md).
     pub smooth: bool,
 }
 
-/// The run of `M` over `log`, recorded for `recording`; the observability
-/// report when asked for (`None` for a log without IMU samples).
+/// A recorded run: the run, the observability report when asked for
+/// (`None` for a log without IMU samples), and the smoothed estimates when
+/// asked for.
+#[derive(Debug)]
+pub struct Recorded<const N: usize> {
+    /// The run.
+    pub run: LevelingRun,
+    /// What it taught each state.
+    pub observed: Option<nav_runtime::smoother::Observability<N>>,
+    /// Its smoothed estimates.
+    pub smoothed: Option<SmoothedEstimates>,
+}
+
+/// The run of `M` over `source`, recorded for `recording`, each estimate
+/// handed to `each`.
 ///
 /// # Errors
-/// A filter error of the run, or a recording error (as text).
+/// As [`run`], and a recording error.
 pub fn run_recorded<M: LevelingModel<N>, const N: usize>(
-    log: &LogDir,
+    source: &LogSource<'_>,
     options: &LevelingOptions,
     recording: Recording,
-) -> Result<(LevelingRun, Option<nav_runtime::smoother::Observability<N>>), String> {
-    let smoother = |e: SmootherError| e.to_string();
-    let file = EpochFile::<N, N>::create(None).map_err(smoother)?;
-    let (mut run, recorder) =
-        run_model::<M, N>(log, options, Some((file, recording))).map_err(|e| e.to_string())?;
+    each: &mut EstimateSink<'_>,
+) -> Result<Recorded<N>, LevelingError> {
+    let file = EpochFile::<N, N>::create(None)?;
+    let (run, recorder) = run_model::<M, N>(source, options, Some((file, recording)), each)?;
     let Some(mut recorder) = recorder else {
-        return Ok((run, None));
+        return Ok(Recorded {
+            run,
+            observed: None,
+            smoothed: None,
+        });
     };
-    recorder.finish().map_err(smoother)?;
+    recorder.finish()?;
     let information = recorder.sensor_information().cloned();
     let store = recorder.store();
     let mut file = store.borrow_mut();
@@ -356,34 +410,39 @@ pub fn run_recorded<M: LevelingModel<N>, const N: usize>(
         Some(directions) => {
             let (_, p0) = M::initial(0.0, &Vector3::z(), &options.tuning);
             let prior_sigma: [f64; N] = std::array::from_fn(|i| p0[(i, i)].sqrt());
-            let o = observability(
+            Some(observability(
                 &mut file,
                 &prior_sigma,
                 0.0,
                 directions,
                 information.as_ref(),
-            )
-            .map_err(smoother)?;
-            Some(o)
+            )?)
         }
         None => None,
     };
-    if recording.smooth {
-        // The backward pass meets the epochs latest first; the smoothed
-        // state is the recorded one with its smoothed error removed.
-        let first = run.estimates.first().map_or(f64::NEG_INFINITY, |e| e.t);
-        smooth_states(&mut file, &States::all(), |epoch| {
-            if epoch.time > first + 1e-9 {
-                let x = epoch.snapshot - epoch.error;
-                run.smoothed
-                    .push(estimate(epoch.time, &x, &epoch.covariance));
-            }
-            Ok(())
-        })
-        .map_err(smoother)?;
-        run.smoothed.reverse();
-    }
-    Ok((run, observed))
+    let smoothed = match recording.smooth {
+        true => {
+            // The backward pass meets the epochs latest first; the smoothed
+            // state is the recorded one with its smoothed error removed.
+            let first = run.first.map_or(f64::NEG_INFINITY, |e| e.t);
+            let mut smoothed = SmoothedEstimates::new()?;
+            smooth_states(&mut file, &States::all(), |epoch| {
+                if epoch.time > first + 1e-9 {
+                    let x = epoch.snapshot - epoch.error;
+                    smoothed.push_earlier(&estimate(epoch.time, &x, &epoch.covariance))?;
+                }
+                Ok(())
+            })?;
+            Some(smoothed)
+        }
+        false => None,
+    };
+    drop(file);
+    Ok(Recorded {
+        run,
+        observed,
+        smoothed,
+    })
 }
 
 /// How late a speed-log row may come and still be applied at its own time
@@ -402,11 +461,12 @@ type LevelingMeasurement<M, const N: usize> = Box<dyn Measurement<LevelingFilter
 /// zero-velocity pseudo-measurement at the first sample at or after each
 /// tenth of a second. Returns the run and the final filter's recorder.
 fn run_model<M: LevelingModel<N>, const N: usize>(
-    log: &LogDir,
+    source: &LogSource<'_>,
     options: &LevelingOptions,
     recording: Option<(EpochFile<N, N>, Recording)>,
+    each: &mut EstimateSink<'_>,
 ) -> Result<(LevelingRun, Option<Recorder<N, N>>), LevelingError> {
-    let init = &log.meta.initial;
+    let init = &source.meta().initial;
     let lat = init.lat;
     let height = -init.depth;
     let t = options.tuning;
@@ -428,7 +488,9 @@ fn run_model<M: LevelingModel<N>, const N: usize>(
         keep_upright(&mut ekf)?;
     }
     // The run starts at the first IMU row (the first step follows the second).
-    let start = log.imu.first().map_or(0.0, |row| row.t);
+    let mut imu = Prefetched::new(source.imu_rows()?);
+    let start = imu.read_ahead()?.map_or(0.0, |row| row.t);
+    let has_speed = source.has::<SpeedRow>()?;
     let smooth = recording.as_ref().is_some_and(|(_, r)| r.smooth);
     let recorder = recording.map(|(file, r)| {
         let mut recorder = Recorder::new(file, start, ekf.covariance(), *ekf.state());
@@ -464,9 +526,14 @@ fn run_model<M: LevelingModel<N>, const N: usize>(
     // The scheduler starts at the first IMU sample, with the filter.
     let mut run: Option<Running<M, N>> = None;
     let mut next_zero_velocity = ZERO_VELOCITY_PERIOD_S;
-    for event in log.events() {
-        match event {
+    // The latest estimate waits until the next sample: a late speed-log row
+    // still changes it.
+    let mut latest: Option<AttitudeEstimate> = None;
+    let mut events = source.events()?.with_rows(imu);
+    while let Some(located) = events.next_event()? {
+        match located.event {
             Event::Imu(row) => {
+                out.imu_span = Some(out.imu_span.map_or((row.t, row.t), |(a, _)| (a, row.t)));
                 let sample = ImuSample {
                     gyro: Vector3::new(row.gx, row.gy, row.gz),
                     accel: Vector3::new(row.ax, row.ay, row.az),
@@ -483,10 +550,7 @@ fn run_model<M: LevelingModel<N>, const N: usize>(
                     (None, None) => continue,
                 };
                 if r.started_at != row.t {
-                    if options.stationary
-                        && log.speed.is_none()
-                        && row.t + 1e-9 >= next_zero_velocity
-                    {
+                    if options.stationary && !has_speed && row.t + 1e-9 >= next_zero_velocity {
                         next_zero_velocity += ZERO_VELOCITY_PERIOD_S;
                         // Queued at the sample's time, applied after the step
                         // to it; a refusal is counted by the scheduler.
@@ -503,7 +567,10 @@ fn run_model<M: LevelingModel<N>, const N: usize>(
                         let _ = r.scheduler.push_measurement(id, row.t, Box::new(m));
                     }
                     // The previous sample holds over the interval it starts.
-                    let Ok(reports) = r.scheduler.push_imu(row.t, r.held) else {
+                    let started = Instant::now();
+                    let pushed = r.scheduler.push_imu(row.t, r.held);
+                    out.filter_time += started.elapsed();
+                    let Ok(reports) = pushed else {
                         out.rejected += 1;
                         continue;
                     };
@@ -512,8 +579,11 @@ fn run_model<M: LevelingModel<N>, const N: usize>(
                 }
                 out.samples += 1;
                 let f = r.scheduler.filter();
-                out.estimates
-                    .push(estimate(row.t, f.ekf.state(), f.ekf.covariance()));
+                let e = estimate(row.t, f.ekf.state(), f.ekf.covariance());
+                if let Some(done) = latest.replace(e) {
+                    out.first.get_or_insert(done);
+                    each(&done)?;
+                }
             }
             Event::Speed(row) => {
                 let Some(r) = run.as_mut() else { continue };
@@ -529,16 +599,24 @@ fn run_model<M: LevelingModel<N>, const N: usize>(
                 // A refusal is counted by the scheduler; a row at or before
                 // the last sample is applied at its own time by
                 // re-propagation, and the estimate there is the new one.
-                if let Ok(reports) = r.scheduler.push_measurement(r.speed, row.t, m) {
+                let started = Instant::now();
+                let pushed = r.scheduler.push_measurement(r.speed, row.t, m);
+                out.filter_time += started.elapsed();
+                if let Ok(reports) = pushed {
                     r.note(&reports, &mut out.speed_innovations);
                 }
-                if let Some(last) = out.estimates.last_mut() {
+                if let Some(last) = latest.as_mut() {
                     let f = r.scheduler.filter();
                     *last = estimate(last.t, f.ekf.state(), f.ekf.covariance());
                 }
             }
             _ => {}
         }
+    }
+    if let Some(done) = latest {
+        out.first.get_or_insert(done);
+        out.last = Some(done);
+        each(&done)?;
     }
     let Some(r) = run else {
         return Ok((out, filter.and_then(|f| f.recorder)));
@@ -621,41 +699,4 @@ impl<M: LevelingModel<N>, const N: usize> Running<M, N> {
             }
         }
     }
-}
-
-/// Roll and pitch errors (rad) of the estimate in force at each truth time.
-pub fn errors_at_truth(run: &LevelingRun, log: &LogDir) -> Vec<(f64, f64, f64)> {
-    errors_of(&run.estimates, log)
-}
-
-/// Roll and pitch errors (rad) of the estimate of `estimates` (in time
-/// order) in force at each truth time.
-pub fn errors_of(estimates: &[AttitudeEstimate], log: &LogDir) -> Vec<(f64, f64, f64)> {
-    let Some(truth) = &log.truth else {
-        return Vec::new();
-    };
-    // A truth row more than one and a half mean IMU periods after the
-    // estimate before it (past the last IMU sample) has no estimate: the
-    // last one compared with a truth minutes later is not an error.
-    let stale = match (estimates.first(), estimates.last()) {
-        (Some(a), Some(b)) if estimates.len() > 1 => {
-            1.5 * (b.t - a.t) / (estimates.len() - 1) as f64
-        }
-        _ => 0.0,
-    };
-    truth
-        .iter()
-        .filter_map(|row| {
-            let i = estimates.partition_point(|e| e.t <= row.t + 1e-9);
-            let e = estimates.get(i.checked_sub(1)?)?;
-            if row.t - e.t > stale + 1e-9 {
-                return None;
-            }
-            Some((
-                row.t,
-                wrap_angle(e.roll - row.roll),
-                wrap_angle(e.pitch - row.pitch),
-            ))
-        })
-        .collect()
 }

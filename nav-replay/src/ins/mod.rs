@@ -199,16 +199,13 @@ impl<V: InsVehicle<N>, const N: usize> ReplayModel for InsReplay<V, N> {
             "truth.csv",
         ])
     }
-    fn replay(&self, log: &LogDir, options: &ReplayOptions) -> Result<ReplayOutput, RunError> {
-        output::replay_source::<V, N>(&LogSource::Memory(log), options, None)
-    }
-    fn replay_files(
+    fn replay_source(
         &self,
-        files: &LogFiles,
+        source: &LogSource<'_>,
         options: &ReplayOptions,
         out: Option<&Path>,
     ) -> Result<ReplayOutput, RunError> {
-        output::replay_source::<V, N>(&LogSource::Files(files), options, out)
+        output::replay_source::<V, N>(source, options, out)
     }
     fn shares_imu(&self) -> bool {
         true

@@ -4,7 +4,7 @@
 //! diverges below a sigma.
 
 use nav_runtime::innovations::{InnovationStatistics, InnovationTotals};
-use nav_runtime::log::{LogDir, LogFiles, Strictness};
+use nav_runtime::log::{LogFiles, LogSource, Strictness};
 use nav_runtime::nalgebra::{SMatrix, SVector};
 
 use super::*;
@@ -25,13 +25,19 @@ struct Known {
     diverges_below: f64,
 }
 
-/// Replayed through the default [`ReplayModel::replay_files`]: the log read
-/// whole with the sigmas the tuning sets, not those on disk.
+/// Replayed from the log read whole ([`LogSource::whole`]), with the sigmas
+/// the tuning sets, not those on disk.
 impl ReplayModel for Known {
     fn name(&self) -> &'static str {
         "known"
     }
-    fn replay(&self, log: &LogDir, _: &ReplayOptions) -> Result<ReplayOutput, RunError> {
+    fn replay_source(
+        &self,
+        source: &LogSource<'_>,
+        _: &ReplayOptions,
+        _: Option<&std::path::Path>,
+    ) -> Result<ReplayOutput, RunError> {
+        let log = source.whole()?;
         let sigma = log.meta.sensors.dvl.map_or(f64::NAN, |s| s.noise_sigma);
         if sigma < self.diverges_below {
             return Err(RunError::diverged(format!("sigma {sigma} too small")));
@@ -96,17 +102,18 @@ impl ReplayModel for Confounded {
     fn name(&self) -> &'static str {
         "confounded"
     }
-    fn replay(&self, _: &LogDir, _: &ReplayOptions) -> Result<ReplayOutput, RunError> {
-        unreachable!("tuning replays through replay_files")
-    }
-    fn replay_files(
+    fn replay_source(
         &self,
-        files: &LogFiles,
+        source: &LogSource<'_>,
         _: &ReplayOptions,
         _: Option<&std::path::Path>,
     ) -> Result<ReplayOutput, RunError> {
-        let sigma = files.meta().sensors.dvl.map_or(f64::NAN, |s| s.noise_sigma);
-        let gyro = files
+        let sigma = source
+            .meta()
+            .sensors
+            .dvl
+            .map_or(f64::NAN, |s| s.noise_sigma);
+        let gyro = source
             .meta()
             .sensors
             .imu

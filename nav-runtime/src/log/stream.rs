@@ -848,6 +848,18 @@ impl<'a> LogSource<'a> {
         }
     }
 
+    /// The whole log in memory: the log itself, or every file of the log
+    /// directory read as it reads them ([`LogDir::from_files`]).
+    ///
+    /// # Errors
+    /// As [`LogDir::from_files`].
+    pub fn whole(&self) -> Result<std::borrow::Cow<'a, LogDir>, LogError> {
+        Ok(match self {
+            LogSource::Memory(log) => std::borrow::Cow::Borrowed(*log),
+            LogSource::Files(files) => std::borrow::Cow::Owned(LogDir::from_files(files)?),
+        })
+    }
+
     /// The merged sensor events from the start.
     ///
     /// # Errors

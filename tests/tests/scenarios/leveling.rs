@@ -3,11 +3,13 @@
 
 use models::harness::{ReplayModel, ReplayOptions, RunOptions, RunResult, Scenario};
 use models::leveling::filter::{self, LevelingOptions, Tuning};
+use models::leveling::score::{self, TruthErrors};
 use models::leveling::simulation::{self, Biases, Motion};
 use models::leveling::{scenarios, Leveling6Replay};
+use nav_replay::output::series::SeriesSink;
 use nav_runtime::earth;
 use nav_runtime::imu::MG;
-use nav_runtime::log::{LogDir, Strictness, TruthRow};
+use nav_runtime::log::{LogDir, LogSource, Strictness, TruthRow};
 use nav_runtime::stats;
 
 fn runs(name: &str, n: u64, options: &RunOptions) -> Vec<RunResult> {
@@ -17,6 +19,42 @@ fn runs(name: &str, n: u64, options: &RunOptions) -> Vec<RunResult> {
         .expect("scenario");
     (1..=n)
         .map(|seed| s.run_one(seed, options).expect("run"))
+        .collect()
+}
+
+/// The estimates of the run of `opts` over `log`, in time order.
+fn estimates_of(log: &LogDir, opts: &LevelingOptions) -> Vec<filter::AttitudeEstimate> {
+    let mut all = Vec::new();
+    filter::run(&LogSource::Memory(log), opts, &mut |e| {
+        all.push(*e);
+        Ok(())
+    })
+    .expect("run");
+    all
+}
+
+/// The time, roll and pitch error (rad) of each truth row of `log` with one
+/// of `estimates` (in time order) in force, as the replay scores them.
+fn errors_of(estimates: &[filter::AttitudeEstimate], log: &LogDir) -> Vec<(f64, f64, f64)> {
+    let truth = LogSource::Memory(log)
+        .rows::<TruthRow>()
+        .expect("truth")
+        .expect("truth");
+    let period = match (estimates.first(), estimates.last()) {
+        (Some(a), Some(b)) if estimates.len() > 1 => (b.t - a.t) / (estimates.len() - 1) as f64,
+        _ => 0.0,
+    };
+    let table = SeriesSink::new("errors", &score::COLUMNS, None, true).expect("sink");
+    let mut errors = TruthErrors::new(truth, table).expect("truth");
+    for e in estimates {
+        errors.push(e).expect("scored");
+    }
+    let scored = errors.finish(period, f64::NEG_INFINITY).expect("scored");
+    let table = scored.table.expect("kept");
+    table
+        .rows
+        .iter()
+        .map(|r| (r[0], r[1].to_radians(), r[2].to_radians()))
         .collect()
 }
 
@@ -188,8 +226,7 @@ fn upright_constraint_resolves_the_mirror_solution() {
                 ..Tuning::default()
             },
         };
-        let run = filter::run(&log, &opts).expect("run");
-        filter::errors_at_truth(&run, &log)
+        errors_of(&estimates_of(&log, &opts), &log)
             .last()
             .expect("scored")
             .1
@@ -212,13 +249,7 @@ fn a_late_speed_row_is_applied_at_its_own_time() {
         initial_attitude: Some((10f64.to_radians(), -5f64.to_radians())),
         tuning: Tuning::default(),
     };
-    let last = |log: &LogDir| {
-        *filter::run(log, &opts)
-            .expect("run")
-            .estimates
-            .last()
-            .unwrap()
-    };
+    let last = |log: &LogDir| *estimates_of(log, &opts).last().unwrap();
     let in_order = last(&log);
     // Rows 100 and 101 (t = 10.1 and 10.2 s) swapped: the earlier one
     // arrives 0.1 s late.
@@ -327,23 +358,40 @@ fn smoothed_leveling_is_closer_from_the_start() {
             observability: None,
             smooth: true,
         };
-        let (run, _) =
-            filter::run_recorded::<models::leveling::Leveling6, 6>(&log, &opts, recording)
-                .expect("run");
-        assert_eq!(run.smoothed.len() + 1, run.estimates.len(), "seed {seed}");
+        let mut forward = Vec::new();
+        let recorded = filter::run_recorded::<models::leveling::Leveling6, 6>(
+            &LogSource::Memory(&log),
+            &opts,
+            recording,
+            &mut |e| {
+                forward.push(*e);
+                Ok(())
+            },
+        )
+        .expect("run");
+        let mut smoothed = Vec::new();
+        recorded
+            .smoothed
+            .expect("smoothed")
+            .for_each(|e| {
+                smoothed.push(*e);
+                Ok(())
+            })
+            .expect("read back");
+        assert_eq!(smoothed.len() + 1, forward.len(), "seed {seed}");
         // The last estimate has nothing after it: the smoothed one is it.
-        let (f, s) = (run.estimates.last().unwrap(), run.smoothed.last().unwrap());
+        let (f, s) = (forward.last().unwrap(), smoothed.last().unwrap());
         assert!((f.roll - s.roll).abs() < 1e-12 && (f.pitch - s.pitch).abs() < 1e-12);
         let tilt = |estimates: &[filter::AttitudeEstimate], after: f64| {
-            let errors = filter::errors_of(estimates, &log);
+            let errors = errors_of(estimates, &log);
             let later: Vec<_> = errors.iter().filter(|e| e.0 > after).collect();
             let sum: f64 = later.iter().map(|e| e.1 * e.1 + e.2 * e.2).sum();
             (sum / later.len() as f64).sqrt().to_degrees()
         };
-        whole.push((tilt(&run.estimates, 1.0), tilt(&run.smoothed, 1.0)));
-        settled.push((tilt(&run.estimates, 10.0), tilt(&run.smoothed, 10.0)));
-        for (i, estimates) in [&run.estimates, &run.smoothed].into_iter().enumerate() {
-            for &(t, roll, pitch) in &filter::errors_of(estimates, &log) {
+        whole.push((tilt(&forward, 1.0), tilt(&smoothed, 1.0)));
+        settled.push((tilt(&forward, 10.0), tilt(&smoothed, 10.0)));
+        for (i, estimates) in [&forward, &smoothed].into_iter().enumerate() {
+            for &(t, roll, pitch) in &errors_of(estimates, &log) {
                 if t > 10.0 {
                     let k = estimates.partition_point(|e| e.t <= t + 1e-9) - 1;
                     nees[i] += models::leveling::tilt_nees(roll, pitch, &estimates[k]);
@@ -428,4 +476,65 @@ fn the_leveling6_replay_reports_the_smoothed_run() {
         );
         assert!(s < 0.5 * f, "{key}: smoothed {s} forward {f}");
     }
+}
+
+/// `navsim replay --model leveling6` streams the log (a first pass decides
+/// rest and the IMU period, the run reads the files as it goes, the scores
+/// and tables grow as it runs, the smoothed estimates wait on disk): its
+/// numbers and tables are those of the replay of the same log in memory,
+/// moving and at rest, forward and smoothed, and the tables written as the
+/// run went are the ones kept in memory, row for row, in time order.
+#[test]
+fn the_streamed_leveling6_replay_is_the_replay_in_memory() {
+    use nav_runtime::log::LogFiles;
+    let root = std::env::temp_dir().join(format!("leveling-stream-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&root);
+    for (motion, seed) in [(Motion::SType, 3), (Motion::Stationary, 4)] {
+        let dir = root.join(format!("{motion:?}"));
+        simulation::simulate(motion, Biases::OneSigma, seed)
+            .write(&dir)
+            .expect("write");
+        let log = LogDir::read(&dir, Strictness::Strict).expect("read");
+        let files = LogFiles::open(&dir, Strictness::Strict).expect("open");
+        for smooth in [false, true] {
+            let options = ReplayOptions {
+                keep_series: true,
+                smooth,
+                ..ReplayOptions::default()
+            };
+            let memory = Leveling6Replay.replay(&log, &options).expect("replays");
+            let out = root.join(format!("out-{motion:?}-{smooth}"));
+            std::fs::create_dir_all(&out).unwrap();
+            let streamed = Leveling6Replay
+                .replay_files(&files, &options, Some(&out))
+                .expect("replays");
+            let plain = |m: &serde_json::Map<String, serde_json::Value>| {
+                let mut m = m.clone();
+                m.remove("runtime_s");
+                m
+            };
+            assert_eq!(
+                plain(&memory.metrics),
+                plain(&streamed.metrics),
+                "{motion:?} {smooth}"
+            );
+            assert_eq!(memory.samples, streamed.samples);
+            assert_eq!(memory.tables.len(), if smooth { 2 } else { 1 });
+            for table in &memory.tables {
+                let times: Vec<f64> = table.rows.iter().map(|r| r[0]).collect();
+                assert!(times.windows(2).all(|w| w[0] < w[1]), "{}", table.name);
+                let expected = root.join("expected.csv");
+                table.write_csv(&expected).unwrap();
+                let written = out.join(format!("{}.csv", table.name));
+                assert_eq!(
+                    std::fs::read_to_string(&written).unwrap(),
+                    std::fs::read_to_string(&expected).unwrap(),
+                    "{motion:?} {}",
+                    table.name
+                );
+            }
+            assert!(out.join("replay-roll.svg").exists());
+        }
+    }
+    std::fs::remove_dir_all(&root).ok();
 }
