@@ -11,7 +11,7 @@ use super::model::{
 };
 use super::scheduled_filter::{keep_upright, LevelingFilter};
 pub use super::smoothed::SmoothedEstimates;
-use crate::harness::RunError;
+use crate::harness::{RunError, RunHealth, SensorHealth};
 use nav_ins::ImuSample;
 use nav_runtime::earth;
 use nav_runtime::ekf::{Ekf, FilterError};
@@ -127,6 +127,11 @@ pub struct LevelingRun {
     pub repairs: u64,
     /// IMU samples processed: one estimate each.
     pub samples: usize,
+    /// Per sensor (`speed`, the speed log's rows; `zero_velocity`, the
+    /// pseudo-measurements at rest without one): rows given and what became
+    /// of them; the covariance repairs and the scheduler's re-propagations
+    /// for late rows.
+    pub health: RunHealth,
     /// Times of the first and the last row of `imu.csv`, s.
     pub imu_span: Option<(f64, f64)>,
     /// Time spent in the filter (its scheduler), not reading the log or
@@ -529,6 +534,10 @@ fn run_model<M: LevelingModel<N>, const N: usize>(
     // The latest estimate waits until the next sample: a late speed-log row
     // still changes it.
     let mut latest: Option<AttitudeEstimate> = None;
+    // What each sensor was given: the speed log's rows, the zero-velocity
+    // pseudo-measurements made without one.
+    let (mut speed_rows, mut zero_velocity_rows) =
+        (SensorHealth::default(), SensorHealth::default());
     let mut events = source.events()?.with_rows(imu);
     while let Some(located) = events.next_event()? {
         match located.event {
@@ -555,6 +564,7 @@ fn run_model<M: LevelingModel<N>, const N: usize>(
                         // Queued at the sample's time, applied after the step
                         // to it; a refusal is counted by the scheduler.
                         let m = zero_velocity(&[], false);
+                        zero_velocity_rows.rows += 1;
                         let _ = r.scheduler.push_measurement(r.zero_velocity, row.t, m);
                     }
                     if let Some(id) = r.epoch {
@@ -586,7 +596,12 @@ fn run_model<M: LevelingModel<N>, const N: usize>(
                 }
             }
             Event::Speed(row) => {
-                let Some(r) = run.as_mut() else { continue };
+                speed_rows.rows += 1;
+                let Some(r) = run.as_mut() else {
+                    // Before the first IMU sample: not used.
+                    speed_rows.skipped += 1;
+                    continue;
+                };
                 let m = if options.stationary {
                     zero_velocity(&[row.speed], true)
                 } else {
@@ -621,14 +636,28 @@ fn run_model<M: LevelingModel<N>, const N: usize>(
     let Some(r) = run else {
         return Ok((out, filter.and_then(|f| f.recorder)));
     };
-    for id in [r.speed, r.zero_velocity] {
+    for (name, id, mut health) in [
+        ("speed", r.speed, speed_rows),
+        ("zero_velocity", r.zero_velocity, zero_velocity_rows),
+    ] {
         let s = r.scheduler.sensor_stats(id).unwrap_or_default();
         out.accepted += s.accepted;
         out.gated += s.gated;
         out.rejected += s.failed + s.pending + s.too_old + s.duplicate + s.invalid + s.queue_full;
+        health.accepted = s.accepted;
+        health.gated = s.gated;
+        health.rejected = s.failed + s.too_old + s.duplicate + s.invalid + s.queue_full;
+        // Still waiting at the end: after the last IMU sample, not used.
+        health.skipped += s.pending;
+        health.stuck = s.stuck;
+        if health.rows > 0 {
+            out.health.sensors.push((name.into(), health));
+        }
     }
     let f = r.scheduler.filter();
     out.repairs = f.ekf.counters().covariance_repairs;
+    out.health.covariance_repairs = out.repairs;
+    out.health.replays = Some(r.scheduler.stats().replays);
     out.accel_bias_final = if N >= 8 {
         let (x, p) = (f.ekf.state(), f.ekf.covariance());
         [

@@ -260,6 +260,7 @@ fn replay_source(
     output
         .metrics
         .insert("stationary".into(), Value::from(stationary));
+    output.metrics.insert("health".into(), run.health.json());
     let mut tables = Vec::new();
     // The RMS leaves out the initial guess.
     let after = run.first.map_or(f64::NEG_INFINITY, |e| e.t);

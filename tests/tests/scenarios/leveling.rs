@@ -538,3 +538,38 @@ fn the_streamed_leveling6_replay_is_the_replay_in_memory() {
     }
     std::fs::remove_dir_all(&root).ok();
 }
+
+/// `health` of a `leveling6` replay, per sensor: every row of the speed log
+/// accounted for (applied, gated, refused, or not used: before the first
+/// IMU sample or after the last), and at rest without a speed log the
+/// zero-velocity pseudo-measurements, one per tenth of a second.
+#[test]
+fn the_leveling6_replay_accounts_for_every_row() {
+    let moving = simulation::simulate(Motion::SType, Biases::OneSigma, 5);
+    let mut still = simulation::simulate(Motion::Stationary, Biases::OneSigma, 5);
+    still.speed = None;
+    let mut short = moving.clone();
+    short.imu.truncate(2001);
+    // (log, sensor, rows, accepted, not used)
+    let cases = [
+        (&moving, "speed", 300, 300, 0),
+        (&still, "zero_velocity", 300, 300, 0),
+        (&short, "speed", 300, 200, 100),
+    ];
+    for (log, sensor, rows, accepted, skipped) in cases {
+        let out = Leveling6Replay
+            .replay(log, &ReplayOptions::default())
+            .expect("replays");
+        let health = &out.metrics["health"];
+        let h = &health[sensor];
+        assert_eq!(h["rows"], rows, "{sensor}: {health}");
+        assert_eq!(h["accepted"], accepted, "{sensor}: {health}");
+        assert_eq!(h["skipped"], skipped, "{sensor}: {health}");
+        let sum: u64 = ["accepted", "gated", "rejected", "skipped"]
+            .iter()
+            .map(|k| h[k].as_u64().unwrap())
+            .sum();
+        assert_eq!(sum, rows, "{sensor}: {health}");
+        assert_eq!(health["covariance_repairs"], 0, "{health}");
+    }
+}
