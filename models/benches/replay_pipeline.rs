@@ -50,22 +50,28 @@ fn streamed_alongside(model: &dyn ReplayModel, dir: &std::path::Path) -> usize {
     output.samples
 }
 
-fn bench(c: &mut Criterion) {
-    let dir = std::env::temp_dir().join(format!("replay-pipeline-bench-{}", std::process::id()));
-    let log = find_scenario("lawnmower-dvl")
+/// Group `group`: the log of run 3 of `scenario`, written to a temporary
+/// directory, replayed by `model` both ways.
+fn compare(c: &mut Criterion, group: &str, scenario: &str, model: &str) {
+    let dir = std::env::temp_dir().join(format!(
+        "replay-pipeline-bench-{scenario}-{}",
+        std::process::id()
+    ));
+    find_scenario(scenario)
         .expect("scenario")
         .simulate_log(3, &RunOptions::default())
         .expect("simulates")
-        .expect("valid log");
-    log.write(&dir).expect("writes the log");
-    let model = find_replay_model("sdins25").expect("model");
+        .expect("valid log")
+        .write(&dir)
+        .expect("writes the log");
+    let model = find_replay_model(model).expect("model");
     let model = model.as_ref();
     // Both give the same run.
     assert_eq!(
         loaded_then_checked(model, &dir),
         streamed_alongside(model, &dir)
     );
-    let mut g = c.benchmark_group("replay/pipeline");
+    let mut g = c.benchmark_group(group);
     g.sample_size(20);
     g.bench_function("loaded_then_checked", |b| {
         b.iter(|| black_box(loaded_then_checked(model, black_box(&dir))))
@@ -75,34 +81,18 @@ fn bench(c: &mut Criterion) {
     });
     g.finish();
     let _ = std::fs::remove_dir_all(&dir);
-    let leveling = find_replay_model("leveling6").expect("model");
+}
+
+fn bench(c: &mut Criterion) {
+    compare(c, "replay/pipeline", "lawnmower-dvl", "sdins25");
     for motion in ["moving", "stationary"] {
-        let dir = std::env::temp_dir().join(format!(
-            "replay-pipeline-bench-{motion}-{}",
-            std::process::id()
-        ));
-        find_scenario(&format!("leveling-{motion}"))
-            .expect("scenario")
-            .simulate_log(3, &RunOptions::default())
-            .expect("simulates")
-            .expect("valid log")
-            .write(&dir)
-            .expect("writes the log");
-        let model = leveling.as_ref();
-        assert_eq!(
-            loaded_then_checked(model, &dir),
-            streamed_alongside(model, &dir)
+        let scenario = format!("leveling-{motion}");
+        compare(
+            c,
+            &format!("replay/leveling6-{motion}"),
+            &scenario,
+            "leveling6",
         );
-        let mut g = c.benchmark_group(format!("replay/leveling6-{motion}"));
-        g.sample_size(20);
-        g.bench_function("loaded_then_checked", |b| {
-            b.iter(|| black_box(loaded_then_checked(model, black_box(&dir))))
-        });
-        g.bench_function("streamed_alongside", |b| {
-            b.iter(|| black_box(streamed_alongside(model, black_box(&dir))))
-        });
-        g.finish();
-        let _ = std::fs::remove_dir_all(&dir);
     }
 }
 
