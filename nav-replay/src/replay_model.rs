@@ -136,8 +136,9 @@ pub trait ReplayModel: Send + Sync {
         None
     }
     /// Runs the model over `source`, a log in memory or a log directory
-    /// read as `files` reads it (with its meta and time offsets, which noise
-    /// tuning sets); with `out`, writes its time series and plots there. A
+    /// read file by file (with the meta and time offsets of its
+    /// [`LogFiles`], which noise tuning sets); with `out`, writes its time
+    /// series and plots there. A
     /// model that streams the log keeps its memory independent of the log's
     /// length and writes the series as they grow; one that holds it reads
     /// it whole ([`LogSource::whole`]) and writes them at the end

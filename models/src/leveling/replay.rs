@@ -117,7 +117,7 @@ fn replay_tuning(
 
 impl ReplayModel for Leveling6Replay {
     fn name(&self) -> &'static str {
-        "leveling6"
+        NAME
     }
     fn description(&self) -> &'static str {
         "LEVELING-6 roll/pitch alignment over imu.csv + speed.csv (stationary detected or --stationary)"
@@ -179,9 +179,9 @@ fn write_plots(tables: &[RunTable], dir: &Path) -> Result<(), RunError> {
     Ok(())
 }
 
-/// Replays `source`; with `out`, the tables are written there as the run
-/// goes (and plotted from bounded copies), else kept in the output when
-/// `options.keep_series`.
+/// Replays `source`; with `out`, the tables are written there (the
+/// compared rows, kept on disk during the run, at its end) and plotted
+/// from bounded copies, else kept in the output when `options.keep_series`.
 ///
 /// # Errors
 /// No initial position in `meta.toml`, a bad row (strict reading), a filter
