@@ -1,13 +1,16 @@
 //! `navsim replay DIR --model leveling6`: LEVELING-6 over a log's `imu.csv`
 //! and `speed.csv`, with no attitude knowledge, streamed. Unless the run is
-//! told it is at rest, the speed log and, while it shows no motion, the IMU
-//! file are read once first ([`looks_stationary`]); the run then reads the
+//! told it is at rest, the speed log is read once first; when it shows no
+//! motion, the run at rest starts while another thread reads `imu.csv` for
+//! a turning sample, and goes again in motion if it finds one
+//! ([`looks_stationary`] is the same test in one thread). The run reads the
 //! files as the filter goes, each estimate is compared with `truth.csv` as
 //! it comes ([`TruthErrors`]), and the smoothed estimates wait in a
-//! temporary file ([`SmoothedEstimates`](super::filter::SmoothedEstimates), `smoothed.rs`),
-//! so memory does not grow with the log.
+//! temporary file ([`SmoothedEstimates`](super::filter::SmoothedEstimates),
+//! `smoothed.rs`), so memory does not grow with the log.
 
 use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use nav_replay::innovations::SensorInnovations;
 use nav_replay::output::series::SeriesSink;
@@ -45,29 +48,41 @@ const SPEED_SIGMA_KEY: &str = "sensors.speed.noise_sigma";
 const AT_REST: (f64, f64) = (0.05, 0.008_726_646_259_971_648);
 
 /// Stationarity from the data: a speed log that never reaches 0.05 m/s (or
-/// none) and a gyro whose magnitude never reaches 0.5 deg/s. Read before
-/// the run, the speed log first: the IMU file is read only when the speed
-/// log is slow, and only up to its first turning sample.
+/// none) and a gyro whose magnitude never reaches 0.5 deg/s, read the speed
+/// log first and `imu.csv` only while it shows no motion, up to its first
+/// turning sample.
 ///
 /// # Errors
 /// A file cannot be read (or, strict reading, has a bad row).
 pub fn looks_stationary(source: &LogSource<'_>) -> Result<bool, RunError> {
+    Ok(!speed_log_moves(source)? && !gyro_turns(source, &AtomicBool::new(false))?)
+}
+
+/// Whether a reading of the speed log reaches 0.05 m/s.
+fn speed_log_moves(source: &LogSource<'_>) -> Result<bool, RunError> {
     if let Some(mut speed) = source.rows::<SpeedRow>()? {
         while let Some((_, r)) = speed.next_row()? {
             if r.speed.abs() >= AT_REST.0 {
-                return Ok(false);
+                return Ok(true);
             }
         }
     }
+    Ok(false)
+}
+
+/// Whether a sample of `imu.csv` turns at 0.5 deg/s or more; `turning` is
+/// set as soon as one does.
+fn gyro_turns(source: &LogSource<'_>, turning: &AtomicBool) -> Result<bool, RunError> {
     let mut imu = source
         .rows::<ImuRow>()?
         .ok_or_else(|| RunError::Invalid("imu.csv: no rows".into()))?;
     while let Some((_, r)) = imu.next_row()? {
         if (r.gx * r.gx + r.gy * r.gy + r.gz * r.gz).sqrt() >= AT_REST.1 {
-            return Ok(false);
+            turning.store(true, Ordering::Relaxed);
+            return Ok(true);
         }
     }
-    Ok(true)
+    Ok(false)
 }
 
 /// The replay's tuning: the paper's ([`Tuning::default`]) with the speed
@@ -179,6 +194,71 @@ fn write_plots(tables: &[RunTable], dir: &Path) -> Result<(), RunError> {
     Ok(())
 }
 
+/// One run of the filter over the log, at rest or in motion, with its
+/// settings, their warnings and the truth compared as it went.
+struct Attempt<'a> {
+    stationary: bool,
+    opts: LevelingOptions,
+    warnings: Vec<Warning>,
+    run: filter::LevelingRun,
+    observed: Option<nav_runtime::smoother::Observability<6>>,
+    smoothed: Option<filter::SmoothedEstimates>,
+    errors: Option<TruthErrors<'a>>,
+}
+
+/// Runs the filter over `source`, at rest or in motion (`stationary`); it
+/// stops with an error as soon as `abandon` is set.
+fn attempt<'a>(
+    source: &LogSource<'a>,
+    options: &ReplayOptions,
+    out: Option<&Path>,
+    stationary: bool,
+    has_speed: bool,
+    abandon: Option<&AtomicBool>,
+) -> Result<Attempt<'a>, RunError> {
+    let mut warnings = Vec::new();
+    let opts = LevelingOptions {
+        stationary,
+        initial_attitude: None,
+        tuning: replay_tuning(source.meta(), has_speed, stationary, &mut warnings),
+    };
+    let sink = |name: &str| SeriesSink::new(name, &score::COLUMNS, out, options.keep_series);
+    let mut errors = match source.rows::<TruthRow>()? {
+        Some(rows) => Some(TruthErrors::new(rows, sink(TABLE)?)?),
+        None => None,
+    };
+    let mut each = |e: &filter::AttitudeEstimate| {
+        if abandon.is_some_and(|a| a.load(Ordering::Relaxed)) {
+            return Err(RunError::Invalid(
+                "leveling6: the gyro turns: not at rest".into(),
+            ));
+        }
+        match errors.as_mut() {
+            Some(s) => s.push(e),
+            None => Ok(()),
+        }
+    };
+    let (run, observed, smoothed) = if options.observability || options.smooth {
+        let recording = Recording {
+            observability: options.observability.then_some(OBSERVABILITY_DIRECTIONS),
+            smooth: options.smooth,
+        };
+        let r = filter::run_recorded::<Leveling6, 6>(source, &opts, recording, &mut each)?;
+        (r.run, r.observed, r.smoothed)
+    } else {
+        (filter::run(source, &opts, &mut each)?, None, None)
+    };
+    Ok(Attempt {
+        stationary,
+        opts,
+        warnings,
+        run,
+        observed,
+        smoothed,
+        errors,
+    })
+}
+
 /// Replays `source`; with `out`, the tables are written there (the
 /// compared rows, kept on disk during the run, at its end) and plotted
 /// from bounded copies, else kept in the output when `options.keep_series`.
@@ -192,34 +272,39 @@ fn replay_source(
     out: Option<&Path>,
 ) -> Result<ReplayOutput, RunError> {
     // Gravity and the earth rate at the initial latitude and height.
-    let meta = source.meta();
-    meta.initial.position_for(NAME)?;
-    let stationary = options.stationary || looks_stationary(source)?;
+    source.meta().initial.position_for(NAME)?;
     let has_speed = source.has::<SpeedRow>()?;
-    let mut warnings = Vec::new();
-    let opts = LevelingOptions {
+    let decided = match options.stationary {
+        true => Some(true),
+        false => speed_log_moves(source)?.then_some(false),
+    };
+    let Attempt {
         stationary,
-        initial_attitude: None,
-        tuning: replay_tuning(meta, has_speed, stationary, &mut warnings),
-    };
-    let sink = |name: &str| SeriesSink::new(name, &score::COLUMNS, out, options.keep_series);
-    let mut errors = match source.rows::<TruthRow>()? {
-        Some(rows) => Some(TruthErrors::new(rows, sink(TABLE)?)?),
-        None => None,
-    };
-    let mut each = |e: &filter::AttitudeEstimate| match errors.as_mut() {
-        Some(s) => s.push(e),
-        None => Ok(()),
-    };
-    let (run, observed, smoothed) = if options.observability || options.smooth {
-        let recording = Recording {
-            observability: options.observability.then_some(OBSERVABILITY_DIRECTIONS),
-            smooth: options.smooth,
-        };
-        let r = filter::run_recorded::<Leveling6, 6>(source, &opts, recording, &mut each)?;
-        (r.run, r.observed, r.smoothed)
-    } else {
-        (filter::run(source, &opts, &mut each)?, None, None)
+        opts,
+        mut warnings,
+        run,
+        observed,
+        smoothed,
+        errors,
+    } = match decided {
+        Some(stationary) => attempt(source, options, out, stationary, has_speed, None)?,
+        // At rest unless the gyro turns, which only the whole of imu.csv
+        // tells: the run at rest goes while another thread reads the file,
+        // and stops to go again in motion if it finds a turning sample.
+        None => {
+            let turning = AtomicBool::new(false);
+            std::thread::scope(|scope| {
+                let scan = scope.spawn(|| gyro_turns(source, &turning));
+                let at_rest = attempt(source, options, out, true, has_speed, Some(&turning));
+                let turns = scan
+                    .join()
+                    .map_err(|_| RunError::Invalid("leveling6: reading imu.csv failed".into()))??;
+                match turns {
+                    true => attempt(source, options, out, false, has_speed, None),
+                    false => at_rest,
+                }
+            })?
+        }
     };
     let runtime_s = run.filter_time.as_secs_f64();
     warnings.extend(nav_replay::covariance_repairs(run.repairs));
@@ -338,7 +423,8 @@ fn replay_source(
         m.insert("estimates".into(), Value::from(smoothed.len()));
         if let Some(truth) = source.rows::<TruthRow>()? {
             let period = smoothed.mean_period();
-            let mut errors = TruthErrors::new(truth, sink(SMOOTHED_TABLE)?)?;
+            let sink = SeriesSink::new(SMOOTHED_TABLE, &score::COLUMNS, out, options.keep_series)?;
+            let mut errors = TruthErrors::new(truth, sink)?;
             smoothed.for_each(|e| errors.push(e))?;
             let scored = errors.finish(period, after)?;
             let (roll, pitch) = scored.rms_deg();

@@ -573,3 +573,30 @@ fn the_leveling6_replay_accounts_for_every_row() {
         assert_eq!(health["covariance_repairs"], 0, "{health}");
     }
 }
+
+/// Rest is told from the whole log: a speed log at zero with a gyro that
+/// turns is a vehicle in motion. The run at rest, begun while another
+/// thread reads `imu.csv`, is dropped when that thread finds the turn, and
+/// the replay is the one in motion; a log at rest stays at rest.
+#[test]
+fn a_turning_gyro_with_a_speed_log_at_zero_is_motion() {
+    let mut turning = simulation::simulate(Motion::SType, Biases::OneSigma, 8);
+    for row in turning.speed.as_mut().unwrap() {
+        row.speed = 0.0;
+    }
+    let still = simulation::simulate(Motion::Stationary, Biases::OneSigma, 8);
+    for (log, at_rest) in [(&turning, false), (&still, true)] {
+        assert_eq!(
+            models::leveling::looks_stationary(&LogSource::Memory(log)).unwrap(),
+            at_rest
+        );
+        let out = Leveling6Replay
+            .replay(log, &ReplayOptions::default())
+            .expect("replays");
+        assert_eq!(out.metrics["stationary"], at_rest);
+        // In motion the speed log's rows are updates with innovations; at
+        // rest they are zero-velocity pseudo-measurements.
+        assert_eq!(out.metrics.contains_key("innovations"), !at_rest);
+        assert_eq!(out.samples, log.imu.len());
+    }
+}
