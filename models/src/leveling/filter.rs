@@ -641,15 +641,16 @@ fn run_model<M: LevelingModel<N>, const N: usize>(
         ("zero_velocity", r.zero_velocity, zero_velocity_rows),
     ] {
         let s = r.scheduler.sensor_stats(id).unwrap_or_default();
-        out.accepted += s.accepted;
-        out.gated += s.gated;
-        out.rejected += s.failed + s.pending + s.too_old + s.duplicate + s.invalid + s.queue_full;
         health.accepted = s.accepted;
         health.gated = s.gated;
         health.rejected = s.failed + s.too_old + s.duplicate + s.invalid + s.queue_full;
         // Still waiting at the end: after the last IMU sample, not used.
         health.skipped += s.pending;
         health.stuck = s.stuck;
+        // The scenarios' totals count the waiting ones as refused.
+        out.accepted += health.accepted;
+        out.gated += health.gated;
+        out.rejected += health.rejected + s.pending;
         if health.rows > 0 {
             out.health.sensors.push((name.into(), health));
         }

@@ -295,13 +295,7 @@ impl DvlMounting {
     /// from, and on a simulated survey the estimate made the run worse on
     /// 61 of 100 seeds (docs/calibration.md, "A sigma too small").
     pub fn sigma_warning(&self, innovations: &[SensorInnovations]) -> Option<Warning> {
-        let estimated = [
-            self.lever_arm.estimated,
-            self.misalignment.estimated,
-            self.scale.estimated,
-            self.time_offset.estimated,
-        ];
-        if !estimated.contains(&true) {
+        if self.checks().is_empty() {
             return None;
         }
         let dvl = innovations.iter().find(|s| s.sensor == "dvl")?;
