@@ -346,7 +346,8 @@ pub(crate) struct Magnitude(pub f64);
 
 impl std::fmt::Display for Magnitude {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        if self.0.abs() >= 1e15 {
+        let a = self.0.abs();
+        if a >= 1e15 || (a > 0.0 && a < 1e-6) {
             write!(f, "{:e}", self.0)
         } else {
             write!(f, "{}", self.0)

@@ -89,6 +89,17 @@ impl LogFiles {
         let (meta, mapping, mut warnings) = Meta::parse_log(&meta_text)?;
         let unknown_files = unknown_csv_files(dir, &mapping)?;
         if let (Strictness::Strict, Some(file)) = (strictness, unknown_files.first()) {
+            // A file a section names that is missing is the error to give
+            // first: the stray file is often the one it was meant to name.
+            for m in mapping.files.iter().filter(|m| m.declared_file) {
+                if open_confined(dir, &m.file, &m.key("file"))?.is_none() {
+                    return Err(LogError::MissingFile {
+                        file: m.file.clone(),
+                        dir: dir.to_path_buf(),
+                        key: Some(m.key("file")),
+                    });
+                }
+            }
             return Err(LogError::UnknownFile {
                 file: file.clone(),
                 dir: dir.to_path_buf(),

@@ -62,6 +62,10 @@ pub struct TimeBase {
 /// Largest row period or offset accepted, s (ten years): beyond, a unit
 /// mistake (milliseconds, microseconds since an epoch).
 pub const MAX_TIME_S: f64 = 3.2e8;
+/// The shortest sample period a file may declare, s: a sensor at more than
+/// a megahertz is no navigation sensor, and a smaller value is a unit or
+/// exponent mistake that would put the whole file at one instant.
+pub const MIN_PERIOD_S: f64 = 1e-6;
 
 impl TimeBase {
     /// Whether the times are the file's column as it is.
@@ -109,13 +113,17 @@ impl TimeBase {
                     ))
                 }
             };
-            if !v.is_finite() || v.abs() > MAX_TIME_S || (positive && v <= 0.0) {
+            if !v.is_finite() || v.abs() > MAX_TIME_S || (positive && v < MIN_PERIOD_S) {
                 return Err(cx.err(
                     &key(k),
                     format!(
-                        "value {} out of range (expected {}seconds, at most {MAX_TIME_S:e} in magnitude; milliseconds?)",
+                        "value {} out of range (expected {}at most {MAX_TIME_S:e} in magnitude; milliseconds?)",
                         Magnitude(v),
-                        if positive { "positive " } else { "finite " }
+                        if positive {
+                            format!("positive seconds, at least {MIN_PERIOD_S:e} and ")
+                        } else {
+                            "finite seconds, ".to_string()
+                        }
                     ),
                 ));
             }

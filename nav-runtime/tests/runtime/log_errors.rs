@@ -334,6 +334,11 @@ fn meta_messages_name_the_likely_cause() {
             "[initial]\nlat = 0.1\nlon = 0.2\ndepth = 3\n[sensors.dvl]\nnoise_sigma = 1e200\n",
             "value 1e200 out of range",
         ),
+        // And a vanishing one, not as 301 digits.
+        (
+            "[initial]\nlat = 0.1\nlon = 0.2\ndepth = 3\n[sensors.dvl]\nnoise_sigma = 1e-300\n",
+            "value 1e-300 out of range",
+        ),
         (
             "[initial]\nlat = 0.1\nlon = 0.2\ndepth = 3\n[initial_sigma]\nlevel = 5\n",
             "degrees?",

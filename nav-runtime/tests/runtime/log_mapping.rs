@@ -354,6 +354,14 @@ fn errors() -> Vec<ErrorCase> {
             Missing("ctd.csv"),
         ),
         (
+            // The stray file is likely the one the section meant: the
+            // missing file is the error, not the unknown one.
+            "declared file missing, another file there",
+            "[files.depth]\nfile = \"ctd.csv\"\n",
+            vec![("ctd_old.csv", "t,depth\n0.5,1\n")],
+            Missing("ctd.csv"),
+        ),
+        (
             "a single increment row",
             "",
             vec![(
@@ -415,6 +423,14 @@ fn errors() -> Vec<ErrorCase> {
             "[files.imu]\ntime = { from_index = true, period_s = 0 }\n",
             vec![],
             Meta("files.imu.time.period_s", "positive seconds"),
+        ),
+        (
+            // An exponent slip: the whole file would sit at one instant.
+            // Printed as an exponent, not three hundred digits.
+            "a period far below a microsecond",
+            "[files.imu]\ntime = { from_index = true, period_s = 1e-300 }\n",
+            vec![],
+            Meta("files.imu.time.period_s", "value 1e-300 out of range (expected positive seconds, at least 1e-6"),
         ),
         (
             "an offset in milliseconds since an epoch",
