@@ -12,9 +12,15 @@
 //! samples, via `iter_custom`) and `propagate_covariance` (one call). Their
 //! ratio is the cost of one replayed IMU sample in propagations.
 //!
+//! Group `replay/sdins25-rollback`: `without_rollback` (the baseline: the
+//! lock-out recovery's rollback off, `rollback_s = 0`) and `with_rollback`
+//! (the default, whose 10 s of history the navigator keeps); no recovery
+//! happens in the log, so the ratio is the cost of keeping that history.
+//!
 //! `REPLAY_ONLY=1` runs one replay and exits (for callgrind:
 //! `scripts/bench.sh --callgrind` counts the instructions inside `run_vehicle`
-//! and divides by the samples printed on stderr).
+//! and divides by the samples printed on stderr);
+//! `REPLAY_ONLY=without_rollback` runs the rollback group's baseline.
 //!
 //! Run: `cargo bench -p models --bench replay_step`.
 
@@ -29,6 +35,7 @@ use models::harness::RunOptions;
 use models::registry::find_scenario;
 use models::sdins25::filter::{run, FilterOptions};
 use models::sdins25::model::Sdins25;
+use nav_ins::lockout::LockoutOptions;
 use nav_runtime::log::LogDir;
 use nav_runtime::model::Model;
 
@@ -64,15 +71,34 @@ fn log() -> LogDir {
 
 /// One replay; returns the IMU samples processed.
 fn replay(log: &LogDir) -> usize {
-    run(log, &FilterOptions::default(), &[])
-        .expect("replay succeeds")
-        .samples
+    replay_with(log, &FilterOptions::default())
+}
+
+fn replay_with(log: &LogDir, options: &FilterOptions) -> usize {
+    run(log, options, &[]).expect("replay succeeds").samples
+}
+
+/// The default options without the lock-out recovery's rollback: the
+/// navigator keeps no history for it (docs/lockout.md, "Rollback").
+fn without_rollback() -> FilterOptions {
+    let defaults = FilterOptions::default();
+    FilterOptions {
+        lockout_release: defaults.lockout_release.map(|o| LockoutOptions {
+            rollback_s: 0.0,
+            ..o
+        }),
+        ..defaults
+    }
 }
 
 fn bench(c: &mut Criterion) {
     let log = log();
-    if std::env::var_os("REPLAY_ONLY").is_some() {
-        let samples = replay(black_box(&log));
+    if let Some(which) = std::env::var_os("REPLAY_ONLY") {
+        // `REPLAY_ONLY=without_rollback`: the baseline of the rollback group.
+        let samples = match which.to_str() {
+            Some("without_rollback") => replay_with(black_box(&log), &without_rollback()),
+            _ => replay(black_box(&log)),
+        };
         eprintln!("samples {samples}");
         return;
     }
@@ -105,6 +131,18 @@ fn bench(c: &mut Criterion) {
             );
             black_box(&pm);
         })
+    });
+    g.finish();
+    // The history the rollback keeps (10 s) against none, on the same log:
+    // no recovery happens in it, so both give the same run.
+    let plain = without_rollback();
+    assert_eq!(replay_with(&log, &plain), samples as usize);
+    let mut g = c.benchmark_group("replay/sdins25-rollback");
+    g.bench_function("without_rollback", |b| {
+        b.iter(|| black_box(replay_with(black_box(&log), &plain)))
+    });
+    g.bench_function("with_rollback", |b| {
+        b.iter(|| black_box(replay(black_box(&log))))
     });
     g.finish();
 }

@@ -41,6 +41,14 @@ pub struct LockoutOptions {
     pub usbl_m: f64,
     /// Recovery from a lock-out into divergence (`None`: never).
     pub recovery: Option<RecoveryRules>,
+    /// How far back a recovery may take the filter, s (0: never). A
+    /// recovery of a sensor none of whose readings has been accepted yet
+    /// (the run of refusals began with its first reading: `[initial]` is
+    /// wrong) takes the filter back to the first of them and recovers
+    /// there, so that the readings of the run correct it (docs/lockout.md,
+    /// "Rollback"); a run that began longer ago recovers where it was
+    /// found. The navigator keeps this much history.
+    pub rollback_s: f64,
 }
 
 impl Default for LockoutOptions {
@@ -52,6 +60,7 @@ impl Default for LockoutOptions {
             heading_rad: core::f64::consts::FRAC_PI_4,
             usbl_m: 500.0,
             recovery: Some(RecoveryRules::default()),
+            rollback_s: 10.0,
         }
     }
 }

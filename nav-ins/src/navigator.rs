@@ -24,10 +24,11 @@ use nav_runtime::strapdown::{NavState, RateSamples, Strapdown};
 use nav_runtime::stuck::StuckDetector;
 
 use super::declared::{extra_noise, slot_file, DeclaredSensor};
+use super::measurement::CompassForm;
 use super::nominal::{Estimate, ImuSample, InsFilter, InsNominal};
 use super::sensor::{Context, Handle, Reading};
 use super::settings::{ImuSettings, InitialState, NavigatorOptions, SensorSettings};
-use super::vehicle::{InsVehicle, Layout, Present};
+use super::vehicle::{InsVehicle, Layout, Present, Slot};
 use crate::health::SensorHealth;
 use crate::recovery::Recovery;
 use nav_runtime::innovations::InnovationTotals;
@@ -94,6 +95,19 @@ pub struct Navigator<V: InsVehicle<N>, const N: usize> {
     declared: Vec<DeclaredFeed<V, N>>,
     /// Recoveries so far, in the order they happened.
     recoveries: Vec<Recovery>,
+    /// The sensor of the markers that take the filter back to the start of
+    /// a run that proved it wrong (`None`: no rollback).
+    rollback: Option<SensorId>,
+    /// Each rollback made: the log sensor, the time of the first refusal
+    /// it went back to and the time of the recovery that called it (s).
+    rollbacks: Vec<(usize, f64, f64)>,
+    /// How far back a rollback may go (s), and whether the history is kept
+    /// for it now: while a log sensor that has given readings has had none
+    /// accepted (only then can one be called).
+    rollback_s: f64,
+    rollback_armed: bool,
+    /// Per log sensor: whether it has given a reading.
+    given: [bool; SENSORS],
 }
 
 /// A declared sensor fed by name ([`Builder::declared_sensor`]).
@@ -170,6 +184,9 @@ impl<V: InsVehicle<N>, const N: usize> Navigator<V, N> {
             .push_imu(t, sample)
             .map_err(NavigatorError::Imu)?;
         self.note(&reports);
+        if self.rollback_armed {
+            self.keep_rollback_history();
+        }
         self.check_bounds()
     }
 
@@ -190,9 +207,38 @@ impl<V: InsVehicle<N>, const N: usize> Navigator<V, N> {
         } else {
             t
         };
+        if !self.given[R::SLOT] {
+            self.given[R::SLOT] = true;
+            self.keep_rollback_history();
+        }
         let m = reading.measurement::<V, N>(&self.contexts[R::SLOT]);
         if let Ok(reports) = self.scheduler.push_measurement(self.ids[R::SLOT], t, m) {
             self.note(&reports);
+        }
+    }
+
+    /// Keeps the history a rollback needs ([`LockoutOptions::rollback_s`])
+    /// while one can be called, that is while a log sensor that has given
+    /// readings has had none accepted, and none after: the history costs
+    /// every step (docs/lockout.md, "Rollback").
+    ///
+    /// [`LockoutOptions::rollback_s`]: crate::lockout::LockoutOptions::rollback_s
+    fn keep_rollback_history(&mut self) {
+        let Some(id) = self.rollback else {
+            return;
+        };
+        let needed = (0..SENSORS).any(|i| {
+            self.given[i]
+                && self
+                    .scheduler
+                    .sensor_stats(self.ids[i])
+                    .is_some_and(|s| s.accepted == 0)
+        });
+        if needed != self.rollback_armed {
+            let latency = if needed { self.rollback_s } else { 0.0 };
+            if self.scheduler.set_latency(id, latency).is_ok() {
+                self.rollback_armed = needed;
+            }
         }
     }
 
@@ -396,8 +442,21 @@ impl<V: InsVehicle<N>, const N: usize> Navigator<V, N> {
         };
         let recovered = r.outcome.as_ref().ok().and_then(|o| o.recovered);
         let same = |e: &Recovery| e.sensor == sensor && e.t_s == r.time;
+        // A recovery a rollback forced early in the run: found at the
+        // reading that completed the run.
+        let detected_s = self
+            .rollbacks
+            .iter()
+            .rev()
+            .find(|(slot, first, detected)| {
+                *slot == i && r.time >= first - ROLLBACK_MATCH_S && r.time < *detected
+            })
+            .map_or(r.time, |(_, _, detected)| *detected);
         match (recovered, self.recoveries.iter().position(same)) {
-            (Some(d), Some(k)) => self.recoveries[k].refused_for_s = d,
+            (Some(d), Some(k)) => {
+                self.recoveries[k].refused_for_s = d;
+                self.recoveries[k].detected_s = detected_s;
+            }
             (Some(d), None) => {
                 let at = self.recoveries.partition_point(|e| e.t_s <= r.time);
                 self.recoveries.insert(
@@ -406,6 +465,7 @@ impl<V: InsVehicle<N>, const N: usize> Navigator<V, N> {
                         sensor,
                         t_s: r.time,
                         refused_for_s: d,
+                        detected_s,
                     },
                 );
             }
@@ -417,9 +477,19 @@ impl<V: InsVehicle<N>, const N: usize> Navigator<V, N> {
     }
 
     fn note(&mut self, reports: &[Report]) {
+        // Recoveries found now (not in a replay) of a log sensor: each takes
+        // the filter back to the first refusal of its run.
+        let mut found: Vec<(usize, f64, f64)> = Vec::new();
         for r in reports {
             self.note_recovery(r);
             let i = r.sensor.index();
+            if let (false, true, Some(d)) = (
+                r.replay,
+                self.ids.get(i) == Some(&r.sensor),
+                r.outcome.as_ref().ok().and_then(|o| o.recovered),
+            ) {
+                found.push((i, r.time, d));
+            }
             if let (Some(slot), Ok(o)) = (self.last_nis.get_mut(i), &r.outcome) {
                 *slot = Some(o.nis);
                 if !r.replay {
@@ -436,6 +506,55 @@ impl<V: InsVehicle<N>, const N: usize> Navigator<V, N> {
                 if !r.replay {
                     feed.innovations.add(&o.statistics);
                 }
+            }
+        }
+        for (slot, t, lasted) in found {
+            self.roll_back(slot, t, lasted);
+        }
+    }
+
+    /// Takes the filter back to the first refusal of the run of log sensor
+    /// `slot` that a recovery at `t` (s) found `lasted` s long, and makes
+    /// the run recover at its second refusal (docs/lockout.md,
+    /// "Rollback"): a marker just before the first, through the scheduler,
+    /// which replays the readings and samples since. Only for a
+    /// sensor none of whose readings has been accepted; nothing without
+    /// rollback, or for a run that began before the history.
+    fn roll_back(&mut self, slot: usize, t: f64, lasted: f64) {
+        let Some(id) = self.rollback else {
+            return;
+        };
+        // Only a run from before the sensor's first accepted reading: the
+        // filter then rests on `[initial]` alone, which the run shows wrong.
+        // After one, a run is as often a mismatch of the sensor's model (a
+        // clock, a mounting, seen in turns), whose readings the rollback
+        // would apply.
+        if self
+            .scheduler
+            .sensor_stats(self.ids[slot])
+            .map_or(0, |s| s.accepted)
+            > 0
+        {
+            return;
+        }
+        let first = t - lasted;
+        // Just before the first refusal (at the start, after the start).
+        let lead = (first.abs() * 4.0 * f64::EPSILON).max(0.5 * AT_START_S);
+        let at = first - lead;
+        if !(at > self.start && at < t) {
+            return;
+        }
+        let compass = self.options.compass;
+        let m = FnMeasurement::new(&[], move |f: &mut InsFilter<V, N>| {
+            force_recovery(slot, compass, f, lasted);
+            Ok(MeasurementOutcome::marker())
+        });
+        self.rollbacks.push((slot, first, t));
+        match self.scheduler.push_measurement(id, at, Box::new(m)) {
+            Ok(reports) => self.note(&reports),
+            // Older than the history: the recovery stays where it was found.
+            Err(_) => {
+                self.rollbacks.pop();
             }
         }
     }
@@ -673,6 +792,21 @@ impl<V: InsVehicle<N>, const N: usize> Builder<V, N> {
             }
         }
         let record = scheduler.add_sensor("record", 10.0, 0.0).map_err(setup)?;
+        // Its history is kept only while a rollback can be called
+        // ([`Navigator::keep_rollback_history`]).
+        let (rollback, rollback_s) = match self.options.lockout_release {
+            Some(o) if o.recovery.is_some() && o.rollback_s > 0.0 => {
+                if !o.rollback_s.is_finite() {
+                    return Err(NavigatorError::Setup(format!(
+                        "lock-out rollback_s must be finite, got {}",
+                        o.rollback_s
+                    )));
+                }
+                let id = scheduler.add_sensor("rollback", 1.0, 0.0).map_err(setup)?;
+                (Some(id), o.rollback_s)
+            }
+            _ => (None, 0.0),
+        };
         let mut declared = Vec::with_capacity(self.declared.len());
         for (sensor, sigma) in &self.declared {
             let id = scheduler.add_sensor(sensor.name, 1.0, 0.0).map_err(setup)?;
@@ -712,6 +846,11 @@ impl<V: InsVehicle<N>, const N: usize> Builder<V, N> {
             last_nis: [None; SENSORS],
             innovations: [InnovationTotals::default(); SENSORS],
             recoveries: Vec::new(),
+            rollback,
+            rollbacks: Vec::new(),
+            rollback_s,
+            rollback_armed: false,
+            given: [false; SENSORS],
             declared,
         })
     }
@@ -864,6 +1003,36 @@ fn given_by_name<V: InsVehicle<N>, const N: usize>(
 fn set_values(list: &mut Vec<(usize, f64)>, scalars: &[usize], value: f64) {
     list.retain(|(k, _)| !scalars.contains(k));
     list.extend(scalars.iter().map(|&i| (i, value)));
+}
+
+/// Largest difference between the time of a run's first refusal as a
+/// recovery gives it (its time less the run's duration) and the reading's
+/// own time, s: sums of the same steps, in another order.
+const ROLLBACK_MATCH_S: f64 = 1e-6;
+
+/// Makes the second refused reading of log sensor `slot` ([`SENSOR_NAMES`])
+/// from now recover at once ([`Slot::force_recovery`]).
+fn force_recovery<V: InsVehicle<N>, const N: usize>(
+    slot: usize,
+    compass: CompassForm,
+    f: &mut InsFilter<V, N>,
+    lasted: f64,
+) {
+    match slot {
+        0 => <V::Depth as Slot<V, N, 1>>::force_recovery(f, lasted),
+        1 => <V::Dvl as Slot<V, N, 3>>::force_recovery(f, lasted),
+        // The form the compass's readings go to (a chain for the other
+        // would take one of the filter's few places).
+        2 if compass == CompassForm::SmallAngle => {
+            <V::CompassSmallAngle as Slot<V, N, 1>>::force_recovery(f, lasted)
+        }
+        2 => <V::Compass as Slot<V, N, 1>>::force_recovery(f, lasted),
+        3 => <V::Usbl as Slot<V, N, 2>>::force_recovery(f, lasted),
+        4 => <V::Gnss as Slot<V, N, 3>>::force_recovery(f, lasted),
+        5 => <V::Baro as Slot<V, N, 1>>::force_recovery(f, lasted),
+        6 => <V::Mag as Slot<V, N, 1>>::force_recovery(f, lasted),
+        _ => {}
+    }
 }
 
 /// IMU steps between the scheduler's checkpoints for a history of `window`

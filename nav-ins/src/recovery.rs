@@ -8,8 +8,14 @@
 pub struct Recovery {
     /// The log sensor (`dvl`, `depth`, `heading`, `usbl`, ...).
     pub sensor: &'static str,
-    /// Time of the reading after which the filter recovered (s, log clock).
+    /// Time of the reading after which the filter recovered (s, log clock):
+    /// with a rollback, the second reading of the run that proved the
+    /// filter wrong.
     pub t_s: f64,
     /// How long the sensor's readings had been refused (s).
     pub refused_for_s: f64,
+    /// Time of the reading that completed that proof (s, log clock): `t_s`
+    /// itself unless the filter was taken back before `t_s`
+    /// (docs/lockout.md, "Rollback").
+    pub detected_s: f64,
 }

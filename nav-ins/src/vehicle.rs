@@ -140,6 +140,12 @@ pub trait Slot<Mo: Model<N>, const N: usize, const M: usize> {
         _aux: &[f64],
     ) {
     }
+
+    /// Makes the second refused reading of the sensor from now recover at
+    /// once, reported as a run of `lasted` s
+    /// ([`nav_runtime::ekf::Ekf::force_recovery`]: the navigator's
+    /// rollback). Nothing for [`Absent`].
+    fn force_recovery<Nom: NominalState<N>>(_f: &mut ErrorStateFilter<Mo, Nom, N>, _lasted: f64) {}
 }
 
 impl<S, Mo, const N: usize, const M: usize> Slot<Mo, N, M> for S
@@ -170,6 +176,10 @@ where
         let aux = <S::Aux as Record>::from_fn(|i| aux.get(i).copied().unwrap_or(f64::NAN));
         f.ekf_mut()
             .recover_after_refusal::<S, M>(report, reading, sigma, &aux);
+    }
+
+    fn force_recovery<Nom: NominalState<N>>(f: &mut ErrorStateFilter<Mo, Nom, N>, lasted: f64) {
+        f.ekf_mut().force_recovery::<S, M>(lasted);
     }
 }
 

@@ -309,3 +309,44 @@ fn a_dvl_at_a_lever_arm_reads_the_turn_rate_times_the_arm() {
     let without = speed(Vector3::zeros());
     assert!(without > 0.1, "{without} m/s");
 }
+
+/// The history a lock-out rollback needs (docs/lockout.md, "Rollback") is
+/// kept only while a sensor that has given readings has had none
+/// accepted: none before the first reading, the rollback's 10 s while the
+/// first readings wait, and none once one is accepted.
+#[test]
+fn the_rollback_history_is_kept_only_until_a_reading_is_accepted() {
+    let mut b = Navigator::<Sdins25, 25>::builder(initial(), imu());
+    let depth = b.sensor::<DepthReading>(SensorSettings::new(0.05)).unwrap();
+    let mut nav = b.build(at_rest()).unwrap();
+    let mut longest = 0;
+    for k in 1..=1500 {
+        let t = k as f64 * 0.01;
+        if k == 300 {
+            // Before any reading: the history of a navigator without rollback.
+            assert!(
+                nav.scheduler().history_len() <= 101,
+                "{}",
+                nav.scheduler().history_len()
+            );
+        }
+        if k >= 300 && k % 50 == 0 {
+            // From 3 s, readings 100 m off, then right from 9 s: refused at
+            // first (a run of the depth meter), then accepted.
+            let offset = if t < 9.0 { 100.0 } else { 0.0 };
+            let wiggle = (k as f64).sin();
+            nav.push(depth, t, DepthReading(50.0 + offset + 0.02 * wiggle));
+        }
+        nav.push_imu(t, at_rest()).unwrap();
+        longest = longest.max(nav.scheduler().history_len());
+    }
+    assert!(nav.report(depth).health.accepted > 0);
+    // 6 s of refusals kept (more than the 1-s checkpoint spacing allows
+    // without it), then dropped after the first acceptance.
+    assert!(longest >= 600, "{longest}");
+    assert!(
+        nav.scheduler().history_len() <= 101,
+        "{}",
+        nav.scheduler().history_len()
+    );
+}

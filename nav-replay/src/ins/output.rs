@@ -301,12 +301,20 @@ pub fn unapplied_sensors(
     warnings
 }
 
-/// The JSON `recoveries`: each lock-out recovery's sensor, time and how
-/// long the sensor had been refused (docs/lockout.md, "Recovery").
+/// The JSON `recoveries`: each lock-out recovery's sensor, time, how long
+/// the sensor had been refused and when that was found (docs/lockout.md,
+/// "Recovery" and "Rollback").
 pub fn recoveries_json(recoveries: &[nav_ins::Recovery]) -> Value {
     recoveries
         .iter()
-        .map(|r| json!({"sensor": r.sensor, "t_s": r.t_s, "refused_for_s": r.refused_for_s}))
+        .map(|r| {
+            json!({
+                "sensor": r.sensor,
+                "t_s": r.t_s,
+                "refused_for_s": r.refused_for_s,
+                "detected_s": r.detected_s,
+            })
+        })
         .collect()
 }
 

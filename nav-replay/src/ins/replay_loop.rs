@@ -460,13 +460,21 @@ where
 /// The warning of one recovery, about the sensor's file.
 fn recovery_warning(r: &nav_ins::Recovery) -> Warning {
     let sensor = r.sensor;
+    let rollback = if r.detected_s > r.t_s {
+        format!(
+            " at the first refused reading, the filter taken back to it from t = {:.3} s, where the run was found",
+            r.detected_s
+        )
+    } else {
+        String::new()
+    };
     Warning::about(
         WarningKind::LockoutRecovery,
         &format!("{sensor}.csv"),
         format!(
             "t = {:.3} s: every {sensor} reading refused for {:.1} s while plausible and agreeing \
              with one another: the filter, not the {sensor}, was taken to be wrong and the \
-             covariance of the states the {sensor} observes was inflated (lock-out recovery)",
+             covariance of the states the {sensor} observes was inflated{rollback} (lock-out recovery)",
             r.t_s, r.refused_for_s
         ),
     )

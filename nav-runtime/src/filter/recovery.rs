@@ -39,7 +39,7 @@
 use core::any::TypeId;
 
 use crate::ekf::Ekf;
-use crate::model::Model;
+use crate::model::{Model, Sensor};
 use crate::real::Real;
 use crate::setup_error::SetupError;
 
@@ -160,6 +160,10 @@ struct Chain {
     refused: u32,
     misses: u32,
     fault: bool,
+    /// Set when the filter is taken back to the first refusal of a run
+    /// that proved it wrong (a rollback): the run's second refusal
+    /// recovers at once, reporting this duration of the proving run (s).
+    forced: Option<f64>,
 }
 
 impl Chain {
@@ -169,6 +173,7 @@ impl Chain {
         refused: 0,
         misses: 0,
         fault: false,
+        forced: None,
     };
 }
 
@@ -239,6 +244,16 @@ impl Recovery {
             .find(|(id, _)| *id == sensor)
         {
             chain.refused = 0;
+        }
+    }
+
+    /// Makes the second refusal of `sensor` that joins its run recover at
+    /// once, reported as a run of `lasted` s (the run that proved the
+    /// filter wrong, before the filter was taken back to its start); an
+    /// accepted reading first cancels it.
+    pub(crate) fn force(&mut self, sensor: TypeId, lasted: f64) {
+        if let Some(chain) = self.chain_of(sensor) {
+            chain.forced = Some(lasted);
         }
     }
 
@@ -328,6 +343,14 @@ impl Recovery {
             chain.run_start = now;
         }
         chain.refused = chain.refused.saturating_add(1);
+        // A rollback's recovery comes at the second refusal of the run: the
+        // first shows how far the filter is off, the second how fast that
+        // grows (eq. R3 needs both).
+        if let (Some(lasted), true) = (chain.forced, chain.refused >= 2) {
+            chain.forced = None;
+            chain.refused = 0;
+            return Judgement::Recover(lasted);
+        }
         let lasted = now - chain.run_start;
         if chain.refused >= rule.min_refusals && lasted >= rule.horizon_s {
             // The next refusal starts a new run.
@@ -358,6 +381,21 @@ impl<Mo: Model<N, T>, const N: usize, T: Real> Ekf<Mo, N, T> {
     /// The recovery rule of the sensor named `sensor`.
     pub fn recovery_rule(&self, sensor: &str) -> Option<RecoveryRule> {
         self.lockout.recovery.rule(sensor)
+    }
+
+    /// Makes the second refused reading of sensor `S` (counted from now)
+    /// that agrees with its chain recover at once (eqs. R1, R2 of
+    /// docs/lockout.md, reported as a run of `lasted` s). For a filter
+    /// taken back to the first refusal of a run that proved it wrong
+    /// ("Rollback" in docs/lockout.md): the recovery then happens where the
+    /// error began, with the growth between the two readings for the
+    /// caller's eq. R3, and the readings of the run correct it instead of
+    /// being lost. An accepted reading cancels it.
+    pub fn force_recovery<S, const M: usize>(&mut self, lasted: f64)
+    where
+        S: Sensor<N, M, T, Model = Mo>,
+    {
+        self.lockout.recovery.force(TypeId::of::<S>(), lasted);
     }
 
     /// The filter's clock: the sum of its prediction steps (s).
@@ -495,26 +533,81 @@ mod tests {
         },
     ];
 
+    /// The judgements of the rule of [`Case`] on `steps`; with `force`
+    /// `(k, lasted)`, a recovery forced before step `k`.
+    fn judged(steps: &[Step], force: Option<(usize, f64)>) -> Vec<Judgement> {
+        let id = TypeId::of::<Case>();
+        let mut r = Recovery::new();
+        r.set_rule("s", Some(RecoveryRule::new(3.0, 3, 5.0, 1.0).unwrap()))
+            .unwrap();
+        let mut clock = 0.0;
+        let mut got = Vec::new();
+        for (k, &(t, v, accepted)) in steps.iter().enumerate() {
+            if t > clock {
+                r.advance(t - clock);
+                clock = t;
+            }
+            if let Some((_, lasted)) = force.filter(|(at, _)| *at == k) {
+                r.force(id, lasted);
+            }
+            got.push(r.judge(id, "s", accepted, &[v], &[0.1], &[false]));
+        }
+        got
+    }
+
     #[test]
     fn recovery_rule_cases() {
-        let id = TypeId::of::<Case>();
         for case in CASES {
-            let mut r = Recovery::new();
-            r.set_rule("s", Some(RecoveryRule::new(3.0, 3, 5.0, 1.0).unwrap()))
-                .unwrap();
-            let mut clock = 0.0;
-            let got: Vec<Judgement> = case
-                .steps
-                .iter()
-                .map(|&(t, v, accepted)| {
-                    if t > clock {
-                        r.advance(t - clock);
-                        clock = t;
-                    }
-                    r.judge(id, "s", accepted, &[v], &[0.1], &[false])
-                })
-                .collect();
-            assert_eq!(got, case.expected, "{}", case.what);
+            assert_eq!(judged(case.steps, None), case.expected, "{}", case.what);
+        }
+    }
+
+    /// A forced recovery (a rollback to the start of a run that proved the
+    /// filter wrong): the second refusal that joins recovers at once with
+    /// the given duration; an accepted reading cancels it; a miss does not
+    /// count.
+    #[test]
+    fn a_forced_recovery_comes_at_the_second_joining_refusal() {
+        const R7: Judgement = Judgement::Recover(7.0);
+        // Force before step `at`; the steps as in `CASES`.
+        let cases: &[(&str, usize, &[Step], &[Judgement])] = &[
+            (
+                "the second refusal recovers, the run starts again",
+                1,
+                &[
+                    (0.0, 1.0, true),
+                    (1.0, 1.2, false),
+                    (2.0, 1.4, false),
+                    (3.0, 1.6, false),
+                ],
+                &[A, W, R7, W],
+            ),
+            (
+                "an accepted reading cancels it",
+                1,
+                &[
+                    (0.0, 1.0, true),
+                    (1.0, 1.2, false),
+                    (2.0, 1.4, true),
+                    (3.0, 1.6, false),
+                    (4.0, 1.8, false),
+                ],
+                &[A, W, A, W, W],
+            ),
+            (
+                "a miss does not count",
+                1,
+                &[
+                    (0.0, 1.0, true),
+                    (1.0, 4.8, false),
+                    (2.0, 1.6, false),
+                    (3.0, 1.8, false),
+                ],
+                &[A, X, W, R7],
+            ),
+        ];
+        for &(what, at, steps, expected) in cases {
+            assert_eq!(judged(steps, Some((at, 7.0))), expected, "{what}");
         }
     }
 

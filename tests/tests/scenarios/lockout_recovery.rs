@@ -208,3 +208,187 @@ fn transient_monte_carlo() {
         assert!(median < 20.0, "{}: median {median} m", t.what);
     }
 }
+
+/// A wrong initial attitude: `[initial]` roll and pitch off by the row's
+/// angles (rad). The DVL's readings are refused from the first one, and the
+/// recovery is found only after the DVL's horizon.
+struct WrongStart {
+    what: &'static str,
+    roll: f64,
+    pitch: f64,
+}
+
+const WRONG_STARTS: &[WrongStart] = &[
+    WrongStart {
+        what: "roll off by 20 deg",
+        roll: 0.35,
+        pitch: 0.0,
+    },
+    WrongStart {
+        what: "pitch off by 10 deg",
+        roll: 0.0,
+        pitch: -0.17,
+    },
+    WrongStart {
+        what: "roll 10 deg and pitch -5 deg",
+        roll: 0.17,
+        pitch: -0.087,
+    },
+];
+
+fn with_wrong_start(log: &LogDir, w: &WrongStart) -> LogDir {
+    let mut log = log.clone();
+    let i = &mut log.meta.initial;
+    i.roll = Some(i.roll.unwrap_or(0.0) + w.roll);
+    i.pitch = Some(i.pitch.unwrap_or(0.0) + w.pitch);
+    log
+}
+
+fn without_rollback() -> FilterOptions {
+    FilterOptions {
+        lockout_release: Some(LockoutOptions {
+            rollback_s: 0.0,
+            ..LockoutOptions::default()
+        }),
+        ..FilterOptions::default()
+    }
+}
+
+/// The horizontal error (m) at the first scored truth row at or after `t`
+/// (s); NaN if none.
+fn error_at(scored: &nav_replay::ins::score::Scored, t: f64) -> f64 {
+    let table = &scored.table;
+    let (times, n, e) = (
+        table.column("t"),
+        table.column("err_n"),
+        table.column("err_e"),
+    );
+    times
+        .iter()
+        .position(|&s| s >= t)
+        .map_or(f64::NAN, |k| n[k].hypot(e[k]))
+}
+
+/// docs/lockout.md, "Rollback": with a wrong `[initial]` attitude every
+/// DVL reading is refused from the first; the recovery found after the
+/// DVL's horizon takes the filter back to that first reading and recovers
+/// at the second. It is reported there (`t_s`) with the time it was found
+/// (`detected_s`), and the horizontal error 10 s after the start is
+/// smaller than with the recovery where it was found (the run's readings
+/// now correct the velocity instead of being lost), on seeds 1-3.
+#[test]
+fn a_wrong_start_recovers_from_the_first_reading() {
+    let cfg = scenario("lawnmower-dvl").unwrap().config;
+    let dvl_horizon = nav_ins::lockout::RecoveryRules::default().dvl.horizon_s;
+    for seed in [1u64, 2, 3] {
+        let sim = simulate(&cfg, seed);
+        let bias = Some(sim.errors.compass_bias);
+        let start = sim.log.meta.initial.t.unwrap_or(0.0);
+        for w in WRONG_STARTS {
+            let log = with_wrong_start(&sim.log, w);
+            let (run, scored) = run_and_score(&log, &FilterOptions::default(), bias)
+                .unwrap_or_else(|e| panic!("{} seed {seed}: {e}", w.what));
+            let first = run
+                .recoveries
+                .first()
+                .unwrap_or_else(|| panic!("{} seed {seed}: no recovery", w.what));
+            assert_eq!(first.sensor, "dvl", "{} seed {seed}", w.what);
+            // At the run's second reading (the DVL reads every 0.5 s),
+            // found after the horizon.
+            assert!(
+                first.t_s - start <= 1.0 + 1e-6
+                    && first.detected_s - first.t_s >= dvl_horizon - 0.5,
+                "{} seed {seed}: {first:?}",
+                w.what
+            );
+            let with_m = error_at(&scored.unwrap(), start + 10.0);
+            let plain_m = match run_and_score(&log, &without_rollback(), bias) {
+                Ok((plain, scored)) => {
+                    // Found and applied at the end of the run.
+                    let p = plain.recoveries.first().unwrap();
+                    assert!(
+                        p.t_s == p.detected_s && p.t_s >= first.detected_s - 1e-6,
+                        "{p:?}"
+                    );
+                    error_at(&scored.unwrap(), start + 10.0)
+                }
+                // Out of the physical bounds: as bad as it gets.
+                Err(e) => {
+                    assert!(e.to_string().contains("out of physical bounds"), "{e}");
+                    f64::INFINITY
+                }
+            };
+            println!(
+                "{} seed {seed}: {with_m:.2} m against {plain_m:.2} m",
+                w.what
+            );
+            assert!(
+                with_m < plain_m,
+                "{} seed {seed}: {with_m} m with the rollback, {plain_m} m without",
+                w.what
+            );
+        }
+    }
+}
+
+/// Seeds of the Monte Carlo below (not used while building the rollback).
+const ROLLBACK_SEEDS: std::ops::Range<u64> = 7400..7500;
+
+/// Each wrong start of the table, and a larger one (roll 30 deg, pitch 15
+/// deg), over [`ROLLBACK_SEEDS`], with and without the rollback: the median
+/// horizontal error 10 s after the start and at the end (m), and the runs
+/// that left the physical bounds (docs/lockout.md, "Rollback").
+/// `cargo test --release -p tests --test scenarios lockout_recovery:: -- --ignored
+/// --nocapture`.
+#[test]
+#[ignore = "Monte Carlo over 100 seeds; prints the figures of docs/lockout.md"]
+fn wrong_start_monte_carlo() {
+    let cfg = scenario("lawnmower-dvl").unwrap().config;
+    let larger = WrongStart {
+        what: "roll 30 deg and pitch 15 deg",
+        roll: 0.52,
+        pitch: 0.26,
+    };
+    let cases: Vec<&WrongStart> = WRONG_STARTS.iter().chain([&larger]).collect();
+    let with = FilterOptions::default();
+    let without = without_rollback();
+    // Per case, per option: errors at 10 s, final errors, out of bounds.
+    let mut figures = vec![
+        [
+            (Vec::new(), Vec::new(), 0usize),
+            (Vec::new(), Vec::new(), 0)
+        ];
+        cases.len()
+    ];
+    for seed in ROLLBACK_SEEDS {
+        let sim = simulate(&cfg, seed);
+        let bias = Some(sim.errors.compass_bias);
+        let start = sim.log.meta.initial.t.unwrap_or(0.0);
+        for (k, w) in cases.iter().enumerate() {
+            let log = with_wrong_start(&sim.log, w);
+            for (j, options) in [&with, &without].into_iter().enumerate() {
+                let f = &mut figures[k][j];
+                match run_and_score(&log, options, bias) {
+                    Ok((_, scored)) => {
+                        let scored = scored.unwrap();
+                        f.0.push(error_at(&scored, start + 10.0));
+                        f.1.push(scored.horizontal_error_final_m);
+                    }
+                    Err(_) => f.2 += 1,
+                }
+            }
+        }
+    }
+    for (k, w) in cases.iter().enumerate() {
+        for (j, name) in ["with the rollback", "without"].into_iter().enumerate() {
+            let (at10, last, out) = &figures[k][j];
+            println!(
+                "{} {name}: at 10 s median {:.2} m, p95 {:.2} m; final median {:.2} m; out of bounds {out}",
+                w.what,
+                stats::median(at10),
+                stats::p95(at10),
+                stats::median(last)
+            );
+        }
+    }
+}

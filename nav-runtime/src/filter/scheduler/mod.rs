@@ -178,6 +178,31 @@ impl<F: Propagate + Clone> Scheduler<F> {
         Ok(SensorId(self.sensors.len() - 1))
     }
 
+    /// Changes the latency of sensor `id` (s): the history follows the
+    /// largest latency of all sensors from the next step (a shorter one
+    /// drops what is older; a longer one keeps history from now on).
+    ///
+    /// # Errors
+    /// [`SchedulerError::UnknownSensor`]; [`SchedulerError::InvalidConfig`]
+    /// for a negative or non-finite latency.
+    pub fn set_latency(&mut self, id: SensorId, latency: f64) -> Result<(), SchedulerError> {
+        if !(latency.is_finite() && latency >= 0.0) {
+            return Err(SchedulerError::InvalidConfig(
+                "sensor latency must be finite and non-negative",
+            ));
+        }
+        let entry = self
+            .sensors
+            .get_mut(id.0)
+            .ok_or(SchedulerError::UnknownSensor(id))?;
+        entry.config.latency = latency;
+        self.window = self
+            .sensors
+            .iter()
+            .fold(0.0_f64, |w, s| w.max(s.config.latency));
+        Ok(())
+    }
+
     /// Refuses the frozen values of sensor `id` with `detector` (see
     /// [`crate::stuck`]): a measurement whose raw values
     /// ([`Measurement::raw_values`]) repeat those of the sensor's previous

@@ -625,3 +625,45 @@ fn error_state_filter_is_scheduled_with_delayed_residuals() {
     assert!((got - x).amax() < 1e-9 * (1.0 + x.amax()), "{got} vs {x}");
     assert!((timely.filter().covariance() - full.filter().covariance()).amax() < 1e-12);
 }
+
+/// `set_latency`: a longer latency keeps history from then on (a delayed
+/// measurement within it is applied), a shorter one drops what is older;
+/// a bad latency or sensor is refused.
+#[test]
+fn a_sensor_latency_changed_while_running_sets_the_history() {
+    let mut s = Scheduler::new(filter(), 0.0).unwrap();
+    let late = s.add_sensor("late", 1.0, 0.0).unwrap();
+    let step = |s: &mut Scheduler<Filter>, from: u32, to: u32| {
+        for k in from..=to {
+            s.push_imu(f64::from(k) * DT, CvbInput { a: 0.0 }).unwrap();
+        }
+    };
+    let fix = |s: &mut Scheduler<Filter>, t: f64| {
+        s.push_update::<Pos, 3, 1>(
+            late,
+            t,
+            SVector::<f64, 1>::new(0.0),
+            SMatrix::<f64, 1, 1>::new(1.0),
+            Offset::default(),
+        )
+    };
+    step(&mut s, 1, 100);
+    assert!(s.history_len() <= 2, "{}", s.history_len());
+    assert!(fix(&mut s, 0.5).is_err(), "older than a latency of 0");
+    s.set_latency(late, 2.0).unwrap();
+    step(&mut s, 101, 400);
+    assert!(s.oldest() <= s.now() - 2.0 && s.history_len() >= 200);
+    let within = s.now() - 1.5;
+    assert!(fix(&mut s, within).is_ok(), "within the new latency");
+    s.set_latency(late, 0.0).unwrap();
+    step(&mut s, 401, 402);
+    assert!(s.history_len() <= 3, "{}", s.history_len());
+    assert!(matches!(
+        s.set_latency(late, f64::NAN),
+        Err(SchedulerError::InvalidConfig(_))
+    ));
+    assert!(matches!(
+        s.set_latency(SensorId(7), 1.0),
+        Err(SchedulerError::UnknownSensor(_))
+    ));
+}
