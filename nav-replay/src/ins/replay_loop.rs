@@ -462,7 +462,7 @@ fn recovery_warning(r: &nav_ins::Recovery) -> Warning {
     let sensor = r.sensor;
     let rollback = if r.detected_s > r.t_s {
         format!(
-            " at the first refused reading, the filter taken back to it from t = {:.3} s, where the run was found",
+            " here, at the run's second reading: the filter was taken back to the run's start from t = {:.3} s, where the run was found",
             r.detected_s
         )
     } else {

@@ -301,6 +301,20 @@ fn a_wrong_start_recovers_from_the_first_reading() {
                 "{} seed {seed}: {first:?}",
                 w.what
             );
+            // The warning says where the run was found.
+            let warned = run
+                .warnings
+                .iter()
+                .find(|w| w.kind == nav_runtime::log::WarningKind::LockoutRecovery)
+                .unwrap();
+            assert!(
+                warned.message.contains(&format!(
+                    "taken back to the run's start from t = {:.3} s",
+                    first.detected_s
+                )),
+                "{}",
+                warned.message
+            );
             let with_m = error_at(&scored.unwrap(), start + 10.0);
             let plain_m = match run_and_score(&log, &without_rollback(), bias) {
                 Ok((plain, scored)) => {
