@@ -277,7 +277,7 @@ fn error_at(scored: &nav_replay::ins::score::Scored, t: f64) -> f64 {
 /// smaller than with the recovery where it was found (the run's readings
 /// now correct the velocity instead of being lost), on seeds 1-3.
 #[test]
-fn a_wrong_start_recovers_from_the_first_reading() {
+fn a_wrong_start_is_taken_back_to_its_first_reading() {
     let cfg = scenario("lawnmower-dvl").unwrap().config;
     let dvl_horizon = nav_ins::lockout::RecoveryRules::default().dvl.horizon_s;
     for seed in [1u64, 2, 3] {
