@@ -11,6 +11,7 @@ use nav_runtime::earth::{
 use nav_runtime::ekf::FilterError;
 use nav_runtime::math::wrap_angle;
 use nav_runtime::nalgebra::{SVector, Vector2, Vector3};
+use nav_runtime::recovery::Judgement;
 use nav_runtime::scheduler::{FnMeasurement, Measurement, MeasurementOutcome};
 
 use super::nominal::InsFilter;
@@ -35,17 +36,28 @@ fn outcome<const M: usize>(
 
 /// [`Slot::update`] of slot `S`, then its recovery step
 /// ([`Slot::recover`]) with the sensor's own `reading` and its noise. After
-/// a recovery of a `velocity` sensor (a DVL: `M` = 3) the tilt sigmas
-/// (about north and east) are raised to at least `|nu_k - nu_k-1| / (g dt)`
-/// (eq. R3 of docs/lockout.md): the tilt whose gravity error makes the
-/// refused innovation grow as it did since the previous reading. Step R1
-/// scales the tilt by the refused innovation's NIS, whose covariance the
-/// sensor noise dominates: a tilt of degrees (a wrong initial attitude)
-/// kept a sigma of hundredths of a degree, the next readings reset the
-/// velocity, left the tilt, and were refused again. A velocity step (a
-/// burst of wrong specific force) makes the innovation jump, not grow, and
-/// is left to R1.
-/// Every tilt sigma is then held at most [`MAX_RECOVERED_TILT_SIGMA`].
+/// a recovery of a `velocity` sensor (a DVL: `M` = 3) two more steps follow
+/// (docs/lockout.md):
+///
+/// - eq. R3: the tilt sigmas (about north and east) are raised to at least
+///   `|nu_k - nu_k-1| / (g dt)`, the tilt whose gravity error makes the
+///   refused innovation grow as it did since the previous reading. Step R1
+///   scales the tilt by the refused innovation's NIS, whose covariance the
+///   sensor noise dominates: a tilt of degrees (a wrong initial attitude)
+///   kept a sigma of hundredths of a degree, the next readings reset the
+///   velocity, left the tilt, and were refused again. A velocity step (a
+///   burst of wrong specific force) makes the innovation jump, not grow,
+///   and is left to R1. Every tilt sigma is then held at most
+///   [`MAX_RECOVERED_TILT_SIGMA`].
+/// - eq. R4: the horizontal position covariance gains `d d^T` (the height
+///   too without a vertical aid), `d` the position error
+///   the refused readings' velocity errors built: each innovation joining
+///   the run (rotated to NED) times the time since the previous reading,
+///   summed from the last accepted reading. R1 to R3 restore the velocity
+///   and tilt; the position error built meanwhile stays, and a DVL does not
+///   see it. Without R4 the position sigma stayed as it was (and the
+///   velocity-position correlations R1 keeps made the readings after the
+///   recovery lower it further), while the error had grown by metres.
 fn update_and_recover<V, S, const N: usize, const M: usize>(
     f: &mut InsFilter<V, N>,
     z: &SVector<f64, M>,
@@ -61,19 +73,36 @@ where
 {
     let mut result = S::update(f, z, r, aux);
     if let Ok(report) = result.as_mut() {
-        // The innovation's growth since the previous reading, m/s per s.
+        let velocity = velocity && M == 3;
+        let now = f.ekf().clock_s();
+        let nu = Vector3::from_fn(|i, _| report.innovation.get(i).copied().unwrap_or(0.0));
+        // The time since the previous reading (s) and the innovation's
+        // growth over it (m/s per s).
+        let mut since = None;
         let mut growth = None;
-        if velocity && M == 3 {
-            let now = f.ekf().clock_s();
-            let nu = Vector3::from_fn(|i, _| report.innovation[i]);
+        if velocity {
             if let Some((then, previous)) = f.nominal().dvl_innovation {
                 if now > then {
+                    since = Some(now - then);
                     growth = Some((nu - previous).norm() / (now - then));
                 }
             }
             f.nominal_mut().dvl_innovation = Some((now, nu));
         }
-        S::recover(f, report, reading, sigma, aux);
+        let judgement = S::recover(f, report, reading, sigma, aux);
+        if velocity {
+            let nominal = f.nominal_mut();
+            if report.accepted {
+                nominal.dvl_refused_drift = Vector3::zeros();
+            } else if let (Judgement::Following | Judgement::Recover(_), Some(dt)) =
+                (judgement, since)
+            {
+                // A reading that joined the run: its velocity error over
+                // the interval before it. A miss (a glitch) adds nothing.
+                let built = nominal.ins.state.c_bn * nu * dt;
+                nominal.dvl_refused_drift += built;
+            }
+        }
         if report.recovered.is_some() {
             if let Some(growth) = growth {
                 // Eq. R3: the tilt whose gravity error builds that growth.
@@ -83,9 +112,56 @@ where
                 }
             }
             set_tilt_sigmas(f, |sigma| sigma.min(MAX_RECOVERED_TILT_SIGMA));
+            if velocity {
+                // Eq. R4.
+                let drift =
+                    core::mem::replace(&mut f.nominal_mut().dvl_refused_drift, Vector3::zeros());
+                add_position_drift(f, &drift);
+            }
         }
     }
     outcome(result)
+}
+
+/// `P <- P + d d^T` on the horizontal position errors, `d` a position
+/// error given in NED (m) and taken to the layout's latitude and longitude
+/// errors (rad) at the nominal position, and `P <- P + d_D^2` on the height
+/// error (m, up) only for a vehicle with no vertical aid (depth meter,
+/// barometer, GNSS fix): eq. R4 of docs/lockout.md. A vertical aid's
+/// readings were accepted all through the run, so the height error is not
+/// the run's `d_D`; a Monte Carlo of IMU transients with it (and its
+/// horizontal-vertical terms) lost up to 4 m of median final error, as the
+/// next depth readings moved the velocity and horizontal position. A
+/// covariance that would not be valid, or a `d` that is not finite, leaves
+/// `P` as it was.
+fn add_position_drift<V: InsVehicle<N>, const N: usize>(
+    f: &mut InsFilter<V, N>,
+    drift_ned: &Vector3<f64>,
+) {
+    if !drift_ned.iter().all(|v| v.is_finite()) || *drift_ned == Vector3::zeros() {
+        return;
+    }
+    let s = &f.nominal().ins.state;
+    let d = [
+        drift_ned[0] / (meridian_radius(s.lat) + s.h),
+        drift_ned[1] / ((transverse_radius(s.lat) + s.h) * s.lat.cos()),
+        -drift_ned[2],
+    ];
+    let nav = f.nominal().layout().navigation();
+    let mut p = *f.covariance();
+    // A vehicle with a vertical aid had it accepted through the run.
+    let vertical_aid = <V::Depth as Slot<V, N, 1>>::PRESENT
+        || <V::Baro as Slot<V, N, 1>>::PRESENT
+        || <V::Gnss as Slot<V, N, 3>>::PRESENT;
+    let pairs: &[(usize, usize)] = if vertical_aid {
+        &[(0, 0), (0, 1), (1, 0), (1, 1)]
+    } else {
+        &[(0, 0), (0, 1), (1, 0), (1, 1), (2, 2)]
+    };
+    for &(a, b) in pairs {
+        p[(nav[a], nav[b])] += d[a] * d[b];
+    }
+    let _ = f.ekf_mut().set_covariance(p);
 }
 
 /// Largest tilt sigma (rad, about north and east) a lock-out recovery

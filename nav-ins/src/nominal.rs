@@ -77,6 +77,12 @@ pub struct InsNominal<V, const N: usize> {
     /// clock at it (s): its growth to the next reading is the tilt of a
     /// recovery's eq. R3 (docs/lockout.md).
     pub dvl_innovation: Option<(f64, Vector3<f64>)>,
+    /// The position error (NED, m) the velocity errors seen by the DVL's
+    /// refused readings since its last accepted one have built: the
+    /// innovation, rotated to NED and integrated between readings. A
+    /// recovery adds it to the position covariance (eq. R4 of
+    /// docs/lockout.md); an accepted reading sets it to zero.
+    pub dvl_refused_drift: Vector3<f64>,
     /// Where `V` keeps each error state.
     layout: Layout,
     /// Per error state: kept by this nominal ([`Layout::absorbed`]).
@@ -111,6 +117,7 @@ impl<V, const N: usize> core::fmt::Debug for InsNominal<V, N> {
             .field("body_rate", &self.body_rate)
             .field("specific_force", &self.specific_force)
             .field("dvl_innovation", &self.dvl_innovation)
+            .field("dvl_refused_drift", &self.dvl_refused_drift)
             .field("layout", &self.layout)
             .finish()
     }
@@ -148,6 +155,7 @@ impl<V: InsVehicle<N>, const N: usize> InsNominal<V, N> {
             body_rate: Vector3::zeros(),
             specific_force: Vector3::zeros(),
             dvl_innovation: None,
+            dvl_refused_drift: Vector3::zeros(),
             layout,
             absorbed: layout.absorbed(),
             absorbs_all: layout.absorbed::<N>().iter().all(|a| *a),

@@ -46,6 +46,7 @@ use nav_runtime::ekf::{FilterError, UpdateReport};
 use nav_runtime::error_state::{ErrorStateFilter, NominalState};
 use nav_runtime::model::{Model, Record, Sensor};
 use nav_runtime::nalgebra::SVector;
+use nav_runtime::recovery::Judgement;
 
 use super::settings::InitialSigma;
 use crate::navigator::NavigatorError;
@@ -131,14 +132,16 @@ pub trait Slot<Mo: Model<N>, const N: usize, const M: usize> {
     /// The recovery step after [`Slot::update`] returned `report` for the
     /// sensor's own `reading` (its values, 1-sigma noise `sigma` per
     /// component; [`nav_runtime::recovery`]): may inflate the covariance
-    /// and set `report.recovered`. Nothing for [`Absent`].
+    /// and set `report.recovered`, and returns how the reading was judged.
+    /// Nothing for [`Absent`] ([`Judgement::NotFollowed`]).
     fn recover<Nom: NominalState<N>>(
         _f: &mut ErrorStateFilter<Mo, Nom, N>,
         _report: &mut UpdateReport<M>,
         _reading: &[f64],
         _sigma: &[f64],
         _aux: &[f64],
-    ) {
+    ) -> Judgement {
+        Judgement::NotFollowed
     }
 
     /// Makes the second refused reading of the sensor from now recover at
@@ -172,10 +175,10 @@ where
         reading: &[f64],
         sigma: &[f64],
         aux: &[f64],
-    ) {
+    ) -> Judgement {
         let aux = <S::Aux as Record>::from_fn(|i| aux.get(i).copied().unwrap_or(f64::NAN));
         f.ekf_mut()
-            .recover_after_refusal::<S, M>(report, reading, sigma, &aux);
+            .recover_after_refusal::<S, M>(report, reading, sigma, &aux)
     }
 
     fn force_recovery<Nom: NominalState<N>>(f: &mut ErrorStateFilter<Mo, Nom, N>, lasted: f64) {

@@ -11,6 +11,7 @@
 use models::sdins25::filter::FilterOptions;
 use models::sdins25::simulation::simulate;
 use models::sdins25::{run_and_score, scenario};
+use nav_blocks::{Compass, Dvl, InsCore};
 use nav_ins::lockout::LockoutOptions;
 use nav_runtime::log::LogDir;
 use nav_runtime::stats;
@@ -20,13 +21,20 @@ const START_S: f64 = 150.0;
 
 /// One IMU transient: from [`START_S`] for `duration_s` every IMU row gets
 /// `gyro_x` (rad/s, a roll rate) and `accel_x` (m/s^2, forward) added; with
-/// the recovery the final horizontal error must stay within `bound_m`.
+/// the recovery the final horizontal error must stay within `bound_m`, and
+/// the run's position NEES (`nees_position_mean`, expectation 3) within
+/// `nees_bound` where one is given: a velocity the recovery restores leaves
+/// a position error that eq. R4 of docs/lockout.md adds to the position
+/// covariance. After a roll-rate burst the heading error the tilt leaves
+/// behind keeps growing the position error, and no DVL recovery sees it
+/// (median position NEES 25 to 40 over the Monte Carlo below): no bound.
 struct Transient {
     what: &'static str,
     duration_s: f64,
     gyro_x: f64,
     accel_x: f64,
     bound_m: f64,
+    nees_bound: Option<f64>,
 }
 
 const TRANSIENTS: &[Transient] = &[
@@ -36,6 +44,7 @@ const TRANSIENTS: &[Transient] = &[
         gyro_x: 0.2,
         accel_x: 3.0,
         bound_m: 150.0,
+        nees_bound: None,
     },
     Transient {
         what: "1.8 s of 3 m/s^2 (5.4 m/s)",
@@ -43,6 +52,7 @@ const TRANSIENTS: &[Transient] = &[
         gyro_x: 0.0,
         accel_x: 3.0,
         bound_m: 20.0,
+        nees_bound: Some(9.0),
     },
     Transient {
         what: "1.8 s of roll 0.05 rad/s (5.2 deg)",
@@ -50,6 +60,7 @@ const TRANSIENTS: &[Transient] = &[
         gyro_x: 0.05,
         accel_x: 0.0,
         bound_m: 150.0,
+        nees_bound: None,
     },
     Transient {
         what: "1.8 s of roll 0.2 rad/s and 3 m/s^2 (21 deg, 5.4 m/s)",
@@ -57,6 +68,7 @@ const TRANSIENTS: &[Transient] = &[
         gyro_x: 0.2,
         accel_x: 3.0,
         bound_m: 200.0,
+        nees_bound: Some(9.0),
     },
     Transient {
         what: "5 s of roll 0.02 rad/s and 1 m/s^2 (5.7 deg, 5 m/s)",
@@ -64,6 +76,7 @@ const TRANSIENTS: &[Transient] = &[
         gyro_x: 0.02,
         accel_x: 1.0,
         bound_m: 100.0,
+        nees_bound: None,
     },
 ];
 
@@ -85,7 +98,9 @@ const DIVERGED_M: f64 = 500.0;
 /// Each transient of the table on seeds 1-3: with the recovery the final
 /// horizontal error stays within the row's bound (the bounds were set with
 /// the 5-s horizon and no eq. R3; seeds 1-3 now give 8.1-41.5 m, against
-/// 0.8-4.9 m without any transient), at least one DVL recovery is reported,
+/// 0.8-4.9 m without any transient), the position NEES within the row's
+/// bound where it has one (seeds 1-3 give 1.8-5.1 with eq. R4, 10.7-87.4
+/// without it), at least one DVL recovery is reported,
 /// the first after the transient started and after the DVL's horizon of
 /// refusals, each also as a `lockout_recovery` warning naming `dvl.csv` and
 /// its time; without it the same log diverges.
@@ -108,12 +123,21 @@ fn imu_transients_recover_instead_of_diverging() {
             let log = with_transient(&sim.log, t);
             let (run, scored) = run_and_score(&log, &with, bias)
                 .unwrap_or_else(|e| panic!("{} seed {seed}: {e}", t.what));
-            let final_m = scored.unwrap().horizontal_error_final_m;
+            let scored = scored.unwrap();
+            let final_m = scored.horizontal_error_final_m;
             assert!(
                 final_m < t.bound_m,
                 "{} seed {seed}: final error {final_m} m with the recovery",
                 t.what
             );
+            if let Some(bound) = t.nees_bound {
+                let nees = scored.nees_position_mean;
+                assert!(
+                    nees < bound,
+                    "{} seed {seed}: position NEES {nees} with the recovery",
+                    t.what
+                );
+            }
             let first = run
                 .recoveries
                 .first()
@@ -168,8 +192,10 @@ fn imu_transients_recover_instead_of_diverging() {
 const MONTE_CARLO_SEEDS: std::ops::Range<u64> = 4200..4300;
 
 /// The final horizontal error after each transient of the table over
-/// [`MONTE_CARLO_SEEDS`]: median, 95th percentile and maximum (m), and the
-/// runs that ended out of the physical bounds (docs/lockout.md, "Recovery").
+/// [`MONTE_CARLO_SEEDS`]: median, 95th percentile and maximum (m), the
+/// runs that ended out of the physical bounds, and the position NEES of
+/// each run (`nees_position_mean`, expectation 3): median and 95th
+/// percentile (docs/lockout.md, "Recovery").
 /// `cargo test --release -p tests --test scenarios lockout_recovery:: -- --ignored
 /// --nocapture`.
 #[test]
@@ -178,13 +204,18 @@ fn transient_monte_carlo() {
     let cfg = scenario("lawnmower-dvl").unwrap().config;
     let options = FilterOptions::default();
     let mut finals: Vec<Vec<f64>> = vec![Vec::new(); TRANSIENTS.len()];
+    let mut nees: Vec<Vec<f64>> = vec![Vec::new(); TRANSIENTS.len()];
     let mut out_of_bounds = vec![0usize; TRANSIENTS.len()];
     for seed in MONTE_CARLO_SEEDS {
         let sim = simulate(&cfg, seed);
         let bias = Some(sim.errors.compass_bias);
         for (k, t) in TRANSIENTS.iter().enumerate() {
             match run_and_score(&with_transient(&sim.log, t), &options, bias) {
-                Ok((_, scored)) => finals[k].push(scored.unwrap().horizontal_error_final_m),
+                Ok((_, scored)) => {
+                    let scored = scored.unwrap();
+                    finals[k].push(scored.horizontal_error_final_m);
+                    nees[k].push(scored.nees_position_mean);
+                }
                 Err(_) => out_of_bounds[k] += 1,
             }
         }
@@ -193,11 +224,13 @@ fn transient_monte_carlo() {
         let f = &finals[k];
         let median = stats::median(f);
         println!(
-            "{}: final error median {median:.1} m, p95 {:.1} m, max {:.1} m; out of bounds {}",
+            "{}: final error median {median:.1} m, p95 {:.1} m, max {:.1} m; out of bounds {}; position NEES median {:.1}, p95 {:.1}",
             t.what,
             stats::p95(f),
             stats::max(f),
-            out_of_bounds[k]
+            out_of_bounds[k],
+            stats::median(&nees[k]),
+            stats::p95(&nees[k]),
         );
     }
     // What docs/lockout.md and the README claim: every run recovers within
@@ -404,5 +437,71 @@ fn wrong_start_monte_carlo() {
                 stats::median(last)
             );
         }
+    }
+}
+
+nav_runtime::model! {
+    /// An INS aided by a DVL and a compass alone: nothing watches its height.
+    pub model DvlCompassOnly = InsCore + Dvl + Compass {
+        allow_unused { position_error[1] }
+    }
+}
+
+impl nav_ins::InsVehicle<{ DvlCompassOnly::N }> for DvlCompassOnly {
+    const REPLAY_NAME: &'static str = "dvl-compass-only";
+    const DESCRIPTION: &'static str = "INS + DVL + compass, no vertical aid";
+    type Depth = nav_ins::Absent;
+    type Dvl = DvlCompassOnlyDvl;
+    type Compass = DvlCompassOnlyCompass;
+    type CompassSmallAngle = DvlCompassOnlyCompassSmallAngle;
+    type Usbl = nav_ins::Absent;
+    type Gnss = nav_ins::Absent;
+    type Baro = nav_ins::Absent;
+    type Mag = nav_ins::Absent;
+}
+
+/// A vehicle with no vertical aid (a DVL and a compass only) after 1.8 s of
+/// a wrong vertical specific force (+3 m/s^2 down the body z axis, from
+/// [`START_S`]): the DVL is refused, the filter recovers, and eq. R4 adds
+/// the height error the refused readings saw to the height's variance.
+/// From the recovery on, the depth error stays within 3 sigma (seeds 1-3
+/// give at most 1.5 sigma; 16 to 18 sigma without the height part of R4,
+/// which a vehicle with a depth meter does not get).
+#[test]
+fn a_recovery_without_a_vertical_aid_widens_the_height_sigma() {
+    let cfg = scenario("lawnmower-dvl").unwrap().config;
+    for seed in [1u64, 2, 3] {
+        let sim = simulate(&cfg, seed);
+        let mut log = sim.log.clone();
+        for r in log
+            .imu
+            .iter_mut()
+            .filter(|r| r.t >= START_S && r.t < START_S + 1.8)
+        {
+            r.az += 3.0;
+        }
+        let (run, _) = nav_replay::ins::run_and_score_vehicle::<
+            DvlCompassOnly,
+            { DvlCompassOnly::N },
+        >(&log, &FilterOptions::default(), None)
+        .unwrap_or_else(|e| panic!("seed {seed}: {e}"));
+        let recovered = run
+            .recoveries
+            .first()
+            .unwrap_or_else(|| panic!("seed {seed}: no recovery"))
+            .t_s;
+        let truth = log.truth.as_ref().unwrap();
+        let worst = run
+            .estimates
+            .iter()
+            .zip(truth)
+            .filter_map(|(e, row)| e.as_ref().map(|e| (e, row)))
+            .filter(|(e, _)| e.t >= recovered)
+            .map(|(e, row)| ((-e.nav.h - row.depth) / e.cov[(2, 2)].sqrt()).abs())
+            .fold(0.0, f64::max);
+        assert!(
+            worst < 3.0,
+            "seed {seed}: depth error {worst} sigma after the recovery at {recovered} s"
+        );
     }
 }
