@@ -74,13 +74,14 @@ where
     let mut result = S::update(f, z, r, aux);
     if let Ok(report) = result.as_mut() {
         let velocity = velocity && M == 3;
-        let now = f.ekf().clock_s();
-        let nu = Vector3::from_fn(|i, _| report.innovation.get(i).copied().unwrap_or(0.0));
-        // The time since the previous reading (s) and the innovation's
-        // growth over it (m/s per s).
+        // The innovation, the time since the previous reading (s) and the
+        // innovation's growth over it (m/s per s).
+        let mut nu = Vector3::zeros();
         let mut since = None;
         let mut growth = None;
         if velocity {
+            let now = f.ekf().clock_s();
+            nu = Vector3::from_fn(|i, _| report.innovation.get(i).copied().unwrap_or(0.0));
             if let Some((then, previous)) = f.nominal().dvl_innovation {
                 if now > then {
                     since = Some(now - then);
@@ -147,6 +148,10 @@ fn add_position_drift<V: InsVehicle<N>, const N: usize>(
         drift_ned[1] / ((transverse_radius(s.lat) + s.h) * s.lat.cos()),
         -drift_ned[2],
     ];
+    // At a pole the longitude error has no size: leave `P` alone.
+    if !d.iter().all(|v| v.is_finite()) {
+        return;
+    }
     let nav = f.nominal().layout().navigation();
     let mut p = *f.covariance();
     // A vehicle with a vertical aid had it accepted through the run.
