@@ -34,9 +34,23 @@ fn outcome<const M: usize>(
     r.map(|rep| MeasurementOutcome::from(&rep))
 }
 
+/// What a sensor's innovation is, for the velocity steps of a recovery.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Residual {
+    /// Not a velocity: neither eq. R3 nor R4.
+    Other,
+    /// A velocity in NED (m/s): the `Dvl` block's residual, the INS
+    /// velocity less the rotated reading.
+    NedVelocity,
+    /// A velocity in body axes (m/s): the `DvlCalibrated` block's, the
+    /// reading less its prediction.
+    BodyVelocity,
+}
+
 /// [`Slot::update`] of slot `S`, then its recovery step
 /// ([`Slot::recover`]) with the sensor's own `reading` and its noise. After
-/// a recovery of a `velocity` sensor (a DVL: `M` = 3) two more steps follow
+/// a recovery of a velocity sensor (a DVL: `M` = 3, `residual` saying in
+/// which axes its innovation is) two more steps follow
 /// (docs/lockout.md):
 ///
 /// - eq. R3: the tilt sigmas (about north and east) are raised to at least
@@ -52,7 +66,7 @@ fn outcome<const M: usize>(
 /// - eq. R4: the horizontal position covariance gains `d d^T` (the height
 ///   too without a vertical aid), `d` the position error
 ///   the refused readings' velocity errors built: each innovation joining
-///   the run (rotated to NED) times the time since the previous reading,
+///   the run (in NED) times the time since the previous reading,
 ///   summed from the last accepted reading. R1 to R3 restore the velocity
 ///   and tilt; the position error built meanwhile stays, and a DVL does not
 ///   see it. Without R4 the position sigma stayed as it was (and the
@@ -65,7 +79,7 @@ fn update_and_recover<V, S, const N: usize, const M: usize>(
     aux: &[f64],
     reading: &[f64],
     sigma: &[f64],
-    velocity: bool,
+    residual: Residual,
 ) -> Result<MeasurementOutcome, FilterError>
 where
     V: InsVehicle<N>,
@@ -73,7 +87,7 @@ where
 {
     let mut result = S::update(f, z, r, aux);
     if let Ok(report) = result.as_mut() {
-        let velocity = velocity && M == 3;
+        let velocity = residual != Residual::Other && M == 3;
         // The innovation, the time since the previous reading (s) and the
         // innovation's growth over it (m/s per s).
         let mut nu = Vector3::zeros();
@@ -100,8 +114,11 @@ where
             {
                 // A reading that joined the run: its velocity error over
                 // the interval before it. A miss (a glitch) adds nothing.
-                let built = nominal.ins.state.c_bn * nu * dt;
-                nominal.dvl_refused_drift += built;
+                let ned = match residual {
+                    Residual::BodyVelocity => nominal.ins.state.c_bn * nu,
+                    _ => nu,
+                };
+                nominal.dvl_refused_drift += ned * dt;
             }
         }
         if report.recovered.is_some() {
@@ -131,8 +148,8 @@ where
 /// barometer, GNSS fix): eq. R4 of docs/lockout.md. A vertical aid's
 /// readings were accepted all through the run, so the height error is not
 /// the run's `d_D`; a Monte Carlo of IMU transients with it (and its
-/// horizontal-vertical terms) lost up to 4 m of median final error, as the
-/// next depth readings moved the velocity and horizontal position. A
+/// horizontal-vertical terms) lost up to 14 m of median final error, as
+/// the next depth readings moved the velocity and horizontal position. A
 /// covariance that would not be valid, or a `d` that is not finite, leaves
 /// `P` as it was.
 fn add_position_drift<V: InsVehicle<N>, const N: usize>(
@@ -244,7 +261,7 @@ pub fn depth_measurement_at<V: InsVehicle<N>, const N: usize>(
                 lever_arm.as_slice(),
                 &[depth],
                 &[sigma],
-                false,
+                Residual::Other,
             )
         },
     ))
@@ -292,7 +309,7 @@ pub fn dvl_measurement_at<V: InsVehicle<N>, const N: usize>(
                     &[],
                     v.as_slice(),
                     &[sigma; 3],
-                    true,
+                    Residual::NedVelocity,
                 );
             }
             // A calibrated DVL block (`DvlCalibrated`): its `h` carries the
@@ -318,7 +335,15 @@ pub fn dvl_measurement_at<V: InsVehicle<N>, const N: usize>(
                 a.z,
             ];
             let z = s.v_n - s.c_bn * (v - nom.dvl_bias);
-            update_and_recover::<V, V::Dvl, N, 3>(f, &z, &r, &aux, v.as_slice(), &[sigma; 3], true)
+            update_and_recover::<V, V::Dvl, N, 3>(
+                f,
+                &z,
+                &r,
+                &aux,
+                v.as_slice(),
+                &[sigma; 3],
+                Residual::BodyVelocity,
+            )
         },
     ))
 }
@@ -345,7 +370,7 @@ pub fn heading_measurement<V: InsVehicle<N>, const N: usize>(
                     &[],
                     &[psi],
                     &[sigma],
-                    false,
+                    Residual::Other,
                 ),
                 CompassForm::SmallAngle => update_and_recover::<V, V::CompassSmallAngle, N, 1>(
                     f,
@@ -354,7 +379,7 @@ pub fn heading_measurement<V: InsVehicle<N>, const N: usize>(
                     &[],
                     &[psi],
                     &[sigma],
-                    false,
+                    Residual::Other,
                 ),
             }
         },
@@ -407,7 +432,7 @@ pub fn usbl_measurement_at<V: InsVehicle<N>, const N: usize>(
                 rel.as_slice(),
                 &[fix.x, fix.y],
                 &[sigma; 2],
-                false,
+                Residual::Other,
             )
         },
     ))

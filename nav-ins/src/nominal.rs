@@ -79,7 +79,7 @@ pub struct InsNominal<V, const N: usize> {
     pub dvl_innovation: Option<(f64, Vector3<f64>)>,
     /// The position error (NED, m) the velocity errors seen by the DVL's
     /// refused readings since its last accepted one have built: the
-    /// innovation, rotated to NED and integrated between readings. A
+    /// innovation, in NED, integrated between readings. A
     /// recovery adds it to the position covariance (eq. R4 of
     /// docs/lockout.md); an accepted reading sets it to zero.
     pub dvl_refused_drift: Vector3<f64>,

@@ -350,3 +350,59 @@ fn the_rollback_history_is_kept_only_until_a_reading_is_accepted() {
         nav.scheduler().history_len()
     );
 }
+
+/// Eq. R4 of docs/lockout.md: each refused DVL reading that joins a
+/// recovery's run adds its innovation, in NED, times the time since the
+/// previous reading; a glitch (a miss) adds nothing; the recovery moves the
+/// sum into the horizontal position covariance and clears it. At rest
+/// facing yaw 0.3 rad, the DVL reads a forward speed growing by 1 m/s per s
+/// from 5 s (refused, agreeing; no release, as the innovation grows), with
+/// a 30-m/s glitch at 6.5 s. The sum points along the heading: a first
+/// version rotated the `Dvl` block's NED residual by the attitude again and
+/// pointed it 0.3 rad off.
+#[test]
+fn a_recovery_adds_the_position_error_its_refused_readings_built() {
+    let mut b = Navigator::<Sdins20, 20>::builder(initial(), imu());
+    let dvl = b.sensor::<DvlReading>(SensorSettings::new(0.01)).unwrap();
+    let mut nav = b.build(at_rest()).unwrap();
+    let drift_at = |nav: &Navigator<Sdins20, 20>| nav.filter().nominal().dvl_refused_drift;
+    let mut at = std::collections::BTreeMap::new();
+    let mut variance = std::collections::BTreeMap::new();
+    for k in 1..=800 {
+        let t = k as f64 * 0.01;
+        if k % 50 == 0 {
+            let wiggle = 1e-3 * (k as f64).sin();
+            let forward = if k == 650 { 30.0 } else { (t - 4.5).max(0.0) };
+            nav.push(
+                dvl,
+                t,
+                DvlReading(Vector3::new(forward + wiggle, wiggle, 0.0)),
+            );
+        }
+        nav.push_imu(t, at_rest()).unwrap();
+        at.insert(k, drift_at(&nav));
+        let e = Estimate::of(t, nav.filter());
+        variance.insert(k, e.cov[(0, 0)] + e.cov[(1, 1)]);
+    }
+    let recoveries = nav.recoveries();
+    assert_eq!(recoveries.len(), 1, "{recoveries:?}");
+    assert_eq!((recoveries[0].sensor, recoveries[0].t_s), ("dvl", 7.0));
+    assert_eq!(
+        at[&499],
+        Vector3::zeros(),
+        "accepted readings leave nothing"
+    );
+    // 0.5, 1 and 1.5 m/s over half a second each: 1.5 m along the heading.
+    let run = at[&649];
+    let heading = run.y.atan2(run.x) + std::f64::consts::PI;
+    assert!((run.xy().norm() - 1.5).abs() < 0.02, "{run:?}");
+    assert!((heading - 0.3).abs() < 0.01, "{heading} rad");
+    assert_eq!(at[&651], run, "the glitch at 6.5 s adds nothing");
+    assert_eq!(at[&701], Vector3::zeros(), "the recovery clears the sum");
+    // The reading at 7 s (2.5 m/s over 0.5 s) joins: 2.75 m in all.
+    let gained = variance[&701] - variance[&699];
+    assert!(
+        gained > 2.7 * 2.7,
+        "horizontal variance gained {gained} m^2"
+    );
+}
