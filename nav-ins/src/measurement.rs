@@ -34,23 +34,11 @@ fn outcome<const M: usize>(
     r.map(|rep| MeasurementOutcome::from(&rep))
 }
 
-/// What a sensor's innovation is, for the velocity steps of a recovery.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Residual {
-    /// Not a velocity: neither eq. R3 nor R4.
-    Other,
-    /// A velocity in NED (m/s): the `Dvl` block's residual, the INS
-    /// velocity less the rotated reading.
-    NedVelocity,
-    /// A velocity in body axes (m/s): the `DvlCalibrated` block's, the
-    /// reading less its prediction.
-    BodyVelocity,
-}
-
 /// [`Slot::update`] of slot `S`, then its recovery step
 /// ([`Slot::recover`]) with the sensor's own `reading` and its noise. After
-/// a recovery of a velocity sensor (a DVL: `M` = 3, `residual` saying in
-/// which axes its innovation is) two more steps follow
+/// a recovery of a `velocity` sensor (a DVL: `M` = 3; the residual of
+/// either DVL block, the INS velocity less the rotated reading, is in NED)
+/// two more steps follow
 /// (docs/lockout.md):
 ///
 /// - eq. R3: the tilt sigmas (about north and east) are raised to at least
@@ -79,7 +67,7 @@ fn update_and_recover<V, S, const N: usize, const M: usize>(
     aux: &[f64],
     reading: &[f64],
     sigma: &[f64],
-    residual: Residual,
+    velocity: bool,
 ) -> Result<MeasurementOutcome, FilterError>
 where
     V: InsVehicle<N>,
@@ -87,7 +75,7 @@ where
 {
     let mut result = S::update(f, z, r, aux);
     if let Ok(report) = result.as_mut() {
-        let velocity = residual != Residual::Other && M == 3;
+        let velocity = velocity && M == 3;
         // The innovation, the time since the previous reading (s) and the
         // innovation's growth over it (m/s per s).
         let mut nu = Vector3::zeros();
@@ -114,11 +102,7 @@ where
             {
                 // A reading that joined the run: its velocity error over
                 // the interval before it. A miss (a glitch) adds nothing.
-                let ned = match residual {
-                    Residual::BodyVelocity => nominal.ins.state.c_bn * nu,
-                    _ => nu,
-                };
-                nominal.dvl_refused_drift += ned * dt;
+                nominal.dvl_refused_drift += nu * dt;
             }
         }
         if report.recovered.is_some() {
@@ -261,7 +245,7 @@ pub fn depth_measurement_at<V: InsVehicle<N>, const N: usize>(
                 lever_arm.as_slice(),
                 &[depth],
                 &[sigma],
-                Residual::Other,
+                false,
             )
         },
     ))
@@ -309,7 +293,7 @@ pub fn dvl_measurement_at<V: InsVehicle<N>, const N: usize>(
                     &[],
                     v.as_slice(),
                     &[sigma; 3],
-                    Residual::NedVelocity,
+                    true,
                 );
             }
             // A calibrated DVL block (`DvlCalibrated`): its `h` carries the
@@ -335,15 +319,7 @@ pub fn dvl_measurement_at<V: InsVehicle<N>, const N: usize>(
                 a.z,
             ];
             let z = s.v_n - s.c_bn * (v - nom.dvl_bias);
-            update_and_recover::<V, V::Dvl, N, 3>(
-                f,
-                &z,
-                &r,
-                &aux,
-                v.as_slice(),
-                &[sigma; 3],
-                Residual::BodyVelocity,
-            )
+            update_and_recover::<V, V::Dvl, N, 3>(f, &z, &r, &aux, v.as_slice(), &[sigma; 3], true)
         },
     ))
 }
@@ -370,7 +346,7 @@ pub fn heading_measurement<V: InsVehicle<N>, const N: usize>(
                     &[],
                     &[psi],
                     &[sigma],
-                    Residual::Other,
+                    false,
                 ),
                 CompassForm::SmallAngle => update_and_recover::<V, V::CompassSmallAngle, N, 1>(
                     f,
@@ -379,7 +355,7 @@ pub fn heading_measurement<V: InsVehicle<N>, const N: usize>(
                     &[],
                     &[psi],
                     &[sigma],
-                    Residual::Other,
+                    false,
                 ),
             }
         },
@@ -432,7 +408,7 @@ pub fn usbl_measurement_at<V: InsVehicle<N>, const N: usize>(
                 rel.as_slice(),
                 &[fix.x, fix.y],
                 &[sigma; 2],
-                Residual::Other,
+                false,
             )
         },
     ))

@@ -1,6 +1,6 @@
 //! Tests of the navigator (navigator.rs) with the estimators of this crate.
 use models::sdins25::Sdins25;
-use models::vehicles::sdins::Sdins20;
+use models::vehicles::sdins::{Sdins20, Sdins20DvlCal};
 use nav_ins::prelude::*;
 use nav_runtime::earth::{meridian_radius, normal_gravity, transverse_radius};
 
@@ -357,15 +357,31 @@ fn the_rollback_history_is_kept_only_until_a_reading_is_accepted() {
 /// sum into the horizontal position covariance and clears it. At rest
 /// facing yaw 0.3 rad, the DVL reads a forward speed growing by 1 m/s per s
 /// from 5 s (refused, agreeing; no release, as the innovation grows), with
-/// a 30-m/s glitch at 6.5 s. The sum points along the heading: a first
-/// version rotated the `Dvl` block's NED residual by the attitude again and
-/// pointed it 0.3 rad off.
+/// a 30-m/s glitch at 6.5 s. The sum points along the heading: earlier
+/// versions rotated a DVL block's NED residual by the attitude again and
+/// pointed it 0.3 rad off (the `Dvl` block's, then the `DvlCalibrated`
+/// block's).
 #[test]
 fn a_recovery_adds_the_position_error_its_refused_readings_built() {
-    let mut b = Navigator::<Sdins20, 20>::builder(initial(), imu());
+    // Both DVL blocks: each residual (INS velocity less the rotated reading) is in NED.
+    refused_run_drift::<Sdins20, 20>("sdins20", &[]);
+    // Its mounting states held at their given values (sigma 0).
+    let mounting = [
+        "dvl_scale",
+        "dvl_misalignment",
+        "dvl_lever_arm",
+        "dvl_time_offset",
+    ];
+    refused_run_drift::<Sdins20DvlCal, 28>("sdins20-dvl-cal", &mounting);
+}
+
+fn refused_run_drift<V: InsVehicle<N>, const N: usize>(what: &str, held: &[&str]) {
+    let mut b = Navigator::<V, N>::builder(initial(), imu());
+    for state in held {
+        b.state_sigma(state, 0.0).unwrap();
+    }
     let dvl = b.sensor::<DvlReading>(SensorSettings::new(0.01)).unwrap();
     let mut nav = b.build(at_rest()).unwrap();
-    let drift_at = |nav: &Navigator<Sdins20, 20>| nav.filter().nominal().dvl_refused_drift;
     let mut at = std::collections::BTreeMap::new();
     let mut variance = std::collections::BTreeMap::new();
     for k in 1..=800 {
@@ -380,29 +396,38 @@ fn a_recovery_adds_the_position_error_its_refused_readings_built() {
             );
         }
         nav.push_imu(t, at_rest()).unwrap();
-        at.insert(k, drift_at(&nav));
+        at.insert(k, nav.filter().nominal().dvl_refused_drift);
         let e = Estimate::of(t, nav.filter());
         variance.insert(k, e.cov[(0, 0)] + e.cov[(1, 1)]);
     }
     let recoveries = nav.recoveries();
-    assert_eq!(recoveries.len(), 1, "{recoveries:?}");
-    assert_eq!((recoveries[0].sensor, recoveries[0].t_s), ("dvl", 7.0));
+    assert_eq!(recoveries.len(), 1, "{what}: {recoveries:?}");
+    assert_eq!(
+        (recoveries[0].sensor, recoveries[0].t_s),
+        ("dvl", 7.0),
+        "{what}"
+    );
     assert_eq!(
         at[&499],
         Vector3::zeros(),
-        "accepted readings leave nothing"
+        "{what}: accepted readings leave nothing"
     );
-    // 0.5, 1 and 1.5 m/s over half a second each: 1.5 m along the heading.
+    // 0.5, 1 and 1.5 m/s over half a second each: 1.5 m along the heading
+    // (either way: the sign of a residual is its block's).
     let run = at[&649];
-    let heading = run.y.atan2(run.x) + std::f64::consts::PI;
-    assert!((run.xy().norm() - 1.5).abs() < 0.02, "{run:?}");
-    assert!((heading - 0.3).abs() < 0.01, "{heading} rad");
-    assert_eq!(at[&651], run, "the glitch at 6.5 s adds nothing");
-    assert_eq!(at[&701], Vector3::zeros(), "the recovery clears the sum");
+    let heading = (run.y / run.x).atan();
+    assert!((run.xy().norm() - 1.5).abs() < 0.02, "{what}: {run:?}");
+    assert!((heading - 0.3).abs() < 0.01, "{what}: {heading} rad");
+    assert_eq!(at[&651], run, "{what}: the glitch at 6.5 s adds nothing");
+    assert_eq!(
+        at[&701],
+        Vector3::zeros(),
+        "{what}: the recovery clears the sum"
+    );
     // The reading at 7 s (2.5 m/s over 0.5 s) joins: 2.75 m in all.
     let gained = variance[&701] - variance[&699];
     assert!(
         gained > 2.7 * 2.7,
-        "horizontal variance gained {gained} m^2"
+        "{what}: horizontal variance gained {gained} m^2"
     );
 }
